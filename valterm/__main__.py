@@ -1,0 +1,3 @@
+from valterm.cli import main
+
+raise SystemExit(main())
