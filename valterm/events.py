@@ -80,6 +80,15 @@ class Release(Event):
 
 
 @dataclass(frozen=True)
+class Hand(Event):
+    """The clamp opened or closed (redraw the fingers at ``gap`` mm)."""
+
+    closed: bool
+    gap: float
+    event = "hand"
+
+
+@dataclass(frozen=True)
 class Near(Event):
     """The coarse check: something is inside another's grown box (`CLAMP IS NEAR PART 10`)."""
 
