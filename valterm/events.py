@@ -147,3 +147,49 @@ class End(Event):
     where: dict[str, Any]
     variables: dict[str, float]
     event = "end"
+
+
+@dataclass(frozen=True)
+class Delay(Event):
+    """DELAY s: the app waits ``seconds`` in real time; headless runs skip or scale it."""
+
+    seconds: float
+    event = "delay"
+
+
+@dataclass(frozen=True)
+class Status(Event):
+    """STATUS (section 6.8.4): the speed, the program and its loops done and remaining."""
+
+    speed: float
+    program: str
+    loops_done: int
+    loops_left: int
+    event = "status"
+
+    @property
+    def text(self) -> str:
+        program = self.program or "(NONE)"
+        return (f"SPEED {self.speed:g}  PROGRAM {program}  "
+                f"LOOPS COMPLETED {self.loops_done}  REMAINING {self.loops_left}")
+
+    def to_json(self) -> dict[str, Any]:
+        return {**super().to_json(), "text": self.text}
+
+
+@dataclass(frozen=True)
+class Help(Event):
+    """HELP: the HELP MENU (topic "") or one topic of HELPER.DAT, as lines to show."""
+
+    topic: str
+    lines: tuple[str, ...]
+    event = "help"
+
+
+@dataclass(frozen=True)
+class Monitor(Event):
+    """A monitor command the app carries out itself (LISTP, LISTF, LISTL, EDIT, POINT)."""
+
+    command: str
+    argument: str = ""
+    event = "monitor"
