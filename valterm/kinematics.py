@@ -594,22 +594,33 @@ def ik_batch(
     j2 = -(np.arctan2(w[:, 2], big_x) - np.arctan2(d4 * np.sin(delta), a2 + d4 * np.cos(delta)))
     c1, s1 = np.cos(j1), np.sin(j1)
     c23, s23 = np.cos(j2 + j3), np.sin(j2 + j3)
-    r03 = np.zeros((n, 3, 3))
-    r03[:, 0, 0], r03[:, 0, 1], r03[:, 0, 2] = c1 * c23, -s1, c1 * s23
-    r03[:, 1, 0], r03[:, 1, 1], r03[:, 1, 2] = s1 * c23, c1, s1 * s23
-    r03[:, 2, 0], r03[:, 2, 2] = -s23, c23
-    m = np.einsum("nji,njk->nik", r03, r)
-    sin5 = np.hypot(m[:, 0, 2], m[:, 1, 2])
+    # only the entries of M = (Rz1 Ry23)^T R that the wrist solution needs
+    col0 = (c1 * c23, s1 * c23, -s23)
+    col1 = (-s1, c1)
+    col2 = (c1 * s23, s1 * s23, c23)
+    m02 = col0[0] * r[:, 0, 2] + col0[1] * r[:, 1, 2] + col0[2] * r[:, 2, 2]
+    m12 = col1[0] * r[:, 0, 2] + col1[1] * r[:, 1, 2]
+    m22 = col2[0] * r[:, 0, 2] + col2[1] * r[:, 1, 2] + col2[2] * r[:, 2, 2]
+    m20 = col2[0] * r[:, 0, 0] + col2[1] * r[:, 1, 0] + col2[2] * r[:, 2, 0]
+    m21 = col2[0] * r[:, 0, 1] + col2[1] * r[:, 1, 1] + col2[2] * r[:, 2, 1]
+    sin5 = np.hypot(m02, m12)
     regular = sin5 > WRIST_EPS
-    j4 = np.where(regular, np.arctan2(m[:, 1, 2], m[:, 0, 2]), 0.0)
-    j5 = np.where(regular, np.arctan2(sin5, m[:, 2, 2]), np.where(m[:, 2, 2] > 0, 0.0, np.pi))
-    j6 = np.where(regular, np.arctan2(m[:, 2, 1], -m[:, 2, 0]), np.arctan2(m[:, 1, 0], m[:, 1, 1]))
+    j4 = np.arctan2(m12, m02)
+    j5 = np.arctan2(sin5, m22)
+    j6 = np.arctan2(m21, -m20)
+    if not regular.all():
+        # singular wrist: JT4 = 0 and JT6 takes the whole turn
+        m10 = col1[0] * r[:, 0, 0] + col1[1] * r[:, 1, 0]
+        m11 = col1[0] * r[:, 0, 1] + col1[1] * r[:, 1, 1]
+        j4 = np.where(regular, j4, 0.0)
+        j5 = np.where(regular, j5, np.where(m22 > 0, 0.0, np.pi))
+        j6 = np.where(regular, j6, np.arctan2(m10, m11))
     c6 = np.cos(j6)
     current_wrist = np.where(np.abs(c6) > 1e-12, np.sign(c6), np.sign(np.sin(j6)))
     flip = current_wrist != wrist
-    j4 = np.where(flip, j4 + np.pi, j4)
+    j4 = j4 + flip * np.pi
     j5 = np.where(flip, -j5, j5)
-    j6 = np.where(flip, j6 + np.pi, j6)
+    j6 = j6 + flip * np.pi
     joints = wrap180_array(np.degrees(np.stack([j1, j2, j3, j4, j5, j6], axis=1)))
     joints, beyond = fit_to_stops_batch(joints, geometry)
     status = np.where(status == 0, beyond, status)
@@ -617,32 +628,22 @@ def ik_batch(
 
 
 def fit_to_stops_batch(joints: np.ndarray, geometry: RobotGeometry = PUMA) -> tuple[np.ndarray, np.ndarray]:
-    """Batch fit_to_stops nearest the given angles: returns (fitted, first joint beyond, or 0)."""
+    """Batch fit_to_stops for wrapped angles, nearest the given angle.
+
+    Returns (fitted, first joint beyond its stop or 0). Angles must lie in (-180, 180]:
+    then only the angle itself and its +-360 equivalents can be nearest.
+    """
     q = np.asarray(joints, dtype=float)
     low = geometry.stops_array[:, 0]
     high = geometry.stops_array[:, 1]
-    shifts = np.array([-720.0, -360.0, 0.0, 360.0, 720.0])
-    candidates = q[..., None] + shifts  # (n, 6, 5)
-    inside = (candidates >= low[None, :, None] - 1e-9) & (candidates <= high[None, :, None] + 1e-9)
-    distance = np.where(inside, np.abs(candidates - q[..., None]), np.inf)
-    best = np.argmin(distance, axis=2)
-    ok = inside.any(axis=2)
-    fitted = np.where(ok, np.take_along_axis(candidates, best[..., None], axis=2)[..., 0], q)
+    tol = 1e-9
+    inside = (q >= low - tol) & (q <= high + tol)
+    up = q + 360.0
+    down = q - 360.0
+    up_ok = up <= high + tol
+    down_ok = down >= low - tol
+    # the angle itself is nearest; else whichever shifted one is inside (at most one can be nearer)
+    fitted = np.where(inside, q, np.where(up_ok, up, np.where(down_ok, down, q)))
+    ok = inside | up_ok | down_ok
     first_bad = np.where(ok.all(axis=1), 0, np.argmin(ok, axis=1) + 1)
     return fitted, first_bad
-
-
-class Location(NamedTuple):
-    """A location as WHERE shows it and a .LOC file holds it: XW YW ZW (mm) and O A T (deg)."""
-
-    xyz: tuple[float, float, float]
-    oat: tuple[float, float, float]
-
-    @property
-    def rotation(self) -> np.ndarray:
-        return oat_to_rotation(*self.oat)
-
-    @classmethod
-    def from_pose(cls, pose: Pose) -> "Location":
-        x, y, z = (float(v) for v in pose.xyz)
-        return cls((x, y, z), pose.oat)
