@@ -1,0 +1,223 @@
+"""The model view widget: the braille wireframe of robot and cell, drawn with the Line API.
+
+It rasterizes only when the scene, a view option or its size changes, and then repaints
+only the row spans that differ from the previous frame, so one pose over SSH costs a few
+kilobytes.
+"""
+
+from __future__ import annotations
+
+import time
+from typing import Mapping, Sequence
+
+import numpy as np
+from rich.segment import Segment
+from rich.style import Style
+from textual.events import Resize
+from textual.geometry import Region
+from textual.reactive import var
+from textual.strip import Strip
+from textual.widget import Widget
+
+from valterm.ui.view.raster import (
+    AXES_COLOUR,
+    HIGHLIGHT_COLOUR,
+    LED_COLOUR,
+    LINK_COLOUR_BASE,
+    N_OBJECT_COLOURS,
+    OBJECT_COLOUR_BASE,
+    Frame,
+    Scene,
+    ViewTransform,
+    rasterize,
+)
+
+# Colour index -> terminal colour: warm tones for the robot, cool/bright ones for objects,
+# all light enough for dark backgrounds (256-colour names degrade well over SSH).
+_LINK_COLOURS = ("grey70", "gold1", "orange1", "light_goldenrod1", "dark_orange", "khaki1", "wheat1", "sandy_brown")
+_OBJECT_COLOURS = (
+    "deep_sky_blue1", "spring_green1", "orchid1", "light_sky_blue1", "pale_green1", "plum1",
+    "aquamarine1", "medium_purple1", "sky_blue1", "light_green", "violet", "turquoise2",
+    "cornflower_blue", "green_yellow", "hot_pink", "cyan1",
+)
+DEFAULT_PALETTE: dict[int, str] = {
+    AXES_COLOUR: "grey62",
+    LED_COLOUR: "red1",
+    HIGHLIGHT_COLOUR: "bright_red",
+    **{LINK_COLOUR_BASE + i: c for i, c in enumerate(_LINK_COLOURS)},
+    **{OBJECT_COLOUR_BASE + i: c for i, c in enumerate(_OBJECT_COLOURS[:N_OBJECT_COLOURS])},
+}
+
+
+class ModelView(Widget):
+    """The robot and its work cell as a wireframe (§2.1-§2.3).
+
+    Feed it with :meth:`update_scene`; ORIENT goes through :meth:`rotate_by`,
+    :meth:`scale_by`, :meth:`pan_by`, :meth:`reset_view` (or :meth:`set_view`).
+    ``back_faces`` (FACES), ``axes`` (AXES) and ``ascii`` (no braille) are settable.
+    """
+
+    DEFAULT_CSS = """
+    ModelView {
+        width: 1fr;
+        height: 1fr;
+    }
+    """
+
+    # var, not reactive: a change must not repaint the whole widget, redraw() does it by rows
+    back_faces: var[bool] = var(True)
+    axes: var[bool] = var(False)
+    ascii: var[bool] = var(False)
+
+    def __init__(
+        self,
+        scene: Scene | None = None,
+        view: ViewTransform | None = None,
+        *,
+        palette: Mapping[int, str] | None = None,
+        dot_aspect: float = 1.0,
+        name: str | None = None,
+        id: str | None = None,
+        classes: str | None = None,
+    ) -> None:
+        super().__init__(name=name, id=id, classes=classes)
+        self._scene = scene if scene is not None else Scene.build([])
+        self._view = view if view is not None else ViewTransform()
+        self._palette = dict(DEFAULT_PALETTE if palette is None else palette)
+        self.dot_aspect = dot_aspect
+        self._styles: dict[int, Style] = {}
+        self._frame: Frame | None = None
+        self._strips: list[Strip | None] = []
+        self._drawn_key: tuple | None = None
+        # bookkeeping of the last redraw (for tests and `valterm bench`)
+        self.redraws = 0
+        self.dirty_rows: tuple[int, ...] = ()
+        self.dirty_spans: tuple[tuple[int, int, int], ...] = ()  # (row, x0, x1)
+        self.last_raster_ms = 0.0
+
+    # -- inputs --------------------------------------------------------------------
+    @property
+    def scene(self) -> Scene:
+        return self._scene
+
+    @property
+    def view(self) -> ViewTransform:
+        """The current view transform (mutating it in place needs a :meth:`redraw`)."""
+        return self._view
+
+    @property
+    def frame(self) -> Frame | None:
+        return self._frame
+
+    def update_scene(self, scene: Scene) -> None:
+        self._scene = scene
+        self.redraw()
+
+    def set_view(self, view: ViewTransform) -> None:
+        self._view = view
+        self.redraw()
+
+    def rotate_by(self, axis: str, degrees: float) -> None:
+        self._view.rotate_by(axis, degrees)
+        self.redraw()
+
+    def scale_by(self, factor: float) -> None:
+        self._view.scale_by(factor)
+        self.redraw()
+
+    def pan_by(self, dx: float, dy: float) -> None:
+        self._view.pan_by(dx, dy)
+        self.redraw()
+
+    def reset_view(self) -> None:
+        self._view.reset()
+        self.redraw()
+
+    def fit(self, bounds: tuple[Sequence[float], Sequence[float]] | None = None) -> None:
+        """Fit the view to ``bounds`` (world lo, hi), by default the current scene's."""
+        self._view.fit(self._scene.bounds() if bounds is None else bounds)
+        self.redraw()
+
+    def set_palette(self, palette: Mapping[int, str]) -> None:
+        self._palette = dict(palette)
+        self._restyle()
+
+    def watch_back_faces(self) -> None:
+        self.redraw()
+
+    def watch_axes(self) -> None:
+        self.redraw()
+
+    def watch_ascii(self) -> None:
+        self.redraw()
+
+    def on_resize(self, event: Resize) -> None:
+        self.redraw()
+
+    def notify_style_update(self) -> None:
+        super().notify_style_update()
+        self._restyle()
+
+    # -- drawing -------------------------------------------------------------------
+    def redraw(self, force: bool = False) -> None:
+        """Rasterize if anything that shows changed, and repaint the changed row spans."""
+        if not self.is_mounted:
+            return
+        width, height = self.size
+        key = (id(self._scene), self._view.key(), self.back_faces, self.axes, self.ascii, width, height)
+        if key == self._drawn_key and not force:
+            return
+        self._drawn_key = key
+        t0 = time.perf_counter()
+        frame = rasterize(self._scene, self._view, width, height, back_faces=self.back_faces,
+                          axes=self.axes, ascii=self.ascii, dot_aspect=self.dot_aspect)
+        self.last_raster_ms = (time.perf_counter() - t0) * 1000
+        previous = self._frame
+        rows, x0, x1 = frame.changed_spans(previous)
+        self._frame = frame
+        self.redraws += 1
+        self.dirty_rows = tuple(int(r) for r in rows)
+        self.dirty_spans = tuple((int(r), int(a), int(b)) for r, a, b in zip(rows, x0, x1))
+        if previous is None or previous.chars.shape != frame.chars.shape:
+            self._strips = [None] * height
+            self.refresh()
+            return
+        for r in self.dirty_rows:
+            self._strips[r] = None
+        if self.dirty_spans:
+            self.refresh(*(Region(a, r, b - a, 1) for r, a, b in self.dirty_spans))
+
+    def _restyle(self) -> None:
+        self._styles.clear()
+        self._strips = [None] * len(self._strips)
+        if self.is_mounted:
+            self.refresh()
+
+    def _style(self, colour: int) -> Style:
+        style = self._styles.get(colour)
+        if style is None:
+            base = self.rich_style
+            name = self._palette.get(colour)
+            style = base + Style(color=name) if (colour and name) else base
+            self._styles[colour] = style
+        return style
+
+    def render_line(self, y: int) -> Strip:
+        frame = self._frame
+        width = self.size.width
+        if frame is None or y >= frame.height or frame.width != width:
+            return Strip.blank(width, self.rich_style)
+        strip = self._strips[y]
+        if strip is None:
+            strip = self._strips[y] = self._build_strip(frame, y)
+        return strip
+
+    def _build_strip(self, frame: Frame, y: int) -> Strip:
+        """One row as runs of equal colour (few segments per row: cheap to send)."""
+        colours = frame.colours[y]
+        text = frame.row_text(y)
+        cuts = np.flatnonzero(np.diff(colours)) + 1
+        starts = [0, *cuts.tolist()]
+        ends = [*cuts.tolist(), frame.width]
+        segments = [Segment(text[s:e], self._style(int(colours[s]))) for s, e in zip(starts, ends)]
+        return Strip(segments, frame.width)
