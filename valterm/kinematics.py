@@ -647,3 +647,19 @@ def fit_to_stops_batch(joints: np.ndarray, geometry: RobotGeometry = PUMA) -> tu
     ok = inside | up_ok | down_ok
     first_bad = np.where(ok.all(axis=1), 0, np.argmin(ok, axis=1) + 1)
     return fitted, first_bad
+
+
+class Location(NamedTuple):
+    """A location as WHERE shows it and a .LOC file holds it: XW YW ZW (mm) and O A T (deg)."""
+
+    xyz: tuple[float, float, float]
+    oat: tuple[float, float, float]
+
+    @property
+    def rotation(self) -> np.ndarray:
+        return oat_to_rotation(*self.oat)
+
+    @classmethod
+    def from_pose(cls, pose: Pose) -> "Location":
+        x, y, z = (float(v) for v in pose.xyz)
+        return cls((x, y, z), pose.oat)
