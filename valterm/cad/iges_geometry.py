@@ -26,13 +26,24 @@ def _apply(m: np.ndarray, pts: np.ndarray) -> np.ndarray:
     return pts @ m[:3, :3].T + m[:3, 3] if len(pts) else pts
 
 
-def _angles(a0: float, a1: float, full: bool) -> np.ndarray:
-    """Counter-clockwise angles from a0 to a1 (a full turn when ``full``) plus axis extremes."""
+def _angles(a0: float, a1: float, full: bool, extremes: np.ndarray | None = None) -> np.ndarray:
+    """Counter-clockwise angles from a0 to a1 (a full turn when ``full``) plus the extreme angles.
+
+    ``extremes`` are angles (mod 2 pi) where a coordinate of the curve peaks; those inside the
+    sweep are added so the envelope reaches the true extent, not a chord short of it.
+    """
     sweep = 2 * math.pi if full else (a1 - a0) % (2 * math.pi)
     n = max(2, math.ceil(sweep / (2 * math.pi) * SAMPLES_PER_TURN))
     ts = a0 + np.linspace(0.0, sweep, n + 1)
-    quarter = np.arange(math.ceil(a0 / (math.pi / 2)), math.floor((a0 + sweep) / (math.pi / 2)) + 1) * (math.pi / 2)
-    return np.concatenate([ts, quarter])
+    crit = np.arange(4) * (math.pi / 2) if extremes is None else np.concatenate([np.arange(4) * (math.pi / 2), extremes])
+    rel = (crit - a0) % (2 * math.pi)
+    return np.concatenate([ts, a0 + rel[rel <= sweep]])
+
+
+def _peaks(matrix: np.ndarray, a: float, b: float) -> np.ndarray:
+    """Angles where each model axis peaks on ``(a cos t, b sin t)`` mapped by ``matrix``."""
+    base = np.arctan2(matrix[:3, 1] * b, matrix[:3, 0] * a)
+    return np.concatenate([base, base + math.pi])
 
 
 def bspline_basis(knots: np.ndarray, degree: int, t: np.ndarray) -> np.ndarray:
@@ -135,7 +146,7 @@ class Walker:
         a0 = math.atan2(sy - cy, sx - cx)
         a1 = math.atan2(ey - cy, ex - cx)
         full = math.isclose(sx, ex, abs_tol=1e-12 * (1 + r)) and math.isclose(sy, ey, abs_tol=1e-12 * (1 + r))
-        ts = _angles(a0, a1, full)
+        ts = _angles(a0, a1, full, _peaks(self.m.matrix(e), r, r))
         pts = np.stack([cx + r * np.cos(ts), cy + r * np.sin(ts), np.full_like(ts, zt)], 1)
         return np.vstack([pts, [[ex, ey, zt]]])
 
@@ -147,7 +158,7 @@ class Walker:
         if small(b) and small(d) and small(ee) and a * c > 0 and -f / a > 0:       # ellipse
             ra, rb = math.sqrt(-f / a), math.sqrt(-f / c)
             t0, t1 = math.atan2(y1 / rb, x1 / ra), math.atan2(y2 / rb, x2 / ra)
-            ts = _angles(t0, t1, math.isclose(x1, x2) and math.isclose(y1, y2))
+            ts = _angles(t0, t1, math.isclose(x1, x2) and math.isclose(y1, y2), _peaks(self.m.matrix(e), ra, rb))
             pts = np.stack([ra * np.cos(ts), rb * np.sin(ts), np.full_like(ts, zt)], 1)
         elif small(b) and small(d) and small(ee) and a * c < 0 and not small(f):    # hyperbola
             u = np.linspace(0.0, 1.0, 33)
