@@ -25,7 +25,6 @@ from valterm.kinematics import (
     ik,
     ik_batch,
     indicators,
-    within_stops,
 )
 
 JOINT_INCREMENT = 12.0      # degrees per step at SPEED 100 (§2.6)
@@ -236,10 +235,14 @@ def joint_goal(
 
 
 def check_joint_goal(goal: Sequence[float], geometry: RobotGeometry = PUMA) -> None:
-    """Refuse a joint vector (DRIVE, pendant joints) beyond a stop."""
-    bad = within_stops(goal, geometry)
-    if bad:
-        raise MotionRefused(f"joint {bad} beyond its stop", bad)
+    """Refuse a relative joint move (DRIVE, pendant joints) whose goal is beyond a stop.
+
+    The joint turns through every angle on its way, so the goal itself must lie within the
+    stops: no 360-degree equivalent helps here.
+    """
+    for joint, (angle, (low, high)) in enumerate(zip(goal, geometry.stops), start=1):
+        if not low - 1e-9 <= angle <= high + 1e-9:
+            raise MotionRefused(f"joint {joint} beyond its stop", joint)
 
 
 # ---------------------------------------------------------------------------
