@@ -1,0 +1,61 @@
+"""``valterm check FILE.DAT ...``: the VAL-II syntax checker on program files.
+
+FILE is a path or a program name in the workspace. Every bad step is reported as
+``PROGRAM step N: reason`` (warnings too: GOTO to a missing label, CALL of a missing
+program). Exit 0 with a summary when all is well, 1 when anything is wrong, 2 when a
+file cannot be read (``FILE:LINE: reason`` on stderr).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+from typing import Callable
+
+from valterm.files.errors import FileFormatError
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    parser = subparsers.add_parser("check", help="syntax-check VAL-II programs (.DAT)")
+    parser.add_argument("files", nargs="+", metavar="FILE.DAT", help="a path, or a program name in the workspace")
+    parser.set_defaults(func=run)
+
+
+def find_program(argument: str, workspace_root: str | None) -> tuple[Path, Callable[[str], bool]]:
+    """The program file and a test for the programs it may CALL (same folder, or the workspace)."""
+    given = Path(argument).expanduser()
+    if given.is_file():
+        folder = given.resolve().parent
+        names = {p.name.upper() for p in folder.iterdir() if p.is_file()}
+        return given, lambda name: f"{name.upper()}.DAT" in names
+    looks_like_path = any(sep in argument for sep in ("/", "\\")) or given.suffix.upper() not in ("", ".DAT")
+    if looks_like_path:
+        raise FileNotFoundError(f"{argument}: no such program file")
+    from valterm.workspace import Workspace
+
+    workspace = Workspace.open(workspace_root)
+    return workspace.path(argument, "DAT"), lambda name: workspace.exists(name, "DAT")
+
+
+def run(args: argparse.Namespace) -> int:
+    from valterm.files.programs import read_program
+    from valterm.val.checker import check_program
+    from valterm.workspace import WorkspaceError
+
+    status = 0
+    for argument in args.files:
+        try:
+            path, exists = find_program(argument, getattr(args, "workspace", None))
+            program = read_program(path)
+        except (FileFormatError, WorkspaceError, FileNotFoundError, OSError) as error:
+            print(error, file=sys.stderr)
+            status = 2
+            continue
+        report = check_program(program, program_exists=exists)
+        for diagnostic in report.diagnostics:
+            print(diagnostic)
+        print(report.summary())
+        if not report.ok and status == 0:
+            status = 1
+    return status
