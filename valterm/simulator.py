@@ -19,7 +19,7 @@ import numpy as np
 
 from valterm.cell.polyhedron import Polyhedron
 from valterm.cell.workcell import WorkCell
-from valterm.events import Collision, Event, Grasp, Hand, Message, Motion, Near, PoseEvent, Release, Where
+from valterm.events import Event, Grasp, Hand, Message, Motion, PoseEvent, Release, Where
 from valterm.kinematics import PUMA, Config, Location, fk, indicators, rotation_to_oat, wrap180
 from valterm.motion import (
     PENDANT_INCREMENT,
@@ -318,20 +318,19 @@ class Simulator:
         return part
 
     def check_collisions(self) -> Iterator[Event]:
-        """The thesis's coarse and fine checks at this pose; each pair is reported as it starts."""
-        from valterm.collision.scene import check_scene
+        """The thesis's coarse and fine checks at this pose; each finding is said as it starts."""
+        if self._checker is None:
+            from valterm.collision.world import CollisionWorld
 
-        findings = check_scene(
-            self.robot_polyhedra(), list(self.model.names), self.cell.objects,
-            carried=[] if self.carried is None else [self.carried], speed=self.speed,
+            self._checker = CollisionWorld(self.model.names)
+        findings = self._checker.check(
+            self.robot_polyhedra(), self.cell.objects,
+            carried=() if self.carried is None else (self.carried,), speed=self.speed,
         )
         now = {(f.kind, f.a, f.b) for f in findings}
         for finding in findings:
-            key = (finding.kind, finding.a, finding.b)
-            if key in self._findings:
-                continue
-            event_type = Collision if finding.kind == "collides" else Near
-            yield event_type(finding.a, finding.b, finding.text)
+            if (finding.kind, finding.a, finding.b) not in self._findings:
+                yield finding.event()
         self._findings = now
 
 
