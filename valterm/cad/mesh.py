@@ -48,5 +48,5 @@ def read_mesh_parts(path: str | Path) -> list[Part]:
             raise CadImportError(path, None, f"mesh {node!r} has non-finite vertex coordinates")
         parts.append(Part(str(node), v, []))
     if not parts:
-        raise CadImportError(path, None, "no mesh geometry in the file")
+        raise CadImportError(path, None, f"no mesh geometry in the file (is it a {ext[1:].upper()} mesh?)")
     return parts
