@@ -1,0 +1,273 @@
+"""EDIT mode (Chapter 5, Figs. 5-1 and C-8): the editor menu, always shown, and the program.
+
+First the ``EDIT NAME`` line (``EDIT TEST.DAT`` or just ``TEST``); then single keys:
+C continue with the next step, I insert, D delete, S save, E exit. A space, a TAB or a
+digit in the menu starts the next step too, label columns first (that is how the example
+session types `` MOVE B`` straight after `` MOVE A``). Any other key is a wrong key: it is
+named and the program saved (§5.2). All the work is done by ``valterm.editor``.
+"""
+
+from __future__ import annotations
+
+from textual.app import ComposeResult
+from textual.binding import Binding
+from textual.containers import Horizontal, Vertical, VerticalScroll
+from textual.events import Key
+from textual.screen import Screen
+from textual.widgets import Input, Static
+
+from valterm.editor import EDITOR_MENU, EditorError, ProgramEditor
+from valterm.files.programs import LABEL_COLUMNS
+
+MENU_KEYS = {"c": "create", "i": "insert", "d": "delete", "s": "save", "e": "exit"}
+RULER = "LBL STATEMENT (COLUMNS 1-4: STEP LABEL, TAB: TO COLUMN 5)"
+
+
+class StepInput(Input):
+    """A program line: TAB jumps to column 5 instead of leaving the field."""
+
+    BINDINGS = [Binding("tab", "column_five", "Column 5", show=False, id="editor.tab")]
+
+    def action_column_five(self) -> None:
+        if len(self.value) < LABEL_COLUMNS:
+            self.value = self.value.ljust(LABEL_COLUMNS)
+        else:
+            self.insert_text_at_cursor(" ")
+        self.cursor_position = len(self.value)
+
+
+class EditorScreen(Screen[None]):
+    """The Editor of VAL-II SIMULATOR (EVS)."""
+
+    AUTO_FOCUS = None
+    DEFAULT_CSS = """
+    EditorScreen #editor-menu { width: 60; padding: 0 1; border: round $primary; height: auto; }
+    EditorScreen #editor-right { width: 1fr; }
+    EditorScreen #editor-title { padding: 0 1; text-style: bold; }
+    EditorScreen #editor-scroll { height: 1fr; border: round $secondary; }
+    EditorScreen #editor-listing { padding: 0 1; }
+    EditorScreen #editor-message { height: auto; min-height: 1; padding: 0 1; color: $warning; }
+    EditorScreen #editor-prompt-row { height: 3; }
+    EditorScreen #editor-prompt { width: auto; min-width: 8; padding: 1 1 0 1; }
+    EditorScreen #editor-line { width: 1fr; }
+    EditorScreen #editor-prompt-row.hidden { display: none; }
+    """
+    # Shown in the footer; the keys themselves are read in on_key (a wrong key must be seen).
+    BINDINGS = [
+        Binding("c", "create", "Continue", id="editor.create"),
+        Binding("i", "insert", "Insert", id="editor.insert"),
+        Binding("d", "delete", "Delete", id="editor.delete"),
+        Binding("s", "save", "Save", id="editor.save"),
+        Binding("e", "exit", "Exit", id="editor.exit"),
+        Binding("escape", "cancel", "Cancel", id="editor.cancel"),
+    ]
+
+    def __init__(self, workspace=None, name: str = "") -> None:  # type: ignore[no-untyped-def]
+        super().__init__()
+        self._workspace = workspace
+        self.first_name = name
+        self.editor: ProgramEditor | None = None
+        self.mode = "name"  # name | menu | line | delete | insert | insert-line | save?
+        self.insert_at = 0
+
+    # -- layout ---------------------------------------------------------------------
+    def compose(self) -> ComposeResult:
+        with Horizontal():
+            yield Static("\n".join(EDITOR_MENU), id="editor-menu")
+            with Vertical(id="editor-right"):
+                yield Static("", id="editor-title")
+                with VerticalScroll(id="editor-scroll"):
+                    yield Static("", id="editor-listing")
+        yield Static("", id="editor-message")
+        with Horizontal(id="editor-prompt-row"):
+            yield Static("EDIT", id="editor-prompt")
+            yield StepInput(id="editor-line", placeholder="TEST.DAT")
+
+    def on_mount(self) -> None:
+        if self.first_name:
+            self.open_program(self.first_name)
+        else:
+            self._prompt("name", "EDIT", "PROGRAM NAME, e.g. TEST.DAT")
+
+    @property
+    def workspace(self):  # type: ignore[no-untyped-def]
+        if self._workspace is None:
+            self._workspace = self.app.session.workspace  # type: ignore[attr-defined]
+        return self._workspace
+
+    # -- what the screen shows (tests read these) --------------------------------------
+    @property
+    def message(self) -> str:
+        return str(self.query_one("#editor-message", Static).content)
+
+    @property
+    def listing(self) -> str:
+        return str(self.query_one("#editor-listing", Static).content)
+
+    @property
+    def prompt(self) -> str:
+        return str(self.query_one("#editor-prompt", Static).content)
+
+    def say(self, *lines: str) -> None:
+        self.query_one("#editor-message", Static).update("\n".join(lines))
+
+    def _prompt(self, mode: str, prompt: str, placeholder: str = "", start: str = "") -> None:
+        self.mode = mode
+        self.query_one("#editor-prompt", Static).update(prompt)
+        self.query_one("#editor-prompt-row").remove_class("hidden")
+        field = self.query_one("#editor-line", StepInput)
+        field.placeholder = placeholder
+        field.value = start
+        field.cursor_position = len(start)
+        field.focus()
+
+    def _menu(self) -> None:
+        self.mode = "menu"
+        self.query_one("#editor-prompt-row").add_class("hidden")
+        self.set_focus(None)
+
+    def _refresh_listing(self, changed: int | None = None) -> None:
+        editor = self.editor
+        if editor is None:
+            return
+        state = " (NEW)" if editor.new else ""
+        state += " (NOT SAVED)" if editor.dirty else ""
+        self.query_one("#editor-title", Static).update(f"EDIT {editor.name}.DAT{state}")
+        lines = editor.listing() or ["(NO STEPS YET: PRESS C TO TYPE THE FIRST STEP)"]
+        self.query_one("#editor-listing", Static).update("\n".join(lines))
+        scroll = self.query_one("#editor-scroll", VerticalScroll)
+        if changed is None or changed >= len(editor.steps):
+            scroll.call_after_refresh(scroll.scroll_end, animate=False)
+        else:
+            scroll.call_after_refresh(scroll.scroll_to, y=max(0, changed - 3), animate=False)
+
+    # -- opening --------------------------------------------------------------------
+    def open_program(self, typed: str) -> bool:
+        try:
+            self.editor = ProgramEditor(self.workspace, typed)
+        except (EditorError, ValueError) as error:
+            self.say(str(error).upper())
+            self._prompt("name", "EDIT", "PROGRAM NAME, e.g. TEST.DAT")
+            return False
+        self.say(*(self.editor.messages or [f"{self.editor.name}.DAT: {len(self.editor.steps)} STEPS"]),
+                 "C CONTINUE  I INSERT  D DELETE  S SAVE  E EXIT")
+        self._refresh_listing()
+        self._menu()
+        return True
+
+    # -- single keys in the menu ---------------------------------------------------------
+    def on_key(self, event: Key) -> None:
+        if self.mode == "save?":
+            answer = (event.character or "").upper()
+            if answer in ("Y", "N"):
+                event.stop()
+                event.prevent_default()
+                self._leave(save=answer == "Y")
+            return
+        if self.mode != "menu" or event.key == "escape":
+            return
+        char = event.character or ""
+        event.stop()
+        event.prevent_default()  # the footer bindings must not run the action a second time
+        action = MENU_KEYS.get(char.lower())
+        if action is not None:
+            getattr(self, f"action_{action}")()
+        elif event.key == "tab":
+            self._next_line(" " * LABEL_COLUMNS)
+        elif char == " " or char.isdigit():
+            self._next_line(char)  # the label columns of the next step
+        elif self.editor is not None:
+            self.say(self.editor.wrong_key(char or event.key))
+            self._refresh_listing()
+
+    def check_action(self, action: str, parameters: tuple[object, ...]) -> bool | None:
+        if action in MENU_KEYS.values():
+            return self.mode == "menu"  # typed letters belong to the line being typed
+        return True
+
+    def action_create(self) -> None:
+        self._next_line("")
+
+    def _next_line(self, start: str) -> None:
+        assert self.editor is not None
+        self._prompt("line", self.editor.prompt(), "", start)
+
+    def action_insert(self) -> None:
+        self._prompt("insert", "INSERT AT STEP NO.", "STEP NUMBER")
+
+    def action_delete(self) -> None:
+        self._prompt("delete", "DELETE STEP NO.", "STEP NUMBER")
+
+    def action_save(self) -> None:
+        assert self.editor is not None
+        path = self.editor.save()
+        self.say(f"{path.name} SAVED ({len(self.editor.steps)} STEPS)")
+        self._refresh_listing()
+
+    def action_exit(self) -> None:
+        if self.editor is not None and self.editor.dirty:
+            self.mode = "save?"
+            self.say(f"SAVE THE CHANGES TO {self.editor.name}.DAT (Y/N) ?")
+            return
+        self.dismiss(None)
+
+    def _leave(self, save: bool) -> None:
+        assert self.editor is not None
+        if save:
+            self.editor.save()
+        else:
+            self.editor.discard()
+        self.dismiss(None)
+
+    def action_cancel(self) -> None:
+        if self.mode in ("line", "insert", "delete", "insert-line") and self.editor is not None:
+            self.say("")
+            self._menu()
+        elif self.mode == "save?":
+            self._menu()
+            self.say("")
+        elif self.editor is None:
+            self.dismiss(None)
+
+    # -- lines typed ----------------------------------------------------------------------
+    def on_input_submitted(self, event: Input.Submitted) -> None:
+        event.stop()
+        typed = event.value
+        if self.mode == "name":
+            self.open_program(typed)
+            return
+        editor = self.editor
+        assert editor is not None
+        try:
+            if self.mode == "line":
+                number = editor.append(typed)
+                self.say(f"STEP {number} ACCEPTED")
+                self._refresh_listing(number)
+                self._menu()
+            elif self.mode == "delete":
+                number = self._number(typed)
+                removed = editor.delete(number)
+                self.say(f"STEP {number} DELETED: {removed.text}")
+                self._refresh_listing(number)
+                self._menu()
+            elif self.mode == "insert":
+                number = self._number(typed)
+                if not 1 <= number <= editor.next_step:
+                    raise EditorError(f"NO STEP {number}: STEPS ARE 1 TO {editor.next_step}")
+                self.insert_at = number
+                self._prompt("insert-line", editor.prompt(number))
+            elif self.mode == "insert-line":
+                number = editor.insert(self.insert_at, typed)
+                self.say(f"STEP {number} INSERTED")
+                self._refresh_listing(number)
+                self._menu()
+        except EditorError as error:
+            # rejected: the line stays in the field to be corrected (nothing typed is lost)
+            self.say(f"REJECTED: {error}")
+
+    @staticmethod
+    def _number(typed: str) -> int:
+        text = typed.strip().lstrip(",").strip()
+        if not text.isdigit():
+            raise EditorError(f"{typed.strip() or 'NOTHING'} IS NOT A STEP NUMBER")
+        return int(text)

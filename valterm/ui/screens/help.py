@@ -1,0 +1,126 @@
+"""The on-line HELP (§6.8.5): the HELP MENU, then topics looked up in HELPER.DAT.
+
+"The operator is then asked whether he needs more information on a specific topic. If the
+answer is yes, the user will then be asked to input the topic ... the user is frequently
+asked whether it is necessary to display the HELP MENU or not."
+"""
+
+from __future__ import annotations
+
+from textual.app import ComposeResult
+from textual.binding import Binding
+from textual.containers import VerticalScroll
+from textual.events import Key
+from textual.screen import Screen
+from textual.widgets import Input, Static
+
+from valterm.val.helptopics import HelpTopics, default_help
+
+ASK_TOPIC = "DO YOU NEED MORE INFORMATION ON A SPECIFIC TOPIC (Y/N) ?"
+ASK_MENU = "DO YOU WANT THE HELP MENU DISPLAYED AGAIN (Y/N) ?"
+ENTER_TOPIC = "ENTER THE TOPIC FOR WHICH HELP IS NEEDED:"
+
+
+class HelpScreen(Screen[None]):
+    """HELP, reachable from every mode; Esc (or N to the first question) returns."""
+
+    AUTO_FOCUS = None
+    DEFAULT_CSS = """
+    HelpScreen #help-text { height: 1fr; padding: 0 1; }
+    HelpScreen #help-question { height: auto; padding: 0 1; color: $accent; }
+    HelpScreen #help-topic { display: none; }
+    HelpScreen #help-topic.asking { display: block; }
+    """
+    BINDINGS = [
+        Binding("escape", "leave", "Return", id="help.return"),
+    ]
+
+    def __init__(self, topic: str = "", topics: HelpTopics | None = None) -> None:
+        super().__init__()
+        self.topics = topics or default_help()
+        self.first_topic = topic.strip()
+        self.state = "topic?"  # topic? | topic | menu?
+
+    def compose(self) -> ComposeResult:
+        with VerticalScroll(id="help-scroll"):
+            yield Static(id="help-text")
+        yield Static(id="help-question")
+        yield Input(id="help-topic", placeholder="TOPIC (e.g. MOVE)")
+
+    def on_mount(self) -> None:
+        if self.first_topic:
+            self.show_topic(self.first_topic)
+        else:
+            self.show_menu()
+
+    # -- what is shown -----------------------------------------------------------
+    @property
+    def text(self) -> str:
+        return str(self.query_one("#help-text", Static).content)
+
+    @property
+    def question(self) -> str:
+        return str(self.query_one("#help-question", Static).content)
+
+    def _show(self, lines: list[str] | tuple[str, ...]) -> None:
+        self.query_one("#help-text", Static).update("\n".join(lines))
+        self.query_one("#help-scroll", VerticalScroll).scroll_home(animate=False)
+
+    def _ask(self, state: str, question: str) -> None:
+        self.state = state
+        self.query_one("#help-question", Static).update(question)
+        field = self.query_one("#help-topic", Input)
+        asking = state == "topic"
+        field.set_class(asking, "asking")
+        if asking:
+            field.value = ""
+            field.focus()
+        else:
+            self.set_focus(None)
+
+    def show_menu(self) -> None:
+        self._show(self.topics.menu())
+        self._ask("topic?", ASK_TOPIC)
+
+    def show_topic(self, word: str) -> None:
+        try:
+            lines = self.topics.find(word).lines()
+        except KeyError as error:
+            self._show([str(error.args[0]), "", *self.topics.menu()])
+            self._ask("topic?", ASK_TOPIC)
+            return
+        self._show(lines)
+        self._ask("menu?", ASK_MENU)
+
+    # -- answers -------------------------------------------------------------------
+    def on_key(self, event: Key) -> None:
+        if self.state == "topic":
+            return  # the topic field takes the keys
+        key = (event.character or "").upper()
+        if key not in ("Y", "N"):
+            return
+        event.stop()
+        if self.state == "topic?":
+            if key == "Y":
+                self._ask("topic", ENTER_TOPIC)
+            else:
+                self.action_leave()
+        elif self.state == "menu?":
+            if key == "Y":
+                self.show_menu()
+            else:
+                self._ask("topic?", ASK_TOPIC)
+
+    def on_input_submitted(self, event: Input.Submitted) -> None:
+        event.stop()
+        word = event.value.strip()
+        if not word:
+            self.show_menu()
+        else:
+            self.show_topic(word)
+
+    def action_leave(self) -> None:
+        if self.state == "topic":
+            self._ask("topic?", ASK_TOPIC)
+            return
+        self.dismiss(None)
