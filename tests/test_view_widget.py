@@ -100,6 +100,21 @@ async def test_options_redraw_and_ascii() -> None:
 
 
 @sync
+async def test_constructor_options() -> None:
+    class AsciiApp(App[None]):
+        def compose(self) -> ComposeResult:
+            yield ModelView(two_boxes(), ascii=True, axes=True, back_faces=False)
+
+    app = AsciiApp()
+    async with app.run_test(size=(80, 24)) as pilot:
+        await pilot.pause()
+        view = app.query_one(ModelView)
+        assert view.ascii and view.axes and not view.back_faces
+        text = "".join(screen_lines(view))
+        assert text.isascii() and "Z" in text
+
+
+@sync
 async def test_resize_redraws_at_the_new_size() -> None:
     app = ViewApp()
     async with app.run_test(size=(80, 24)) as pilot:

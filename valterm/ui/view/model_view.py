@@ -7,6 +7,7 @@ kilobytes.
 
 from __future__ import annotations
 
+import sys
 import time
 from typing import Mapping, Sequence
 
@@ -49,6 +50,12 @@ DEFAULT_PALETTE: dict[int, str] = {
 }
 
 
+def braille_supported(stream: object = None) -> bool:
+    """Whether the output can carry braille (a UTF encoding); else use the ASCII fallback."""
+    encoding = getattr(sys.stdout if stream is None else stream, "encoding", None) or ""
+    return "utf" in encoding.lower()
+
+
 class ModelView(Widget):
     """The robot and its work cell as a wireframe (§2.1-§2.3).
 
@@ -74,6 +81,9 @@ class ModelView(Widget):
         scene: Scene | None = None,
         view: ViewTransform | None = None,
         *,
+        back_faces: bool = True,
+        axes: bool = False,
+        ascii: bool = False,
         palette: Mapping[int, str] | None = None,
         dot_aspect: float = 1.0,
         name: str | None = None,
@@ -81,6 +91,9 @@ class ModelView(Widget):
         classes: str | None = None,
     ) -> None:
         super().__init__(name=name, id=id, classes=classes)
+        self.set_reactive(ModelView.back_faces, back_faces)
+        self.set_reactive(ModelView.axes, axes)
+        self.set_reactive(ModelView.ascii, ascii)
         self._scene = scene if scene is not None else Scene.build([])
         self._view = view if view is not None else ViewTransform()
         self._palette = dict(DEFAULT_PALETTE if palette is None else palette)

@@ -341,33 +341,33 @@ def empty_frame(width: int, height: int) -> Frame:
 
 # -- ASCII fallback ----------------------------------------------------------------------
 def _ascii_table() -> np.ndarray:
-    """Braille pattern (0..255) -> an ASCII character that looks like its dots."""
+    """Braille pattern (0..255) -> the ASCII character closest to its dots' direction.
+
+    Built once (256 patterns): the principal axis of the lit dots picks - / | \\, a blob
+    gives + or #, a lone dot ' or .
+    """
     table = np.full(256, ord(" "), dtype=np.uint32)
     for code in range(1, 256):
-        dots = (np.bitwise_and(code, BRAILLE_WEIGHTS) > 0)  # (4, 2)
-        rows = np.flatnonzero(dots.any(axis=1))
-        cols = np.flatnonzero(dots.any(axis=0))
-        n = int(dots.sum())
-        tl = dots[:2, 0].any() and dots[2:, 1].any() and not dots[:2, 1].any() and not dots[2:, 0].any()
-        tr = dots[:2, 1].any() and dots[2:, 0].any() and not dots[:2, 0].any() and not dots[2:, 1].any()
-        if n >= 7:
+        rows, cols = np.nonzero(np.bitwise_and(code, BRAILLE_WEIGHTS))
+        n = len(rows)
+        if n == 1:
+            ch = "'" if rows[0] <= 1 else "."
+        elif n >= 6:
             ch = "#"
-        elif tl:
-            ch = "\\"
-        elif tr:
-            ch = "/"
-        elif len(cols) == 1 and np.ptp(rows) >= 2:
-            ch = "|"
-        elif len(rows) == 1:
-            ch = "_" if rows[0] == 3 else ("'" if rows[0] == 0 and n == 1 else "-")
-        elif len(rows) == 2 and np.ptp(rows) == 1 and len(cols) == 2 and n >= 3:
-            ch = "=" if n >= 4 else "-"
-        elif len(cols) == 1:
-            ch = ":" if np.ptp(rows) >= 1 else "."
-        elif n <= 2:
-            ch = "."
         else:
-            ch = "+"
+            x, y = cols - cols.mean(), rows - rows.mean()  # dots are square: no rescaling
+            vx, vy, cxy = (x * x).mean(), (y * y).mean(), (x * y).mean()
+            spread = math.hypot(vx - vy, 2 * cxy)
+            major, minor = (vx + vy + spread) / 2, (vx + vy - spread) / 2
+            angle = math.degrees(0.5 * math.atan2(2 * cxy, vx - vy))  # y grows downwards
+            if minor > 0.5 * major:
+                ch = "+"
+            elif abs(angle) < 25:
+                ch = "_" if rows.min() == 3 else "-"
+            elif abs(angle) > 65:
+                ch = "|"
+            else:
+                ch = "\\" if angle > 0 else "/"
         table[code] = ord(ch)
     return table
 
