@@ -57,9 +57,12 @@ def test_bundled_cells_read_cleanly(name: str, count: int) -> None:
     assert cell.warnings == []
     for polyhedron in cell.objects:
         assert len(polyhedron.vertices) == 8
-        # within the robot's world: below the shoulder, within about 1.3 m of the base
+        # within the robot's world: within about 1.3 m of the base, clear of the vertical arm
         assert np.abs(polyhedron.vertices[:, :2]).max() < 1300
-        assert polyhedron.vertices[:, 2].max() < 0
+        assert polyhedron.vertices[:, 2].max() < 300
+        low, high = polyhedron.extreme_box
+        assert not (low[0] < 100 and high[0] > -100 and low[1] < 260 and high[1] > -100), "inside the robot's base"
+
 
 
 def test_process_parts_are_under_locations_a_and_b() -> None:
