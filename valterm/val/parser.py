@@ -195,7 +195,10 @@ def _match(items: tuple, text: str, original: str, i: int, pos: int,
     rest = text[pos:]
     if i == len(items):
         return out if not rest.strip() else None
-    if not rest.strip() and all(isinstance(it, Literal) or it.optional for it in items[i:]):
+    # At the end of the text, left-out optional arguments and their commas are fine
+    # (BASE ,,300), a keyword (THEN, DO) is not.
+    if not rest.strip() and all(it.optional or (isinstance(it, Literal) and it.options[0] in (",", "="))
+                                for it in items[i:]):
         return out + [None] * sum(isinstance(it, Slot) for it in items[i:])
     item = items[i]
     if isinstance(item, Literal):
