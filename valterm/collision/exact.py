@@ -25,7 +25,7 @@ import fcl
 import numpy as np
 
 from valterm.cell.polyhedron import Polyhedron
-from valterm.collision.thesis import CLEAR, COLLIDES
+from valterm.collision.thesis import _LEVI, CLEAR, COLLIDES
 
 RIGID_TOL = 1e-6  # mm per mm of size: how far a vertex may be from a rigid move of the built one
 
@@ -66,11 +66,14 @@ def distance(a: Polyhedron, b: Polyhedron) -> float:
 
 def _frames(p0: np.ndarray, p1: np.ndarray, p2: np.ndarray) -> np.ndarray:
     """(n, 3, 3) orthonormal frames (columns) from three points each (Gram-Schmidt)."""
+    def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+        return (a[:, :, None] * b[:, None, :]).reshape(-1, 9) @ _LEVI
+
     e1 = p1 - p0
-    e1 /= np.linalg.norm(e1, axis=1, keepdims=True)
-    e3 = np.cross(e1, p2 - p0)
-    e3 /= np.linalg.norm(e3, axis=1, keepdims=True)
-    return np.stack([e1, np.cross(e3, e1), e3], axis=2)
+    e1 /= np.sqrt(np.einsum("ij,ij->i", e1, e1))[:, None]
+    e3 = cross(e1, p2 - p0)
+    e3 /= np.sqrt(np.einsum("ij,ij->i", e3, e3))[:, None]
+    return np.stack([e1, cross(e3, e1), e3], axis=2)
 
 
 class ExactChecker:
@@ -83,6 +86,7 @@ class ExactChecker:
         self._objects: list[fcl.CollisionObject] = []
         self._index: dict[int, int] = {}
         self._managers: dict[tuple[tuple[int, ...], tuple[int, ...]], tuple] = {}
+        self._plan: tuple | None = None  # pair bookkeeping for the last (moving, stationary) arrays
 
     # -- keeping fcl in step with the polyhedra ---------------------------------------------
     def _build(self, polys: Sequence[Polyhedron]) -> None:
@@ -96,6 +100,7 @@ class ExactChecker:
         self._base_frames = np.zeros((len(polys), 3, 3))
         self._index = {}
         self._managers = {}
+        self._extent = np.zeros(len(polys))
         for i, p in enumerate(polys):
             self._make(i, p)
         self._last = np.concatenate([p.vertices for p in polys]) if polys else np.zeros((0, 3))
@@ -112,6 +117,8 @@ class ExactChecker:
         self._objects[i] = fcl.CollisionObject(geom, fcl.Transform(np.eye(3), c))
         local = p.vertices - c
         self._local[i] = local
+        self._local_all = np.concatenate(self._local)
+        self._extent[i] = np.abs(local).max()
         self._base_frames[i] = _frames(local[None, 0], local[None, 1], local[None, p.k])[0]
 
     def sync(self, polys: Sequence[Polyhedron]) -> None:
@@ -123,27 +130,30 @@ class ExactChecker:
             return
         v = np.concatenate([p.vertices for p in polys])
         moved_rows = np.any(v != self._last, axis=1)
-        moved = np.nonzero(np.logical_or.reduceat(moved_rows, self._starts))[0]
-        if len(moved) == 0:
+        if not moved_rows.any():
             return
         self._last = v
-        s = self._starts[moved]
-        k = self._counts[moved] // 2
-        centres = np.add.reduceat(v, self._starts, axis=0)[moved] / self._counts[moved, None]
-        frames = _frames(v[s], v[s + 1], v[s + k])
-        rot = frames @ np.transpose(self._base_frames[moved], (0, 2, 1))
-        changed = []
-        for n, i in enumerate(moved):
-            local = self._local[i]
-            now = v[s[n]: s[n] + len(local)] - centres[n]
-            err = np.abs(local @ rot[n].T - now).max()
-            if not np.isfinite(err) or err > RIGID_TOL * (1.0 + np.abs(local).max()):
+        moved_mask = np.logical_or.reduceat(moved_rows, self._starts)
+        moved = np.flatnonzero(moved_mask)
+        rows = np.repeat(moved_mask, self._counts)
+        counts = self._counts[moved]
+        starts = np.concatenate([[0], np.cumsum(counts)[:-1]])
+        now = v[rows]
+        centres = np.add.reduceat(now, starts, axis=0) / counts[:, None]
+        s, k = self._starts[moved], counts // 2
+        rot = _frames(v[s], v[s + 1], v[s + k]) @ np.transpose(self._base_frames[moved], (0, 2, 1))
+        # rigid if every built vertex, turned and placed, lands on the vertex we were given
+        placed = np.einsum("vij,vj->vi", np.repeat(rot, counts, axis=0), self._local_all[rows])
+        err = np.abs(placed - (now - np.repeat(centres, counts, axis=0))).max(axis=1)
+        err = np.maximum.reduceat(err, starts)
+        ok = err <= RIGID_TOL * (1.0 + self._extent[moved])
+        for n, i in enumerate(moved.tolist()):
+            if ok[n]:
+                obj = self._objects[i]
+                obj.setRotation(rot[n])
+                obj.setTranslation(centres[n])
+            else:
                 self._make(i, polys[i])      # not a rigid move of what fcl holds
-                continue
-            obj = self._objects[i]
-            obj.setRotation(rot[n])
-            obj.setTranslation(centres[n])
-            changed.append(obj)
         for m_moving, m_still in self._managers.values():
             m_moving.update()
             m_still.update()
@@ -165,17 +175,21 @@ class ExactChecker:
     def colliding(self, polys: Sequence[Polyhedron], moving: np.ndarray, stationary: np.ndarray) -> np.ndarray:
         """Boolean per (moving, stationary) pair."""
         self.sync(polys)
-        moving = np.asarray(moving, dtype=np.intp)
-        stationary = np.asarray(stationary, dtype=np.intp)
         hit = np.zeros(len(moving), dtype=bool)
         if len(moving) == 0:
             return hit
-        movers = set(moving.tolist())
-        bipartite = np.array([j not in movers for j in stationary.tolist()], dtype=bool)
-        where = {(int(i), int(j)): n for n, (i, j) in enumerate(zip(moving, stationary))}
+        plan = self._plan
+        if plan is None or plan[0] is not moving or plan[1] is not stationary:
+            movers = set(moving.tolist())
+            bipartite = np.array([j not in movers for j in stationary.tolist()], dtype=bool)
+            where = {(int(i), int(j)): n for n, (i, j) in enumerate(zip(moving, stationary))}
+            plan = self._plan = (moving, stationary, bipartite, where)
+        bipartite, where = plan[2], plan[3]
         if bipartite.any():
-            group_m = tuple(sorted(set(moving[bipartite].tolist())))
-            group_s = tuple(sorted(set(stationary[bipartite].tolist())))
+            if len(plan) == 4:
+                plan = self._plan = (*plan, tuple(sorted(set(moving[bipartite].tolist()))),
+                                     tuple(sorted(set(stationary[bipartite].tolist()))))
+            group_m, group_s = plan[4], plan[5]
             m_moving, m_still = self._manager_pair(group_m, group_s)
             request = fcl.CollisionRequest(num_max_contacts=1 << 30)
             data = fcl.CollisionData(request, fcl.CollisionResult())

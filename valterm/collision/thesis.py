@@ -68,6 +68,7 @@ class Layout:
     counts: np.ndarray     # (N,) 2k
     edge_idx: np.ndarray   # (N, Emax, 2)
     face_idx: np.ndarray   # (N, Fmax, M)
+    face_next: np.ndarray  # (N, Fmax, M) the next vertex round each face
 
 
 @lru_cache(maxsize=64)
@@ -86,7 +87,7 @@ def layout(ks: tuple[int, ...]) -> Layout:
         for j, face in enumerate(top.faces):
             face_idx[i, j] = face[-1] + s
             face_idx[i, j, : len(face)] = face + s
-    return Layout(tuple(ks), starts, counts, edge_idx, face_idx)
+    return Layout(tuple(ks), starts, counts, edge_idx, face_idx, np.roll(face_idx, -1, axis=2))
 
 
 @dataclass
@@ -97,31 +98,56 @@ class Scene:
     vertices: np.ndarray   # (V, 3)
     centres: np.ndarray    # (N, 3)
     radii: np.ndarray      # (N,)
-    lo: np.ndarray         # (N, 3) extreme box
-    hi: np.ndarray         # (N, 3)
+    mid: np.ndarray        # (N, 3) middle of the extreme box
+    half: np.ndarray       # (N, 3) half its size
 
     @classmethod
     def of(cls, polys: Sequence[Polyhedron]) -> "Scene":
         lay = layout(tuple(len(p.vertices) // 2 for p in polys))
-        v = np.concatenate([p.vertices for p in polys]) if polys else np.zeros((0, 3))
         if not polys:
             z = np.zeros((0, 3))
-            return cls(lay, v, z, np.zeros(0), z, z)
+            return cls(lay, z, z, np.zeros(0), z, z)
+        v = np.concatenate([p.vertices for p in polys])
         centres = np.add.reduceat(v, lay.starts, axis=0) / lay.counts[:, None]
         d = v - np.repeat(centres, lay.counts, axis=0)
         radii = np.sqrt(np.maximum.reduceat(np.einsum("ij,ij->i", d, d), lay.starts))
         lo = np.minimum.reduceat(v, lay.starts, axis=0)
         hi = np.maximum.reduceat(v, lay.starts, axis=0)
-        return cls(lay, v, centres, radii, lo, hi)
+        return cls(lay, v, centres, radii, (lo + hi) * 0.5, (hi - lo) * 0.5)
+
+    @property
+    def lo(self) -> np.ndarray:
+        return self.mid - self.half
+
+    @property
+    def hi(self) -> np.ndarray:
+        return self.mid + self.half
+
+
+# cross products as one matmul: (a outer b) flattened to 9, times the Levi-Civita symbol
+_LEVI = np.zeros((9, 3))
+for _i, _j, _k in ((0, 1, 2), (1, 2, 0), (2, 0, 1)):
+    _LEVI[3 * _j + _k, _i] = 1.0
+    _LEVI[3 * _k + _j, _i] = -1.0
+
+
+@lru_cache(maxsize=16)
+def _levi_summed(m: int) -> np.ndarray:
+    """Levi-Civita stacked m times: the matmul also sums the m cross products (Newell)."""
+    return np.tile(_LEVI, (m, 1))
+
+
+def _outer(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    return (a[..., :, None] * b[..., None, :]).reshape(*a.shape[:-1], 9)
 
 
 # -- the two checks ----------------------------------------------------------------------------
 
 def coarse(scene: Scene, moving: np.ndarray, stationary: np.ndarray, grow: float | np.ndarray) -> np.ndarray:
     """Boolean per pair: is the moving centre inside the stationary box grown by radius + margin?"""
-    g = (scene.radii[moving] + grow)[:, None]
-    c = scene.centres[moving]
-    return np.all((c >= scene.lo[stationary] - g) & (c <= scene.hi[stationary] + g), axis=1)
+    gap = np.abs(scene.centres.take(moving, axis=0) - scene.mid.take(stationary, axis=0))
+    gap -= scene.half.take(stationary, axis=0)
+    return gap.max(axis=1) <= scene.radii.take(moving) + grow
 
 
 def fine(scene: Scene, a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -132,29 +158,35 @@ def fine(scene: Scene, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     lay, v = scene.layout, scene.vertices
     src = np.concatenate([a, b])    # whose edges
     dst = np.concatenate([b, a])    # whose faces
-    seg = v[lay.edge_idx[src]]                       # (2n, E, 2, 3)
-    poly = v[lay.face_idx[dst]]                      # (2n, F, M, 3)
-    # Newell-style vector area about the first vertex: twice the area times the unit normal
-    rel = poly - poly[:, :, :1]
-    area2 = np.cross(rel, np.roll(rel, -1, axis=2)).sum(axis=2)     # (2n, F, 3)
-    size = np.linalg.norm(area2, axis=-1)                           # (2n, F) = 2 * area
+    seg = v[lay.edge_idx.take(src, axis=0)]                 # (2n, E, 2, 3)
+    poly = v[lay.face_idx.take(dst, axis=0)]                # (2n, F, M, 3)
+    nxt = v[lay.face_next.take(dst, axis=0)]
+    pn, e, f, m = poly.shape[0], seg.shape[1], poly.shape[1], poly.shape[2]
+    # Newell's vector area, sum of v_i x v_i+1: twice the area times the unit normal
+    area2 = _outer(poly, nxt).reshape(pn, f, 9 * m) @ _levi_summed(m)           # (2n, F, 3)
+    size = np.sqrt(np.einsum("nfk,nfk->nf", area2, area2))                    # 2 * area
     unit = area2 / np.where(size > 0, size, 1.0)[..., None]
     off = np.einsum("nfk,nfk->nf", poly[:, :, 0], unit)
-    s0 = np.einsum("nek,nfk->nef", seg[:, :, 0], unit) - off[:, None, :]
-    s1 = np.einsum("nek,nfk->nef", seg[:, :, 1], unit) - off[:, None, :]
-    crossing = ((s0 > EPS) & (s1 < -EPS)) | ((s0 < -EPS) & (s1 > EPS))
+    # signed distances of both ends of every edge from every face plane: one batched matmul
+    s = (seg.reshape(pn, 2 * e, 3) @ unit.transpose(0, 2, 1)).reshape(pn, e, 2, f) - off[:, None, None, :]
+    s0, s1 = s[:, :, 0], s[:, :, 1]
+    crossing = (np.minimum(s0, s1) < -EPS) & (np.maximum(s0, s1) > EPS)
     hit = np.zeros(n, dtype=bool)
-    ni, ei, fi = np.nonzero(crossing)
-    if len(ni) == 0:
+    cand = np.flatnonzero(crossing)                  # flat (pair, edge, face) candidates
+    if len(cand) == 0:
         return hit
+    pair, rest = np.divmod(cand, e * f)
+    edge = pair * e + rest // f
+    face = pair * f + rest % f
     # where on the segment the plane is met, then the triangle-area sum of Fig. 2-14 B
-    t = s0[ni, ei, fi] / (s0[ni, ei, fi] - s1[ni, ei, fi])
-    p0 = seg[ni, ei, 0]
-    x = p0 + t[:, None] * (seg[ni, ei, 1] - p0)
-    r = poly[ni, fi] - x[:, None, :]                                 # (c, M, 3)
-    tri = np.linalg.norm(np.cross(r, np.roll(r, -1, axis=1)), axis=-1).sum(axis=1)
-    inside = tri <= size[ni, fi] * (1.0 + AREA_TOL)
-    hit[ni[inside] % n] = True
+    a0 = s0.take(cand)
+    ends = seg.reshape(pn * e, 2, 3).take(edge, axis=0)
+    x = ends[:, :1] + (a0 / (a0 - s1.take(cand)))[:, None, None] * (ends[:, 1:] - ends[:, :1])
+    tri = _outer(poly.reshape(pn * f, m, 3).take(face, axis=0) - x,
+                 nxt.reshape(pn * f, m, 3).take(face, axis=0) - x) @ _LEVI        # (c, M, 3)
+    tri_sum = np.sqrt(np.einsum("cmk,cmk->cm", tri, tri)).sum(axis=1)
+    inside = tri_sum <= size.take(face) * (1.0 + AREA_TOL)
+    hit[pair[inside] % n] = True
     return hit
 
 
@@ -170,9 +202,18 @@ def check_pairs(scene: Scene, moving: np.ndarray, stationary: np.ndarray, grow: 
     check = codes == NEAR
     if fine_only is not None:
         check &= ~fine_only
-    idx = np.nonzero(check)[0]
-    if len(idx):
-        codes[idx[fine(scene, moving[idx], stationary[idx])]] = COLLIDES
+    idx = np.flatnonzero(check)
+    if len(idx) == 0:
+        return codes
+    # an edge can only cross a face where the two extreme boxes overlap: skip the rest
+    # (an exact shortcut, not a change to the 1985 answer)
+    a, b = moving.take(idx), stationary.take(idx)
+    apart = np.abs(scene.mid.take(a, axis=0) - scene.mid.take(b, axis=0))
+    apart -= scene.half.take(a, axis=0) + scene.half.take(b, axis=0)
+    keep = apart.max(axis=1) <= EPS
+    if keep.any():
+        idx, a, b = idx[keep], a[keep], b[keep]
+        codes[idx[fine(scene, a, b)]] = COLLIDES
     return codes
 
 
