@@ -44,26 +44,43 @@ def _prefilter(pts: np.ndarray) -> np.ndarray:
 
 
 def convex_hull_2d(points: np.ndarray) -> np.ndarray:
-    """Counter-clockwise convex hull of (n, 2) points (Andrew's monotone chain), no repeats."""
-    pts = np.unique(np.asarray(points, dtype=float), axis=0)
+    """Counter-clockwise convex hull of (n, 2) points, no repeats (quickhull, vectorised per edge)."""
+    pts = _prefilter(np.asarray(points, dtype=float))
+    pts = np.unique(pts, axis=0)  # after the prefilter: few points left to sort
     if len(pts) < 3:
         return pts
-    pts = _prefilter(pts)
-    pts = pts[np.lexsort((pts[:, 1], pts[:, 0]))]
     scale = float(np.ptp(pts, axis=0).max()) or 1.0
     eps = _REL_TOL * scale * scale
+    a = int(np.lexsort((pts[:, 1], pts[:, 0]))[0])     # lowest x (then y): on the hull
+    b = int(np.lexsort((-pts[:, 1], -pts[:, 0]))[0])   # highest x: on the hull
+    idx = np.arange(len(pts))
 
-    def chain(seq: np.ndarray) -> list[np.ndarray]:
-        out: list[np.ndarray] = []
-        for p in seq:  # only hull candidates are left after the prefilter
-            while len(out) >= 2 and _cross2(out[-2], out[-1], p) <= eps:
-                out.pop()
-            out.append(p)
-        return out
+    def side(i: int, j: int, cand: np.ndarray) -> np.ndarray:
+        """Candidates strictly right of i->j (outside, for a counter-clockwise hull)."""
+        c = _cross2(pts[i], pts[j], pts[cand])
+        return cand[c < -eps]
 
-    lower = chain(pts)
-    upper = chain(pts[::-1])
-    return np.array(lower[:-1] + upper[:-1])
+    # hull vertices between i and j (exclusive), found by splitting at the farthest point
+    def between(i: int, j: int, cand: np.ndarray) -> list[int]:
+        # iterative in-order walk: (i, j, cand) -> [between(i, far), far, between(far, j)]
+        result: list[int] = []
+        work: list[object] = [(i, j, cand)]
+        while work:
+            item = work.pop()
+            if isinstance(item, int):
+                result.append(item)
+                continue
+            p, q, c = item  # type: ignore[misc]
+            if len(c) == 0:
+                continue
+            far = int(c[np.argmin(_cross2(pts[p], pts[q], pts[c]))])
+            left, right = side(p, far, c), side(far, q, c)
+            work.extend([(far, q, right), far, (p, far, left)])
+        return result
+
+    lower = between(a, b, side(a, b, idx))   # below a->b, walking from a to b
+    upper = between(b, a, side(b, a, idx))
+    return pts[[a, *lower, b, *upper]]
 
 
 def polygon_area(poly: np.ndarray) -> float:
@@ -120,7 +137,6 @@ def extruded_hull(points: np.ndarray, name: str = "", min_depth: float = MIN_DEP
     scale = float(np.ptp(pts, axis=0).max())
     if scale <= 0:
         raise DegeneratePart("all its points coincide: it has no size")
-    pts = np.unique(np.round(pts / (scale * 1e-9)) * (scale * 1e-9), axis=0)
 
     centred = pts - pts.mean(axis=0)
     _, vecs = np.linalg.eigh(centred.T @ centred)
@@ -138,8 +154,8 @@ def extruded_hull(points: np.ndarray, name: str = "", min_depth: float = MIN_DEP
         d = pts @ axis
         depth = float(d.max() - d.min())
         volume = area * max(depth, min_depth)
-        # world axes win near-ties so axis-aligned parts keep axis-aligned envelopes
-        if best is None or volume < best[0] * (1 - 1e-6):
+        # world axes win unless a principal axis is 1 % tighter: axis-aligned parts stay aligned
+        if best is None or volume < best[0] * (1 - 1e-2):
             best = (volume, index, axis, u, v, hull, float(d.min()), float(d.max()))
     if best is None:
         raise DegeneratePart("all its points lie on one line: there is no outline to extrude")
