@@ -464,3 +464,27 @@ def test_unknown_extension(tmp_path):
     path.write_text("x")
     with pytest.raises(CadImportError, match="unknown CAD file type"):
         import_cad(path)
+
+
+def test_mutated_samples_never_raise_anything_but_cad_import_error(tmp_path):
+    """Random damage to the real files: either it imports, or a one-line located refusal."""
+    import random
+
+    texts = [p.read_text() for p in sorted(SAMPLES.glob("*.ig*"))] if SAMPLES.is_dir() else []
+    if not texts:
+        pytest.skip("samples absent")
+    rng = random.Random(7)
+    path = tmp_path / "m.igs"
+    for _ in range(300):
+        lines = rng.choice(texts).split("\n")
+        for _ in range(rng.randint(1, 4)):
+            j = rng.randrange(len(lines) - 1)
+            c = rng.randrange(80)
+            lines[j] = lines[j][:c] + rng.choice("0123456789,;.-+EHD x") + lines[j][c + 1:]
+        if rng.random() < 0.2:
+            lines = lines[: rng.randrange(len(lines))]
+        path.write_text("\n".join(lines))
+        try:
+            import_cad(path)
+        except CadImportError as error:
+            assert "\n" not in str(error) and str(error).startswith(str(path))
