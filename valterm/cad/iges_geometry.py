@@ -206,15 +206,15 @@ class Walker:
 
     def spline126(self, e: "Entity") -> np.ndarray:
         k, m = self.m.integer(e, 1), self.m.integer(e, 2)
-        if k < 0 or m < 1 or k + 1 < m + 1 - 1:
+        if m < 1 or k < m:
             raise self.m.error(e.param_lines[0], f"rational B-spline curve (D{e.seq}): bad upper index {k} or degree {m}")
         polynomial = self.m.integer(e, 5, 0) == 1
         nk = k + m + 2
         knots = self.m.nums(e, 7, nk)
         w = self.m.nums(e, 7 + nk, k + 1)
         ctrl = self.m.nums(e, 8 + nk + k, 3 * (k + 1)).reshape(k + 1, 3)
-        v0 = self.m.num(e, 8 + nk + 4 * k + 3 - 1 + 1, float(knots[m]))
-        v1 = self.m.num(e, 8 + nk + 4 * k + 3 - 1 + 2, float(knots[-m - 1]))
+        v0 = self.m.num(e, 11 + nk + 4 * k, float(knots[m]))        # parameter range after the points
+        v1 = self.m.num(e, 12 + nk + 4 * k, float(knots[-m - 1]))
         if np.any(np.diff(knots) < 0):
             raise self.m.error(e.param_lines[6], f"rational B-spline curve (D{e.seq}): knots decrease")
         if polynomial or np.all(w == w[0]):
