@@ -198,3 +198,15 @@ def test_changed_spans_report_only_changed_rows() -> None:
 def test_bench_raster_is_fast() -> None:
     ms = bench_raster(200, 60, repeats=10)
     assert 0 < ms < 20  # the budget is 2 ms; generous here for loaded CI machines
+
+
+def test_raster_clock_and_bench_import_no_textual_or_rich() -> None:
+    import subprocess
+    import sys
+
+    code = (
+        "import sys, valterm.ui.view.raster, valterm.ui.view.clock, valterm.ui.view.bench\n"
+        "bad = [m for m in sys.modules if m.split('.')[0] in ('textual', 'rich')]\n"
+        "assert not bad, bad\n"
+    )
+    subprocess.run([sys.executable, "-c", code], check=True)

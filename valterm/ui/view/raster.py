@@ -137,6 +137,7 @@ class ViewTransform:
     # -- using ----------------------------------------------------------------
     def affine(self) -> tuple[np.ndarray, np.ndarray]:
         """(A, b) with view = A @ world + b."""
+        assert self.pivot is not None  # set by __post_init__
         a = self.scale * (self.rotation @ WORLD_TO_SCS)
         b = self.scale * (self.rotation @ (SCS_OFFSET - self.pivot))
         b[:2] += self.pan
@@ -149,9 +150,11 @@ class ViewTransform:
     def key(self) -> bytes:
         """A value that changes whenever the picture would (for redraw decisions)."""
         a, b = self.affine()
+        assert self.half_extent is not None
         return a.tobytes() + b.tobytes() + self.half_extent.tobytes()
 
     def copy(self) -> "ViewTransform":
+        assert self.pivot is not None and self.half_extent is not None
         return ViewTransform(
             self.rotation.copy(), self.scale, self.pan.copy(), self.pivot.copy(),
             self.half_extent.copy(), self.home_bounds,
@@ -421,7 +424,9 @@ def rasterize(
 
     # world -> view mm -> continuous dot coordinates, every endpoint in one product
     a_mat, b_vec = view.affine()
-    ppm = min(wd / (2 * view.half_extent[0]), hd * dot_aspect / (2 * view.half_extent[1]))
+    half = view.half_extent
+    assert half is not None
+    ppm = min(wd / (2 * half[0]), hd * dot_aspect / (2 * half[1]))
     to_dots = np.array([[ppm, 0.0], [0.0, -ppm / dot_aspect]])
     centre = np.array([wd / 2, hd / 2])
     flat = segs.reshape(-1, 3) @ a_mat[:2].T + b_vec[:2]
