@@ -194,6 +194,8 @@ class Interpreter:
                 count += 1
         op_index.append(count)  # "past the last step"
         code: list[Op] = []
+        if not analysis.structure_ok:
+            return CompiledProgram(name, analysis, code)  # pass 1 failed: it will not run
         for index, statement in enumerate(analysis.statements):
             if statement is not None and not statement.command:
                 continue
