@@ -137,12 +137,15 @@ class ValModeScreen(Screen[None]):
         Binding("escape", "escape", "Back", id="valmode.escape"),
     ]
 
-    def __init__(self, session=None, *, rate: float = DEFAULT_RATE,  # type: ignore[no-untyped-def]
-                 clock: Callable[[], float] = time.monotonic, show_menu: bool = True) -> None:
+    def __init__(self, session=None, *, rate: float | None = None,  # type: ignore[no-untyped-def]
+                 clock: Callable[[], float] | None = None, show_menu: bool = True) -> None:
         super().__init__()
         self._session = session
-        self.rate = rate  # poses per second; math.inf: every motion at once (tests)
-        self.clock = clock
+        # poses per second (math.inf: every motion at once, for tests); default: the app's
+        self.rate: float = rate if rate is not None else DEFAULT_RATE
+        self._rate_given = rate is not None
+        self.clock: Callable[[], float] = clock or time.monotonic
+        self._clock_given = clock is not None
         self.show_menu = show_menu
         self.mode = "menu"  # menu | command | after | running | paused | model | define? | define-file | define-each | point
         self.page = 1
@@ -184,6 +187,10 @@ class ValModeScreen(Screen[None]):
         return self.session.interpreter
 
     def on_mount(self) -> None:
+        if not self._rate_given:
+            self.rate = float(getattr(self.app, "motion_rate", DEFAULT_RATE))
+        if not self._clock_given:
+            self.clock = getattr(self.app, "clock", time.monotonic)
         self.redraw()
         self.query_one(ModelView).call_after_refresh(self._fit)
         if self.show_menu:
