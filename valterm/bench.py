@@ -93,9 +93,20 @@ def _interpreter_entries() -> dict[str, float]:
 
 
 def _collision_entries() -> dict[str, float]:
-    from valterm.collision.bench import bench_process_cell
+    """One motion step's check in the PROCESS cell, the clamp open around part 1 at A."""
+    from valterm.collision.bench import bench_collision_step
+    from valterm.files.setup import read_setup
+    from valterm.kinematics import ASSETS
+    from valterm.simulator import Simulator
 
-    return bench_process_cell()
+    sim = Simulator(read_setup(ASSETS.parent / "cells" / "PROCESS.SET"))
+    sim.joints = [-25.262269, -42.979394, -154.524333 + 360.0, -1.300499, 18.419841, -23.025109]
+    links = list(zip(sim.model.names, sim.robot_polyhedra()))
+    result = bench_collision_step(links, sim.cell.objects)
+    return {
+        "collision_step_thesis_us": float(result["thesis_us_per_step"]),
+        "collision_step_fcl_us": float(result["fcl_us_per_step"]),
+    }
 
 
 def _raster_entries() -> dict[str, float]:
