@@ -17,6 +17,8 @@ def build_parser() -> argparse.ArgumentParser:
         description="VAL-II SIMULATOR: teach and program a PUMA robot in VAL-II, in the terminal.",
     )
     parser.add_argument("--workspace", metavar="DIR", help="the workspace folder (default ~/valterm)")
+    parser.add_argument("--setup", metavar="NAME", help="the app: read NAME.SET and go straight to the MAIN MENU")
+    parser.add_argument("--ascii", action="store_true", help="the app: draw the model in ASCII, not braille")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     for name in SUBCOMMANDS:
         try:

@@ -1,0 +1,53 @@
+"""H_HARDCOPY: the screen as an SVG and a plain-text printout of the cell and the pose."""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+from valterm.ui.view.raster import rasterize
+from valterm.ui.widgets.readouts import format_part, format_where
+
+PRINT_WIDTH = 100
+PRINT_HEIGHT = 40
+
+
+def next_name(root: Path, stem: str = "HCOPY") -> str:
+    """HCOPY1, HCOPY2, ... : the first number with neither .SVG nor .TXT taken (≤ 9 chars)."""
+    for number in range(1, 10_000):
+        name = f"{stem}{number}"
+        if not (root / f"{name}.SVG").exists() and not (root / f"{name}.TXT").exists():
+            return name
+    raise OSError("no free HCOPY name left in the workspace")
+
+
+def printout(app) -> str:  # type: ignore[no-untyped-def]
+    """The text printout: the setup, the clamp readout, every part, the model in ASCII."""
+    session = app.session
+    simulator = session.simulator
+    lines = [
+        "VAL-II SIMULATOR HARDCOPY",
+        time.strftime("%d-%b-%Y %H:%M:%S").upper(),
+        f"SETUP FILE {session.setup_name}.SET, {len(simulator.cell.objects)} PARTS",
+        "",
+        *format_where(simulator.where(1)),
+        "",
+    ]
+    for number, part in enumerate(simulator.cell.objects, start=1):
+        lines += format_part(number, part.reference)
+    frame = rasterize(app.scene(), app.view_transform, PRINT_WIDTH, PRINT_HEIGHT,
+                      back_faces=app.back_faces, axes=app.axes, ascii=True)
+    lines += ["", *(line.rstrip() for line in frame.lines())]
+    return "\n".join(lines) + "\n"
+
+
+def write_hardcopy(app) -> tuple[Path, Path]:  # type: ignore[no-untyped-def]
+    """Write HCOPYn.SVG (the screen) and HCOPYn.TXT (the printout) into the workspace."""
+    root = app.session.workspace.root
+    name = next_name(root)
+    text_path = root / f"{name}.TXT"
+    from valterm.files.atomic import write_text_atomic
+
+    write_text_atomic(text_path, printout(app))
+    svg = app.save_screenshot(filename=f"{name}.SVG", path=str(root))
+    return Path(svg), text_path

@@ -1,0 +1,178 @@
+"""KEYBOARD MENU (Fig. 2-3, Fig. C-3): listings, the clamp position, collision checks, back
+faces, ORIENT, axes, the model, one VAL-II command."""
+
+from __future__ import annotations
+
+from textual import events
+from textual.app import ComposeResult
+from textual.binding import Binding
+
+from valterm.ui.app import core_errors, error_text
+from valterm.ui.messages import MotionDone
+from valterm.ui.screens.base import MenuScreen
+from valterm.ui.widgets.menus import KEYBOARD_MENU, ORIENT_MENU
+from valterm.ui.widgets.readouts import PositionReadout
+
+ORIENT_TURN = 15.0  # degrees a key
+ORIENT_ZOOM = 1.25
+ORIENT_PAN = 50.0  # screen mm a key, at scale 1
+POINT_NAMES = {1: "TCS ORIGIN", 2: "LED SENSOR", 3: "CLAMP TIP"}
+
+
+def program_listing(workspace, name: str) -> list[str]:  # type: ignore[no-untyped-def]
+    """LISTP: a program's steps, numbered as the editor numbers them."""
+    program = workspace.read_program(name)
+    lines = [f"PROGRAM {program.name}.DAT", ""]
+    for number, step in enumerate(program.steps, start=1):
+        label = "" if step.label is None else str(step.label)
+        lines.append(f"{number:>3}. {label:<4} {step.text}")
+    return lines
+
+
+def command_view(session, command: str) -> list[str]:  # type: ignore[no-untyped-def]
+    """LISTP name / LISTF / LISTL typed after L (the LIST prefix may be left out)."""
+    words = command.strip().upper().replace(",", " ").split()
+    if not words:
+        raise ValueError("type LISTP NAME, LISTF OR LISTL")
+    verb = words[0] if words[0].startswith("LIST") else "LIST" + words[0]
+    workspace = session.workspace
+    if verb == "LISTF":
+        names = workspace.list_programs()
+        return ["VAL-II PROGRAMS:", *(f"  {n}.DAT" for n in names)] if names else ["NO VAL-II PROGRAMS"]
+    if verb == "LISTL":
+        names = workspace.list_locations()
+        return ["VAL-II LOCATION DATA FILES:", *(f"  {n}.LOC" for n in names)] if names else ["NO LOCATION DATA FILES"]
+    if verb == "LISTP":
+        if len(words) < 2:
+            raise ValueError("LISTP needs a program name")
+        return program_listing(workspace, words[1])
+    raise ValueError(f"{words[0]} is not LISTP, LISTF or LISTL")
+
+
+class KeyboardScreen(MenuScreen):
+    MENU = KEYBOARD_MENU
+    BINDINGS = [
+        Binding("l,L", "list", "List", id="keyboard.list"),
+        Binding("p,P", "position", "Position", id="keyboard.position"),
+        Binding("s,S", "smooth", "Collision checks", id="keyboard.smooth"),
+        Binding("f,F", "faces", "Back faces", id="keyboard.faces"),
+        Binding("o,O", "orient", "Orient", id="keyboard.orient"),
+        Binding("a,A", "axes", "Axes", id="keyboard.axes"),
+        Binding("r,R", "return", "Return", id="keyboard.return"),
+        Binding("m,M", "model", "Model", id="keyboard.model"),
+        Binding("v,V", "val", "VAL-II command", id="keyboard.val"),
+        Binding("question_mark", "help", "Help", id="keyboard.help"),
+    ]
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.point = 0  # the position readout's point (1, 2, 3), 0 = not shown
+        self.orienting = False
+        self.listing = False
+
+    def compose_readout(self) -> ComposeResult:
+        yield PositionReadout(id="readout", classes="-hidden")
+
+    def update_readout(self) -> None:
+        if not self.point:
+            return
+        readout = self.query_one("#readout", PositionReadout)
+        readout.show_where(self.app.simulator.where(self.point), f"POSITION {self.point}: {POINT_NAMES[self.point]}")
+        readout.remove_class("-hidden")
+
+    # -- listings ---------------------------------------------------------------------
+    def action_list(self) -> None:
+        self.ask_line("LIST - TYPE LISTP PROG. NAME, LISTF OR LISTL:", self._list)
+
+    def _list(self, command: str) -> None:
+        try:
+            lines = command_view(self.app.session, command)
+        except core_errors() as error:
+            self.say(error_text(error), "error")
+            return
+        self.menu.set_text("\n".join([*lines, "", "PRESS ANY KEY FOR THE MENU"]))
+        self.listing = True
+        self.show_model(False)
+
+    def _restore_menu(self) -> None:
+        self.listing = self.orienting = False
+        self.menu.set_text(KEYBOARD_MENU)
+
+    def on_key(self, event: events.Key) -> None:
+        if self.asking:
+            super().on_key(event)
+            return
+        if self.listing:
+            self._restore_menu()
+            if event.key in ("space", "enter", "escape"):
+                event.stop()
+                event.prevent_default()
+            return
+        if self.orienting:
+            event.stop()
+            event.prevent_default()
+            self._orient_key(event)
+
+    # -- P, S, F, A ------------------------------------------------------------------
+    def action_position(self) -> None:
+        self.ask_key("POSITION: 1 (TCS ORIGIN), 2 (LED SENSOR) OR 3 (CLAMP TIP) ?:", self._position, "123")
+
+    def _position(self, key: str) -> None:
+        self.point = int(key)
+        self.update_readout()
+
+    def action_smooth(self) -> None:
+        simulator = self.app.simulator
+        simulator.collision_checks = not simulator.collision_checks
+        self.say(f"COLLISION CHECKS {'ON' if simulator.collision_checks else 'OFF'}")
+
+    def action_faces(self) -> None:
+        self.app.back_faces = not self.app.back_faces
+        self.model_view.back_faces = self.app.back_faces
+        self.say("BACK FACES ON: HIDDEN SURFACES NOT REMOVED" if self.app.back_faces
+                 else "BACK FACES OFF: HIDDEN SURFACES REMOVED")
+
+    def action_axes(self) -> None:
+        self.app.axes = not self.app.axes
+        self.model_view.axes = self.app.axes
+        self.say(f"COORDINATE FRAMES {'ON' if self.app.axes else 'OFF'}")
+
+    # -- ORIENT1 --------------------------------------------------------------------------
+    def action_orient(self) -> None:
+        self.orienting = True
+        self.menu.set_text(ORIENT_MENU)
+        self.say("ORIENT1: THE VIEW ONLY; WORLD DATA ARE NOT CHANGED")
+
+    def _orient_key(self, event: events.Key) -> None:
+        view = self.model_view
+        key, char = event.key, event.character or ""
+        pan = ORIENT_PAN / max(self.app.view_transform.scale, 1e-6)
+        if char in ("+", "="):
+            view.scale_by(ORIENT_ZOOM)
+        elif char in ("-", "_"):
+            view.scale_by(1 / ORIENT_ZOOM)
+        elif key in ("left", "right", "up", "down"):
+            dx, dy = {"left": (-pan, 0), "right": (pan, 0), "up": (0, pan), "down": (0, -pan)}[key]
+            view.pan_by(dx, dy)
+        elif char.upper() in ("X", "Y", "Z"):
+            view.rotate_by(char.lower(), ORIENT_TURN if char.islower() else -ORIENT_TURN)
+        elif char.upper() == "H":
+            view.reset_view()
+        elif char.upper() == "R" or key == "escape":
+            self._restore_menu()
+            return
+        else:
+            self.say("ORIENT1: + - ARROWS X Y Z H OR R", "warning")
+            return
+        if self.has_class("-narrow"):
+            self.show_model(True)
+
+    # -- R, M, V ------------------------------------------------------------------------
+    def action_return(self) -> None:
+        self.app.pop_screen()
+
+    def action_model(self) -> None:
+        self.toggle_model()
+
+    def after_motion(self, message: MotionDone) -> None:
+        self.update_readout()

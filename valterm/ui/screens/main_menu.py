@@ -1,0 +1,124 @@
+"""MAIN MENU (Fig. 2-2, Fig. C-2): single keys to the modes, and B, I, S, H, G, R."""
+
+from __future__ import annotations
+
+from textual.binding import Binding
+
+from valterm.ui.app import core_errors, error_text
+from valterm.ui.screens import external_screen
+from valterm.ui.screens.base import MenuScreen
+from valterm.ui.widgets.menus import MAIN_MENU
+
+
+class MainMenuScreen(MenuScreen):
+    MENU = MAIN_MENU
+    BINDINGS = [
+        Binding("k,K", "keyboard", "Keyboard", id="main.keyboard"),
+        Binding("m,M", "manipulation", "Manipulation", id="main.manipulation"),
+        Binding("p,P", "pendant", "Pendant", id="main.pendant"),
+        Binding("e,E", "editor", "Editor", id="main.editor"),
+        Binding("v,V", "valmode", "VAL-II", id="main.valmode"),
+        Binding("r,R", "toggle_model", "Model/menu", id="main.return"),
+        Binding("b,B", "begin", "Begin", id="main.begin"),
+        Binding("i,I", "initialize", "Initialize", id="main.initialize"),
+        Binding("s,S", "stop", "Stop", id="main.stop"),
+        Binding("h,H", "hardcopy", "Hardcopy", id="main.hardcopy"),
+        Binding("g,G", "generate", "Generate", id="main.generate"),
+        Binding("question_mark", "help", "Help", id="main.help"),
+    ]
+
+    def on_mount(self) -> None:
+        super().on_mount()
+        session = self.app.session
+        if session is not None and session.setup_name:
+            self.say(f"SETUP FILE {session.setup_name}.SET WITH {len(session.simulator.cell.objects)} PARTS")
+
+    # -- to the modes ---------------------------------------------------------------
+    def action_keyboard(self) -> None:
+        from valterm.ui.screens.keyboard import KeyboardScreen
+
+        self.app.push_screen(KeyboardScreen())
+
+    def action_manipulation(self) -> None:
+        from valterm.ui.screens.manipulation import ManipulationScreen
+
+        self.app.push_screen(ManipulationScreen())
+
+    def action_pendant(self) -> None:
+        from valterm.ui.screens.pendant import PendantScreen
+
+        self.app.push_screen(PendantScreen())
+
+    def _external(self, kind: str, title: str) -> None:
+        screen = external_screen(kind)
+        if screen is None:
+            self.say(f"{title} IS NOT AVAILABLE YET", "warning")
+            return
+        self.app.push_screen(screen)
+
+    def action_editor(self) -> None:
+        self._external("editor", "EDIT MODE")
+
+    def action_valmode(self) -> None:
+        self._external("valmode", "VAL-II MODE")
+
+    def action_help(self) -> None:
+        self._external("help", "HELP")
+
+    def action_toggle_model(self) -> None:
+        self.toggle_model()
+
+    # -- the session ------------------------------------------------------------------
+    def action_begin(self) -> None:
+        from valterm.ui.screens.start import StartScreen
+
+        self.app.switch_screen(StartScreen())
+
+    def action_initialize(self) -> None:
+        name = self.app.session.setup_name if self.app.session else ""
+        try:
+            self.app.open_session(name or None)
+        except core_errors() as error:
+            self.say(error_text(error), "error")
+            return
+        self.messages.clear()
+        self.say(f"INITIALIZED WITH {name}.SET" if name else "INITIALIZED")
+        self.redraw()
+
+    def action_stop(self) -> None:
+        def answer(key: str) -> None:
+            if key == "Y":
+                self.app.exit(0)
+            else:
+                self.say("SESSION CONTINUES")
+
+        self.ask_key("ARE YOU SURE YOU WANT TO EXIT (Y/N) ?:", answer)
+
+    def action_hardcopy(self) -> None:
+        from valterm.ui.hardcopy import write_hardcopy
+
+        try:
+            svg, txt = write_hardcopy(self.app)
+        except core_errors() as error:
+            self.say(error_text(error), "error")
+            return
+        self.say(f"HARDCOPY WRITTEN: {svg.name} AND {txt.name}")
+
+    def action_generate(self) -> None:
+        session = self.app.session
+        name = session.setup_name or "CELL"
+        written = []
+        try:
+            from valterm.cad.export import export_scene
+
+            for ext in ("OBJ", "GLB"):
+                path = session.workspace.root / f"{name}.{ext}"
+                export_scene(session.simulator.cell, session.simulator.robot_polyhedra(), path)
+                written.append(path.name)
+        except ImportError as error:
+            self.say(f"EXPORT NOT AVAILABLE: {error}".upper(), "error")
+            return
+        except core_errors() as error:
+            self.say(error_text(error), "error")
+            return
+        self.say("POLYGON FILES WRITTEN: " + ", ".join(written))

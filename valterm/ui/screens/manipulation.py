@@ -1,0 +1,228 @@
+"""MANIPULATION MENU (Fig. 4-1, Fig. C-5, §4.1, §4.2, §7.2): reposition the cell's parts.
+
+The part number first, then I_NCREMENTS (typed translations and rotations about the screen
+axes), K_EYBOARD (5 mm a key along the screen axes) or R_ETURN. The Fig. 4-2 readout shows
+the part's reference corner in world and screen coordinates after every change. S_TOP ends:
+another part, or save the setup under the same or a new name.
+
+Screen axes (SPEC §1): X_s = Y_w, Y_s = Z_w + 26, Z_s = X_w; so U/D move along Z_w, R/L
+along Y_w and F/B along X_w.
+"""
+
+from __future__ import annotations
+
+from textual.app import ComposeResult
+from textual.binding import Binding
+
+from valterm.ui.app import core_errors, error_text
+from valterm.ui.screens.base import MenuScreen
+from valterm.ui.widgets.menus import MANIPULATION_CHOICE, MANIPULATION_MENU
+from valterm.ui.widgets.readouts import PartReadout
+
+STEP_MM = 5.0  # §4.1: "The default increments are set to <5 mm> for each key depression"
+STEP_DEG = 5.0
+# key -> world translation of one step
+KEY_MOVES = {
+    "U": (0.0, 0.0, STEP_MM), "D": (0.0, 0.0, -STEP_MM),
+    "R": (0.0, STEP_MM, 0.0), "L": (0.0, -STEP_MM, 0.0),
+    "F": (STEP_MM, 0.0, 0.0), "B": (-STEP_MM, 0.0, 0.0),
+}
+SCREEN_AXIS_TO_WORLD = {"X": 1, "Y": 2, "Z": 0}  # the world axis along each screen axis
+
+
+def screen_to_world_offset(dx: float, dy: float, dz: float) -> tuple[float, float, float]:
+    """A screen-axes displacement in world axes."""
+    return dz, dx, dy
+
+
+def parse_triple(text: str) -> tuple[float, float, float]:
+    parts = [p for p in text.replace(",", " ").split()]
+    if len(parts) != 3:
+        raise ValueError(f"{text or 'nothing'}: type three numbers X, Y, Z")
+    try:
+        x, y, z = (float(p) for p in parts)
+    except ValueError:
+        raise ValueError(f"{text}: type three numbers X, Y, Z") from None
+    return x, y, z
+
+
+class ManipulationScreen(MenuScreen):
+    MENU = MANIPULATION_CHOICE
+    BINDINGS = [
+        Binding("u,U", "step('U')", "Upward", id="manipulation.up"),
+        Binding("d,D", "step('D')", "Downward", id="manipulation.down"),
+        Binding("r,R", "step('R')", "Right", id="manipulation.right"),
+        Binding("l,L", "step('L')", "Left", id="manipulation.left"),
+        Binding("f,F", "step('F')", "Forward", id="manipulation.forward"),
+        Binding("b,B", "step('B')", "Backward", id="manipulation.backward"),
+        Binding("x,X", "turn('X')", "X rot", id="manipulation.xrot"),
+        Binding("y,Y", "turn('Y')", "Y rot", id="manipulation.yrot"),
+        Binding("z,Z", "turn('Z')", "Z rot", id="manipulation.zrot"),
+        Binding("a,A", "axes", "Axes", id="manipulation.axes"),
+        Binding("s,S", "stop", "Stop", id="manipulation.stop"),
+        Binding("m,M", "model", "Model", id="manipulation.model"),
+    ]
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.part = 0
+        self.keyboard = False  # the K_EYBOARD menu is active
+        self.modified = False
+
+    def compose_readout(self) -> ComposeResult:
+        yield PartReadout(id="readout")
+
+    def on_mount(self) -> None:
+        super().on_mount()
+        self.ask_part()
+
+    def update_readout(self) -> None:
+        if self.part:
+            reference = self.app.simulator.cell.object(self.part).reference
+            self.query_one("#readout", PartReadout).show_part(self.part, reference)
+
+    # -- which part, which way ------------------------------------------------------
+    def ask_part(self) -> None:
+        self.keyboard = False
+        self.menu.set_text(MANIPULATION_CHOICE)
+        count = len(self.app.simulator.cell.objects)
+        if count == 0:
+            self.say("THERE ARE NO PARTS IN THIS CELL", "warning")
+            self.ask_key("PRESS R TO RETURN:", lambda _k: self.app.pop_screen(), "R")
+            return
+        self.ask_line(f"ENTER PART NUMBER TO BE MOVED (1-{count}):", self._part, cancel=self._end)
+
+    def _part(self, answer: str) -> None:
+        count = len(self.app.simulator.cell.objects)
+        if not answer.isdigit() or not 1 <= int(answer) <= count:
+            self.say(f"{answer or 'NOTHING'} IS NOT A PART NUMBER (1-{count})", "error")
+            self.ask_part()
+            return
+        self.part = int(answer)
+        self.part_axes = self.part if self.app.axes else None
+        self.redraw()
+        self.ask_key("ENTER COMMAND# (I, K OR R):", self._choice, "IKR", cancel=self._end)
+
+    def _choice(self, key: str) -> None:
+        if key == "K":
+            self.keyboard = True
+            self.menu.set_text(MANIPULATION_MENU)
+        elif key == "I":
+            self.ask_key("COORDINATE AXES DISPLAY ON (Y/N) ?:", self._increments_axes)
+        else:
+            self._end()
+
+    # -- K_EYBOARD ------------------------------------------------------------------------
+    def _move(self, translation=(0.0, 0.0, 0.0), axis: int | None = None, degrees: float = 0.0) -> None:  # type: ignore[no-untyped-def]
+        try:
+            self.app.simulator.move_part(self.part, translation, axis, degrees)
+        except core_errors() as error:
+            self.say(error_text(error), "error")
+            return
+        self.modified = True
+        self.show_model_if_narrow()
+        self.redraw()
+
+    def action_step(self, key: str) -> None:
+        if self.keyboard:
+            self._move(KEY_MOVES[key])
+
+    def action_turn(self, axis: str) -> None:
+        if self.keyboard:
+            self._move(axis=SCREEN_AXIS_TO_WORLD[axis], degrees=STEP_DEG)
+
+    def action_axes(self) -> None:
+        if not self.keyboard:
+            return
+        self._set_axes(not self.app.axes)
+
+    def _set_axes(self, on: bool) -> None:
+        self.app.axes = on
+        self.model_view.axes = on
+        self.part_axes = self.part if on else None
+        self.say(f"COORDINATE AXES {'ON' if on else 'OFF'}")
+        self.redraw()
+
+    def action_model(self) -> None:
+        self.toggle_model()
+
+    def action_stop(self) -> None:
+        if self.keyboard:
+            self.keyboard = False
+            self._another()
+
+    # -- I_NCREMENTS (§4.2, §7.2) ----------------------------------------------------------
+    def _increments_axes(self, key: str) -> None:
+        self._set_axes(key == "Y")
+        self._ask_translate()
+
+    def _ask_translate(self) -> None:
+        self.ask_key("DO YOU WANT TO TRANSLATE THE PART (Y/N) ?:",
+                     lambda k: self._ask_triple_translate() if k == "Y" else self._ask_rotate())
+
+    def _ask_triple_translate(self) -> None:
+        self.ask_line("ENTER TRANSLATIONAL INCREMENTS X, Y, Z (MM):", self._translate)
+
+    def _translate(self, text: str) -> None:
+        try:
+            dx, dy, dz = parse_triple(text)
+        except ValueError as error:
+            self.say(error_text(error), "error")
+            self._ask_triple_translate()
+            return
+        self._move(screen_to_world_offset(dx, dy, dz))
+        self._ask_rotate()
+
+    def _ask_rotate(self) -> None:
+        self.ask_key("DO YOU WANT TO ROTATE THE PART (Y/N) ?:",
+                     lambda k: self._ask_triple_rotate() if k == "Y" else self._ask_continue())
+
+    def _ask_triple_rotate(self) -> None:
+        self.ask_line("ENTER ROTATIONAL INCREMENTS ABOUT X, Y, Z (DEG):", self._rotate)
+
+    def _rotate(self, text: str) -> None:
+        try:
+            angles = parse_triple(text)
+        except ValueError as error:
+            self.say(error_text(error), "error")
+            self._ask_triple_rotate()
+            return
+        for axis, degrees in zip("XYZ", angles):
+            if degrees:
+                self._move(axis=SCREEN_AXIS_TO_WORLD[axis], degrees=degrees)
+        self._ask_continue()
+
+    def _ask_continue(self) -> None:
+        self.ask_key(f"DO YOU WANT TO CONTINUE MOVING PART {self.part} (Y/N) ?:",
+                     lambda k: self._ask_translate() if k == "Y" else self._another())
+
+    # -- the end of a session ---------------------------------------------------------------
+    def _another(self) -> None:
+        self.ask_key("DO YOU WANT TO MOVE ANOTHER PART (Y/N) ?:",
+                     lambda k: self.ask_part() if k == "Y" else self._end())
+
+    def _end(self) -> None:
+        if not self.modified:
+            self._back()
+            return
+        self.ask_key("DO YOU WANT TO SAVE THE NEW SET-UP FILE (Y/N) ?:",
+                     lambda k: self._ask_name() if k == "Y" else self._back())
+
+    def _ask_name(self) -> None:
+        name = self.app.session.setup_name
+        self.ask_line(f"ENTER SET-UP FILE NAME (RETURN: SAME NAME {name}):", self._save, cancel=self._back)
+
+    def _save(self, name: str) -> None:
+        try:
+            path = self.app.session.save_setup(name or None)
+        except core_errors() as error:
+            self.say(error_text(error), "error")
+            self._ask_name()
+            return
+        self.modified = False
+        self.app.notify(f"{path.name} SAVED", timeout=3)
+        self._back()
+
+    def _back(self) -> None:
+        self.part_axes = None
+        self.app.pop_screen()

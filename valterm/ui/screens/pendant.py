@@ -1,0 +1,81 @@
+"""PENDANT MENU (Fig. 3-1, Fig. C-10): the teach pendant (Chapter 3).
+
+1-6 turn a joint by the increment, O/C open and close the clamp, W or T then X/Y/Z move the
+clamp along a world or tool axis, I/D/N double, halve or negate the increment. Refused
+moves show why (stops, indicators, the elbow singularity, §3.1-§3.3); the Fig. 2-8 readout
+follows every move.
+"""
+
+from __future__ import annotations
+
+from textual.app import ComposeResult
+from textual.binding import Binding
+
+from valterm.ui.messages import MotionDone
+from valterm.ui.screens.base import MenuScreen
+from valterm.ui.widgets.menus import PENDANT_MENU
+from valterm.ui.widgets.readouts import PositionReadout
+
+AXES = {"X": 0, "Y": 1, "Z": 2}
+
+
+class PendantScreen(MenuScreen):
+    MENU = PENDANT_MENU
+    BINDINGS = [
+        *(Binding(str(j), f"joint({j})", f"Joint {j}", id=f"pendant.joint{j}") for j in range(1, 7)),
+        Binding("o,O", "open", "Open", id="pendant.open"),
+        Binding("c,C", "close", "Close", id="pendant.close"),
+        Binding("w,W", "world", "World", id="pendant.world"),
+        Binding("t,T", "tool", "Tool", id="pendant.tool"),
+        Binding("i,I", "increment('I')", "Increase", id="pendant.increase"),
+        Binding("d,D", "increment('D')", "Decrease", id="pendant.decrease"),
+        Binding("n,N", "increment('N')", "Negative", id="pendant.negative"),
+        Binding("r,R", "return", "Return", id="pendant.return"),
+        Binding("m,M", "model", "Model", id="pendant.model"),
+        Binding("v,V", "val", "VAL-II command", id="pendant.val"),
+        Binding("question_mark", "help", "Help", id="pendant.help"),
+    ]
+
+    def compose_readout(self) -> ComposeResult:
+        yield PositionReadout(id="readout")
+
+    def update_readout(self) -> None:
+        simulator = self.app.simulator
+        increment = simulator.pendant_increment
+        checks = "ON" if simulator.collision_checks else "OFF"
+        self.query_one("#readout", PositionReadout).show_where(
+            simulator.where(1), f"INCREMENT {increment:+.2f} DEG   COLLISION CHECKS {checks}")
+
+    def _move(self, events) -> None:  # type: ignore[no-untyped-def]
+        self.messages.clear()
+        self.show_model_if_narrow()
+        self.app.run_events(events)
+
+    def action_joint(self, joint: int) -> None:
+        self._move(self.app.simulator.pendant_joint(joint))
+
+    def action_open(self) -> None:
+        self._move(self.app.simulator.open())
+
+    def action_close(self) -> None:
+        self._move(self.app.simulator.close())
+
+    def action_world(self) -> None:
+        self.ask_key("WORLD MODE: X, Y OR Z ?:", lambda k: self._move(self.app.simulator.pendant_world(AXES[k])), "XYZ")
+
+    def action_tool(self) -> None:
+        self.ask_key("TOOL MODE: X, Y OR Z ?:", lambda k: self._move(self.app.simulator.pendant_tool(AXES[k])), "XYZ")
+
+    def action_increment(self, key: str) -> None:
+        value = self.app.simulator.change_pendant_increment(key)
+        self.say(f"ROTATIONAL INCREMENT {value:+.2f} DEG")
+        self.update_readout()
+
+    def after_motion(self, message: MotionDone) -> None:
+        self.update_readout()
+
+    def action_return(self) -> None:
+        self.app.pop_screen()
+
+    def action_model(self) -> None:
+        self.toggle_model()

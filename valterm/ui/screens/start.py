@@ -1,0 +1,145 @@
+"""The start screen (§7.1, App. C §2): the copyright, then I_GES / U_GII / E_XISTING FILE.
+
+E reads an existing setup file (RETURN accepts PROCESS); I and U read a CAD file from the
+workspace, ask the §7.1 questions and write the new setup file, then go to the MAIN MENU.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from textual.binding import Binding
+
+from valterm.ui.app import core_errors, error_text
+from valterm.ui.screens.base import MenuScreen
+from valterm.ui.widgets.menus import COPYRIGHT, START_MENU, TITLE
+
+DEFAULT_SETUP = "PROCESS"
+
+
+@dataclass
+class Transfer:
+    """The answers of a part transfer, as they come."""
+
+    kind: str  # I or U
+    cad_file: str = ""
+    setup: str = ""
+    parts: int = 0
+    units: str = "MM"
+    system: str = "W"
+    done: list[str] = field(default_factory=list)
+
+
+class StartScreen(MenuScreen):
+    MENU = f"{TITLE}\n\n{COPYRIGHT}\n* VAL-II is a trademark of Unimation, Inc.\n\n{START_MENU}"
+    BINDINGS = [
+        Binding("i,I", "iges", "IGES file", id="start.iges"),
+        Binding("u,U", "ugii", "UGII file", id="start.ugii"),
+        Binding("e,E", "existing", "Existing file", id="start.existing"),
+    ]
+
+    def __init__(self, message: str = "") -> None:
+        super().__init__()
+        self._first_message = message
+
+    def on_mount(self) -> None:
+        super().on_mount()
+        self.add_class("-start")
+        if self._first_message:
+            self.say(self._first_message, "error")
+
+    # -- E_XISTING FILE ---------------------------------------------------------------
+    def action_existing(self) -> None:
+        self.ask_line(f"ENTER SET-UP FILE NAME (RETURN: {DEFAULT_SETUP}):", self._existing)
+
+    def _existing(self, name: str) -> None:
+        name = name or DEFAULT_SETUP
+        try:
+            self.app.open_session(name)
+        except core_errors() as error:
+            self.say(error_text(error), "error")
+            return
+        self._to_main_menu()
+
+    def _to_main_menu(self) -> None:
+        from valterm.ui.screens.main_menu import MainMenuScreen
+
+        self.app.switch_screen(MainMenuScreen())
+
+    # -- I_GES FILE / U_GII FILE --------------------------------------------------------
+    def action_iges(self) -> None:
+        self._transfer(Transfer("I"))
+
+    def action_ugii(self) -> None:
+        self._transfer(Transfer("U"))
+
+    def _transfer(self, t: Transfer) -> None:
+        """Ask the next unanswered question of §7.1."""
+        if not t.cad_file:
+            what = "IGES" if t.kind == "I" else "UGII (POLYGON OR MESH)"
+            self.ask_line(f"ENTER {what} FILE NAME TO BE READ:", lambda a: self._answer(t, "cad_file", a))
+        elif not t.setup:
+            self.ask_line("ENTER SET-UP FILE NAME:", lambda a: self._answer(t, "setup", a))
+        elif not t.parts:
+            self.ask_line("ENTER THE NUMBER OF WORKPIECES IN CELL:", lambda a: self._answer(t, "parts", a))
+        elif "units" not in t.done:
+            self.ask_line("ENTER UNITS OF WORKPIECES (MM/IN):", lambda a: self._answer(t, "units", a), "MM")
+        elif "system" not in t.done:
+            self.ask_line("ENTER COORDINATE AXES SYSTEM (W/S):", lambda a: self._answer(t, "system", a), "W")
+        else:
+            self._convert(t)
+
+    def _answer(self, t: Transfer, what: str, answer: str) -> None:
+        from valterm.workspace import check_name
+
+        answer = answer.strip().upper()
+        try:
+            if what == "cad_file":
+                stem, dot, ext = answer.rpartition(".")
+                if not dot:
+                    stem, ext = answer, ("IGS" if t.kind == "I" else "OBJ")
+                file_name = check_name(stem, ext)
+                path = self.app.session_workspace().path(*file_name.rsplit(".", 1))
+                if not path.is_file():
+                    raise ValueError(f"input file {file_name} does not exist in the workspace")
+                t.cad_file = str(path)
+            elif what == "setup":
+                t.setup = check_name(answer, "SET").removesuffix(".SET")
+            elif what == "parts":
+                if not answer.isdigit() or int(answer) < 1:
+                    raise ValueError(f"{answer or 'nothing'} is not a number of workpieces")
+                t.parts = int(answer)
+            elif what == "units":
+                if answer not in ("MM", "IN"):
+                    raise ValueError("units must be MM or IN")
+                t.units = answer
+            elif what == "system":
+                if answer not in ("W", "S"):
+                    raise ValueError("the coordinate axes system must be W or S")
+                t.system = answer
+            t.done.append(what)
+        except core_errors() as error:
+            self.say(error_text(error), "error")
+            self.ask_key("DO YOU WANT TO CONTINUE THE PART TRANSFER (Y/N) ?:",
+                         lambda key: self._transfer(t) if key == "Y" else self.say("PART TRANSFER ENDED"))
+            return
+        self._transfer(t)
+
+    def _convert(self, t: Transfer) -> None:
+        try:
+            from valterm.cad.convert import import_cad
+
+            workspace = self.app.session_workspace()
+            cell = import_cad(t.cad_file, units=t.units, system=t.system, name=t.setup, parts=t.parts)
+            path = workspace.write_setup(t.setup, cell)
+        except ImportError as error:
+            self.say(f"CAD IMPORT NOT AVAILABLE: {error}".upper(), "error")
+            return
+        except core_errors() as error:
+            self.say(error_text(error), "error")
+            self.say("PART TRANSFER ENDED")
+            return
+        for warning in cell.warnings:
+            self.say(warning.upper(), "warning")
+        self.say(f"FILE {path.name} HAS SUCCESSFULLY BEEN WRITTEN")
+        self._existing(t.setup)

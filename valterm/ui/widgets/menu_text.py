@@ -1,0 +1,62 @@
+"""A menu as text: the thesis's lines, squeezed (blank lines first) when the pane is short."""
+
+from __future__ import annotations
+
+import re
+
+from rich.text import Text
+from textual.geometry import Size
+from textual.widget import Widget
+
+_KEY = re.compile(r"^(-? ?)([A-Z0-9+])(_| - |\s)")
+
+
+class MenuText(Widget):
+    """Shows one menu of the thesis; the first line (the title) in bold, key letters marked."""
+
+    DEFAULT_CSS = """
+    MenuText { width: auto; height: 1fr; }
+    """
+
+    def __init__(self, text: str, *, id: str | None = None, classes: str | None = None) -> None:
+        super().__init__(id=id, classes=classes)
+        self._lines = text.splitlines()
+
+    @property
+    def text(self) -> str:
+        return "\n".join(self._lines)
+
+    def set_text(self, text: str) -> None:
+        self._lines = text.splitlines()
+        self.refresh(layout=True)
+
+    def get_content_width(self, container: Size, viewport: Size) -> int:
+        return max((len(line) for line in self._lines), default=0)
+
+    def get_content_height(self, container: Size, viewport: Size, width: int) -> int:
+        return len(self._lines)
+
+    def visible_lines(self, height: int) -> list[str]:
+        """The lines that fit ``height`` rows: blank lines go first, then the tail is cut."""
+        lines = list(self._lines)
+        if len(lines) > height:
+            lines = [line for line in lines if line.strip()]
+        return lines[: max(height, 0)]
+
+    def render(self) -> Text:
+        lines = self.visible_lines(self.size.height)
+        text = Text(no_wrap=True, overflow="crop")
+        for number, line in enumerate(lines):
+            if number:
+                text.append("\n")
+            if number == 0:
+                text.append(line, style="bold")
+                continue
+            match = _KEY.match(line)
+            if match and not line.startswith("ENTER"):
+                text.append(match.group(1))
+                text.append(match.group(2), style="bold reverse")
+                text.append(line[match.end(2):])
+            else:
+                text.append(line)
+        return text

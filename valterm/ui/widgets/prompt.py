@@ -1,0 +1,53 @@
+"""The prompt line: a question and, for typed answers, an input field.
+
+Single-key answers (Y/N) are taken by the screen (see ``MenuScreen.ask_key``); the input is
+shown only for typed answers, so menu keys never go to a focused input by accident.
+"""
+
+from __future__ import annotations
+
+from textual.app import ComposeResult
+from textual.containers import Horizontal
+from textual.widgets import Input, Label
+
+
+class Prompt(Horizontal):
+    DEFAULT_CSS = """
+    Prompt { height: 1; display: none; }
+    Prompt.-active { display: block; }
+    Prompt > Label { width: auto; margin-right: 1; }
+    Prompt > Input { border: none; height: 1; width: 1fr; padding: 0; }
+    Prompt > Input:focus { border: none; }
+    Prompt.-key > Input { display: none; }
+    """
+
+    def compose(self) -> ComposeResult:
+        yield Label("", id="question")
+        # disabled while closed, so a hidden input can never take a menu key
+        yield Input(id="answer", compact=True, disabled=True)
+
+    @property
+    def question(self) -> str:
+        return str(self.query_one("#question", Label).content)
+
+    def open_line(self, question: str, default: str = "") -> None:
+        self.remove_class("-key")
+        self.add_class("-active")
+        self.query_one("#question", Label).update(question)
+        answer = self.query_one("#answer", Input)
+        answer.disabled = False
+        answer.value = default
+        answer.cursor_position = len(default)
+        answer.focus()
+
+    def open_key(self, question: str) -> None:
+        self.add_class("-active", "-key")
+        self.query_one("#question", Label).update(question)
+
+    def close(self) -> None:
+        self.remove_class("-active", "-key")
+        answer = self.query_one("#answer", Input)
+        answer.value = ""
+        if answer.has_focus:
+            self.screen.set_focus(None)
+        answer.disabled = True

@@ -1,0 +1,31 @@
+"""The model view's scene from the simulator: the cell, the robot, the LED sensor.
+
+No textual here: the hardcopy uses it headless too.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from valterm.ui.view.raster import LED_COLOUR, Scene, frame_lines, link_colour, object_colour
+
+
+def simulator_scene(simulator, part_axes: int | None = None) -> Scene:  # type: ignore[no-untyped-def]
+    """Objects first, then the robot, then a carried part (later items win shared cells).
+
+    ``part_axes``: a part number whose frame is drawn at its reference corner (MANIPULATION
+    mode with AXES on)."""
+    objects = simulator.cell.objects
+    carried = simulator.carried
+    items = [(p, object_colour(i)) for i, p in enumerate(objects, start=1) if i != carried]
+    items += [(p, link_colour(i)) for i, p in enumerate(simulator.robot_polyhedra())]
+    if carried is not None and 1 <= carried <= len(objects):
+        items.append((objects[carried - 1], object_colour(carried)))
+    p0, p1 = simulator.model.led_segment(simulator.joints, simulator.gap, simulator.base)
+    lines = [np.stack([np.asarray(p0, dtype=float), np.asarray(p1, dtype=float)])]
+    colours = [LED_COLOUR]
+    if part_axes is not None and 1 <= part_axes <= len(objects):
+        frame = frame_lines(objects[part_axes - 1].reference, length=150.0)
+        lines.extend(frame)
+        colours.extend([LED_COLOUR] * 3)
+    return Scene.build(items, np.stack(lines), colours)
