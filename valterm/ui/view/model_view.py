@@ -102,6 +102,7 @@ class ModelView(Widget):
         self._frame: Frame | None = None
         self._strips: list[Strip | None] = []
         self._drawn_key: tuple | None = None
+        self._scene_version = 0  # not id(scene): a freed scene's id can come back
         # bookkeeping of the last redraw (for tests and `valterm bench`)
         self.redraws = 0
         self.dirty_rows: tuple[int, ...] = ()
@@ -123,7 +124,9 @@ class ModelView(Widget):
         return self._frame
 
     def update_scene(self, scene: Scene) -> None:
-        self._scene = scene
+        if scene is not self._scene:
+            self._scene = scene
+            self._scene_version += 1
         self.redraw()
 
     def set_view(self, view: ViewTransform) -> None:
@@ -177,7 +180,7 @@ class ModelView(Widget):
         if not self.is_mounted:
             return
         width, height = self.size
-        key = (id(self._scene), self._view.key(), self.back_faces, self.axes, self.ascii, width, height)
+        key = (self._scene_version, self._view.key(), self.back_faces, self.axes, self.ascii, width, height)
         if key == self._drawn_key and not force:
             return
         self._drawn_key = key
