@@ -21,7 +21,6 @@ checked before each step.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from pathlib import Path
 from typing import Any, Callable, Iterator
 
 from valterm.events import (
@@ -132,14 +131,13 @@ class Interpreter:
 
     @classmethod
     def for_workspace(cls, sim: Any, workspace: Any) -> "Interpreter":
-        """An interpreter reading NAME.DAT from the workspace, its variables from CHECK.DAT."""
-        from valterm.files.programs import read_program
+        """An interpreter reading NAME.DAT from the workspace, its variables from CHECK.DAT.
 
-        variables = VariableStore()
-        check = workspace.path("CHECK", "DAT")
-        if Path(check).exists():
-            variables.load(check)
-        return cls(sim, lambda name: read_program(workspace.path(name, "DAT")), variables)
+        The variables are only read here; ``workspace.write_variables(interpreter.variables)``
+        keeps them for the next session (section 6.7) when the app decides to.
+        """
+        variables = VariableStore(workspace.read_variables())
+        return cls(sim, workspace.read_program, variables)
 
     # -- state the app asks about ---------------------------------------------
     @property
