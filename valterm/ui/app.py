@@ -9,6 +9,7 @@ injectable and no timer runs while nothing moves, so Pilot tests stay fast.
 from __future__ import annotations
 
 import time
+from functools import lru_cache
 from itertools import chain
 from pathlib import Path
 from typing import Callable, Iterable, Iterator
@@ -22,13 +23,14 @@ from valterm.ui.view.animation import MotionDriver
 from valterm.ui.view.clock import DEFAULT_RATE
 from valterm.ui.view.raster import Scene, ViewTransform
 
-# Errors of the core shown as messages, never as tracebacks.
+@lru_cache(maxsize=1)
 def core_errors() -> tuple[type[BaseException], ...]:
     from valterm.cad.errors import CadImportError
     from valterm.files.errors import FileFormatError
     from valterm.motion import MotionRefused
     from valterm.workspace import WorkspaceError
 
+    # errors of the core shown as messages, never as tracebacks
     return (FileFormatError, WorkspaceError, MotionRefused, CadImportError, OSError, ValueError, IndexError, KeyError)
 
 
@@ -163,13 +165,14 @@ class ValtermApp(App[int]):
 
     def _poses(self, events: Iterator[Event], target) -> Iterator[PoseEvent]:  # type: ignore[no-untyped-def]
         """Only poses go to the player; the rest is shown as it is reached."""
+        errors = core_errors()  # looked up now: the generator may be closed at shutdown
         try:
             for event in events:
                 if isinstance(event, PoseEvent):
                     yield event
                 else:
                     target.post_message(SimulatorEvent(event))
-        except core_errors() as error:
+        except errors as error:
             target.post_message(SimulatorEvent(Error("", 0, error_text(error))))
 
     def _on_pose(self, pose: PoseEvent) -> None:
