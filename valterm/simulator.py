@@ -19,7 +19,7 @@ import numpy as np
 
 from valterm.cell.polyhedron import Polyhedron
 from valterm.cell.workcell import WorkCell
-from valterm.events import Event, Grasp, Hand, Message, Motion, PoseEvent, Release, Where
+from valterm.events import Collision, Event, Grasp, Hand, Message, Motion, PoseEvent, Release, Where
 from valterm.kinematics import PUMA, Config, Location, fk, indicators, rotation_to_oat, wrap180
 from valterm.motion import (
     PENDANT_INCREMENT,
@@ -220,7 +220,11 @@ class Simulator:
             self._follow_clamp()
             yield PoseEvent(tuple(self.joints), index, steps)
             if self.collision_checks:
-                yield from self.check_collisions()
+                for finding in self.check_collisions():
+                    yield finding
+                    if self.stop_on_collision and isinstance(finding, Collision):
+                        # the robot stops where the collision was found (off by default, as in 1985)
+                        raise MotionRefused(f"stopped on collision: {finding.text}", 0, index)
         yield Motion(kind, steps, tuple(round(wrap180(j), 6) for j in self.joints))
 
     # -- pendant (Chapter 3) ---------------------------------------------------

@@ -87,7 +87,7 @@ def run(args: argparse.Namespace) -> int:
         beside = next((p for p in folder.iterdir() if p.name.upper() == f"{name}.DAT"), None)
         return read_program(beside if beside is not None else workspace.path(name, "DAT"))
 
-    interpreter = Interpreter(sim, load_program, variables)
+    interpreter = Interpreter(sim, load_program, variables, keep_variables=workspace.write_variables)
     errors = 0
     aborted = False
 

@@ -116,8 +116,12 @@ class Interpreter:
 
     def __init__(self, sim: Any, load_program: Callable[[str], Program],
                  variables: dict[str, float] | None = None,
-                 commands: CommandTable | None = None) -> None:
+                 commands: CommandTable | None = None,
+                 keep_variables: Callable[[dict[str, float]], None] | None = None) -> None:
         self.sim = sim
+        # CHECK.DAT is written when a program or a typed command ends (section 6.7), not per
+        # assignment: a 100 000-pass loop must not write a file 100 000 times
+        self.keep_variables = keep_variables
         self.load_program = load_program
         self.variables: dict[str, float] = variables if variables is not None else VariableStore()
         self.commands = commands or default_commands()
@@ -133,11 +137,11 @@ class Interpreter:
     def for_workspace(cls, sim: Any, workspace: Any) -> "Interpreter":
         """An interpreter reading NAME.DAT from the workspace, its variables from CHECK.DAT.
 
-        The variables are only read here; ``workspace.write_variables(interpreter.variables)``
-        keeps them for the next session (section 6.7) when the app decides to.
+        The variables are written back to CHECK.DAT whenever a program or a typed command
+        ends, so they are kept for the next session (section 6.7).
         """
         variables = VariableStore(workspace.read_variables())
-        return cls(sim, workspace.read_program, variables)
+        return cls(sim, workspace.read_program, variables, keep_variables=workspace.write_variables)
 
     # -- state the app asks about ---------------------------------------------
     @property
@@ -528,6 +532,11 @@ class Interpreter:
             yield Message(f"PROGRAM {name} COMPLETED: {self.loops_done} LOOP{'S' if self.loops_done != 1 else ''}")
         finally:
             self._running = self._paused = self._abort = False
+            self._keep()
+
+    def _keep(self) -> None:
+        if self.keep_variables is not None:
+            self.keep_variables(dict(self.variables))
 
     def _pass(self, main: CompiledProgram) -> Iterator[Event]:
         """One execution pass; returns True when it ends normally (STOP, end, RETURN)."""
@@ -611,6 +620,11 @@ class Interpreter:
     # -- typed commands ------------------------------------------------------------
     def command(self, text: str) -> Iterator[Event]:
         """One line typed at the VAL-II prompt (a statement or a monitor command), as events."""
+        yield from self._command(text)
+        if not self._running:  # EXECUTE kept them already; a typed ROW=10 is kept here
+            self._keep()
+
+    def _command(self, text: str) -> Iterator[Event]:
         try:
             _label, statement_text = split_label(text.expandtabs())
             st = parse_statement(statement_text, self.commands)
