@@ -88,6 +88,7 @@ class ValtermApp(App[int]):
         from valterm.ui.screens.start import StartScreen
 
         if self.session is not None:
+            self.fit_view()
             self.push_screen(MainMenuScreen())
             return
         if self.initial_setup:
@@ -108,7 +109,16 @@ class ValtermApp(App[int]):
         session = Session(workspace_root=root, setup=setup)
         self.session = session
         self.view_transform = ViewTransform()
+        self.fit_view()
         return session
+
+    def fit_view(self) -> None:
+        """The first view (and ORIENT's home): the whole cell and the robot's reach."""
+        import numpy as np
+
+        lo, hi = self.scene().bounds()
+        reach = np.array([1000.0, 1000.0, 1050.0])
+        self.view_transform.fit((np.minimum(lo, -reach * [1, 1, 0.6]), np.maximum(hi, reach)))
 
     def session_workspace(self):  # type: ignore[no-untyped-def]
         """The workspace, also before a setup is read (the start screen's CAD files)."""
