@@ -228,3 +228,23 @@ async def test_motion_is_paced_by_the_clock_and_ctrl_c_aborts(tmp_path: Path) ->
         clock.t += 100.0
         await pilot.pause(0.15)
         assert not app.moving and round(simulator.joints[0]) == 0
+
+
+@sync
+async def test_manipulation_another_part_goes_on_with_increments(tmp_path: Path) -> None:
+    """Table C-1's part transfer: part 1 up 300 and turned, then part 2, then save."""
+    app = make_app(tmp_path)
+    async with app.run_test(size=(80, 24)) as pilot:
+        cell = app.session.simulator.cell
+        first, second = cell.objects[0].reference.copy(), cell.objects[1].reference.copy()
+        await pilot.press("M", "1", "enter", "I", "Y")
+        await pilot.press("Y", *"0,0,300", "enter", "Y", *"0,0,45", "enter")
+        await pilot.press("N", "Y", "2", "enter")
+        assert "TRANSLATE THE PART" in screen_text(app)
+        await pilot.press("Y", *"0,0,-200", "enter", "N")
+        await pilot.press("N", "N", "Y", *"TEST", "enter")
+        await pilot.pause()
+        assert isinstance(app.screen, MainMenuScreen)
+        assert list(cell.objects[1].reference - second) == [-200.0, 0.0, 0.0]
+        assert cell.objects[0].reference[0] != first[0]
+    assert (tmp_path / "TEST.SET").is_file()

@@ -67,6 +67,7 @@ class ManipulationScreen(MenuScreen):
         super().__init__()
         self.part = 0
         self.keyboard = False  # the K_EYBOARD menu is active
+        self.mode = ""  # I or K once chosen: another part goes on the same way (§7.2)
         self.modified = False
 
     def compose_readout(self) -> ComposeResult:
@@ -101,9 +102,15 @@ class ManipulationScreen(MenuScreen):
         self.part = int(answer)
         self.part_axes = self.part if self.app.axes else None
         self.redraw()
-        self.ask_key("ENTER COMMAND# (I, K OR R):", self._choice, "IKR", cancel=self._end)
+        if self.mode == "I":
+            self._ask_translate()
+        elif self.mode == "K":
+            self._choice("K")
+        else:
+            self.ask_key("ENTER COMMAND# (I, K OR R):", self._choice, "IKR", cancel=self._end)
 
     def _choice(self, key: str) -> None:
+        self.mode = key if key in "IK" else ""
         if key == "K":
             self.keyboard = True
             self.menu.set_text(MANIPULATION_MENU)
