@@ -47,7 +47,7 @@ class PendantScreen(MenuScreen):
             simulator.where(1), f"INCREMENT {increment:+.2f} DEG   COLLISION CHECKS {checks}")
 
     def _move(self, events) -> None:  # type: ignore[no-untyped-def]
-        self.messages.clear()
+        # messages stay: a collision is reported once, when it starts (Fig. C-12 a-d)
         self.show_model_if_narrow()
         self.app.run_events(events)
 
