@@ -36,7 +36,10 @@ def test_tables_c1_to_c3_key_for_key(tmp_path: Path) -> None:
     from valterm.ui.screens.editor import EditorScreen
     from valterm.ui.screens.valmode import ValModeScreen
 
+    from valterm.ui.screens.pendant import PendantScreen
+
     seen: dict[str, object] = {}
+    pendant_messages: set[str] = set()
 
     async def body() -> None:
         app = app_module.ValtermApp(tmp_path / "ws", motion_rate=math.inf)
@@ -48,6 +51,8 @@ def test_tables_c1_to_c3_key_for_key(tmp_path: Path) -> None:
                     screen = app.screen
                     if isinstance(screen, EditorScreen) and screen.editor is not None:
                         seen["editor"] = [s.text for s in screen.editor.steps]
+                    if isinstance(screen, PendantScreen):
+                        pendant_messages.update(screen.messages.text.splitlines())
                     if isinstance(screen, ValModeScreen):
                         seen["valmode"] = screen
                         seen["transcript"] = list(screen.transcript)
@@ -63,6 +68,11 @@ def test_tables_c1_to_c3_key_for_key(tmp_path: Path) -> None:
     assert seen["editor"] == ["MOVE A", "MOVE B", "MOVE E", "STOP"]
     saved = (tmp_path / "ws" / "TEST.DAT").read_text().split()
     assert saved == ["MOVE", "A", "MOVE", "B", "MOVE", "E", "STOP"]
+    # Table C-2, collision checks on, jogging into DEMO3's parts: the kinds of Fig. C-12
+    near = [m for m in pendant_messages if " IS NEAR PART " in m]
+    collides = [m for m in pendant_messages if " COLLIDES WITH " in m]
+    assert any(m.strip().startswith("CLAMP IS NEAR PART") for m in near), pendant_messages
+    assert collides, pendant_messages
     if "valmode" not in seen:
         pytest.skip("the replay did not reach VAL-II mode (B/E PROCESS.SET through the app shell)")
     assert seen["locations"] == ["A", "B", "C", "D", "E", "F"]

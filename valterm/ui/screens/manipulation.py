@@ -181,8 +181,10 @@ class ManipulationScreen(MenuScreen):
         self._ask_rotate()
 
     def _ask_rotate(self) -> None:
+        # Table C-1: answering N here is done with this part ("N  no rotation", then
+        # "N  end moving parts"); after a rotation the "continue moving" question comes
         self.ask_key("DO YOU WANT TO ROTATE THE PART (Y/N) ?:",
-                     lambda k: self._ask_triple_rotate() if k == "Y" else self._ask_continue())
+                     lambda k: self._ask_triple_rotate() if k == "Y" else self._another())
 
     def _ask_triple_rotate(self) -> None:
         self.ask_line("ENTER ROTATIONAL INCREMENTS ABOUT X, Y, Z (DEG):", self._rotate)
