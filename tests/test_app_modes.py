@@ -195,9 +195,9 @@ async def test_manipulation_increments_dialogue(tmp_path: Path) -> None:
         await pilot.press("Y")
         assert app.axes
         await pilot.press("Y", *"0,0,300", "enter")  # screen Z = world X
-        await pilot.press("N")  # no rotation
-        assert "CONTINUE MOVING PART 2" in screen_text(app)
-        await pilot.press("N", "N")  # not this part, no other part
+        await pilot.press("N")  # no rotation: done with this part (Table C-1)
+        assert "MOVE ANOTHER PART" in screen_text(app)
+        await pilot.press("N")  # no other part
         assert "SAVE THE NEW SET-UP FILE" in screen_text(app)
         await pilot.press("N")
         await pilot.pause()
@@ -239,10 +239,11 @@ async def test_manipulation_another_part_goes_on_with_increments(tmp_path: Path)
         first, second = cell.objects[0].reference.copy(), cell.objects[1].reference.copy()
         await pilot.press("M", "1", "enter", "I", "Y")
         await pilot.press("Y", *"0,0,300", "enter", "Y", *"0,0,45", "enter")
+        assert "CONTINUE MOVING PART 1" in screen_text(app)  # asked after a rotation
         await pilot.press("N", "Y", "2", "enter")
         assert "TRANSLATE THE PART" in screen_text(app)
-        await pilot.press("Y", *"0,0,-200", "enter", "N")
-        await pilot.press("N", "N", "Y", *"TEST", "enter")
+        await pilot.press("Y", *"0,0,-200", "enter", "N")  # no rotation: done with part 2
+        await pilot.press("N", "Y", *"TEST", "enter")  # no other part; save as TEST
         await pilot.pause()
         assert isinstance(app.screen, MainMenuScreen)
         assert list(cell.objects[1].reference - second) == [-200.0, 0.0, 0.0]
