@@ -13,6 +13,7 @@ from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
 
+from valterm.files._text import read_text
 from valterm.files.errors import FileFormatError
 
 ASSETS = Path(__file__).resolve().parent.parent.parent / "assets"
@@ -188,12 +189,7 @@ def parse_command_file(text: str, path: Path | str = COMMAND_FILE) -> CommandTab
 
 def load_commands(path: Path | str = COMMAND_FILE) -> CommandTable:
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except OSError as error:
-        raise FileFormatError(path, 0, f"cannot read the command file: {error.strerror or error}") from None
-    except UnicodeDecodeError:
-        raise FileFormatError(path, 0, "is not a text file") from None
+    text = read_text(path, "command")  # located errors, size limit, no binary junk
     return parse_command_file(text, path)
 
 

@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 from functools import lru_cache
 from pathlib import Path
 
+from valterm.files._text import read_text
 from valterm.files.errors import FileFormatError
 from valterm.val.commands import ASSETS
 
@@ -137,12 +138,7 @@ def parse_help_file(text: str, path: Path | str = HELPER_FILE) -> HelpTopics:
 
 def load_help(path: Path | str = HELPER_FILE) -> HelpTopics:
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except OSError as error:
-        raise FileFormatError(path, 0, f"cannot read the help file: {error.strerror or error}") from None
-    except UnicodeDecodeError:
-        raise FileFormatError(path, 0, "is not a text file") from None
+    text = read_text(path, "help")  # located errors, size limit, no binary junk
     return parse_help_file(text, path)
 
 
