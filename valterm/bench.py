@@ -22,6 +22,9 @@ GOALS = {
     "collision_step_thesis_us": ("<=", 100.0),
     "collision_step_fcl_us": ("<=", 60.0),
     "raster_ms_200x60": ("<=", 2.0),
+    "app_start_to_main_menu_s": ("<=", 1.0),
+    "app_move_fps_160x50": (">=", 30.0),
+    "app_move_bytes_per_frame_160x50": ("<=", 10_240.0),
 }
 
 
@@ -73,6 +76,7 @@ def run_all() -> dict[str, Any]:
     _optional(entries, "interpreter", _interpreter_entries)
     _optional(entries, "collision", _collision_entries)
     _optional(entries, "raster", _raster_entries)
+    _optional(entries, "app", _app_entries)
     entries["goals"] = {
         key: {"goal": f"{op} {value:g}", "met": _met(entries.get(key), op, value)}
         for key, (op, value) in GOALS.items() if key in entries
@@ -116,3 +120,10 @@ def _raster_entries() -> dict[str, float]:
         "raster_ms_80x24": float(bench_raster(80, 24)),
         "raster_ms_200x60": float(bench_raster(200, 60)),
     }
+
+
+def _app_entries() -> dict[str, float]:
+    """The real app under a pseudo-terminal at 160x50: start time, frames and bytes of a MOVE."""
+    from valterm.ui.bench_pty import bench_app
+
+    return bench_app(160, 50)

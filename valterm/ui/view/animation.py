@@ -27,7 +27,7 @@ class MotionDriver(Generic[T]):
         on_pose: Callable[[T], None],
         on_done: Callable[[MotionPlayer[T]], None] | None = None,
         *,
-        max_fps: float = 30.0,
+        max_fps: float = 60.0,
         clock: Callable[[], float] = time.monotonic,
     ) -> None:
         self.host = host

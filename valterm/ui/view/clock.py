@@ -14,7 +14,7 @@ from typing import Callable, Generic, Iterable, Iterator, TypeVar
 
 T = TypeVar("T")
 
-DEFAULT_RATE = 20.0  # poses per second when the caller has no better figure
+DEFAULT_RATE = 40.0  # poses per second; SPEED sets the step size, so it sets how long a move takes
 
 
 class MotionPlayer(Generic[T]):
