@@ -21,7 +21,7 @@ from valterm.ui.view.model_view import ModelView
 from valterm.ui.widgets.cell_view import CellView
 from valterm.ui.widgets.menu_text import MenuText
 from valterm.ui.widgets.message_log import MessageLog
-from valterm.ui.widgets.prompt import Prompt
+from valterm.ui.widgets.prompt import Prompt, type_ahead
 from valterm.ui.widgets.readouts import format_where
 
 WIDE = 100  # columns from which the model is shown beside the menu
@@ -234,6 +234,7 @@ class MenuScreen(Screen):
                 cancel()
             return
         if self._key_answer is None:
+            type_ahead(event, self.query_one(Prompt).query_one("#answer", Input))
             return
         event.stop()
         event.prevent_default()

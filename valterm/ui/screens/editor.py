@@ -18,6 +18,7 @@ from textual.widgets import Input, Static
 
 from valterm.editor import EDITOR_MENU, EditorError, ProgramEditor
 from valterm.files.programs import LABEL_COLUMNS
+from valterm.ui.widgets.prompt import type_ahead
 
 MENU_KEYS = {"c": "create", "i": "insert", "d": "delete", "s": "save", "e": "exit"}
 RULER = "LBL STATEMENT (COLUMNS 1-4: STEP LABEL, TAB: TO COLUMN 5)"
@@ -34,6 +35,10 @@ class StepInput(Input):
         else:
             self.insert_text_at_cursor(" ")
         self.cursor_position = len(self.value)
+
+
+# modes in which the step field takes the keys (typed ahead before it has focus too)
+TEXT_MODES = frozenset({"name", "line", "delete", "insert", "insert-line"})
 
 
 class EditorScreen(Screen[None]):
@@ -157,6 +162,8 @@ class EditorScreen(Screen[None]):
 
     # -- single keys in the menu ---------------------------------------------------------
     def on_key(self, event: Key) -> None:
+        if self.mode in TEXT_MODES and type_ahead(event, self.query_one("#editor-line", StepInput)):
+            return
         if self.mode == "save?":
             answer = (event.character or "").upper()
             if answer in ("Y", "N"):

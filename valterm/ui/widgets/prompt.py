@@ -6,6 +6,7 @@ shown only for typed answers, so menu keys never go to a focused input by accide
 
 from __future__ import annotations
 
+from textual import events
 from textual.app import ComposeResult
 from textual.containers import Horizontal
 from textual.widgets import Input, Label
@@ -51,3 +52,25 @@ class Prompt(Horizontal):
         if answer.has_focus:
             self.screen.set_focus(None)
         answer.disabled = True
+
+
+def type_ahead(event: events.Key, field: Input) -> bool:
+    """Give a key to an input that was just opened but is not focused yet.
+
+    Textual moves focus after the current message, so keys typed quickly after the one that
+    opened a question (or pasted) would reach the screen and be lost; they belong to the
+    field. Returns True when the key was taken (the caller stops the event).
+    """
+    if field.disabled or field.has_focus:
+        return False
+    if event.key == "enter":
+        field.post_message(Input.Submitted(field, field.value))
+    elif event.key == "backspace":
+        field.action_delete_left()
+    elif event.is_printable and event.character:
+        field.insert_text_at_cursor(event.character)
+    else:
+        return False
+    event.stop()
+    event.prevent_default()
+    return True
