@@ -8,8 +8,7 @@ culling and collision work on whole arrays at once.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-from functools import cached_property
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -58,7 +57,6 @@ class Polyhedron:
     vertices: np.ndarray
     name: str = ""
     winding_flipped: bool = False
-    _normals: np.ndarray | None = field(default=None, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         v = np.asarray(self.vertices, dtype=float)
