@@ -213,17 +213,6 @@ def fit_to_stops(
     return fitted
 
 
-def within_stops(joints: Sequence[float], geometry: RobotGeometry = PUMA) -> int:
-    """0 when every joint (some 360-degree equivalent) lies within its stops, else the joint number."""
-    for index, angle in enumerate(joints):
-        low, high = geometry.stops[index]
-        k_low = math.ceil((low - angle) / 360.0 - 1e-12)
-        k_high = math.floor((high - angle) / 360.0 + 1e-12)
-        if k_low > k_high:
-            return index + 1
-    return 0
-
-
 # ---------------------------------------------------------------------------
 # Orientation: O, A, T
 # ---------------------------------------------------------------------------
@@ -282,7 +271,8 @@ def rotation_to_oat(rotation: np.ndarray | Sequence[Sequence[float]]) -> tuple[f
     if cos_a < GIMBAL_EPS:
         a = 90.0 if sin_a > 0 else -90.0
         o = math.degrees(math.atan2(q10, q00))
-        return (_normalise_o_gimbal(o), a, 0.0)
+        # only O+-T is defined here; with T = 0, O carries the whole turn, wrapped
+        return (wrap180(o), a, 0.0)
     o = math.degrees(math.atan2(-q01, q11))
     a = math.degrees(math.atan2(sin_a, cos_a))
     t = -math.degrees(math.atan2(-q20, q22))
@@ -290,12 +280,6 @@ def rotation_to_oat(rotation: np.ndarray | Sequence[Sequence[float]]) -> tuple[f
     if not 0.0 <= o < 180.0:
         o, a, t = wrap180(o + 180.0), wrap180(180.0 - a), wrap180(t - 180.0)
     return (o, a, t)
-
-
-def _normalise_o_gimbal(o: float) -> float:
-    # At gimbal lock only O+-T is defined; with T = 0, O carries it all. (O+180, 180-A)
-    # is not an equivalent here, so O stays as it is, wrapped.
-    return wrap180(o)
 
 
 # ---------------------------------------------------------------------------

@@ -18,7 +18,6 @@ from valterm.kinematics import (
     BeyondStop,
     Config,
     IKError,
-    OutOfReach,
     RobotGeometry,
     fit_to_stops,
     fk,
@@ -288,5 +287,5 @@ def tool_displacement(current: Sequence[float], axis: int, step: float, geometry
 __all__ = [
     "MotionRefused", "clamp_speed", "joint_increment", "straight_increment", "joint_path",
     "straight_path", "approach_point", "joint_goal", "check_joint_goal", "pendant_straight",
-    "world_displacement", "tool_displacement", "OutOfReach", "PENDANT_INCREMENT", "PENDANT_STEP",
+    "world_displacement", "tool_displacement", "PENDANT_INCREMENT", "PENDANT_STEP",
 ]
