@@ -99,12 +99,17 @@ def _interpreter_entries() -> dict[str, float]:
 def _collision_entries() -> dict[str, float]:
     """One motion step's check in the PROCESS cell, the clamp open around part 1 at A."""
     from valterm.collision.bench import bench_collision_step
+    from valterm.files.locations import read_locations
     from valterm.files.setup import read_setup
     from valterm.kinematics import ASSETS
     from valterm.simulator import Simulator
 
-    sim = Simulator(read_setup(ASSETS.parent / "cells" / "PROCESS.SET"))
-    sim.joints = [-25.262269, -42.979394, -154.524333 + 360.0, -1.300499, 18.419841, -23.025109]
+    root = ASSETS.parent
+    sim = Simulator(read_setup(root / "cells" / "PROCESS.SET"))
+    sim.locations.update(read_locations(root / "programs" / "PROCESS.LOC"))
+    sim.set_indicator("LEFTY")
+    for _ in sim.move("A"):
+        pass
     links = list(zip(sim.model.names, sim.robot_polyhedra()))
     result = bench_collision_step(links, sim.cell.objects)
     return {

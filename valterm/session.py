@@ -31,10 +31,11 @@ class Session:
         """Read NAME.SET from the workspace into the simulator (FileFormatError if malformed)."""
         from valterm.files.setup import read_setup
 
-        cell = read_setup(self.workspace.path(name, "SET"))
+        path = self.workspace.path(name, "SET")
+        cell = read_setup(path)
         self.simulator.cell = cell
         self.simulator.carried = None
-        self.setup_name = self.workspace.path(name, "SET").stem
+        self.setup_name = path.stem
         return cell
 
     def save_setup(self, name: str | None = None) -> Path:

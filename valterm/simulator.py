@@ -260,9 +260,8 @@ class Simulator:
         from valterm.collision.grasp import led_hits
 
         p0, p1 = self.model.led_segment(self.joints, self.gap, self.base)
-        candidates = [p for i, p in enumerate(self.cell.objects, start=1) if i != self.carried]
-        numbers = [i for i in range(1, len(self.cell.objects) + 1) if i != self.carried]
-        hit = led_hits(p0, p1, candidates)
+        numbers = [n for n in range(1, len(self.cell.objects) + 1) if n != self.carried]
+        hit = led_hits(p0, p1, [self.cell.objects[n - 1] for n in numbers])
         return None if hit is None else numbers[hit - 1]
 
     def grasp_possible(self) -> bool:
