@@ -10,23 +10,16 @@ from typing import Callable
 
 from valterm.files.programs import Program, split_label
 from valterm.val.commands import CommandTable, default_commands
-from valterm.val.compiler import Diagnostic, analyse
+from valterm.val.compiler import Diagnosed, Diagnostic, analyse
 from valterm.val.parser import ValSyntaxError, parse_statement
 
 
 @dataclass
-class CheckReport:
+class CheckReport(Diagnosed):
     program: str
     steps: int
     diagnostics: list[Diagnostic] = field(default_factory=list)
 
-    @property
-    def errors(self) -> list[Diagnostic]:
-        return [d for d in self.diagnostics if d.is_error]
-
-    @property
-    def warnings(self) -> list[Diagnostic]:
-        return [d for d in self.diagnostics if not d.is_error]
 
     @property
     def ok(self) -> bool:

@@ -38,8 +38,22 @@ class Diagnostic:
         return f"{self.program} step {self.step}: {prefix}{self.message}"
 
 
+class Diagnosed:
+    """Something holding ``diagnostics``: its errors and its warnings."""
+
+    diagnostics: list[Diagnostic]
+
+    @property
+    def errors(self) -> list[Diagnostic]:
+        return [d for d in self.diagnostics if d.is_error]
+
+    @property
+    def warnings(self) -> list[Diagnostic]:
+        return [d for d in self.diagnostics if not d.is_error]
+
+
 @dataclass
-class Analysis:
+class Analysis(Diagnosed):
     """What pass 1 knows about a program.  Step indexes are 0-based; step numbers 1-based."""
 
     program: Program
@@ -61,13 +75,6 @@ class Analysis:
         """No error that stops the program from running (unmatched structures, duplicate labels)."""
         return not self.fatal
 
-    @property
-    def errors(self) -> list[Diagnostic]:
-        return [d for d in self.diagnostics if d.is_error]
-
-    @property
-    def warnings(self) -> list[Diagnostic]:
-        return [d for d in self.diagnostics if not d.is_error]
 
 
 def analyse(program: Program, table: CommandTable | None = None) -> Analysis:
