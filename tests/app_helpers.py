@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-from valterm.session import Session
+from valterm.core.session import Session
 from valterm.ui.app import ValtermApp
 
 

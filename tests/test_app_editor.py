@@ -7,8 +7,8 @@ from pathlib import Path
 
 from textual.app import App
 
-from valterm.files.programs import read_program
-from valterm.session import Session
+from valterm.core.files.programs import read_program
+from valterm.core.session import Session
 from valterm.ui.screens.editor import EditorScreen
 
 

@@ -8,7 +8,7 @@ from pathlib import Path
 
 from textual.app import App
 
-from valterm.session import Session
+from valterm.core.session import Session
 from valterm.ui.screens.editor import EditorScreen
 from valterm.ui.screens.valmode import ValModeScreen
 

@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 import trimesh
 
-from valterm.cad import export_scene, import_cad, polyhedron_mesh
-from valterm.cell.polyhedron import Polyhedron
-from valterm.cell.workcell import WorkCell
+from valterm.core.cad import export_scene, import_cad, polyhedron_mesh
+from valterm.core.cell.polyhedron import Polyhedron
+from valterm.core.cell.workcell import WorkCell
 
 SAMPLES = Path(__file__).parents[2] / "shared" / "iges-samples"
 
@@ -95,8 +95,8 @@ def run(argv: list[str]) -> int:
 
 @pytest.fixture
 def setup_module_ready():
-    pytest.importorskip("valterm.files.setup")
-    pytest.importorskip("valterm.workspace")
+    pytest.importorskip("valterm.core.files.setup")
+    pytest.importorskip("valterm.core.workspace")
 
 
 def test_import_command_writes_a_setup_file(tmp_path, capsys, setup_module_ready):
@@ -107,7 +107,7 @@ def test_import_command_writes_a_setup_file(tmp_path, capsys, setup_module_ready
     assert run(["--workspace", str(ws), "import", str(box), "--out", "box.set"]) == 0
     out = capsys.readouterr().out
     assert "BOX.SET written" in out and "100.00 x 100.00 x 100.00 mm" in out
-    from valterm.files.setup import read_setup
+    from valterm.core.files.setup import read_setup
     cell = read_setup(ws / "BOX.SET")
     assert len(cell.objects) == 1
     assert np.allclose(np.ptp(cell.objects[0].vertices, axis=0), 100)
@@ -125,7 +125,7 @@ def test_import_command_inches(tmp_path, capsys, setup_module_ready):
     assert run(["--workspace", str(ws), "import", str(chassis), "--out", "CHASSIS"]) == 0
     text = (ws / "CHASSIS.SET").read_text().splitlines()
     assert text[0].strip() == "1" and text[1].strip() == "IN" and text[2].strip() == "W"
-    from valterm.files.setup import read_setup
+    from valterm.core.files.setup import read_setup
     cell = read_setup(ws / "CHASSIS.SET")
     assert np.ptp(cell.objects[0].vertices, axis=0)[0] == pytest.approx((10.3236 + 63.2043) * 25.4, abs=0.01)
 

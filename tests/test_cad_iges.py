@@ -9,8 +9,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from valterm.cad import CadImportError, import_cad, read_iges
-from valterm.cad.iges_geometry import bspline_basis
+from valterm.core.cad import CadImportError, import_cad, read_iges
+from valterm.core.cad.iges_geometry import bspline_basis
 
 SAMPLES = Path(__file__).parents[2] / "shared" / "iges-samples"
 

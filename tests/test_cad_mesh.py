@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 import trimesh
 
-from valterm.cad import CadImportError, import_cad, read_mesh_parts
+from valterm.core.cad import CadImportError, import_cad, read_mesh_parts
 
 
 def extents(cell) -> np.ndarray:

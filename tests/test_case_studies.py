@@ -10,16 +10,14 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from valterm.events import Collision, Near
-from valterm.files.locations import read_locations
-from valterm.files.setup import read_setup
-from valterm.motion import MotionRefused
-from valterm.session import Session
-from valterm.simulator import Simulator
+from valterm.core.events import Collision, Near
+from valterm.core.files.locations import read_locations
+from valterm.core.files.setup import read_setup
+from valterm.core.motion import MotionRefused
+from valterm.core.session import Session
+from valterm.core.simulator import Simulator
 
-ROOT = Path(__file__).resolve().parent.parent
-
-
+ROOT = Path(__file__).resolve().parent.parent / "valterm" / "data"  # the bundled data
 def run(workspace: Path, *argv: str) -> subprocess.CompletedProcess[str]:
     return subprocess.run([sys.executable, "-m", "valterm", "--workspace", str(workspace), "run", *argv],
                           capture_output=True, text=True, timeout=120)

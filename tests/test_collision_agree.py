@@ -11,12 +11,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from valterm.cell.polyhedron import Polyhedron
-from valterm.collision import CollisionWorld, check_pair
-from valterm.collision.bench import bench_collision_step, demo_links, demo_objects
-from valterm.collision.exact import collides
+from valterm.core.cell.polyhedron import Polyhedron
+from valterm.core.collision import CollisionWorld, check_pair
+from valterm.bench.collision import bench_collision_step, demo_links, demo_objects
+from valterm.core.collision.exact import collides
 
-CELLS = Path(__file__).resolve().parent.parent / "cells"
+CELLS = Path(__file__).resolve().parent.parent / "valterm" / "data" / "cells"
 BAND = 0.05  # mm
 
 
@@ -99,7 +99,7 @@ def test_bundled_cells_agree_along_a_sweep(name):
     path = CELLS / f"{name}.SET"
     if not path.exists():
         pytest.skip(f"{path.name} not bundled")
-    from valterm.files.setup import read_setup
+    from valterm.core.files.setup import read_setup
     objects = read_setup(path).objects
     rng = np.random.default_rng(7)
     stats = {"hit": 0, "miss": 0, "band": 0, "inside": 0}

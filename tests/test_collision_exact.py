@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from valterm.cell.polyhedron import Polyhedron
-from valterm.collision import CollisionWorld
-from valterm.collision.exact import ExactChecker, collides, distance, outward_faces
+from valterm.core.cell.polyhedron import Polyhedron
+from valterm.core.collision import CollisionWorld
+from valterm.core.collision.exact import ExactChecker, collides, distance, outward_faces
 
 
 def box(lo, hi) -> Polyhedron:

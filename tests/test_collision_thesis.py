@@ -5,10 +5,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from valterm.cell.polyhedron import Polyhedron
-from valterm.collision import CollisionWorld, Finding, check_pair, check_scene, default_skip, margin
-from valterm.collision.thesis import segment_hits_polyhedron
-from valterm.events import Collision, Near
+from valterm.core.cell.polyhedron import Polyhedron
+from valterm.core.collision import CollisionWorld, Finding, check_pair, check_scene, default_skip, margin
+from valterm.core.collision.thesis import segment_hits_polyhedron
+from valterm.core.events import Collision, Near
 
 
 def box(lo, hi, name: str = "") -> Polyhedron:

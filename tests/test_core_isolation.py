@@ -9,17 +9,17 @@ import sys
 import pytest
 
 CORE_MODULES = [
-    "valterm.kinematics", "valterm.motion", "valterm.robot", "valterm.simulator",
-    "valterm.session", "valterm.events", "valterm.bench", "valterm.cli",
-    "valterm.cell.polyhedron", "valterm.cell.workcell",
-    "valterm.files.setup", "valterm.files.locations", "valterm.files.programs",
-    "valterm.files.datfiler", "valterm.files.variables", "valterm.workspace",
-    "valterm.cad.iges", "valterm.cad.mesh", "valterm.cad.convert", "valterm.cad.export",
-    "valterm.collision.thesis", "valterm.collision.exact", "valterm.collision.grasp",
-    "valterm.collision.world",
-    "valterm.val.interpreter", "valterm.val.checker", "valterm.val.commands",
-    "valterm.editor",
-    "valterm.ui.view.raster", "valterm.ui.view.clock",
+    "valterm.core.kinematics", "valterm.core.motion", "valterm.core.robot", "valterm.core.simulator",
+    "valterm.core.session", "valterm.core.events", "valterm.bench.suite", "valterm.cli",
+    "valterm.core.cell.polyhedron", "valterm.core.cell.workcell",
+    "valterm.core.files.setup", "valterm.core.files.locations", "valterm.core.files.programs",
+    "valterm.core.files.datfiler", "valterm.core.files.variables", "valterm.core.workspace",
+    "valterm.core.cad.iges", "valterm.core.cad.mesh", "valterm.core.cad.convert", "valterm.core.cad.export",
+    "valterm.core.collision.thesis", "valterm.core.collision.exact", "valterm.core.collision.grasp",
+    "valterm.core.collision.world",
+    "valterm.core.val.interpreter", "valterm.core.val.checker", "valterm.core.val.commands",
+    "valterm.core.editor",
+    "valterm.core.render.raster", "valterm.core.render.clock",
 ]
 
 

@@ -1,4 +1,4 @@
-"""The line editor of Chapter 5 (valterm.editor), without the UI."""
+"""The line editor of Chapter 5 (valterm.core.editor), without the UI."""
 
 from __future__ import annotations
 
@@ -6,9 +6,9 @@ from pathlib import Path
 
 import pytest
 
-from valterm.editor import EditorError, ProgramEditor, expand_tab, program_name
-from valterm.files.programs import read_program
-from valterm.workspace import Workspace
+from valterm.core.editor import EditorError, ProgramEditor, expand_tab, program_name
+from valterm.core.files.programs import read_program
+from valterm.core.workspace import Workspace
 
 
 @pytest.fixture
@@ -125,7 +125,7 @@ def test_names_and_tabs() -> None:
 
 
 def test_bad_names_are_refused(workspace: Workspace) -> None:
-    from valterm.workspace import WorkspaceError
+    from valterm.core.workspace import WorkspaceError
 
     for bad in ("../ETC", "TOOLONGNAME", "DATFILER"):
         with pytest.raises(WorkspaceError):
@@ -133,8 +133,8 @@ def test_bad_names_are_refused(workspace: Workspace) -> None:
 
 
 def test_a_saved_program_runs_headless(workspace: Workspace) -> None:
-    interpreter_module = pytest.importorskip("valterm.val.interpreter", reason="the interpreter helper's valterm.val.interpreter")
-    from valterm.session import Session
+    interpreter_module = pytest.importorskip("valterm.core.val.interpreter", reason="the interpreter helper's valterm.core.val.interpreter")
+    from valterm.core.session import Session
 
     editor = ProgramEditor(workspace, "TEST")
     for line in (" READY", " TYPE HELLO", "10 SPEED 50", " STOP"):

@@ -8,7 +8,7 @@ from typing import Callable
 
 import pytest
 
-from valterm.files import (
+from valterm.core.files import (
     FileFormatError,
     Program,
     ProgramLine,
@@ -29,11 +29,11 @@ from valterm.files import (
     write_program,
     write_variables,
 )
-from valterm.files import atomic
-from valterm.files.programs import split_label
-from valterm.kinematics import Location
+from valterm.core.files import atomic
+from valterm.core.files.programs import split_label
+from valterm.core.kinematics import Location
 
-REPO = Path(__file__).resolve().parent.parent
+REPO = Path(__file__).resolve().parent.parent / "valterm" / "data"  # the bundled data
 PROGRAMS = REPO / "programs"
 
 

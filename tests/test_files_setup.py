@@ -9,12 +9,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from valterm.cell.polyhedron import Polyhedron
-from valterm.cell.workcell import WorkCell
-from valterm.files import FileFormatError, format_setup, parse_setup, read_setup, write_setup
-from valterm.files import atomic
+from valterm.core.cell.polyhedron import Polyhedron
+from valterm.core.cell.workcell import WorkCell
+from valterm.core.files import FileFormatError, format_setup, parse_setup, read_setup, write_setup
+from valterm.core.files import atomic
 
-REPO = Path(__file__).resolve().parent.parent
+REPO = Path(__file__).resolve().parent.parent / "valterm" / "data"  # the bundled data
 CELLS = REPO / "cells"
 
 # Fig. 7-1, object 1: reference point 440, -50, -320 and its eight relative vertices.

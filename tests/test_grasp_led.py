@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from valterm.cell.polyhedron import Polyhedron
-from valterm.collision import led_hits
+from valterm.core.cell.polyhedron import Polyhedron
+from valterm.core.collision import led_hits
 
 
 def box(lo, hi) -> Polyhedron:

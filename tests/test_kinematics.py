@@ -9,9 +9,9 @@ import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
-from valterm.kinematics import (
+from valterm.core.kinematics import (
     OUT_OF_REACH,
-    PUMA,
+    robot_geometry,
     BeyondStop,
     Config,
     OutOfReach,
@@ -94,7 +94,7 @@ def test_fig_2_8_rows_with_jt2_outside_the_spec_stops_are_refused_by_name() -> N
 def test_oat_reporting_rules() -> None:
     assert rotation_to_oat(fk(ROWS["2-8a1"][3]).rotation) == pytest.approx((163.19, 42.95, 170.05), abs=0.02)
     # READY: gimbal lock, T reported as 0
-    o, a, t = fk(PUMA.ready).oat
+    o, a, t = fk(robot_geometry().ready).oat
     assert (o, a, t) == pytest.approx((90.0, -90.0, 0.0), abs=1e-9)
     # O is kept in [0, 180) by the equivalent (O+-180, 180-A, T-180)
     r = oat_to_rotation(-30.0, 20.0, 40.0)
@@ -122,13 +122,13 @@ def test_oat_batch_matches_scalar() -> None:
         assert np.abs(oat_to_rotation(*row) - r).max() < 1e-12
 
 
-joint_vectors = st.tuples(*(st.floats(lo, hi) for lo, hi in PUMA.stops))
+joint_vectors = st.tuples(*(st.floats(lo, hi) for lo, hi in robot_geometry().stops))
 
 
 def _regular(joints: tuple[float, ...]) -> bool:
     """Away from the three PUMA singularities (wrist, elbow straight, wrist over the shoulder)."""
     j2, j3, j5 = (math.radians(joints[i]) for i in (1, 2, 4))
-    reach = PUMA.a2 * math.cos(j2) + PUMA.d4 * math.sin(j2 + j3)
+    reach = robot_geometry().a2 * math.cos(j2) + robot_geometry().d4 * math.sin(j2 + j3)
     return abs(math.sin(j5)) > 1e-3 and abs(math.cos(j3)) > 1e-3 and abs(reach) > 1e-2
 
 
@@ -154,7 +154,7 @@ def test_every_configuration_solves_to_the_same_pose_or_names_its_reason(
         solved = ik(pose.xyz, pose.rotation, config)
     except BeyondStop as error:
         unconstrained = ik(pose.xyz, pose.rotation, config, enforce_stops=False)
-        low, high = PUMA.stops[error.joint - 1]
+        low, high = robot_geometry().stops[error.joint - 1]
         angle = unconstrained[error.joint - 1]
         assert not any(low <= angle + 360 * k <= high for k in range(-2, 3))
         return
@@ -164,7 +164,7 @@ def test_every_configuration_solves_to_the_same_pose_or_names_its_reason(
     back = fk(solved)
     assert np.abs(back.xyz - pose.xyz).max() < 1e-6
     assert np.abs(back.rotation - pose.rotation).max() < 1e-6
-    assert all(lo <= j <= hi for j, (lo, hi) in zip(solved, PUMA.stops))
+    assert all(lo <= j <= hi for j, (lo, hi) in zip(solved, robot_geometry().stops))
 
 
 @settings(max_examples=100, deadline=None)
@@ -200,7 +200,7 @@ def test_360_equivalence_and_nearest_choice() -> None:
 
 def test_batch_versions_agree_with_scalar() -> None:
     rng = np.random.default_rng(7)
-    lows, highs = PUMA.stops_array.T
+    lows, highs = robot_geometry().stops_array.T
     joints = rng.uniform(lows, highs, (500, 6))
     xyz, rotations = fk_batch(joints)
     configs = indicators_batch(joints)

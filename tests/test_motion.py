@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from valterm.kinematics import Config, fk, fk_batch, indicators, oat_to_rotation
-from valterm.motion import (
+from valterm.core.kinematics import Config, fk, fk_batch, indicators, oat_to_rotation
+from valterm.core.motion import (
     MotionRefused,
     approach_point,
     clamp_speed,

@@ -1,4 +1,4 @@
-"""The example session of App. C, Tables C-1..C-3, replayed key for key (assets/DEMO.KEYS,
+"""The example session of App. C, Tables C-1..C-3, replayed key for key (valterm/data/DEMO.KEYS,
 OCR slips corrected there) through the whole app, checking the screens it reaches."""
 
 from __future__ import annotations

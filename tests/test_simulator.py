@@ -7,16 +7,14 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from valterm.events import Grasp, Hand, Message, Motion, PoseEvent, Release
-from valterm.files.locations import read_locations
-from valterm.files.setup import read_setup
-from valterm.kinematics import Location, fk
-from valterm.motion import MotionRefused
-from valterm.simulator import GRASP_MESSAGE, Simulator, UndefinedLocation
+from valterm.core.events import Grasp, Hand, Message, Motion, PoseEvent, Release
+from valterm.core.files.locations import read_locations
+from valterm.core.files.setup import read_setup
+from valterm.core.kinematics import Location, fk
+from valterm.core.motion import MotionRefused
+from valterm.core.simulator import GRASP_MESSAGE, Simulator, UndefinedLocation
 
-ROOT = Path(__file__).resolve().parent.parent
-
-
+ROOT = Path(__file__).resolve().parent.parent / "valterm" / "data"  # the bundled data
 @pytest.fixture
 def process() -> Simulator:
     sim = Simulator(read_setup(ROOT / "cells" / "PROCESS.SET"))

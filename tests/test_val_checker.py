@@ -7,10 +7,10 @@ from pathlib import Path
 import pytest
 
 from valterm.cli import main
-from valterm.files.programs import parse_program, read_program
-from valterm.val.checker import check_program, check_statement
+from valterm.core.files.programs import parse_program, read_program
+from valterm.core.val.checker import check_program, check_statement
 
-REPO = Path(__file__).resolve().parent.parent
+REPO = Path(__file__).resolve().parent.parent / "valterm" / "data"  # the bundled data
 PROGRAMS = REPO / "programs"
 
 

@@ -8,7 +8,7 @@ from typing import Any, Iterator
 
 import pytest
 
-from valterm.events import (
+from valterm.core.events import (
     Delay,
     Error,
     Event,
@@ -22,12 +22,12 @@ from valterm.events import (
     TypeOut,
     Where,
 )
-from valterm.files.programs import Program, read_program
-from valterm.kinematics import Location
-from valterm.motion import MotionRefused
-from valterm.val.interpreter import FOREVER_LOOPS, MAX_CALL_DEPTH, Interpreter, program_from_lines
+from valterm.core.files.programs import Program, read_program
+from valterm.core.kinematics import Location
+from valterm.core.motion import MotionRefused
+from valterm.core.val.interpreter import FOREVER_LOOPS, MAX_CALL_DEPTH, Interpreter, program_from_lines
 
-REPO = Path(__file__).resolve().parent.parent
+REPO = Path(__file__).resolve().parent.parent / "valterm" / "data"  # the bundled data
 PROGRAMS = REPO / "programs"
 
 
@@ -465,9 +465,9 @@ def test_conv1_calls_conv2_and_col_follows_the_control_flow() -> None:
 
 
 def test_process_runs_on_the_real_simulator() -> None:
-    from valterm.files.locations import read_locations
-    from valterm.files.setup import read_setup
-    from valterm.simulator import Simulator
+    from valterm.core.files.locations import read_locations
+    from valterm.core.files.setup import read_setup
+    from valterm.core.simulator import Simulator
 
     sim = Simulator(read_setup(REPO / "cells" / "PROCESS.SET"))
     sim.locations.update(read_locations(PROGRAMS / "PROCESS.LOC"))

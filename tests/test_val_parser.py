@@ -4,11 +4,11 @@ from __future__ import annotations
 
 import pytest
 
-from valterm.files.errors import FileFormatError
-from valterm.val.commands import AmbiguousCommand, UnknownCommand, default_commands, parse_command_file
-from valterm.val.expr import ExprError, compile_condition, compile_expr
-from valterm.val.helptopics import default_help, parse_help_file
-from valterm.val.parser import ASSIGN, LocArg, ValSyntaxError, parse_statement
+from valterm.core.files.errors import FileFormatError
+from valterm.core.val.commands import AmbiguousCommand, UnknownCommand, default_commands, parse_command_file
+from valterm.core.val.expr import ExprError, compile_condition, compile_expr
+from valterm.core.val.helptopics import default_help, parse_help_file
+from valterm.core.val.parser import ASSIGN, LocArg, ValSyntaxError, parse_statement
 
 # -- COMMAND.DAT and HELPER.DAT ------------------------------------------------------
 

@@ -6,7 +6,7 @@ import math
 
 import pytest
 
-from valterm.ui.view.clock import MotionPlayer
+from valterm.core.render.clock import MotionPlayer
 
 
 class FakeClock:

@@ -6,9 +6,9 @@ import time
 
 import numpy as np
 
-from valterm.cell.polyhedron import Polyhedron
-from valterm.ui.view.bench import bench_raster
-from valterm.ui.view.raster import (
+from valterm.core.cell.polyhedron import Polyhedron
+from valterm.bench.raster import bench_raster
+from valterm.core.render.raster import (
     AXES_COLOUR,
     BRAILLE_BASE,
     Scene,
@@ -205,7 +205,7 @@ def test_raster_clock_and_bench_import_no_textual_or_rich() -> None:
     import sys
 
     code = (
-        "import sys, valterm.ui.view.raster, valterm.ui.view.clock, valterm.ui.view.bench\n"
+        "import sys, valterm.core.render.raster, valterm.core.render.clock, valterm.bench.raster\n"
         "bad = [m for m in sys.modules if m.split('.')[0] in ('textual', 'rich')]\n"
         "assert not bad, bad\n"
     )

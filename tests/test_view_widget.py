@@ -8,10 +8,10 @@ from typing import Any, Callable, Coroutine
 import numpy as np
 from textual.app import App, ComposeResult
 
-from valterm.cell.polyhedron import Polyhedron
+from valterm.core.cell.polyhedron import Polyhedron
 from valterm.ui.view.animation import MotionDriver
 from valterm.ui.view.model_view import ModelView
-from valterm.ui.view.raster import Scene, object_colour
+from valterm.core.render.raster import Scene, object_colour
 
 LO, HI = np.array([-60.0, -60, -60]), np.array([60.0, 60, 60])
 

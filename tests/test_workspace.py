@@ -8,9 +8,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from valterm.files import FileFormatError, Program, ProgramLine
-from valterm.kinematics import Location
-from valterm.workspace import Workspace, WorkspaceError, bundled_dirs, check_name, default_root
+from valterm.core.files import FileFormatError, Program, ProgramLine
+from valterm.core.kinematics import Location
+from valterm.core import resources
+from valterm.core.workspace import Workspace, WorkspaceError, check_name, default_root
 
 
 def _tree(folder: Path) -> dict[str, bytes]:
@@ -43,11 +44,11 @@ def test_reopening_keeps_the_users_files(tmp_path: Path) -> None:
     assert not (tmp_path / "CONV.SET").exists()  # first use only: a deleted file stays deleted
 
 
-def test_bundled_data_is_found_and_a_missing_bundle_is_no_error(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    assert all(folder is not None for folder in bundled_dirs().values())
-    monkeypatch.setattr("valterm.workspace.bundled_dirs", lambda: {"cells": None, "programs": None})
-    workspace = Workspace.open(tmp_path / "bare")
-    assert workspace.list_programs() == [] and workspace.read_variables() == {}
+def test_bundled_data_ships_inside_the_package() -> None:
+    names = {p.name for p in resources.bundled_files(resources.CELLS)}
+    assert {"PROCESS.SET", "CONV.SET", "DEMO3.SET"} <= names
+    assert "PROCESS.DAT" in {p.name for p in resources.bundled_files(resources.PROGRAMS)}
+    assert resources.read_text("robot", "PUMA.toml").startswith("#") or "[links]" in resources.read_text("robot", "PUMA.toml")
 
 
 def test_default_root_and_environment(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:

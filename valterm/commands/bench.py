@@ -13,7 +13,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from valterm.bench import run_all
+    from valterm.bench.suite import run_all
 
     entries = run_all()
     if args.json:

@@ -13,8 +13,8 @@ import argparse
 import sys
 from pathlib import Path
 
-from valterm.cad.convert import import_cad, summary
-from valterm.cad.errors import CadImportError
+from valterm.core.cad.convert import import_cad, summary
+from valterm.core.cad.errors import CadImportError
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -38,15 +38,15 @@ def _source(argument: str, workspace_root: str | None) -> Path:
     given = Path(argument).expanduser()
     if given.is_file() or any(sep in argument for sep in ("/", "\\")):
         return given
-    from valterm.workspace import Workspace
+    from valterm.core.workspace import Workspace
     root = Workspace.open(workspace_root).root
     found = next((p for p in root.iterdir() if p.name.upper() == argument.upper()), None)
     return found or given
 
 
 def run_import(args: argparse.Namespace) -> int:
-    from valterm.files.setup import write_setup
-    from valterm.workspace import Workspace, WorkspaceError
+    from valterm.core.files.setup import write_setup
+    from valterm.core.workspace import Workspace, WorkspaceError
 
     root = getattr(args, "workspace", None)
     try:

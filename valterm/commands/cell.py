@@ -11,10 +11,10 @@ import json
 import sys
 from pathlib import Path
 
-from valterm.cell.workcell import WorkCell
-from valterm.files.errors import FileFormatError
-from valterm.files.setup import read_setup
-from valterm.workspace import Workspace, WorkspaceError
+from valterm.core.cell.workcell import WorkCell
+from valterm.core.files.errors import FileFormatError
+from valterm.core.files.setup import read_setup
+from valterm.core.workspace import Workspace, WorkspaceError
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:

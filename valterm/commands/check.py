@@ -13,7 +13,7 @@ import sys
 from pathlib import Path
 from typing import Callable
 
-from valterm.files.errors import FileFormatError
+from valterm.core.files.errors import FileFormatError
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -32,16 +32,16 @@ def find_program(argument: str, workspace_root: str | None) -> tuple[Path, Calla
     looks_like_path = any(sep in argument for sep in ("/", "\\")) or given.suffix.upper() not in ("", ".DAT")
     if looks_like_path:
         raise FileNotFoundError(f"{argument}: no such program file")
-    from valterm.workspace import Workspace
+    from valterm.core.workspace import Workspace
 
     workspace = Workspace.open(workspace_root)
     return workspace.path(argument, "DAT"), lambda name: workspace.exists(name, "DAT")
 
 
 def run(args: argparse.Namespace) -> int:
-    from valterm.files.programs import read_program
-    from valterm.val.checker import check_program
-    from valterm.workspace import WorkspaceError
+    from valterm.core.files.programs import read_program
+    from valterm.core.val.checker import check_program
+    from valterm.core.workspace import WorkspaceError
 
     status = 0
     for argument in args.files:

@@ -1,6 +1,6 @@
 """``valterm demo [--speed X]``: the example session of Tables C-1..C-3 (and CONV1) replayed
 key by key, in a loop, for museum use; any key hands control to the visitor and an idle
-minute restarts the demo. The key script is data, assets/DEMO.KEYS; this module reads it
+minute restarts the demo. The key script is data, valterm/data/DEMO.KEYS; this module reads it
 (no UI import) and starts the demo app.
 """
 
@@ -10,9 +10,9 @@ import argparse
 from dataclasses import dataclass
 from pathlib import Path
 
-from valterm.val.commands import ASSETS
+from valterm.core import resources
 
-DEMO_FILE = ASSETS / "DEMO.KEYS"
+DEMO_FILE = resources.data_path("DEMO.KEYS")
 
 # Named keys of the script -> Textual key names.
 NAMED_KEYS = {"RETURN": "enter", "TAB": "tab", "ESC": "escape", "SPACE": "space", "CTRL-C": "ctrl+c"}

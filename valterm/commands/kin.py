@@ -12,7 +12,7 @@ import json
 import sys
 from typing import Iterable, Sequence
 
-from valterm.kinematics import Config, IKError, fk, ik_oat, indicators, wrap180
+from valterm.core.kinematics import Config, IKError, fk, ik_oat, indicators, wrap180
 
 
 def register(sub: argparse._SubParsersAction) -> None:

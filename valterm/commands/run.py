@@ -50,16 +50,16 @@ def _find(argument: str, ext: str, workspace: Any) -> Path:
 
 
 def run(args: argparse.Namespace) -> int:
-    from valterm.events import End, Error, Pause
-    from valterm.files.errors import FileFormatError
-    from valterm.files.locations import read_locations
-    from valterm.files.programs import read_program
-    from valterm.files.setup import read_setup
-    from valterm.simulator import Simulator
-    from valterm.val.interpreter import Interpreter
-    from valterm.val.transcript import event_lines, where_lines
-    from valterm.val.variables import VariableStore
-    from valterm.workspace import Workspace, WorkspaceError
+    from valterm.core.events import End, Error, Pause
+    from valterm.core.files.errors import FileFormatError
+    from valterm.core.files.locations import read_locations
+    from valterm.core.files.programs import read_program
+    from valterm.core.files.setup import read_setup
+    from valterm.core.simulator import Simulator
+    from valterm.core.val.interpreter import Interpreter
+    from valterm.core.val.transcript import event_lines, where_lines
+    from valterm.core.val.variables import VariableStore
+    from valterm.core.workspace import Workspace, WorkspaceError
 
     try:
         workspace = Workspace.open(getattr(args, "workspace", None))

@@ -2,7 +2,7 @@
 
 The app holds what the screens share: the session (workspace, cell, robot, interpreter),
 the view options of KEYBOARD mode (FACES, AXES, ORIENT's view transform) and the one motion
-player. Motions are paced by elapsed time (``valterm.ui.view.clock``); the pacing clock is
+player. Motions are paced by elapsed time (``valterm.core.render.clock``); the pacing clock is
 injectable and no timer runs while nothing moves, so Pilot tests stay fast.
 """
 
@@ -17,18 +17,18 @@ from typing import Callable, Iterable, Iterator
 from textual.app import App
 from textual.binding import Binding
 
-from valterm.events import Error, Event, Message, PoseEvent
+from valterm.core.events import Error, Event, Message, PoseEvent
 from valterm.ui.messages import MotionDone, PoseShown, SceneChanged, SimulatorEvent
 from valterm.ui.view.animation import MotionDriver
-from valterm.ui.view.clock import DEFAULT_RATE
-from valterm.ui.view.raster import Scene, ViewTransform
+from valterm.core.render.clock import DEFAULT_RATE
+from valterm.core.render.raster import Scene, ViewTransform
 
 @lru_cache(maxsize=1)
 def core_errors() -> tuple[type[BaseException], ...]:
-    from valterm.cad.errors import CadImportError
-    from valterm.files.errors import FileFormatError
-    from valterm.motion import MotionRefused
-    from valterm.workspace import WorkspaceError
+    from valterm.core.cad.errors import CadImportError
+    from valterm.core.files.errors import FileFormatError
+    from valterm.core.motion import MotionRefused
+    from valterm.core.workspace import WorkspaceError
 
     # errors of the core shown as messages, never as tracebacks
     return (FileFormatError, WorkspaceError, MotionRefused, CadImportError, OSError, ValueError, IndexError, KeyError)
@@ -36,7 +36,7 @@ def core_errors() -> tuple[type[BaseException], ...]:
 
 def error_text(error: BaseException) -> str:
     """The message of a core error, upper case as on the VS11."""
-    from valterm.motion import MotionRefused
+    from valterm.core.motion import MotionRefused
 
     text = str(error).strip() or type(error).__name__
     if isinstance(error, KeyError) and error.args:
@@ -103,7 +103,7 @@ class ValtermApp(App[int]):
 
     def open_session(self, setup: str | None):  # type: ignore[no-untyped-def]
         """A fresh session on ``setup`` (raises the core's errors for the caller to show)."""
-        from valterm.session import Session
+        from valterm.core.session import Session
 
         root = self.workspace_root if self.session is None else self.session.workspace.root
         session = Session(workspace_root=root, setup=setup)
@@ -125,7 +125,7 @@ class ValtermApp(App[int]):
         if self.session is not None:
             return self.session.workspace
         if self._workspace is None:
-            from valterm.workspace import Workspace
+            from valterm.core.workspace import Workspace
 
             self._workspace = Workspace.open(self.workspace_root)
         return self._workspace

@@ -5,7 +5,7 @@ from __future__ import annotations
 import time
 from pathlib import Path
 
-from valterm.ui.view.raster import rasterize
+from valterm.core.render.raster import rasterize
 from valterm.ui.widgets.readouts import format_part, format_where
 
 PRINT_WIDTH = 100
@@ -46,7 +46,7 @@ def write_hardcopy(app) -> tuple[Path, Path]:  # type: ignore[no-untyped-def]
     root = app.session.workspace.root
     name = next_name(root)
     text_path = root / f"{name}.TXT"
-    from valterm.files.atomic import write_text_atomic
+    from valterm.core.files.atomic import write_text_atomic
 
     write_text_atomic(text_path, printout(app))
     svg = app.save_screenshot(filename=f"{name}.SVG", path=str(root))

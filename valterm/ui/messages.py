@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from textual.message import Message
 
-from valterm.events import Event
+from valterm.core.events import Event
 
 
 class PoseShown(Message):

@@ -15,7 +15,7 @@ from textual.containers import Horizontal, Vertical
 from textual.screen import Screen
 from textual.widgets import Input
 
-from valterm.events import Collision, Error, Message, Near, Pause, Step, TypeOut, Where
+from valterm.core.events import Collision, Error, Message, Near, Pause, Step, TypeOut, Where
 from valterm.ui.messages import MotionDone, PoseShown, SceneChanged, SimulatorEvent
 from valterm.ui.view.model_view import ModelView
 from valterm.ui.widgets.cell_view import CellView

@@ -1,4 +1,4 @@
-"""Demonstration mode (museum use): the app replays assets/DEMO.KEYS at a watchable pace,
+"""Demonstration mode (museum use): the app replays valterm/data/DEMO.KEYS at a watchable pace,
 with the table's EXPLANATION as a caption. Any key hands control to the visitor; an idle
 minute restarts the demo from a fresh copy of the thesis's files.
 """

@@ -4,7 +4,7 @@ First the ``EDIT NAME`` line (``EDIT TEST.DAT`` or just ``TEST``); then single k
 C continue with the next step, I insert, D delete, S save, E exit. A space, a TAB or a
 digit in the menu starts the next step too, label columns first (that is how the example
 session types `` MOVE B`` straight after `` MOVE A``). Any other key is a wrong key: it is
-named and the program saved (§5.2). All the work is done by ``valterm.editor``.
+named and the program saved (§5.2). All the work is done by ``valterm.core.editor``.
 """
 
 from __future__ import annotations
@@ -16,8 +16,8 @@ from textual.events import Key
 from textual.screen import Screen
 from textual.widgets import Input, Static
 
-from valterm.editor import EDITOR_MENU, EditorError, ProgramEditor
-from valterm.files.programs import LABEL_COLUMNS
+from valterm.core.editor import EDITOR_MENU, EditorError, ProgramEditor
+from valterm.core.files.programs import LABEL_COLUMNS
 from valterm.ui.widgets.prompt import type_ahead
 
 MENU_KEYS = {"c": "create", "i": "insert", "d": "delete", "s": "save", "e": "exit"}

@@ -14,7 +14,7 @@ from textual.events import Key
 from textual.screen import Screen
 from textual.widgets import Input, Static
 
-from valterm.val.helptopics import HelpTopics, default_help
+from valterm.core.val.helptopics import HelpTopics, default_help
 
 ASK_TOPIC = "DO YOU NEED MORE INFORMATION ON A SPECIFIC TOPIC (Y/N) ?"
 ASK_MENU = "DO YOU WANT THE HELP MENU DISPLAYED AGAIN (Y/N) ?"

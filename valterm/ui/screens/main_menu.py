@@ -109,7 +109,7 @@ class MainMenuScreen(MenuScreen):
         name = session.setup_name or "CELL"
         written = []
         try:
-            from valterm.cad.export import export_scene
+            from valterm.core.cad.export import export_scene
 
             for ext in ("OBJ", "GLB"):
                 path = session.workspace.root / f"{name}.{ext}"

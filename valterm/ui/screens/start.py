@@ -90,7 +90,7 @@ class StartScreen(MenuScreen):
             self._convert(t)
 
     def _answer(self, t: Transfer, what: str, answer: str) -> None:
-        from valterm.workspace import check_name
+        from valterm.core.workspace import check_name
 
         answer = answer.strip().upper()
         try:
@@ -127,7 +127,7 @@ class StartScreen(MenuScreen):
 
     def _convert(self, t: Transfer) -> None:
         try:
-            from valterm.cad.convert import import_cad
+            from valterm.core.cad.convert import import_cad
 
             workspace = self.app.session_workspace()
             cell = import_cad(t.cad_file, units=t.units, system=t.system, name=t.setup, parts=t.parts)

@@ -26,7 +26,7 @@ from textual.screen import Screen
 from textual.timer import Timer
 from textual.widgets import RichLog, Static
 
-from valterm.events import (
+from valterm.core.events import (
     Collision,
     Delay,
     End,
@@ -44,10 +44,10 @@ from valterm.events import (
     TypeOut,
     Where,
 )
-from valterm.files.locations import check_location_name, format_locations
-from valterm.kinematics import Location
+from valterm.core.files.locations import check_location_name, format_locations
+from valterm.core.kinematics import Location
 from valterm.ui.screens.editor import StepInput
-from valterm.ui.view.clock import DEFAULT_RATE, MotionPlayer
+from valterm.core.render.clock import DEFAULT_RATE, MotionPlayer
 from valterm.ui.view.model_view import ModelView
 from valterm.ui.widgets.readouts import format_where
 from valterm.ui.widgets.scene import simulator_scene
@@ -543,7 +543,7 @@ class ValModeScreen(Screen[None]):
             self._keys(f"{name}: {DEFINE_EACH}")
 
         def motion() -> Iterator[Event]:
-            from valterm.motion import MotionRefused
+            from valterm.core.motion import MotionRefused
 
             try:
                 yield from self.simulator.move(location)

@@ -12,7 +12,7 @@ from typing import Callable, Generic, Iterable, TypeVar
 from textual.message_pump import MessagePump
 from textual.timer import Timer
 
-from valterm.ui.view.clock import DEFAULT_RATE, MotionPlayer
+from valterm.core.render.clock import DEFAULT_RATE, MotionPlayer
 
 T = TypeVar("T")
 

@@ -20,7 +20,7 @@ from textual.reactive import var
 from textual.strip import Strip
 from textual.widget import Widget
 
-from valterm.ui.view.raster import (
+from valterm.core.render.raster import (
     AXES_COLOUR,
     HIGHLIGHT_COLOUR,
     LED_COLOUR,

@@ -10,7 +10,7 @@ from typing import Sequence
 
 from textual.widgets import Static
 
-from valterm.events import Where
+from valterm.core.events import Where
 
 SCS_H = 26.0  # SPEC §1: Y_s = Z_w + H
 LABEL = 8

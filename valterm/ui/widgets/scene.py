@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from valterm.ui.view.raster import LED_COLOUR, Scene, frame_lines, link_colour, object_colour
+from valterm.core.render.raster import LED_COLOUR, Scene, frame_lines, link_colour, object_colour
 
 
 def simulator_scene(simulator, part_axes: int | None = None) -> Scene:  # type: ignore[no-untyped-def]

@@ -1,0 +1,120 @@
+"""``import_cad``: a CAD file -> a WorkCell ready to be written as a setup file (§7.1).
+
+The thesis's IGES path asked for the setup-file name, the number of workpieces, their units
+(MM/IN) and the coordinate system (W/S), then "placed the parts at the origin of the user
+specified coordinate axes". Here:
+
+* the file's numbers are read in its own units (IGES units flag; meshes: millimetres) unless
+  ``units`` says they are ``MM`` or ``IN``;
+* the numbers are coordinates in the chosen system: ``W`` world as is, ``S`` screen axes
+  (X_s = Y_w, Y_s = Z_w + 26, Z_s = X_w), so a model drawn Y-up stands upright;
+* all parts move together (their arrangement kept) so the minimum corner of their joint box
+  sits at ``place_at`` (in the chosen system; default its origin);
+* each part becomes its extruded convex envelope (``valterm.core.cad.hull``).
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+from typing import Sequence
+
+import numpy as np
+
+from valterm.core.cad.errors import CadImportError, DegeneratePart
+from valterm.core.cad.hull import MIN_DEPTH_MM, extruded_hull
+from valterm.core.cad.iges import Part, read_iges
+from valterm.core.cad.mesh import MESH_EXTENSIONS, read_mesh_parts
+from valterm.core.cell.workcell import WorkCell
+
+IGES_EXTENSIONS = (".igs", ".iges")
+SCS_HEIGHT = 26.0
+UNITS_MM = {"MM": 1.0, "IN": 25.4}
+
+
+def scs_to_world(p: np.ndarray) -> np.ndarray:
+    """SCS -> WCS for (..., 3) points: X_w = Z_s, Y_w = X_s, Z_w = Y_s - 26."""
+    p = np.asarray(p, dtype=float)
+    return np.stack([p[..., 2], p[..., 0], p[..., 1] - SCS_HEIGHT], -1)
+
+
+def setup_name(path: str | Path) -> str:
+    """A workspace-legal name (1-9 of A-Z, 0-9) from a file name."""
+    name = re.sub(r"[^A-Z0-9]", "", Path(path).stem.upper())[:9]
+    return name or "CAD"
+
+
+def read_parts(path: str | Path, parts: int | None = None) -> tuple[list[Part], float, str, list[str]]:
+    """Parts (points in mm by the file's units), mm per file unit, the file's MM/IN and warnings."""
+    path = Path(path)
+    ext = path.suffix.lower()
+    if ext in IGES_EXTENSIONS:
+        model = read_iges(path)
+        return model.parts(parts), model.mm_per_unit, model.file_units, model.warnings
+    if ext in MESH_EXTENSIONS:
+        found = read_mesh_parts(path)
+        if parts is not None and parts != len(found):
+            if parts != 1:
+                raise CadImportError(path, None, f"asked for {parts} workpieces; the file holds {len(found)} meshes")
+            found = [Part(setup_name(path), np.concatenate([p.points for p in found]), [])]
+        return found, 1.0, "MM", []
+    known = ", ".join(IGES_EXTENSIONS + MESH_EXTENSIONS)
+    raise CadImportError(path, None, f"unknown CAD file type {ext or '(none)'}; use one of {known}")
+
+
+def import_cad(path: str | Path, units: str | None = None, system: str = "W", name: str | None = None,
+               place_at: Sequence[float] = (0.0, 0.0, 0.0), parts: int | None = None,
+               min_depth: float = MIN_DEPTH_MM) -> WorkCell:
+    """Read an IGES or mesh file into a WorkCell of extruded convex polyhedra (world mm).
+
+    Raises ``CadImportError`` (``file:line: reason``) for anything it cannot use.
+    """
+    path = Path(path)
+    system = system.upper()
+    if system not in ("W", "S"):
+        raise CadImportError(path, None, f"coordinate system {system!r} is not W or S")
+    if units is not None and units.upper() not in UNITS_MM:
+        raise CadImportError(path, None, f"units {units!r} are not MM or IN")
+    if parts is not None and parts < 1:
+        raise CadImportError(path, None, f"number of workpieces {parts} must be at least 1")
+    found, mm_per_unit, file_units, warnings = read_parts(path, parts)
+    warnings = list(warnings)
+    rescale = UNITS_MM[units.upper()] / mm_per_unit if units is not None else 1.0
+
+    objects = []
+    for part in found:
+        pts = part.points * rescale
+        if system == "S":
+            pts = scs_to_world(pts)
+        try:
+            poly, notes = extruded_hull(pts, part.name, min_depth)
+        except DegeneratePart as exc:
+            if parts is not None or len(found) == 1:
+                raise CadImportError(path, None, f"part {part.name}: {exc}") from None
+            warnings.append(f"part {part.name} left out: {exc}")
+            continue
+        objects.append(poly)
+        warnings.extend(notes)
+    if not objects:
+        raise CadImportError(path, None, "no part with a usable outline")
+
+    lo = np.min([p.vertices.min(axis=0) for p in objects], axis=0)
+    target = np.asarray(place_at, dtype=float)
+    target = scs_to_world(target) if system == "S" else target
+    objects = [p.translated(target - lo) for p in objects]
+    return WorkCell(objects=objects, units=(units or file_units).upper(), system=system,
+                    name=name or setup_name(path), warnings=warnings)
+
+
+def summary(cell: WorkCell) -> str:
+    """One line per part: vertices and size in millimetres, then the joint size."""
+    lines = []
+    for i, p in enumerate(cell.objects, 1):
+        lo, hi = p.extreme_box
+        size = " x ".join(f"{v:.2f}" for v in hi - lo)
+        lines.append(f"part {i} {p.name}: {len(p.vertices)} vertices, {size} mm")
+    lo = np.min([p.vertices.min(axis=0) for p in cell.objects], axis=0)
+    hi = np.max([p.vertices.max(axis=0) for p in cell.objects], axis=0)
+    lines.append(f"{len(cell.objects)} part(s), {' x '.join(f'{v:.2f}' for v in hi - lo)} mm overall, "
+                 f"units {cell.units}, system {cell.system}")
+    return "\n".join(lines)

@@ -1,0 +1,22 @@
+"""The one error of CAD import: a located, one-line reason (never a traceback)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from valterm.core.errors import ValtermError
+
+
+class CadImportError(ValtermError, ValueError):
+    """A CAD file that cannot be imported: ``file:line: reason`` (line omitted when unknown)."""
+
+    def __init__(self, path: str | Path, line: int | None, reason: str) -> None:
+        self.path = str(path)
+        self.line = line
+        self.reason = reason
+        where = f"{self.path}:{line}" if line is not None else self.path
+        super().__init__(f"{where}: {reason}")
+
+
+class DegeneratePart(ValtermError, ValueError):
+    """A part whose points enclose no area (coincident or collinear): the reason is the message."""

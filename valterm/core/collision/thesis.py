@@ -1,0 +1,260 @@
+"""The 1985 collision check of §2.7, vectorised: a coarse box test, then the fine edge-face test.
+
+Coarse (Figs. 2-12, 2-13): the extreme box of each *stationary* polyhedron is grown by the
+circumscribed-sphere radius of the *moving* one (the yellow box) plus a speed-dependent error
+margin (the lavender box); if the moving polyhedron's centre is inside, the pair is "near"
+(the yellow message) and the fine check runs.
+
+Fine (Figs. 2-14 A, B): every edge segment of one polyhedron against the plane of every face
+polygon of the other, and vice versa. A segment that properly crosses a plane gives one
+intersection point; lines from that point to the polygon's vertices make triangles, and if
+the sum of their areas is no larger than the polygon's area the point is inside: collision.
+
+Conventions chosen here (documented because the thesis leaves them open):
+
+* ``margin(speed)`` is the straight-line step length at that speed, 25.4 mm * speed / 100
+  (SPEED clamped to 10..100, as §6.6.1 does): the faster the robot, the farther apart the
+  steps, the larger the lavender box, so a collision is announced at least a step ahead.
+* Touching is not colliding: a segment must cross a plane by more than ``EPS`` mm on both
+  sides. A part resting on a table, or an edge lying in a face's plane (the "parallel"
+  possibility of Fig. 2-14), is clear; a real crossing always has other, non-parallel edges.
+* The area test accepts a point on the polygon's boundary (relative tolerance ``AREA_TOL``).
+* Blind spot of the 1985 method: a polyhedron wholly inside another has no edge crossing any
+  face, so the fine check says "clear" (the pair is still "near"). The exact checker
+  (``valterm.core.collision.exact``) reports that case; the agreement tests detect it explicitly.
+
+Every step works on whole arrays: the coarse test of all pairs is one numpy expression and the
+fine test of all near pairs (both directions) is one batch; only the loop over the (few)
+polyhedron sizes that build the index layout is Python, and it is cached.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import lru_cache
+from typing import Literal, Sequence
+
+import numpy as np
+
+from valterm.core.cell.polyhedron import Polyhedron, topology
+
+Kind = Literal["clear", "near", "collides"]
+CLEAR, NEAR, COLLIDES = 0, 1, 2
+KINDS: tuple[Kind, Kind, Kind] = ("clear", "near", "collides")
+
+EPS = 1e-6        # mm: how far past a plane a segment end must be to count as crossing it
+AREA_TOL = 1e-7   # relative: triangle-area sum may exceed the polygon area by this much
+STEP_MM = 25.4    # straight-line increment at SPEED 100 (SPEC §3)
+
+
+def margin(speed: float) -> float:
+    """The speed-dependent error margin (mm) of §2.7 / §6.6.1: one straight-line step."""
+    return STEP_MM * min(max(float(speed), 10.0), 100.0) / 100.0
+
+
+# -- layout: index arrays into the concatenated vertices of a list of polyhedra ---------------
+
+@dataclass(frozen=True)
+class Layout:
+    """Padded edge and face index arrays for polyhedra of the given k's, vertices concatenated.
+
+    Padding is degenerate on purpose so no masks are needed: a padded edge is one vertex
+    twice (it crosses nothing), a padded face vertex repeats the face's last vertex (a
+    zero-area triangle), a padded face is one vertex repeated (zero normal, crosses nothing).
+    """
+
+    ks: tuple[int, ...]
+    starts: np.ndarray     # (N,) first vertex of each polyhedron in the concatenation
+    counts: np.ndarray     # (N,) 2k
+    edge_idx: np.ndarray   # (N, Emax, 2)
+    face_idx: np.ndarray   # (N, Fmax, M)
+    face_next: np.ndarray  # (N, Fmax, M) the next vertex round each face
+
+
+@lru_cache(maxsize=64)
+def layout(ks: tuple[int, ...]) -> Layout:
+    counts = np.array([2 * k for k in ks], dtype=np.intp)
+    starts = np.concatenate([[0], np.cumsum(counts)[:-1]]).astype(np.intp)
+    kmax = max(ks) if ks else 4
+    e_max, f_max, m = 3 * kmax, kmax + 2, max(kmax, 4)
+    edge_idx = np.zeros((len(ks), e_max, 2), dtype=np.intp)
+    face_idx = np.zeros((len(ks), f_max, m), dtype=np.intp)
+    for i, (k, s) in enumerate(zip(ks, starts)):
+        top = topology(k)
+        edge_idx[i] = s
+        edge_idx[i, : len(top.edges)] = top.edges + s
+        face_idx[i] = s
+        for j, face in enumerate(top.faces):
+            face_idx[i, j] = face[-1] + s
+            face_idx[i, j, : len(face)] = face + s
+    return Layout(tuple(ks), starts, counts, edge_idx, face_idx, np.roll(face_idx, -1, axis=2))
+
+
+@dataclass
+class Scene:
+    """Per-step geometry of a list of polyhedra: concatenated vertices, centres, radii, boxes."""
+
+    layout: Layout
+    vertices: np.ndarray   # (V, 3)
+    centres: np.ndarray    # (N, 3)
+    radii: np.ndarray      # (N,)
+    mid: np.ndarray        # (N, 3) middle of the extreme box
+    half: np.ndarray       # (N, 3) half its size
+
+    @classmethod
+    def of(cls, polys: Sequence[Polyhedron]) -> "Scene":
+        lay = layout(tuple(len(p.vertices) // 2 for p in polys))
+        if not polys:
+            z = np.zeros((0, 3))
+            return cls(lay, z, z, np.zeros(0), z, z)
+        v = np.concatenate([p.vertices for p in polys])
+        centres = np.add.reduceat(v, lay.starts, axis=0) / lay.counts[:, None]
+        d = v - np.repeat(centres, lay.counts, axis=0)
+        radii = np.sqrt(np.maximum.reduceat(np.einsum("ij,ij->i", d, d), lay.starts))
+        lo = np.minimum.reduceat(v, lay.starts, axis=0)
+        hi = np.maximum.reduceat(v, lay.starts, axis=0)
+        return cls(lay, v, centres, radii, (lo + hi) * 0.5, (hi - lo) * 0.5)
+
+    @property
+    def lo(self) -> np.ndarray:
+        return self.mid - self.half
+
+    @property
+    def hi(self) -> np.ndarray:
+        return self.mid + self.half
+
+
+# cross products as one matmul: (a outer b) flattened to 9, times the Levi-Civita symbol
+_LEVI = np.zeros((9, 3))
+for _i, _j, _k in ((0, 1, 2), (1, 2, 0), (2, 0, 1)):
+    _LEVI[3 * _j + _k, _i] = 1.0
+    _LEVI[3 * _k + _j, _i] = -1.0
+
+
+@lru_cache(maxsize=16)
+def _levi_summed(m: int) -> np.ndarray:
+    """Levi-Civita stacked m times: the matmul also sums the m cross products (Newell)."""
+    return np.tile(_LEVI, (m, 1))
+
+
+def _outer(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    return (a[..., :, None] * b[..., None, :]).reshape(*a.shape[:-1], 9)
+
+
+# -- the two checks ----------------------------------------------------------------------------
+
+def coarse(scene: Scene, moving: np.ndarray, stationary: np.ndarray, grow: float | np.ndarray) -> np.ndarray:
+    """Boolean per pair: is the moving centre inside the stationary box grown by radius + margin?"""
+    gap = np.abs(scene.centres.take(moving, axis=0) - scene.mid.take(stationary, axis=0))
+    gap -= scene.half.take(stationary, axis=0)
+    return gap.max(axis=1) <= scene.radii.take(moving) + grow
+
+
+def fine(scene: Scene, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Boolean per pair (a[i], b[i]): does an edge of one cross a face polygon of the other?"""
+    n = len(a)
+    if n == 0:
+        return np.zeros(0, dtype=bool)
+    lay, v = scene.layout, scene.vertices
+    src = np.concatenate([a, b])    # whose edges
+    dst = np.concatenate([b, a])    # whose faces
+    seg = v[lay.edge_idx.take(src, axis=0)]                 # (2n, E, 2, 3)
+    poly = v[lay.face_idx.take(dst, axis=0)]                # (2n, F, M, 3)
+    nxt = v[lay.face_next.take(dst, axis=0)]
+    pn, e, f, m = poly.shape[0], seg.shape[1], poly.shape[1], poly.shape[2]
+    # Newell's vector area, sum of v_i x v_i+1: twice the area times the unit normal
+    area2 = _outer(poly, nxt).reshape(pn, f, 9 * m) @ _levi_summed(m)           # (2n, F, 3)
+    size = np.sqrt(np.einsum("nfk,nfk->nf", area2, area2))                    # 2 * area
+    unit = area2 / np.where(size > 0, size, 1.0)[..., None]
+    off = np.einsum("nfk,nfk->nf", poly[:, :, 0], unit)
+    # signed distances of both ends of every edge from every face plane: one batched matmul
+    s = (seg.reshape(pn, 2 * e, 3) @ unit.transpose(0, 2, 1)).reshape(pn, e, 2, f) - off[:, None, None, :]
+    s0, s1 = s[:, :, 0], s[:, :, 1]
+    crossing = (np.minimum(s0, s1) < -EPS) & (np.maximum(s0, s1) > EPS)
+    hit = np.zeros(n, dtype=bool)
+    cand = np.flatnonzero(crossing)                  # flat (pair, edge, face) candidates
+    if len(cand) == 0:
+        return hit
+    pair, rest = np.divmod(cand, e * f)
+    edge = pair * e + rest // f
+    face = pair * f + rest % f
+    # where on the segment the plane is met, then the triangle-area sum of Fig. 2-14 B
+    a0 = s0.take(cand)
+    ends = seg.reshape(pn * e, 2, 3).take(edge, axis=0)
+    x = ends[:, :1] + (a0 / (a0 - s1.take(cand)))[:, None, None] * (ends[:, 1:] - ends[:, :1])
+    tri = _outer(poly.reshape(pn * f, m, 3).take(face, axis=0) - x,
+                 nxt.reshape(pn * f, m, 3).take(face, axis=0) - x) @ _LEVI        # (c, M, 3)
+    tri_sum = np.sqrt(np.einsum("cmk,cmk->cm", tri, tri)).sum(axis=1)
+    inside = tri_sum <= size.take(face) * (1.0 + AREA_TOL)
+    hit[pair[inside] % n] = True
+    return hit
+
+
+def check_pairs(scene: Scene, moving: np.ndarray, stationary: np.ndarray, grow: float,
+                fine_only: np.ndarray | None = None) -> np.ndarray:
+    """Kind codes (CLEAR/NEAR/COLLIDES) per pair, the coarse test gating the fine one.
+
+    ``fine_only`` marks pairs where only the coarse test is run (never COLLIDES).
+    """
+    moving = np.asarray(moving, dtype=np.intp)
+    stationary = np.asarray(stationary, dtype=np.intp)
+    codes = coarse(scene, moving, stationary, grow).astype(np.int8)
+    check = codes == NEAR
+    if fine_only is not None:
+        check &= ~fine_only
+    idx = np.flatnonzero(check)
+    if len(idx) == 0:
+        return codes
+    # an edge can only cross a face where the two extreme boxes overlap: skip the rest
+    # (an exact shortcut, not a change to the 1985 answer)
+    a, b = moving.take(idx), stationary.take(idx)
+    apart = np.abs(scene.mid.take(a, axis=0) - scene.mid.take(b, axis=0))
+    apart -= scene.half.take(a, axis=0) + scene.half.take(b, axis=0)
+    keep = apart.max(axis=1) <= EPS
+    if keep.any():
+        idx, a, b = idx[keep], a[keep], b[keep]
+        codes[idx[fine(scene, a, b)]] = COLLIDES
+    return codes
+
+
+def check_pair(moving: Polyhedron, stationary: Polyhedron, margin: float) -> Kind:
+    """The 1985 check of one pair: "clear", "near" (coarse only) or "collides"."""
+    scene = Scene.of([moving, stationary])
+    return KINDS[int(check_pairs(scene, np.array([0]), np.array([1]), margin)[0])]
+
+
+def segment_hits_polyhedron(p0: np.ndarray, p1: np.ndarray, poly: Polyhedron, *,
+                            solid: bool = False) -> bool:
+    """Whether the segment p0-p1 crosses a face polygon of ``poly`` (the fine check's test).
+
+    With ``solid`` an endpoint strictly inside the convex polyhedron also counts (a short
+    segment wholly inside crosses no face; the LED sensor between the fingers needs this).
+    """
+    p0 = np.asarray(p0, dtype=float)
+    p1 = np.asarray(p1, dtype=float)
+    scene = Scene.of([poly])
+    lay = scene.layout
+    poly_pts = scene.vertices[lay.face_idx[0]][None]          # (1, F, M, 3)
+    rel = poly_pts - poly_pts[:, :, :1]
+    area2 = np.cross(rel, np.roll(rel, -1, axis=2)).sum(axis=2)[0]
+    size = np.linalg.norm(area2, axis=-1)
+    unit = area2 / np.where(size > 0, size, 1.0)[:, None]
+    first = poly_pts[0, :, 0]
+    off = np.einsum("fk,fk->f", first, unit)
+    s0 = unit @ p0 - off
+    s1 = unit @ p1 - off
+    if solid:
+        outward = np.einsum("fk,fk->f", unit, first - scene.centres[0])
+        sign = np.where(outward >= 0, 1.0, -1.0)[size > 0]
+        for s in (s0, s1):
+            if np.all(s[size > 0] * sign < -EPS):
+                return True
+    crossing = ((s0 > EPS) & (s1 < -EPS)) | ((s0 < -EPS) & (s1 > EPS))
+    fi = np.nonzero(crossing)[0]
+    if len(fi) == 0:
+        return False
+    t = s0[fi] / (s0[fi] - s1[fi])
+    x = p0 + t[:, None] * (p1 - p0)
+    r = poly_pts[0, fi] - x[:, None, :]
+    tri = np.linalg.norm(np.cross(r, np.roll(r, -1, axis=1)), axis=-1).sum(axis=1)
+    return bool(np.any(tri <= size[fi] * (1.0 + AREA_TOL)))

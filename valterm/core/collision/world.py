@@ -1,0 +1,207 @@
+"""The collision scene the simulator checks at every motion step, and the messages of 1985.
+
+Who is checked against whom (§2.7, App. C "possible collisions ... are checked, but
+impossible ones are not"):
+
+1. every robot link × every object not carried (the link is the moving polyhedron);
+2. every carried object × every other object not carried (the carried one moves);
+3. robot links × each other, except adjacent links (joined at a joint, they always touch)
+   and the hand (WRIST, CLAMP, FINGER: the fingers ride on the clamp on the wrist). The more
+   distal link of a pair is the moving one.
+
+Links with the same label are one body (a link drawn as several polyhedra) and never checked
+against each other. A carried object is not checked against the robot (it is held).
+
+Messages, worded as in Figs. C-12 and 7-5::
+
+    CLAMP IS NEAR PART 10        a link near an object (coarse check)
+    PART 10 IS NEAR PART 5       a carried object near another object
+    10 COLLIDES WITH 7           a carried object through another (fine check)
+    CLAMP COLLIDES WITH 7        a link through an object
+    CLAMP IS NEAR BASE / CLAMP COLLIDES WITH BASE   link against link
+
+A pair that collides is reported once, as the collision; with ``near_with_collision`` the
+near message is given first as well, the way the 1985 screen showed both
+(Fig. C-12 c: ``PART 10 IS NEAR PART 5`` then ``10 COLLIDES WITH 5``).
+
+Findings come in a stable order: rule 1 (links in the given order, objects by number),
+then rule 2, then rule 3; identical messages (two FINGER polyhedra) are given once.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Collection, Iterable, Literal, Protocol, Sequence
+
+import numpy as np
+
+from valterm.core.cell.polyhedron import Polyhedron
+from valterm.core.collision.thesis import COLLIDES, NEAR, Scene, check_pairs, margin
+from valterm.core.events import Collision, Near
+
+HAND = frozenset({"WRIST", "CLAMP", "FINGER", "FINGERS"})
+
+Party = str | int  # a robot link's name, or an object's 1-based number
+
+
+def _long(x: Party) -> str:
+    return f"PART {x}" if isinstance(x, int) else x
+
+
+@dataclass(frozen=True)
+class Finding:
+    """One result of a step's check: ``a`` (the moving one) is near or collides with ``b``."""
+
+    kind: Literal["near", "collides"]
+    a: Party
+    b: Party
+
+    @property
+    def text(self) -> str:
+        if self.kind == "near":
+            return f"{_long(self.a)} IS NEAR {_long(self.b)}"
+        return f"{self.a} COLLIDES WITH {self.b}"
+
+    def event(self) -> Near | Collision:
+        """The core event for this finding (what the simulator yields)."""
+        cls = Near if self.kind == "near" else Collision
+        return cls(a=str(self.a), b=str(self.b), text=self.text)
+
+
+class Checker(Protocol):
+    """A pair checker: kind codes (0 clear, 1 near, 2 collides) for (moving, stationary) pairs."""
+
+    def check(self, polys: Sequence[Polyhedron], moving: np.ndarray, stationary: np.ndarray,
+              grow: float, coarse_only: np.ndarray | None = None) -> np.ndarray: ...
+
+
+class ThesisChecker:
+    """The 1985 coarse + fine check (``valterm.core.collision.thesis``) over labelled pairs."""
+
+    name = "thesis"
+
+    def check(self, polys: Sequence[Polyhedron], moving: np.ndarray, stationary: np.ndarray,
+              grow: float, coarse_only: np.ndarray | None = None) -> np.ndarray:
+        return check_pairs(Scene.of(polys), moving, stationary, grow, coarse_only)
+
+
+def default_skip(labels: Sequence[str]) -> set[tuple[int, int]]:
+    """Link index pairs (i < j) never checked: same body, adjacent bodies, both in the hand."""
+    bodies: list[str] = []
+    for label in labels:
+        if label not in bodies:
+            bodies.append(label)
+    body = [bodies.index(label) for label in labels]
+    skip = set()
+    for i in range(len(labels)):
+        for j in range(i + 1, len(labels)):
+            if abs(body[i] - body[j]) <= 1 or (labels[i] in HAND and labels[j] in HAND):
+                skip.add((i, j))
+    return skip
+
+
+@dataclass(frozen=True)
+class _Pairs:
+    moving: np.ndarray
+    stationary: np.ndarray
+    a: tuple[Party, ...]
+    b: tuple[Party, ...]
+
+
+class CollisionWorld:
+    """The scene's pair rules, built once for a robot model; ``check`` runs one motion step.
+
+    ``link_labels``: robot links in order base .. fingers ("BASE", "WAIST", "UPPER ARM",
+    "FOREARM", "WRIST", "CLAMP", "FINGER", ...). ``skip``: link index pairs not to check
+    (default ``default_skip``). ``checker``: "thesis" (1985, near + collides), "exact"
+    (python-fcl, collides only) or any ``Checker``.
+    """
+
+    def __init__(self, link_labels: Sequence[str], skip: Iterable[tuple[int, int]] | None = None,
+                 checker: Literal["thesis", "exact"] | Checker = "thesis",
+                 near_with_collision: bool = False) -> None:
+        self.labels = tuple(link_labels)
+        pairs = default_skip(self.labels) if skip is None else skip
+        self.skip = {(min(i, j), max(i, j)) for i, j in pairs}
+        if checker == "thesis":
+            self.checker: Checker = ThesisChecker()
+        elif checker == "exact":
+            from valterm.core.collision.exact import ExactChecker  # fcl only when asked for
+            self.checker = ExactChecker()
+        else:
+            self.checker = checker
+        self.near_with_collision = near_with_collision
+        self._pairs: dict[tuple[int, tuple[int, ...]], _Pairs] = {}
+
+    def pairs(self, n_objects: int, carried: Collection[int] = ()) -> _Pairs:
+        """The (moving, stationary) index pairs into links + objects, with their parties."""
+        key = (n_objects, tuple(sorted(set(carried))))
+        found = self._pairs.get(key)
+        if found is not None:
+            return found
+        nl = len(self.labels)
+        held = set(key[1])
+        free = [n for n in range(1, n_objects + 1) if n not in held]
+        mv: list[int] = []
+        st: list[int] = []
+        a: list[Party] = []
+        b: list[Party] = []
+
+        def add(i: int, j: int, pa: Party, pb: Party) -> None:
+            mv.append(i), st.append(j), a.append(pa), b.append(pb)
+
+        for i, label in enumerate(self.labels):                 # 1. links x objects
+            for n in free:
+                add(i, nl + n - 1, label, n)
+        for c in key[1]:                                         # 2. carried x other objects
+            for n in free:
+                add(nl + c - 1, nl + n - 1, c, n)
+        for j in range(nl):                                      # 3. links x links, distal moves
+            for i in range(j):
+                if (i, j) not in self.skip:
+                    add(j, i, self.labels[j], self.labels[i])
+        found = _Pairs(np.array(mv, dtype=np.intp), np.array(st, dtype=np.intp), tuple(a), tuple(b))
+        self._pairs[key] = found
+        return found
+
+    def check(self, links: Sequence[Polyhedron], objects: Sequence[Polyhedron],
+              carried: Collection[int] = (), speed: float = 100.0) -> list[Finding]:
+        """One motion step: the findings for the robot links and objects where they are now."""
+        if len(links) != len(self.labels):
+            raise ValueError(f"expected {len(self.labels)} robot links, got {len(links)}")
+        pairs = self.pairs(len(objects), carried)
+        if len(pairs.moving) == 0:
+            return []
+        codes = self.checker.check([*links, *objects], pairs.moving, pairs.stationary, margin(speed))
+        found: list[Finding] = []
+        seen: set[Finding] = set()
+        for p in np.nonzero(codes)[0]:
+            kinds = ["near"] if codes[p] == NEAR else ["near", "collides"] if self.near_with_collision else ["collides"]
+            for kind in kinds:
+                f = Finding(kind, pairs.a[p], pairs.b[p])  # type: ignore[arg-type]
+                if f not in seen:
+                    seen.add(f)
+                    found.append(f)
+        return found
+
+
+_WORLDS: dict[tuple, CollisionWorld] = {}
+
+
+def check_scene(links: Sequence[tuple[str, Polyhedron]], objects: Sequence[Polyhedron],
+                carried: Collection[int] = (), speed: float = 100.0,
+                skip: Iterable[tuple[int, int]] | None = None,
+                checker: Literal["thesis", "exact"] = "thesis",
+                near_with_collision: bool = False) -> list[Finding]:
+    """One motion step's check in one call (a cached ``CollisionWorld`` per robot model)."""
+    labels = tuple(label for label, _ in links)
+    key = (labels, None if skip is None else frozenset(skip), checker, near_with_collision)
+    world = _WORLDS.get(key)
+    if world is None:
+        world = _WORLDS[key] = CollisionWorld(labels, skip, checker, near_with_collision)
+    return world.check([p for _, p in links], objects, carried, speed)
+
+
+# codes re-exported for checkers written elsewhere
+__all__ = ["Finding", "CollisionWorld", "ThesisChecker", "Checker", "check_scene", "default_skip",
+           "NEAR", "COLLIDES"]

@@ -1,0 +1,284 @@
+"""The Editor of VAL-II SIMULATOR (EVS), Chapter 5 and Fig. 5-1, as a plain class.
+
+``ProgramEditor(workspace, name)`` opens NAME.DAT through DATFILER.DAT (§5.1): an old
+program is loaded; a new one is reported (``INPUT FILE NAME.DAT DOES NOT EXIST``), started
+empty and its name added to DATFILER.DAT. C continues with the next step, D deletes a step,
+I inserts one; steps renumber themselves (§5.2). Every entered line is syntax-checked and a
+bad one is rejected with the checker's message. S saves (atomically), E exits, and a wrong
+key says so and saves at once (§5.2).
+
+Nothing typed is lost: each accepted change is written at once to a journal file beside the
+program (``NAME.~DAT``, which LISTF does not list); a later open of the same program
+recovers it. Saving (or discarding) removes the journal.
+
+No UI import here: the Textual editor screen and the tests drive this class.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+from pathlib import Path
+from typing import Callable
+
+from valterm.core.errors import ValtermError
+from valterm.core.files.atomic import write_text_atomic
+from valterm.core.files.errors import FileFormatError
+from valterm.core.files.programs import (
+    LABEL_COLUMNS,
+    MAX_LINE,
+    Program,
+    ProgramLine,
+    format_step,
+    parse_program,
+    split_label,
+)
+
+JOURNAL_EXT = "~DAT"
+JOURNAL_HEAD = "; VALTERM JOURNAL OF "
+
+# Fig. 5-1 / Fig. C-8, as the thesis prints it.
+EDITOR_MENU = (
+    "EDITOR COMMANDS",
+    "",
+    "LEGAL EDITING COMMANDS",
+    "",
+    "EDIT   : INVOKES EDIT MODE",
+    "CREATE : INVOKES CREATION MODE",
+    "INSERT : ALLOWS FOR LINE INSERTION",
+    "DELETE : ALLOWS FOR LINE DELETION",
+    "SAVE   : SAVES THE FILE",
+    "EXIT   : ENDS THE EDIT SESSION",
+    "",
+    'TYPE "EDIT" AND THEN PROGRAM NAME TO START EDIT SESSION',
+)
+
+EDITOR_KEYS = "ECIDSX"  # E doubles as EDIT (no program yet) and EXIT; X is not a thesis key
+
+_EDIT_COMMAND = re.compile(r"^\s*(?:EDIT\b\s*)?(.*?)\s*$", re.I)
+
+# A checker returns None for a good statement or the reason it is rejected.
+Checker = Callable[[str], "str | None"]
+
+
+class EditorError(ValtermError):
+    """A request the editor refuses; the message is shown to the user as is."""
+
+
+def default_checker() -> Checker:
+    """The interpreter helper's syntax checker, reduced to text -> reason or None.
+
+    The checker module may land after this one; the statement parser is the fallback
+    (it is what the checker builds on).
+    """
+    try:
+        from valterm.core.val import checker as module  # type: ignore[attr-defined]
+    except ImportError:
+        module = None
+    if module is not None:
+        for name in ("check_statement", "check_line", "check_step", "check"):
+            function = getattr(module, name, None)
+            if callable(function):
+                return _wrap_checker(function)
+    from valterm.core.val.parser import ValSyntaxError, parse_statement
+
+    def check(text: str) -> str | None:
+        try:
+            parse_statement(text)
+        except ValSyntaxError as error:
+            return str(error)
+        return None
+
+    return check
+
+
+def _wrap_checker(function: Callable[[str], object]) -> Checker:
+    """Accept the checker's possible answers: None/'' (good), a reason string, a list of
+    reasons, or a raised ValueError."""
+
+    def check(text: str) -> str | None:
+        try:
+            answer = function(text)
+        except ValueError as error:
+            return str(error)
+        if answer is None or answer is True or answer == "" or answer == [] or answer == ():
+            return None
+        if isinstance(answer, (list, tuple)):
+            return "; ".join(str(a) for a in answer)
+        message = getattr(answer, "message", None)
+        if message is not None:
+            return str(message) if getattr(answer, "ok", False) is False else None
+        return str(answer)
+
+    return check
+
+
+def expand_tab(typed: str) -> str:
+    """A typed TAB jumps to column 5, where the statement starts (columns 1-4: the label)."""
+    if "\t" not in typed:
+        return typed
+    head, _, tail = typed.partition("\t")
+    head = head[:LABEL_COLUMNS].ljust(LABEL_COLUMNS)
+    return head + expand_tab(tail).lstrip(" ")
+
+
+def program_name(typed: str) -> str:
+    """``EDIT TEST.DAT`` / ``TEST.DAT`` / ``test`` -> ``TEST`` (the name rules are the workspace's)."""
+    match = _EDIT_COMMAND.match(typed)
+    name = (match.group(1) if match else typed).strip().upper()
+    if not name:
+        raise EditorError('TYPE "EDIT" AND THEN PROGRAM NAME')
+    return name.removesuffix(".DAT")
+
+
+class ProgramEditor:
+    """One edit session on one program (Chapter 5)."""
+
+    def __init__(self, workspace, name: str, checker: Checker | None = None) -> None:  # type: ignore[no-untyped-def]
+        self.workspace = workspace
+        self.check: Checker = checker or default_checker()
+        self.messages: list[str] = []
+        self.name = workspace._program_name(program_name(name))  # WorkspaceError for a bad name
+        self.path: Path = workspace.path(self.name, "DAT")
+        self.journal_path: Path = workspace.root / f"{self.name}.{JOURNAL_EXT}"
+        self.new = False
+        self.recovered = False
+        self.dirty = False  # changes not yet saved to NAME.DAT
+        self.program = self._open()
+
+    # -- opening (§5.1) ----------------------------------------------------------
+    def _open(self) -> Program:
+        listed = self.name in self.workspace.programs_directory()
+        program: Program | None = None
+        if self.path.is_file():
+            try:
+                program = self.workspace.read_program(self.name)
+            except FileFormatError as error:
+                self.messages.append(f"{error}: STARTING FROM THE JOURNAL OR AN EMPTY PROGRAM")
+        if program is None:
+            self.new = True
+            self.messages.append(f"INPUT FILE {self.name}.DAT DOES NOT EXIST")
+            program = Program(self.name)
+        if not listed:
+            # §5.1: a new program's name is added to the list and DATFILER.DAT updated
+            self.workspace.add_program(self.name)
+        recovered = self._read_journal()
+        if recovered is not None:
+            self.recovered = True
+            self.dirty = True
+            self.messages.append(f"RECOVERED UNSAVED EDITS OF {self.name}.DAT ({len(recovered.steps)} STEPS)")
+            return recovered
+        return program
+
+    def _read_journal(self) -> Program | None:
+        if not self.journal_path.is_file():
+            return None
+        try:
+            text = self.journal_path.read_text(encoding="utf-8")
+        except (OSError, UnicodeDecodeError):
+            return None
+        lines = text.splitlines()
+        if not lines or not lines[0].startswith(JOURNAL_HEAD):
+            return None
+        body = "\n".join(lines[1:])
+        if not body.strip():
+            return Program(self.name)
+        try:
+            return parse_program(body, self.name, self.journal_path)
+        except FileFormatError:
+            return None
+
+    def _write_journal(self) -> None:
+        """Every accepted change reaches the disk at once (closing the app mid-edit loses nothing)."""
+        self.dirty = True
+        text = JOURNAL_HEAD + self.name + "\n" + "".join(format_step(s) + "\n" for s in self.program.steps)
+        write_text_atomic(self.journal_path, text)
+
+    # -- the listing ----------------------------------------------------------------
+    @property
+    def steps(self) -> list[ProgramLine]:
+        return self.program.steps
+
+    @property
+    def next_step(self) -> int:
+        return len(self.program.steps) + 1
+
+    def prompt(self, step: int | None = None) -> str:
+        """The step prompt, ``S. 5>``."""
+        return f"S. {self.next_step if step is None else step}>"
+
+    def listing(self) -> list[str]:
+        """The program as shown after each change: step number, label columns, statement."""
+        return [f"{number:>4}. {format_step(step)}" for number, step in enumerate(self.program.steps, start=1)]
+
+    # -- entering lines (§5.1, §5.2) -------------------------------------------------
+    def parse_line(self, typed: str) -> ProgramLine:
+        """The step a typed line makes, or EditorError with the reason it is rejected."""
+        line = expand_tab(typed).rstrip("\r\n")
+        if not line.strip():
+            raise EditorError("EMPTY LINE: TYPE A VAL-II STATEMENT")
+        if len(line) > MAX_LINE:
+            raise EditorError(f"LINE TOO LONG ({len(line)} CHARACTERS, AT MOST {MAX_LINE})")
+        try:
+            label, statement = split_label(line)
+        except ValueError as error:
+            raise EditorError(str(error).upper()) from None
+        if statement and not statement.startswith(";"):
+            reason = self.check(statement)
+            if reason:
+                raise EditorError(reason)
+        if label is not None and self.program.find_label(label) is not None:
+            raise EditorError(f"STEP LABEL {label} IS ALREADY USED (STEP {self.program.find_label(label)})")
+        return ProgramLine(label, statement)
+
+    def append(self, typed: str) -> int:
+        """C: the next step; returns its step number."""
+        return self.insert(self.next_step, typed)
+
+    def insert(self, number: int, typed: str) -> int:
+        """I: a new step ``number``; the steps from there on move down one."""
+        if not 1 <= number <= self.next_step:
+            raise EditorError(f"NO STEP {number}: STEPS ARE 1 TO {self.next_step}")
+        step = self.parse_line(typed)
+        self.program.steps.insert(number - 1, step)
+        self._write_journal()
+        return number
+
+    def delete(self, number: int) -> ProgramLine:
+        """D: remove step ``number``; the later steps move up one."""
+        if not 1 <= number <= len(self.program.steps):
+            if not self.program.steps:
+                raise EditorError(f"{self.name} HAS NO STEPS TO DELETE")
+            raise EditorError(f"NO STEP {number}: STEPS ARE 1 TO {len(self.program.steps)}")
+        removed = self.program.steps.pop(number - 1)
+        self._write_journal()
+        return removed
+
+    # -- saving and leaving --------------------------------------------------------
+    def save(self) -> Path:
+        """S: write NAME.DAT atomically, list it in DATFILER.DAT, drop the journal."""
+        path = self.workspace.write_program(self.program, self.name)
+        self.path = path
+        self.new = False
+        self.dirty = False
+        self._drop_journal()
+        return path
+
+    def discard(self) -> None:
+        """Leave without saving: the journal goes, NAME.DAT stays as it was."""
+        self._drop_journal()
+        self.dirty = False
+
+    def wrong_key(self, key: str) -> str:
+        """§5.2: a wrong key is named to the user and the modified file saved at once."""
+        shown = key if key.isprintable() and key.strip() else repr(key)
+        said = f"'{shown.upper()}' IS NOT AN EDITOR COMMAND"
+        if not self.dirty:
+            return f"{said}; {self.name}.DAT IS UNCHANGED"
+        return f"{said}; {self.save().name} SAVED"
+
+    def _drop_journal(self) -> None:
+        try:
+            os.unlink(self.journal_path)
+        except FileNotFoundError:
+            pass

@@ -1,0 +1,97 @@
+"""Reading a workspace file as text, refusing what is not text before parsing it."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+from valterm.core.files.errors import FileFormatError
+
+# The thesis's files are a few kilobytes; anything this large is not one of them, and
+# reading it whole would only stall the terminal.
+MAX_FILE_BYTES = 5 * 1024 * 1024
+
+# Control characters other than tab, newline, carriage return and form feed mark binary junk.
+_JUNK = re.compile(r"[\x00-\x08\x0b\x0e-\x1f\x7f]")
+
+# A number as Fortran wrote it: `465.`, `-.27`, `1.5E+02`, `1.5D+02`.
+_NUMBER = re.compile(r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[EeDd][+-]?\d+)?")
+
+
+def read_text(path: str | Path, what: str, limit: int = MAX_FILE_BYTES) -> str:
+    """The file's text, or a FileFormatError saying why it is not a readable ``what`` file."""
+    path = Path(path)
+    try:
+        size = path.stat().st_size
+    except FileNotFoundError:
+        raise FileFormatError(path, 0, f"no such {what} file") from None
+    except OSError as error:
+        raise FileFormatError(path, 0, f"cannot read the {what} file: {error.strerror or error}") from None
+    if path.is_dir():
+        raise FileFormatError(path, 0, f"is a folder, not a {what} file")
+    if size > limit:
+        raise FileFormatError(path, 0, f"{_size(size)} is too large for a {what} file (limit {_size(limit)})")
+    try:
+        with path.open("rb") as handle:
+            data = handle.read(limit + 1)  # a file that grew or lied about its size stops here
+    except OSError as error:
+        raise FileFormatError(path, 0, f"cannot read the {what} file: {error.strerror or error}") from None
+    if len(data) > limit:
+        raise FileFormatError(path, 0, f"too large for a {what} file (limit {_size(limit)})")
+    return decode_text(data, path, what)
+
+
+def decode_text(data: bytes, path: str | Path, what: str) -> str:
+    """Bytes to text: UTF-8 (plain ASCII in practice), no binary junk."""
+    try:
+        text = data.decode("utf-8-sig")
+    except UnicodeDecodeError as error:
+        line = data.count(b"\n", 0, error.start) + 1
+        raise FileFormatError(path, line, f"not a text {what} file (undecodable byte 0x{data[error.start]:02X})") from None
+    check_text(text, path, what)
+    return text
+
+
+def check_text(text: str, path: str | Path, what: str) -> None:
+    """Refuse NUL bytes and other control characters with the line they are on."""
+    junk = _JUNK.search(text)
+    if junk is not None:
+        line = text.count("\n", 0, junk.start()) + 1
+        raise FileFormatError(path, line, f"not a text {what} file (control character 0x{ord(junk.group()):02X})")
+
+
+def numbered_lines(text: str) -> list[tuple[int, str]]:
+    """(1-based line number, line without its end) for every line, tabs expanded to column 5 stops."""
+    return [(number, line.expandtabs(4)) for number, line in enumerate(text.splitlines(), start=1)]
+
+
+def split_fields(line: str) -> list[str]:
+    """Fields separated by commas and/or spaces (App. C §4: "separated by commas or spaces")."""
+    return [field for field in re.split(r"[,\s]+", line.strip()) if field]
+
+
+def parse_number(field: str, path: str | Path, line: int, what: str) -> float:
+    """One number, Fortran style, or a located error naming the field."""
+    if not _NUMBER.fullmatch(field):
+        raise FileFormatError(path, line, f"{what}: {field!r} is not a number")
+    value = float(field.replace("D", "E").replace("d", "e"))
+    if value != value or value in (float("inf"), float("-inf")):
+        raise FileFormatError(path, line, f"{what}: {field!r} is out of range")
+    return value
+
+
+def format_number(value: float) -> str:
+    """Thesis style (`440.00`) when two decimals hold the value exactly, else the shortest exact form."""
+    value = float(value) + 0.0  # no "-0.00"
+    two = round(value, 2)
+    if abs(value - two) <= 1e-9:
+        return f"{two + 0.0:.2f}"
+    return repr(value)
+
+
+def _size(size: int) -> str:
+    if size >= 1024 * 1024:
+        return f"{size / (1024 * 1024):.1f} MB"
+    if size >= 1024:
+        return f"{size / 1024:.1f} KB"
+    return f"{size} bytes"

@@ -1,0 +1,95 @@
+"""Location files, NAME.LOC (§7.3, Figs. 7-3 and C-21).
+
+One location a line: ``POINT A, 465., -45., -245., 89., 91., 0.`` -- the word POINT, a
+space, a name of up to 9 characters, then X Y Z (mm) and O A T (degrees), separated by
+commas (spaces are accepted too). Blank lines and ``;`` comment lines are skipped.
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+from valterm.core.files._text import format_number, numbered_lines, parse_number, read_text, split_fields
+from valterm.core.files.atomic import write_text_atomic
+from valterm.core.files.errors import FileFormatError
+from valterm.core.kinematics import Location
+
+# A location name: a letter then up to 8 letters or digits (§7.3: "up to 9 characters").
+LOCATION_NAME = re.compile(r"[A-Z][A-Z0-9]{0,8}")
+
+_POINT = re.compile(r"POINT(?![A-Z0-9])[\s,]*(.*)", re.IGNORECASE)
+
+_FIELDS = ("X", "Y", "Z", "O", "A", "T")
+
+
+def check_location_name(name: str) -> str:
+    """The name upper-cased, or ValueError saying why it is not a location name."""
+    upper = name.strip().upper()
+    if not LOCATION_NAME.fullmatch(upper):
+        raise ValueError(
+            f"{name!r} is not a location name: a letter then up to 8 letters or digits (at most 9 characters)"
+        )
+    return upper
+
+
+def read_locations(path: str | Path) -> dict[str, Location]:
+    """Read a location file (FileFormatError if malformed)."""
+    path = Path(path)
+    return parse_locations(read_text(path, "location"), path)
+
+
+def parse_locations(text: str, name: str | Path) -> dict[str, Location]:
+    """Parse location-file text into {NAME: Location}; a later line with the same name wins.
+
+    A file of only comments holds no locations; a file with nothing at all is damaged.
+    """
+    where = Path(name)
+    if not text.strip():
+        raise FileFormatError(where, 0, "the location file is empty (no POINT lines)")
+    found: dict[str, Location] = {}
+    for number, line in numbered_lines(text):
+        stripped = line.strip()
+        if not stripped or stripped.startswith(";"):
+            continue
+        match = _POINT.match(stripped)
+        if match is None:
+            raise FileFormatError(where, number, f"expected 'POINT name, X, Y, Z, O, A, T', not {_shorten(stripped)!r}")
+        fields = split_fields(match.group(1))
+        if not fields:
+            raise FileFormatError(where, number, "POINT without a location name")
+        try:
+            point = check_location_name(fields[0])
+        except ValueError as error:
+            raise FileFormatError(where, number, str(error)) from None
+        values = fields[1:]
+        if len(values) != 6:
+            raise FileFormatError(
+                where, number, f"POINT {point}: expected 6 numbers (X, Y, Z, O, A, T), found {len(values)}"
+            )
+        numbers = [parse_number(v, where, number, f"POINT {point} {axis}") for v, axis in zip(values, _FIELDS)]
+        found[point] = Location(
+            (numbers[0], numbers[1], numbers[2]), (numbers[3], numbers[4], numbers[5])
+        )
+    return found
+
+
+def format_locations(locations: dict[str, Location]) -> str:
+    """Location-file text, one ``POINT`` line per location, in the order given."""
+    lines = []
+    for name, location in locations.items():
+        point = check_location_name(name)
+        numbers = ", ".join(format_number(v) for v in (*location.xyz, *location.oat))
+        lines.append(f"POINT {point}, {numbers}")
+    if not lines:
+        lines.append("; NO LOCATIONS")  # an empty file reads as damaged, so say it is empty
+    return "\n".join(lines) + "\n"
+
+
+def write_locations(path: str | Path, locations: dict[str, Location]) -> None:
+    """Write the locations atomically."""
+    write_text_atomic(path, format_locations(locations))
+
+
+def _shorten(text: str, limit: int = 40) -> str:
+    return text if len(text) <= limit else text[: limit - 3] + "..."

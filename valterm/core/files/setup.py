@@ -1,0 +1,241 @@
+"""Setup files, NAME.SET (§7.1, App. C §4, Figs. 7-1 and C-22).
+
+::
+
+    14                 number of objects
+    MM                 units: MM or IN
+    W                  frame: W (WCS) or S (SCS)
+    1,8                first and last vertex: N even, >= 8
+    440.00 -50.00 -320.00     the reference point (first corner), absolute
+    0.00 0.00 0.00            N vertex lines relative to the reference point
+    ...
+
+Numbers are separated by commas and/or spaces; blank lines are ignored. Vertices 1..N/2
+are the front polygon, N/2+1..N the back one. The WorkCell always holds world millimetres;
+it remembers the file's units and frame so writing it back gives the same kind of file.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Iterator
+
+import numpy as np
+
+from valterm.core.cell.polyhedron import Polyhedron
+from valterm.core.cell.workcell import WorkCell
+from valterm.core.files._text import format_number, numbered_lines, parse_number, read_text, split_fields
+from valterm.core.files.atomic import write_text_atomic
+from valterm.core.files.errors import FileFormatError
+
+MM_PER_INCH = 25.4
+SCS_HEIGHT = 26.0  # H of SPEC §1: Y_s = Z_w + H, in millimetres
+
+UNITS = ("MM", "IN")
+SYSTEMS = ("W", "S")
+
+
+# ---------------------------------------------------------------------------
+# Frames and units
+# ---------------------------------------------------------------------------
+
+def file_to_world(points: np.ndarray, units: str, system: str) -> np.ndarray:
+    """Absolute file coordinates (units, frame) to world millimetres."""
+    p = np.asarray(points, dtype=float) * (MM_PER_INCH if units == "IN" else 1.0)
+    if system == "S":
+        # X_s = Y_w, Y_s = Z_w + H, Z_s = X_w
+        p = np.stack([p[:, 2], p[:, 0], p[:, 1] - SCS_HEIGHT], axis=1)
+    return p
+
+
+def world_to_file(points: np.ndarray, units: str, system: str) -> np.ndarray:
+    """World millimetres to absolute file coordinates in the given units and frame."""
+    p = np.asarray(points, dtype=float)
+    if system == "S":
+        p = np.stack([p[:, 1], p[:, 2] + SCS_HEIGHT, p[:, 0]], axis=1)
+    return p / (MM_PER_INCH if units == "IN" else 1.0)
+
+
+# ---------------------------------------------------------------------------
+# Reading
+# ---------------------------------------------------------------------------
+
+class _Lines:
+    """The non-blank lines of a file with their numbers, and where the file ended."""
+
+    def __init__(self, text: str) -> None:
+        self._lines = [(n, line) for n, line in numbered_lines(text) if line.strip()]
+        self._index = 0
+        self.last_line = max((n for n, _ in numbered_lines(text)), default=0)
+
+    def next(self) -> tuple[int, str] | None:
+        if self._index >= len(self._lines):
+            return None
+        found = self._lines[self._index]
+        self._index += 1
+        return found
+
+    def rest(self) -> Iterator[tuple[int, str]]:
+        while (found := self.next()) is not None:
+            yield found
+
+
+def read_setup(path: str | Path) -> WorkCell:
+    """Read a setup file into a WorkCell of world millimetres (FileFormatError if malformed)."""
+    path = Path(path)
+    return parse_setup(read_text(path, "setup"), path)
+
+
+def parse_setup(text: str, name: str | Path) -> WorkCell:
+    """Parse setup-file text; ``name`` (the file name) locates errors and warnings."""
+    lines = _Lines(text)
+    where = Path(name)
+    if not text.strip():
+        raise FileFormatError(where, 0, "the setup file is empty (line 1 should be the number of objects)")
+
+    def need(what: str) -> tuple[int, list[str]]:
+        found = lines.next()
+        if found is None:
+            raise FileFormatError(where, lines.last_line + 1 if lines.last_line else 0, f"the file ends where {what} should be")
+        number, line = found
+        return number, split_fields(line)
+
+    number, fields = need("the number of objects (line 1)")
+    if len(fields) != 1 or not fields[0].isdigit():
+        raise FileFormatError(where, number, f"line 1 must be the number of objects, not {' '.join(fields)!r}")
+    count = int(fields[0])
+
+    number, fields = need("the units (MM or IN)")
+    units = fields[0].upper() if len(fields) == 1 else ""
+    if units not in UNITS:
+        raise FileFormatError(where, number, f"units must be MM or IN, not {' '.join(fields)!r}")
+
+    number, fields = need("the frame (W or S)")
+    system = fields[0].upper() if len(fields) == 1 else ""
+    if system not in SYSTEMS:
+        raise FileFormatError(where, number, f"the frame must be W (world) or S (screen), not {' '.join(fields)!r}")
+
+    cell = WorkCell(units=units, system=system, name=where.name)
+    for part in range(1, count + 1):
+        header_line, fields = need(f"object {part} of {count} ('1,N')")
+        vertex_count = _object_size(fields, where, header_line, part)
+        ref_line, fields = need(f"the reference point of object {part}")
+        reference = _point(fields, where, ref_line, f"object {part} reference point")
+        relative = []
+        for index in range(1, vertex_count + 1):
+            line_number, fields = need(f"vertex {index} of {vertex_count} of object {part}")
+            relative.append(_point(fields, where, line_number, f"object {part} vertex {index}"))
+        absolute = np.asarray(relative) + reference
+        vertices = file_to_world(absolute, units, system)
+        polyhedron = Polyhedron(vertices, name=f"PART {part}")
+        for warning in _check_geometry(polyhedron, part):
+            cell.warnings.append(f"{where.name}:{header_line}: object {part}: {warning}")
+        cell.objects.append(polyhedron)
+
+    extra = lines.next()
+    if extra is not None:
+        raise FileFormatError(
+            where, extra[0], f"more data after the last object (line 1 says {count} object{'s' if count != 1 else ''})"
+        )
+    return cell
+
+
+def _object_size(fields: list[str], where: Path, line: int, part: int) -> int:
+    """N of the object's ``1,N`` line, checked."""
+    shown = ",".join(fields)
+    if len(fields) != 2 or not all(f.isdigit() for f in fields):
+        if len(fields) == 3:
+            reason = f"object {part}: expected '1,N' (first and last vertex), found a point {shown!r}; is the vertex count wrong?"
+        else:
+            reason = f"object {part}: expected '1,N' (first and last vertex), not {shown!r}"
+        raise FileFormatError(where, line, reason)
+    first, last = int(fields[0]), int(fields[1])
+    if first != 1:
+        raise FileFormatError(where, line, f"object {part}: the first vertex must be 1, not {first}")
+    if last % 2:
+        raise FileFormatError(where, line, f"object {part}: N = {last} is odd; the two polygons need the same number of vertices")
+    if last < 8:
+        raise FileFormatError(where, line, f"object {part}: N = {last} is too few; each polygon needs at least 4 vertices (N >= 8)")
+    return last
+
+
+def _point(fields: list[str], where: Path, line: int, what: str) -> np.ndarray:
+    if len(fields) != 3:
+        raise FileFormatError(where, line, f"{what}: expected 3 numbers (X, Y, Z), found {len(fields)}: {' '.join(fields)!r}")
+    return np.array([parse_number(f, where, line, what) for f in fields])
+
+
+def _check_geometry(polyhedron: Polyhedron, part: int) -> list[str]:
+    """Cheap sanity checks; problems are warnings (the object is still drawn), never errors."""
+    warnings: list[str] = []
+    try:
+        if not polyhedron.file_winding_outward():
+            polyhedron.winding_flipped = True
+            warnings.append("vertices wind inward; drawn with outward normals")
+        v = polyhedron.vertices
+        size = float(np.ptp(v, axis=0).max())
+        if size <= 1e-9:
+            return warnings + ["all vertices coincide"]
+        tolerance = 1e-3 * size + 0.01
+        centred = v - v.mean(axis=0)
+        if np.linalg.svd(centred, compute_uv=False)[-1] <= 1e-6 * size:
+            warnings.append("flat: the vertices enclose no volume")
+            return warnings
+        worst = 0.0
+        for face in polyhedron.topology.faces:
+            pts = v[face]
+            normal = _newell(pts)
+            length = float(np.linalg.norm(normal))
+            if length == 0.0:
+                continue
+            worst = max(worst, float(np.abs((pts - pts.mean(axis=0)) @ (normal / length)).max()))
+        if worst > tolerance:
+            warnings.append(f"a face is not planar (off by {worst:.2f} mm)")
+        for label, polygon in (("front", v[: polyhedron.k]), ("back", v[polyhedron.k :])):
+            if not _convex(polygon):
+                warnings.append(f"the {label} polygon is not convex")
+    except Exception:  # a check must never stop a file from loading
+        pass
+    return warnings
+
+
+def _newell(pts: np.ndarray) -> np.ndarray:
+    nxt = np.roll(pts, -1, axis=0)
+    return np.cross(pts, nxt).sum(axis=0)
+
+
+def _convex(polygon: np.ndarray) -> bool:
+    normal = _newell(polygon)
+    if not np.linalg.norm(normal):
+        return True
+    edges = np.roll(polygon, -1, axis=0) - polygon
+    turns = np.cross(edges, np.roll(edges, -1, axis=0)) @ normal
+    scale = float(np.abs(turns).max()) or 1.0
+    return bool((turns >= -1e-9 * scale).all())
+
+
+# ---------------------------------------------------------------------------
+# Writing
+# ---------------------------------------------------------------------------
+
+def format_setup(cell: WorkCell) -> str:
+    """The setup-file text of ``cell`` in its own units and frame (reference = first vertex)."""
+    units = cell.units.upper() if cell.units.upper() in UNITS else "MM"
+    system = cell.system.upper() if cell.system.upper() in SYSTEMS else "W"
+    lines = [str(len(cell.objects)), units, system]
+    for polyhedron in cell.objects:
+        points = world_to_file(polyhedron.vertices, units, system)
+        reference = points[0]
+        lines.append(f"1,{len(points)}")
+        lines.append(_format_point(reference))
+        lines.extend(_format_point(p - reference) for p in points)
+    return "\n".join(lines) + "\n"
+
+
+def _format_point(point: np.ndarray) -> str:
+    return " ".join(f"{format_number(value):>10}" for value in point)
+
+
+def write_setup(path: str | Path, cell: WorkCell) -> None:
+    """Write ``cell`` atomically."""
+    write_text_atomic(path, format_setup(cell))

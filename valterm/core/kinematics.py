@@ -1,0 +1,670 @@
+"""PUMA kinematics: forward, inverse (Lee's geometric solution), O/A/T and indicators.
+
+Everything here follows SPEC section 2. Angles users see and type are degrees in the
+PUMA convention; inside, the scalar fast paths use radians and the ``math`` module
+(one call must cost microseconds), and the batch versions take numpy arrays of poses.
+
+Frames: WCS millimetres, Z up, origin where joint axes 1 and 2 meet.
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import NamedTuple, Sequence
+
+import numpy as np
+
+from functools import lru_cache
+
+from valterm.core.errors import ValtermError
+from valterm.core import resources
+
+ROBOT_FILE = ("robot", "PUMA.toml")  # under the package data (core/resources.py)
+
+# R6 = Rz(O) . Rx(A) . Ry(-T) . C  (SPEC section 2)
+ORIENTATION_BASE = np.array([[0.0, 1.0, 0.0], [0.0, 0.0, -1.0], [-1.0, 0.0, 0.0]])
+
+# Below this |cos A| the O/A/T decomposition is at gimbal lock and T is reported as 0.
+GIMBAL_EPS = 1e-9
+# Below this sin JT5 the wrist is singular (JT4 and JT6 turn about one axis).
+WRIST_EPS = 1e-9
+
+
+@dataclass(frozen=True)
+class RobotGeometry:
+    """Link lengths, tool offsets and joint stops of the PUMA (from the robot model file)."""
+
+    a2: float
+    d2: float
+    d4: float
+    d6: float
+    led_sensor: float
+    clamp_tip: float
+    stops: tuple[tuple[float, float], ...]
+    ready: tuple[float, ...]
+    model_geometry: str = "PUMA.SET"
+    stops_array: np.ndarray = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "stops_array", np.array(self.stops, dtype=float))
+
+    def point_offset(self, point: int) -> float:
+        """Distance beyond the wrist centre along a of position option 1, 2 or 3 (§3.4)."""
+        if point == 1:
+            return self.d6
+        if point == 2:
+            return self.d6 + self.led_sensor
+        if point == 3:
+            return self.d6 + self.clamp_tip
+        raise ValueError(f"position option must be 1, 2 or 3, not {point}")
+
+
+def load_robot(path: Path | None = None) -> RobotGeometry:
+    """Read the robot model file (TOML); the bundled PUMA's when no path is given."""
+    path = path or resources.data_path(*ROBOT_FILE)
+    data = tomllib.loads(path.read_text(encoding="utf-8"))
+    links, tool = data["links"], data["tool"]
+    stops = tuple((float(lo), float(hi)) for lo, hi in data["stops"]["joints"])
+    if len(stops) != 6 or any(lo >= hi for lo, hi in stops):
+        raise ValueError(f"{path}: [stops] joints must hold six [low, high] pairs")
+    return RobotGeometry(
+        a2=float(links["a2"]),
+        d2=float(links["d2"]),
+        d4=float(links["d4"]),
+        d6=float(links["d6"]),
+        led_sensor=float(tool["led_sensor"]),
+        clamp_tip=float(tool["clamp_tip"]),
+        stops=stops,
+        ready=tuple(float(v) for v in data["ready"]["joints"]),
+        model_geometry=str(data.get("model", {}).get("geometry", "PUMA.SET")),
+    )
+
+
+@lru_cache(maxsize=1)
+def robot_geometry() -> RobotGeometry:
+    """The bundled PUMA's geometry, read on first use (never at import time)."""
+    return load_robot()
+
+
+# ---------------------------------------------------------------------------
+# Configuration indicators
+# ---------------------------------------------------------------------------
+
+class Config(NamedTuple):
+    """The three configuration indicators: +1 = RIGHTY / ABOVE / NOFLIP, -1 = LEFTY / BELOW / FLIP."""
+
+    arm: int = 1
+    elbow: int = 1
+    wrist: int = 1
+
+    @property
+    def words(self) -> tuple[str, str, str]:
+        return (
+            "RIGHTY" if self.arm > 0 else "LEFTY",
+            "ABOVE" if self.elbow > 0 else "BELOW",
+            "NOFLIP" if self.wrist > 0 else "FLIP",
+        )
+
+    def as_dict(self) -> dict[str, str]:
+        arm, elbow, wrist = self.words
+        return {"arm": arm, "elbow": elbow, "wrist": wrist}
+
+    def __str__(self) -> str:
+        return ",".join(self.words)
+
+    @classmethod
+    def parse(cls, text: str) -> "Config":
+        """Parse ``LEFTY,ABOVE,NOFLIP`` (any order, commas or spaces, unique prefixes)."""
+        words = [w for w in text.replace(",", " ").upper().split() if w]
+        arm, elbow, wrist = 1, 1, 1
+        seen: set[str] = set()
+        for word in words:
+            matches = [name for name in _INDICATORS if name.startswith(word)]
+            if len(matches) != 1:
+                raise ValueError(
+                    f"{word!r} is not a configuration indicator "
+                    "(RIGHTY, LEFTY, ABOVE, BELOW, NOFLIP, FLIP)"
+                )
+            kind, value = _INDICATORS[matches[0]]
+            if kind in seen:
+                raise ValueError(f"{text!r} names the {kind} indicator twice")
+            seen.add(kind)
+            if kind == "arm":
+                arm = value
+            elif kind == "elbow":
+                elbow = value
+            else:
+                wrist = value
+        return cls(arm, elbow, wrist)
+
+
+_INDICATORS = {
+    "RIGHTY": ("arm", 1),
+    "LEFTY": ("arm", -1),
+    "ABOVE": ("elbow", 1),
+    "BELOW": ("elbow", -1),
+    "NOFLIP": ("wrist", 1),
+    "FLIP": ("wrist", -1),
+}
+
+
+# ---------------------------------------------------------------------------
+# Angles
+# ---------------------------------------------------------------------------
+
+def wrap180(angle: float) -> float:
+    """Wrap degrees to (-180, 180] so the same pose always reads the same (§6.1.2)."""
+    wrapped = math.fmod(angle, 360.0)
+    if wrapped <= -180.0:
+        wrapped += 360.0
+    elif wrapped > 180.0:
+        wrapped -= 360.0
+    return wrapped
+
+
+def wrap180_array(angles: np.ndarray) -> np.ndarray:
+    wrapped = np.fmod(angles, 360.0)
+    wrapped = np.where(wrapped <= -180.0, wrapped + 360.0, wrapped)
+    return np.where(wrapped > 180.0, wrapped - 360.0, wrapped)
+
+
+class IKError(ValtermError):
+    """A location the robot cannot take; ``reason`` is what WHERE-style messages print."""
+
+    joint: int = 0
+    reason: str = "no solution"
+
+    def __init__(self, message: str | None = None) -> None:
+        super().__init__(message or self.reason)
+
+
+class OutOfReach(IKError):
+    reason = "out of reach"
+
+
+class BeyondStop(IKError):
+    def __init__(self, joint: int, angle: float) -> None:
+        self.joint = joint
+        self.angle = angle
+        self.reason = f"joint {joint} beyond its stop"
+        super().__init__(f"joint {joint} beyond its stop ({angle:.2f} deg)")
+
+
+def fit_to_stops(
+    joints: Sequence[float],
+    current: Sequence[float] | None = None,
+    geometry: RobotGeometry | None = None,
+) -> list[float]:
+    """The 360-degree equivalent of each joint within its stops nearest the current angle.
+
+    Raises BeyondStop for the first joint with no equivalent within its stops.
+    """
+    geometry = geometry or robot_geometry()
+    fitted = []
+    for index, angle in enumerate(joints):
+        low, high = geometry.stops[index]
+        near = angle if current is None else current[index]
+        # candidates angle + 360k inside [low, high]
+        k_low = math.ceil((low - angle) / 360.0 - 1e-12)
+        k_high = math.floor((high - angle) / 360.0 + 1e-12)
+        if k_low > k_high:
+            raise BeyondStop(index + 1, wrap180(angle))
+        best = None
+        for k in range(k_low, k_high + 1):
+            candidate = angle + 360.0 * k
+            if best is None or abs(candidate - near) < abs(best - near):
+                best = candidate
+        assert best is not None
+        fitted.append(min(max(best, low), high))
+    return fitted
+
+
+# ---------------------------------------------------------------------------
+# Orientation: O, A, T
+# ---------------------------------------------------------------------------
+
+def _rz(angle: float) -> np.ndarray:
+    c, s = math.cos(angle), math.sin(angle)
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
+def _rx(angle: float) -> np.ndarray:
+    c, s = math.cos(angle), math.sin(angle)
+    return np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])
+
+
+def _ry(angle: float) -> np.ndarray:
+    c, s = math.cos(angle), math.sin(angle)
+    return np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
+
+
+def oat_to_rotation(o: float, a: float, t: float) -> np.ndarray:
+    """The tool rotation (columns n, o, a) of O, A, T in degrees."""
+    return _rz(math.radians(o)) @ _rx(math.radians(a)) @ _ry(-math.radians(t)) @ ORIENTATION_BASE
+
+
+def oat_to_rotation_array(oat: np.ndarray) -> np.ndarray:
+    """Batch O, A, T (n, 3) degrees -> rotations (n, 3, 3)."""
+    o, a, t = np.radians(np.asarray(oat, dtype=float)).T
+    co, so, ca, sa, cb, sb = np.cos(o), np.sin(o), np.cos(a), np.sin(a), np.cos(-t), np.sin(-t)
+    q = np.empty((len(co), 3, 3))
+    # Q = Rz(O) Rx(A) Ry(beta), beta = -T
+    q[:, 0, 0] = co * cb - so * sa * sb
+    q[:, 0, 1] = -so * ca
+    q[:, 0, 2] = co * sb + so * sa * cb
+    q[:, 1, 0] = so * cb + co * sa * sb
+    q[:, 1, 1] = co * ca
+    q[:, 1, 2] = so * sb - co * sa * cb
+    q[:, 2, 0] = -ca * sb
+    q[:, 2, 1] = sa
+    q[:, 2, 2] = ca * cb
+    return q @ ORIENTATION_BASE
+
+
+def rotation_to_oat(rotation: np.ndarray | Sequence[Sequence[float]]) -> tuple[float, float, float]:
+    """O, A, T in degrees of a tool rotation, with the reporting rules of SPEC section 2.
+
+    O is kept in [0, 180) using the equivalent (O+-180, 180-A, T-180); angles are wrapped
+    to (-180, 180]; at gimbal lock (A = +-90) T is reported as 0.
+    """
+    r = rotation
+    # Q = R6 . C^T = Rz(O) Rx(A) Ry(-T): Q[:,0] = o, Q[:,1] = -a, Q[:,2] = -n
+    q00, q01 = r[0][1], -r[0][2]
+    q10, q11 = r[1][1], -r[1][2]
+    q20, q21, q22 = r[2][1], -r[2][2], -r[2][0]
+    sin_a = max(-1.0, min(1.0, q21))
+    cos_a = math.hypot(q01, q11)
+    if cos_a < GIMBAL_EPS:
+        a = 90.0 if sin_a > 0 else -90.0
+        o = math.degrees(math.atan2(q10, q00))
+        # only O+-T is defined here; with T = 0, O carries the whole turn, wrapped
+        return (wrap180(o), a, 0.0)
+    o = math.degrees(math.atan2(-q01, q11))
+    a = math.degrees(math.atan2(sin_a, cos_a))
+    t = -math.degrees(math.atan2(-q20, q22))
+    o, a, t = wrap180(o), wrap180(a), wrap180(t)
+    if not 0.0 <= o < 180.0:
+        o, a, t = wrap180(o + 180.0), wrap180(180.0 - a), wrap180(t - 180.0)
+    return (o, a, t)
+
+
+# ---------------------------------------------------------------------------
+# Forward kinematics
+# ---------------------------------------------------------------------------
+
+class Pose(NamedTuple):
+    """A tool pose: position (mm, WCS) and rotation (columns n, o, a)."""
+
+    xyz: np.ndarray
+    rotation: np.ndarray
+
+    @property
+    def oat(self) -> tuple[float, float, float]:
+        return rotation_to_oat(self.rotation)
+
+
+def fk_fast(
+    j1: float, j2: float, j3: float, j4: float, j5: float, j6: float,
+    offset: float | None = None, geometry: RobotGeometry | None = None,
+) -> tuple[float, ...]:
+    """Forward kinematics on radians: (x, y, z, n0, n1, n2, o0, o1, o2, a0, a1, a2).
+
+    The scalar fast path: plain floats and ``math`` only.
+    """
+    geometry = geometry or robot_geometry()
+    offset = geometry.d6 if offset is None else offset
+    c1, s1 = math.cos(j1), math.sin(j1)
+    c2, s2 = math.cos(j2), math.sin(j2)
+    c23, s23 = math.cos(j2 + j3), math.sin(j2 + j3)
+    c4, s4 = math.cos(j4), math.sin(j4)
+    c5, s5 = math.cos(j5), math.sin(j5)
+    c6, s6 = math.cos(j6), math.sin(j6)
+    # wrist centre in the waist frame (e2 = -JT2, e3 = 90 - JT2 - JT3)
+    u = geometry.a2 * c2 + geometry.d4 * s23
+    v = geometry.d2
+    w = -geometry.a2 * s2 + geometry.d4 * c23
+    # W = Rz4 Ry5 Rz6, columns
+    w0x, w0y, w0z = c4 * c5 * c6 - s4 * s6, s4 * c5 * c6 + c4 * s6, -s5 * c6
+    w1x, w1y, w1z = -c4 * c5 * s6 - s4 * c6, -s4 * c5 * s6 + c4 * c6, s5 * s6
+    w2x, w2y, w2z = c4 * s5, s4 * s5, c5
+    # R03 = Rz1 Ry23 = [[c1c23, -s1, c1s23], [s1c23, c1, s1s23], [-s23, 0, c23]]
+    r00, r01, r02 = c1 * c23, -s1, c1 * s23
+    r10, r11, r12 = s1 * c23, c1, s1 * s23
+    r20, r22 = -s23, c23
+    nx = r00 * w0x + r01 * w0y + r02 * w0z
+    ny = r10 * w0x + r11 * w0y + r12 * w0z
+    nz = r20 * w0x + r22 * w0z
+    ox = r00 * w1x + r01 * w1y + r02 * w1z
+    oy = r10 * w1x + r11 * w1y + r12 * w1z
+    oz = r20 * w1x + r22 * w1z
+    ax = r00 * w2x + r01 * w2y + r02 * w2z
+    ay = r10 * w2x + r11 * w2y + r12 * w2z
+    az = r20 * w2x + r22 * w2z
+    x = c1 * u - s1 * v + offset * ax
+    y = s1 * u + c1 * v + offset * ay
+    z = w + offset * az
+    return (x, y, z, nx, ny, nz, ox, oy, oz, ax, ay, az)
+
+
+def fk(joints: Sequence[float], point: int = 1, geometry: RobotGeometry | None = None) -> Pose:
+    """Forward kinematics of JT1..JT6 (degrees, PUMA convention) to position option 1, 2 or 3."""
+    geometry = geometry or robot_geometry()
+    r = fk_fast(*(math.radians(j) for j in joints), offset=geometry.point_offset(point), geometry=geometry)
+    rotation = np.array([[r[3], r[6], r[9]], [r[4], r[7], r[10]], [r[5], r[8], r[11]]])
+    return Pose(np.array(r[:3]), rotation)
+
+
+def fk_batch(joints: np.ndarray, point: int = 1, geometry: RobotGeometry | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Batch forward kinematics: joints (n, 6) degrees -> xyz (n, 3), rotations (n, 3, 3)."""
+    geometry = geometry or robot_geometry()
+    q = np.radians(np.asarray(joints, dtype=float).reshape(-1, 6))
+    frames = link_frames_batch(q, geometry, radians=True)
+    tool = frames[:, 6]
+    # link frame 6 has its origin at the wrist centre; the TCS origin lies d6 beyond it
+    xyz = tool[:, :3, 3] + geometry.point_offset(point) * tool[:, :3, 2]
+    return xyz, tool[:, :3, :3].copy()
+
+
+def link_frames_batch(joints: np.ndarray, geometry: RobotGeometry | None = None, radians: bool = False) -> np.ndarray:
+    """The seven link frames (base, waist, upper arm, forearm, wrist, joint 5, clamp) as 4x4.
+
+    joints (n, 6) -> (n, 7, 4, 4). Frame k is where the drawn polyhedra of link k are placed:
+    0 base (fixed), 1 waist (Rz JT1), 2 upper arm (at the shoulder, turned by JT2),
+    3 forearm (at the elbow), 4 wrist (at the wrist centre, turned by JT4), 5 by JT5,
+    6 the clamp (R6, origin at the wrist centre).
+    """
+    geometry = geometry or robot_geometry()
+    q = np.asarray(joints, dtype=float).reshape(-1, 6)
+    if not radians:
+        q = np.radians(q)
+    n = len(q)
+    c = np.cos(q)
+    s = np.sin(q)
+    c1, s1 = c[:, 0], s[:, 0]
+    c2, s2 = c[:, 1], s[:, 1]
+    c23, s23 = np.cos(q[:, 1] + q[:, 2]), np.sin(q[:, 1] + q[:, 2])
+    frames = np.zeros((n, 7, 4, 4))
+    frames[:, :, 3, 3] = 1.0
+    frames[:, 0, :3, :3] = np.eye(3)
+
+    r1 = np.zeros((n, 3, 3))
+    r1[:, 0, 0], r1[:, 0, 1] = c1, -s1
+    r1[:, 1, 0], r1[:, 1, 1] = s1, c1
+    r1[:, 2, 2] = 1.0
+    frames[:, 1, :3, :3] = r1
+
+    def ry(cos: np.ndarray, sin: np.ndarray) -> np.ndarray:
+        m = np.zeros((n, 3, 3))
+        m[:, 0, 0], m[:, 0, 2] = cos, sin
+        m[:, 1, 1] = 1.0
+        m[:, 2, 0], m[:, 2, 2] = -sin, cos
+        return m
+
+    def rz(cos: np.ndarray, sin: np.ndarray) -> np.ndarray:
+        m = np.zeros((n, 3, 3))
+        m[:, 0, 0], m[:, 0, 1] = cos, -sin
+        m[:, 1, 0], m[:, 1, 1] = sin, cos
+        m[:, 2, 2] = 1.0
+        return m
+
+    r2 = r1 @ ry(c2, s2)
+    r3 = r1 @ ry(c23, s23)
+    r4 = r3 @ rz(c[:, 3], s[:, 3])
+    r5 = r4 @ ry(c[:, 4], s[:, 4])
+    r6 = r5 @ rz(c[:, 5], s[:, 5])
+    shoulder = r1 @ np.array([0.0, geometry.d2, 0.0])
+    elbow = shoulder + r2 @ np.array([geometry.a2, 0.0, 0.0])
+    wrist = elbow + r3 @ np.array([0.0, 0.0, geometry.d4])
+    for index, (rot, origin) in enumerate(
+        ((r2, shoulder), (r3, elbow), (r4, wrist), (r5, wrist), (r6, wrist)), start=2
+    ):
+        frames[:, index, :3, :3] = rot
+        frames[:, index, :3, 3] = origin
+    return frames
+
+
+def indicators(joints: Sequence[float], geometry: RobotGeometry | None = None) -> Config:
+    """Theoretical configuration indicators of a joint vector (degrees), SPEC section 2."""
+    geometry = geometry or robot_geometry()
+    j2, j3, j6 = (math.radians(joints[i]) for i in (1, 2, 5))
+    reach = geometry.a2 * math.cos(j2) + geometry.d4 * math.sin(j2 + j3)
+    arm = 1 if -reach > 0 else -1
+    elbow = arm * (1 if math.cos(j3) >= 0 else -1)
+    c6 = math.cos(j6)
+    if abs(c6) > 1e-12:
+        wrist = 1 if c6 > 0 else -1
+    else:
+        wrist = 1 if math.sin(j6) > 0 else -1
+    return Config(arm, elbow, wrist)
+
+
+def indicators_batch(joints: np.ndarray, geometry: RobotGeometry | None = None) -> np.ndarray:
+    """Batch indicators: joints (n, 6) degrees -> (n, 3) of +1/-1 (arm, elbow, wrist)."""
+    geometry = geometry or robot_geometry()
+    q = np.radians(np.asarray(joints, dtype=float).reshape(-1, 6))
+    reach = geometry.a2 * np.cos(q[:, 1]) + geometry.d4 * np.sin(q[:, 1] + q[:, 2])
+    arm = np.where(-reach > 0, 1, -1)
+    elbow = arm * np.where(np.cos(q[:, 2]) >= 0, 1, -1)
+    c6 = np.cos(q[:, 5])
+    wrist = np.where(np.abs(c6) > 1e-12, np.sign(c6), np.sign(np.sin(q[:, 5]))).astype(int)
+    wrist[wrist == 0] = 1
+    return np.stack([arm, elbow, wrist], axis=1)
+
+
+# ---------------------------------------------------------------------------
+# Inverse kinematics (Lee's geometric solution)
+# ---------------------------------------------------------------------------
+
+def ik_fast(
+    x: float, y: float, z: float, rotation: Sequence[Sequence[float]],
+    arm: int, elbow: int, wrist: int,
+    j4_hint: float = 0.0, geometry: RobotGeometry | None = None,
+) -> tuple[float, float, float, float, float, float]:
+    """Lee's solution on radians for the TCS origin at (x, y, z) with the tool rotation given.
+
+    Returns JT1..JT6 in radians (not yet fitted to the stops); raises OutOfReach.
+    ``j4_hint`` (radians) is JT4 to keep when the wrist is singular (JT5 = 0).
+    """
+    geometry = geometry or robot_geometry()
+    r = rotation
+    ax, ay, az = r[0][2], r[1][2], r[2][2]
+    d6 = geometry.d6
+    wx, wy, wz = x - d6 * ax, y - d6 * ay, z - d6 * az
+    d2 = geometry.d2
+    planar2 = wx * wx + wy * wy - d2 * d2
+    if planar2 < -1e-9:
+        raise OutOfReach("out of reach (inside the shoulder offset)")
+    reach = math.sqrt(planar2) if planar2 > 0.0 else 0.0
+    # in the waist frame the wrist is at (X, d2, wz); RIGHTY puts it behind the shoulder
+    big_x = -reach if arm > 0 else reach
+    j1 = math.atan2(wy, wx) - math.atan2(d2, big_x)
+    a2, d4 = geometry.a2, geometry.d4
+    k = (big_x * big_x + wz * wz - a2 * a2 - d4 * d4) / (2.0 * a2 * d4)
+    if k > 1.0 or k < -1.0:
+        if abs(k) - 1.0 > 1e-12:
+            raise OutOfReach()
+        k = 1.0 if k > 0 else -1.0
+    asin_k = math.asin(k)
+    j3 = asin_k if arm * elbow > 0 else math.pi - asin_k
+    delta = 0.5 * math.pi - j3  # forearm relative to upper arm (e3 - e2)
+    e2 = math.atan2(wz, big_x) - math.atan2(d4 * math.sin(delta), a2 + d4 * math.cos(delta))
+    j2 = -e2
+    # M = (Rz1 Ry23)^T R ; rows of R03^T are the columns of R03
+    c1, s1 = math.cos(j1), math.sin(j1)
+    c23, s23 = math.cos(j2 + j3), math.sin(j2 + j3)
+    col0 = (c1 * c23, s1 * c23, -s23)
+    col1 = (-s1, c1, 0.0)
+    col2 = (c1 * s23, s1 * s23, c23)
+
+    def m(i: tuple[float, float, float], j: int) -> float:
+        return i[0] * r[0][j] + i[1] * r[1][j] + i[2] * r[2][j]
+
+    m02, m12, m22 = m(col0, 2), m(col1, 2), m(col2, 2)
+    m20, m21 = m(col2, 0), m(col2, 1)
+    sin5 = math.hypot(m02, m12)
+    if sin5 > WRIST_EPS:
+        j4 = math.atan2(m12, m02)
+        j5 = math.atan2(sin5, m22)
+        j6 = math.atan2(m21, -m20)
+    else:
+        # singular wrist: JT5 = 0 (or 180); keep JT4, JT6 takes the rest of the turn
+        j4 = j4_hint
+        j5 = 0.0 if m22 > 0 else math.pi
+        m00, m10 = m(col0, 0), m(col1, 0)
+        m01, m11 = m(col0, 1), m(col1, 1)
+        # N = Rz(-j4) M = Ry5 Rz6 ; Ry(0 or pi) leaves row 1 as (sin6, cos6, 0)
+        c4, s4 = math.cos(j4), math.sin(j4)
+        n10 = -s4 * m00 + c4 * m10
+        n11 = -s4 * m01 + c4 * m11
+        j6 = math.atan2(n10, n11)
+    c6 = math.cos(j6)
+    current_wrist = (1 if c6 > 0 else -1) if abs(c6) > 1e-12 else (1 if math.sin(j6) > 0 else -1)
+    if current_wrist != wrist:
+        j4, j5, j6 = j4 + math.pi, -j5, j6 + math.pi
+    return (j1, j2, j3, j4, j5, j6)
+
+
+def ik(
+    xyz: Sequence[float],
+    rotation: np.ndarray | Sequence[Sequence[float]],
+    config: Config,
+    current: Sequence[float] | None = None,
+    geometry: RobotGeometry | None = None,
+    enforce_stops: bool = True,
+) -> list[float]:
+    """JT1..JT6 (degrees) for the TCS origin at ``xyz`` with the given tool rotation.
+
+    The joints are the 360-degree equivalents within the stops nearest ``current``
+    (or nearest the wrapped value when there is no current pose). Raises OutOfReach or
+    BeyondStop(joint). With ``enforce_stops=False`` the geometric solution is returned
+    wrapped to (-180, 180], whatever the stops say.
+    """
+    geometry = geometry or robot_geometry()
+    hint = math.radians(current[3]) if current is not None else 0.0
+    radians = ik_fast(xyz[0], xyz[1], xyz[2], rotation, config.arm, config.elbow, config.wrist, hint, geometry)
+    degrees = [wrap180(math.degrees(v)) for v in radians]
+    if not enforce_stops:
+        return degrees
+    return fit_to_stops(degrees, current, geometry)
+
+
+def ik_oat(
+    xyz: Sequence[float], oat: Sequence[float], config: Config,
+    current: Sequence[float] | None = None, geometry: RobotGeometry | None = None,
+) -> list[float]:
+    """IK of a location given as XW YW ZW O A T (what a .LOC file and WHERE hold)."""
+    geometry = geometry or robot_geometry()
+    return ik(xyz, oat_to_rotation(*oat), config, current, geometry)
+
+
+# Batch status codes: 0 solved, OUT_OF_REACH, or the number (1..6) of the joint beyond its stop.
+OUT_OF_REACH = -1
+
+
+def ik_batch(
+    xyz: np.ndarray,
+    rotations: np.ndarray,
+    config: np.ndarray | Sequence[int] | Config,
+    geometry: RobotGeometry | None = None,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Vectorised IK: xyz (n, 3), rotations (n, 3, 3), config (3,) or (n, 3) of +-1.
+
+    Returns joints (n, 6) degrees (wrapped, then fitted to the stops nearest the wrapped
+    value) and status (n,): 0, OUT_OF_REACH or the first joint beyond its stop. Singular
+    wrists take JT4 = 0.
+    """
+    geometry = geometry or robot_geometry()
+    p = np.asarray(xyz, dtype=float).reshape(-1, 3)
+    r = np.asarray(rotations, dtype=float).reshape(-1, 3, 3)
+    n = len(p)
+    cfg = np.broadcast_to(np.asarray(tuple(config), dtype=float).reshape(-1, 3), (n, 3))
+    arm, elbow, wrist = cfg[:, 0], cfg[:, 1], cfg[:, 2]
+    a = r[:, :, 2]
+    w = p - geometry.d6 * a
+    planar2 = w[:, 0] ** 2 + w[:, 1] ** 2 - geometry.d2 ** 2
+    status = np.where(planar2 < -1e-9, OUT_OF_REACH, 0)
+    reach = np.sqrt(np.clip(planar2, 0.0, None))
+    big_x = np.where(arm > 0, -reach, reach)
+    j1 = np.arctan2(w[:, 1], w[:, 0]) - np.arctan2(geometry.d2, big_x)
+    a2, d4 = geometry.a2, geometry.d4
+    k = (big_x ** 2 + w[:, 2] ** 2 - a2 * a2 - d4 * d4) / (2.0 * a2 * d4)
+    status = np.where((np.abs(k) - 1.0 > 1e-12) & (status == 0), OUT_OF_REACH, status)
+    asin_k = np.arcsin(np.clip(k, -1.0, 1.0))
+    j3 = np.where(arm * elbow > 0, asin_k, np.pi - asin_k)
+    delta = 0.5 * np.pi - j3
+    j2 = -(np.arctan2(w[:, 2], big_x) - np.arctan2(d4 * np.sin(delta), a2 + d4 * np.cos(delta)))
+    c1, s1 = np.cos(j1), np.sin(j1)
+    c23, s23 = np.cos(j2 + j3), np.sin(j2 + j3)
+    # only the entries of M = (Rz1 Ry23)^T R that the wrist solution needs
+    col0 = (c1 * c23, s1 * c23, -s23)
+    col1 = (-s1, c1)
+    col2 = (c1 * s23, s1 * s23, c23)
+    m02 = col0[0] * r[:, 0, 2] + col0[1] * r[:, 1, 2] + col0[2] * r[:, 2, 2]
+    m12 = col1[0] * r[:, 0, 2] + col1[1] * r[:, 1, 2]
+    m22 = col2[0] * r[:, 0, 2] + col2[1] * r[:, 1, 2] + col2[2] * r[:, 2, 2]
+    m20 = col2[0] * r[:, 0, 0] + col2[1] * r[:, 1, 0] + col2[2] * r[:, 2, 0]
+    m21 = col2[0] * r[:, 0, 1] + col2[1] * r[:, 1, 1] + col2[2] * r[:, 2, 1]
+    sin5 = np.hypot(m02, m12)
+    regular = sin5 > WRIST_EPS
+    j4 = np.arctan2(m12, m02)
+    j5 = np.arctan2(sin5, m22)
+    j6 = np.arctan2(m21, -m20)
+    if not regular.all():
+        # singular wrist: JT4 = 0 and JT6 takes the whole turn
+        m10 = col1[0] * r[:, 0, 0] + col1[1] * r[:, 1, 0]
+        m11 = col1[0] * r[:, 0, 1] + col1[1] * r[:, 1, 1]
+        j4 = np.where(regular, j4, 0.0)
+        j5 = np.where(regular, j5, np.where(m22 > 0, 0.0, np.pi))
+        j6 = np.where(regular, j6, np.arctan2(m10, m11))
+    c6 = np.cos(j6)
+    current_wrist = np.where(np.abs(c6) > 1e-12, np.sign(c6), np.sign(np.sin(j6)))
+    flip = current_wrist != wrist
+    j4 = j4 + flip * np.pi
+    j5 = np.where(flip, -j5, j5)
+    j6 = j6 + flip * np.pi
+    joints = wrap180_array(np.degrees(np.stack([j1, j2, j3, j4, j5, j6], axis=1)))
+    joints, beyond = fit_to_stops_batch(joints, geometry)
+    status = np.where(status == 0, beyond, status)
+    return joints, status
+
+
+def fit_to_stops_batch(joints: np.ndarray, geometry: RobotGeometry | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Batch fit_to_stops for wrapped angles, nearest the given angle.
+
+    Returns (fitted, first joint beyond its stop or 0). Angles must lie in (-180, 180]:
+    then only the angle itself and its +-360 equivalents can be nearest.
+    """
+    geometry = geometry or robot_geometry()
+    q = np.asarray(joints, dtype=float)
+    low = geometry.stops_array[:, 0]
+    high = geometry.stops_array[:, 1]
+    tol = 1e-9
+    inside = (q >= low - tol) & (q <= high + tol)
+    up = q + 360.0
+    down = q - 360.0
+    up_ok = up <= high + tol
+    down_ok = down >= low - tol
+    # the angle itself is nearest; else whichever shifted one is inside (at most one can be nearer)
+    fitted = np.where(inside, q, np.where(up_ok, up, np.where(down_ok, down, q)))
+    ok = inside | up_ok | down_ok
+    first_bad = np.where(ok.all(axis=1), 0, np.argmin(ok, axis=1) + 1)
+    return fitted, first_bad
+
+
+class Location(NamedTuple):
+    """A location as WHERE shows it and a .LOC file holds it: XW YW ZW (mm) and O A T (deg)."""
+
+    xyz: tuple[float, float, float]
+    oat: tuple[float, float, float]
+
+    @property
+    def rotation(self) -> np.ndarray:
+        return oat_to_rotation(*self.oat)
+
+    @classmethod
+    def from_pose(cls, pose: Pose) -> "Location":
+        x, y, z = (float(v) for v in pose.xyz)
+        return cls((x, y, z), pose.oat)

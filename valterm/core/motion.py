@@ -1,0 +1,297 @@
+"""Motion as pure functions from a start and a goal to the sequence of poses shown (SPEC §3).
+
+Joint-coordinated motion (§2.4.1) and straight-line motion (§2.4.2) both return an array of
+joint vectors (steps, 6), the last row being the goal; the model is drawn at every row (the
+apparent motion of §2.1). A motion the robot cannot make raises ``MotionRefused`` before
+anything moves.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Sequence
+
+import numpy as np
+
+from valterm.core.errors import ValtermError
+from valterm.core.kinematics import (
+    BeyondStop,
+    Config,
+    IKError,
+    RobotGeometry,
+    fit_to_stops,
+    fk,
+    ik,
+    ik_batch,
+    indicators,
+    robot_geometry,
+)
+
+JOINT_INCREMENT = 12.0      # degrees per step at SPEED 100 (§2.6)
+STRAIGHT_INCREMENT = 25.4   # millimetres per step at SPEED 100
+PENDANT_INCREMENT = 8.0     # degrees per key press (§3.1)
+PENDANT_STEP = 10.0         # millimetres per WORLD/TOOL key press at the default increment
+MIN_SPEED, MAX_SPEED = 10.0, 100.0
+# A step-to-step jump this large in JT1..JT3 means the arm had to change configuration.
+CONFIG_JUMP = 45.0
+
+
+class MotionRefused(ValtermError):
+    """A motion the controller will not make: nothing moves.
+
+    ``reason`` names what is wrong, ``joint`` the joint (0 if none), ``step`` the step of a
+    straight line where it happens (0 for the goal itself).
+    """
+
+    def __init__(self, reason: str, joint: int = 0, step: int = 0) -> None:
+        self.reason = reason
+        self.joint = joint
+        self.step = step
+        where = f" at step {step} of the line" if step else ""
+        super().__init__(f"{reason}{where}")
+
+
+def clamp_speed(speed: float) -> float:
+    """SPEED is clamped to 10..100 (§6.6.1)."""
+    return min(MAX_SPEED, max(MIN_SPEED, float(speed)))
+
+
+def joint_increment(speed: float) -> float:
+    return JOINT_INCREMENT * clamp_speed(speed) / 100.0
+
+
+def straight_increment(speed: float) -> float:
+    return STRAIGHT_INCREMENT * clamp_speed(speed) / 100.0
+
+
+# ---------------------------------------------------------------------------
+# Joint-coordinated motion
+# ---------------------------------------------------------------------------
+
+def joint_path(start: Sequence[float], goal: Sequence[float], increment: float) -> np.ndarray:
+    """The poses of a joint-coordinated motion from start to goal (§2.4.1, Fig. 2-7).
+
+    The joint with the largest difference moves ``increment`` per step and decides the
+    number of steps, ceil(largest / increment); every other joint moves in proportion.
+    When the division leaves a remainder, the last step is the remainder (each joint's last
+    step is proportional to it). Returns (steps, 6); an empty array when already there.
+    """
+    if increment <= 0:
+        raise ValueError("the increment must be positive")
+    a = np.asarray(start, dtype=float)
+    b = np.asarray(goal, dtype=float)
+    delta = b - a
+    largest = float(np.abs(delta).max())
+    if largest < 1e-9:
+        return np.zeros((0, len(a)))
+    steps = math.ceil(largest / increment - 1e-9)
+    # fraction of the whole motion done after each step: i*inc/largest, the last one 1
+    fractions = np.minimum(np.arange(1, steps + 1) * increment / largest, 1.0)
+    fractions[-1] = 1.0
+    return a + fractions[:, None] * delta
+
+
+# ---------------------------------------------------------------------------
+# Straight-line motion
+# ---------------------------------------------------------------------------
+
+def _slerp(r0: np.ndarray, r1: np.ndarray, fractions: np.ndarray) -> np.ndarray:
+    """Rotations from r0 to r1 along the shortest rotation (Rodrigues on the relative rotation)."""
+    rel = r0.T @ r1
+    cos = max(-1.0, min(1.0, (np.trace(rel) - 1.0) / 2.0))
+    angle = math.acos(cos)
+    n = len(fractions)
+    if angle < 1e-12:
+        return np.broadcast_to(r0, (n, 3, 3)).copy()
+    if math.pi - angle < 1e-6:
+        # half turn: the axis from the symmetric part
+        axis = np.sqrt(np.clip((np.diag(rel) + 1.0) / 2.0, 0.0, None))
+        i = int(np.argmax(axis))
+        axis = rel[:, i] + np.eye(3)[i]
+        axis /= np.linalg.norm(axis)
+    else:
+        axis = np.array([rel[2, 1] - rel[1, 2], rel[0, 2] - rel[2, 0], rel[1, 0] - rel[0, 1]])
+        axis /= 2.0 * math.sin(angle)
+    k = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
+    theta = fractions * angle
+    steps = (np.eye(3)[None] + np.sin(theta)[:, None, None] * k[None]
+             + (1.0 - np.cos(theta))[:, None, None] * (k @ k)[None])
+    return r0[None] @ steps
+
+
+def _refusal(error: IKError, step: int) -> MotionRefused:
+    if isinstance(error, BeyondStop):
+        return MotionRefused(error.reason, error.joint, step)
+    return MotionRefused("location out of reach", 0, step)
+
+
+def straight_path(
+    start: Sequence[float],
+    goal_xyz: Sequence[float],
+    goal_rotation: np.ndarray,
+    config: Config,
+    increment: float,
+    geometry: RobotGeometry | None = None,
+) -> np.ndarray:
+    """The poses of a straight-line motion of the TCS origin (§2.4.2, SPEC §3).
+
+    Position advances in equal steps (ceil(largest coordinate difference / increment));
+    orientation is unchanged when start and goal share it, else interpolated along the
+    shortest rotation. The goal is solved with the user's indicators; each intermediate
+    step with the user's ARM and ELBOW and the wrist solution nearest the previous step.
+    Raises MotionRefused (reason, joint, step) if any step is out of reach, beyond a stop,
+    or would need ARM or ELBOW to change.
+    """
+    geometry = geometry or robot_geometry()
+    current = [float(v) for v in start]
+    here = fk(current, geometry=geometry)
+    now = indicators(current, geometry)
+    for kind, have, want in (("ARM", now.arm, config.arm), ("ELBOW", now.elbow, config.elbow)):
+        if have != want:
+            words = {"ARM": ("RIGHTY", "LEFTY"), "ELBOW": ("ABOVE", "BELOW")}[kind]
+            raise MotionRefused(
+                f"straight line would change {kind} from {words[have < 0]} to {words[want < 0]}"
+            )
+    goal_xyz = np.asarray(goal_xyz, dtype=float)
+    goal_rotation = np.asarray(goal_rotation, dtype=float)
+    delta = goal_xyz - here.xyz
+    largest = float(np.abs(delta).max())
+    turn = float(np.degrees(np.arccos(np.clip((np.trace(here.rotation.T @ goal_rotation) - 1) / 2, -1, 1))))
+    steps = max(1, math.ceil(largest / increment - 1e-9))
+    # a pure reorientation still takes steps, at the joint increment per step
+    steps = max(steps, math.ceil(turn / JOINT_INCREMENT - 1e-9))
+    fractions = np.arange(1, steps + 1) / steps
+    positions = here.xyz + fractions[:, None] * delta
+    same_orientation = np.allclose(here.rotation, goal_rotation, atol=1e-12)
+    rotations = (np.broadcast_to(here.rotation, (steps, 3, 3)) if same_orientation
+                 else _slerp(here.rotation, goal_rotation, fractions))
+    # goal: the user's indicators, all three
+    try:
+        goal_joints = ik(goal_xyz, goal_rotation, config, None, geometry, enforce_stops=False)
+    except IKError as error:
+        raise _refusal(error, steps) from None
+    # intermediate steps: both wrist solutions at once, then the nearest to the previous step
+    solutions = []
+    statuses = []
+    for wrist in (1, -1):
+        joints, status = ik_batch(positions, rotations, (config.arm, config.elbow, wrist), geometry)
+        solutions.append(joints)
+        statuses.append(status)
+    path = np.empty((steps, 6))
+    previous = np.array(current)
+    for i in range(steps):
+        last = i == steps - 1
+        if last:
+            options = [np.array(goal_joints)]
+            status = [0]
+        else:
+            options = [solutions[0][i], solutions[1][i]]
+            status = [int(statuses[0][i]), int(statuses[1][i])]
+        if all(s == -1 for s in status):
+            raise MotionRefused("location out of reach", 0, i + 1)
+        best = None
+        for option, st in zip(options, status):
+            if st == -1:
+                continue
+            # the 360-degree equivalents nearest the previous step
+            fitted = _nearest_equivalent(option, previous)
+            if best is None or np.abs(fitted[3:] - previous[3:]).sum() < np.abs(best[3:] - previous[3:]).sum():
+                best = fitted
+        assert best is not None
+        try:
+            best = np.array(fit_to_stops(list(best), list(previous), geometry))
+        except BeyondStop as error:
+            raise MotionRefused(error.reason, error.joint, i + 1) from None
+        jump = np.abs(best[:3] - previous[:3]).max()
+        if jump > CONFIG_JUMP:
+            raise MotionRefused("straight line would change ARM or ELBOW (the arm passes a singularity)", 0, i + 1)
+        path[i] = best
+        previous = best
+    return path
+
+
+def _nearest_equivalent(angles: np.ndarray, near: np.ndarray) -> np.ndarray:
+    """Each angle shifted by whole turns to lie nearest ``near``."""
+    return angles + 360.0 * np.round((near - angles) / 360.0)
+
+
+# ---------------------------------------------------------------------------
+# Targets: APPRO / DEPART / DRAW
+# ---------------------------------------------------------------------------
+
+def approach_point(xyz: Sequence[float], rotation: np.ndarray, distance: float) -> np.ndarray:
+    """APPRO: the point ``distance`` back from the location along its tool Z (positive = -a)."""
+    return np.asarray(xyz, dtype=float) - distance * np.asarray(rotation)[:, 2]
+
+
+def joint_goal(
+    xyz: Sequence[float], rotation: np.ndarray, config: Config, current: Sequence[float],
+    geometry: RobotGeometry | None = None,
+) -> list[float]:
+    """The joint vector of a location for a joint-coordinated move; MotionRefused if none."""
+    geometry = geometry or robot_geometry()
+    try:
+        return ik(xyz, rotation, config, current, geometry)
+    except IKError as error:
+        raise _refusal(error, 0) from None
+
+
+def check_joint_goal(goal: Sequence[float], geometry: RobotGeometry | None = None) -> None:
+    """Refuse a relative joint move (DRIVE, pendant joints) whose goal is beyond a stop.
+
+    The joint turns through every angle on its way, so the goal itself must lie within the
+    stops: no 360-degree equivalent helps here.
+    """
+    geometry = geometry or robot_geometry()
+    for joint, (angle, (low, high)) in enumerate(zip(goal, geometry.stops), start=1):
+        if not low - 1e-9 <= angle <= high + 1e-9:
+            raise MotionRefused(f"joint {joint} beyond its stop", joint)
+
+
+# ---------------------------------------------------------------------------
+# Pendant (Chapter 3)
+# ---------------------------------------------------------------------------
+
+def pendant_straight(
+    current: Sequence[float],
+    displacement: np.ndarray,
+    increment: float,
+    geometry: RobotGeometry | None = None,
+) -> np.ndarray:
+    """A WORLD or TOOL step: the TCS origin moves by ``displacement`` keeping its orientation.
+
+    Uses the theoretical indicators of the current pose (§3.2) and refuses a step that would
+    change them or bring JT3 within one increment of the elbow-straight singularity (§3.3).
+    """
+    geometry = geometry or robot_geometry()
+    here = fk(current, geometry=geometry)
+    config = indicators(current, geometry)
+    goal = here.xyz + np.asarray(displacement, dtype=float)
+    length = float(np.abs(displacement).max())
+    path = straight_path(current, goal, here.rotation, config, max(length, 1e-9), geometry)
+    for step, joints in enumerate(path, start=1):
+        if indicators(joints, geometry) != config:
+            raise MotionRefused("the move would change the configuration indicators", 0, step)
+        # elbow straight: forearm in line with the upper arm at JT3 = 90 (JTsim3 = 0)
+        if abs(joints[2] - 90.0) < abs(increment):
+            raise MotionRefused("links 2 and 3 nearly aligned (elbow singularity)", 3, step)
+    return path
+
+
+def world_displacement(axis: int, step: float) -> np.ndarray:
+    d = np.zeros(3)
+    d[axis] = step
+    return d
+
+
+def tool_displacement(current: Sequence[float], axis: int, step: float, geometry: RobotGeometry | None = None) -> np.ndarray:
+    """A step along the tool's own X, Y or Z axis, in world coordinates."""
+    geometry = geometry or robot_geometry()
+    return fk(current, geometry=geometry).rotation[:, axis] * step
+
+
+__all__ = [
+    "MotionRefused", "clamp_speed", "joint_increment", "straight_increment", "joint_path",
+    "straight_path", "approach_point", "joint_goal", "check_joint_goal", "pendant_straight",
+    "world_displacement", "tool_displacement", "PENDANT_INCREMENT", "PENDANT_STEP",
+]

@@ -1,0 +1,482 @@
+"""The model view's rasterizer: wireframe polyhedra -> braille (or ASCII) character cells.
+
+Pure numpy, no textual or rich, so `valterm bench` and the tests run it headless.
+
+Pipeline (§2.1-§2.3 of the thesis, Fig. 2-5):
+world mm --(SCS mapping, ORIENT view transform)--> view mm --(fit to canvas)--> dots
+(2 x 4 per cell) --> one U+2800 braille code per cell, one colour index per cell.
+
+With hidden-surface removal on (``back_faces=False``) the polyhedra are drawn polygon by
+polygon and a face whose transformed normal has Z_s < 0 is skipped (an edge shared by two
+front faces is drawn twice, as in 1985); with back faces on every edge is drawn once
+(segment by segment).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from functools import lru_cache
+from typing import Iterable, Sequence
+
+import numpy as np
+
+from valterm.core.cell.polyhedron import Polyhedron, topology
+
+# -- frames (SPEC §1) ------------------------------------------------------------------
+SCS_H = 26.0
+# X_s = Y_w, Y_s = Z_w + H, Z_s = X_w (a cyclic permutation: right-handed).
+WORLD_TO_SCS = np.array([[0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]])
+SCS_OFFSET = np.array([0.0, SCS_H, 0.0])
+
+# The robot at READY reaches ~990 mm up; the cell spans about +-1000 mm; tables sit ~-610.
+DEFAULT_BOUNDS: tuple[np.ndarray, np.ndarray] = (
+    np.array([-1000.0, -1000.0, -700.0]),
+    np.array([1000.0, 1000.0, 1100.0]),
+)
+
+# -- colour indices (0 = empty cell); the widget maps them to terminal colours ----------
+AXES_COLOUR = 1
+LED_COLOUR = 2
+HIGHLIGHT_COLOUR = 3  # e.g. a part in collision
+LINK_COLOUR_BASE = 8  # robot links 0..7 -> 8..15
+OBJECT_COLOUR_BASE = 16  # objects 1..n -> 16..31 (cycling)
+N_OBJECT_COLOURS = 16
+
+
+def link_colour(link: int) -> int:
+    """Colour index of robot link ``link`` (0 = base)."""
+    return LINK_COLOUR_BASE + link % 8
+
+
+def object_colour(number: int) -> int:
+    """Colour index of work-cell object ``number`` (1..n)."""
+    return OBJECT_COLOUR_BASE + (number - 1) % N_OBJECT_COLOURS
+
+
+AXIS_LENGTH = 400.0  # mm, the WCS frame drawn by AXES
+
+# Braille dot bits by (row, col) inside a cell.
+BRAILLE_WEIGHTS = np.array([[1, 8], [2, 16], [4, 32], [64, 128]], dtype=np.uint8)
+BRAILLE_BASE = 0x2800
+
+
+def axis_rotation(axis: str, degrees: float) -> np.ndarray:
+    """Right-handed rotation about ``axis`` ('x', 'y' or 'z')."""
+    a = math.radians(degrees)
+    c, s = math.cos(a), math.sin(a)
+    if axis in ("x", "X"):
+        return np.array([[1.0, 0, 0], [0, c, -s], [0, s, c]])
+    if axis in ("y", "Y"):
+        return np.array([[c, 0, s], [0, 1.0, 0], [-s, 0, c]])
+    if axis in ("z", "Z"):
+        return np.array([[c, -s, 0], [s, c, 0], [0, 0, 1.0]])
+    raise ValueError(f"axis must be x, y or z, not {axis!r}")
+
+
+# -- the view transform (Keyboard ORIENT) ----------------------------------------------
+@dataclass
+class ViewTransform:
+    """World -> view millimetres: ``q = scale * R (S p + h - pivot) + pan``.
+
+    S, h are the SCS mapping; R rotates about the screen axes through ``pivot`` (an SCS
+    point, the centre of the fitted bounds); ``pan`` shifts in screen mm. The canvas shows
+    ``half_extent`` (view mm, at scale 1) about the origin. World data is never touched.
+    """
+
+    rotation: np.ndarray = field(default_factory=lambda: np.eye(3))
+    scale: float = 1.0
+    pan: np.ndarray = field(default_factory=lambda: np.zeros(2))
+    pivot: np.ndarray | None = None  # None: fit to home_bounds
+    half_extent: np.ndarray | None = None
+    home_bounds: tuple[np.ndarray, np.ndarray] = DEFAULT_BOUNDS
+
+    def __post_init__(self) -> None:
+        self.rotation = np.asarray(self.rotation, dtype=float)
+        self.pan = np.asarray(self.pan, dtype=float)
+        if self.pivot is None or self.half_extent is None:
+            scale, pan = self.scale, self.pan
+            self.fit(self.home_bounds)
+            self.scale, self.pan = scale, pan
+
+    # -- composing ------------------------------------------------------------
+    def rotate_by(self, axis: str, degrees: float) -> "ViewTransform":
+        """Turn the picture about a screen axis (x right, y up, z at the viewer)."""
+        self.rotation = axis_rotation(axis, degrees) @ self.rotation
+        return self
+
+    def scale_by(self, factor: float) -> "ViewTransform":
+        if not factor > 0:
+            raise ValueError("the scale factor must be positive")
+        self.scale *= factor
+        return self
+
+    def pan_by(self, dx: float, dy: float) -> "ViewTransform":
+        """Shift the picture by (dx, dy) screen mm (right, up)."""
+        self.pan = self.pan + np.array([dx, dy], dtype=float)
+        return self
+
+    def reset(self) -> "ViewTransform":
+        """Back to the default view: the SCS mapping, fitted to the home bounds."""
+        self.rotation = np.eye(3)
+        return self.fit(self.home_bounds)
+
+    def fit(self, bounds: tuple[Sequence[float], Sequence[float]], margin: float = 0.04) -> "ViewTransform":
+        """Centre and size the view on a world box (lo, hi) as seen with the current rotation."""
+        lo, hi = (np.asarray(b, dtype=float) for b in bounds)
+        self.home_bounds = (lo.copy(), hi.copy())
+        corners = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])])
+        scs = corners @ WORLD_TO_SCS.T + SCS_OFFSET
+        self.pivot = (scs.min(axis=0) + scs.max(axis=0)) / 2
+        seen = (scs - self.pivot) @ self.rotation.T
+        self.half_extent = np.maximum(np.abs(seen[:, :2]).max(axis=0), 1.0) * (1 + margin)
+        self.scale = 1.0
+        self.pan = np.zeros(2)
+        return self
+
+    # -- using ----------------------------------------------------------------
+    def affine(self) -> tuple[np.ndarray, np.ndarray]:
+        """(A, b) with view = A @ world + b."""
+        assert self.pivot is not None  # set by __post_init__
+        a = self.scale * (self.rotation @ WORLD_TO_SCS)
+        b = self.scale * (self.rotation @ (SCS_OFFSET - self.pivot))
+        b[:2] += self.pan
+        return a, b
+
+    def depth_axis(self) -> np.ndarray:
+        """World direction that points at the viewer (Z_s after the view rotation)."""
+        return (self.rotation @ WORLD_TO_SCS)[2]
+
+    def key(self) -> bytes:
+        """A value that changes whenever the picture would (for redraw decisions)."""
+        a, b = self.affine()
+        assert self.half_extent is not None
+        return a.tobytes() + b.tobytes() + self.half_extent.tobytes()
+
+    def copy(self) -> "ViewTransform":
+        assert self.pivot is not None and self.half_extent is not None
+        return ViewTransform(
+            self.rotation.copy(), self.scale, self.pan.copy(), self.pivot.copy(),
+            self.half_extent.copy(), self.home_bounds,
+        )
+
+
+# -- the scene ---------------------------------------------------------------------------
+@dataclass(frozen=True)
+class _Index:
+    """Global index arrays for a sequence of polyhedron sizes (cached: the same robot and cell
+    give the same sizes every frame)."""
+
+    vertex_item: np.ndarray  # (V,)
+    edges: np.ndarray  # (E, 2) each edge once
+    edge_item: np.ndarray  # (E,)
+    faces: np.ndarray  # (F, m) vertex indices, short faces padded with their last vertex
+    face_item: np.ndarray  # (F,)
+    face_edges: np.ndarray  # (FE, 2) polygon-by-polygon edges
+    face_edge_face: np.ndarray  # (FE,)
+
+
+@lru_cache(maxsize=64)
+def _index(ks: tuple[int, ...]) -> _Index:
+    vertex_item, edges, edge_item, faces, face_item, face_edges, face_edge_face = [], [], [], [], [], [], []
+    width = max([max(k, 4) for k in ks], default=4)
+    offset = 0
+    n_faces = 0
+    for item, k in enumerate(ks):
+        top = topology(k)
+        vertex_item.append(np.full(2 * k, item))
+        edges.append(top.edges + offset)
+        edge_item.append(np.full(len(top.edges), item))
+        for f, (face, fe) in enumerate(zip(top.faces, top.face_edges)):
+            # repeating the last vertex adds zero-length edges: harmless for Newell's normal
+            faces.append(np.concatenate([face, np.full(width - len(face), face[-1])]) + offset)
+            face_edges.append(fe + offset)
+            face_edge_face.append(np.full(len(fe), n_faces + f))
+        face_item.append(np.full(len(top.faces), item))
+        n_faces += len(top.faces)
+        offset += 2 * k
+
+    def cat(parts: list[np.ndarray], shape: tuple[int, ...]) -> np.ndarray:
+        return np.concatenate(parts).astype(np.intp) if parts else np.zeros(shape, dtype=np.intp)
+
+    return _Index(
+        cat(vertex_item, (0,)), cat(edges, (0, 2)), cat(edge_item, (0,)),
+        np.stack(faces).astype(np.intp) if faces else np.zeros((0, width), dtype=np.intp),
+        cat(face_item, (0,)), cat(face_edges, (0, 2)), cat(face_edge_face, (0,)),
+    )
+
+
+@dataclass(frozen=True, eq=False)
+class Scene:
+    """What the model view draws: polyhedra with a colour index each, plus loose segments.
+
+    Build with :meth:`Scene.build`. Drawing order is priority: where two items share a
+    character cell, the later item's colour wins (put the robot after the cell, a carried
+    part after the robot). Loose lines (the LED sensor, extra frames) always draw.
+    """
+
+    vertices: np.ndarray  # (V, 3) world mm, all polyhedra concatenated
+    colours: np.ndarray  # (n_polyhedra,) colour index per polyhedron
+    index: _Index
+    lines: np.ndarray  # (L, 2, 3) world mm
+    line_colours: np.ndarray  # (L,)
+
+    @classmethod
+    def build(
+        cls,
+        items: Iterable[tuple[Polyhedron, int]],
+        lines: np.ndarray | Sequence[Sequence[Sequence[float]]] | None = None,
+        line_colours: Sequence[int] | int = LED_COLOUR,
+    ) -> "Scene":
+        """``items``: (polyhedron, colour index) pairs in drawing order; ``lines``: (L, 2, 3)."""
+        items = list(items)
+        polys = [p for p, _ in items]
+        vertices = np.concatenate([p.vertices for p in polys]) if polys else np.zeros((0, 3))
+        colours = np.array([c for _, c in items], dtype=np.uint8)
+        seg = np.zeros((0, 2, 3)) if lines is None else np.asarray(lines, dtype=float).reshape(-1, 2, 3)
+        lc = np.broadcast_to(np.asarray(line_colours, dtype=np.uint8), (len(seg),)).copy()
+        return cls(vertices, colours, _index(tuple(p.k for p in polys)), seg, lc)
+
+    @property
+    def n_polyhedra(self) -> int:
+        return len(self.colours)
+
+    def bounds(self) -> tuple[np.ndarray, np.ndarray]:
+        pts = np.concatenate([self.vertices, self.lines.reshape(-1, 3)])
+        if len(pts) == 0:
+            return DEFAULT_BOUNDS
+        return pts.min(axis=0), pts.max(axis=0)
+
+    def face_normals(self) -> np.ndarray:
+        """(F, 3) outward unit normals of every face, Newell's method on all faces at once."""
+        idx = self.index
+        if len(idx.faces) == 0:
+            return np.zeros((0, 3))
+        pts = self.vertices[idx.faces]  # (F, m, 3)
+        nxt = np.roll(pts, -1, axis=1)
+        d = pts - nxt
+        s = pts + nxt
+        n = np.stack([
+            (d[..., 1] * s[..., 2]).sum(1),
+            (d[..., 2] * s[..., 0]).sum(1),
+            (d[..., 0] * s[..., 1]).sum(1),
+        ], axis=1)
+        n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-300)
+        # outward: the face's point must lie on the far side from its polyhedron's centre
+        counts = np.bincount(idx.vertex_item, minlength=self.n_polyhedra)[:, None]
+        centres = np.stack([np.bincount(idx.vertex_item, self.vertices[:, a], self.n_polyhedra) for a in range(3)], 1) / counts
+        outward = np.einsum("ij,ij->i", n, pts.mean(axis=1) - centres[idx.face_item])
+        n[outward < 0] *= -1
+        return n
+
+    def visible_faces(self, view: ViewTransform) -> np.ndarray:
+        """(F,) bool: front faces (transformed normal Z_s >= 0; edge-on faces count as front)."""
+        return self.face_normals() @ view.depth_axis() >= -1e-9
+
+    def segments(self, view: ViewTransform, back_faces: bool) -> tuple[np.ndarray, np.ndarray]:
+        """World segments to draw, (S, 2, 3), and the priority (item number + 1) of each.
+
+        Loose lines get priorities after the polyhedra."""
+        idx = self.index
+        if back_faces:
+            pairs, owner = idx.edges, idx.edge_item
+        else:
+            keep = self.visible_faces(view)[idx.face_edge_face]
+            pairs, owner = idx.face_edges[keep], idx.face_item[idx.face_edge_face[keep]]
+        segs = np.concatenate([self.vertices[pairs], self.lines]) if len(self.lines) else self.vertices[pairs]
+        prio = np.concatenate([owner + 1, self.n_polyhedra + 1 + np.arange(len(self.lines))])
+        return segs, prio
+
+    def palette_indices(self) -> np.ndarray:
+        """Colour index by priority (index 0 = empty)."""
+        return np.concatenate([[0], self.colours, self.line_colours]).astype(np.uint8)
+
+
+def frame_lines(origin: Sequence[float], rotation: np.ndarray | None = None, length: float = AXIS_LENGTH) -> np.ndarray:
+    """(3, 2, 3) segments of a coordinate frame (x, y, z axes), e.g. a part's frame in
+    MANIPULATION mode, to pass as Scene lines."""
+    o = np.asarray(origin, dtype=float)
+    r = np.eye(3) if rotation is None else np.asarray(rotation, dtype=float)
+    return np.stack([np.stack([o, o + length * r[:, i]]) for i in range(3)])
+
+
+# -- the frame ---------------------------------------------------------------------------
+@dataclass(frozen=True, eq=False)
+class Frame:
+    """A rasterized picture: ``chars`` (H, W) code points, ``colours`` (H, W) colour indices."""
+
+    chars: np.ndarray
+    colours: np.ndarray
+
+    @property
+    def width(self) -> int:
+        return int(self.chars.shape[1])
+
+    @property
+    def height(self) -> int:
+        return int(self.chars.shape[0])
+
+    def row_text(self, y: int) -> str:
+        return self.chars[y].astype("<u4").tobytes().decode("utf-32-le")
+
+    def lines(self) -> list[str]:
+        return [self.row_text(y) for y in range(self.height)]
+
+    def text(self) -> str:
+        return "\n".join(self.lines())
+
+    def changed_spans(self, previous: "Frame | None") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Rows that differ from ``previous`` and, per row, the changed span [x0, x1)."""
+        if previous is None or previous.chars.shape != self.chars.shape:
+            rows = np.arange(self.height)
+            return rows, np.zeros(self.height, dtype=int), np.full(self.height, self.width)
+        changed = (self.chars != previous.chars) | (self.colours != previous.colours)
+        rows = np.flatnonzero(changed.any(axis=1))
+        sub = changed[rows]
+        x0 = sub.argmax(axis=1)
+        x1 = self.width - sub[:, ::-1].argmax(axis=1)
+        return rows, x0, x1
+
+
+def empty_frame(width: int, height: int) -> Frame:
+    return Frame(np.full((height, width), 0x20, dtype=np.uint32), np.zeros((height, width), dtype=np.uint8))
+
+
+# -- ASCII fallback ----------------------------------------------------------------------
+def _ascii_table() -> np.ndarray:
+    """Braille pattern (0..255) -> the ASCII character closest to its dots' direction.
+
+    Built once (256 patterns): the principal axis of the lit dots picks - / | \\, a blob
+    gives + or #, a lone dot ' or .
+    """
+    table = np.full(256, ord(" "), dtype=np.uint32)
+    for code in range(1, 256):
+        rows, cols = np.nonzero(np.bitwise_and(code, BRAILLE_WEIGHTS))
+        n = len(rows)
+        if n == 1:
+            ch = "'" if rows[0] <= 1 else "."
+        elif n >= 6:
+            ch = "#"
+        else:
+            x, y = cols - cols.mean(), rows - rows.mean()  # dots are square: no rescaling
+            vx, vy, cxy = (x * x).mean(), (y * y).mean(), (x * y).mean()
+            spread = math.hypot(vx - vy, 2 * cxy)
+            major, minor = (vx + vy + spread) / 2, (vx + vy - spread) / 2
+            angle = math.degrees(0.5 * math.atan2(2 * cxy, vx - vy))  # y grows downwards
+            if minor > 0.5 * major:
+                ch = "+"
+            elif abs(angle) < 25:
+                ch = "_" if rows.min() == 3 else "-"
+            elif abs(angle) > 65:
+                ch = "|"
+            else:
+                ch = "\\" if angle > 0 else "/"
+        table[code] = ord(ch)
+    return table
+
+
+ASCII_TABLE = _ascii_table()
+
+
+# -- rasterizing -------------------------------------------------------------------------
+def _clip(a: np.ndarray, b: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Liang-Barsky on all segments at once against [0, hi]; returns clipped a, b and kept."""
+    d = b - a
+    t0 = np.zeros(len(a))
+    t1 = np.ones(len(a))
+    keep = np.ones(len(a), dtype=bool)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        for axis in (0, 1):
+            for p, q in ((-d[:, axis], a[:, axis]), (d[:, axis], hi[axis] - a[:, axis])):
+                parallel = p == 0
+                keep &= ~(parallel & (q < 0))
+                r = q / p
+                t0 = np.where(p < 0, np.maximum(t0, r), t0)
+                t1 = np.where(p > 0, np.minimum(t1, r), t1)
+    keep &= t0 <= t1
+    return a + t0[:, None] * d, a + t1[:, None] * d, keep
+
+
+def rasterize(
+    scene: Scene,
+    view: ViewTransform,
+    width_cells: int,
+    height_cells: int,
+    back_faces: bool = True,
+    axes: bool = False,
+    ascii: bool = False,
+    dot_aspect: float = 1.0,
+) -> Frame:
+    """Draw ``scene`` into a ``width_cells`` x ``height_cells`` frame.
+
+    ``dot_aspect`` is a braille dot's height over its width (1.0 for the usual 1:2 cell);
+    the same dot grid backs the ASCII fallback so both keep the same proportions.
+    """
+    w, h = max(int(width_cells), 0), max(int(height_cells), 0)
+    if w == 0 or h == 0:
+        return empty_frame(w, h)
+    wd, hd = 2 * w, 4 * h
+    segs, prio = scene.segments(view, back_faces)
+    if axes:
+        segs = np.concatenate([segs, frame_lines((0.0, 0.0, 0.0))])
+        prio = np.concatenate([prio, np.full(3, scene.n_polyhedra + len(scene.lines) + 1)])
+    palette = np.concatenate([scene.palette_indices(), [AXES_COLOUR]]).astype(np.uint8)
+
+    # world -> view mm -> continuous dot coordinates, every endpoint in one product
+    a_mat, b_vec = view.affine()
+    half = view.half_extent
+    assert half is not None
+    ppm = min(wd / (2 * half[0]), hd * dot_aspect / (2 * half[1]))
+    to_dots = np.array([[ppm, 0.0], [0.0, -ppm / dot_aspect]])
+    centre = np.array([wd / 2, hd / 2])
+    flat = segs.reshape(-1, 3) @ a_mat[:2].T + b_vec[:2]
+    pts = (flat @ to_dots.T + centre).reshape(-1, 2, 2)
+
+    dots = np.zeros(hd * wd, dtype=np.uint8)  # 1 = lit
+    owner_cell = np.zeros(h * w, dtype=np.uint16)  # priority of the cell's colour, 0 = dark
+    if len(pts):
+        a, b, keep = _clip(pts[:, 0], pts[:, 1], np.array([wd - 1e-6, hd - 1e-6]))
+        a, b, p = a[keep], b[keep], prio[keep]
+        d = b - a
+        # samples per edge from its length in dots: consecutive samples <= 1 dot apart
+        n = np.ceil(np.abs(d).max(axis=1)).astype(np.intp) + 1
+        total = int(n.sum())
+        if total:
+            owner = np.repeat(np.arange(len(n)), n)
+            starts = np.cumsum(n) - n
+            t = (np.arange(total) - starts[owner]) / np.maximum(n - 1, 1)[owner]
+            xy = a[owner] + t[:, None] * d[owner]
+            x = np.clip(xy[:, 0].astype(np.intp), 0, wd - 1)
+            y = np.clip(xy[:, 1].astype(np.intp), 0, hd - 1)
+            dots[y * wd + x] = 1
+            # samples come in priority order, so the later (higher) item's colour wins a cell
+            owner_cell[(y >> 2) * w + (x >> 1)] = p[owner]
+    g = dots.reshape(h, 4, w, 2)
+    codes = (g[:, 0, :, 0] | g[:, 1, :, 0] << 1 | g[:, 2, :, 0] << 2 | g[:, 0, :, 1] << 3
+             | g[:, 1, :, 1] << 4 | g[:, 2, :, 1] << 5 | g[:, 3, :, 0] << 6 | g[:, 3, :, 1] << 7)
+    colours = palette[owner_cell.reshape(h, w)]
+    if ascii:
+        chars = ASCII_TABLE[codes]
+    else:
+        chars = np.where(codes > 0, BRAILLE_BASE + codes.astype(np.uint32), np.uint32(0x20)).astype(np.uint32)
+
+    if axes:
+        _label_axes(chars, colours, a_mat, b_vec, to_dots, centre)
+    return Frame(chars, colours)
+
+
+def _label_axes(chars: np.ndarray, colours: np.ndarray, a_mat: np.ndarray, b_vec: np.ndarray,
+                to_dots: np.ndarray, centre: np.ndarray) -> None:
+    """Write X, Y, Z just beyond the tips of the drawn WCS axes."""
+    h, w = chars.shape
+    ends = np.array([[0.0, 0, 0], *(np.eye(3) * AXIS_LENGTH * 1.15)])
+    dots = (ends @ a_mat[:2].T + b_vec[:2]) @ to_dots.T + centre
+    origin_cell = dots[0] / [2, 4]
+    for i, name in enumerate("XYZ"):
+        cell = dots[i + 1] / [2, 4]
+        if np.abs(cell - origin_cell).max() < 1.0:
+            cell = origin_cell + [1.0, 1.0]  # axis points at the viewer: label beside the origin
+        col, row = int(math.floor(cell[0])), int(math.floor(cell[1]))
+        if 0 <= row < h and 0 <= col < w:
+            chars[row, col] = ord(name)
+            colours[row, col] = AXES_COLOUR

@@ -1,0 +1,45 @@
+"""The one place that finds bundled data: everything under ``valterm/data`` in the package.
+
+The robot model, COMMAND.DAT, HELPER.DAT, DEMO.KEYS, the bundled cells and programs all
+ship inside the package (see ``[tool.setuptools.package-data]``), so an installed wheel
+finds them wherever it is run from. Nothing here is read at import time.
+"""
+
+from __future__ import annotations
+
+from importlib.resources import files
+from importlib.resources.abc import Traversable
+from pathlib import Path
+
+PACKAGE = "valterm"
+DATA = "data"
+
+# The bundled folders a new workspace is filled from (SPEC §5.1).
+CELLS = "cells"
+PROGRAMS = "programs"
+
+
+def data_root() -> Traversable:
+    """The package's data folder."""
+    return files(PACKAGE) / DATA
+
+
+def data_path(*parts: str) -> Path:
+    """A bundled file or folder as a file-system path.
+
+    pip, pipx and uv unpack wheels onto disk, so the resource is a real path; a zipped
+    import (which none of them makes) would fail here loudly rather than half-work.
+    """
+    found = data_root().joinpath(*parts)
+    return Path(str(found))
+
+
+def read_text(*parts: str) -> str:
+    """The text of a bundled file (UTF-8)."""
+    return data_root().joinpath(*parts).read_text(encoding="utf-8")
+
+
+def bundled_files(folder: str) -> list[Path]:
+    """The files of a bundled folder (``cells`` or ``programs``), sorted by name."""
+    root = data_path(folder)
+    return sorted(p for p in root.iterdir() if p.is_file())

@@ -1,0 +1,96 @@
+"""The drawn PUMA model: the link polyhedra of valterm/data/robot/PUMA.SET placed at a joint vector.
+
+Placing the whole model is one vectorised call: every vertex of every link is transformed
+by its link frame at once (einsum), then split back into polyhedra.
+"""
+
+from __future__ import annotations
+
+import tomllib
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Sequence
+
+import numpy as np
+
+from valterm.core.cell.polyhedron import Polyhedron
+from valterm.core import resources
+from valterm.core.kinematics import ROBOT_FILE, RobotGeometry, link_frames_batch, robot_geometry
+
+
+@dataclass(frozen=True)
+class RobotModel:
+    """The drawn robot: link shapes in their own frames, and the clamp's gaps."""
+
+    geometry: RobotGeometry
+    names: tuple[str, ...]
+    frames: np.ndarray         # (links,) frame index of each link polyhedron
+    local: tuple[np.ndarray, ...]  # per link, (2k, 3) vertices in its frame (fingers closed)
+    finger_side: np.ndarray    # (links,) -1/+1 for a finger, 0 otherwise
+    closed_gap: float
+    open_gap: float
+
+    @property
+    def count(self) -> int:
+        return len(self.names)
+
+    def _stacked(self, gap: float) -> tuple[np.ndarray, np.ndarray]:
+        verts = []
+        for shape, side in zip(self.local, self.finger_side):
+            if side:
+                # each finger slides along the clamp's Y (its o axis) by half the extra gap
+                shape = shape + np.array([0.0, side * (gap - self.closed_gap) / 2.0, 0.0])
+            verts.append(shape)
+        owners = np.repeat(self.frames, [len(v) for v in verts])
+        return np.concatenate(verts), owners
+
+    def place(self, joints: Sequence[float], gap: float | None = None, base: np.ndarray | None = None) -> list[Polyhedron]:
+        """The link polyhedra in world millimetres at JT1..JT6 (degrees) with the clamp gap."""
+        gap = self.open_gap if gap is None else gap
+        frames = link_frames_batch(np.asarray(joints, dtype=float), self.geometry)[0]
+        if base is not None:
+            frames = base @ frames
+        verts, owners = self._stacked(gap)
+        world = np.einsum("vij,vj->vi", frames[owners, :3, :3], verts) + frames[owners, :3, 3]
+        split = np.cumsum([len(v) for v in self.local])[:-1]
+        return [Polyhedron(v, name) for v, name in zip(np.split(world, split), self.names)]
+
+    def clamp_frame(self, joints: Sequence[float], base: np.ndarray | None = None) -> np.ndarray:
+        """The 4x4 clamp frame (R6, origin at the wrist centre) in world coordinates."""
+        frame = link_frames_batch(np.asarray(joints, dtype=float), self.geometry)[0, 6]
+        return frame if base is None else base @ frame
+
+    def led_segment(self, joints: Sequence[float], gap: float | None = None,
+                    base: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """The LED sensor: a segment across the finger gap, 25.4 mm beyond the TCS origin (§2.5)."""
+        gap = self.open_gap if gap is None else gap
+        frame = self.clamp_frame(joints, base)
+        along = self.geometry.d6 + self.geometry.led_sensor
+        half = gap / 2.0
+        ends = np.array([[0.0, -half, along, 1.0], [0.0, half, along, 1.0]]) @ frame.T
+        return ends[0, :3], ends[1, :3]
+
+
+def load_model(path: Path | None = None, geometry: RobotGeometry | None = None) -> RobotModel:
+    """Read the robot model file and its setup-form geometry."""
+    geometry = geometry or robot_geometry()
+    from valterm.core.files.setup import read_setup  # the same reader as any setup file
+
+    path = path or resources.data_path(*ROBOT_FILE)
+
+    data = tomllib.loads(path.read_text())["model"]
+    cell = read_setup(path.parent / data["geometry"])
+    names = tuple(data["names"])
+    frames = np.asarray(data["frames"], dtype=int)
+    sides = np.asarray(data["finger_side"], dtype=int)
+    if not (len(names) == len(frames) == len(sides) == len(cell.objects)):
+        raise ValueError(f"{path}: names, frames and finger_side need one entry per object of {data['geometry']}")
+    return RobotModel(
+        geometry=geometry,
+        names=names,
+        frames=frames,
+        local=tuple(p.vertices for p in cell.objects),
+        finger_side=sides,
+        closed_gap=float(data["closed_gap"]),
+        open_gap=float(data["open_gap"]),
+    )

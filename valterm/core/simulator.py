@@ -1,0 +1,346 @@
+"""The simulated robot and its cell: state plus actions that yield events.
+
+Every action that moves anything is a generator of ``valterm.core.events`` objects (each pose of
+a motion, each grasp, release and collision message). A refused motion raises
+``MotionRefused`` before yielding any pose, so nothing moves. The interpreter, the app and
+the tests all drive this one class.
+
+Frames: locations, WHERE and the cell are world coordinates (WCS). ``BASE`` moves the
+robot's base frame relative to the cell; the kinematics work in the robot's own frame.
+"""
+
+from __future__ import annotations
+
+import math
+from functools import lru_cache
+from typing import Iterator, Sequence
+
+import numpy as np
+
+from valterm.core.errors import ValtermError
+from valterm.core.cell.polyhedron import Polyhedron
+from valterm.core.cell.workcell import WorkCell
+from valterm.core.events import Collision, Event, Grasp, Hand, Message, Motion, PoseEvent, Release, Where
+from valterm.core.kinematics import Config, Location, fk, indicators, rotation_to_oat, wrap180
+from valterm.core.motion import (
+    PENDANT_INCREMENT,
+    PENDANT_STEP,
+    MotionRefused,
+    approach_point,
+    check_joint_goal,
+    clamp_speed,
+    joint_goal,
+    joint_increment,
+    joint_path,
+    pendant_straight,
+    straight_increment,
+    straight_path,
+)
+from valterm.core.robot import RobotModel, load_model
+
+GRASP_MESSAGE = "IT IS POSSIBLE TO GRASP THIS PART"
+INDICATOR_WORDS = ("RIGHTY", "LEFTY", "ABOVE", "BELOW", "NOFLIP", "FLIP")
+
+
+@lru_cache(maxsize=1)
+def default_model() -> RobotModel:
+    return load_model()
+
+
+class UndefinedLocation(ValtermError, KeyError):
+    def __init__(self, name: str) -> None:
+        super().__init__(name)
+        self.name = name
+
+    def __str__(self) -> str:
+        return f"location {self.name} is not defined"
+
+
+class Simulator:
+    """The robot, its clamp and the work cell, with the VAL-II state that goes with them."""
+
+    def __init__(self, cell: WorkCell | None = None, model: RobotModel | None = None) -> None:
+        self.model = model or default_model()
+        self.geometry = self.model.geometry
+        self.cell = cell if cell is not None else WorkCell()
+        self.joints: list[float] = list(self.geometry.ready)
+        self.config = Config(1, 1, 1)  # the user's indicators: RIGHTY ABOVE NOFLIP
+        self.speed = 100.0
+        self.clamp_closed = False
+        self.gap = self.model.open_gap
+        self.carried: int | None = None
+        self._carried_local: np.ndarray | None = None
+        self.locations: dict[str, Location] = {}
+        self.base = np.eye(4)
+        self.base_offsets = (0.0, 0.0, 0.0, 0.0)
+        self.collision_checks = False
+        self.stop_on_collision = False
+        self.pendant_increment = PENDANT_INCREMENT  # signed: N flips it
+        self._findings: set[tuple[str, str, str]] = set()
+        self._checker = None
+
+    # -- readouts ------------------------------------------------------------
+    def robot_polyhedra(self) -> list[Polyhedron]:
+        return self.model.place(self.joints, self.gap, self.base)
+
+    def tool_pose(self, point: int = 1) -> tuple[np.ndarray, np.ndarray]:
+        """World position of option 1/2/3 and the tool rotation."""
+        pose = fk(self.joints, point, self.geometry)
+        return self.base[:3, :3] @ pose.xyz + self.base[:3, 3], self.base[:3, :3] @ pose.rotation
+
+    def where(self, point: int = 1) -> Where:
+        xyz, rotation = self.tool_pose(point)
+        return Where(
+            xyz=tuple(round(float(v), 6) for v in xyz),
+            oat=tuple(round(v, 6) for v in rotation_to_oat(rotation)),
+            joints=tuple(round(wrap180(j), 6) for j in self.joints),
+            config=indicators(self.joints, self.geometry).as_dict(),
+            clamp="CLOSED" if self.clamp_closed else "OPENED",
+        )
+
+    def here_location(self) -> Location:
+        xyz, rotation = self.tool_pose()
+        return Location(tuple(float(v) for v in xyz), rotation_to_oat(rotation))
+
+    # -- settings ------------------------------------------------------------
+    def set_speed(self, percent: float) -> float:
+        self.speed = clamp_speed(percent)
+        return self.speed
+
+    def set_indicator(self, word: str) -> None:
+        """LEFTY, RIGHTY, ABOVE, BELOW, FLIP or NOFLIP (any unique prefix)."""
+        arm, elbow, wrist = self.config
+        parsed = Config.parse(word)
+        kind = _indicator_kind(word)
+        self.config = Config(
+            parsed.arm if kind == "arm" else arm,
+            parsed.elbow if kind == "elbow" else elbow,
+            parsed.wrist if kind == "wrist" else wrist,
+        )
+
+    def set_base(self, dx: float | None = None, dy: float | None = None, dz: float | None = None,
+                 rz: float | None = None) -> Iterator[Event]:
+        """BASE dx,dy,dz,rz: the robot's base frame relative to the cell (omitted = 0)."""
+        values = tuple(0.0 if v is None else float(v) for v in (dx, dy, dz, rz))
+        self.base_offsets = values
+        c, s = math.cos(math.radians(values[3])), math.sin(math.radians(values[3]))
+        base = np.eye(4)
+        base[:3, :3] = [[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]]
+        base[:3, 3] = values[:3]
+        self.base = base
+        yield PoseEvent(tuple(self.joints), 1, 1)
+
+    # -- locations -----------------------------------------------------------
+    def location(self, name: str) -> Location:
+        try:
+            return self.locations[name.upper()]
+        except KeyError:
+            raise UndefinedLocation(name.upper()) from None
+
+    def here(self, name: str) -> Location:
+        location = self.here_location()
+        self.locations[name.upper()] = location
+        return location
+
+    def set_location(self, name: str, source: str) -> Location:
+        location = self.location(source)
+        self.locations[name.upper()] = location
+        return location
+
+    def shift(self, name: str, dx: float, dy: float, dz: float) -> Location:
+        location = self.location(name)
+        x, y, z = location.xyz
+        shifted = Location((x + dx, y + dy, z + dz), location.oat)
+        self.locations[name.upper()] = shifted
+        return shifted
+
+    def _resolve(self, target: str | Location) -> tuple[np.ndarray, np.ndarray]:
+        """A location in the robot's own frame (undoing BASE)."""
+        location = self.location(target) if isinstance(target, str) else target
+        inv = self.base[:3, :3].T
+        xyz = inv @ (np.asarray(location.xyz, dtype=float) - self.base[:3, 3])
+        return xyz, inv @ location.rotation
+
+    # -- motions ---------------------------------------------------------------
+    def move(self, target: str | Location, straight: bool = False) -> Iterator[Event]:
+        xyz, rotation = self._resolve(target)
+        yield from self._go(xyz, rotation, straight)
+
+    def appro(self, target: str | Location, distance: float, straight: bool = False) -> Iterator[Event]:
+        xyz, rotation = self._resolve(target)
+        yield from self._go(approach_point(xyz, rotation, distance), rotation, straight)
+
+    def depart(self, distance: float, straight: bool = False) -> Iterator[Event]:
+        here = fk(self.joints, 1, self.geometry)
+        yield from self._go(approach_point(here.xyz, here.rotation, distance), here.rotation, straight)
+
+    def draw(self, dx: float, dy: float, dz: float) -> Iterator[Event]:
+        here = fk(self.joints, 1, self.geometry)
+        offset = self.base[:3, :3].T @ np.array([dx, dy, dz], dtype=float)
+        yield from self._go(here.xyz + offset, here.rotation, True)
+
+    def drive(self, joint: int, degrees: float, speed: float = 100.0) -> Iterator[Event]:
+        if not 1 <= joint <= 6:
+            raise MotionRefused(f"there is no joint {joint}", 0)
+        goal = list(self.joints)
+        goal[joint - 1] += degrees
+        check_joint_goal(goal, self.geometry)
+        increment = joint_increment(self.speed * clamp_speed(speed) / 100.0)
+        yield from self._play(joint_path(self.joints, goal, increment), "joint")
+
+    def ready(self) -> Iterator[Event]:
+        yield from self._play(joint_path(self.joints, self.geometry.ready, joint_increment(self.speed)), "joint")
+
+    def align(self) -> Iterator[Event]:
+        """Turn the tool so its Z axis lies along the nearest world axis (joint-coordinated)."""
+        here = fk(self.joints, 1, self.geometry)
+        a = here.rotation[:, 2]
+        axis = np.zeros(3)
+        i = int(np.argmax(np.abs(a)))
+        axis[i] = math.copysign(1.0, a[i])
+        o = here.rotation[:, 1] - np.dot(here.rotation[:, 1], axis) * axis
+        if np.linalg.norm(o) < 1e-9:
+            o = np.roll(axis, 1)
+        o /= np.linalg.norm(o)
+        rotation = np.column_stack([np.cross(o, axis), o, axis])
+        yield from self._go(here.xyz, rotation, False)
+
+    def _go(self, xyz: np.ndarray, rotation: np.ndarray, straight: bool) -> Iterator[Event]:
+        if straight:
+            path = straight_path(self.joints, xyz, rotation, self.config, straight_increment(self.speed), self.geometry)
+            yield from self._play(path, "straight")
+        else:
+            goal = joint_goal(xyz, rotation, self.config, self.joints, self.geometry)
+            yield from self._play(joint_path(self.joints, goal, joint_increment(self.speed)), "joint")
+
+    def _play(self, path: np.ndarray, kind: str) -> Iterator[Event]:
+        """Show every pose of a computed path; the path was checked before the first pose."""
+        steps = len(path)
+        for index, pose in enumerate(path, start=1):
+            self.joints = [float(v) for v in pose]
+            self._follow_clamp()
+            yield PoseEvent(tuple(self.joints), index, steps)
+            if self.collision_checks:
+                for finding in self.check_collisions():
+                    yield finding
+                    if self.stop_on_collision and isinstance(finding, Collision):
+                        # the robot stops where the collision was found (off by default, as in 1985)
+                        raise MotionRefused(f"stopped on collision: {finding.text}", 0, index)
+        yield Motion(kind, steps, tuple(round(wrap180(j), 6) for j in self.joints))
+
+    # -- pendant (Chapter 3) ---------------------------------------------------
+    def pendant_joint(self, joint: int) -> Iterator[Event]:
+        goal = list(self.joints)
+        goal[joint - 1] += self.pendant_increment
+        check_joint_goal(goal, self.geometry)
+        yield from self._play(np.array([goal]), "joint")
+
+    def pendant_world(self, axis: int) -> Iterator[Event]:
+        step = PENDANT_STEP * self.pendant_increment / PENDANT_INCREMENT
+        displacement = self.base[:3, :3].T @ np.eye(3)[axis] * step
+        yield from self._play(pendant_straight(self.joints, displacement, self.pendant_increment, self.geometry), "straight")
+
+    def pendant_tool(self, axis: int) -> Iterator[Event]:
+        step = PENDANT_STEP * self.pendant_increment / PENDANT_INCREMENT
+        displacement = fk(self.joints, 1, self.geometry).rotation[:, axis] * step
+        yield from self._play(pendant_straight(self.joints, displacement, self.pendant_increment, self.geometry), "straight")
+
+    def change_pendant_increment(self, key: str) -> float:
+        """I doubles, D halves, N flips the sign of the pendant increment."""
+        if key == "I":
+            self.pendant_increment *= 2.0
+        elif key == "D":
+            self.pendant_increment /= 2.0
+        elif key == "N":
+            self.pendant_increment = -self.pendant_increment
+        return self.pendant_increment
+
+    # -- the hand (§6.3, §2.5) --------------------------------------------------
+    def led_part(self) -> int | None:
+        """The lowest-numbered part the LED sensor segment intersects (not the carried one)."""
+        from valterm.core.collision.grasp import led_hits
+
+        p0, p1 = self.model.led_segment(self.joints, self.gap, self.base)
+        numbers = [n for n in range(1, len(self.cell.objects) + 1) if n != self.carried]
+        hit = led_hits(p0, p1, [self.cell.objects[n - 1] for n in numbers])
+        return None if hit is None else numbers[hit - 1]
+
+    def grasp_possible(self) -> bool:
+        return not self.clamp_closed and self.led_part() is not None
+
+    def close(self, immediate: bool = False) -> Iterator[Event]:
+        """CLOSE/CLOSEI: latch the lowest-numbered part across the LED; nothing when already closed."""
+        if self.clamp_closed:
+            return
+        part = self.led_part()
+        self.clamp_closed = True
+        self.gap = self.model.closed_gap
+        if part is not None:
+            frame = self.model.clamp_frame(self.joints, self.base)
+            local = (self.cell.objects[part - 1].vertices - frame[:3, 3]) @ frame[:3, :3]
+            # the fingers stop on the part: its width across the gap
+            self.gap = max(self.model.closed_gap, min(self.model.open_gap, float(np.ptp(local[:, 1]))))
+            self.carried = part
+            self._carried_local = local
+            yield Message(GRASP_MESSAGE)
+            yield Grasp(part)
+        yield Hand(closed=True, gap=self.gap)
+
+    def open(self, immediate: bool = False) -> Iterator[Event]:
+        """OPEN/OPENI: release a carried part where it is."""
+        self.clamp_closed = False
+        self.gap = self.model.open_gap
+        if self.carried is not None:
+            part = self.carried
+            self.carried = None
+            self._carried_local = None
+            corner = self.cell.objects[part - 1].reference
+            yield Release(part, tuple(round(float(v), 6) for v in corner))
+        yield Hand(closed=False, gap=self.gap)
+
+    def _follow_clamp(self) -> None:
+        if self.carried is None or self._carried_local is None:
+            return
+        frame = self.model.clamp_frame(self.joints, self.base)
+        part = self.cell.objects[self.carried - 1]
+        part.vertices = self._carried_local @ frame[:3, :3].T + frame[:3, 3]
+
+    # -- the work cell -----------------------------------------------------------
+    def move_part(self, number: int, translation: Sequence[float] = (0.0, 0.0, 0.0),
+                  axis: int | None = None, degrees: float = 0.0) -> Polyhedron:
+        """Manipulation mode: translate a part, or turn it about its centre on a world axis."""
+        part = self.cell.object(number)
+        vertices = part.vertices + np.asarray(translation, dtype=float)
+        if axis is not None and degrees:
+            centre = vertices.mean(axis=0)
+            c, s = math.cos(math.radians(degrees)), math.sin(math.radians(degrees))
+            u, v = [(1, 2), (2, 0), (0, 1)][axis]
+            turn = np.eye(3)
+            turn[u, u], turn[u, v], turn[v, u], turn[v, v] = c, -s, s, c
+            vertices = (vertices - centre) @ turn.T + centre
+        part.vertices = vertices
+        return part
+
+    def check_collisions(self) -> Iterator[Event]:
+        """The thesis's coarse and fine checks at this pose; each finding is said as it starts."""
+        if self._checker is None:
+            from valterm.core.collision.world import CollisionWorld
+
+            self._checker = CollisionWorld(self.model.names)
+        findings = self._checker.check(
+            self.robot_polyhedra(), self.cell.objects,
+            carried=() if self.carried is None else (self.carried,), speed=self.speed,
+        )
+        now = {(f.kind, f.a, f.b) for f in findings}
+        for finding in findings:
+            if (finding.kind, finding.a, finding.b) not in self._findings:
+                yield finding.event()
+        self._findings = now
+
+
+def _indicator_kind(word: str) -> str:
+    word = word.strip().upper()
+    matches = [w for w in INDICATOR_WORDS if w.startswith(word)]
+    if len(matches) != 1:
+        raise ValueError(f"{word!r} is not a configuration indicator")
+    return {"RIGHTY": "arm", "LEFTY": "arm", "ABOVE": "elbow", "BELOW": "elbow"}.get(matches[0], "wrist")

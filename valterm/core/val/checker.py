@@ -1,0 +1,60 @@
+"""The syntax checker: every bad step of a program with its program, step and reason
+(`CONV1 step 7: ...`), the structure errors pass 1 finds (IF without END, UNTIL without
+DO, ...), and warnings for GOTOs to missing labels and CALLs to missing programs.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Callable
+
+from valterm.core.files.programs import Program, split_label
+from valterm.core.val.commands import CommandTable, default_commands
+from valterm.core.val.compiler import Diagnosed, Diagnostic, analyse
+from valterm.core.val.parser import ValSyntaxError, parse_statement
+
+
+@dataclass
+class CheckReport(Diagnosed):
+    program: str
+    steps: int
+    diagnostics: list[Diagnostic] = field(default_factory=list)
+
+
+    @property
+    def ok(self) -> bool:
+        return not self.diagnostics
+
+    def summary(self) -> str:
+        if self.ok:
+            return f"{self.program}: {self.steps} steps, no errors"
+        return (f"{self.program}: {self.steps} steps, {len(self.errors)} error(s), "
+                f"{len(self.warnings)} warning(s)")
+
+
+def check_program(program: Program, table: CommandTable | None = None,
+                  program_exists: Callable[[str], bool] | None = None) -> CheckReport:
+    """Check a whole program.  `program_exists(name)` lets CALLs to missing programs be warned about."""
+    analysis = analyse(program, table or default_commands())
+    diagnostics = list(analysis.diagnostics)
+    if program_exists is not None:
+        for index, called in analysis.calls:
+            if called != program.name and not program_exists(called):
+                step = program.steps[index]
+                diagnostics.append(Diagnostic(program.name, index + 1,
+                                              f"CALL {called}: there is no program {called}.DAT",
+                                              "warning", step.line))
+        diagnostics.sort(key=lambda d: (d.step, not d.is_error))
+    return CheckReport(program.name, len(program.steps), diagnostics)
+
+
+def check_statement(text: str, table: CommandTable | None = None) -> str | None:
+    """One program step as typed in the editor (label columns allowed): None if good, else why."""
+    try:
+        _label, statement = split_label(text.expandtabs())
+        parsed = parse_statement(statement, table or default_commands())
+    except (ValSyntaxError, ValueError) as error:
+        return str(error)
+    if parsed.spec is not None and not parsed.spec.in_program:
+        return f"{parsed.command} is a monitor command: type it at the VAL-II prompt, not in a program"
+    return None

@@ -1,0 +1,181 @@
+"""Pass 1 of the two-pass interpreter (App. C section 3): decode every step once, record
+the step labels, match IF/ELSE/END, WHILE/DO/END and DO/UNTIL.
+
+"In the first pass, the simulator makes a record of the step label, variable names, and
+examines the logical condition. In the second pass, it finds the specified step and
+transfers the control to that step."  The syntax checker reports what this finds; the
+interpreter builds its executable form from it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from valterm.core.files.programs import Program
+from valterm.core.val.commands import CommandTable, default_commands
+from valterm.core.val.parser import Statement, ValSyntaxError, parse_statement, strip_comment
+
+# Commands that transfer control to a label (GRASP and IF ... GOTO too).
+_LABEL_USERS = ("GOTO", "GRASP", "IF")
+
+
+@dataclass(frozen=True)
+class Diagnostic:
+    """One thing wrong with a program: where (program, step, file line) and why."""
+
+    program: str
+    step: int
+    message: str
+    severity: str = "error"  # error | warning
+    line: int = 0
+
+    @property
+    def is_error(self) -> bool:
+        return self.severity == "error"
+
+    def __str__(self) -> str:
+        prefix = "warning: " if self.severity == "warning" else ""
+        return f"{self.program} step {self.step}: {prefix}{self.message}"
+
+
+class Diagnosed:
+    """Something holding ``diagnostics``: its errors and its warnings."""
+
+    diagnostics: list[Diagnostic]
+
+    @property
+    def errors(self) -> list[Diagnostic]:
+        return [d for d in self.diagnostics if d.is_error]
+
+    @property
+    def warnings(self) -> list[Diagnostic]:
+        return [d for d in self.diagnostics if not d.is_error]
+
+
+@dataclass
+class Analysis(Diagnosed):
+    """What pass 1 knows about a program.  Step indexes are 0-based; step numbers 1-based."""
+
+    program: Program
+    statements: list[Statement | None]  # None: the step does not decode (see syntax)
+    syntax: dict[int, str] = field(default_factory=dict)  # step index -> reason
+    labels: dict[int, int] = field(default_factory=dict)  # label -> step index
+    partner: dict[int, int] = field(default_factory=dict)  # IF->END, WHILE->END, END->WHILE, UNTIL->DO
+    else_of: dict[int, int] = field(default_factory=dict)  # IF -> its ELSE
+    calls: list[tuple[int, str]] = field(default_factory=list)  # (step index, program called)
+    diagnostics: list[Diagnostic] = field(default_factory=list)
+    fatal: list[Diagnostic] = field(default_factory=list)  # structure errors: the program cannot run
+
+    @property
+    def name(self) -> str:
+        return self.program.name
+
+    @property
+    def structure_ok(self) -> bool:
+        """No error that stops the program from running (unmatched structures, duplicate labels)."""
+        return not self.fatal
+
+
+
+def analyse(program: Program, table: CommandTable | None = None) -> Analysis:
+    """Pass 1 over a program: every bad step, every structure error, GOTOs to missing labels."""
+    table = table or default_commands()
+    name = program.name
+    result = Analysis(program, [])
+    diagnostics = result.diagnostics
+
+    def report(index: int, message: str, severity: str = "error", fatal: bool = True) -> None:
+        line = program.steps[index].line if 0 <= index < len(program.steps) else 0
+        diagnostic = Diagnostic(name, index + 1, message, severity, line)
+        diagnostics.append(diagnostic)
+        if fatal and severity == "error":
+            result.fatal.append(diagnostic)
+
+    stack: list[tuple[str, int]] = []  # open structures: (IF | ELSE | WHILE | DO, step index)
+    for index, step in enumerate(program.steps):
+        if step.label is not None:
+            if step.label in result.labels:
+                report(index, f"step label {step.label} is already used at step {result.labels[step.label] + 1}")
+            else:
+                result.labels[step.label] = index
+        try:
+            statement = parse_statement(step.text, table)
+        except ValSyntaxError as error:
+            result.statements.append(None)
+            result.syntax[index] = str(error)
+            report(index, str(error), fatal=False)
+            continue
+        result.statements.append(statement)
+        command = statement.command
+        if statement.spec is not None and not statement.spec.in_program:
+            reason = f"{command} is a monitor command: type it at the VAL-II prompt, not in a program"
+            result.statements[index] = None
+            result.syntax[index] = reason
+            report(index, reason, fatal=False)
+            continue
+        if command == "CALL":
+            result.calls.append((index, statement.args[0]))
+        elif command == "IF" and "THEN" in statement.keywords:
+            stack.append(("IF", index))
+        elif command == "WHILE":
+            stack.append(("WHILE", index))
+        elif command == "DO":
+            stack.append(("DO", index))
+        elif command == "ELSE":
+            if stack and stack[-1][0] == "IF":
+                opener = stack.pop()[1]
+                result.else_of[opener] = index
+                stack.append(("ELSE", opener))
+            elif stack and stack[-1][0] == "ELSE":
+                report(index, f"second ELSE for the IF at step {stack[-1][1] + 1}")
+            else:
+                report(index, "ELSE without IF")
+        elif command in ("END", "ENDIF"):
+            if not stack or stack[-1][0] == "DO":
+                where = f" (the DO at step {stack[-1][1] + 1} needs UNTIL first)" if stack else ""
+                report(index, f"{command} without IF or WHILE{where}")
+            else:
+                kind, opener = stack.pop()
+                if kind == "WHILE" and command == "ENDIF":
+                    report(index, f"ENDIF closes the WHILE at step {opener + 1}: use END")
+                result.partner[opener] = index
+                result.partner[index] = opener
+        elif command == "UNTIL":
+            if stack and stack[-1][0] == "DO":
+                opener = stack.pop()[1]
+                result.partner[index] = opener
+                result.partner[opener] = index
+            else:
+                where = f" (the {stack[-1][0]} at step {stack[-1][1] + 1} needs END first)" if stack else ""
+                report(index, f"UNTIL without DO{where}")
+    for kind, opener in stack:
+        closing = "UNTIL" if kind == "DO" else "END"
+        what = "IF" if kind == "ELSE" else kind
+        report(opener, f"{what} without {closing}")
+
+    for index, statement in enumerate(result.statements):
+        if statement is None or statement.command not in _LABEL_USERS:
+            continue
+        label = _jump_label(statement)
+        if label is not None and label not in result.labels:
+            report(index, f"{statement.command} {label}: no step has label {label} "
+                          "(at run time: an error message, then the next step)", "warning")
+    diagnostics.sort(key=lambda d: (d.step, not d.is_error))
+    return result
+
+
+def _jump_label(statement: Statement) -> int | None:
+    if statement.command == "GOTO":
+        return statement.args[0]
+    if statement.command == "GRASP" and len(statement.args) > 1:
+        return statement.args[1]
+    if statement.command == "IF" and "GOTO" in statement.keywords:
+        return statement.args[1]
+    return None
+
+
+def step_text(program: Program, index: int) -> str:
+    """A step as it scrolls on the screen: its label, then the statement without comment."""
+    step = program.steps[index]
+    statement = strip_comment(step.text)
+    return f"{step.label} {statement}" if step.label is not None else statement
