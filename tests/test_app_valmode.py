@@ -44,7 +44,7 @@ def test_editor_then_define_execute_abort_and_rerun(tmp_path: Path) -> None:
             await pilot.pause()
             await typed(pilot, "EDIT PICK")
             await pilot.press("c")
-            for line in (" READY", " TYPE GOING TO A", " MOVE A", " CLOSEI 50", " MOVE B", " STOP"):
+            for line in (" READY", " LEFTY", " TYPE GOING TO A", " MOVE A", " CLOSEI 50", " MOVE B", " STOP"):
                 await typed(pilot, line)
             await pilot.press("s", "e")
             await pilot.pause()
@@ -81,7 +81,7 @@ def test_editor_then_define_execute_abort_and_rerun(tmp_path: Path) -> None:
             await typed(pilot, "EXEC PICK,1")
             text = "\n".join(screen.transcript)
             assert "GOING TO A" in text and "IT IS POSSIBLE TO GRASP THIS PART" in text
-            assert "   3. MOVE A" in screen.transcript
+            assert "   4. MOVE A" in screen.transcript
             assert screen.simulator.carried is not None
 
             # now paced by a clock the test holds: CTRL-C stops after the current step

@@ -114,16 +114,25 @@ def test_stop_on_collision_stops_the_motion_where_it_collides() -> None:
     assert sim.where().xyz[2] > -295.0
 
 
-def test_conv1_calls_conv2_and_types_col_and_row(tmp_path: Path) -> None:
+def test_conv1_calls_conv2_and_its_wrist_reaches_the_stop(tmp_path: Path) -> None:
+    """CONV1 types COL and ROW, calls CONV2, and there the real PUMA's wrist would hit its stop.
+
+    CONV1's MOVES L rolls JT4 from 5 to -232 degrees; CONV2's APPRO F then takes the
+    equivalent of JT4 nearest the arm (-217, not 143) and its MOVES B would roll JT4 on past
+    -266 at the line's 10th step. The 1985 simulator jumped a whole turn there (issue 13);
+    the program stops with the joint, its angle and its stop named (SPEC §3).
+    """
     result = run(tmp_path, "CONV1.DAT", "--cell", "CONV.SET", "--loc", "CONV.LOC", "--json")
-    assert result.returncode == 0, result.stderr
+    assert result.returncode == 1, result.stderr
     ev = events(result)
-    assert not [e for e in ev if e["event"] == "error"]
     typed = [e["text"] for e in ev if e["event"] == "type"]
-    assert typed == ["COL = 2", "ROW = 3", "COL = 3", "ROW = 3", "COL = 3"]
+    assert typed == ["COL = 2", "ROW = 3", "COL = 3"]
     programs = {e["program"] for e in ev if e["event"] == "step"}
     assert programs == {"CONV1", "CONV2"}
-    assert ev[-1]["variables"] == {"COL": 3.0, "ROW": 3.0}
+    [error] = [e for e in ev if e["event"] == "error"]
+    assert (error["program"], error["step"]) == ("CONV2", 8)
+    assert "joint 4 beyond its stop" in error["message"] and "-266" in error["message"]
+    assert "step 10 of the line" in error["message"]
 
 
 def test_run_time_error_exits_1_with_program_and_step(tmp_path: Path) -> None:

@@ -122,6 +122,7 @@ def test_speed_is_clamped_and_sets_the_steps(process: Simulator) -> None:
     slow = drain(process.move("A"))[-1].steps
     drain(process.ready())
     process.set_speed(100)
+    process.set_indicator("LEFTY")  # READY made the user's indicators RIGHTY ABOVE NOFLIP
     fast = drain(process.move("A"))[-1].steps
     assert slow == pytest.approx(2 * fast, abs=1)
 

@@ -63,6 +63,7 @@ class Motion(Event):
     kind: str  # joint | straight
     steps: int
     joints: tuple[float, ...]
+    seconds: float = 0.0  # the real robot's time for it (core/cycletime.py)
     event = "motion"
 
 
@@ -146,6 +147,7 @@ class End(Event):
 
     where: dict[str, Any]
     variables: dict[str, float]
+    cycle_time_s: float = 0.0  # the real robot's time for the whole run
     event = "end"
 
 

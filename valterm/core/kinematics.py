@@ -31,6 +31,9 @@ ORIENTATION_BASE = np.array([[0.0, 1.0, 0.0], [0.0, 0.0, -1.0], [-1.0, 0.0, 0.0]
 GIMBAL_EPS = 1e-9
 # Below this sin JT5 the wrist is singular (JT4 and JT6 turn about one axis).
 WRIST_EPS = 1e-9
+# Within these of a boundary an indicator is tied and reads positive (SPEC §2, READY).
+TIE = 1e-9
+TIE_MM = 1e-6
 
 
 @dataclass(frozen=True)
@@ -431,13 +434,15 @@ def indicators(joints: Sequence[float], geometry: RobotGeometry | None = None) -
     geometry = geometry or robot_geometry()
     j2, j3, j6 = (math.radians(joints[i]) for i in (1, 2, 5))
     reach = geometry.a2 * math.cos(j2) + geometry.d4 * math.sin(j2 + j3)
-    arm = 1 if -reach > 0 else -1
-    elbow = arm * (1 if math.cos(j3) >= 0 else -1)
+    # at a boundary an indicator reads positive: READY is RIGHTY ABOVE NOFLIP (§6.2.6)
+    arm = 1 if -reach > -TIE_MM else -1
+    c3 = math.cos(j3)
+    elbow = 1 if abs(c3) < TIE else arm * (1 if c3 > 0 else -1)
     c6 = math.cos(j6)
-    if abs(c6) > 1e-12:
+    if abs(c6) > TIE:
         wrist = 1 if c6 > 0 else -1
     else:
-        wrist = 1 if math.sin(j6) > 0 else -1
+        wrist = 1 if math.sin(j6) > -TIE else -1
     return Config(arm, elbow, wrist)
 
 
@@ -446,11 +451,11 @@ def indicators_batch(joints: np.ndarray, geometry: RobotGeometry | None = None) 
     geometry = geometry or robot_geometry()
     q = np.radians(np.asarray(joints, dtype=float).reshape(-1, 6))
     reach = geometry.a2 * np.cos(q[:, 1]) + geometry.d4 * np.sin(q[:, 1] + q[:, 2])
-    arm = np.where(-reach > 0, 1, -1)
-    elbow = arm * np.where(np.cos(q[:, 2]) >= 0, 1, -1)
+    arm = np.where(-reach > -TIE_MM, 1, -1)
+    c3 = np.cos(q[:, 2])
+    elbow = np.where(np.abs(c3) < TIE, 1, arm * np.where(c3 > 0, 1, -1))
     c6 = np.cos(q[:, 5])
-    wrist = np.where(np.abs(c6) > 1e-12, np.sign(c6), np.sign(np.sin(q[:, 5]))).astype(int)
-    wrist[wrist == 0] = 1
+    wrist = np.where(np.abs(c6) > TIE, np.sign(c6), np.where(np.sin(q[:, 5]) > -TIE, 1, -1)).astype(int)
     return np.stack([arm, elbow, wrist], axis=1)
 
 
@@ -543,6 +548,8 @@ def ik(
     wrapped to (-180, 180], whatever the stops say.
     """
     geometry = geometry or robot_geometry()
+    if not all(math.isfinite(v) for v in (*xyz, *np.ravel(rotation))):
+        raise OutOfReach("not a location: a coordinate is not a finite number")
     hint = math.radians(current[3]) if current is not None else 0.0
     radians = ik_fast(xyz[0], xyz[1], xyz[2], rotation, config.arm, config.elbow, config.wrist, hint, geometry)
     degrees = [wrap180(math.degrees(v)) for v in radians]

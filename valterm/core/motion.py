@@ -34,6 +34,8 @@ PENDANT_STEP = 10.0         # millimetres per WORLD/TOOL key press at the defaul
 MIN_SPEED, MAX_SPEED = 10.0, 100.0
 # A step-to-step jump this large in JT1..JT3 means the arm had to change configuration.
 CONFIG_JUMP = 45.0
+# A step-to-step turn this large in JT4..JT6 is a wrist twirl, not a smooth line.
+WRIST_JUMP = 90.0
 
 
 class MotionRefused(ValtermError):
@@ -158,8 +160,10 @@ def straight_path(
     largest = float(np.abs(delta).max())
     turn = float(np.degrees(np.arccos(np.clip((np.trace(here.rotation.T @ goal_rotation) - 1) / 2, -1, 1))))
     steps = max(1, math.ceil(largest / increment - 1e-9))
-    # a pure reorientation still takes steps, at the joint increment per step
-    steps = max(steps, math.ceil(turn / JOINT_INCREMENT - 1e-9))
+    # a pure reorientation still takes steps: the joint increment per step, scaled by SPEED
+    # as the straight increment is
+    turn_increment = JOINT_INCREMENT * increment / STRAIGHT_INCREMENT
+    steps = max(steps, math.ceil(turn / turn_increment - 1e-9))
     fractions = np.arange(1, steps + 1) / steps
     positions = here.xyz + fractions[:, None] * delta
     same_orientation = np.allclose(here.rotation, goal_rotation, atol=1e-12)
@@ -180,34 +184,48 @@ def straight_path(
     path = np.empty((steps, 6))
     previous = np.array(current)
     for i in range(steps):
-        last = i == steps - 1
-        if last:
-            options = [np.array(goal_joints)]
-            status = [0]
+        if i == steps - 1:
+            best = _nearest_equivalent(np.array(goal_joints), previous)
+            _refuse_wrist_change(best, previous, geometry, i + 1)
         else:
-            options = [solutions[0][i], solutions[1][i]]
-            status = [int(statuses[0][i]), int(statuses[1][i])]
-        if all(s == -1 for s in status):
-            raise MotionRefused("location out of reach", 0, i + 1)
-        best = None
-        for option, st in zip(options, status):
-            if st == -1:
-                continue
-            # the 360-degree equivalents nearest the previous step
-            fitted = _nearest_equivalent(option, previous)
-            if best is None or np.abs(fitted[3:] - previous[3:]).sum() < np.abs(best[3:] - previous[3:]).sum():
-                best = fitted
-        assert best is not None
-        try:
-            best = np.array(fit_to_stops(list(best), list(previous), geometry))
-        except BeyondStop as error:
-            raise MotionRefused(error.reason, error.joint, i + 1) from None
-        jump = np.abs(best[:3] - previous[:3]).max()
-        if jump > CONFIG_JUMP:
-            raise MotionRefused("straight line would change ARM or ELBOW (the arm passes a singularity)", 0, i + 1)
+            best = _nearest_wrist(solutions, statuses, i, previous)
+        _refuse_jumps(best, previous, geometry, i + 1)
         path[i] = best
         previous = best
     return path
+
+
+def _nearest_wrist(solutions: list[np.ndarray], statuses: list[np.ndarray], i: int,
+                   previous: np.ndarray) -> np.ndarray:
+    """Step i of a line: of the two wrist solutions, the one nearest the previous step."""
+    options = [_nearest_equivalent(joints[i], previous)
+               for joints, status in zip(solutions, statuses) if int(status[i]) != -1]
+    if not options:
+        raise MotionRefused("location out of reach", 0, i + 1)
+    return min(options, key=lambda o: float(np.abs(o[3:] - previous[3:]).sum()))
+
+
+def _refuse_wrist_change(goal: np.ndarray, previous: np.ndarray, geometry: RobotGeometry, step: int) -> None:
+    """The goal is solved with the user's WRIST; the steps before it tracked the nearest wrist.
+
+    When the two differ the last step would twirl the wrist: refuse, as for ARM and ELBOW.
+    """
+    have, want = indicators(list(previous), geometry).wrist, indicators(list(goal), geometry).wrist
+    if have != want and float(np.abs(goal[3:] - previous[3:]).max()) > WRIST_JUMP:
+        words = ("NOFLIP", "FLIP")
+        raise MotionRefused(f"straight line would change WRIST from {words[have < 0]} to {words[want < 0]}", 0, step)
+
+
+def _refuse_jumps(best: np.ndarray, previous: np.ndarray, geometry: RobotGeometry, step: int) -> None:
+    """A step beyond a stop, or one that jumps (a configuration change or a wrist twirl)."""
+    for joint, (angle, (low, high)) in enumerate(zip(best, geometry.stops), start=1):
+        # no refitting to another 360-degree equivalent: that would be a jump of ~360 degrees
+        if not low - 1e-9 <= angle <= high + 1e-9:
+            raise MotionRefused(f"joint {joint} beyond its stop ({angle:.2f} deg, stop {low:g}..{high:g})", joint, step)
+    if float(np.abs(best[:3] - previous[:3]).max()) > CONFIG_JUMP:
+        raise MotionRefused("straight line would change ARM or ELBOW (the arm passes a singularity)", 0, step)
+    if float(np.abs(best[3:] - previous[3:]).max()) > WRIST_JUMP:
+        raise MotionRefused("the wrist would turn too far in one step (wrist singularity)", 0, step)
 
 
 def _nearest_equivalent(angles: np.ndarray, near: np.ndarray) -> np.ndarray:

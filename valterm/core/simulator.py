@@ -11,9 +11,10 @@ robot's base frame relative to the cell; the kinematics work in the robot's own 
 
 from __future__ import annotations
 
+import itertools
 import math
 from functools import lru_cache
-from typing import Iterator, Sequence
+from typing import Generator, Iterator, Sequence
 
 import numpy as np
 
@@ -21,6 +22,7 @@ from valterm.core.errors import ValtermError
 from valterm.core.cell.polyhedron import Polyhedron
 from valterm.core.cell.workcell import WorkCell
 from valterm.core.events import Collision, Event, Grasp, Hand, Message, Motion, PoseEvent, Release, Where
+from valterm.core.cycletime import joint_motion_seconds, straight_motion_seconds
 from valterm.core.kinematics import Config, Location, fk, indicators, rotation_to_oat, wrap180
 from valterm.core.motion import (
     PENDANT_INCREMENT,
@@ -75,6 +77,7 @@ class Simulator:
         self.base_offsets = (0.0, 0.0, 0.0, 0.0)
         self.collision_checks = False
         self.stop_on_collision = False
+        self.autoconfig = False  # AUTOCONFIG ON: try the other configurations (§8.1)
         self.pendant_increment = PENDANT_INCREMENT  # signed: N flips it
         self._findings: set[tuple[str, str, str]] = set()
         self._checker = None
@@ -189,6 +192,8 @@ class Simulator:
         yield from self._play(joint_path(self.joints, goal, increment), "joint")
 
     def ready(self) -> Iterator[Event]:
+        """READY: the arm straight up; the user's indicators become RIGHTY ABOVE NOFLIP (§6.2.6)."""
+        self.config = Config(1, 1, 1)
         yield from self._play(joint_path(self.joints, self.geometry.ready, joint_increment(self.speed)), "joint")
 
     def align(self) -> Iterator[Event]:
@@ -210,12 +215,45 @@ class Simulator:
             path = straight_path(self.joints, xyz, rotation, self.config, straight_increment(self.speed), self.geometry)
             yield from self._play(path, "straight")
         else:
-            goal = joint_goal(xyz, rotation, self.config, self.joints, self.geometry)
+            goal = yield from self._joint_goal(xyz, rotation)
             yield from self._play(joint_path(self.joints, goal, joint_increment(self.speed)), "joint")
+
+    def _joint_goal(self, xyz: np.ndarray, rotation: np.ndarray) -> Generator[Event, None, list[float]]:
+        """The goal in the user's configuration; with AUTOCONFIG ON, else the nearest other one.
+
+        Automatic configuration change is the thesis's future work (§8.1): the configuration
+        used becomes the user's, and is announced.
+        """
+        try:
+            return joint_goal(xyz, rotation, self.config, self.joints, self.geometry)
+        except MotionRefused:
+            if not self.autoconfig:
+                raise
+            found = self._other_configurations(xyz, rotation)
+            if not found:
+                raise
+        distance, config, goal = min(found, key=lambda option: option[0])
+        self.config = config
+        yield Message(f"AUTOCONFIG: USING {config}", "warning")
+        return goal
+
+    def _other_configurations(self, xyz: np.ndarray, rotation: np.ndarray) -> list[tuple[float, Config, list[float]]]:
+        found = []
+        for arm, elbow, wrist in itertools.product((1, -1), repeat=3):
+            config = Config(arm, elbow, wrist)
+            if config == self.config:
+                continue
+            try:
+                goal = joint_goal(xyz, rotation, config, self.joints, self.geometry)
+            except MotionRefused:
+                continue
+            found.append((float(np.abs(np.subtract(goal, self.joints)).max()), config, goal))
+        return found
 
     def _play(self, path: np.ndarray, kind: str) -> Iterator[Event]:
         """Show every pose of a computed path; the path was checked before the first pose."""
         steps = len(path)
+        seconds = self._motion_seconds(path, kind)
         for index, pose in enumerate(path, start=1):
             self.joints = [float(v) for v in pose]
             self._follow_clamp()
@@ -226,7 +264,20 @@ class Simulator:
                     if self.stop_on_collision and isinstance(finding, Collision):
                         # the robot stops where the collision was found (off by default, as in 1985)
                         raise MotionRefused(f"stopped on collision: {finding.text}", 0, index)
-        yield Motion(kind, steps, tuple(round(wrap180(j), 6) for j in self.joints))
+        yield Motion(kind, steps, tuple(round(wrap180(j), 6) for j in self.joints), round(seconds, 6))
+
+    def _motion_seconds(self, path: np.ndarray, kind: str) -> float:
+        """The real robot's time for this path (the cycle-time estimate)."""
+        if not len(path):
+            return 0.0
+        start = np.asarray(self.joints, dtype=float)
+        if kind != "straight":
+            return joint_motion_seconds(start, path[-1], self.speed)
+        before, after = fk(list(start), 1, self.geometry), fk(list(path[-1]), 1, self.geometry)
+        length = float(np.linalg.norm(after.xyz - before.xyz))
+        cos = (np.trace(before.rotation.T @ after.rotation) - 1.0) / 2.0
+        turn = math.degrees(math.acos(max(-1.0, min(1.0, float(cos)))))
+        return straight_motion_seconds(length, turn, self.speed)
 
     # -- pendant (Chapter 3) ---------------------------------------------------
     def pendant_joint(self, joint: int) -> Iterator[Event]:

@@ -1,0 +1,93 @@
+"""Cycle time: how long the real PUMA would take for a motion, and for a whole program.
+
+A joint-coordinated motion follows a trapezoidal profile on every joint; the slowest joint
+governs (the controller stretches the others to arrive together). A straight line runs its
+tool path at the tool speed, its turn at the wrist's speed, whichever is slower. SPEED s%
+time-scales a profile by 100/s. The parameters and their source are in the robot data
+file, ``[timing]`` of ``valterm/data/robot/PUMA.toml``.
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from dataclasses import dataclass
+from functools import lru_cache
+
+import numpy as np
+
+from valterm.core import resources
+from valterm.core.events import Delay, Event, Hand, Motion
+from valterm.core.kinematics import ROBOT_FILE
+
+
+@dataclass(frozen=True)
+class Timing:
+    """Per-joint maximum speeds (deg/s) and accelerations (deg/s^2) at SPEED 100, and more."""
+
+    joint_speed: tuple[float, ...]
+    joint_accel: tuple[float, ...]
+    tool_speed: float
+    tool_accel: float
+    hand_time: float
+
+
+@lru_cache(maxsize=1)
+def robot_timing() -> Timing:
+    """The bundled PUMA's timing parameters, read on first use."""
+    data = tomllib.loads(resources.read_text(*ROBOT_FILE))["timing"]
+    return Timing(
+        joint_speed=tuple(float(v) for v in data["joint_speed"]),
+        joint_accel=tuple(float(v) for v in data["joint_accel"]),
+        tool_speed=float(data["tool_speed"]),
+        tool_accel=float(data["tool_accel"]),
+        hand_time=float(data["hand_time"]),
+    )
+
+
+def trapezoid_seconds(distance: float, speed: float, accel: float) -> float:
+    """Time to cover ``distance`` from rest to rest: accelerate, cruise, decelerate.
+
+    Too short to reach full speed, the profile is a triangle: 2 sqrt(d / a).
+    """
+    distance = abs(distance)
+    if distance <= 0.0:
+        return 0.0
+    if distance >= speed * speed / accel:
+        return distance / speed + speed / accel
+    return 2.0 * math.sqrt(distance / accel)
+
+
+def joint_motion_seconds(start: np.ndarray, goal: np.ndarray, speed_percent: float,
+                         timing: Timing | None = None) -> float:
+    """A joint-coordinated motion: the slowest joint's trapezoid, time-scaled by SPEED."""
+    timing = timing or robot_timing()
+    delta = np.abs(np.asarray(goal, dtype=float) - np.asarray(start, dtype=float))
+    slowest = max(trapezoid_seconds(float(d), v, a)
+                  for d, v, a in zip(delta, timing.joint_speed, timing.joint_accel))
+    return slowest * 100.0 / speed_percent
+
+
+def straight_motion_seconds(length_mm: float, turn_deg: float, speed_percent: float,
+                            timing: Timing | None = None) -> float:
+    """A straight line: the tool path at the tool speed, or the turn at the wrist's, if slower."""
+    timing = timing or robot_timing()
+    along = trapezoid_seconds(length_mm, timing.tool_speed, timing.tool_accel)
+    turn = trapezoid_seconds(turn_deg, timing.joint_speed[3], timing.joint_accel[3])
+    return max(along, turn) * 100.0 / speed_percent
+
+
+class CycleClock:
+    """Adds up the robot's time over a run's events: motions, the hand, DELAY."""
+
+    def __init__(self, timing: Timing | None = None) -> None:
+        self.timing = timing or robot_timing()
+        self.seconds = 0.0
+
+    def observe(self, event: Event) -> None:
+        if isinstance(event, Motion):
+            self.seconds += event.seconds
+        elif isinstance(event, Hand):
+            self.seconds += self.timing.hand_time
+        elif isinstance(event, Delay):
+            self.seconds += event.seconds
