@@ -153,25 +153,25 @@ def analyse(program: Program, table: CommandTable | None = None) -> Analysis:
         what = "IF" if kind == "ELSE" else kind
         report(opener, f"{what} without {closing}")
 
-    for index, statement in enumerate(result.statements):
-        if statement is None or statement.command not in _LABEL_USERS:
+    for index, decoded in enumerate(result.statements):
+        if decoded is None or decoded.command not in _LABEL_USERS:
             continue
-        label = _jump_label(statement)
+        label = _jump_label(decoded)
         if label is not None and label not in result.labels:
-            report(index, f"{statement.command} {label}: no step has label {label} "
+            report(index, f"{decoded.command} {label}: no step has label {label} "
                           "(at run time: an error message, then the next step)", "warning")
     diagnostics.sort(key=lambda d: (d.step, not d.is_error))
     return result
 
 
 def _jump_label(statement: Statement) -> int | None:
+    label: int | None = None
     if statement.command == "GOTO":
-        return statement.args[0]
-    if statement.command == "GRASP" and len(statement.args) > 1:
-        return statement.args[1]
-    if statement.command == "IF" and "GOTO" in statement.keywords:
-        return statement.args[1]
-    return None
+        label = statement.args[0]
+    elif statement.command == "GRASP" and len(statement.args) > 1 or (
+            statement.command == "IF" and "GOTO" in statement.keywords):
+        label = statement.args[1]
+    return label
 
 
 def step_text(program: Program, index: int) -> str:

@@ -66,12 +66,33 @@ def finite(value: float, what: str) -> float:
     raise NumberTooLarge(f"NUMBER TOO LARGE: {what}")
 
 
-_ARITHMETIC: dict[str, Callable[[float, float], float]] = {
-    "+": operator.add, "-": operator.sub, "*": operator.mul, "/": operator.truediv,
-}
-_COMPARE: dict[str, Callable[[float, float], bool]] = {
-    "==": operator.eq, "!=": operator.ne, "<": operator.lt, "<=": operator.le,
-    ">": operator.gt, ">=": operator.ge,
+# Each operator written out for the operand shapes that occur most, so an expression
+# like `I+1` or `I .LT. N` is one Python call: (variable, constant), (variable, variable),
+# (any, constant), (any, any).
+_Shapes = tuple[
+    Callable[[str, float], Fn], Callable[[str, str], Fn], Callable[[Fn, float], Fn], Callable[[Fn, Fn], Fn],
+]
+_OPERATORS: dict[str, _Shapes] = {
+    "+": (lambda n, b: lambda V: V[n] + b, lambda n, m: lambda V: V[n] + V[m],
+          lambda f, b: lambda V: f(V) + b, lambda f, g: lambda V: f(V) + g(V)),
+    "-": (lambda n, b: lambda V: V[n] - b, lambda n, m: lambda V: V[n] - V[m],
+          lambda f, b: lambda V: f(V) - b, lambda f, g: lambda V: f(V) - g(V)),
+    "*": (lambda n, b: lambda V: V[n] * b, lambda n, m: lambda V: V[n] * V[m],
+          lambda f, b: lambda V: f(V) * b, lambda f, g: lambda V: f(V) * g(V)),
+    "/": (lambda n, b: lambda V: V[n] / b, lambda n, m: lambda V: V[n] / V[m],
+          lambda f, b: lambda V: f(V) / b, lambda f, g: lambda V: f(V) / g(V)),
+    "==": (lambda n, b: lambda V: V[n] == b, lambda n, m: lambda V: V[n] == V[m],
+           lambda f, b: lambda V: f(V) == b, lambda f, g: lambda V: f(V) == g(V)),
+    "!=": (lambda n, b: lambda V: V[n] != b, lambda n, m: lambda V: V[n] != V[m],
+           lambda f, b: lambda V: f(V) != b, lambda f, g: lambda V: f(V) != g(V)),
+    "<": (lambda n, b: lambda V: V[n] < b, lambda n, m: lambda V: V[n] < V[m],
+          lambda f, b: lambda V: f(V) < b, lambda f, g: lambda V: f(V) < g(V)),
+    "<=": (lambda n, b: lambda V: V[n] <= b, lambda n, m: lambda V: V[n] <= V[m],
+           lambda f, b: lambda V: f(V) <= b, lambda f, g: lambda V: f(V) <= g(V)),
+    ">": (lambda n, b: lambda V: V[n] > b, lambda n, m: lambda V: V[n] > V[m],
+          lambda f, b: lambda V: f(V) > b, lambda f, g: lambda V: f(V) > g(V)),
+    ">=": (lambda n, b: lambda V: V[n] >= b, lambda n, m: lambda V: V[n] >= V[m],
+           lambda f, b: lambda V: f(V) >= b, lambda f, g: lambda V: f(V) >= g(V)),
 }
 
 
@@ -110,20 +131,15 @@ class Binary:
     right: Node
 
     def closure(self) -> Fn:
-        fn = _ARITHMETIC.get(self.op) or _COMPARE[self.op]
-        # A constant or a variable operand is read in place: one call less per evaluation.
-        if isinstance(self.right, Num):
-            b = self.right.value
-            if isinstance(self.left, Var):
-                name = self.left.name
-                return lambda V: fn(V[name], b)
-            a = self.left.closure()
-            return lambda V: fn(a(V), b)
-        if isinstance(self.left, Var) and isinstance(self.right, Var):
-            x, y = self.left.name, self.right.name
-            return lambda V: fn(V[x], V[y])
-        a, c = self.left.closure(), self.right.closure()
-        return lambda V: fn(a(V), c(V))
+        var_const, var_var, any_const, any_any = _OPERATORS[self.op]
+        left, right = self.left, self.right
+        if isinstance(right, Num):
+            if isinstance(left, Var):
+                return var_const(left.name, right.value)
+            return any_const(left.closure(), right.value)
+        if isinstance(left, Var) and isinstance(right, Var):
+            return var_var(left.name, right.name)
+        return any_any(left.closure(), right.closure())
 
 
 @dataclass(frozen=True)

@@ -16,6 +16,7 @@ from valterm.core.val.commands import (
     AmbiguousCommand,
     CommandSpec,
     CommandTable,
+    Item,
     Literal,
     Slot,
     UnknownCommand,
@@ -191,7 +192,7 @@ def _candidate_ends(text: str, pos: int, options: set[str]) -> list[int]:
     return ends
 
 
-def _match(items: tuple, text: str, original: str, i: int, pos: int,
+def _match(items: tuple[Item, ...], text: str, original: str, i: int, pos: int,
            out: list[Any], errors: list[str]) -> list[Any] | None:
     rest = text[pos:]
     if i == len(items):
