@@ -291,7 +291,7 @@ class _Parser:
             op = self.take("+", "-")
             if op is None:
                 return left
-            left = Binary(op, left, self.term())
+            left = self.fold(Binary(op, left, self.term()))
 
     def term(self) -> Node:
         left = self.unary()
@@ -299,12 +299,22 @@ class _Parser:
             op = self.take("*", "/")
             if op is None:
                 return left
-            left = Binary(op, left, self.unary())
+            left = self.fold(Binary(op, left, self.unary()))
+
+    def fold(self, node: Binary | Neg) -> Node:
+        """A constant part is computed once, here, and must be a finite number."""
+        operands = (node.operand,) if isinstance(node, Neg) else (node.left, node.right)
+        if not all(isinstance(operand, Num) for operand in operands):
+            return node
+        try:
+            return Num(finite(float(node.closure()({})), self.text))
+        except ZeroDivisionError:
+            raise ExprError(f"division by zero in {self.text!r}") from None
 
     def unary(self) -> Node:
         op = self.take("-", "+")
         if op == "-":
-            return Neg(self.unary())
+            return self.fold(Neg(self.unary()))
         if op == "+":
             return self.unary()
         return self.primary()
