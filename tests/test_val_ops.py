@@ -6,17 +6,36 @@ import re
 from pathlib import Path
 
 import pytest
+from test_val_interpreter import FakeSim, make
 
 from valterm.core.errors import ValtermError
 from valterm.core.events import Error, Event, Message, Step, TypeOut
 from valterm.core.kinematics import CONFIG_WORDS, Config, indicator_kind
 from valterm.core.val.builders import BUILDERS
 from valterm.core.val.checker import check_program
-from valterm.core.val.expr import ExprError, NumberTooLarge, compile_condition, compile_expr
-from valterm.core.val.interpreter import Interpreter, ProgramError, RunStop, UndefinedVariable, program_from_lines
-from valterm.core.val.ops import Action, Assign, Branch, Call, Jump, PauseOp, Return, Stop
-
-from test_val_interpreter import FakeSim, make
+from valterm.core.val.expr import (
+    ExprError,
+    NumberTooLarge,
+    compile_condition,
+    compile_expr,
+)
+from valterm.core.val.interpreter import (
+    Interpreter,
+    ProgramError,
+    RunStop,
+    UndefinedVariable,
+    program_from_lines,
+)
+from valterm.core.val.ops import (
+    Action,
+    Assign,
+    Branch,
+    Call,
+    Jump,
+    PauseOp,
+    Return,
+    Stop,
+)
 
 CORE = Path(__file__).resolve().parent.parent / "valterm" / "core"
 

@@ -9,10 +9,10 @@ can not be simulated and an error message is displayed").
 from __future__ import annotations
 
 import re
+from collections.abc import Iterator
 from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
-from typing import Iterator
 
 from valterm.core import resources
 from valterm.core.errors import ValtermError

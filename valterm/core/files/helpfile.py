@@ -8,14 +8,14 @@ information is displayed."  Format: see the header of valterm/data/HELPER.DAT.
 from __future__ import annotations
 
 import re
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 from functools import lru_cache
 from pathlib import Path
-from typing import Iterator
 
+from valterm.core import resources
 from valterm.core.files._text import read_text
 from valterm.core.files.errors import FileFormatError
-from valterm.core import resources
 
 HELPER_FILE = resources.data_path("HELPER.DAT")
 

@@ -7,13 +7,13 @@ passing the interpreter a copy of this table with more entries (``builders=``).
 
 from __future__ import annotations
 
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import Callable, Sequence
 
 from valterm.core.events import Delay, Error, Message, Status, Step, TypeOut
 from valterm.core.kinematics import CONFIG_WORDS, Location
 from valterm.core.val.compiler import Analysis
-from valterm.core.val.expr import Expr, Fn, Values
+from valterm.core.val.expr import Expr, Values
 from valterm.core.val.ops import (
     Action,
     Assign,

@@ -9,12 +9,17 @@ interpreter builds its executable form from it.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Callable
 
 from valterm.core.files.programs import Program
 from valterm.core.val.commands import CommandTable, default_commands
-from valterm.core.val.parser import Statement, ValSyntaxError, parse_statement, strip_comment
+from valterm.core.val.parser import (
+    Statement,
+    ValSyntaxError,
+    parse_statement,
+    strip_comment,
+)
 
 # Commands that transfer control to a label (GRASP and IF ... GOTO too).
 _LABEL_USERS = ("GOTO", "GRASP", "IF")

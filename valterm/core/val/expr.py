@@ -17,8 +17,8 @@ from __future__ import annotations
 
 import operator
 import re
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
-from typing import Callable, Mapping, Union
 
 from valterm.core.errors import ValtermError
 
@@ -166,7 +166,7 @@ class Logical:
         return lambda V: a(V) or b(V)
 
 
-Node = Union[Num, Var, Neg, Binary, Not, Logical]
+Node = Num | Var | Neg | Binary | Not | Logical
 
 
 @dataclass(frozen=True)

@@ -15,9 +15,20 @@ breakpoints, single steps, watches and traces.
 
 from __future__ import annotations
 
-from typing import Callable, Generator, Iterator, Mapping, Protocol
+from collections.abc import Callable, Generator, Iterator, Mapping
+from typing import Protocol
 
-from valterm.core.events import Error, Event, Help, Message, Monitor, Status, Step, TypeOut
+from valterm.core.errors import ValtermError
+from valterm.core.events import (
+    Error,
+    Event,
+    Help,
+    Message,
+    Monitor,
+    Status,
+    Step,
+    TypeOut,
+)
 from valterm.core.files.programs import Program, ProgramLine, split_label
 from valterm.core.motion import MotionRefused
 from valterm.core.val.builders import (
@@ -27,7 +38,6 @@ from valterm.core.val.builders import (
     Builder,
     build,
     failed,
-    format_value,
     getter,
     number,
 )
@@ -102,7 +112,7 @@ class Interpreter:
         self._cache: dict[str, CompiledProgram] = {}
 
     @classmethod
-    def for_workspace(cls, sim: Simulator, workspace: _Workspace) -> "Interpreter":
+    def for_workspace(cls, sim: Simulator, workspace: _Workspace) -> Interpreter:
         """An interpreter reading NAME.DAT from the workspace, its variables from CHECK.DAT.
 
         The variables are written back to CHECK.DAT whenever a program or a typed command
@@ -148,7 +158,7 @@ class Interpreter:
             return compiled
         try:
             program = self.load_program(name)
-        except Exception as error:  # a missing or damaged file ends the run with its reason
+        except (OSError, ValtermError) as error:  # a missing or damaged file ends the run with its reason
             raise RunStop(str(error) or f"PROGRAM {name} DOES NOT EXIST", name) from None
         compiled = self.compile_program(program)
         self._cache[name] = compiled
@@ -189,8 +199,7 @@ class Interpreter:
             yield Error("", 0, f"A PROGRAM ({self.program}) IS ALREADY RUNNING")
             return
         name = name.strip().upper()
-        if name.endswith(".DAT"):
-            name = name[:-4]
+        name = name.removesuffix(".DAT")
         loops = int(loops)
         total = FOREVER_LOOPS if loops < 0 else max(1, loops)
         self._cache.clear()  # programs are decoded once per EXECUTE: edits show next time

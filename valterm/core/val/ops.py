@@ -15,8 +15,8 @@ builders that return these ops (or new ``Control`` subclasses).
 
 from __future__ import annotations
 
+from collections.abc import Callable, Generator
 from dataclasses import dataclass, field
-from typing import Callable, Generator
 
 from valterm.core.errors import ValtermError
 from valterm.core.events import Error, Event, Pause, Step, TypeOut

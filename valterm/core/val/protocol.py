@@ -6,7 +6,8 @@ Methods whose result the interpreter ignores return ``object``.
 
 from __future__ import annotations
 
-from typing import Iterator, Protocol
+from collections.abc import Iterator
+from typing import Protocol
 
 from valterm.core.events import Event, Where
 from valterm.core.kinematics import Location
