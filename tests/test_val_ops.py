@@ -174,3 +174,12 @@ def test_a_long_loop_still_completes_with_messages() -> None:
     events = list(interpreter.execute("MAIN"))
     assert sum(isinstance(e, Step) for e in events) == 1 + 501 + 500 * 2
     assert isinstance(events[-1], Message) and "COMPLETED" in events[-1].text
+
+
+def test_the_real_simulator_and_the_tests_stand_in_fit_the_protocol() -> None:
+    from valterm.core.simulator import Simulator
+    from valterm.core.val import protocol
+
+    assert isinstance(Simulator(), protocol.Simulator)
+    assert isinstance(FakeSim(), protocol.Simulator)
+    assert not isinstance(object(), protocol.Simulator)

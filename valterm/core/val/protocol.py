@@ -7,12 +7,13 @@ Methods whose result the interpreter ignores return ``object``.
 from __future__ import annotations
 
 from collections.abc import Iterator
-from typing import Protocol
+from typing import Protocol, runtime_checkable
 
 from valterm.core.events import Event, Where
 from valterm.core.kinematics import Location
 
 
+@runtime_checkable
 class Simulator(Protocol):
     speed: float
     locations: dict[str, Location]
