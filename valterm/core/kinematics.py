@@ -128,8 +128,7 @@ class Config(NamedTuple):
             matches = [name for name in _INDICATORS if name.startswith(word)]
             if len(matches) != 1:
                 raise ValueError(
-                    f"{word!r} is not a configuration indicator "
-                    "(RIGHTY, LEFTY, ABOVE, BELOW, NOFLIP, FLIP)"
+                    f"{word!r} is not a configuration indicator ({', '.join(CONFIG_WORDS)})"
                 )
             kind, value = _INDICATORS[matches[0]]
             if kind in seen:
@@ -152,6 +151,18 @@ _INDICATORS = {
     "NOFLIP": ("wrist", 1),
     "FLIP": ("wrist", -1),
 }
+
+#: The configuration words (VAL-II commands and indicator names), the one list of them.
+CONFIG_WORDS: tuple[str, ...] = tuple(_INDICATORS)
+
+
+def indicator_kind(word: str) -> str:
+    """`arm`, `elbow` or `wrist`: which indicator a configuration word (or unique prefix) sets."""
+    word = word.strip().upper()
+    matches = [w for w in CONFIG_WORDS if w.startswith(word)]
+    if len(matches) != 1:
+        raise ValueError(f"{word!r} is not a configuration indicator")
+    return _INDICATORS[matches[0]][0]
 
 
 # ---------------------------------------------------------------------------

@@ -23,7 +23,7 @@ from valterm.core.cell.polyhedron import Polyhedron
 from valterm.core.cell.workcell import WorkCell
 from valterm.core.events import Collision, Event, Grasp, Hand, Message, Motion, PoseEvent, Release, Where
 from valterm.core.cycletime import joint_motion_seconds, straight_motion_seconds
-from valterm.core.kinematics import Config, Location, fk, indicators, rotation_to_oat, wrap180
+from valterm.core.kinematics import Config, Location, fk, indicator_kind, indicators, rotation_to_oat, wrap180
 from valterm.core.motion import (
     PENDANT_INCREMENT,
     PENDANT_STEP,
@@ -41,7 +41,6 @@ from valterm.core.motion import (
 from valterm.core.robot import RobotModel, load_model
 
 GRASP_MESSAGE = "IT IS POSSIBLE TO GRASP THIS PART"
-INDICATOR_WORDS = ("RIGHTY", "LEFTY", "ABOVE", "BELOW", "NOFLIP", "FLIP")
 
 
 @lru_cache(maxsize=1)
@@ -114,7 +113,7 @@ class Simulator:
         """LEFTY, RIGHTY, ABOVE, BELOW, FLIP or NOFLIP (any unique prefix)."""
         arm, elbow, wrist = self.config
         parsed = Config.parse(word)
-        kind = _indicator_kind(word)
+        kind = indicator_kind(word)
         self.config = Config(
             parsed.arm if kind == "arm" else arm,
             parsed.elbow if kind == "elbow" else elbow,
@@ -388,10 +387,3 @@ class Simulator:
                 yield finding.event()
         self._findings = now
 
-
-def _indicator_kind(word: str) -> str:
-    word = word.strip().upper()
-    matches = [w for w in INDICATOR_WORDS if w.startswith(word)]
-    if len(matches) != 1:
-        raise ValueError(f"{word!r} is not a configuration indicator")
-    return {"RIGHTY": "arm", "LEFTY": "arm", "ABOVE": "elbow", "BELOW": "elbow"}.get(matches[0], "wrist")

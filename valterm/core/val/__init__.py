@@ -1,13 +1,18 @@
-"""VAL-II: COMMAND.DAT and HELPER.DAT, the statement compiler, the syntax checker and the
-two-pass interpreter (Chapter 6, App. C section 3).
+"""VAL-II: the statement compiler, the syntax checker and the two-pass interpreter
+(Chapter 6, App. C section 3).
 
-- ``commands``: COMMAND.DAT -> ``CommandTable`` (unique-prefix lookup, argument shapes)
-- ``helptopics``: HELPER.DAT -> ``HelpTopics`` (``find(prefix)``, ``menu()``)
-- ``expr``: expressions and conditions compiled to Python source
+- ``commands`` / ``helptopics``: COMMAND.DAT and HELPER.DAT as read by
+  ``valterm.core.files.commandfile`` / ``helpfile`` (``CommandTable``, ``HelpTopics``)
+- ``expr``: expressions and conditions parsed into typed nodes, run as closures
 - ``parser``: ``parse_statement(text) -> Statement`` or ``ValSyntaxError``
 - ``compiler``: pass 1, ``analyse(program) -> Analysis`` (labels, structures, diagnostics)
 - ``checker``: ``check_program(program) -> CheckReport``, ``check_statement(text)``
+- ``ops``: the typed ops of pass 2 (``Assign``, ``Branch``, ``Jump``, ``Action``, ``Call``,
+  ``Return``, ``Stop``, ``PauseOp``) and ``ProgramError`` (program and step)
+- ``builders``: one builder per instruction, ``BUILDERS`` (command -> builder)
+- ``protocol``: ``Simulator``, what the interpreter needs from the simulator
 - ``interpreter``: ``Interpreter(sim, load_program, variables)`` with ``execute(name, loops)``,
-  ``command(text)``, ``abort()``, ``proceed()``, ``paused``, ``running``, ``status()``
-- ``transcript``: events as text lines; ``bench``: ``bench_interpreter()``
+  ``command(text)``, ``abort()``, ``proceed()``, ``paused``, ``running``, ``status()``,
+  ``hook`` (called before each step), ``builders`` and ``monitor`` (the dialect's tables)
+- ``transcript``: events as text lines
 """

@@ -5,8 +5,8 @@ DO, ...), and warnings for GOTOs to missing labels and CALLs to missing programs
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Callable
 
 from valterm.core.files.programs import Program, split_label
 from valterm.core.val.commands import CommandTable, default_commands

@@ -9,11 +9,17 @@ interpreter builds its executable form from it.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from valterm.core.files.programs import Program
 from valterm.core.val.commands import CommandTable, default_commands
-from valterm.core.val.parser import Statement, ValSyntaxError, parse_statement, strip_comment
+from valterm.core.val.parser import (
+    Statement,
+    ValSyntaxError,
+    parse_statement,
+    strip_comment,
+)
 
 # Commands that transfer control to a label (GRASP and IF ... GOTO too).
 _LABEL_USERS = ("GOTO", "GRASP", "IF")
@@ -113,65 +119,72 @@ def analyse(program: Program, table: CommandTable | None = None) -> Analysis:
             result.syntax[index] = reason
             report(index, reason, fatal=False)
             continue
-        if command == "CALL":
-            result.calls.append((index, statement.args[0]))
-        elif command == "IF" and "THEN" in statement.keywords:
-            stack.append(("IF", index))
-        elif command == "WHILE":
-            stack.append(("WHILE", index))
-        elif command == "DO":
-            stack.append(("DO", index))
-        elif command == "ELSE":
-            if stack and stack[-1][0] == "IF":
-                opener = stack.pop()[1]
-                result.else_of[opener] = index
-                stack.append(("ELSE", opener))
-            elif stack and stack[-1][0] == "ELSE":
-                report(index, f"second ELSE for the IF at step {stack[-1][1] + 1}")
-            else:
-                report(index, "ELSE without IF")
-        elif command in ("END", "ENDIF"):
-            if not stack or stack[-1][0] == "DO":
-                where = f" (the DO at step {stack[-1][1] + 1} needs UNTIL first)" if stack else ""
-                report(index, f"{command} without IF or WHILE{where}")
-            else:
-                kind, opener = stack.pop()
-                if kind == "WHILE" and command == "ENDIF":
-                    report(index, f"ENDIF closes the WHILE at step {opener + 1}: use END")
-                result.partner[opener] = index
-                result.partner[index] = opener
-        elif command == "UNTIL":
-            if stack and stack[-1][0] == "DO":
-                opener = stack.pop()[1]
-                result.partner[index] = opener
-                result.partner[opener] = index
-            else:
-                where = f" (the {stack[-1][0]} at step {stack[-1][1] + 1} needs END first)" if stack else ""
-                report(index, f"UNTIL without DO{where}")
+        _structure(statement, index, stack, result, report)
     for kind, opener in stack:
         closing = "UNTIL" if kind == "DO" else "END"
         what = "IF" if kind == "ELSE" else kind
         report(opener, f"{what} without {closing}")
 
-    for index, statement in enumerate(result.statements):
-        if statement is None or statement.command not in _LABEL_USERS:
+    for index, decoded in enumerate(result.statements):
+        if decoded is None or decoded.command not in _LABEL_USERS:
             continue
-        label = _jump_label(statement)
+        label = _jump_label(decoded)
         if label is not None and label not in result.labels:
-            report(index, f"{statement.command} {label}: no step has label {label} "
+            report(index, f"{decoded.command} {label}: no step has label {label} "
                           "(at run time: an error message, then the next step)", "warning")
     diagnostics.sort(key=lambda d: (d.step, not d.is_error))
     return result
 
 
+def _structure(statement: Statement, index: int, stack: list[tuple[str, int]], result: Analysis,
+               report: Callable[[int, str], None]) -> None:
+    """Record a CALL, or match one step of IF/ELSE/END, WHILE/END, DO/UNTIL on `stack`."""
+    command = statement.command
+    if command == "CALL":
+        result.calls.append((index, statement.args[0]))
+    elif command == "IF" and "THEN" in statement.keywords:
+        stack.append(("IF", index))
+    elif command == "WHILE":
+        stack.append(("WHILE", index))
+    elif command == "DO":
+        stack.append(("DO", index))
+    elif command == "ELSE":
+        if stack and stack[-1][0] == "IF":
+            opener = stack.pop()[1]
+            result.else_of[opener] = index
+            stack.append(("ELSE", opener))
+        elif stack and stack[-1][0] == "ELSE":
+            report(index, f"second ELSE for the IF at step {stack[-1][1] + 1}")
+        else:
+            report(index, "ELSE without IF")
+    elif command in ("END", "ENDIF"):
+        if not stack or stack[-1][0] == "DO":
+            where = f" (the DO at step {stack[-1][1] + 1} needs UNTIL first)" if stack else ""
+            report(index, f"{command} without IF or WHILE{where}")
+        else:
+            kind, opener = stack.pop()
+            if kind == "WHILE" and command == "ENDIF":
+                report(index, f"ENDIF closes the WHILE at step {opener + 1}: use END")
+            result.partner[opener] = index
+            result.partner[index] = opener
+    elif command == "UNTIL":
+        if stack and stack[-1][0] == "DO":
+            opener = stack.pop()[1]
+            result.partner[index] = opener
+            result.partner[opener] = index
+        else:
+            where = f" (the {stack[-1][0]} at step {stack[-1][1] + 1} needs END first)" if stack else ""
+            report(index, f"UNTIL without DO{where}")
+
+
 def _jump_label(statement: Statement) -> int | None:
+    label: int | None = None
     if statement.command == "GOTO":
-        return statement.args[0]
-    if statement.command == "GRASP" and len(statement.args) > 1:
-        return statement.args[1]
-    if statement.command == "IF" and "GOTO" in statement.keywords:
-        return statement.args[1]
-    return None
+        label = statement.args[0]
+    elif statement.command == "GRASP" and len(statement.args) > 1 or (
+            statement.command == "IF" and "GOTO" in statement.keywords):
+        label = statement.args[1]
+    return label
 
 
 def step_text(program: Program, index: int) -> str:

@@ -1,4 +1,4 @@
-"""Arithmetic and logical expressions, compiled once to Python source.
+"""Arithmetic and logical expressions, parsed once into typed nodes and closures.
 
 Expressions (section 6.7, App. C): numbers, variables (at most 9 characters),
 + - * / with the usual precedence, parentheses, unary minus; conditions with
@@ -6,18 +6,24 @@ Expressions (section 6.7, App. C): numbers, variables (at most 9 characters),
 own spellings are accepted: `COL.EQ.2`, `COL .EQ. ROW.` (a stray dot after an
 operand), `COL. LT. ROW.` (blanks inside the dotted operator).
 
-The result is Python source reading variables as ``V['NAME']``, so a statement
-can be compiled into one Python function and never decoded again; an undeclared
-variable raises ``KeyError(name)`` when it runs.
+The parser builds a tree of small nodes (``Num``, ``Var``, ``Neg``, ``Binary``, ``Not``,
+``Logical``); each node makes one closure ``fn(V) -> value`` reading the variables from
+the dict ``V``, so a statement never decodes text again (no Python source is generated).
+An undeclared variable raises ``KeyError(name)`` when it runs.  Constant expressions are
+folded by running their closure; a number that is not finite is refused ("NUMBER TOO LARGE").
 """
 
 from __future__ import annotations
 
+import operator
 import re
-from dataclasses import dataclass
-from typing import Callable
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
 
 from valterm.core.errors import ValtermError
+
+Values = Mapping[str, float]
+Fn = Callable[[Values], float]  # a compiled expression: the variables -> its value
 
 MAX_NAME = 9
 
@@ -45,22 +51,163 @@ class ExprError(ValtermError, ValueError):
     """An expression that cannot be compiled; the message says what is wrong."""
 
 
+class NumberTooLarge(ExprError):
+    """A number (written, or a constant expression's value) that is not a finite number."""
+
+
+#: The largest magnitude a VAL-II number may have (anything past it is refused, never inf).
+MAX_NUMBER = 1.0e300
+
+
+def finite(value: float, what: str) -> float:
+    """`value`, or NumberTooLarge naming `what` when it is infinite, NaN or absurdly large."""
+    if -MAX_NUMBER <= value <= MAX_NUMBER:
+        return value
+    raise NumberTooLarge(f"NUMBER TOO LARGE: {what}")
+
+
+# Each operator written out for the operand shapes that occur most, so an expression
+# like `I+1` or `I .LT. N` is one Python call: (variable, constant), (variable, variable),
+# (any, constant), (any, any).
+_Shapes = tuple[
+    Callable[[str, float], Fn], Callable[[str, str], Fn], Callable[[Fn, float], Fn], Callable[[Fn, Fn], Fn],
+]
+_OPERATORS: dict[str, _Shapes] = {
+    "+": (lambda n, b: lambda V: V[n] + b, lambda n, m: lambda V: V[n] + V[m],
+          lambda f, b: lambda V: f(V) + b, lambda f, g: lambda V: f(V) + g(V)),
+    "-": (lambda n, b: lambda V: V[n] - b, lambda n, m: lambda V: V[n] - V[m],
+          lambda f, b: lambda V: f(V) - b, lambda f, g: lambda V: f(V) - g(V)),
+    "*": (lambda n, b: lambda V: V[n] * b, lambda n, m: lambda V: V[n] * V[m],
+          lambda f, b: lambda V: f(V) * b, lambda f, g: lambda V: f(V) * g(V)),
+    "/": (lambda n, b: lambda V: V[n] / b, lambda n, m: lambda V: V[n] / V[m],
+          lambda f, b: lambda V: f(V) / b, lambda f, g: lambda V: f(V) / g(V)),
+    "==": (lambda n, b: lambda V: V[n] == b, lambda n, m: lambda V: V[n] == V[m],
+           lambda f, b: lambda V: f(V) == b, lambda f, g: lambda V: f(V) == g(V)),
+    "!=": (lambda n, b: lambda V: V[n] != b, lambda n, m: lambda V: V[n] != V[m],
+           lambda f, b: lambda V: f(V) != b, lambda f, g: lambda V: f(V) != g(V)),
+    "<": (lambda n, b: lambda V: V[n] < b, lambda n, m: lambda V: V[n] < V[m],
+          lambda f, b: lambda V: f(V) < b, lambda f, g: lambda V: f(V) < g(V)),
+    "<=": (lambda n, b: lambda V: V[n] <= b, lambda n, m: lambda V: V[n] <= V[m],
+           lambda f, b: lambda V: f(V) <= b, lambda f, g: lambda V: f(V) <= g(V)),
+    ">": (lambda n, b: lambda V: V[n] > b, lambda n, m: lambda V: V[n] > V[m],
+          lambda f, b: lambda V: f(V) > b, lambda f, g: lambda V: f(V) > g(V)),
+    ">=": (lambda n, b: lambda V: V[n] >= b, lambda n, m: lambda V: V[n] >= V[m],
+           lambda f, b: lambda V: f(V) >= b, lambda f, g: lambda V: f(V) >= g(V)),
+}
+
+
+@dataclass(frozen=True)
+class Num:
+    value: float
+
+    def closure(self) -> Fn:
+        value = self.value
+        return lambda V: value
+
+
+@dataclass(frozen=True)
+class Var:
+    name: str
+
+    def closure(self) -> Fn:
+        return operator.itemgetter(self.name)  # V[name]: KeyError(name) when undeclared
+
+
+@dataclass(frozen=True)
+class Neg:
+    operand: Node
+
+    def closure(self) -> Fn:
+        inner = self.operand.closure()
+        return lambda V: -inner(V)
+
+
+@dataclass(frozen=True)
+class Binary:
+    """Arithmetic (+ - * /) or a relation (== != < <= > >=) of two operands."""
+
+    op: str
+    left: Node
+    right: Node
+
+    def closure(self) -> Fn:
+        var_const, var_var, any_const, any_any = _OPERATORS[self.op]
+        left, right = self.left, self.right
+        if isinstance(right, Num):
+            if isinstance(left, Var):
+                return var_const(left.name, right.value)
+            return any_const(left.closure(), right.value)
+        if isinstance(left, Var) and isinstance(right, Var):
+            return var_var(left.name, right.name)
+        return any_any(left.closure(), right.closure())
+
+
+@dataclass(frozen=True)
+class Not:
+    operand: Node
+
+    def closure(self) -> Fn:
+        inner = self.operand.closure()
+        return lambda V: not inner(V)
+
+
+@dataclass(frozen=True)
+class Logical:
+    """AND / OR, short-circuit as in the thesis's compiler."""
+
+    op: str  # AND | OR
+    left: Node
+    right: Node
+
+    def closure(self) -> Fn:
+        a, b = self.left.closure(), self.right.closure()
+        if self.op == "AND":
+            return lambda V: a(V) and b(V)
+        return lambda V: a(V) or b(V)
+
+
+Node = Num | Var | Neg | Binary | Not | Logical
+
+
 @dataclass(frozen=True)
 class Expr:
-    """A compiled expression: its Python source, the variables it reads, its text."""
+    """A compiled expression: its tree, the variables it reads, its text, its constant value."""
 
-    src: str
+    node: Node
     names: tuple[str, ...]
     text: str
     const: float | None = None
+    fn: Fn = field(compare=False, repr=False, default=lambda V: 0.0)
 
-    def function(self) -> Callable[[dict], float]:
-        return eval(f"lambda V: {self.src}", {"__builtins__": {}})  # src built from checked tokens only
+    @property
+    def src(self) -> str:
+        """The expression written out fully parenthesised (for reading, never run)."""
+        return render(self.node)
 
-    def __call__(self, variables: dict) -> float:
+    def function(self) -> Fn:
+        """The closure `V -> value` (a constant one when the expression is constant)."""
+        if self.const is not None:
+            const = self.const
+            return lambda V: const
+        return self.fn
+
+    def __call__(self, variables: Values) -> float:
         if self.const is not None:
             return self.const
-        return self.function()(variables)
+        return self.fn(variables)
+
+
+def render(node: Node) -> str:
+    """`node` as text with every operation parenthesised: `((I * 2.0) - 1.0)`."""
+    if isinstance(node, Num):
+        return repr(node.value)
+    if isinstance(node, Var):
+        return node.name
+    if isinstance(node, Neg):
+        return f"(-{render(node.operand)})"
+    if isinstance(node, Not):
+        return f"(NOT {render(node.operand)})"
+    return f"({render(node.left)} {node.op} {render(node.right)})"
 
 
 def _tokens(text: str) -> list[tuple[str, str]]:
@@ -72,7 +219,7 @@ def _tokens(text: str) -> list[tuple[str, str]]:
         if match is None or match.end() == pos:  # only trailing blanks are left
             break
         pos = match.end()
-        kind = match.lastgroup
+        kind = match.lastgroup or "bad"
         value = match.group(kind)
         if kind == "bad":
             raise ExprError(f"unexpected character {value!r}")
@@ -107,75 +254,86 @@ class _Parser:
             return token[1]
         return None
 
-    def finish(self, src: str) -> str:
+    def finish(self, node: Node) -> Node:
         token = self.peek()
         if token is not None:
             raise ExprError(f"unexpected {token[1]!r} in {self.text!r}")
-        return src
+        return node
 
     # condition := or ; or := and {OR and} ; and := not {AND not} ; not := NOT not | relation
-    def condition(self) -> str:
+    def condition(self) -> Node:
         left = self.conjunction()
         while self.take("OR"):
-            left = f"({left} or {self.conjunction()})"
+            left = Logical("OR", left, self.conjunction())
         return left
 
-    def conjunction(self) -> str:
+    def conjunction(self) -> Node:
         left = self.negation()
         while self.take("AND"):
-            left = f"({left} and {self.negation()})"
+            left = Logical("AND", left, self.negation())
         return left
 
-    def negation(self) -> str:
+    def negation(self) -> Node:
         if self.take("NOT"):
-            return f"(not {self.negation()})"
+            return Not(self.negation())
         return self.relation()
 
-    def relation(self) -> str:
+    def relation(self) -> Node:
         left = self.sum()
         op = self.take(*_RELATIONS)
         if op is None:
             return left
-        right = self.sum()
-        return f"({left} {_RELATIONS[op]} {right})"
+        return Binary(_RELATIONS[op], left, self.sum())
 
-    def sum(self) -> str:
+    def sum(self) -> Node:
         left = self.term()
         while True:
             op = self.take("+", "-")
             if op is None:
                 return left
-            left = f"({left} {op} {self.term()})"
+            left = self.fold(Binary(op, left, self.term()))
 
-    def term(self) -> str:
+    def term(self) -> Node:
         left = self.unary()
         while True:
             op = self.take("*", "/")
             if op is None:
                 return left
-            left = f"({left} {op} {self.unary()})"
+            left = self.fold(Binary(op, left, self.unary()))
 
-    def unary(self) -> str:
+    def fold(self, node: Binary | Neg) -> Node:
+        """A constant part is computed once, here, and must be a finite number."""
+        operands = (node.operand,) if isinstance(node, Neg) else (node.left, node.right)
+        if not all(isinstance(operand, Num) for operand in operands):
+            return node
+        try:
+            return Num(finite(float(node.closure()({})), self.text))
+        except ZeroDivisionError:
+            raise ExprError(f"division by zero in {self.text!r}") from None
+
+    def unary(self) -> Node:
         op = self.take("-", "+")
-        if op is not None:
-            return f"({op}{self.unary()})"
+        if op == "-":
+            return self.fold(Neg(self.unary()))
+        if op == "+":
+            return self.unary()
         return self.primary()
 
-    def primary(self) -> str:
+    def primary(self) -> Node:
         token = self.peek()
         if token is None:
             raise ExprError(f"expression ends too soon: {self.text!r}" if self.text else "missing value")
         kind, value = token
         if kind == "number":
             self.pos += 1
-            return repr(float(value))
+            return Num(finite(float(value), value))
         if kind == "name":
             if len(value) > MAX_NAME:
                 raise ExprError(f"variable name {value} is longer than {MAX_NAME} characters")
             self.pos += 1
             if value not in self.names:
                 self.names.append(value)
-            return f"V[{value!r}]"
+            return Var(value)
         if self.take("("):
             inner = self.condition()
             if not self.take(")"):
@@ -184,28 +342,27 @@ class _Parser:
         raise ExprError(f"unexpected {value!r} in {self.text!r}")
 
 
-def _build(text: str, src: str, names: list[str]) -> Expr:
+def _build(text: str, node: Node, names: list[str]) -> Expr:
+    fn = node.closure()
     const = None
-    if not names:
+    if not names:  # folded by running the closure once: no variables to read
         try:
-            const = float(eval(src, {"__builtins__": {}}))
+            const = finite(float(fn({})), text.strip())
         except ZeroDivisionError:
             raise ExprError(f"division by zero in {text.strip()!r}") from None
-    return Expr(src, tuple(names), text.strip(), const)
+    return Expr(node, tuple(names), text.strip(), const, fn)
 
 
 def compile_expr(text: str) -> Expr:
     """An arithmetic expression (a number, variable, + - * / and parentheses)."""
     parser = _Parser(text)
-    src = parser.finish(parser.sum())
-    return _build(text, src, parser.names)
+    return _build(text, parser.finish(parser.sum()), parser.names)
 
 
 def compile_condition(text: str) -> Expr:
     """A logical expression; a bare arithmetic one is true when it is not zero."""
     parser = _Parser(text)
-    src = parser.finish(parser.condition())
-    return _build(text, src, parser.names)
+    return _build(text, parser.finish(parser.condition()), parser.names)
 
 
 def is_variable_name(name: str) -> bool:

@@ -16,21 +16,28 @@ from valterm.core.val.commands import (
     AmbiguousCommand,
     CommandSpec,
     CommandTable,
+    Item,
     Literal,
     Slot,
     UnknownCommand,
     default_commands,
 )
-from valterm.core.val.expr import MAX_NAME, Expr, ExprError, compile_condition, compile_expr
+from valterm.core.val.expr import (
+    MAX_NAME,
+    Expr,
+    ExprError,
+    compile_condition,
+    compile_expr,
+)
 
 ASSIGN = "="  # the command of an assignment statement VAR=expr (section 6.7)
 MAX_LABEL = 65535
 
-_ASSIGNMENT = re.compile(r"^([A-Z][A-Z0-9]*)\s*=(?!=)(.*)$", re.S)
-_WORD = re.compile(r"^([A-Z]+)(.*)$", re.S)
+_ASSIGNMENT = re.compile(r"^([A-Z][A-Z0-9]*)\s*=(?!=)(.*)$", re.DOTALL)
+_WORD = re.compile(r"^([A-Z]+)(.*)$", re.DOTALL)
 _IDENT = re.compile(r"^[A-Z][A-Z0-9]*$")
-_SHIFT_LOC = re.compile(r"^SHIFT\s*\((.*)\)$", re.S)
-_BY = re.compile(r"^([A-Z][A-Z0-9]*)\s+BY\s+(.*)$", re.S)
+_SHIFT_LOC = re.compile(r"^SHIFT\s*\((.*)\)$", re.DOTALL)
+_BY = re.compile(r"^([A-Z][A-Z0-9]*)\s+BY\s+(.*)$", re.DOTALL)
 _PROG = re.compile(r"^([A-Z][A-Z0-9]*)(?:\.DAT)?$")
 _VAR = re.compile(r"^([A-Z][A-Z0-9]*)\s*=$")
 
@@ -169,9 +176,9 @@ def _literal_at(text: str, pos: int, options: tuple[str, ...]) -> int | None:
                 return pos + 1
         elif text.startswith(option, pos):
             end = pos + len(option)
-            if end == len(text) or not text[end].isalnum():
-                if pos == 0 or not text[pos - 1].isalnum():
-                    return end
+            alone_after = end == len(text) or not text[end].isalnum()
+            if alone_after and (pos == 0 or not text[pos - 1].isalnum()):
+                return end
     return None
 
 
@@ -191,7 +198,7 @@ def _candidate_ends(text: str, pos: int, options: set[str]) -> list[int]:
     return ends
 
 
-def _match(items: tuple, text: str, original: str, i: int, pos: int,
+def _match(items: tuple[Item, ...], text: str, original: str, i: int, pos: int,
            out: list[Any], errors: list[str]) -> list[Any] | None:
     rest = text[pos:]
     if i == len(items):

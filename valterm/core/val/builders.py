@@ -1,0 +1,459 @@
+"""One small builder per VAL-II instruction: a decoded ``Statement`` -> a typed op.
+
+``BUILDERS`` maps a command name (as COMMAND.DAT spells it) to its builder; the
+interpreter looks the statement's command up there.  A dialect extends the language by
+passing the interpreter a copy of this table with more entries (``builders=``).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+
+from valterm.core.events import Delay, Error, Message, Status, Step, TypeOut
+from valterm.core.kinematics import CONFIG_WORDS, Location
+from valterm.core.val.compiler import Analysis
+from valterm.core.val.expr import Expr, Values
+from valterm.core.val.ops import (
+    Action,
+    Assign,
+    Branch,
+    Call,
+    Events,
+    Jump,
+    Op,
+    PauseOp,
+    ProgramError,
+    Return,
+    Stop,
+    UndefinedVariable,
+)
+from valterm.core.val.parser import ASSIGN, LocArg, Statement
+from valterm.core.val.protocol import Simulator
+
+MAX_CALL_DEPTH = 20   # nested CALLs before "CALL DEPTH" stops the program
+
+
+@dataclass(frozen=True)
+class Build:
+    """What a builder knows: the step, where the ops of the program are, the machine."""
+
+    step: Step
+    index: int  # the step's index in the program (0-based)
+    analysis: Analysis | None  # None for a typed command
+    op_index: Sequence[int]  # step index -> op index (one past the end included)
+    variables: dict[str, float]
+    sim: Simulator
+    status: Callable[[], Status]
+    set_paused: Callable[[bool], None]
+
+    @property
+    def next(self) -> int:
+        return self.op_index[self.index + 1]
+
+    def target_of(self, label: int) -> int | None:
+        if self.analysis is None or label not in self.analysis.labels:
+            return None
+        return self.op_index[self.analysis.labels[label]]
+
+    def after(self, step_index: int) -> int:
+        """The op following step `step_index` (past the END of a structure)."""
+        return self.op_index[step_index + 1]
+
+    def partner(self) -> int:
+        assert self.analysis is not None  # control structures are refused as typed commands
+        return self.analysis.partner[self.index]
+
+    def missing_label(self, label: int) -> Error:
+        return Error(self.step.program, self.step.step,
+                     f"GOTO {label}: NO STEP WITH LABEL {label} (CONTINUING WITH THE NEXT STEP)")
+
+    def action(self, run: Callable[[], Events], error: int | None = None) -> Action:
+        return Action(self.step, self.next, self.next if error is None else error, run)
+
+    def jump(self, target: int) -> Jump:
+        return Jump(self.step, target, self.next)
+
+    def branch(self, condition: Expr, if_true: int, if_false: int, error: int | None = None) -> Branch:
+        return Branch(self.step, self.next, self.next if error is None else error,
+                      condition.function(), if_true, if_false)
+
+
+Builder = Callable[[Build, Statement], Op]
+
+
+def format_value(value: float) -> str:
+    value = float(value)
+    if value.is_integer() and abs(value) < 1e15:
+        return str(int(value))
+    return f"{value:.6g}"
+
+
+def getter(expr: Expr | None, default: float | None = None) -> Callable[[Values], float | None]:
+    """A fast evaluator: constants are folded, an omitted argument gives the default."""
+    if expr is None:
+        return lambda V: default
+    return expr.function()
+
+
+def number(fn: Callable[[Values], float | None], variables: Values) -> float:
+    """One argument's value; an undeclared variable is UndefinedVariable."""
+    try:
+        value = fn(variables)
+    except KeyError as error:
+        raise UndefinedVariable(str(error.args[0])) from None
+    return 0.0 if value is None else float(value)
+
+
+def numbers(fns: Sequence[Callable[[Values], float | None]], variables: Values) -> list[float | None]:
+    try:
+        return [fn(variables) for fn in fns]
+    except KeyError as error:
+        raise UndefinedVariable(str(error.args[0])) from None
+
+
+def failed(c: Build, reason: str) -> Action:
+    """A step that cannot run: its error message, then the next step."""
+    def run() -> Events:
+        yield Error(c.step.program, c.step.step, reason)
+        return c.next
+    return c.action(run)
+
+
+# -- assignments and control ------------------------------------------------------------
+
+def _assign(c: Build, st: Statement) -> Op:
+    name, expr = st.args
+    return Assign(c.step, c.next, c.next, name, expr.function())
+
+
+def _if(c: Build, st: Statement) -> Op:
+    if "GOTO" in st.keywords:
+        return _if_goto(c, st)
+    assert c.analysis is not None
+    end = c.after(c.partner())
+    otherwise = c.analysis.else_of.get(c.index)
+    return c.branch(st.args[0], c.next, c.after(otherwise) if otherwise is not None else end, error=end)
+
+
+def _if_goto(c: Build, st: Statement) -> Op:
+    condition, label = st.args
+    target = c.target_of(label)
+    if target is not None:
+        return c.branch(condition, target, c.next)
+    check = getter(condition)
+
+    def missing() -> Events:
+        if number(check, c.variables):
+            yield c.missing_label(label)
+        return c.next
+    return c.action(missing)
+
+
+def _else(c: Build, st: Statement) -> Op:
+    assert c.analysis is not None
+    opener = next(i for i, e in c.analysis.else_of.items() if e == c.index)
+    return c.jump(c.after(c.analysis.partner[opener]))
+
+
+def _end(c: Build, st: Statement) -> Op:
+    assert c.analysis is not None
+    opener = c.analysis.partner.get(c.index)
+    if opener is not None:
+        statement = c.analysis.statements[opener]
+        if statement is not None and statement.command == "WHILE":
+            return c.jump(c.op_index[opener])
+    return c.jump(c.next)
+
+
+def _while(c: Build, st: Statement) -> Op:
+    end = c.after(c.partner())
+    return c.branch(st.args[0], c.next, end, error=end)
+
+
+def _do(c: Build, st: Statement) -> Op:
+    return c.jump(c.next)
+
+
+def _until(c: Build, st: Statement) -> Op:
+    return c.branch(st.args[0], c.next, c.after(c.partner()))
+
+
+def _goto(c: Build, st: Statement) -> Op:
+    label = st.args[0]
+    target = c.target_of(label)
+    if target is not None:
+        return c.jump(target)
+
+    def missing() -> Events:
+        yield c.missing_label(label)
+        return c.next
+    return c.action(missing)
+
+
+def _call(c: Build, st: Statement) -> Op:
+    return Call(c.step, c.next, c.next, st.args[0], MAX_CALL_DEPTH)
+
+
+def _return(c: Build, st: Statement) -> Op:
+    return Return(c.step, c.next, c.next)
+
+
+def _stop(c: Build, st: Statement) -> Op:
+    return Stop(c.step, c.next, c.next, st.args[0] or "")
+
+
+def _pause(c: Build, st: Statement) -> Op:
+    return PauseOp(c.step, c.next, c.next, st.args[0] or "", c.set_paused)
+
+
+# -- settings, locations and output --------------------------------------------------------
+
+def _indicator(c: Build, st: Statement) -> Op:
+    sim, word = c.sim, st.command
+
+    def run() -> Events:
+        sim.set_indicator(word)
+        return c.next
+        yield
+    return c.action(run)
+
+
+def _here(c: Build, st: Statement) -> Op:
+    sim, name = c.sim, st.args[0]
+
+    def run() -> Events:
+        sim.here(name)
+        return c.next
+        yield
+    return c.action(run)
+
+
+def _type(c: Build, st: Statement) -> Op:
+    if st.shape == 0:  # TYPE var=
+        var, V = st.args[0], c.variables
+
+        def type_var() -> Events:
+            if var not in V:
+                yield Error(c.step.program, c.step.step, f"VARIABLE {var} IS NOT DECLARED")
+                return c.next
+            yield TypeOut(f"{var} = {format_value(V[var])}")
+            return c.next
+        return c.action(type_var)
+    text = st.args[0] or ""
+
+    def type_text() -> Events:
+        yield TypeOut(text)
+        return c.next
+    return c.action(type_text)
+
+
+def _where(c: Build, st: Statement) -> Op:
+    def run() -> Events:
+        yield c.sim.where()
+        return c.next
+    return c.action(run)
+
+
+def _status(c: Build, st: Statement) -> Op:
+    def run() -> Events:
+        yield c.status()
+        return c.next
+    return c.action(run)
+
+
+def _speed(c: Build, st: Statement) -> Op:
+    speed = getter(st.args[0])
+
+    def run() -> Events:
+        wanted = number(speed, c.variables)
+        got = c.sim.set_speed(wanted)
+        if got != wanted:
+            yield Message(f"SPEED SET TO {format_value(got)} (10 TO 100)", "warning")
+        return c.next
+    return c.action(run)
+
+
+def _delay(c: Build, st: Statement) -> Op:
+    seconds = getter(st.args[0])
+
+    def run() -> Events:
+        value = number(seconds, c.variables)
+        if value > 0:
+            yield Delay(value)
+        return c.next
+    return c.action(run)
+
+
+def location_of(c: Build, loc: LocArg) -> Callable[[], str | Location]:
+    """A location argument for the simulator: its name, or the shifted location itself."""
+    if loc.shift is None:
+        name = loc.name
+        return lambda: name
+    increments = tuple(getter(e, 0.0) for e in loc.shift)
+
+    def shifted() -> Location:
+        base = c.sim.location(loc.name)
+        dx, dy, dz = (float(v or 0.0) for v in numbers(increments, c.variables))
+        x, y, z = base.xyz
+        return Location((x + dx, y + dy, z + dz), base.oat)
+    return shifted
+
+
+def _set(c: Build, st: Statement) -> Op:
+    destination, source = st.args
+    where = location_of(c, source)
+
+    def run() -> Events:
+        if source.shift is None:
+            c.sim.set_location(destination, source.name)
+        else:
+            location = where()
+            assert isinstance(location, Location)
+            c.sim.locations[destination] = location
+        return c.next
+        yield
+    return c.action(run)
+
+
+def _shift(c: Build, st: Statement) -> Op:
+    name = st.args[0]
+    increments = tuple(getter(e, 0.0) for e in st.args[1:])
+
+    def run() -> Events:
+        dx, dy, dz = (float(v or 0.0) for v in numbers(increments, c.variables))
+        c.sim.shift(name, dx, dy, dz)
+        return c.next
+        yield
+    return c.action(run)
+
+
+def _base(c: Build, st: Statement) -> Op:
+    offsets = tuple(getter(e) for e in st.args)
+
+    def run() -> Events:
+        values = [None if v is None else float(v) for v in numbers(offsets, c.variables)]
+        yield from c.sim.set_base(*values)
+        return c.next
+    return c.action(run)
+
+
+# -- motions and the hand ------------------------------------------------------------------
+
+def _move(c: Build, st: Statement) -> Op:
+    straight = st.command == "MOVES"
+    where = location_of(c, st.args[0])
+
+    def run() -> Events:
+        yield from c.sim.move(where(), straight=straight)
+        return c.next
+    return c.action(run)
+
+
+def _appro(c: Build, st: Statement) -> Op:
+    straight = st.command == "APPROS"
+    where = location_of(c, st.args[0])
+    distance = getter(st.args[1])
+
+    def run() -> Events:
+        d = number(distance, c.variables)
+        yield from c.sim.appro(where(), d, straight=straight)
+        return c.next
+    return c.action(run)
+
+
+def _depart(c: Build, st: Statement) -> Op:
+    straight = st.command == "DEPARTS"
+    distance = getter(st.args[0])
+
+    def run() -> Events:
+        yield from c.sim.depart(number(distance, c.variables), straight=straight)
+        return c.next
+    return c.action(run)
+
+
+def _ready(c: Build, st: Statement) -> Op:
+    action = c.sim.ready if st.command == "READY" else c.sim.align
+
+    def run() -> Events:
+        yield from action()
+        return c.next
+    return c.action(run)
+
+
+def _drive(c: Build, st: Statement) -> Op:
+    fns = tuple(getter(e) for e in st.args)
+
+    def run() -> Events:
+        joint, degrees, speed = (float(v or 0.0) for v in numbers(fns, c.variables))
+        if joint != int(joint):
+            raise ProgramError(f"JOINT NUMBER {format_value(joint)} IS NOT 1 TO 6")
+        yield from c.sim.drive(int(joint), degrees, speed)
+        return c.next
+    return c.action(run)
+
+
+def _draw(c: Build, st: Statement) -> Op:
+    fns = tuple(getter(e, 0.0) for e in st.args)
+
+    def run() -> Events:
+        dx, dy, dz = (float(v or 0.0) for v in numbers(fns, c.variables))
+        yield from c.sim.draw(dx, dy, dz)
+        return c.next
+    return c.action(run)
+
+
+def _hand(c: Build, st: Statement) -> Op:
+    # The % argument is decoded (and its variables checked); the simulated clamp is fully
+    # open or closed on the part, as in the thesis (section 6.3).
+    action = c.sim.open if st.command.startswith("OPEN") else c.sim.close
+    immediate = st.command.endswith("I")
+    amount = getter(st.args[0])
+
+    def run() -> Events:
+        numbers((amount,), c.variables)
+        yield from action(immediate=immediate)
+        return c.next
+    return c.action(run)
+
+
+def _grasp(c: Build, st: Statement) -> Op:
+    amount = getter(st.args[0])
+    label: int | None = st.args[1] if len(st.args) > 1 else None
+    target = c.target_of(label) if label is not None else None
+
+    def run() -> Events:
+        numbers((amount,), c.variables)
+        if not c.sim.grasp_possible():
+            return c.next
+        yield from c.sim.close(immediate=True)
+        if label is None:
+            return c.next
+        if target is None:
+            yield c.missing_label(label)
+            return c.next
+        return target
+    return c.action(run)
+
+
+BUILDERS: dict[str, Builder] = {
+    ASSIGN: _assign, "IF": _if, "ELSE": _else, "END": _end, "ENDIF": _end, "WHILE": _while,
+    "DO": _do, "UNTIL": _until, "GOTO": _goto,
+    "CALL": _call, "RETURN": _return, "STOP": _stop, "HALT": _stop, "PAUSE": _pause,
+    **{word: _indicator for word in CONFIG_WORDS},
+    "HERE": _here, "TYPE": _type, "WHERE": _where, "STATUS": _status, "SPEED": _speed,
+    "DELAY": _delay, "SET": _set, "SHIFT": _shift, "BASE": _base,
+    "MOVE": _move, "MOVES": _move, "APPRO": _appro, "APPROS": _appro,
+    "DEPART": _depart, "DEPARTS": _depart, "READY": _ready, "ALIGN": _ready,
+    "DRIVE": _drive, "DRAW": _draw,
+    "OPEN": _hand, "OPENI": _hand, "CLOSE": _hand, "CLOSEI": _hand, "GRASP": _grasp,
+}
+"""The 1985 instruction set (the thesis's COMMAND.DAT): command -> builder."""
+
+
+def build(c: Build, st: Statement, builders: dict[str, Builder] | None = None) -> Op:
+    """The op of one decoded statement (an error op for a command that cannot be run here)."""
+    builder = (builders or BUILDERS).get(st.command)
+    if builder is None:
+        return failed(c, f"{st.command} cannot be used here")
+    return builder(c, st)

@@ -1,0 +1,189 @@
+"""The executable form of a VAL-II program: one small typed op per step.
+
+Pass 1 (``compiler.analyse``) decodes every step once; a builder per instruction
+(``builders.BUILDERS``) turns each decoded step into one of these ops, so pass 2 never
+decodes text again.  Every op knows its ``Step`` event, the index of the next op and
+``error``, where an undeclared variable sends control (past END for IF and WHILE,
+sections 6.4.7-8).
+
+The run loop (``Interpreter``) executes the plain ops in place, fast (``Assign``,
+``Branch``, ``Jump``: no events, no call of their own); an ``Action`` yields events from
+its generator and returns the next op's index; a ``Control`` op changes the pass itself
+(CALL, RETURN, STOP, PAUSE) through ``Run``.  A dialect adds instructions by adding
+builders that return these ops (or new ``Control`` subclasses).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Generator
+from dataclasses import dataclass, field
+
+from valterm.core.errors import ValtermError
+from valterm.core.events import Error, Event, Pause, Step, TypeOut
+from valterm.core.val.compiler import Analysis
+from valterm.core.val.expr import Fn
+
+Events = Generator[Event, None, int]  # an op's events; its return value is the next op's index
+
+
+class ProgramError(ValtermError):
+    """An error of a running program, located by program and step (0 and "" when typed)."""
+
+    def __init__(self, message: str, program: str = "", step: int = 0) -> None:
+        super().__init__(message)
+        self.message = message
+        self.program = program
+        self.step = step
+
+    def located(self) -> str:
+        return f"{self.program} step {self.step}: {self.message}" if self.program else self.message
+
+
+class UndefinedVariable(ProgramError):
+    def __init__(self, name: str, program: str = "", step: int = 0) -> None:
+        super().__init__(f"VARIABLE {name} IS NOT DECLARED", program, step)
+        self.name = name
+
+
+class RunStop(ProgramError):
+    """Something that ends the whole run (the message says what), e.g. a missing subroutine."""
+
+
+@dataclass(frozen=True, slots=True)
+class Op:
+    step: Step
+    next: int
+    error: int
+
+
+@dataclass(frozen=True, slots=True)
+class Assign(Op):
+    """VAR = expr (section 6.7)."""
+
+    name: str
+    value: Fn
+
+
+@dataclass(frozen=True, slots=True)
+class Branch(Op):
+    """A condition choosing the next op: IF, WHILE, UNTIL, IF ... GOTO."""
+
+    condition: Fn
+    if_true: int
+    if_false: int
+
+
+@dataclass(frozen=True, slots=True)
+class Jump(Op):
+    """Control goes to ``next``: GOTO, ELSE, END, DO (``next`` is the target)."""
+
+
+@dataclass(frozen=True, slots=True)
+class Action(Op):
+    """Anything that yields events (motions, TYPE, WHERE, ...): ``pc = yield from run()``."""
+
+    run: Callable[[], Events] = field(repr=False)
+
+
+@dataclass
+class CompiledProgram:
+    name: str
+    analysis: Analysis
+    code: list[Op]
+    first: int = 0
+
+    def step_number(self, pc: int) -> int:
+        if 0 <= pc < len(self.code):
+            return self.code[pc].step.step
+        return len(self.analysis.program.steps)
+
+
+@dataclass
+class Run:
+    """One execution pass: the program being run, the CALL frames to return to."""
+
+    program: CompiledProgram
+    frames: list[tuple[CompiledProgram, int]] = field(default_factory=list)
+    ended: bool = False  # the pass ends normally (STOP, RETURN in the main program)
+    failed: bool = False  # the pass is stopped by an error
+
+    def enter(self, program: CompiledProgram, return_to: int) -> int:
+        self.frames.append((self.program, return_to))
+        self.program = program
+        return 0
+
+    def leave(self) -> int:
+        """Back to the caller (its op after the CALL); the pass ends in the main program."""
+        if not self.frames:
+            self.ended = True
+            return 0
+        self.program, pc = self.frames.pop()
+        return pc
+
+
+class Control(Op):
+    """An op that changes the pass itself; ``control`` yields events and returns the next pc."""
+
+    __slots__ = ()
+
+    def control(self, run: Run, call: Callable[[str], CompiledProgram]) -> Events:
+        raise NotImplementedError
+
+
+@dataclass(frozen=True, slots=True)
+class Call(Control):
+    program: str
+    max_depth: int = 20
+
+    def control(self, run: Run, call: Callable[[str], CompiledProgram]) -> Events:
+        caller = run.program.name
+        if len(run.frames) >= self.max_depth:
+            raise RunStop(f"CALL {self.program}: MORE THAN {self.max_depth} NESTED CALLS",
+                          caller, self.step.step)
+        try:
+            sub = call(self.program)
+        except RunStop as stop:
+            raise RunStop(f"CALL {self.program}: {stop.message}", caller, self.step.step) from None
+        if not sub.analysis.structure_ok:
+            for diagnostic in sub.analysis.fatal:
+                yield from _error(sub.name, diagnostic.step, diagnostic.message)
+            raise RunStop(f"CALL {self.program}: THE PROGRAM CANNOT RUN", caller, self.step.step)
+        return run.enter(sub, self.next)
+
+
+@dataclass(frozen=True, slots=True)
+class Return(Control):
+    def control(self, run: Run, call: Callable[[str], CompiledProgram]) -> Events:
+        return run.leave()
+        yield  # a generator
+
+
+@dataclass(frozen=True, slots=True)
+class Stop(Control):
+    """STOP / HALT [text]: the pass ends (the text is typed first)."""
+
+    text: str = ""
+
+    def control(self, run: Run, call: Callable[[str], CompiledProgram]) -> Events:
+        if self.text:
+            yield TypeOut(self.text)
+        run.ended = True
+        return 0
+
+
+@dataclass(frozen=True, slots=True)
+class PauseOp(Control):
+    """PAUSE [text]: yields ``Pause``; the app pulling again is PROCEED."""
+
+    text: str = ""
+    on_pause: Callable[[bool], None] = field(default=lambda paused: None, repr=False)
+
+    def control(self, run: Run, call: Callable[[str], CompiledProgram]) -> Events:
+        self.on_pause(True)
+        yield Pause(run.program.name, self.step.step, self.text)
+        self.on_pause(False)
+        return self.next
+
+
+def _error(program: str, step: int, message: str) -> Generator[Event, None, None]:
+    yield Error(program, step, message)
