@@ -13,7 +13,9 @@ from valterm.core.cad import export_scene, import_cad, polyhedron_mesh
 from valterm.core.cell.polyhedron import Polyhedron
 from valterm.core.cell.workcell import WorkCell
 
-SAMPLES = Path(__file__).parents[2] / "shared" / "iges-samples"
+# ../shared/iges-samples beside the checkout (a worktree sits one folder deeper)
+SAMPLES = next((up / "shared" / "iges-samples" for up in Path(__file__).resolve().parents
+                if (up / "shared" / "iges-samples").is_dir()), Path("shared/iges-samples"))
 
 
 def scene_cell() -> tuple[WorkCell, list[Polyhedron]]:

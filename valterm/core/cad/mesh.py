@@ -2,7 +2,9 @@
 
 Any file trimesh reads (STL, OBJ, PLY, OFF, GLB/GLTF) becomes one part per mesh instance
 in its scene (per ``o`` object in an OBJ), each with its scene-graph transform applied.
-Meshes carry no units: their numbers are taken as millimetres unless told otherwise.
+STL, OBJ, PLY and OFF carry no units: their numbers are taken as millimetres unless told
+otherwise. A glTF/GLB is in metres by its specification (``METRE_EXTENSIONS``); the numbers
+returned here are the file's own, the caller scales them.
 """
 
 from __future__ import annotations
@@ -15,6 +17,7 @@ from valterm.core.cad.errors import CadImportError
 from valterm.core.cad.iges import Part
 
 MESH_EXTENSIONS = (".stl", ".obj", ".ply", ".off", ".glb", ".gltf")
+METRE_EXTENSIONS = (".glb", ".gltf")
 
 
 def read_mesh_parts(path: str | Path) -> list[Part]:
