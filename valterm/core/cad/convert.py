@@ -137,6 +137,13 @@ def import_cad(path: str | Path, units: str | None = None, system: str = "W", na
                     name=name or setup_name(path), warnings=warnings)
 
 
+def add_parts(setup: WorkCell, parts: WorkCell) -> WorkCell:
+    """The setup with ``parts`` appended after its own objects (which keep their numbers);
+    the setup's units and frame stay those of its file."""
+    return WorkCell(objects=list(setup.objects) + list(parts.objects), units=setup.units, system=setup.system,
+                    name=setup.name, warnings=list(parts.warnings))
+
+
 def summary(cell: WorkCell) -> str:
     """One line per part: vertices and size in millimetres, then the joint size."""
     lines = []
