@@ -104,6 +104,10 @@ async def test_units_question_offers_the_iges_header_units(tmp_path: Path) -> No
         assert "THE FILE SAYS IN" in screen_text(app)
         await pilot.press("enter", "enter")   # accept the offered units, then W
         await pilot.pause()
+        # 1.9 m long: no table holds it; the warning waits to be read
+        assert "NO FREE SPOT ON A TABLE" in screen_text(app)
+        await pilot.press("enter")
+        await pilot.pause()
         assert isinstance(app.screen, MainMenuScreen)
     cell = read_setup(tmp_path / "CHASSIS.SET")
     assert cell.units == "IN"

@@ -179,4 +179,9 @@ class StartScreen(MenuScreen):
             self.say(warning.upper(), "warning")
         added = f"{len(cell.objects) - len(setup.objects)} PART(S) ADDED; " if setup is not None else ""
         self.say(f"{added}FILE {path.name} HAS SUCCESSFULLY BEEN WRITTEN")
-        self._existing(t.setup)
+        if not cell.warnings:
+            self._existing(t.setup)
+            return
+        # the MAIN MENU would hide the warnings (a part too large for any table): let them be read
+        self.ask_key("PRESS RETURN TO CONTINUE", lambda _: self._existing(t.setup), "\n",
+                     cancel=lambda: self._existing(t.setup))
