@@ -20,8 +20,8 @@ specified coordinate axes". Here:
 from __future__ import annotations
 
 import re
+from collections.abc import Sequence
 from pathlib import Path
-from typing import Sequence
 
 import numpy as np
 

@@ -62,7 +62,7 @@ def export_scene(cell: WorkCell, robot_polyhedra: list[Polyhedron], path: str | 
     if ext not in EXPORT_EXTENSIONS:
         raise CadExportError(f"cannot export {ext or 'a file without extension'}: use .glb, .obj or .stl")
     matrix = Z_UP_TO_Y_UP / 1000.0 if ext == ".glb" else None
-    scene = trimesh.Scene()
+    scene: Any = trimesh.Scene()
     used: set[str] = set()
 
     def unique(name: str) -> str:

@@ -10,6 +10,7 @@ returned here are the file's own, the caller scales them.
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -32,9 +33,9 @@ def read_mesh_parts(path: str | Path) -> list[Part]:
         raise CadImportError(path, None, "no such file")
     if path.stat().st_size == 0:
         raise CadImportError(path, None, "the file is empty")
-    kwargs = {"split_objects": True} if ext == ".obj" else {}
+    kwargs: dict[str, Any] = {"split_objects": True} if ext == ".obj" else {}
     try:
-        scene = trimesh.load(str(path), force="scene", **kwargs)
+        scene: Any = trimesh.load(str(path), force="scene", **kwargs)
     except Exception as exc:  # trimesh raises many kinds on junk input; all mean "unreadable"
         reason = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
         raise CadImportError(path, None, f"not a readable {ext[1:].upper()} mesh ({reason})") from None

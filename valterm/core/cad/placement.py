@@ -22,8 +22,8 @@ tables just in front of the robot's pedestal, and a warning says to move them (M
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Sequence
 
 import numpy as np
 

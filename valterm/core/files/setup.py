@@ -23,8 +23,8 @@ unchanged. Numbers are written at the precision the format shows (``440.00``: 0.
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from pathlib import Path
-from typing import Iterator
 
 import numpy as np
 
@@ -225,7 +225,7 @@ def _check_geometry(polyhedron: Polyhedron, part: int) -> list[str]:
 
 def _newell(pts: np.ndarray) -> np.ndarray:
     nxt = np.roll(pts, -1, axis=0)
-    return np.cross(pts, nxt).sum(axis=0)
+    return np.asarray(np.cross(pts, nxt).sum(axis=0))
 
 
 def _convex(polygon: np.ndarray) -> bool:
