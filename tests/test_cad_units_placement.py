@@ -240,15 +240,26 @@ def test_export_obj_and_stl_keep_millimetres_and_say_so(tmp_path, capsys):
     assert stl.bounds[0][2] == pytest.approx(-660, abs=1)    # the pedestal's foot
 
 
-@pytest.mark.parametrize("argv, reason", [
-    (["--pose", "1,2,3"], "six joint angles"),
-    (["--loc", "PROCESS", "--at", "NOWHERE"], "no location NOWHERE"),
-    (["--out", "P.step"], "use .glb, .obj or .stl"),
+@pytest.mark.parametrize("argv, status, reason", [
+    (["--pose", "1,2,3"], 2, "six joint angles"),
+    (["--out", "P.step"], 2, "use FILE.glb, FILE.obj or FILE.stl"),
+    (["--loc", "PROCESS"], 2, "go together"),
+    (["--loc", "PROCESS", "--at", "NOWHERE"], 1, "no location NOWHERE"),
+    (["--loc", "NOSUCH", "--at", "A"], 1, "no such location file"),
 ])
-def test_export_errors(tmp_path, capsys, argv, reason):
+def test_export_errors(tmp_path, capsys, argv, status, reason):
     ws = tmp_path / "ws"
     out = [] if "--out" in argv else ["--out", "P.glb"]
-    assert cli(["--workspace", str(ws), "export", "PROCESS", *out, *argv]) == 2
+    if status == 2:
+        with pytest.raises(SystemExit) as caught:
+            cli(["--workspace", str(ws), "export", "PROCESS", *out, *argv])
+        assert caught.value.code == 2
+    else:
+        assert cli(["--workspace", str(ws), "export", "PROCESS", *out, *argv]) == 1
     assert reason in capsys.readouterr().err
     assert not list(ws.glob("P.*"))
 
+
+def test_export_of_a_missing_setup_fails(tmp_path, capsys):
+    assert cli(["--workspace", str(tmp_path / "ws"), "export", "NOSUCH.SET", "--out", "N.glb"]) == 1
+    assert "no such setup file" in capsys.readouterr().err

@@ -6,7 +6,9 @@ joint angles of ``--pose J1,..,J6`` (degrees), or at location NAME of a location
 ABOVE NOFLIP first, as the simulator starts). ``--no-robot`` writes the cell alone.
 GLB is in metres with Y up as glTF requires; OBJ and STL keep the world's millimetres, Z up
 (the command says which). A bare FILE name is written into the workspace, a path where it says.
-Bad input exits 2 with the reason on stderr; nothing is half-written.
+Exit status 0 written, 1 failed (no such setup file or location, out of reach, cannot
+write), 2 usage (a malformed --pose, an unknown format); the reason goes to stderr and
+nothing is half-written.
 """
 
 from __future__ import annotations
@@ -71,21 +73,27 @@ def _out_path(argument: str, root: Path) -> Path:
 
 
 def run_export(args: argparse.Namespace) -> int:
-    from valterm.core.cad.export import EXPORT_UNITS, export_scene
+    from valterm.core.cad.export import EXPORT_EXTENSIONS, EXPORT_UNITS, export_scene
     from valterm.core.errors import ValtermError
     from valterm.core.simulator import default_model
     from valterm.core.workspace import Workspace
 
     if args.at and not args.loc or args.loc and not args.at:
         args.parser.error("--loc FILE and --at NAME go together")
+    if Path(args.out).suffix.lower() not in EXPORT_EXTENSIONS:
+        args.parser.error(f"--out {args.out}: use FILE.glb, FILE.obj or FILE.stl")
+    try:
+        pose = _pose(args.pose) if args.pose else None
+    except ValueError as error:
+        args.parser.error(str(error))
     try:
         workspace = Workspace.open(getattr(args, "workspace", None))
         cell = workspace.read_setup(_stem(args.setup, "SET"))
         model = default_model()
         joints: Sequence[float] = model.geometry.ready
         said = "READY"
-        if args.pose:
-            joints, said = _pose(args.pose), f"pose {args.pose}"
+        if pose is not None:
+            joints, said = pose, f"pose {args.pose}"
         elif args.loc:
             points = workspace.read_locations(_stem(args.loc, "LOC"))
             name = args.at.upper()
@@ -97,10 +105,10 @@ def run_export(args: argparse.Namespace) -> int:
         out = export_scene(cell, robot, _out_path(args.out, workspace.root))
     except (ValtermError, ValueError) as error:
         print(f"valterm export: {error}", file=sys.stderr)
-        return 2
+        return 1
     except OSError as error:
         print(f"valterm export: {error.strerror or error}: {error.filename or ''}", file=sys.stderr)
-        return 2
+        return 1
     robot_said = "no robot" if args.no_robot else f"the robot at {said}"
     print(f"{out} written: {len(cell.objects)} part(s) and {robot_said}; "
           f"units {EXPORT_UNITS[out.suffix.lower()]}")

@@ -50,7 +50,8 @@ def read_mesh_parts(path: str | Path) -> list[Part]:
         v = v @ np.asarray(transform)[:3, :3].T + np.asarray(transform)[:3, 3]
         if not np.all(np.isfinite(v)):
             raise CadImportError(path, None, f"mesh {node!r} has non-finite vertex coordinates")
-        parts.append(Part(str(node), v, []))
+        # a single-mesh file (STL, PLY, OFF) is named after the file by trimesh: keep its stem
+        parts.append(Part(path.stem if str(node) == path.name else str(node), v, []))
     if not parts:
         raise CadImportError(path, None, f"no mesh geometry in the file (is it a {ext[1:].upper()} mesh?)")
     return parts
