@@ -134,8 +134,10 @@ def test_a_part_too_large_for_any_table_stands_in_front_with_a_warning():
 
 
 def test_reachable_is_the_kinematics_answer():
-    assert reachable([500, 0, -200])
-    assert not reachable([2000, 0, 0])
+    assert reachable([500, 0, -200]).tolist() == [True]
+    assert reachable([[2000, 0, 0], [500, 100, -250], [0, 0, -2000]]).tolist() == [False, True, False]
+    with pytest.raises(IKError):
+        ik_oat([2000, 0, 0], TOOL_DOWN_OAT, Config(-1, 1, 1))
 
 
 # --------------------------------------------------------------------------- setup files: names, numbers

@@ -22,6 +22,7 @@ tables just in front of the robot's pedestal, and a warning says to move them (M
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -73,19 +74,18 @@ def robot_at_ready() -> list[Polyhedron]:
     return model.place(model.geometry.ready)
 
 
-def reachable(point: Sequence[float]) -> bool:
-    """True when the tool, pointing straight down, reaches ``point`` in some configuration."""
-    from valterm.core.kinematics import Config, IKError, ik_oat
+def reachable(points: np.ndarray | Sequence[float]) -> np.ndarray:
+    """For (n, 3) points (or one point): does the tool, pointing straight down, reach it in
+    some configuration within the stops? (vectorised IK, every configuration tried)"""
+    from valterm.core.kinematics import ik_batch, oat_to_rotation
 
-    for arm in (-1, 1):
-        for elbow in (1, -1):
-            for wrist in (1, -1):
-                try:
-                    ik_oat(point, TOOL_DOWN_OAT, Config(arm, elbow, wrist))
-                    return True
-                except IKError:
-                    continue
-    return False
+    xyz = np.asarray(points, dtype=float).reshape(-1, 3)
+    rotations = np.broadcast_to(oat_to_rotation(*TOOL_DOWN_OAT), (len(xyz), 3, 3))
+    found = np.zeros(len(xyz), dtype=bool)
+    for config in itertools.product((-1, 1), repeat=3):
+        _, status = ik_batch(xyz, rotations, config)
+        found |= status == 0
+    return found
 
 
 def _boxes(objects: Sequence[Polyhedron]) -> tuple[np.ndarray, np.ndarray]:
@@ -133,18 +133,18 @@ def place_on_table(parts: Sequence[Polyhedron], around: Sequence[Polyhedron] = (
     size = hi - lo
     obstacles = list(around) + robot_at_ready()
     o_lo, o_hi = _boxes(obstacles)
-    spots: list[tuple[float, np.ndarray, float]] = []
+    corners, tops = [], []
     for table in tables(around) or [DEFAULT_TABLE]:
-        corners = _candidates(table, size)
-        corners = corners[_free(corners, size, table.top, o_lo, o_hi)]
-        centres = corners + size[:2] / 2
-        distance = np.linalg.norm(centres - FRONT, axis=1)
-        spots.extend((float(d), c, table.top) for d, c in zip(distance, corners))
-    spots.sort(key=lambda spot: spot[0])
-    for _, corner, top in spots:
-        above = [*(corner + size[:2] / 2), top + size[2] + APPROACH]
-        if reachable(above):
-            return _moved(parts, np.array([*corner, top]) - lo), []
+        found = _candidates(table, size)
+        found = found[_free(found, size, table.top, o_lo, o_hi)]
+        corners.append(found)
+        tops.append(np.full(len(found), table.top))
+    corner, top = np.concatenate(corners), np.concatenate(tops)
+    centre = corner + size[:2] / 2
+    ok = reachable(np.column_stack([centre, top + size[2] + APPROACH]))
+    if ok.any():
+        best = np.flatnonzero(ok)[np.argmin(np.linalg.norm(centre[ok] - FRONT, axis=1))]
+        return _moved(parts, np.array([*corner[best], top[best]]) - lo), []
     return _in_front(parts, lo, size)
 
 
