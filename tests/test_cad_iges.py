@@ -62,7 +62,7 @@ def make_iges(entities: list[dict], units_flag: int = 2, units_name: str = "2HMM
         status = ent.get("status", "00000000")
         d_lines.append(f"{ent['type']:>8}{start:>8}{0:>8}{0:>8}{ent.get('level', 0):>8}{0:>8}"
                        f"{ent.get('matrix', 0):>8}{0:>8}{status:>8}")
-        d_lines.append(f"{ent['type']:>8}{0:>8}{0:>8}{len(chunks):>8}{ent.get('form', 0):>8}{'':>8}{'':>8}{'':>8}{0:>8}")
+        d_lines.append(f"{ent['type']:>8}{0:>8}{0:>8}{len(chunks):>8}{ent.get('form', 0):>8}{'':>8}{'':>8}{ent.get('label', ''):>8}{0:>8}")
     out = [f"{'made by the valterm tests':<72}S{1:>7}"]
     out += [f"{g:<72}G{i:>7}" for i, g in enumerate(glines, 1)]
     out += [f"{d:<72}D{i:>7}" for i, d in enumerate(d_lines, 1)]
@@ -490,3 +490,14 @@ def test_mutated_samples_never_raise_anything_but_cad_import_error(tmp_path):
             import_cad(path)
         except CadImportError as error:
             assert "\n" not in str(error) and str(error).startswith(str(path))
+
+
+def test_entity_labels_name_the_parts(tmp_path):
+    def labelled(level, offset, label):
+        return [dict(e, label=label) for e in box_entities(level=level, offset=offset)]
+
+    path = write(tmp_path, make_iges(labelled(1, (0, 0, 0), "BRACKET") + labelled(2, (50, 0, 0), "PLATE")))
+    assert [p.name for p in import_cad(path).objects] == ["BRACKET", "PLATE"]
+    # a label that only names the entity's kind names nothing: the file's name it is
+    path = write(tmp_path, make_iges(labelled(0, (0, 0, 0), "LINE")))
+    assert [p.name for p in import_cad(path).objects] == [path.stem.upper()]
