@@ -28,7 +28,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("setup", metavar="NAME.SET", help="the setup file in the workspace")
     parser.add_argument("--out", required=True, metavar="FILE", help="FILE.glb, FILE.obj or FILE.stl")
     where = parser.add_mutually_exclusive_group()
-    where.add_argument("--pose", metavar="J1,..,J6", help="the robot's joint angles in degrees (default READY)")
+    where.add_argument("--pose", metavar="J1,..,J6",
+                       help="the robot's joint angles in degrees (default READY); --pose=-10,... when J1 < 0")
     where.add_argument("--loc", metavar="FILE", help="a location file (NAME.LOC) of the workspace; with --at")
     parser.add_argument("--at", metavar="NAME", help="the location of --loc the robot's tool stands at")
     where.add_argument("--no-robot", action="store_true", help="the cell alone")
