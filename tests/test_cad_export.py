@@ -1,4 +1,4 @@
-"""Generate (main menu G): OBJ/GLB export round trip; and the `valterm import` command."""
+"""Generate (main menu G): GLB/OBJ/STL export round trip; and the `valterm import` command."""
 
 from __future__ import annotations
 
@@ -13,7 +13,9 @@ from valterm.core.cad import export_scene, import_cad, polyhedron_mesh
 from valterm.core.cell.polyhedron import Polyhedron
 from valterm.core.cell.workcell import WorkCell
 
-SAMPLES = Path(__file__).parents[2] / "shared" / "iges-samples"
+# ../shared/iges-samples beside the checkout (a worktree sits one folder deeper)
+SAMPLES = next((up / "shared" / "iges-samples" for up in Path(__file__).resolve().parents
+                if (up / "shared" / "iges-samples").is_dir()), Path("shared/iges-samples"))
 
 
 def scene_cell() -> tuple[WorkCell, list[Polyhedron]]:
@@ -37,23 +39,38 @@ def test_polyhedron_mesh_is_closed_and_outward():
         assert np.allclose(mesh.bounds, [poly.vertices.min(axis=0), poly.vertices.max(axis=0)])
 
 
-@pytest.mark.parametrize("ext", ["obj", "glb"])
-def test_round_trip(tmp_path, ext):
+def test_obj_round_trip_in_millimetres(tmp_path):
     cell, robot = scene_cell()
-    path = export_scene(cell, robot, tmp_path / f"scene.{ext}")
-    loaded = trimesh.load(path, force="scene", **({"split_objects": True} if ext == "obj" else {}))
+    path = export_scene(cell, robot, tmp_path / "scene.obj")
+    assert path.read_text().startswith("# valterm export: world millimetres, Z up")
+    loaded = trimesh.load(path, force="scene", split_objects=True)
     assert len(loaded.geometry) == len(cell.objects) + len(robot)
     all_v = np.concatenate([p.vertices for p in cell.objects + robot])
     assert np.allclose(loaded.bounds, [all_v.min(axis=0), all_v.max(axis=0)], atol=1e-5)
     names = set(loaded.geometry)
-    assert {"robot/BASE", "robot/UPPERARM"} <= names
-    assert sum(n.startswith("cell/") for n in names) == 3
-    # every body keeps its own bounds
+    assert {"robot/BASE", "robot/UPPERARM", "cell/PART 1", "cell/PART 2", "cell/PART 3"} == names
     for poly, name in zip(robot, ("robot/BASE", "robot/UPPERARM")):
         mesh = loaded.geometry[name]
-        if ext == "glb":
-            mesh = mesh.copy().apply_transform(loaded.graph[name][0])
         assert np.allclose(mesh.bounds, [poly.vertices.min(axis=0), poly.vertices.max(axis=0)], atol=1e-5)
+
+
+def test_glb_round_trip_in_metres_y_up(tmp_path):
+    cell, robot = scene_cell()
+    path = export_scene(cell, robot, tmp_path / "scene.glb")
+    loaded = trimesh.load(path, force="scene")
+    assert set(loaded.geometry) == {"BASE", "UPPERARM", "PART 1", "PART 2", "PART 3"}
+    for poly, name in zip(robot + cell.objects, ("BASE", "UPPERARM", "PART 1", "PART 2", "PART 3")):
+        mesh = loaded.geometry[name].copy().apply_transform(loaded.graph[name][0])
+        v = poly.vertices / 1000.0
+        gltf = np.stack([v[:, 0], v[:, 2], -v[:, 1]], 1)   # Z up -> Y up
+        assert np.allclose(mesh.bounds, [gltf.min(axis=0), gltf.max(axis=0)], atol=1e-7)
+
+
+def test_stl_is_one_mesh_in_millimetres(tmp_path):
+    cell, robot = scene_cell()
+    mesh = trimesh.load(export_scene(cell, robot, tmp_path / "scene.stl"))
+    all_v = np.concatenate([p.vertices for p in cell.objects + robot])
+    assert np.allclose(mesh.bounds, [all_v.min(axis=0), all_v.max(axis=0)], atol=1e-3)
 
 
 def test_glb_groups_robot_and_cell_nodes(tmp_path):
@@ -61,7 +78,8 @@ def test_glb_groups_robot_and_cell_nodes(tmp_path):
     path = export_scene(cell, robot, tmp_path / "scene.glb")
     loaded = trimesh.load(path, force="scene")
     assert "robot" in loaded.graph.nodes and "cell" in loaded.graph.nodes
-    assert loaded.graph.transforms.parents["robot/BASE"] == "robot"
+    assert loaded.graph.transforms.parents["BASE"] == "robot"
+    assert loaded.graph.transforms.parents["PART 1"] == "cell"
 
 
 def test_export_reimports(tmp_path):
@@ -76,7 +94,7 @@ def test_export_reimports(tmp_path):
 
 def test_export_refuses_other_formats(tmp_path):
     cell, robot = scene_cell()
-    with pytest.raises(ValueError, match="obj or .glb"):
+    with pytest.raises(ValueError, match=r"\.glb, \.obj or \.stl"):
         export_scene(cell, robot, tmp_path / "scene.step")
     with pytest.raises(ValueError, match="nothing to export"):
         export_scene(WorkCell([]), [], tmp_path / "empty.obj")

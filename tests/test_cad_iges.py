@@ -12,7 +12,9 @@ import pytest
 from valterm.core.cad import CadImportError, import_cad, read_iges
 from valterm.core.cad.iges_geometry import bspline_basis
 
-SAMPLES = Path(__file__).parents[2] / "shared" / "iges-samples"
+# ../shared/iges-samples beside the checkout (a worktree sits one folder deeper)
+SAMPLES = next((up / "shared" / "iges-samples" for up in Path(__file__).resolve().parents
+                if (up / "shared" / "iges-samples").is_dir()), Path("shared/iges-samples"))
 
 
 def sample(name: str) -> Path:
@@ -60,7 +62,7 @@ def make_iges(entities: list[dict], units_flag: int = 2, units_name: str = "2HMM
         status = ent.get("status", "00000000")
         d_lines.append(f"{ent['type']:>8}{start:>8}{0:>8}{0:>8}{ent.get('level', 0):>8}{0:>8}"
                        f"{ent.get('matrix', 0):>8}{0:>8}{status:>8}")
-        d_lines.append(f"{ent['type']:>8}{0:>8}{0:>8}{len(chunks):>8}{ent.get('form', 0):>8}{'':>8}{'':>8}{'':>8}{0:>8}")
+        d_lines.append(f"{ent['type']:>8}{0:>8}{0:>8}{len(chunks):>8}{ent.get('form', 0):>8}{'':>8}{'':>8}{ent.get('label', ''):>8}{0:>8}")
     out = [f"{'made by the valterm tests':<72}S{1:>7}"]
     out += [f"{g:<72}G{i:>7}" for i, g in enumerate(glines, 1)]
     out += [f"{d:<72}D{i:>7}" for i, d in enumerate(d_lines, 1)]
@@ -91,7 +93,7 @@ def box_entities(level: int = 0, offset=(0, 0, 0)) -> list[dict]:
 # --------------------------------------------------------------------------- the real samples
 
 def test_occt_box_is_a_100mm_cube_at_the_origin():
-    cell = import_cad(sample("occt-box-100mm.iges"))
+    cell = import_cad(sample("occt-box-100mm.iges"), place_at=(0, 0, 0))
     assert len(cell.objects) == 1
     poly = cell.objects[0]
     assert poly.k == 4
@@ -230,7 +232,7 @@ def test_occt_arcs_sizes_by_independent_computation():
 @pytest.mark.parametrize("name", ["occt-box-100mm.iges", "solidworks-chassis-wireframe.igs",
                                   "occt-arcs.iges", "ansys-points.igs"])
 def test_every_sample_imports_into_a_valid_cell(name):
-    cell = import_cad(sample(name))
+    cell = import_cad(sample(name), place_at=(0, 0, 0))
     for p in cell.objects:
         assert p.k >= 4 and p.k <= 32
         assert p.file_winding_outward()
@@ -239,7 +241,7 @@ def test_every_sample_imports_into_a_valid_cell(name):
 
 
 def test_screen_system_places_at_scs_origin():
-    cell = import_cad(sample("occt-box-100mm.iges"), system="S")
+    cell = import_cad(sample("occt-box-100mm.iges"), system="S", place_at=(0, 0, 0))
     assert cell.system == "S"
     assert np.allclose(cell.objects[0].vertices.min(axis=0), [0, 0, -26])
 
@@ -488,3 +490,14 @@ def test_mutated_samples_never_raise_anything_but_cad_import_error(tmp_path):
             import_cad(path)
         except CadImportError as error:
             assert "\n" not in str(error) and str(error).startswith(str(path))
+
+
+def test_entity_labels_name_the_parts(tmp_path):
+    def labelled(level, offset, label):
+        return [dict(e, label=label) for e in box_entities(level=level, offset=offset)]
+
+    path = write(tmp_path, make_iges(labelled(1, (0, 0, 0), "BRACKET") + labelled(2, (50, 0, 0), "PLATE")))
+    assert [p.name for p in import_cad(path).objects] == ["BRACKET", "PLATE"]
+    # a label that only names the entity's kind names nothing: the file's name it is
+    path = write(tmp_path, make_iges(labelled(0, (0, 0, 0), "LINE")))
+    assert [p.name for p in import_cad(path).objects] == [path.stem.upper()]

@@ -25,7 +25,8 @@ def box(size, at=(0, 0, 0)) -> trimesh.Trimesh:
 def test_single_box_every_format(tmp_path, ext):
     path = tmp_path / f"block.{ext}"
     box((40, 30, 20), at=(7, 8, 9)).export(path)
-    cell = import_cad(path)
+    # a glTF is in metres by its specification; MM says these numbers are millimetres
+    cell = import_cad(path, units="MM" if ext == "glb" else None, place_at=(0, 0, 0))
     assert len(cell.objects) == 1
     assert np.allclose(extents(cell), [40, 30, 20])
     assert np.allclose(cell.objects[0].vertices.min(axis=0), 0)
@@ -58,7 +59,7 @@ def test_scene_with_several_meshes_gives_several_parts(tmp_path):
     scene.export(path)
     parts = read_mesh_parts(path)
     assert sorted(p.name for p in parts) == ["a", "b"]
-    cell = import_cad(path)
+    cell = import_cad(path, units="MM")
     assert len(cell.objects) == 2
     assert np.allclose(extents(cell), [115, 10, 10])
     assert len(import_cad(path, parts=1).objects) == 1
@@ -79,7 +80,7 @@ def test_obj_objects_are_parts(tmp_path):
 def test_screen_system(tmp_path):
     path = tmp_path / "b.stl"
     box((10, 20, 30)).export(path)
-    cell = import_cad(path, system="S")
+    cell = import_cad(path, system="S", place_at=(0, 0, 0))
     # file X, Y, Z are screen axes: X_s = Y_w, Y_s = Z_w + 26, Z_s = X_w
     assert np.allclose(extents(cell), [30, 10, 20])
     assert np.allclose(cell.objects[0].vertices.min(axis=0), [0, 0, -26])

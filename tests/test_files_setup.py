@@ -110,9 +110,12 @@ def test_round_trip_keeps_units_frame_and_vertices(tmp_path: Path, units: str, s
     again = read_setup(path)
     assert (again.units, again.system) == (units, system)
     assert len(again.objects) == len(original.objects)
+    # written at the format's precision: 0.01 mm, or 0.0001 in
+    atol = 0.005 + 1e-9 if units == "MM" else 0.00005 * 25.4 + 1e-9
     for a, b in zip(original.objects, again.objects):
-        np.testing.assert_allclose(a.vertices, b.vertices, atol=1e-6, rtol=0)
+        np.testing.assert_allclose(a.vertices, b.vertices, atol=atol, rtol=0)
     assert format_setup(again).splitlines()[:3] == [str(len(original.objects)), units, system]
+    assert format_setup(again) == path.read_text()  # a second write changes nothing
 
 
 def test_written_file_uses_the_thesis_layout() -> None:

@@ -1,10 +1,14 @@
-"""``valterm import FILE --out NAME.SET``: a CAD file to a setup file, with no questions (§7.1).
+"""``valterm import FILE --out NAME.SET | --into NAME.SET``: a CAD file to a setup file (§7.1).
 
 FILE is an IGES file (.igs/.iges) or a polygon mesh (.stl/.obj/.ply/.off/.glb/.gltf): a path,
-or a file in the workspace. The setup file is written into the workspace under NAME.SET.
+or a file in the workspace. ``--out`` writes a new setup file NAME.SET into the workspace
+(an existing one only with --force); ``--into`` appends the parts to an existing setup file,
+keeping its objects, their numbers, its units and frame (with --out as well, the combined
+setup goes to --out instead). The parts land on a free spot of a table in front of the robot.
 The options answer the thesis's questions: --parts (the number of workpieces), --units
-(MM/IN: what the file's numbers are), --system (W/S: the axes they are given in).
-Bad input exits 2 with ``FILE:LINE: reason`` on stderr.
+(MM/IN/M: what the file's numbers are; default the file's own: the IGES header, metres for
+glTF/GLB, millimetres for other meshes), --system (W/S: the axes they are given in).
+Bad input exits 2 with ``FILE:LINE: reason`` on stderr; nothing is half-written.
 """
 
 from __future__ import annotations
@@ -13,25 +17,29 @@ import argparse
 import sys
 from pathlib import Path
 
-from valterm.core.cad.convert import import_cad, summary
+from valterm.core.cad.convert import add_parts, import_cad, summary
 from valterm.core.cad.errors import CadImportError
+from valterm.core.errors import ValtermError
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     parser = subparsers.add_parser(
-        "import", help="turn an IGES or mesh file into a work-cell setup file (.SET)",
+        "import", help="turn an IGES or mesh file into a work-cell setup file (.SET), or add it to one",
         description="Read an IGES or polygon-mesh file, envelop each part in an extruded convex "
-                    "polyhedron, place the parts at the origin and write NAME.SET in the workspace.")
+                    "polyhedron, place the parts on a free spot of a table in front of the robot and "
+                    "write NAME.SET in the workspace (--out), or append them to an existing one (--into).")
     parser.add_argument("file", metavar="FILE", help="IGES (.igs .iges) or mesh (.stl .obj .ply .off .glb .gltf)")
-    parser.add_argument("--out", required=True, metavar="NAME.SET", help="setup file name (1-9 of A-Z 0-9)")
-    parser.add_argument("--units", type=str.upper, choices=("MM", "IN"),
-                        help="the file's numbers are in these units (default: the file's own; meshes MM)")
+    parser.add_argument("--out", metavar="NAME.SET", help="the setup file to write (1-9 of A-Z 0-9)")
+    parser.add_argument("--into", metavar="NAME.SET", help="an existing setup file the parts are added to")
+    parser.add_argument("--units", type=str.upper, choices=("MM", "IN", "M"),
+                        help="the file's numbers are in these units (default: the file's own: the IGES "
+                             "header, M for glTF/GLB, MM for STL/OBJ/PLY/OFF)")
     parser.add_argument("--system", type=str.upper, choices=("W", "S"), default="W",
                         help="the file's coordinates are world (W, default) or screen (S) axes")
     parser.add_argument("--parts", type=int, metavar="N",
                         help="number of workpieces: 1 merges everything, N splits into N separate bodies")
-    parser.add_argument("--force", action="store_true", help="replace NAME.SET if it exists")
-    parser.set_defaults(func=run_import)
+    parser.add_argument("--force", action="store_true", help="replace the --out file if it exists")
+    parser.set_defaults(func=run_import, parser=parser)
 
 
 def _source(argument: str, workspace_root: str | None) -> Path:
@@ -44,23 +52,35 @@ def _source(argument: str, workspace_root: str | None) -> Path:
     return found or given
 
 
+def _set_name(argument: str) -> str:
+    """NAME of NAME.SET or NAME (the workspace checks the name itself)."""
+    stem, dot, ext = argument.rpartition(".")
+    return stem if dot and ext.upper() == "SET" else argument
+
+
 def run_import(args: argparse.Namespace) -> int:
     from valterm.core.files.setup import write_setup
-    from valterm.core.workspace import Workspace, WorkspaceError
+    from valterm.core.workspace import Workspace
 
+    if not args.out and not args.into:
+        args.parser.error("give --out NAME.SET (a new setup) or --into NAME.SET (add to a setup)")
     root = getattr(args, "workspace", None)
     try:
         workspace = Workspace.open(root)
-        out = workspace.path(args.out, "SET")
+        setup = workspace.read_setup(_set_name(args.into)) if args.into else None
+        out = workspace.path(_set_name(args.out or args.into), "SET")
         source = _source(args.file, root)
         if not source.is_file():
             raise CadImportError(source, None, "no such file")
-        if out.exists() and not args.force:
+        if args.out and out.exists() and not args.force:
             print(f"valterm import: {out.name} exists in the workspace; use --force to replace it", file=sys.stderr)
             return 2
-        cell = import_cad(source, units=args.units, system=args.system, name=out.stem, parts=args.parts)
+        cell = import_cad(source, units=args.units, system=args.system, name=out.stem, parts=args.parts,
+                          around=setup.objects if setup is not None else ())
+        if setup is not None:
+            cell = add_parts(setup, cell)
         write_setup(out, cell)
-    except (CadImportError, WorkspaceError) as error:
+    except ValtermError as error:
         print(error, file=sys.stderr)
         return 2
     except OSError as error:
@@ -68,6 +88,7 @@ def run_import(args: argparse.Namespace) -> int:
         return 2
     for warning in cell.warnings:
         print(f"warning: {warning}", file=sys.stderr)
-    print(f"{out.name} written ({out})")
+    added = f", {len(cell.objects) - len(setup.objects)} part(s) added" if setup is not None else ""
+    print(f"{out.name} written ({out}){added}")
     print(summary(cell))
     return 0

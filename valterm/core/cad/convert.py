@@ -4,32 +4,38 @@ The thesis's IGES path asked for the setup-file name, the number of workpieces, 
 (MM/IN) and the coordinate system (W/S), then "placed the parts at the origin of the user
 specified coordinate axes". Here:
 
-* the file's numbers are read in its own units (IGES units flag; meshes: millimetres) unless
-  ``units`` says they are ``MM`` or ``IN``;
+* the file's numbers are read in its own units unless ``units`` says they are ``MM``, ``IN``
+  or ``M``: an IGES file by its header's units flag; a glTF/GLB in metres (its specification
+  says so); STL/OBJ/PLY/OFF carry no units and are taken as millimetres;
 * the numbers are coordinates in the chosen system: ``W`` world as is, ``S`` screen axes
   (X_s = Y_w, Y_s = Z_w + 26, Z_s = X_w), so a model drawn Y-up stands upright;
-* all parts move together (their arrangement kept) so the minimum corner of their joint box
-  sits at ``place_at`` (in the chosen system; default its origin);
-* each part becomes its extruded convex envelope (``valterm.core.cad.hull``).
+* all parts move together (their arrangement kept) onto a free spot of a table in front of
+  the robot, clear of it and of the objects ``around`` them (``valterm.core.cad.placement``);
+  or, when ``place_at`` is given, so the minimum corner of their joint box sits there (in the
+  chosen system), as the thesis did;
+* each part becomes its extruded convex envelope (``valterm.core.cad.hull``), named as the
+  file names it (IGES entity label, mesh geometry name).
 """
 
 from __future__ import annotations
 
 import re
+from collections.abc import Sequence
 from pathlib import Path
-from typing import Sequence
 
 import numpy as np
 
 from valterm.core.cad.errors import CadImportError, DegeneratePart
 from valterm.core.cad.hull import MIN_DEPTH_MM, extruded_hull
 from valterm.core.cad.iges import Part, read_iges
-from valterm.core.cad.mesh import MESH_EXTENSIONS, read_mesh_parts
+from valterm.core.cad.mesh import MESH_EXTENSIONS, METRE_EXTENSIONS, read_mesh_parts
+from valterm.core.cad.placement import place_on_table
+from valterm.core.cell.polyhedron import Polyhedron
 from valterm.core.cell.workcell import WorkCell
 
 IGES_EXTENSIONS = (".igs", ".iges")
 SCS_HEIGHT = 26.0
-UNITS_MM = {"MM": 1.0, "IN": 25.4}
+UNITS_MM = {"MM": 1.0, "IN": 25.4, "M": 1000.0}
 
 
 def scs_to_world(p: np.ndarray) -> np.ndarray:
@@ -45,28 +51,47 @@ def setup_name(path: str | Path) -> str:
 
 
 def read_parts(path: str | Path, parts: int | None = None) -> tuple[list[Part], float, str, list[str]]:
-    """Parts (points in mm by the file's units), mm per file unit, the file's MM/IN and warnings."""
+    """Parts (points in mm by the file's units), mm per file unit, the file's units and warnings.
+
+    The units are MM, IN or M: what the file says (IGES header; glTF/GLB metres) or MM."""
     path = Path(path)
     ext = path.suffix.lower()
     if ext in IGES_EXTENSIONS:
         model = read_iges(path)
-        return model.parts(parts), model.mm_per_unit, model.file_units, model.warnings
+        return model.parts(parts), model.mm_per_unit, file_units(model.mm_per_unit), model.warnings
     if ext in MESH_EXTENSIONS:
         found = read_mesh_parts(path)
         if parts is not None and parts != len(found):
             if parts != 1:
                 raise CadImportError(path, None, f"asked for {parts} workpieces; the file holds {len(found)} meshes")
             found = [Part(setup_name(path), np.concatenate([p.points for p in found]), [])]
+        if ext in METRE_EXTENSIONS:
+            return [Part(p.name, p.points * 1000.0, p.entities) for p in found], 1000.0, "M", []
         return found, 1.0, "MM", []
     known = ", ".join(IGES_EXTENSIONS + MESH_EXTENSIONS)
     raise CadImportError(path, None, f"unknown CAD file type {ext or '(none)'}; use one of {known}")
 
 
+def file_units(mm_per_unit: float) -> str:
+    """MM, IN or M for a file's millimetres per unit (other units read as their millimetres)."""
+    return {25.4: "IN", 1000.0: "M"}.get(mm_per_unit, "MM")
+
+
+def native_units(path: str | Path) -> str:
+    """The units a CAD file's numbers are in by its own account (MM, IN or M), for a prompt."""
+    path = Path(path)
+    ext = path.suffix.lower()
+    if ext in IGES_EXTENSIONS:
+        return file_units(read_iges(path).mm_per_unit)
+    return "M" if ext in METRE_EXTENSIONS else "MM"
+
+
 def import_cad(path: str | Path, units: str | None = None, system: str = "W", name: str | None = None,
-               place_at: Sequence[float] = (0.0, 0.0, 0.0), parts: int | None = None,
-               min_depth: float = MIN_DEPTH_MM) -> WorkCell:
+               place_at: Sequence[float] | None = None, parts: int | None = None,
+               min_depth: float = MIN_DEPTH_MM, around: Sequence[Polyhedron] = ()) -> WorkCell:
     """Read an IGES or mesh file into a WorkCell of extruded convex polyhedra (world mm).
 
+    ``around``: the objects already in the setup the parts join (they land clear of them).
     Raises ``CadImportError`` (``file:line: reason``) for anything it cannot use.
     """
     path = Path(path)
@@ -74,10 +99,10 @@ def import_cad(path: str | Path, units: str | None = None, system: str = "W", na
     if system not in ("W", "S"):
         raise CadImportError(path, None, f"coordinate system {system!r} is not W or S")
     if units is not None and units.upper() not in UNITS_MM:
-        raise CadImportError(path, None, f"units {units!r} are not MM or IN")
+        raise CadImportError(path, None, f"units {units!r} are not MM, IN or M")
     if parts is not None and parts < 1:
         raise CadImportError(path, None, f"number of workpieces {parts} must be at least 1")
-    found, mm_per_unit, file_units, warnings = read_parts(path, parts)
+    found, mm_per_unit, units_of_file, warnings = read_parts(path, parts)
     warnings = list(warnings)
     rescale = UNITS_MM[units.upper()] / mm_per_unit if units is not None else 1.0
 
@@ -98,12 +123,25 @@ def import_cad(path: str | Path, units: str | None = None, system: str = "W", na
     if not objects:
         raise CadImportError(path, None, "no part with a usable outline")
 
-    lo = np.min([p.vertices.min(axis=0) for p in objects], axis=0)
-    target = np.asarray(place_at, dtype=float)
-    target = scs_to_world(target) if system == "S" else target
-    objects = [p.translated(target - lo) for p in objects]
-    return WorkCell(objects=objects, units=(units or file_units).upper(), system=system,
+    if place_at is None:
+        objects, notes = place_on_table(objects, around)
+        warnings.extend(notes)
+    else:
+        lo = np.min([p.vertices.min(axis=0) for p in objects], axis=0)
+        target = np.asarray(place_at, dtype=float)
+        target = scs_to_world(target) if system == "S" else target
+        objects = [p.translated(target - lo) for p in objects]
+    # a setup file holds MM or IN; metres are written as millimetres
+    written = (units or units_of_file).upper()
+    return WorkCell(objects=objects, units="IN" if written == "IN" else "MM", system=system,
                     name=name or setup_name(path), warnings=warnings)
+
+
+def add_parts(setup: WorkCell, parts: WorkCell) -> WorkCell:
+    """The setup with ``parts`` appended after its own objects (which keep their numbers);
+    the setup's units and frame stay those of its file."""
+    return WorkCell(objects=list(setup.objects) + list(parts.objects), units=setup.units, system=setup.system,
+                    name=setup.name, warnings=list(parts.warnings))
 
 
 def summary(cell: WorkCell) -> str:

@@ -20,3 +20,7 @@ class CadImportError(ValtermError, ValueError):
 
 class DegeneratePart(ValtermError, ValueError):
     """A part whose points enclose no area (coincident or collinear): the reason is the message."""
+
+
+class CadExportError(ValtermError, ValueError):
+    """A scene that cannot be exported (unknown format, nothing to write): the reason is the message."""

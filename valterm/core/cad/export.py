@@ -1,21 +1,35 @@
-"""Generate (main menu G): the robot and the cell written as OBJ or GLB for other programs.
+"""Generate (main menu G, ``valterm export``): the robot and the cell as GLB, OBJ or STL.
 
-Each polyhedron becomes a closed triangle mesh named ``robot/<name>`` or ``cell/PART<n>``;
-in a GLB the robot's links hang under a ``robot`` node and the parts under a ``cell`` node.
-OBJ has no hierarchy, so the names carry it (one ``o`` object each); read it back with
-``trimesh.load(path, split_objects=True)``.
+Each polyhedron becomes a closed triangle mesh named by its own name (an imported part's
+IGES label or mesh name, ``PART n`` otherwise; robot links by the model's link names), made
+unique within the file with ``-2``, ``-3``...
+
+* GLB follows glTF: metres, Y up (world X, Y, Z -> glTF X, Z, -Y), the names on both node
+  and mesh; the robot's links hang under a ``robot`` node and the parts under a ``cell`` node.
+* OBJ keeps world millimetres, Z up, and says so in its first comment line; it has no
+  hierarchy, so the names carry it (``o robot/BASE``, ``o cell/CHASSIS``); read it back with
+  ``trimesh.load(path, split_objects=True)``.
+* STL keeps world millimetres, Z up: one mesh of every body, no names (the format has none).
 """
 
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
+from valterm.core.cad.errors import CadExportError
 from valterm.core.cell.polyhedron import Polyhedron
 from valterm.core.cell.workcell import WorkCell
+from valterm.core.files.atomic import write_bytes_atomic
 
-EXPORT_EXTENSIONS = (".obj", ".glb")
+EXPORT_EXTENSIONS = (".glb", ".obj", ".stl")
+# what each format's numbers are, for the user (the CLI prints it)
+EXPORT_UNITS = {".glb": "metres, Y up (glTF)", ".obj": "millimetres, Z up", ".stl": "millimetres, Z up"}
+# world (Z up) -> glTF (Y up): X stays, Y_gltf = Z_w, Z_gltf = -Y_w; then mm -> m
+Z_UP_TO_Y_UP = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, -1.0, 0.0]])
+OBJ_HEADER = "# valterm export: world millimetres, Z up (the VAL-II SIMULATOR's world frame)\n"
 
 
 def polyhedron_triangles(poly: Polyhedron) -> np.ndarray:
@@ -31,21 +45,24 @@ def polyhedron_triangles(poly: Polyhedron) -> np.ndarray:
     return np.concatenate(tris)
 
 
-def polyhedron_mesh(poly: Polyhedron):  # -> trimesh.Trimesh (import kept lazy)
+def polyhedron_mesh(poly: Polyhedron, matrix: np.ndarray | None = None) -> Any:
+    """A trimesh.Trimesh of ``poly`` (vertices times ``matrix`` if given; import kept lazy)."""
     import trimesh
 
-    return trimesh.Trimesh(vertices=poly.vertices.copy(), faces=polyhedron_triangles(poly), process=False)
+    vertices = poly.vertices.copy() if matrix is None else poly.vertices @ np.asarray(matrix).T
+    return trimesh.Trimesh(vertices=vertices, faces=polyhedron_triangles(poly), process=False)
 
 
 def export_scene(cell: WorkCell, robot_polyhedra: list[Polyhedron], path: str | Path) -> Path:
-    """Write the robot and the cell to ``path`` (.obj or .glb); returns the path written."""
+    """Write the robot and the cell to ``path`` (.glb, .obj or .stl) atomically; returns the path."""
     import trimesh
 
     path = Path(path)
     ext = path.suffix.lower()
     if ext not in EXPORT_EXTENSIONS:
-        raise ValueError(f"cannot export {ext or 'a file without extension'}: use .obj or .glb")
-    scene = trimesh.Scene()
+        raise CadExportError(f"cannot export {ext or 'a file without extension'}: use .glb, .obj or .stl")
+    matrix = Z_UP_TO_Y_UP / 1000.0 if ext == ".glb" else None
+    scene: Any = trimesh.Scene()
     used: set[str] = set()
 
     def unique(name: str) -> str:
@@ -60,14 +77,15 @@ def export_scene(cell: WorkCell, robot_polyhedra: list[Polyhedron], path: str | 
             continue
         scene.graph.update(frame_to=group, frame_from=scene.graph.base_frame)
         for i, poly in enumerate(polys, 1):
-            label = (poly.name or f"{default}{i}").replace("/", "-").replace(" ", "_")
-            name = unique(f"{group}/{label}")
-            scene.add_geometry(polyhedron_mesh(poly), node_name=name, geom_name=name, parent_node_name=group)
+            label = " ".join((poly.name or f"{default} {i}").split()).replace("/", "-")
+            name = unique(label if ext == ".glb" else f"{group}/{label}")
+            scene.add_geometry(polyhedron_mesh(poly, matrix), node_name=name, geom_name=name, parent_node_name=group)
     if not scene.geometry:
-        raise ValueError("nothing to export: no robot and no parts")
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(path.name + ".tmp")
+        raise CadExportError("nothing to export: no robot and no parts")
     data = scene.export(file_type=ext[1:])
-    tmp.write_bytes(data if isinstance(data, bytes) else data.encode())
-    tmp.replace(path)  # atomic: never a half-written file
+    if ext == ".obj":
+        data = OBJ_HEADER + (data.decode() if isinstance(data, bytes) else data)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    write_bytes_atomic(path, data if isinstance(data, bytes) else data.encode())
     return path
+

@@ -36,6 +36,10 @@ UNIT_NAMES: dict[str, float] = {"IN": 25.4, "INCH": 25.4, "MM": 1.0, "FT": 304.8
                                 "CM": 10.0, "UIN": 2.54e-5}
 
 ARC_SAMPLES_PER_TURN = 64
+# entity labels some writers give by kind: they say what an entity is, not which part
+GENERIC_LABELS = {"POINT", "LINE", "ARC", "CIRCLE", "CURVE", "SPLINE", "SURFACE", "PLANE", "FACE",
+                  "SHELL", "SOLID", "EDGE", "VERTEX", "LOOP", "MATRIX", "TRANSFRM", "COMPOSIT",
+                  "ATT_TBLE", "3DSKETCH", "SKETCH"}
 _HOLLERITH = re.compile(r"\s*(\d+)H")
 _SECTIONS = "SGDPT"
 
@@ -380,7 +384,7 @@ class IgesModel:
             by_level.setdefault(self.entities[seq].level, []).append(seq)
 
         def part(name: str, seqs: list[int]) -> Part:
-            return Part(name, np.concatenate([points[s] for s in seqs]), seqs)
+            return Part(self.label_of(seqs) or name, np.concatenate([points[s] for s in seqs]), seqs)
 
         if count == 1:
             return [part(stem, list(points))]
@@ -393,6 +397,14 @@ class IgesModel:
             return [part(f"{stem} B{i + 1}", seqs) for i, seqs in enumerate(bodies)]
         raise self.error(None, f"asked for {count} workpieces; the file holds {len(by_level)} by level "
                                f"and {len(bodies)} separate bodies")
+
+
+    def label_of(self, seqs: list[int]) -> str:
+        """The entity label (directory field 18) the part's entities share, if one names it.
+
+        Labels that only repeat the entity's kind (``POINT``, ``LINE``...) name nothing."""
+        labels = {self.entities[s].label.strip().upper() for s in seqs} - {""}
+        return labels.pop() if len(labels) == 1 and not labels & GENERIC_LABELS else ""
 
 
 def separate_bodies(points: dict[int, np.ndarray]) -> list[list[int]]:

@@ -2,12 +2,15 @@
 
 Any file trimesh reads (STL, OBJ, PLY, OFF, GLB/GLTF) becomes one part per mesh instance
 in its scene (per ``o`` object in an OBJ), each with its scene-graph transform applied.
-Meshes carry no units: their numbers are taken as millimetres unless told otherwise.
+STL, OBJ, PLY and OFF carry no units: their numbers are taken as millimetres unless told
+otherwise. A glTF/GLB is in metres by its specification (``METRE_EXTENSIONS``); the numbers
+returned here are the file's own, the caller scales them.
 """
 
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -15,6 +18,7 @@ from valterm.core.cad.errors import CadImportError
 from valterm.core.cad.iges import Part
 
 MESH_EXTENSIONS = (".stl", ".obj", ".ply", ".off", ".glb", ".gltf")
+METRE_EXTENSIONS = (".glb", ".gltf")
 
 
 def read_mesh_parts(path: str | Path) -> list[Part]:
@@ -29,9 +33,9 @@ def read_mesh_parts(path: str | Path) -> list[Part]:
         raise CadImportError(path, None, "no such file")
     if path.stat().st_size == 0:
         raise CadImportError(path, None, "the file is empty")
-    kwargs = {"split_objects": True} if ext == ".obj" else {}
+    kwargs: dict[str, Any] = {"split_objects": True} if ext == ".obj" else {}
     try:
-        scene = trimesh.load(str(path), force="scene", **kwargs)
+        scene: Any = trimesh.load(str(path), force="scene", **kwargs)
     except Exception as exc:  # trimesh raises many kinds on junk input; all mean "unreadable"
         reason = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
         raise CadImportError(path, None, f"not a readable {ext[1:].upper()} mesh ({reason})") from None
@@ -46,7 +50,8 @@ def read_mesh_parts(path: str | Path) -> list[Part]:
         v = v @ np.asarray(transform)[:3, :3].T + np.asarray(transform)[:3, 3]
         if not np.all(np.isfinite(v)):
             raise CadImportError(path, None, f"mesh {node!r} has non-finite vertex coordinates")
-        parts.append(Part(str(node), v, []))
+        # a single-mesh file (STL, PLY, OFF) is named after the file by trimesh: keep its stem
+        parts.append(Part(path.stem if str(node) == path.name else str(node), v, []))
     if not parts:
         raise CadImportError(path, None, f"no mesh geometry in the file (is it a {ext[1:].upper()} mesh?)")
     return parts

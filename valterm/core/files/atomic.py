@@ -13,8 +13,12 @@ def write_text_atomic(path: str | Path, text: str, encoding: str = "utf-8") -> N
     The temporary file lives beside the target so ``os.replace`` is a same-filesystem
     rename: readers see either the old file or the new one, never a part of either.
     """
+    write_bytes_atomic(path, text.encode(encoding, errors="strict"))
+
+
+def write_bytes_atomic(path: str | Path, data: bytes) -> None:
+    """``write_text_atomic`` for bytes (a GLB export)."""
     target = Path(path)
-    data = text.encode(encoding, errors="strict")
     fd, temp_name = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
     try:
         with os.fdopen(fd, "wb") as handle:

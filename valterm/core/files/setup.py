@@ -13,18 +13,24 @@
 Numbers are separated by commas and/or spaces; blank lines are ignored. Vertices 1..N/2
 are the front polygon, N/2+1..N the back one. The WorkCell always holds world millimetres;
 it remembers the file's units and frame so writing it back gives the same kind of file.
+
+The format has no place for a part's name, so names (an IGES entity label, a mesh's
+geometry name) ride in a comment line before the object's ``1,N`` line: ``; NAME CHASSIS``.
+Lines starting with ``;`` are comments (as in a .DAT program); the 1985 layout is otherwise
+unchanged. Numbers are written at the precision the format shows (``440.00``: 0.01 mm,
+0.0001 in), never as float noise (``2.77e-05``, ``17.141799999999996``).
 """
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from pathlib import Path
-from typing import Iterator
 
 import numpy as np
 
 from valterm.core.cell.polyhedron import Polyhedron
 from valterm.core.cell.workcell import WorkCell
-from valterm.core.files._text import format_number, numbered_lines, parse_number, read_text, split_fields
+from valterm.core.files._text import numbered_lines, parse_number, read_text, split_fields
 from valterm.core.files.atomic import write_text_atomic
 from valterm.core.files.errors import FileFormatError
 
@@ -33,6 +39,9 @@ SCS_HEIGHT = 26.0  # H of SPEC §1: Y_s = Z_w + H, in millimetres
 
 UNITS = ("MM", "IN")
 SYSTEMS = ("W", "S")
+DECIMALS = {"MM": 2, "IN": 4}  # 0.01 mm as Fig. 7-1 prints; the same order of precision in inches
+COMMENT = ";"
+NAME_TAG = "NAME"
 
 
 # ---------------------------------------------------------------------------
@@ -61,12 +70,27 @@ def world_to_file(points: np.ndarray, units: str, system: str) -> np.ndarray:
 # ---------------------------------------------------------------------------
 
 class _Lines:
-    """The non-blank lines of a file with their numbers, and where the file ended."""
+    """The data lines of a file (not blank, not comments) with their numbers, where the file
+    ended, and the part names given by ``; NAME ...`` comments, by the data line they precede."""
 
     def __init__(self, text: str) -> None:
-        self._lines = [(n, line) for n, line in numbered_lines(text) if line.strip()]
+        numbered = numbered_lines(text)
+        self._lines: list[tuple[int, str]] = []
+        self.names: dict[int, str] = {}
+        pending: str | None = None
+        for n, line in numbered:
+            stripped = line.strip()
+            if stripped.startswith(COMMENT):
+                words = stripped[1:].split(None, 1)
+                if len(words) == 2 and words[0].upper() == NAME_TAG:
+                    pending = words[1].strip()
+            elif stripped:
+                if pending is not None:
+                    self.names[n] = pending
+                    pending = None
+                self._lines.append((n, line))
         self._index = 0
-        self.last_line = max((n for n, _ in numbered_lines(text)), default=0)
+        self.last_line = max((n for n, _ in numbered), default=0)
 
     def next(self) -> tuple[int, str] | None:
         if self._index >= len(self._lines):
@@ -127,7 +151,7 @@ def parse_setup(text: str, name: str | Path) -> WorkCell:
             relative.append(_point(fields, where, line_number, f"object {part} vertex {index}"))
         absolute = np.asarray(relative) + reference
         vertices = file_to_world(absolute, units, system)
-        polyhedron = Polyhedron(vertices, name=f"PART {part}")
+        polyhedron = Polyhedron(vertices, name=lines.names.get(header_line, f"PART {part}"))
         for warning in _check_geometry(polyhedron, part):
             cell.warnings.append(f"{where.name}:{header_line}: object {part}: {warning}")
         cell.objects.append(polyhedron)
@@ -201,7 +225,7 @@ def _check_geometry(polyhedron: Polyhedron, part: int) -> list[str]:
 
 def _newell(pts: np.ndarray) -> np.ndarray:
     nxt = np.roll(pts, -1, axis=0)
-    return np.cross(pts, nxt).sum(axis=0)
+    return np.asarray(np.cross(pts, nxt).sum(axis=0))
 
 
 def _convex(polygon: np.ndarray) -> bool:
@@ -219,21 +243,29 @@ def _convex(polygon: np.ndarray) -> bool:
 # ---------------------------------------------------------------------------
 
 def format_setup(cell: WorkCell) -> str:
-    """The setup-file text of ``cell`` in its own units and frame (reference = first vertex)."""
+    """The setup-file text of ``cell`` in its own units and frame (reference = first vertex).
+
+    Absolute points are rounded first, so reference + relative reads back exactly the
+    rounded point (no error piles up between the two lines)."""
     units = cell.units.upper() if cell.units.upper() in UNITS else "MM"
     system = cell.system.upper() if cell.system.upper() in SYSTEMS else "W"
+    decimals = DECIMALS[units]
     lines = [str(len(cell.objects)), units, system]
-    for polyhedron in cell.objects:
-        points = world_to_file(polyhedron.vertices, units, system)
+    for number, polyhedron in enumerate(cell.objects, 1):
+        points = np.round(world_to_file(polyhedron.vertices, units, system), decimals)
         reference = points[0]
+        name = " ".join(polyhedron.name.split())
+        if name and name.upper() != f"PART {number}":
+            lines.append(f"{COMMENT} {NAME_TAG} {name}")
         lines.append(f"1,{len(points)}")
-        lines.append(_format_point(reference))
-        lines.extend(_format_point(p - reference) for p in points)
+        lines.append(_format_point(reference, decimals))
+        lines.extend(_format_point(p - reference, decimals) for p in points)
     return "\n".join(lines) + "\n"
 
 
-def _format_point(point: np.ndarray) -> str:
-    return " ".join(f"{format_number(value):>10}" for value in point)
+def _format_point(point: np.ndarray, decimals: int) -> str:
+    # round again: the difference of two rounded numbers carries float noise (0.1 + 0.2)
+    return " ".join(f"{round(float(value), decimals) + 0.0:>10.{decimals}f}" for value in point)
 
 
 def write_setup(path: str | Path, cell: WorkCell) -> None:

@@ -2,6 +2,9 @@
 
 E reads an existing setup file (RETURN accepts PROCESS); I and U read a CAD file from the
 workspace, ask the §7.1 questions and write the new setup file, then go to the MAIN MENU.
+A setup file that exists is never replaced unasked: Y replaces it, A adds the parts to it
+(its objects kept), N or ESC ends the transfer with the file untouched. The units question
+offers the file's own units (the IGES header; metres for glTF/GLB).
 """
 
 from __future__ import annotations
@@ -26,7 +29,9 @@ class Transfer:
     setup: str = ""
     parts: int = 0
     units: str = "MM"
+    file_units: str = "MM"  # what the file says its numbers are: the units question's default
     system: str = "W"
+    add: bool = False  # add the parts to the existing setup file instead of writing a new one
     done: list[str] = field(default_factory=list)
 
 
@@ -80,10 +85,14 @@ class StartScreen(MenuScreen):
             self.ask_line(f"ENTER {what} FILE NAME TO BE READ:", lambda a: self._answer(t, "cad_file", a))
         elif not t.setup:
             self.ask_line("ENTER SET-UP FILE NAME:", lambda a: self._answer(t, "setup", a))
+        elif "replace" not in t.done and self.app.session_workspace().exists(t.setup, "SET"):
+            self.ask_key(f"{t.setup}.SET EXISTS: REPLACE IT (Y), ADD THE PARTS TO IT (A) OR KEEP IT (N) ?:",
+                         lambda key: self._replace(t, key), "YAN", cancel=lambda: self._replace(t, "N"))
         elif not t.parts:
             self.ask_line("ENTER THE NUMBER OF WORKPIECES IN CELL:", lambda a: self._answer(t, "parts", a))
         elif "units" not in t.done:
-            self.ask_line("ENTER UNITS OF WORKPIECES (MM/IN):", lambda a: self._answer(t, "units", a), "MM")
+            self.ask_line(f"ENTER UNITS OF WORKPIECES (MM/IN/M; THE FILE SAYS {t.file_units}):",
+                          lambda a: self._answer(t, "units", a or t.file_units), t.file_units)
         elif "system" not in t.done:
             self.ask_line("ENTER COORDINATE AXES SYSTEM (W/S):", lambda a: self._answer(t, "system", a), "W")
         else:
@@ -103,6 +112,7 @@ class StartScreen(MenuScreen):
                 if not path.is_file():
                     raise ValueError(f"input file {file_name} does not exist in the workspace")
                 t.cad_file = str(path)
+                t.file_units = self._file_units(path)
             elif what == "setup":
                 t.setup = check_name(answer, "SET").removesuffix(".SET")
             elif what == "parts":
@@ -110,8 +120,8 @@ class StartScreen(MenuScreen):
                     raise ValueError(f"{answer or 'nothing'} is not a number of workpieces")
                 t.parts = int(answer)
             elif what == "units":
-                if answer not in ("MM", "IN"):
-                    raise ValueError("units must be MM or IN")
+                if answer not in ("MM", "IN", "M"):
+                    raise ValueError("units must be MM, IN or M")
                 t.units = answer
             elif what == "system":
                 if answer not in ("W", "S"):
@@ -125,12 +135,38 @@ class StartScreen(MenuScreen):
             return
         self._transfer(t)
 
+    @staticmethod
+    def _file_units(path: object) -> str:
+        """The file's own units for the units question; MM when the file cannot tell (the
+        conversion reports what is wrong with it)."""
+        try:
+            from valterm.core.cad.convert import native_units
+
+            return native_units(str(path))
+        except ImportError:
+            return "MM"
+        except core_errors():
+            return "MM"
+
+    def _replace(self, t: Transfer, key: str) -> None:
+        """The answer to "NAME.SET EXISTS": Y replace, A add the parts, N keep it (ends)."""
+        if key == "N":
+            self.say(f"{t.setup}.SET KEPT; PART TRANSFER ENDED")
+            return
+        t.add = key == "A"
+        t.done.append("replace")
+        self._transfer(t)
+
     def _convert(self, t: Transfer) -> None:
         try:
-            from valterm.core.cad.convert import import_cad
+            from valterm.core.cad.convert import add_parts, import_cad
 
             workspace = self.app.session_workspace()
-            cell = import_cad(t.cad_file, units=t.units, system=t.system, name=t.setup, parts=t.parts)
+            setup = workspace.read_setup(t.setup) if t.add else None
+            cell = import_cad(t.cad_file, units=t.units, system=t.system, name=t.setup, parts=t.parts,
+                              around=setup.objects if setup is not None else ())
+            if setup is not None:
+                cell = add_parts(setup, cell)
             path = workspace.write_setup(t.setup, cell)
         except ImportError as error:
             self.say(f"CAD IMPORT NOT AVAILABLE: {error}".upper(), "error")
@@ -141,5 +177,11 @@ class StartScreen(MenuScreen):
             return
         for warning in cell.warnings:
             self.say(warning.upper(), "warning")
-        self.say(f"FILE {path.name} HAS SUCCESSFULLY BEEN WRITTEN")
-        self._existing(t.setup)
+        added = f"{len(cell.objects) - len(setup.objects)} PART(S) ADDED; " if setup is not None else ""
+        self.say(f"{added}FILE {path.name} HAS SUCCESSFULLY BEEN WRITTEN")
+        if not cell.warnings:
+            self._existing(t.setup)
+            return
+        # the MAIN MENU would hide the warnings (a part too large for any table): let them be read
+        self.ask_key("PRESS RETURN TO CONTINUE", lambda _: self._existing(t.setup), "\n",
+                     cancel=lambda: self._existing(t.setup))
