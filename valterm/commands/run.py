@@ -79,13 +79,10 @@ def run(args: argparse.Namespace) -> int:
         print(error, file=sys.stderr)
         return 2
     sim.collision_checks = bool(args.collisions)
-    folder = program_path.resolve().parent
+    load_called = workspace.program_loader(program_path.resolve().parent)
 
     def load_program(name: str):  # type: ignore[no-untyped-def]
-        if name == main.name:
-            return main
-        beside = next((p for p in folder.iterdir() if p.name.upper() == f"{name}.DAT"), None)
-        return read_program(beside if beside is not None else workspace.path(name, "DAT"))
+        return main if name == main.name else load_called(name)
 
     interpreter = Interpreter(sim, load_program, variables, keep_variables=workspace.write_variables)
     errors = 0
