@@ -14,6 +14,7 @@ import numpy as np
 
 from valterm.core.cell.polyhedron import Polyhedron
 from valterm.core.cell.workcell import WorkCell
+from valterm.core.files.atomic import write_bytes_atomic
 
 EXPORT_EXTENSIONS = (".obj", ".glb")
 
@@ -66,8 +67,7 @@ def export_scene(cell: WorkCell, robot_polyhedra: list[Polyhedron], path: str | 
     if not scene.geometry:
         raise ValueError("nothing to export: no robot and no parts")
     path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(path.name + ".tmp")
     data = scene.export(file_type=ext[1:])
-    tmp.write_bytes(data if isinstance(data, bytes) else data.encode())
-    tmp.replace(path)  # atomic: never a half-written file
+    # the one safe write path: a random exclusive temporary, never through a link
+    write_bytes_atomic(path, data if isinstance(data, bytes) else data.encode())
     return path
