@@ -12,7 +12,7 @@ from pathlib import Path
 
 from valterm.core.files._text import check_line_lengths, numbered_lines, parse_number, read_text
 from valterm.core.files.atomic import write_text_atomic
-from valterm.core.files.errors import FileFormatError, shown_name
+from valterm.core.files.errors import FileFormatError, FileWriteError, shown_name
 from valterm.core.files.limits import MAX_VARIABLES
 from valterm.core.numbers import MAX_FINITE
 
@@ -72,5 +72,8 @@ def format_variables(values: dict[str, float]) -> str:
 
 
 def write_variables(path: str | Path, values: dict[str, float]) -> None:
-    """Write CHECK.DAT atomically."""
+    """Write CHECK.DAT atomically; FileWriteError (nothing written) for a value no file can hold."""
+    for name, value in values.items():
+        if not math.isfinite(float(value)):
+            raise FileWriteError(path, f"{shown_name(name)}={value} cannot be kept: not a finite number")
     write_text_atomic(path, format_variables(values))
