@@ -339,3 +339,11 @@ def test_the_bundled_files_are_within_the_limits() -> None:
         if name.endswith(".SET"):
             assert read_setup(source).objects
     assert resources.bundled_files(resources.CELLS)
+
+
+def test_the_deepest_call_is_refused_with_a_message(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    Workspace.open(tmp_path)
+    (tmp_path / "PING.DAT").write_text("    CALL PONG\n")
+    (tmp_path / "PONG.DAT").write_text("    CALL PING\n")
+    assert main(["--workspace", str(tmp_path), "run", "PING"]) == 1
+    assert "CALL PONG: MORE THAN 20 NESTED CALLS" in capsys.readouterr().out
