@@ -15,16 +15,38 @@ import pytest
 from valterm.cli import main
 from valterm.core import resources
 from valterm.core.errors import ValtermError
-from valterm.core.files import FileFormatError, Program, ProgramLine, read_program, read_setup
-from valterm.core.files.atomic import is_temporary, remove_stale_temporaries, write_text_atomic
+from valterm.core.files import (
+    FileFormatError,
+    Program,
+    ProgramLine,
+    read_program,
+    read_setup,
+)
+from valterm.core.files.atomic import (
+    is_temporary,
+    remove_stale_temporaries,
+    write_text_atomic,
+)
 from valterm.core.files.errors import FileWriteError, shown_name
 from valterm.core.files.limits import MAX_LINE, MAX_PARTS, MAX_STEPS, MAX_VERTICES
 from valterm.core.files.locations import parse_locations
 from valterm.core.files.programs import parse_program, write_program
 from valterm.core.files.setup import parse_setup
 from valterm.core.files.variables import parse_variables
-from valterm.core.numbers import MAX_MAGNITUDE, MAX_NUMBER_CHARS, NumberError, finite, parse_count, parse_number
-from valterm.core.workspace import Workspace, WorkspaceError, bundled_workspace_files, check_name
+from valterm.core.numbers import (
+    MAX_MAGNITUDE,
+    MAX_NUMBER_CHARS,
+    NumberError,
+    finite,
+    parse_count,
+    parse_number,
+)
+from valterm.core.workspace import (
+    Workspace,
+    WorkspaceError,
+    bundled_workspace_files,
+    check_name,
+)
 
 links = pytest.mark.skipif(not hasattr(os, "symlink"), reason="no symbolic links")
 

@@ -12,12 +12,18 @@ import os
 import random
 import signal
 import time
+from collections.abc import Callable
 from pathlib import Path
-from typing import Callable
 
 import pytest
 
-from valterm.core.files import Program, ProgramLine, format_locations, format_program, format_variables
+from valterm.core.files import (
+    Program,
+    ProgramLine,
+    format_locations,
+    format_program,
+    format_variables,
+)
 from valterm.core.files.atomic import is_temporary
 from valterm.core.kinematics import Location
 from valterm.core.workspace import Workspace, bundled_workspace_files
@@ -69,7 +75,7 @@ def test_kill_during_saves_leaves_every_file_whole(tmp_path: Path) -> None:
     for trial in range(TRIALS):
         turn = [0]
 
-        def save() -> None:
+        def save(turn: list[int] = turn) -> None:
             i = turn[0] = turn[0] + 1
             workspace.write_locations("PROCESS", versions[i % 2])
             workspace.write_program(programs[i % 2])
@@ -96,7 +102,7 @@ def test_kill_during_first_use_leaves_a_workspace_that_repairs_itself(tmp_path: 
         base.mkdir()
         counter = [0]
 
-        def seed_one() -> None:
+        def seed_one(base: Path = base, counter: list[int] = counter) -> None:
             counter[0] += 1
             Workspace.open(base / str(counter[0]))
 

@@ -19,12 +19,12 @@ from __future__ import annotations
 import os
 import re
 import stat
+from collections.abc import Callable
 from pathlib import Path
-from typing import Callable
 
-from valterm.core.errors import ValtermError
 from valterm.core import resources
 from valterm.core.cell.workcell import WorkCell
+from valterm.core.errors import ValtermError
 from valterm.core.files import datfiler, locations, programs, setup, variables
 from valterm.core.files.atomic import remove_stale_temporaries, write_bytes_atomic
 from valterm.core.files.datfiler import DATFILER
@@ -151,7 +151,7 @@ class Workspace:
         self.root = Path(root).expanduser()
 
     @classmethod
-    def open(cls, root: str | Path | None = None) -> "Workspace":
+    def open(cls, root: str | Path | None = None) -> Workspace:
         """The workspace at ``root`` (default: $VALTERM_WORKSPACE or ~/valterm), created and
         seeded with the bundled data on first use; killed writes' temporaries removed."""
         workspace = cls(default_root() if root is None else root)
@@ -305,7 +305,7 @@ class Workspace:
     def _program_name(self, name: str) -> str:
         stem = check_name(name, "DAT").removesuffix(".DAT")
         if stem in SYSTEM_FILES:
-            raise WorkspaceError(f"{name!r} is not a valid name: {stem}.DAT is kept by the simulator")
+            raise WorkspaceError(f"{shown_name(name)!r} is not a valid name: {stem}.DAT is kept by the simulator")
         return stem
 
     # -- variables (CHECK.DAT) ---------------------------------------------------

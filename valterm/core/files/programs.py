@@ -21,15 +21,16 @@ import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from valterm.core.files import limits
 from valterm.core.files._text import numbered_lines, read_text
 from valterm.core.files.atomic import write_text_atomic
 from valterm.core.files.errors import FileFormatError, FileWriteError
-from valterm.core.files.limits import MAX_LINE as MAX_LINE  # the editor's limit too
 from valterm.core.files.limits import MAX_STEPS
 from valterm.core.numbers import NumberError, parse_count
 
 LABEL_COLUMNS = 4         # columns 1-4: the step label
 MAX_LABEL = 65535         # VAL-II step labels are 0..65535
+MAX_LINE = limits.MAX_LINE  # longer lines are not VAL-II program steps (the editor's limit too)
 
 _FREE_LABEL = re.compile(r"\s*([0-9]+)(?:\s+(.*))?", re.ASCII)
 _CONTROL = re.compile(r"[\x00-\x1f\x7f]")

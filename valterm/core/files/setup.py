@@ -17,8 +17,8 @@ it remembers the file's units and frame so writing it back gives the same kind o
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from pathlib import Path
-from typing import Iterator
 
 import numpy as np
 
@@ -192,7 +192,7 @@ def _check_geometry(polyhedron: Polyhedron, part: int) -> list[str]:
     try:
         with numpy_errors():
             _geometry_warnings(polyhedron, warnings)
-    except Exception:  # a check must never stop a file from loading
+    except Exception:  # noqa: BLE001, S110 -- a check must never stop a file from loading
         pass
     return warnings
 

@@ -10,7 +10,12 @@ import math
 import re
 from pathlib import Path
 
-from valterm.core.files._text import check_line_lengths, numbered_lines, parse_number, read_text
+from valterm.core.files._text import (
+    check_line_lengths,
+    numbered_lines,
+    parse_number,
+    read_text,
+)
 from valterm.core.files.atomic import write_text_atomic
 from valterm.core.files.errors import FileFormatError, FileWriteError, shown_name
 from valterm.core.files.limits import MAX_VARIABLES
