@@ -197,9 +197,15 @@ class Workspace:
                 data: bytes | None = source.read_bytes()
             else:
                 data = _damaged_copy(target, source, prefix=first_use)
-            if data is not None:
+            if data is None:
+                continue
+            try:
                 write_bytes_atomic(target, data)
-                copied.append(file_name)
+            except OSError:
+                if first_use:
+                    raise
+                continue  # a read-only workspace: the damaged file says so when it is read
+            copied.append(file_name)
         if first_use:
             if not os.path.lexists(self.root / CHECK):
                 variables.write_variables(self.root / CHECK, {})
