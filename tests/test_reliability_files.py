@@ -369,3 +369,27 @@ def test_the_deepest_call_is_refused_with_a_message(tmp_path: Path, capsys: pyte
     (tmp_path / "PONG.DAT").write_text("    CALL PING\n")
     assert main(["--workspace", str(tmp_path), "run", "PING"]) == 1
     assert "CALL PONG: MORE THAN 20 NESTED CALLS" in capsys.readouterr().out
+
+
+@links
+def test_hardcopy_key_never_writes_through_a_dangling_link(tmp_path: Path) -> None:
+    from app_helpers import make_app, sync
+
+    root = tmp_path / "ws"
+    outside = tmp_path / "outside.svg"
+    Workspace.open(root)
+    (root / "HCOPY1.SVG").symlink_to(outside)
+
+    @sync
+    async def press_h() -> None:
+        app = make_app(root)
+        async with app.run_test(size=(80, 24)) as pilot:
+            await pilot.press("H")
+            await pilot.pause()
+
+    press_h()
+    assert not outside.exists()
+    assert (root / "HCOPY1.SVG").is_symlink()
+    written = root / "HCOPY2.SVG"
+    assert written.is_file() and not written.is_symlink()
+    assert written.read_text().lstrip().startswith("<svg")
