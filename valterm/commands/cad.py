@@ -15,6 +15,7 @@ from pathlib import Path
 
 from valterm.core.cad.convert import import_cad, summary
 from valterm.core.cad.errors import CadImportError
+from valterm.core.files.errors import error_message
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -64,7 +65,7 @@ def run_import(args: argparse.Namespace) -> int:
         print(error, file=sys.stderr)
         return 2
     except OSError as error:
-        print(f"valterm import: {error.strerror or error}: {error.filename or ''}", file=sys.stderr)
+        print(f"valterm import: {error_message(error)}", file=sys.stderr)
         return 2
     for warning in cell.warnings:
         print(f"warning: {warning}", file=sys.stderr)

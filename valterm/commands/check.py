@@ -13,7 +13,7 @@ import sys
 from pathlib import Path
 from typing import Callable
 
-from valterm.core.files.errors import FileFormatError
+from valterm.core.files.errors import FileFormatError, error_message
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -47,7 +47,7 @@ def run(args: argparse.Namespace) -> int:
             path, exists = find_program(argument, getattr(args, "workspace", None))
             program = read_program(path)
         except (FileFormatError, WorkspaceError, FileNotFoundError, OSError) as error:
-            print(error, file=sys.stderr)
+            print(error_message(error), file=sys.stderr)
             status = 2
             continue
         try:

@@ -51,7 +51,7 @@ def _find(argument: str, ext: str, workspace: Any) -> Path:
 
 def run(args: argparse.Namespace) -> int:
     from valterm.core.events import End, Error, Pause
-    from valterm.core.files.errors import FileFormatError
+    from valterm.core.files.errors import FileFormatError, error_message
     from valterm.core.files.locations import read_locations
     from valterm.core.files.programs import read_program
     from valterm.core.files.setup import read_setup
@@ -76,7 +76,7 @@ def run(args: argparse.Namespace) -> int:
         if check.is_file():
             variables.load(check)
     except (FileFormatError, WorkspaceError, FileNotFoundError, OSError) as error:
-        print(error, file=sys.stderr)
+        print(error_message(error), file=sys.stderr)
         return 2
     sim.collision_checks = bool(args.collisions)
     load_called = workspace.program_loader(program_path.resolve().parent)

@@ -156,11 +156,11 @@ class Workspace:
         seeded with the bundled data on first use; killed writes' temporaries removed."""
         workspace = cls(default_root() if root is None else root)
         shown = shown_name(str(workspace.root), 80)
-        if workspace.root.exists() and not workspace.root.is_dir():
-            raise WorkspaceError(f"the workspace {shown} is a file, not a folder")
         try:
+            if workspace.root.exists() and not workspace.root.is_dir():
+                raise WorkspaceError(f"the workspace {shown} is a file, not a folder")
             workspace.root.mkdir(parents=True, exist_ok=True)
-        except OSError as error:
+        except OSError as error:  # a name too long, a path through a file, no permission
             raise WorkspaceError(f"cannot create the workspace {shown}: {error.strerror or error}") from None
         remove_stale_temporaries(workspace.root)
         try:

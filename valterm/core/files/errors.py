@@ -60,3 +60,14 @@ SHOWN_NAME = 40
 def shown_name(name: str, limit: int = SHOWN_NAME) -> str:
     """``name`` as a message shows it: whole up to ``limit`` characters, else its start and '...'."""
     return name if len(name) <= limit else name[:limit] + "..."
+
+
+def error_message(error: BaseException) -> str:
+    """The one line an edge prints for ``error``: a ValtermError's own message; an OSError as
+    ``NAME: reason`` with the name cut (``[Errno 36] File name too long: '<10 000 characters>'``
+    is not a message)."""
+    if isinstance(error, OSError) and not isinstance(error, ValtermError) and error.strerror:
+        if error.filename is None:
+            return error.strerror
+        return f"{shown_name(str(error.filename))}: {error.strerror}"
+    return str(error)
