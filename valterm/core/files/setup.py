@@ -32,7 +32,6 @@ from valterm.core.cell.polyhedron import Polyhedron
 from valterm.core.cell.workcell import WorkCell
 from valterm.core.files._text import (
     check_line_lengths,
-    format_number,
     numbered_lines,
     parse_count,
     parse_number,
