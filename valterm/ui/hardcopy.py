@@ -6,7 +6,8 @@ import time
 from pathlib import Path
 
 from valterm.core.render.raster import rasterize
-from valterm.ui.widgets.readouts import format_part, format_where
+from valterm.core.text.transcript import where_lines
+from valterm.ui.widgets.readouts import format_part
 
 PRINT_WIDTH = 100
 PRINT_HEIGHT = 40
@@ -30,7 +31,7 @@ def printout(app) -> str:  # type: ignore[no-untyped-def]
         time.strftime("%d-%b-%Y %H:%M:%S").upper(),
         f"SETUP FILE {session.setup_name}.SET, {len(simulator.cell.objects)} PARTS",
         "",
-        *format_where(simulator.where(1)),
+        *where_lines(simulator.where(1)),
         "",
     ]
     for number, part in enumerate(simulator.cell.objects, start=1):

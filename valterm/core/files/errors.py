@@ -29,3 +29,7 @@ class FileFormatError(ValtermError):
         if self.line > 0:
             return f"{self.name}:{self.line}: {self.reason}"
         return f"{self.name}: {self.reason}"
+
+
+class BadName(ValtermError, ValueError):
+    """A name (typed or read) that is not a VAL-II name; ``str()`` says why."""

@@ -12,7 +12,7 @@ from pathlib import Path
 
 from valterm.core.files._text import format_number, numbered_lines, parse_number, read_text, split_fields
 from valterm.core.files.atomic import write_text_atomic
-from valterm.core.files.errors import FileFormatError
+from valterm.core.files.errors import BadName, FileFormatError
 from valterm.core.kinematics import Location
 
 # A location name: a letter then up to 8 letters or digits (§7.3: "up to 9 characters").
@@ -24,10 +24,10 @@ _FIELDS = ("X", "Y", "Z", "O", "A", "T")
 
 
 def check_location_name(name: str) -> str:
-    """The name upper-cased, or ValueError saying why it is not a location name."""
+    """The name upper-cased, or BadName saying why it is not a location name."""
     upper = name.strip().upper()
     if not LOCATION_NAME.fullmatch(upper):
-        raise ValueError(
+        raise BadName(
             f"{name!r} is not a location name: a letter then up to 8 letters or digits (at most 9 characters)"
         )
     return upper

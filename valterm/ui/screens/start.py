@@ -10,7 +10,9 @@ from dataclasses import dataclass, field
 
 from textual.binding import Binding
 
-from valterm.ui.app import core_errors, error_text
+from valterm.core.cad.convert import import_cad
+from valterm.core.workspace import check_name
+from valterm.ui.errors import Refusal, problem_text
 from valterm.ui.screens.base import MenuScreen
 from valterm.ui.widgets.menus import COPYRIGHT, START_MENU, TITLE
 
@@ -56,15 +58,13 @@ class StartScreen(MenuScreen):
         name = name or DEFAULT_SETUP
         try:
             self.app.open_session(name)
-        except core_errors() as error:
-            self.say(error_text(error), "error")
+        except Exception as error:
+            self.say(problem_text(error), "error")
             return
         self._to_main_menu()
 
     def _to_main_menu(self) -> None:
-        from valterm.ui.screens.main_menu import MainMenuScreen
-
-        self.app.switch_screen(MainMenuScreen())
+        self.app.show_main_menu()
 
     # -- I_GES FILE / U_GII FILE --------------------------------------------------------
     def action_iges(self) -> None:
@@ -90,8 +90,6 @@ class StartScreen(MenuScreen):
             self._convert(t)
 
     def _answer(self, t: Transfer, what: str, answer: str) -> None:
-        from valterm.core.workspace import check_name
-
         answer = answer.strip().upper()
         try:
             if what == "cad_file":
@@ -101,25 +99,25 @@ class StartScreen(MenuScreen):
                 file_name = check_name(stem, ext)
                 path = self.app.session_workspace().path(*file_name.rsplit(".", 1))
                 if not path.is_file():
-                    raise ValueError(f"input file {file_name} does not exist in the workspace")
+                    raise Refusal(f"input file {file_name} does not exist in the workspace")
                 t.cad_file = str(path)
             elif what == "setup":
                 t.setup = check_name(answer, "SET").removesuffix(".SET")
             elif what == "parts":
                 if not answer.isdigit() or int(answer) < 1:
-                    raise ValueError(f"{answer or 'nothing'} is not a number of workpieces")
+                    raise Refusal(f"{answer or 'nothing'} is not a number of workpieces")
                 t.parts = int(answer)
             elif what == "units":
                 if answer not in ("MM", "IN"):
-                    raise ValueError("units must be MM or IN")
+                    raise Refusal("units must be MM or IN")
                 t.units = answer
             elif what == "system":
                 if answer not in ("W", "S"):
-                    raise ValueError("the coordinate axes system must be W or S")
+                    raise Refusal("the coordinate axes system must be W or S")
                 t.system = answer
             t.done.append(what)
-        except core_errors() as error:
-            self.say(error_text(error), "error")
+        except Exception as error:
+            self.say(problem_text(error), "error")
             self.ask_key("DO YOU WANT TO CONTINUE THE PART TRANSFER (Y/N) ?:",
                          lambda key: self._transfer(t) if key == "Y" else self.say("PART TRANSFER ENDED"))
             return
@@ -127,16 +125,14 @@ class StartScreen(MenuScreen):
 
     def _convert(self, t: Transfer) -> None:
         try:
-            from valterm.core.cad.convert import import_cad
-
             workspace = self.app.session_workspace()
             cell = import_cad(t.cad_file, units=t.units, system=t.system, name=t.setup, parts=t.parts)
             path = workspace.write_setup(t.setup, cell)
         except ImportError as error:
             self.say(f"CAD IMPORT NOT AVAILABLE: {error}".upper(), "error")
             return
-        except core_errors() as error:
-            self.say(error_text(error), "error")
+        except Exception as error:
+            self.say(problem_text(error), "error")
             self.say("PART TRANSFER ENDED")
             return
         for warning in cell.warnings:
