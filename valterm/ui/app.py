@@ -34,7 +34,7 @@ from valterm.ui.widgets.scene import simulator_scene
 class ValtermApp(App[int]):
     """The whole simulator; ``setup`` skips the start screen (tests and ``--setup``)."""
 
-    CSS_PATH = "app.tcss"
+    CSS_PATH = Path(__file__).with_name("app.tcss")  # absolute: subclasses (demo, tests) live elsewhere
     TITLE = "VAL-II SIMULATOR"
     ENABLE_COMMAND_PALETTE = False
     AUTO_FOCUS = None  # menus take single keys: nothing is focused unless a question asks

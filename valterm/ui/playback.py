@@ -34,6 +34,7 @@ from valterm.core.text.transcript import event_lines
 from valterm.ui.errors import problem_text
 
 TICK_BUDGET = 0.005  # seconds of work a tick, then Textual gets the loop back
+YIELD = 0.001  # seconds the pump sleeps between busy ticks (keys and redraws run then)
 MAX_FPS = 60.0  # no more redraws a second than this while a motion is paced
 MAX_FLUSH = 200  # transcript lines handed to the screen a tick (the rest scrolled past)
 TRANSCRIPT_LINES = 2000  # lines a screen keeps of its transcript
@@ -162,7 +163,8 @@ class Player:
     def _schedule(self, delay: float) -> None:
         if self._timer is not None:
             self._timer.stop()
-        self._timer = self.host.set_timer(max(0.0, delay), self._tick, name="playback")
+        # a Textual timer needs a positive delay; 1 ms is enough to let the loop breathe
+        self._timer = self.host.set_timer(max(YIELD, delay), self._tick, name="playback")
 
     def _guarded(self, deadline: float, pace: bool) -> float | None:
         """``_work``, with a refusal or a bug of the source shown as a line that ends the stream."""

@@ -266,7 +266,7 @@ class ValModeScreen(Screen[None]):
             self.log_line(f". {text}")
             show_at_once(self.session.command(text), self)
             if not self.session.program_paused:  # PROCEED
-                self._running()
+                self._show_running()
                 self.player.resume()
         elif self.mode == Mode.COMMAND:
             if not text.strip():
@@ -278,10 +278,10 @@ class ValModeScreen(Screen[None]):
     def run_events(self, events: Iterator[Event], after: Callable[[], None] | None = None) -> None:
         """Play a stream of core events on the app's player; ``after`` when it has ended."""
         self._after_run = after
-        self._running()
+        self._show_running()
         self.app.run_events(events, self)  # type: ignore[attr-defined]
 
-    def _running(self) -> None:
+    def _show_running(self) -> None:
         self.mode = Mode.RUNNING
         self._close_line()
         self._keys("RUNNING   CTRL-C: ABORT")
