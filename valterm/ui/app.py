@@ -80,6 +80,9 @@ class ValtermApp(App[int]):
             return
         self.push_screen(StartScreen())
 
+    def on_unmount(self) -> None:
+        self.player.close()  # a running program ends (and keeps its variables) before the exit
+
     def show_main_menu(self) -> None:
         """The start screen's way on: MAIN MENU in its place."""
         self.switch_screen(MainMenuScreen())

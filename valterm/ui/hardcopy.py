@@ -5,6 +5,7 @@ from __future__ import annotations
 import time
 from pathlib import Path
 
+from valterm.core.files.atomic import write_text_atomic
 from valterm.core.render.raster import rasterize
 from valterm.core.text.transcript import where_lines
 from valterm.ui.widgets.readouts import format_part
@@ -47,8 +48,6 @@ def write_hardcopy(app) -> tuple[Path, Path]:  # type: ignore[no-untyped-def]
     root = app.session.workspace.root
     name = next_name(root)
     text_path = root / f"{name}.TXT"
-    from valterm.core.files.atomic import write_text_atomic
-
     write_text_atomic(text_path, printout(app))
     svg = app.save_screenshot(filename=f"{name}.SVG", path=str(root))
     return Path(svg), text_path

@@ -81,6 +81,8 @@ class Player:
         self.rate = rate
         self.budget = budget
         self.ticks = 0  # ticks worked so far (tests count them)
+        self.abort_tick = -1  # the tick count when CTRL-C came, and when the stream ended
+        self.end_tick = -1
         self._source: Iterator[Event] | None = None
         self._audience: Audience | None = None
         self._stop_source: Callable[[], bool] | None = None
@@ -130,12 +132,19 @@ class Player:
         if not self.playing or self._aborting:
             return
         self._aborting = True
+        self.abort_tick = self.ticks
         self._paused = False
         self._resume_at = None
         if self._stop_source is None or not self._stop_source():
             self._end(aborted=True)
             return
         self._schedule(0.0)  # the next tick sees the program's ABORTED
+
+    def close(self) -> None:
+        """The app is closing: end the stream where it stands, telling no one."""
+        self._audience = None
+        if self.playing:
+            self._end(aborted=True)
 
     def skip_to_end(self) -> None:
         """Run the stream to its end now, no pacing, no DELAY (tests, an impatient user).
@@ -274,6 +283,7 @@ class Player:
 
     def _end(self, aborted: bool) -> None:
         source, self._source = self._source, None
+        self.end_tick = self.ticks
         self._motion, self._after_motion, self._resume_at = None, [], None
         self._paused = False
         self._stop_source = None

@@ -11,7 +11,8 @@ from typing import Sequence
 from textual.widgets import Static
 
 from valterm.core.events import Where
-from valterm.core.text.transcript import number, where_lines
+from valterm.core.text.transcript import number as readout_number
+from valterm.core.text.transcript import where_lines
 
 SCS_H = 26.0  # SPEC §1: Y_s = Z_w + H
 COLUMN = 9
@@ -26,8 +27,8 @@ def world_to_screen(xyz: Sequence[float]) -> tuple[float, float, float]:
 def format_part(number: int, reference: Sequence[float]) -> list[str]:
     """Fig. 4-2: the part's reference corner in world and in screen coordinates."""
     head = 32
-    world = [number(v) for v in reference]
-    screen = [number(v) for v in world_to_screen(reference)]
+    world = [readout_number(v) for v in reference]
+    screen = [readout_number(v) for v in world_to_screen(reference)]
     return [
         f"WORLD COORDINATES FOR PART NO. {number}".ljust(head) + "".join(c.rjust(COLUMN) for c in ("XW", "YW", "ZW")),
         " " * head + "".join(c.rjust(COLUMN) for c in world),
