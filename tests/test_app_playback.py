@@ -5,8 +5,8 @@ and the core's renderer print the same lines for the same program."""
 from __future__ import annotations
 
 import math
+from collections.abc import Iterator
 from pathlib import Path
-from typing import Iterator
 
 import pytest
 

@@ -10,8 +10,8 @@ module: they reach the app's state through ``self.app``.
 from __future__ import annotations
 
 import time
+from collections.abc import Callable, Iterable
 from pathlib import Path
-from typing import Callable, Iterable
 
 import numpy as np
 from textual.app import App

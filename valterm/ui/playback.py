@@ -23,12 +23,25 @@ from __future__ import annotations
 import math
 import time
 from collections import deque
-from typing import Callable, Generator, Iterable, Iterator, Protocol
+from collections.abc import Callable, Generator, Iterable, Iterator
+from typing import Protocol
 
 from textual.message_pump import MessagePump
 from textual.timer import Timer
 
-from valterm.core.events import Collision, Delay, Event, Grasp, Hand, Message, Motion, Near, Pause, PoseEvent, Release
+from valterm.core.events import (
+    Collision,
+    Delay,
+    Event,
+    Grasp,
+    Hand,
+    Message,
+    Motion,
+    Near,
+    Pause,
+    PoseEvent,
+    Release,
+)
 from valterm.core.render.clock import DEFAULT_RATE, MotionPlayer
 from valterm.core.text.transcript import event_lines
 from valterm.ui.errors import problem_text

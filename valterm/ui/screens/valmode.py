@@ -15,8 +15,8 @@ app's key) aborts after the step being simulated, and the program can be run aga
 
 from __future__ import annotations
 
+from collections.abc import Callable, Iterator
 from enum import StrEnum
-from typing import Callable, Iterator
 
 from textual.app import ComposeResult
 from textual.binding import Binding
@@ -36,7 +36,13 @@ from valterm.ui.playback import TRANSCRIPT_LINES, Player, Transcript, show_at_on
 from valterm.ui.screens.editor import EditorScreen, StepInput
 from valterm.ui.screens.help import HelpScreen
 from valterm.ui.view.model_view import ModelView
-from valterm.ui.widgets.menus import DEFINE_EACH, DEFINE_HOW, THEN_PRESS, VAL_MENU_1, VAL_MENU_2
+from valterm.ui.widgets.menus import (
+    DEFINE_EACH,
+    DEFINE_HOW,
+    THEN_PRESS,
+    VAL_MENU_1,
+    VAL_MENU_2,
+)
 from valterm.ui.widgets.scene import simulator_scene
 
 
