@@ -187,3 +187,22 @@ def test_valmode_run_and_the_renderer_print_the_same_lines(tmp_path: Path, capsy
     assert seen[0] == ". EXECUTE CONV1"
     assert seen[1:] == by_run == by_renderer
     assert "CONV1      19  IF COL.EQ.2, THEN" in by_run and "PROGRAM CONV1 COMPLETED: 1 LOOP" in by_run
+
+
+@sync
+async def test_a_command_at_a_menu_stops_a_running_loop_first(tmp_path: Path) -> None:
+    """V at KEYBOARD: EXECUTE of a loop, then another command: the loop is aborted, not
+    skipped to an end it does not have."""
+    app = Host(session_with(tmp_path, {"SPIN": "10  GOTO 10\n"}), motion_rate=math.inf)
+    async with app.run_test(size=(120, 40)) as pilot:
+        screen = KeyboardScreen()
+        await app.push_screen(screen)
+        await pilot.pause()
+        screen.run_command("EXECUTE SPIN")
+        await pilot.pause(0.1)
+        assert app.player.playing and app.session.program_running
+        screen.run_command("WHERE")
+        await run_until(pilot, lambda: not app.player.playing)
+        shown = screen.messages.text
+        assert "*** SPIN STEP 1: ABORTED" in shown and "NOFLIP" in shown.splitlines()[-1]
+        assert not app.session.program_running

@@ -123,12 +123,14 @@ class Player:
     # -- control ---------------------------------------------------------------------
     def play(self, events: Iterable[Event], audience: Audience,
              stop: Callable[[], bool] | None = None) -> None:
-        """Play ``events`` to ``audience``; one still playing first jumps to its end.
+        """Play ``events`` to ``audience``; a motion still playing first jumps to its end.
 
         ``stop()`` is how CTRL-C reaches the source: it returns True when the source will
         end by itself after its current step (a running program), False to close it.
         """
-        if self.playing:
+        if self.playing:  # a running program is stopped first: a loop has no end to skip to
+            if self._stop_source is not None and self._stop_source():
+                self._aborting = True
             self.skip_to_end()
         self._source, self._audience, self._stop_source = iter(events), audience, stop
         self._paused = self._aborting = False
