@@ -12,6 +12,7 @@ from valterm.core.cell.workcell import WorkCell
 from valterm.core.events import Event
 from valterm.core.files.locations import read_locations
 from valterm.core.files.setup import read_setup, write_setup
+from valterm.core.kinematics import Location
 from valterm.core.simulator import Simulator
 from valterm.core.val.interpreter import Interpreter
 from valterm.core.workspace import Workspace
@@ -51,6 +52,15 @@ class Session:
         locations = read_locations(self.workspace.path(name, "LOC"))
         self.simulator.locations.update(locations)
         return len(locations)
+
+    def define_location(self, name: str, location: Location) -> None:
+        """D_DEFINE or POINT in VAL-II mode: the location is known from now on."""
+        self.simulator.locations[name] = location
+
+    def toggle_collision_checks(self) -> bool:
+        """S at KEYBOARD: collision checks on or off; returns the new state."""
+        self.simulator.collision_checks = not self.simulator.collision_checks
+        return bool(self.simulator.collision_checks)
 
     # -- the interpreter -------------------------------------------------------
     @property

@@ -121,9 +121,8 @@ class KeyboardScreen(MenuScreen):
         self.update_readout()
 
     def action_smooth(self) -> None:
-        simulator = self.app.simulator
-        simulator.collision_checks = not simulator.collision_checks
-        self.say(f"COLLISION CHECKS {'ON' if simulator.collision_checks else 'OFF'}")
+        on = self.app.session.toggle_collision_checks()
+        self.say(f"COLLISION CHECKS {'ON' if on else 'OFF'}")
 
     def action_faces(self) -> None:
         self.app.back_faces = not self.app.back_faces

@@ -383,7 +383,7 @@ class ValModeScreen(Screen[None]):
     def _define_answer(self, key: str) -> None:
         name, location = self._defining.pop(0)
         if key in ("A", "E"):
-            self.simulator.locations[name] = location
+            self.session.define_location(name, location)
             self._defined.append(name)
             self.log_line(f"{name} ACCEPTED")
         else:
@@ -409,7 +409,8 @@ class ValModeScreen(Screen[None]):
             self.log_line(f"*** {problem_text(error)}")
             self._open_line(Mode.POINT, "POINT", typed, "NAME, X, Y, Z, O, A, T")
             return
-        self.simulator.locations[name] = Location(tuple(numbers[:3]), tuple(numbers[3:]))  # type: ignore[arg-type]
+        x, y, z, o, a, t = numbers
+        self.session.define_location(name, Location((x, y, z), (o, a, t)))
         self.log_line(f"POINT {name} DEFINED")
         self.to_after()
 
