@@ -6,6 +6,7 @@ import time
 from pathlib import Path
 
 from valterm.core.files.atomic import write_text_atomic
+from valterm.core.files.errors import FileWriteError
 from valterm.core.render.raster import rasterize
 from valterm.core.text.transcript import where_lines
 from valterm.ui.widgets.readouts import format_part
@@ -49,5 +50,8 @@ def write_hardcopy(app) -> tuple[Path, Path]:  # type: ignore[no-untyped-def]
     name = next_name(root)
     text_path = root / f"{name}.TXT"
     write_text_atomic(text_path, printout(app))
-    svg = app.save_screenshot(filename=f"{name}.SVG", path=str(root))
+    try:
+        svg = app.save_screenshot(filename=f"{name}.SVG", path=str(root))
+    except OSError as error:  # Textual's own write: refused like the core's writes
+        raise FileWriteError(f"{name}.SVG: cannot write the file: {error.strerror or error}") from error
     return Path(svg), text_path

@@ -6,6 +6,8 @@ import os
 import tempfile
 from pathlib import Path
 
+from valterm.core.files.errors import FileWriteError
+
 
 def write_text_atomic(path: str | Path, text: str, encoding: str = "utf-8") -> None:
     """Write ``text`` to ``path`` through a temporary file in the same folder, then rename.
@@ -15,6 +17,14 @@ def write_text_atomic(path: str | Path, text: str, encoding: str = "utf-8") -> N
     """
     target = Path(path)
     data = text.encode(encoding, errors="strict")
+    try:
+        _write_replace(target, data)
+    except OSError as error:  # the disk or the folder refused: say which file, and why
+        raise FileWriteError(f"{target.name}: cannot write the file: {error.strerror or error}") from error
+    _fsync_folder(target.parent)
+
+
+def _write_replace(target: Path, data: bytes) -> None:
     fd, temp_name = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
     try:
         with os.fdopen(fd, "wb") as handle:
@@ -28,7 +38,6 @@ def write_text_atomic(path: str | Path, text: str, encoding: str = "utf-8") -> N
         except OSError:
             pass
         raise
-    _fsync_folder(target.parent)
 
 
 def _fsync_folder(folder: Path) -> None:

@@ -33,3 +33,7 @@ class FileFormatError(ValtermError):
 
 class BadName(ValtermError, ValueError):
     """A name (typed or read) that is not a VAL-II name; ``str()`` says why."""
+
+
+class FileWriteError(ValtermError, OSError):
+    """A file that could not be written (no space, no permission); nothing was half-written."""
