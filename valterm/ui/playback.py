@@ -9,8 +9,8 @@ MOVE of D_DEFINE) and works through it in ticks on its host's timers:
   most ``budget`` seconds of real time, then hands control back to Textual, so the screen
   updates and CTRL-C is seen at the next tick;
 - every other event becomes transcript lines through the core's one renderer
-  (``core.text.transcript``), handed to the audience once a tick (at most ``MAX_FLUSH``
-  lines a tick: a runaway TYPE loop cannot flood the screen);
+  (``core.text.transcript``), handed to the audience once a tick (at most
+  ``TRANSCRIPT_LINES`` a tick: a runaway TYPE loop cannot flood memory);
 - PAUSE stops the pump until ``resume()``; ``abort()`` asks the source to stop after its
   step (a running program: the core then says ABORTED) or closes it where it stands.
 
@@ -49,8 +49,7 @@ from valterm.ui.errors import problem_text
 TICK_BUDGET = 0.005  # seconds of work a tick, then Textual gets the loop back
 YIELD = 0.001  # seconds the pump sleeps between busy ticks (keys and redraws run then)
 MAX_FPS = 60.0  # no more redraws a second than this while a motion is paced
-MAX_FLUSH = 200  # transcript lines handed to the screen a tick (the rest scrolled past)
-TRANSCRIPT_LINES = 2000  # lines a screen keeps of its transcript
+TRANSCRIPT_LINES = 2000  # lines a screen keeps of its transcript (and the most handed a tick)
 
 # events after which the picture changes although no pose came
 _SCENE_EVENTS = (PoseEvent, Motion, Hand, Grasp, Release)
@@ -104,7 +103,7 @@ class Player:
         self._resume_at: float | None = None
         self._paused = False
         self._aborting = False
-        self._lines: deque[str] = deque(maxlen=MAX_FLUSH)
+        self._lines: deque[str] = deque(maxlen=TRANSCRIPT_LINES)
         self._scene_changed = False
         self._last_pause: Pause | None = None  # to hand to the audience after the lines
         self._ended: bool | None = None  # the stream ended (aborted?): to tell the audience

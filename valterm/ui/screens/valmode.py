@@ -61,6 +61,8 @@ class Mode(StrEnum):
     POINT = "point"  # the line takes NAME, X, Y, Z, O, A, T
 
 
+LOG_WRITE = 200  # lines written to the log at once (more scroll past unseen within a tick)
+
 # modes in which the open line takes every key
 LINE_MODES = (Mode.COMMAND, Mode.PAUSED, Mode.DEFINE_FILE, Mode.POINT, Mode.RUNNING)
 
@@ -297,7 +299,8 @@ class ValModeScreen(Screen[None]):
 
     def show_lines(self, lines: list[str]) -> None:
         self.transcript.extend(lines)
-        self.query_one("#val-log", RichLog).write("\n".join(lines))  # one write: cheap
+        # one write a tick, of what a screen can show: a TYPE loop scrolls, it does not stall
+        self.query_one("#val-log", RichLog).write("\n".join(lines[-LOG_WRITE:]))
 
     def take_event(self, event: Event) -> bool:
         if isinstance(event, Help):
