@@ -6,8 +6,10 @@ import os
 import time
 from pathlib import Path
 
+from valterm.core.files.atomic import write_text_atomic
 from valterm.core.render.raster import rasterize
-from valterm.ui.widgets.readouts import format_part, format_where
+from valterm.core.text.transcript import where_lines
+from valterm.ui.widgets.readouts import format_part
 
 PRINT_WIDTH = 100
 PRINT_HEIGHT = 40
@@ -33,7 +35,7 @@ def printout(app) -> str:  # type: ignore[no-untyped-def]
         time.strftime("%d-%b-%Y %H:%M:%S").upper(),
         f"SETUP FILE {session.setup_name}.SET, {len(simulator.cell.objects)} PARTS",
         "",
-        *format_where(simulator.where(1)),
+        *where_lines(simulator.where(1)),
         "",
     ]
     for number, part in enumerate(simulator.cell.objects, start=1):
@@ -47,8 +49,6 @@ def printout(app) -> str:  # type: ignore[no-untyped-def]
 def write_hardcopy(app) -> tuple[Path, Path]:  # type: ignore[no-untyped-def]
     """Write HCOPYn.SVG (the screen) and HCOPYn.TXT (the printout) into the workspace,
     each through the one safe write path (atomic, never through a link)."""
-    from valterm.core.files.atomic import write_text_atomic
-
     workspace = app.session.workspace
     name = next_name(workspace.root)
     svg_path = workspace.path(name, "SVG")

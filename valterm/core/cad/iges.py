@@ -21,13 +21,13 @@ from __future__ import annotations
 
 import math
 import re
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from valterm.core.cad.errors import CadImportError
-from valterm.core.cad.iges_entities import NON_GEOMETRY, Entity, Hollerith
+from valterm.core.cad.iges_entities import Entity, Hollerith
 from valterm.core.cad.iges_geometry import Walker
 
 # units flag (global field 14) -> millimetres per model unit

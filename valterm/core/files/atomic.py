@@ -73,7 +73,6 @@ def write_bytes_atomic(path: str | Path, data: bytes) -> None:
         if isinstance(error, OSError):
             raise FileWriteError(target, _reason(error)) from None
         raise
-    _fsync_folder(target.parent)
 
 
 def check_writable(target: Path) -> int | None:

@@ -31,6 +31,10 @@ class FileFormatError(ValtermError):
         return f"{self.name}: {self.reason}"
 
 
+class BadName(ValtermError, ValueError):
+    """A name (typed or read) that is not a VAL-II name; ``str()`` says why."""
+
+
 class FileWriteError(ValtermError, OSError):
     """A file the program will not or cannot write: ``NAME.SET: reason``.
 

@@ -19,7 +19,7 @@ from valterm.core.files._text import (
     split_fields,
 )
 from valterm.core.files.atomic import write_text_atomic
-from valterm.core.files.errors import FileFormatError, shown_name
+from valterm.core.files.errors import BadName, FileFormatError, shown_name
 from valterm.core.files.limits import MAX_LOCATIONS
 from valterm.core.kinematics import Location
 
@@ -32,10 +32,10 @@ _FIELDS = ("X", "Y", "Z", "O", "A", "T")
 
 
 def check_location_name(name: str) -> str:
-    """The name upper-cased, or ValueError saying why it is not a location name."""
+    """The name upper-cased, or BadName saying why it is not a location name."""
     upper = name.strip().upper()
     if not LOCATION_NAME.fullmatch(upper):
-        raise ValueError(
+        raise BadName(
             f"{shown_name(name)!r} is not a location name: a letter then up to 8 letters or digits (at most 9 characters)"
         )
     return upper
