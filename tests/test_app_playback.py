@@ -156,36 +156,36 @@ async def test_a_flood_of_lines_keeps_the_last_ones(tmp_path: Path) -> None:
 def _transcript_of_run(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> list[str]:
     from valterm.cli import main
 
-    assert main(["--workspace", str(tmp_path / "run"), "run", "CONV1", "--cell", "CONV", "--loc", "CONV"]) == 0
+    assert main(["--workspace", str(tmp_path / "run"), "run", "PROCESS", "--cell", "PROCESS", "--loc", "PROCESS"]) == 0
     out = capsys.readouterr().out.splitlines()
     return out[: out.index("WHERE") - 1]  # the final WHERE and VARIABLES are run's own
 
 
 def _transcript_of_renderer(tmp_path: Path) -> list[str]:
-    session = Session(workspace_root=tmp_path / "core", setup="CONV")
-    session.load_locations("CONV")
-    return [line for event in session.interpreter.execute("CONV1") for line in event_lines(event)]
+    session = Session(workspace_root=tmp_path / "core", setup="PROCESS")
+    session.load_locations("PROCESS")
+    return [line for event in session.interpreter.execute("PROCESS") for line in event_lines(event)]
 
 
 def test_valmode_run_and_the_renderer_print_the_same_lines(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     by_run = _transcript_of_run(tmp_path, capsys)
     by_renderer = _transcript_of_renderer(tmp_path)
-    session = Session(workspace_root=tmp_path / "app", setup="CONV")
-    session.load_locations("CONV")
+    session = Session(workspace_root=tmp_path / "app", setup="PROCESS")
+    session.load_locations("PROCESS")
     app = Host(session, motion_rate=math.inf)
     seen: list[str] = []
 
     async def body() -> None:
         async with app.run_test(size=(120, 40)) as pilot:
             screen = await valmode(app, pilot)
-            await typed(pilot, "EXECUTE CONV1")
+            await typed(pilot, "EXECUTE PROCESS")
             await run_until(pilot, lambda: screen.mode == Mode.AFTER)
             seen.extend(screen.transcript)
 
     sync(body)()
-    assert seen[0] == ". EXECUTE CONV1"
+    assert seen[0] == ". EXECUTE PROCESS"
     assert seen[1:] == by_run == by_renderer
-    assert "CONV1      19  IF COL.EQ.2, THEN" in by_run and "PROGRAM CONV1 COMPLETED: 1 LOOP" in by_run
+    assert "PROCESS     6  APPRO A, -50" in by_run and "PROGRAM PROCESS COMPLETED: 1 LOOP" in by_run
 
 
 @sync
