@@ -234,7 +234,7 @@ def test_run_refuses_a_called_program_linked_outside(caller_workspace: Path, cap
     assert main(["--workspace", str(caller_workspace), "run", "CALLER"]) == 1
     out = capsys.readouterr().out
     assert "SECRET" not in out
-    assert "CALLER step 1: CALL EVIL3: EVIL3.DAT links outside the workspace" in out
+    assert "CALLER STEP 1: CALL EVIL3: EVIL3.DAT LINKS OUTSIDE THE WORKSPACE" in out
 
 
 def test_run_by_path_refuses_a_called_program_linked_outside(caller_workspace: Path,
