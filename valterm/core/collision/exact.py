@@ -12,8 +12,8 @@ stationary ones) collided against each other; the pairs of moving polyhedra (rob
 against robot link) are few and go straight to ``fcl.collide`` after a numpy box test.
 Every query gets a fresh ``CollisionRequest``/``CollisionResult`` (fcl accumulates results).
 
-Reports "collides" only, never "near". Unlike the 1985 edge-through-face check it sees a
-polyhedron wholly inside another. Exact touching (a shared face, edge or corner) is not a
+Reports "collides" only, never "near". Like the thesis check with its containment test, it
+sees a polyhedron wholly inside another. Exact touching (a shared face, edge or corner) is not a
 collision for fcl either, but treat it as the tolerance band it is.
 """
 

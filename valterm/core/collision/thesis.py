@@ -20,8 +20,8 @@ Conventions chosen here (documented because the thesis leaves them open):
   possibility of Fig. 2-14), is clear; a real crossing always has other, non-parallel edges.
 * The area test accepts a point on the polygon's boundary (relative tolerance ``AREA_TOL``).
 * Blind spot of the 1985 method: a polyhedron wholly inside another has no edge crossing any
-  face, so the fine check says "clear" (the pair is still "near"). The exact checker
-  (``valterm.core.collision.exact``) reports that case; the agreement tests detect it explicitly.
+  face. Added here (issue 13): the fine check also asks whether either centre lies strictly
+  inside the other polyhedron (``_contained``), so that case collides, as fcl says too.
 
 Every step works on whole arrays: the coarse test of all pairs is one numpy expression and the
 fine test of all near pairs (both directions) is one batch; only the loop over the (few)
@@ -171,7 +171,8 @@ def fine(scene: Scene, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     s = (seg.reshape(pn, 2 * e, 3) @ unit.transpose(0, 2, 1)).reshape(pn, e, 2, f) - off[:, None, None, :]
     s0, s1 = s[:, :, 0], s[:, :, 1]
     crossing = (np.minimum(s0, s1) < -EPS) & (np.maximum(s0, s1) > EPS)
-    hit = np.zeros(n, dtype=bool)
+    hit = _contained(scene.centres, src, dst, unit, off, size)
+    hit = hit[:n] | hit[n:]
     cand = np.flatnonzero(crossing)                  # flat (pair, edge, face) candidates
     if len(cand) == 0:
         return hit
@@ -188,6 +189,21 @@ def fine(scene: Scene, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     inside = tri_sum <= size.take(face) * (1.0 + AREA_TOL)
     hit[pair[inside] % n] = True
     return hit
+
+
+def _contained(centres: np.ndarray, src: np.ndarray, dst: np.ndarray, unit: np.ndarray,
+               off: np.ndarray, size: np.ndarray) -> np.ndarray:
+    """Per (src, dst): is src's centre strictly inside the convex dst (all its face planes)?
+
+    The containment test the 1985 edge-face check lacks: a polyhedron wholly inside another
+    crosses no face, but its centre lies inside the other. Faces are oriented by the side
+    dst's own centre is on, so the file's winding does not matter.
+    """
+    d_src = np.einsum("nfk,nk->nf", unit, centres.take(src, axis=0)) - off
+    d_dst = np.einsum("nfk,nk->nf", unit, centres.take(dst, axis=0)) - off
+    inner = d_src * np.sign(d_dst) > EPS
+    result: np.ndarray = np.where(size > 0, inner, True).all(axis=1)
+    return result
 
 
 def check_pairs(scene: Scene, moving: np.ndarray, stationary: np.ndarray, grow: float,
