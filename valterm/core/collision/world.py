@@ -173,6 +173,10 @@ class CollisionWorld:
         if len(pairs.moving) == 0:
             return []
         codes = self.checker.check([*links, *objects], pairs.moving, pairs.stationary, margin(speed))
+        return self.findings(pairs, codes)
+
+    def findings(self, pairs: _Pairs, codes: np.ndarray) -> list[Finding]:
+        """The findings of a step from the kind code of each pair, in the stable order."""
         found: list[Finding] = []
         seen: set[Finding] = set()
         for p in np.nonzero(codes)[0]:

@@ -1,0 +1,225 @@
+"""The scene's collision check fed straight from the robot's link frames (what the simulator has).
+
+``CollisionWorld.check`` takes polyhedra: the simulator used to build ten ``Polyhedron`` objects
+per pose and the check concatenated every part's vertices again. ``RobotScene`` keeps instead:
+
+* the link shapes in their own frames (fingers at the current gap), placed at each pose with
+  one einsum from the 4x4 link frames, written into a vertex array allocated once;
+* the parts' vertices, centres, radii and boxes, computed once and again only when a part is
+  moved (its vertex array replaced) - a carried part is re-placed every pose like a link;
+* a broad phase: the parts whose box, grown by the largest mover's radius and the margin,
+  reaches the box of the movers' centres. Only their pairs go to the coarse + fine check, so
+  the cost grows with the parts near the robot. The skipped pairs are exactly the ones the
+  coarse test would call clear, so the findings are those of ``CollisionWorld.check``.
+
+The same pair rules, kinds and message order as ``CollisionWorld`` (it is used for them).
+With ``checker="exact"`` python-fcl answers the pairs the broad phase keeps
+(``valterm.core.collision.exact.FrameExact``: link objects built once, moved by their frames).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Collection, Literal, Sequence
+
+import numpy as np
+
+from valterm.core.cell.polyhedron import Polyhedron
+from valterm.core.collision.thesis import Layout, Scene, check_pairs, layout, margin
+from valterm.core.collision.world import CollisionWorld, Finding
+
+
+def thickness(vertices: np.ndarray, k: int) -> float:
+    """The polyhedron's smallest width across its own faces (mm): how thin a part is."""
+    faces = np.asarray(topology_faces(k))
+    v = vertices
+    p = v[faces]                                                    # (F, 4, 3) side quads + caps
+    normal = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
+    size = np.linalg.norm(normal, axis=1)
+    normal = normal[size > 0] / size[size > 0, None]
+    spans = v @ normal.T
+    return float((spans.max(axis=0) - spans.min(axis=0)).min())
+
+
+def topology_faces(k: int) -> list[list[int]]:
+    """Three vertices of each face of an extruded polyhedron (caps, then side quads)."""
+    faces = [[0, 1, 2], [k, k + 1, k + 2]]
+    faces += [[i, (i + 1) % k, k + (i + 1) % k] for i in range(k)]
+    return faces
+
+
+class RobotScene:
+    """Collision check of robot links given as frames, against the parts of a work cell."""
+
+    def __init__(self, labels: Sequence[str], owners: Sequence[int],
+                 checker: Literal["thesis", "exact"] = "thesis",
+                 near_with_collision: bool = False) -> None:
+        self.world = CollisionWorld(labels, near_with_collision=near_with_collision)
+        self.owners = np.asarray(owners, dtype=np.intp)
+        self.checker = checker
+        self._exact: object | None = None
+        self._local = np.zeros((0, 3))
+        self._link_ks: tuple[int, ...] = ()
+        self._owner_rows = np.zeros(0, dtype=np.intp)
+        self._parts: tuple[np.ndarray, ...] | None = None   # the part arrays the cache was built from
+        self._carried: tuple[int, ...] = ()
+        self._thin: dict[int, tuple[np.ndarray, float]] = {}
+
+    # -- what is built once ----------------------------------------------------------------
+    def set_shapes(self, local: Sequence[np.ndarray]) -> None:
+        """The link shapes, each (2k, 3) in its link's frame (call again when the fingers move)."""
+        if len(local) != len(self.world.labels):
+            raise ValueError(f"expected {len(self.world.labels)} robot links, got {len(local)}")
+        self._local = np.concatenate(local)
+        self._link_ks = tuple(len(v) // 2 for v in local)
+        self._owner_rows = np.repeat(self.owners, [len(v) for v in local])
+        self._parts = None
+
+    def _rebuild(self, objects: Sequence[Polyhedron], carried: tuple[int, ...]) -> None:
+        """Layout, vertex array and per-polyhedron figures for the parts where they are now."""
+        ks = self._link_ks + tuple(p.k for p in objects)
+        self._layout: Layout = layout(ks)
+        nl = len(self._link_ks)
+        self._nl_rows = int(self._layout.starts[nl]) if objects else len(self._local)
+        scene = Scene.of([Polyhedron(np.zeros((2 * k, 3))) for k in self._link_ks] + list(objects))
+        self._scene = scene
+        self._parts = tuple(p.vertices for p in objects)
+        self._carried = carried
+        self._carried_rows = [(nl + c - 1, slice(int(self._layout.starts[nl + c - 1]),
+                                                 int(self._layout.starts[nl + c - 1]) + 2 * objects[c - 1].k))
+                              for c in carried]
+
+    def _parts_changed(self, objects: Sequence[Polyhedron], carried: tuple[int, ...]) -> bool:
+        parts = self._parts
+        if parts is None or carried != self._carried or len(parts) != len(objects):
+            return True
+        held = set(carried)
+        return any(a is not p.vertices for n, (a, p) in enumerate(zip(parts, objects), 1) if n not in held)
+
+    # -- each pose -----------------------------------------------------------------------------
+    def place(self, frames: np.ndarray) -> np.ndarray:
+        """World vertices of every link shape at these (links, 4, 4) frames, concatenated."""
+        f = frames[self._owner_rows]
+        placed: np.ndarray = np.einsum("vij,vj->vi", f[:, :3, :3], self._local) + f[:, :3, 3]
+        return placed
+
+    def _update(self, frames: np.ndarray, objects: Sequence[Polyhedron]) -> np.ndarray:
+        """Put links and carried parts where they are now; the indices of the moving polyhedra."""
+        s = self._scene
+        v = s.vertices
+        v[: self._nl_rows] = self.place(frames)
+        movers = list(range(len(self._link_ks)))
+        for i, rows in self._carried_rows:
+            v[rows] = objects[i - len(self._link_ks)].vertices
+            movers.append(i)
+        lay = self._layout
+        idx = np.asarray(movers, dtype=np.intp)
+        # the movers are the first polyhedra (links) plus a few carried: figures for those only
+        for group in _runs(idx):
+            lo_row = int(lay.starts[group[0]])
+            hi_row = lo_row + int(lay.counts[group].sum())
+            part = v[lo_row:hi_row]
+            st = lay.starts[group] - lo_row
+            centres = np.add.reduceat(part, st, axis=0) / lay.counts[group][:, None]
+            d = part - np.repeat(centres, lay.counts[group], axis=0)
+            s.centres[group] = centres
+            s.radii[group] = np.sqrt(np.maximum.reduceat(np.einsum("ij,ij->i", d, d), st))
+            lo = np.minimum.reduceat(part, st, axis=0)
+            hi = np.maximum.reduceat(part, st, axis=0)
+            s.mid[group] = (lo + hi) * 0.5
+            s.half[group] = (hi - lo) * 0.5
+        return idx
+
+    def _candidates(self, movers: np.ndarray, free: np.ndarray, grow: float) -> np.ndarray:
+        """Broad phase: positions in ``free`` of the parts a mover could be near."""
+        s = self._scene
+        reach = float(s.radii[movers].max()) + grow
+        c = s.centres[movers]
+        cmin, cmax = c.min(axis=0) - reach, c.max(axis=0) + reach
+        lo = s.mid[free] - s.half[free]
+        hi = s.mid[free] + s.half[free]
+        return np.flatnonzero(np.all((lo <= cmax) & (hi >= cmin), axis=1))
+
+    def check(self, frames: np.ndarray, objects: Sequence[Polyhedron], carried: Collection[int] = (),
+              speed: float = 100.0) -> list[Finding]:
+        """One motion step: findings for the links at ``frames`` (links, 4, 4) and the parts."""
+        held = tuple(sorted(set(carried)))
+        if self._parts_changed(objects, held):
+            self._rebuild(objects, held)
+        world = self.world
+        pairs = world.pairs(len(objects), held)
+        if len(pairs.moving) == 0:
+            return []
+        movers = self._update(frames, objects)
+        nl = len(self._link_ks)
+        free = np.array([nl + n - 1 for n in range(1, len(objects) + 1) if n not in held], dtype=np.intp)
+        grow = margin(speed)
+        near = self._candidates(movers, free, grow) if len(free) else np.zeros(0, dtype=np.intp)
+        n_free = len(free)
+        ruled = len(movers) * n_free                     # rules 1 and 2: movers x free parts
+        sel = np.concatenate([(np.arange(len(movers))[:, None] * n_free + near[None, :]).ravel(),
+                              np.arange(ruled, len(pairs.moving))]).astype(np.intp)
+        if self.checker == "exact":
+            return world.findings(pairs, self._exact_codes(pairs.moving, pairs.stationary))
+        codes = np.zeros(len(pairs.moving), dtype=np.int8)
+        if len(sel):
+            codes[sel] = check_pairs(self._scene, pairs.moving[sel], pairs.stationary[sel], grow)
+        return world.findings(pairs, codes)
+
+    def _exact_codes(self, moving: np.ndarray, stationary: np.ndarray) -> np.ndarray:
+        """python-fcl on all the pairs (its own AABB tree is the broad phase)."""
+        from valterm.core.collision.exact import ExactChecker
+        if self._exact is None:
+            self._exact = ExactChecker()
+        codes: np.ndarray = self._exact.check(_split(self._scene), moving, stationary)  # type: ignore[attr-defined]
+        return codes
+
+    # -- swept motion (issue 13) -----------------------------------------------------------------
+    def _width(self, p: Polyhedron) -> float:
+        """A part's thinnest width, cached with the vertex array it was measured on."""
+        found = self._thin.get(id(p.vertices))
+        if found is not None and found[0] is p.vertices:
+            return found[1]
+        if len(self._thin) > 4096:
+            self._thin.clear()
+        w = thickness(p.vertices, p.k)
+        self._thin[id(p.vertices)] = (p.vertices, w)
+        return w
+
+    def substeps(self, before: np.ndarray, after: np.ndarray, objects: Sequence[Polyhedron],
+                 carried: Collection[int] = ()) -> int:
+        """How many checks the step between link frames ``before`` and ``after`` needs.
+
+        No link vertex may move by more than the width of the thinnest part near its path
+        between two checks, or the step could pass through the part with both poses clear.
+        Call after ``check`` at ``after`` (it uses the parts' boxes cached there).
+        """
+        a, b = self.place(before), self.place(after)
+        moved = b - a
+        distance = float(np.sqrt(np.einsum("ij,ij->i", moved, moved).max())) if len(moved) else 0.0
+        held = set(carried)
+        numbers = [n for n in range(1, len(objects) + 1) if n not in held]
+        if distance == 0.0 or not numbers or self._parts is None:
+            return 1
+        # the parts whose box meets the box of the path (grown by the step: joint paths bulge)
+        lo = np.minimum(a.min(axis=0), b.min(axis=0)) - distance
+        hi = np.maximum(a.max(axis=0), b.max(axis=0)) + distance
+        s, nl = self._scene, len(self._link_ks)
+        idx = np.asarray(numbers, dtype=np.intp) + nl - 1
+        box_lo, box_hi = s.mid[idx] - s.half[idx], s.mid[idx] + s.half[idx]
+        meet = np.flatnonzero(np.all((box_lo <= hi) & (box_hi >= lo), axis=1))
+        thin = min((self._width(objects[numbers[i] - 1]) for i in meet.tolist()), default=math.inf)
+        if distance <= thin:
+            return 1
+        return int(math.ceil(distance / max(thin, 1.0)))
+
+
+def _runs(idx: np.ndarray) -> list[np.ndarray]:
+    """Split sorted indices into runs of consecutive numbers."""
+    breaks = np.flatnonzero(np.diff(idx) != 1) + 1
+    return np.split(idx, breaks)
+
+
+def _split(scene: Scene) -> list[Polyhedron]:
+    lay = scene.layout
+    return [Polyhedron(scene.vertices[s:s + c], "") for s, c in zip(lay.starts.tolist(), lay.counts.tolist())]
