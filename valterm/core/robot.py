@@ -15,7 +15,7 @@ import numpy as np
 
 from valterm.core.cell.polyhedron import Polyhedron
 from valterm.core import resources
-from valterm.core.kinematics import ROBOT_FILE, RobotGeometry, link_frames_batch, robot_geometry
+from valterm.core.kinematics import ROBOT_FILE, RobotGeometry, link_frames, robot_geometry
 
 
 @dataclass(frozen=True)
@@ -60,12 +60,12 @@ class RobotModel:
 
     def link_frames(self, joints: Sequence[float], base: np.ndarray | None = None) -> np.ndarray:
         """The seven (4, 4) link frames in world coordinates at JT1..JT6 (degrees)."""
-        frames: np.ndarray = link_frames_batch(np.asarray(joints, dtype=float), self.geometry)[0]
+        frames = link_frames(joints, self.geometry)
         return frames if base is None else base @ frames
 
     def clamp_frame(self, joints: Sequence[float], base: np.ndarray | None = None) -> np.ndarray:
         """The 4x4 clamp frame (R6, origin at the wrist centre) in world coordinates."""
-        frame: np.ndarray = link_frames_batch(np.asarray(joints, dtype=float), self.geometry)[0, 6]
+        frame: np.ndarray = link_frames(joints, self.geometry)[6]
         return frame if base is None else base @ frame
 
     def led_segment(self, joints: Sequence[float], gap: float | None = None,

@@ -81,7 +81,7 @@ class Simulator:
         self._findings: set[tuple[str, Party, Party]] = set()
         self._checker: RobotScene | None = None
         self._checker_gap: float | None = None
-        self._frames_cache: tuple[tuple[float, ...], np.ndarray, np.ndarray] | None = None
+        self._frames_cache: list[tuple[tuple[float, ...], np.ndarray, np.ndarray]] = []
 
     # -- readouts ------------------------------------------------------------
     def robot_polyhedra(self) -> list[Polyhedron]:
@@ -336,11 +336,13 @@ class Simulator:
         return self._checker
 
     def _frames_at(self, joints: Sequence[float]) -> np.ndarray:
+        """Link frames in world coordinates, the last two poses' kept (a step's two ends)."""
         key = tuple(joints)
-        if self._frames_cache is not None and self._frames_cache[0] == key and self._frames_cache[1] is self.base:
-            return self._frames_cache[2]
+        for known, base, frames in self._frames_cache:
+            if known == key and base is self.base:
+                return frames
         frames = self.model.link_frames(joints, self.base)
-        self._frames_cache = (key, self.base, frames)
+        self._frames_cache = [(key, self.base, frames), *self._frames_cache[:1]]
         return frames
 
     def check_collisions(self, previous: Sequence[float] | None = None) -> Iterator[Event]:

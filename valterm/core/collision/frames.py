@@ -25,7 +25,7 @@ from typing import Collection, Literal, Sequence
 import numpy as np
 
 from valterm.core.cell.polyhedron import Polyhedron
-from valterm.core.collision.thesis import Layout, Scene, check_pairs, layout, margin
+from valterm.core.collision.thesis import Layout, Scene, check_pairs, face_planes, layout, margin
 from valterm.core.collision.world import CollisionWorld, Finding
 
 
@@ -64,6 +64,7 @@ class RobotScene:
         self._parts: tuple[np.ndarray, ...] | None = None   # the part arrays the cache was built from
         self._carried: tuple[int, ...] = ()
         self._thin: dict[int, tuple[np.ndarray, float]] = {}
+        self._placed: list[tuple[np.ndarray, np.ndarray]] = []
 
     # -- what is built once ----------------------------------------------------------------
     def set_shapes(self, local: Sequence[np.ndarray]) -> None:
@@ -82,9 +83,14 @@ class RobotScene:
         nl = len(self._link_ks)
         self._nl_rows = int(self._layout.starts[nl]) if objects else len(self._local)
         scene = Scene.of([Polyhedron(np.zeros((2 * k, 3))) for k in self._link_ks] + list(objects))
+        lay = self._layout
+        scene.planes = face_planes(scene.vertices, lay.face_idx, lay.face_next)
+        scene.stale = np.zeros(len(ks), dtype=bool)
         self._scene = scene
         self._parts = tuple(p.vertices for p in objects)
         self._carried = carried
+        self._movers = np.array([*range(nl), *(nl + c - 1 for c in carried)], dtype=np.intp)
+        scene.stale[self._movers] = True
         self._carried_rows = [(nl + c - 1, slice(int(self._layout.starts[nl + c - 1]),
                                                  int(self._layout.starts[nl + c - 1]) + 2 * objects[c - 1].k))
                               for c in carried]
@@ -105,30 +111,29 @@ class RobotScene:
 
     def _update(self, frames: np.ndarray, objects: Sequence[Polyhedron]) -> np.ndarray:
         """Put links and carried parts where they are now; the indices of the moving polyhedra."""
-        s = self._scene
+        s, lay = self._scene, self._layout
         v = s.vertices
-        v[: self._nl_rows] = self.place(frames)
-        movers = list(range(len(self._link_ks)))
+        nl = len(self._link_ks)
+        placed = self.place(frames)
+        v[: self._nl_rows] = placed
+        self._placed = [(frames, placed), *self._placed[:1]]   # the last two poses, for substeps
+        runs = [(0, nl, 0, self._nl_rows)]
         for i, rows in self._carried_rows:
-            v[rows] = objects[i - len(self._link_ks)].vertices
-            movers.append(i)
-        lay = self._layout
-        idx = np.asarray(movers, dtype=np.intp)
-        # the movers are the first polyhedra (links) plus a few carried: figures for those only
-        for group in _runs(idx):
-            lo_row = int(lay.starts[group[0]])
-            hi_row = lo_row + int(lay.counts[group].sum())
+            v[rows] = objects[i - nl].vertices
+            runs.append((i, i + 1, rows.start, rows.stop))
+        for first, last, lo_row, hi_row in runs:     # the figures of the moved polyhedra only
             part = v[lo_row:hi_row]
-            st = lay.starts[group] - lo_row
-            centres = np.add.reduceat(part, st, axis=0) / lay.counts[group][:, None]
-            d = part - np.repeat(centres, lay.counts[group], axis=0)
-            s.centres[group] = centres
-            s.radii[group] = np.sqrt(np.maximum.reduceat(np.einsum("ij,ij->i", d, d), st))
+            st = lay.starts[first:last] - lo_row
+            counts = lay.counts[first:last]
+            centres = np.add.reduceat(part, st, axis=0) / counts[:, None]
+            d = part - np.repeat(centres, counts, axis=0)
+            s.centres[first:last] = centres
+            s.radii[first:last] = np.sqrt(np.maximum.reduceat(np.einsum("ij,ij->i", d, d), st))
             lo = np.minimum.reduceat(part, st, axis=0)
             hi = np.maximum.reduceat(part, st, axis=0)
-            s.mid[group] = (lo + hi) * 0.5
-            s.half[group] = (hi - lo) * 0.5
-        return idx
+            s.mid[first:last] = (lo + hi) * 0.5
+            s.half[first:last] = (hi - lo) * 0.5
+        return self._movers
 
     def _candidates(self, movers: np.ndarray, free: np.ndarray, grow: float) -> np.ndarray:
         """Broad phase: positions in ``free`` of the parts a mover could be near."""
@@ -186,6 +191,12 @@ class RobotScene:
         self._thin[id(p.vertices)] = (p.vertices, w)
         return w
 
+    def _placed_at(self, frames: np.ndarray) -> np.ndarray:
+        for known, placed in self._placed:
+            if known is frames:
+                return placed
+        return self.place(frames)
+
     def substeps(self, before: np.ndarray, after: np.ndarray, objects: Sequence[Polyhedron],
                  carried: Collection[int] = ()) -> int:
         """How many checks the step between link frames ``before`` and ``after`` needs.
@@ -194,7 +205,7 @@ class RobotScene:
         between two checks, or the step could pass through the part with both poses clear.
         Call after ``check`` at ``after`` (it uses the parts' boxes cached there).
         """
-        a, b = self.place(before), self.place(after)
+        a, b = self._placed_at(before), self._placed_at(after)
         moved = b - a
         distance = float(np.sqrt(np.einsum("ij,ij->i", moved, moved).max())) if len(moved) else 0.0
         held = set(carried)

@@ -100,6 +100,10 @@ class Scene:
     radii: np.ndarray      # (N,)
     mid: np.ndarray        # (N, 3) middle of the extreme box
     half: np.ndarray       # (N, 3) half its size
+    # face planes (unit normal (N, F, 3), offset (N, F), twice the area (N, F)) when kept
+    # up to date by the owner (``valterm.core.collision.frames``); else computed per pair
+    planes: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
+    stale: np.ndarray | None = None   # (N,) bool: planes of these polyhedra moved, not kept
 
     @classmethod
     def of(cls, polys: Sequence[Polyhedron]) -> "Scene":
@@ -150,8 +154,38 @@ def coarse(scene: Scene, moving: np.ndarray, stationary: np.ndarray, grow: float
     return gap.max(axis=1) <= scene.radii.take(moving) + grow
 
 
+def face_planes(vertices: np.ndarray, face_idx: np.ndarray, face_next: np.ndarray
+                ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Unit normal, offset and twice the area of every face (Newell), for (P, F, M) face indices."""
+    poly = vertices[face_idx]
+    nxt = vertices[face_next]
+    pn, f, m = poly.shape[0], poly.shape[1], poly.shape[2]
+    # Newell's vector area, sum of v_i x v_i+1: twice the area times the unit normal
+    area2 = _outer(poly, nxt).reshape(pn, f, 9 * m) @ _levi_summed(m)           # (P, F, 3)
+    size = np.sqrt(np.einsum("nfk,nfk->nf", area2, area2))                    # 2 * area
+    unit = area2 / np.where(size > 0, size, 1.0)[..., None]
+    off = np.einsum("nfk,nfk->nf", poly[:, :, 0], unit)
+    return unit, off, size
+
+
+def _kept_planes(scene: Scene, dst: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The face planes of ``dst`` from the scene's kept ones, the moved polyhedra's computed now."""
+    assert scene.planes is not None
+    unit, off, size = (x.take(dst, axis=0) for x in scene.planes)
+    if scene.stale is not None:
+        rows = np.flatnonzero(scene.stale.take(dst))
+        if len(rows):
+            which, back = np.unique(dst.take(rows), return_inverse=True)
+            lay = scene.layout
+            u, o, z = face_planes(scene.vertices, lay.face_idx.take(which, axis=0),
+                                  lay.face_next.take(which, axis=0))
+            unit[rows], off[rows], size[rows] = u[back], o[back], z[back]
+    return unit, off, size
+
+
 def fine(scene: Scene, a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Boolean per pair (a[i], b[i]): does an edge of one cross a face polygon of the other?"""
+    """Boolean per pair (a[i], b[i]): does an edge of one cross a face polygon of the other,
+    or does one lie wholly inside the other (its centre inside)?"""
     n = len(a)
     if n == 0:
         return np.zeros(0, dtype=bool)
@@ -159,14 +193,12 @@ def fine(scene: Scene, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     src = np.concatenate([a, b])    # whose edges
     dst = np.concatenate([b, a])    # whose faces
     seg = v[lay.edge_idx.take(src, axis=0)]                 # (2n, E, 2, 3)
-    poly = v[lay.face_idx.take(dst, axis=0)]                # (2n, F, M, 3)
-    nxt = v[lay.face_next.take(dst, axis=0)]
-    pn, e, f, m = poly.shape[0], seg.shape[1], poly.shape[1], poly.shape[2]
-    # Newell's vector area, sum of v_i x v_i+1: twice the area times the unit normal
-    area2 = _outer(poly, nxt).reshape(pn, f, 9 * m) @ _levi_summed(m)           # (2n, F, 3)
-    size = np.sqrt(np.einsum("nfk,nfk->nf", area2, area2))                    # 2 * area
-    unit = area2 / np.where(size > 0, size, 1.0)[..., None]
-    off = np.einsum("nfk,nfk->nf", poly[:, :, 0], unit)
+    faces = lay.face_idx.take(dst, axis=0)                  # (2n, F, M)
+    if scene.planes is None:
+        unit, off, size = face_planes(v, faces, lay.face_next.take(dst, axis=0))
+    else:
+        unit, off, size = _kept_planes(scene, dst)
+    pn, e, f, m = faces.shape[0], seg.shape[1], faces.shape[1], faces.shape[2]
     # signed distances of both ends of every edge from every face plane: one batched matmul
     s = (seg.reshape(pn, 2 * e, 3) @ unit.transpose(0, 2, 1)).reshape(pn, e, 2, f) - off[:, None, None, :]
     s0, s1 = s[:, :, 0], s[:, :, 1]
@@ -183,8 +215,9 @@ def fine(scene: Scene, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     a0 = s0.take(cand)
     ends = seg.reshape(pn * e, 2, 3).take(edge, axis=0)
     x = ends[:, :1] + (a0 / (a0 - s1.take(cand)))[:, None, None] * (ends[:, 1:] - ends[:, :1])
-    tri = _outer(poly.reshape(pn * f, m, 3).take(face, axis=0) - x,
-                 nxt.reshape(pn * f, m, 3).take(face, axis=0) - x) @ _LEVI        # (c, M, 3)
+    corners = faces.reshape(pn * f, m).take(face, axis=0)
+    following = lay.face_next.take(dst, axis=0).reshape(pn * f, m).take(face, axis=0)
+    tri = _outer(v[corners] - x, v[following] - x) @ _LEVI                     # (c, M, 3)
     tri_sum = np.sqrt(np.einsum("cmk,cmk->cm", tri, tri)).sum(axis=1)
     inside = tri_sum <= size.take(face) * (1.0 + AREA_TOL)
     hit[pair[inside] % n] = True
