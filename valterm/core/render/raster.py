@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from functools import lru_cache
+from functools import cached_property, lru_cache
 from typing import Iterable, Sequence
 
 import numpy as np
@@ -220,6 +220,9 @@ class Scene:
     index: _Index
     lines: np.ndarray  # (L, 2, 3) world mm
     line_colours: np.ndarray  # (L,)
+    # what does not move (the cell's parts), drawn before everything here: rasterised once
+    # per view and size and kept (see ``rasterize``); build it once and pass the same object
+    background: "Scene | None" = None
 
     @classmethod
     def build(
@@ -227,25 +230,32 @@ class Scene:
         items: Iterable[tuple[Polyhedron, int]],
         lines: np.ndarray | Sequence[Sequence[Sequence[float]]] | None = None,
         line_colours: Sequence[int] | int = LED_COLOUR,
+        background: "Scene | None" = None,
     ) -> "Scene":
-        """``items``: (polyhedron, colour index) pairs in drawing order; ``lines``: (L, 2, 3)."""
+        """``items``: (polyhedron, colour index) pairs in drawing order; ``lines``: (L, 2, 3);
+        ``background``: a static scene drawn first (its own lines and background ignored)."""
         items = list(items)
         polys = [p for p, _ in items]
         vertices = np.concatenate([p.vertices for p in polys]) if polys else np.zeros((0, 3))
         colours = np.array([c for _, c in items], dtype=np.uint8)
         seg = np.zeros((0, 2, 3)) if lines is None else np.asarray(lines, dtype=float).reshape(-1, 2, 3)
         lc = np.broadcast_to(np.asarray(line_colours, dtype=np.uint8), (len(seg),)).copy()
-        return cls(vertices, colours, _index(tuple(p.k for p in polys)), seg, lc)
+        return cls(vertices, colours, _index(tuple(p.k for p in polys)), seg, lc, background)
 
     @property
     def n_polyhedra(self) -> int:
         return len(self.colours)
 
     def bounds(self) -> tuple[np.ndarray, np.ndarray]:
-        pts = np.concatenate([self.vertices, self.lines.reshape(-1, 3)])
+        back = self.background.vertices if self.background is not None else np.zeros((0, 3))
+        pts = np.concatenate([back, self.vertices, self.lines.reshape(-1, 3)])
         if len(pts) == 0:
             return DEFAULT_BOUNDS
         return pts.min(axis=0), pts.max(axis=0)
+
+    @cached_property
+    def _normals(self) -> np.ndarray:
+        return self.face_normals()
 
     def face_normals(self) -> np.ndarray:
         """(F, 3) outward unit normals of every face, Newell's method on all faces at once."""
@@ -271,7 +281,8 @@ class Scene:
 
     def visible_faces(self, view: ViewTransform) -> np.ndarray:
         """(F,) bool: front faces (transformed normal Z_s >= 0; edge-on faces count as front)."""
-        return self.face_normals() @ view.depth_axis() >= -1e-9
+        visible: np.ndarray = self._normals @ view.depth_axis() >= -1e-9   # normals kept per scene
+        return visible
 
     def segments(self, view: ViewTransform, back_faces: bool) -> tuple[np.ndarray, np.ndarray]:
         """World segments to draw, (S, 2, 3), and the priority (item number + 1) of each.
@@ -397,6 +408,70 @@ def _clip(a: np.ndarray, b: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.
     return a + t0[:, None] * d, a + t1[:, None] * d, keep
 
 
+def _to_dots(view: ViewTransform, wd: int, hd: int, dot_aspect: float
+             ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The view's affine map and the view-mm -> dot map (to_dots, centre) for this canvas."""
+    a_mat, b_vec = view.affine()
+    half = view.half_extent
+    assert half is not None
+    ppm = min(wd / (2 * half[0]), hd * dot_aspect / (2 * half[1]))
+    to_dots = np.array([[ppm, 0.0], [0.0, -ppm / dot_aspect]])
+    return a_mat, b_vec, to_dots, np.array([wd / 2, hd / 2])
+
+
+def _draw(segs: np.ndarray, prio: np.ndarray, maps: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray],
+          wd: int, hd: int, dots: np.ndarray, owner_cell: np.ndarray) -> None:
+    """Light the dots of world segments (S, 2, 3) and mark each cell with its last priority."""
+    if len(segs) == 0:
+        return
+    a_mat, b_vec, to_dots, centre = maps
+    # world -> view mm -> continuous dot coordinates, every endpoint in one product
+    flat = segs.reshape(-1, 3) @ a_mat[:2].T + b_vec[:2]
+    pts = (flat @ to_dots.T + centre).reshape(-1, 2, 2)
+    a, b, keep = _clip(pts[:, 0], pts[:, 1], np.array([wd - 1e-6, hd - 1e-6]))
+    a, b, p = a[keep], b[keep], prio[keep]
+    d = b - a
+    # samples per edge from its length in dots: consecutive samples <= 1 dot apart
+    n = np.ceil(np.abs(d).max(axis=1)).astype(np.intp) + 1
+    total = int(n.sum())
+    if not total:
+        return
+    owner = np.repeat(np.arange(len(n)), n)
+    starts = np.cumsum(n) - n
+    t = (np.arange(total) - starts[owner]) / np.maximum(n - 1, 1)[owner]
+    xy = a[owner] + t[:, None] * d[owner]
+    xi = xy.astype(np.intp)
+    np.clip(xi, 0, (wd - 1, hd - 1), out=xi)
+    x, y = xi[:, 0], xi[:, 1]
+    dots[y * wd + x] = 1
+    # samples come in priority order, so the later (higher) item's colour wins a cell
+    owner_cell[(y >> 2) * (wd >> 1) + (x >> 1)] = p[owner]
+
+
+_BACKGROUNDS: dict[tuple[int, bytes, int, int, bool, float], tuple[Scene, np.ndarray, np.ndarray]] = {}
+
+
+def _background(scene: Scene, view: ViewTransform, w: int, h: int, back_faces: bool,
+                dot_aspect: float) -> tuple[np.ndarray, np.ndarray]:
+    """The static scene's dots and cell colours for this view and size, rasterised once."""
+    key = (id(scene), view.key(), w, h, back_faces, dot_aspect)
+    found = _BACKGROUNDS.get(key)
+    if found is not None and found[0] is scene:
+        return found[1], found[2]
+    wd, hd = 2 * w, 4 * h
+    dots = np.zeros(hd * wd, dtype=np.uint8)
+    owner_cell = np.zeros(h * w, dtype=np.uint16)
+    segs, prio = scene.segments(view, back_faces)
+    n = scene.n_polyhedra
+    _draw(segs[: len(prio) - len(scene.lines)], prio[: len(prio) - len(scene.lines)],
+          _to_dots(view, wd, hd, dot_aspect), wd, hd, dots, owner_cell)
+    colours = np.concatenate([[0], scene.colours]).astype(np.uint8)[np.minimum(owner_cell, n)]
+    if len(_BACKGROUNDS) >= 8:          # a few views and sizes (the app, a hardcopy, a bench)
+        _BACKGROUNDS.pop(next(iter(_BACKGROUNDS)))
+    _BACKGROUNDS[key] = (scene, dots, colours)
+    return dots, colours
+
+
 def rasterize(
     scene: Scene,
     view: ViewTransform,
@@ -410,7 +485,9 @@ def rasterize(
     """Draw ``scene`` into a ``width_cells`` x ``height_cells`` frame.
 
     ``dot_aspect`` is a braille dot's height over its width (1.0 for the usual 1:2 cell);
-    the same dot grid backs the ASCII fallback so both keep the same proportions.
+    the same dot grid backs the ASCII fallback so both keep the same proportions. The
+    scene's ``background`` (the static cell) is rasterised once per view and size and
+    each frame draws only the scene's own items over a copy of it.
     """
     w, h = max(int(width_cells), 0), max(int(height_cells), 0)
     if w == 0 or h == 0:
@@ -421,46 +498,29 @@ def rasterize(
         segs = np.concatenate([segs, frame_lines((0.0, 0.0, 0.0))])
         prio = np.concatenate([prio, np.full(3, scene.n_polyhedra + len(scene.lines) + 1)])
     palette = np.concatenate([scene.palette_indices(), [AXES_COLOUR]]).astype(np.uint8)
-
-    # world -> view mm -> continuous dot coordinates, every endpoint in one product
-    a_mat, b_vec = view.affine()
-    half = view.half_extent
-    assert half is not None
-    ppm = min(wd / (2 * half[0]), hd * dot_aspect / (2 * half[1]))
-    to_dots = np.array([[ppm, 0.0], [0.0, -ppm / dot_aspect]])
-    centre = np.array([wd / 2, hd / 2])
-    flat = segs.reshape(-1, 3) @ a_mat[:2].T + b_vec[:2]
-    pts = (flat @ to_dots.T + centre).reshape(-1, 2, 2)
-
-    dots = np.zeros(hd * wd, dtype=np.uint8)  # 1 = lit
+    maps = _to_dots(view, wd, hd, dot_aspect)
+    if scene.background is None:
+        dots = np.zeros(hd * wd, dtype=np.uint8)  # 1 = lit
+        back_colours = None
+    else:
+        static, back_colours = _background(scene.background, view, w, h, back_faces, dot_aspect)
+        dots = static.copy()
     owner_cell = np.zeros(h * w, dtype=np.uint16)  # priority of the cell's colour, 0 = dark
-    if len(pts):
-        a, b, keep = _clip(pts[:, 0], pts[:, 1], np.array([wd - 1e-6, hd - 1e-6]))
-        a, b, p = a[keep], b[keep], prio[keep]
-        d = b - a
-        # samples per edge from its length in dots: consecutive samples <= 1 dot apart
-        n = np.ceil(np.abs(d).max(axis=1)).astype(np.intp) + 1
-        total = int(n.sum())
-        if total:
-            owner = np.repeat(np.arange(len(n)), n)
-            starts = np.cumsum(n) - n
-            t = (np.arange(total) - starts[owner]) / np.maximum(n - 1, 1)[owner]
-            xy = a[owner] + t[:, None] * d[owner]
-            x = np.clip(xy[:, 0].astype(np.intp), 0, wd - 1)
-            y = np.clip(xy[:, 1].astype(np.intp), 0, hd - 1)
-            dots[y * wd + x] = 1
-            # samples come in priority order, so the later (higher) item's colour wins a cell
-            owner_cell[(y >> 2) * w + (x >> 1)] = p[owner]
+    _draw(segs, prio, maps, wd, hd, dots, owner_cell)
     g = dots.reshape(h, 4, w, 2)
     codes = (g[:, 0, :, 0] | g[:, 1, :, 0] << 1 | g[:, 2, :, 0] << 2 | g[:, 0, :, 1] << 3
              | g[:, 1, :, 1] << 4 | g[:, 2, :, 1] << 5 | g[:, 3, :, 0] << 6 | g[:, 3, :, 1] << 7)
-    colours = palette[owner_cell.reshape(h, w)]
+    colours = palette[owner_cell]
+    if back_colours is not None:
+        colours = np.where(owner_cell > 0, colours, back_colours)
+    colours = colours.reshape(h, w)
     if ascii:
         chars = ASCII_TABLE[codes]
     else:
         chars = np.where(codes > 0, BRAILLE_BASE + codes.astype(np.uint32), np.uint32(0x20)).astype(np.uint32)
 
     if axes:
+        a_mat, b_vec, to_dots, centre = maps
         _label_axes(chars, colours, a_mat, b_vec, to_dots, centre)
     return Frame(chars, colours)
 
