@@ -20,6 +20,7 @@ With ``checker="exact"`` python-fcl answers the pairs the broad phase keeps
 from __future__ import annotations
 
 import math
+import operator
 from typing import Collection, Literal, Sequence
 
 import numpy as np
@@ -65,6 +66,7 @@ class RobotScene:
         self._carried: tuple[int, ...] = ()
         self._thin: dict[int, tuple[np.ndarray, float]] = {}
         self._placed: list[tuple[np.ndarray, np.ndarray]] = []
+        self._thin_all: tuple[object, float] | None = None
 
     # -- what is built once ----------------------------------------------------------------
     def set_shapes(self, local: Sequence[np.ndarray]) -> None:
@@ -91,6 +93,9 @@ class RobotScene:
         self._carried = carried
         self._movers = np.array([*range(nl), *(nl + c - 1 for c in carried)], dtype=np.intp)
         scene.stale[self._movers] = True
+        free = np.array([nl + n - 1 for n in range(1, len(objects) + 1) if n not in set(carried)], dtype=np.intp)
+        self._free = free
+        self._free_lo, self._free_hi = scene.mid[free] - scene.half[free], scene.mid[free] + scene.half[free]
         self._carried_rows = [(nl + c - 1, slice(int(self._layout.starts[nl + c - 1]),
                                                  int(self._layout.starts[nl + c - 1]) + 2 * objects[c - 1].k))
                               for c in carried]
@@ -99,8 +104,10 @@ class RobotScene:
         parts = self._parts
         if parts is None or carried != self._carried or len(parts) != len(objects):
             return True
-        held = set(carried)
-        return any(a is not p.vertices for n, (a, p) in enumerate(zip(parts, objects), 1) if n not in held)
+        now = [p.vertices for p in objects]
+        for c in carried:              # a carried part moves every pose: not part of the cache
+            now[c - 1] = parts[c - 1]
+        return not all(map(operator.is_, parts, now))
 
     # -- each pose -----------------------------------------------------------------------------
     def place(self, frames: np.ndarray) -> np.ndarray:
@@ -135,15 +142,13 @@ class RobotScene:
             s.half[first:last] = (hi - lo) * 0.5
         return self._movers
 
-    def _candidates(self, movers: np.ndarray, free: np.ndarray, grow: float) -> np.ndarray:
-        """Broad phase: positions in ``free`` of the parts a mover could be near."""
+    def _candidates(self, movers: np.ndarray, grow: float) -> np.ndarray:
+        """Broad phase: positions among the free parts of those a mover could be near."""
         s = self._scene
         reach = float(s.radii[movers].max()) + grow
         c = s.centres[movers]
         cmin, cmax = c.min(axis=0) - reach, c.max(axis=0) + reach
-        lo = s.mid[free] - s.half[free]
-        hi = s.mid[free] + s.half[free]
-        return np.flatnonzero(np.all((lo <= cmax) & (hi >= cmin), axis=1))
+        return np.flatnonzero(np.all((self._free_lo <= cmax) & (self._free_hi >= cmin), axis=1))
 
     def check(self, frames: np.ndarray, objects: Sequence[Polyhedron], carried: Collection[int] = (),
               speed: float = 100.0) -> list[Finding]:
@@ -156,19 +161,20 @@ class RobotScene:
         if len(pairs.moving) == 0:
             return []
         movers = self._update(frames, objects)
-        nl = len(self._link_ks)
-        free = np.array([nl + n - 1 for n in range(1, len(objects) + 1) if n not in held], dtype=np.intp)
-        grow = margin(speed)
-        near = self._candidates(movers, free, grow) if len(free) else np.zeros(0, dtype=np.intp)
-        n_free = len(free)
-        ruled = len(movers) * n_free                     # rules 1 and 2: movers x free parts
-        sel = np.concatenate([(np.arange(len(movers))[:, None] * n_free + near[None, :]).ravel(),
-                              np.arange(ruled, len(pairs.moving))]).astype(np.intp)
         if self.checker == "exact":
             return world.findings(pairs, self._exact_codes(pairs.moving, pairs.stationary))
+        grow = margin(speed)
+        n_free = len(self._free)
+        ruled = len(movers) * n_free                     # rules 1 and 2: movers x free parts
+        if n_free:
+            near = self._candidates(movers, grow)
+            sel = np.concatenate([(np.arange(0, ruled, n_free)[:, None] + near).ravel(),
+                                  np.arange(ruled, len(pairs.moving))])
+        else:
+            sel = np.arange(len(pairs.moving))
         codes = np.zeros(len(pairs.moving), dtype=np.int8)
         if len(sel):
-            codes[sel] = check_pairs(self._scene, pairs.moving[sel], pairs.stationary[sel], grow)
+            codes[sel] = check_pairs(self._scene, pairs.moving.take(sel), pairs.stationary.take(sel), grow)
         return world.findings(pairs, codes)
 
     def _exact_codes(self, moving: np.ndarray, stationary: np.ndarray) -> np.ndarray:
@@ -197,6 +203,14 @@ class RobotScene:
                 return placed
         return self.place(frames)
 
+    def _thinnest(self, objects: Sequence[Polyhedron]) -> float:
+        """The thinnest free part of the cached set (measured once per set of parts)."""
+        if self._thin_all is None or self._thin_all[0] is not self._parts:
+            held = set(self._carried)
+            widths = [self._width(p) for n, p in enumerate(objects, 1) if n not in held]
+            self._thin_all = (self._parts, min(widths, default=math.inf))
+        return self._thin_all[1]
+
     def substeps(self, before: np.ndarray, after: np.ndarray, objects: Sequence[Polyhedron],
                  carried: Collection[int] = ()) -> int:
         """How many checks the step between link frames ``before`` and ``after`` needs.
@@ -208,10 +222,10 @@ class RobotScene:
         a, b = self._placed_at(before), self._placed_at(after)
         moved = b - a
         distance = float(np.sqrt(np.einsum("ij,ij->i", moved, moved).max())) if len(moved) else 0.0
+        if distance == 0.0 or self._parts is None or distance <= self._thinnest(objects):
+            return 1
         held = set(carried)
         numbers = [n for n in range(1, len(objects) + 1) if n not in held]
-        if distance == 0.0 or not numbers or self._parts is None:
-            return 1
         # the parts whose box meets the box of the path (grown by the step: joint paths bulge)
         lo = np.minimum(a.min(axis=0), b.min(axis=0)) - distance
         hi = np.maximum(a.max(axis=0), b.max(axis=0)) + distance

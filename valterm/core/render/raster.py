@@ -419,33 +419,38 @@ def _to_dots(view: ViewTransform, wd: int, hd: int, dot_aspect: float
     return a_mat, b_vec, to_dots, np.array([wd / 2, hd / 2])
 
 
-def _draw(segs: np.ndarray, prio: np.ndarray, maps: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray],
-          wd: int, hd: int, dots: np.ndarray, owner_cell: np.ndarray) -> None:
-    """Light the dots of world segments (S, 2, 3) and mark each cell with its last priority."""
+def _samples(segs: np.ndarray, prio: np.ndarray, maps: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray],
+             w: int, h: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The dots that world segments (S, 2, 3) light: per sample its cell (flat index), its
+    braille bit and the priority of its segment, in drawing order."""
+    wd, hd = 2 * w, 4 * h
+    empty = np.zeros(0, dtype=np.intp)
     if len(segs) == 0:
-        return
+        return empty, empty.astype(np.uint8), empty
     a_mat, b_vec, to_dots, centre = maps
     # world -> view mm -> continuous dot coordinates, every endpoint in one product
     flat = segs.reshape(-1, 3) @ a_mat[:2].T + b_vec[:2]
     pts = (flat @ to_dots.T + centre).reshape(-1, 2, 2)
-    a, b, keep = _clip(pts[:, 0], pts[:, 1], np.array([wd - 1e-6, hd - 1e-6]))
-    a, b, p = a[keep], b[keep], prio[keep]
-    d = b - a
+    hi = np.array([wd - 1e-6, hd - 1e-6])
+    if pts.min() >= 0.0 and (pts.reshape(-1, 2) <= hi).all():
+        a, p = pts[:, 0], prio                  # all inside (the usual frame): nothing to clip
+        d = (a + (pts[:, 1] - a)) - a           # what clipping with t = 0..1 would give
+    else:
+        a, b, keep = _clip(pts[:, 0], pts[:, 1], hi)
+        a, b, p = a[keep], b[keep], prio[keep]
+        d = b - a
     # samples per edge from its length in dots: consecutive samples <= 1 dot apart
     n = np.ceil(np.abs(d).max(axis=1)).astype(np.intp) + 1
     total = int(n.sum())
     if not total:
-        return
-    owner = np.repeat(np.arange(len(n)), n)
+        return empty, empty.astype(np.uint8), empty
     starts = np.cumsum(n) - n
-    t = (np.arange(total) - starts[owner]) / np.maximum(n - 1, 1)[owner]
-    xy = a[owner] + t[:, None] * d[owner]
+    t = (np.arange(total) - np.repeat(starts, n)) / np.repeat(np.maximum(n - 1, 1), n)
+    xy = np.repeat(a, n, axis=0) + t[:, None] * np.repeat(d, n, axis=0)
     xi = xy.astype(np.intp)
     np.clip(xi, 0, (wd - 1, hd - 1), out=xi)
     x, y = xi[:, 0], xi[:, 1]
-    dots[y * wd + x] = 1
-    # samples come in priority order, so the later (higher) item's colour wins a cell
-    owner_cell[(y >> 2) * (wd >> 1) + (x >> 1)] = p[owner]
+    return (y >> 2) * w + (x >> 1), BRAILLE_WEIGHTS[y & 3, x & 1], np.repeat(p, n)
 
 
 _BACKGROUNDS: dict[tuple[int, bytes, int, int, bool, float], tuple[Scene, np.ndarray, np.ndarray]] = {}
@@ -453,23 +458,23 @@ _BACKGROUNDS: dict[tuple[int, bytes, int, int, bool, float], tuple[Scene, np.nda
 
 def _background(scene: Scene, view: ViewTransform, w: int, h: int, back_faces: bool,
                 dot_aspect: float) -> tuple[np.ndarray, np.ndarray]:
-    """The static scene's dots and cell colours for this view and size, rasterised once."""
+    """The static scene's braille codes and colours per cell for this view and size (flat),
+    rasterised once and kept."""
     key = (id(scene), view.key(), w, h, back_faces, dot_aspect)
     found = _BACKGROUNDS.get(key)
     if found is not None and found[0] is scene:
         return found[1], found[2]
-    wd, hd = 2 * w, 4 * h
-    dots = np.zeros(hd * wd, dtype=np.uint8)
-    owner_cell = np.zeros(h * w, dtype=np.uint16)
     segs, prio = scene.segments(view, back_faces)
-    n = scene.n_polyhedra
-    _draw(segs[: len(prio) - len(scene.lines)], prio[: len(prio) - len(scene.lines)],
-          _to_dots(view, wd, hd, dot_aspect), wd, hd, dots, owner_cell)
-    colours = np.concatenate([[0], scene.colours]).astype(np.uint8)[np.minimum(owner_cell, n)]
+    polys = len(prio) - len(scene.lines)
+    cells, bits, owners = _samples(segs[:polys], prio[:polys], _to_dots(view, 2 * w, 4 * h, dot_aspect), w, h)
+    codes = np.zeros(h * w, dtype=np.uint8)
+    np.bitwise_or.at(codes, cells, bits)
+    colours = np.zeros(h * w, dtype=np.uint8)
+    colours[cells] = scene.colours[owners - 1]     # samples in priority order: the last wins
     if len(_BACKGROUNDS) >= 8:          # a few views and sizes (the app, a hardcopy, a bench)
         _BACKGROUNDS.pop(next(iter(_BACKGROUNDS)))
-    _BACKGROUNDS[key] = (scene, dots, colours)
-    return dots, colours
+    _BACKGROUNDS[key] = (scene, codes, colours)
+    return codes, colours
 
 
 def rasterize(
@@ -492,28 +497,22 @@ def rasterize(
     w, h = max(int(width_cells), 0), max(int(height_cells), 0)
     if w == 0 or h == 0:
         return empty_frame(w, h)
-    wd, hd = 2 * w, 4 * h
     segs, prio = scene.segments(view, back_faces)
     if axes:
         segs = np.concatenate([segs, frame_lines((0.0, 0.0, 0.0))])
         prio = np.concatenate([prio, np.full(3, scene.n_polyhedra + len(scene.lines) + 1)])
     palette = np.concatenate([scene.palette_indices(), [AXES_COLOUR]]).astype(np.uint8)
-    maps = _to_dots(view, wd, hd, dot_aspect)
+    maps = _to_dots(view, 2 * w, 4 * h, dot_aspect)
     if scene.background is None:
-        dots = np.zeros(hd * wd, dtype=np.uint8)  # 1 = lit
-        back_colours = None
+        codes = np.zeros(h * w, dtype=np.uint8)
+        colours = np.zeros(h * w, dtype=np.uint8)
     else:
-        static, back_colours = _background(scene.background, view, w, h, back_faces, dot_aspect)
-        dots = static.copy()
-    owner_cell = np.zeros(h * w, dtype=np.uint16)  # priority of the cell's colour, 0 = dark
-    _draw(segs, prio, maps, wd, hd, dots, owner_cell)
-    g = dots.reshape(h, 4, w, 2)
-    codes = (g[:, 0, :, 0] | g[:, 1, :, 0] << 1 | g[:, 2, :, 0] << 2 | g[:, 0, :, 1] << 3
-             | g[:, 1, :, 1] << 4 | g[:, 2, :, 1] << 5 | g[:, 3, :, 0] << 6 | g[:, 3, :, 1] << 7)
-    colours = palette[owner_cell]
-    if back_colours is not None:
-        colours = np.where(owner_cell > 0, colours, back_colours)
-    colours = colours.reshape(h, w)
+        static_codes, static_colours = _background(scene.background, view, w, h, back_faces, dot_aspect)
+        codes, colours = static_codes.copy(), static_colours.copy()
+    cells, bits, owners = _samples(segs, prio, maps, w, h)
+    np.bitwise_or.at(codes, cells, bits)
+    colours[cells] = palette[owners]     # samples come in priority order: the later item wins
+    codes, colours = codes.reshape(h, w), colours.reshape(h, w)
     if ascii:
         chars = ASCII_TABLE[codes]
     else:
