@@ -586,7 +586,7 @@ def ik_fast(
 
 
 def ik(
-    xyz: Sequence[float],
+    xyz: Sequence[float] | np.ndarray,
     rotation: np.ndarray | Sequence[Sequence[float]],
     config: Config,
     current: Sequence[float] | None = None,
