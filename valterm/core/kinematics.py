@@ -364,7 +364,19 @@ def fk_batch(joints: np.ndarray, point: int = 1, geometry: RobotGeometry | None 
     poses needs, at a fraction of the memory.
     """
     geometry = geometry or robot_geometry()
-    q = np.radians(np.asarray(joints, dtype=float).reshape(-1, 6)).T
+    all_joints = np.asarray(joints, dtype=float).reshape(-1, 6)
+    n = len(all_joints)
+    xyz = np.empty((n, 3))
+    rot = np.empty((n, 3, 3))
+    for lo in range(0, n, BATCH_CHUNK):   # in chunks: temporaries stay in cache
+        part = slice(lo, lo + BATCH_CHUNK)
+        _fk_chunk(all_joints[part], geometry.point_offset(point), geometry, xyz[part], rot[part])
+    return xyz, rot
+
+
+def _fk_chunk(joints: np.ndarray, offset: float, geometry: RobotGeometry, xyz: np.ndarray, rot: np.ndarray) -> None:
+    """``fk_batch`` of one chunk, written into ``xyz`` and ``rot``."""
+    q = np.radians(joints).T
     c, s = np.cos(q), np.sin(q)
     c1, s1, c2, s2, c4, s4, c5, s5, c6, s6 = c[0], s[0], c[1], s[1], c[3], s[3], c[4], s[4], c[5], s[5]
     q23 = q[1] + q[2]
@@ -378,17 +390,13 @@ def fk_batch(joints: np.ndarray, point: int = 1, geometry: RobotGeometry | None 
              (c4 * s5, s4 * s5, c5))
     r00, r10, r20 = c1 * c23, s1 * c23, -s23
     r02, r12 = c1 * s23, s1 * s23
-    rot = np.empty((q.shape[1], 3, 3))
     for col, (wx, wy, wz) in enumerate(wcols):
         rot[:, 0, col] = r00 * wx - s1 * wy + r02 * wz
         rot[:, 1, col] = r10 * wx + c1 * wy + r12 * wz
         rot[:, 2, col] = r20 * wx + c23 * wz
-    offset = geometry.point_offset(point)
-    xyz = np.empty((q.shape[1], 3))
     xyz[:, 0] = c1 * u - s1 * geometry.d2 + offset * rot[:, 0, 2]
     xyz[:, 1] = s1 * u + c1 * geometry.d2 + offset * rot[:, 1, 2]
     xyz[:, 2] = w + offset * rot[:, 2, 2]
-    return xyz, rot
 
 
 def link_frames(joints: Sequence[float], geometry: RobotGeometry | None = None) -> np.ndarray:
@@ -643,6 +651,22 @@ def ik_batch(
     n = len(p)
     # one array as given (never a tuple of rows per pose): (3,) broadcasts, (n, 3) is per pose
     cfg = np.asarray(config if isinstance(config, np.ndarray) else tuple(config), dtype=float).reshape(-1, 3)
+    if n <= BATCH_CHUNK:
+        return _ik_chunk(p, r, cfg, geometry)
+    # in chunks: the temporaries stay in cache and the memory per pose stays small
+    joints = np.empty((n, 6))
+    status = np.empty(n, dtype=np.intp)
+    for lo in range(0, n, BATCH_CHUNK):
+        part = slice(lo, lo + BATCH_CHUNK)
+        joints[part], status[part] = _ik_chunk(p[part], r[part], cfg if len(cfg) == 1 else cfg[part], geometry)
+    return joints, status
+
+
+BATCH_CHUNK = 8192   # poses per pass of the batch functions
+
+
+def _ik_chunk(p: np.ndarray, r: np.ndarray, cfg: np.ndarray, geometry: RobotGeometry) -> tuple[np.ndarray, np.ndarray]:
+    """``ik_batch`` on one chunk of poses (see there)."""
     arm, elbow, wrist = cfg[:, 0], cfg[:, 1], cfg[:, 2]
     a = r[:, :, 2]
     w = p - geometry.d6 * a
