@@ -14,6 +14,7 @@ from valterm.core.cell.workcell import WorkCell
 from valterm.core.collision import CollisionWorld
 from valterm.core.collision.frames import RobotScene, thickness
 from valterm.core.events import Collision
+from valterm.core.files.locations import read_locations
 from valterm.core.files.setup import read_setup
 from valterm.core.kinematics import robot_geometry
 from valterm.core.simulator import Simulator
@@ -126,3 +127,36 @@ def test_no_substeps_when_no_thin_part_is_near_the_path():
     sim.cell.objects[0] = _plate_across_the_fingers(sim, 6.0)
     scene.check(after, sim.cell.objects)
     assert scene.substeps(before, after, sim.cell.objects) > 10      # ~190 mm past a 3 mm plate
+
+
+def test_exact_from_frames_matches_the_exact_checker_on_polyhedra():
+    """python-fcl fed by link frames (objects built once) against fcl on the placed polyhedra."""
+    sim = Simulator(read_setup(resources.data_path("cells", "PROCESS.SET")))
+    scene = RobotScene(sim.model.names, sim.model.frames.tolist(), checker="exact")
+    scene.set_shapes(sim.model.shapes(sim.gap))
+    world = CollisionWorld(sim.model.names, checker="exact")
+    ready = np.asarray(sim.geometry.ready, dtype=float)
+    rng = np.random.default_rng(13)
+    kinds: set[tuple[str, str, bool]] = set()
+    stops = robot_geometry().stops_array
+    sim.locations.update(read_locations(resources.data_path("programs", "PROCESS.LOC")))
+    sim.set_indicator("LEFTY")
+    list(sim.move("A"))
+    at_a = np.asarray(sim.joints)
+    frame = sim.model.clamp_frame(sim.joints, sim.base)
+    held = (sim.cell.objects[0].vertices - frame[:3, 3]) @ frame[:3, :3]
+    for n in range(200):
+        near = ready + rng.normal(0.0, 50.0, 6)
+        sim.joints = [float(v) for v in (near if n % 2 else rng.uniform(stops[:, 0], stops[:, 1]))]
+        carried: tuple[int, ...] = ()
+        if n % 4 == 0:                  # part 1 held as grasped at A, the arm a few degrees off
+            sim.joints = [float(v) for v in at_a + rng.normal(0.0, 4.0, 6)]
+            sim.carried, sim._carried_local = 1, held
+            sim._follow_clamp()
+            carried = (1,)
+        new = scene.check(sim.model.link_frames(sim.joints, sim.base), sim.cell.objects, carried)
+        assert new == world.check(sim.robot_polyhedra(), sim.cell.objects, carried), sim.joints
+        kinds.update((type(f.a).__name__, type(f.b).__name__, bool(carried) and f.a == 1) for f in new)
+        sim.carried = None
+    # links against parts and against links, and the carried part against parts, all seen
+    assert {("str", "int", False), ("str", "str", False), ("int", "int", True)} <= kinds, kinds

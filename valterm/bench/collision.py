@@ -171,34 +171,41 @@ def bench_collision_per_pose(n_parts: int = 30, rounds: int = 5) -> dict[str, fl
 
 
 def bench_puma_step(n_parts: int = 30, rounds: int = 5, steps: int = 60) -> dict[str, float]:
-    """µs per step of the thesis check (from link frames) and of fcl, PUMA links x n parts."""
+    """µs per step of the thesis check and of fcl, both fed by link frames, PUMA links x n parts;
+    and fcl on placed polyhedra (``ExactChecker``, the path before) as the peer."""
     from valterm.core.cell.workcell import WorkCell
     from valterm.core.collision.frames import RobotScene
     from valterm.core.simulator import Simulator
 
     sim = Simulator(WorkCell(objects=ring_cell(n_parts)))
     frames = [sim.model.link_frames([float(v) for v in pose], sim.base) for pose in sweep_path(steps)]
-    scene = RobotScene(sim.model.names, sim.model.frames.tolist())
-    scene.set_shapes(sim.model.shapes(sim.gap))
     polys = []
     for pose in sweep_path(steps):
         sim.joints = [float(v) for v in pose]
         polys.append(sim.robot_polyhedra())
-    exact = CollisionWorld(sim.model.names, checker="exact")
     objects = sim.cell.objects
-    runs: dict[str, list[float]] = {"thesis": [], "fcl": []}
-    for f in frames:
-        scene.check(f, objects)
-    for p in polys:
-        exact.check(p, objects)
+    scenes = {}
+    for kind in ("thesis", "exact"):
+        scenes[kind] = RobotScene(sim.model.names, sim.model.frames.tolist(), checker=kind)  # type: ignore[arg-type]
+        scenes[kind].set_shapes(sim.model.shapes(sim.gap))
+    exact_old = CollisionWorld(sim.model.names, checker="exact")
+
+    def run(kind: str) -> None:
+        if kind == "fcl_polyhedra":
+            for p in polys:
+                exact_old.check(p, objects)
+        else:
+            for f in frames:
+                scenes[kind].check(f, objects)
+
+    runs: dict[str, list[float]] = {"thesis": [], "exact": [], "fcl_polyhedra": []}
+    for kind in runs:
+        run(kind)                                       # warm up: layouts, fcl objects
     for _ in range(rounds):
-        start = time.perf_counter()
-        for f in frames:
-            scene.check(f, objects)
-        runs["thesis"].append((time.perf_counter() - start) / steps * 1e6)
-        start = time.perf_counter()
-        for p in polys:
-            exact.check(p, objects)
-        runs["fcl"].append((time.perf_counter() - start) / steps * 1e6)
-    return {"thesis_us": float(np.median(runs["thesis"])), "fcl_us": float(np.median(runs["fcl"])),
+        for kind in runs:
+            start = time.perf_counter()
+            run(kind)
+            runs[kind].append((time.perf_counter() - start) / steps * 1e6)
+    return {"thesis_us": float(np.median(runs["thesis"])), "fcl_us": float(np.median(runs["exact"])),
+            "fcl_polyhedra_us": float(np.median(runs["fcl_polyhedra"])),
             "links": float(len(sim.model.names)), "parts": float(n_parts)}

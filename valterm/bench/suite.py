@@ -37,6 +37,7 @@ GOALS: dict[str, tuple[str, float]] = {
 PEERS = {
     "collision_per_pose_us_30parts": ("collision_per_pose_old_us_30parts", "the pre-issue-15 path, µs"),
     "collision_step_thesis_us": ("collision_step_fcl_us", "python-fcl, µs"),
+    "collision_step_fcl_us": ("collision_step_fcl_polyhedra_us", "fcl on placed polyhedra (before), µs"),
     "raster_vs_drawille_x": ("drawille_process_ms_200x60", "drawille, ms per frame"),
     "ik_single_us": ("rtb_ikine_a_us", "Robotics Toolbox ikine_a, µs"),
     "collision_scaling_exponent": ("collision_thesis_us_300parts", "µs per pose at 300 parts"),
@@ -180,6 +181,7 @@ def _collision_entries() -> dict[str, float]:
     step = bench_puma_step(30, rounds=5)
     entries["collision_step_thesis_us"] = step["thesis_us"]
     entries["collision_step_fcl_us"] = step["fcl_us"]
+    entries["collision_step_fcl_polyhedra_us"] = step["fcl_polyhedra_us"]
     entries["collision_step_links"] = step["links"]
     return entries
 

@@ -21,13 +21,16 @@ from __future__ import annotations
 
 import math
 import operator
-from typing import Collection, Literal, Sequence
+from typing import TYPE_CHECKING, Collection, Literal, Sequence
 
 import numpy as np
 
 from valterm.core.cell.polyhedron import Polyhedron
 from valterm.core.collision.thesis import Layout, Scene, check_pairs, face_planes, layout, margin
-from valterm.core.collision.world import CollisionWorld, Finding
+from valterm.core.collision.world import CollisionWorld, Finding, _Pairs
+
+if TYPE_CHECKING:
+    from valterm.core.collision.exact import FrameExact
 
 
 def thickness(vertices: np.ndarray, k: int) -> float:
@@ -58,7 +61,7 @@ class RobotScene:
         self.world = CollisionWorld(labels, near_with_collision=near_with_collision)
         self.owners = np.asarray(owners, dtype=np.intp)
         self.checker = checker
-        self._exact: object | None = None
+        self._exact: FrameExact | None = None
         self._local = np.zeros((0, 3))
         self._link_ks: tuple[int, ...] = ()
         self._owner_rows = np.zeros(0, dtype=np.intp)
@@ -77,6 +80,10 @@ class RobotScene:
         self._link_ks = tuple(len(v) // 2 for v in local)
         self._owner_rows = np.repeat(self.owners, [len(v) for v in local])
         self._parts = None
+        if self.checker == "exact":
+            from valterm.core.collision.exact import FrameExact   # fcl only when asked for
+            self._exact = FrameExact()
+            self._exact.set_shapes(local, self.owners)
 
     def _rebuild(self, objects: Sequence[Polyhedron], carried: tuple[int, ...]) -> None:
         """Layout, vertex array and per-polyhedron figures for the parts where they are now."""
@@ -162,7 +169,7 @@ class RobotScene:
             return []
         movers = self._update(frames, objects)
         if self.checker == "exact":
-            return world.findings(pairs, self._exact_codes(pairs.moving, pairs.stationary))
+            return world.findings(pairs, self._exact_codes(frames, objects, held, pairs))
         grow = margin(speed)
         n_free = len(self._free)
         ruled = len(movers) * n_free                     # rules 1 and 2: movers x free parts
@@ -177,12 +184,18 @@ class RobotScene:
             codes[sel] = check_pairs(self._scene, pairs.moving.take(sel), pairs.stationary.take(sel), grow)
         return world.findings(pairs, codes)
 
-    def _exact_codes(self, moving: np.ndarray, stationary: np.ndarray) -> np.ndarray:
-        """python-fcl on all the pairs (its own AABB tree is the broad phase)."""
-        from valterm.core.collision.exact import ExactChecker
-        if self._exact is None:
-            self._exact = ExactChecker()
-        codes: np.ndarray = self._exact.check(_split(self._scene), moving, stationary)  # type: ignore[attr-defined]
+    def _exact_codes(self, frames: np.ndarray, objects: Sequence[Polyhedron], held: tuple[int, ...],
+                     pairs: _Pairs) -> np.ndarray:
+        """python-fcl on the same pairs (its own AABB trees are the broad phase)."""
+        assert self._exact is not None
+        nl = len(self._link_ks)
+        free = [n for n in range(1, len(objects) + 1) if n not in set(held)]
+        ruled = (nl + len(held)) * len(free)
+        link_pairs = {(int(i), int(j)): n for n, (i, j) in
+                      enumerate(zip(pairs.moving[ruled:], pairs.stationary[ruled:]), start=ruled)}
+        s = self._scene
+        codes: np.ndarray = self._exact.codes(frames, objects, free, held, len(pairs.moving), link_pairs,
+                                              (s.mid - s.half, s.mid + s.half))
         return codes
 
     # -- swept motion (issue 13) -----------------------------------------------------------------
@@ -243,8 +256,3 @@ def _runs(idx: np.ndarray) -> list[np.ndarray]:
     """Split sorted indices into runs of consecutive numbers."""
     breaks = np.flatnonzero(np.diff(idx) != 1) + 1
     return np.split(idx, breaks)
-
-
-def _split(scene: Scene) -> list[Polyhedron]:
-    lay = scene.layout
-    return [Polyhedron(scene.vertices[s:s + c], "") for s, c in zip(lay.starts.tolist(), lay.counts.tolist())]
