@@ -435,7 +435,9 @@ def _samples(segs: np.ndarray, prio: np.ndarray, maps: tuple[np.ndarray, np.ndar
     if pts.min() >= 0.0 and (pts.reshape(-1, 2) <= hi).all():
         a, p = pts[:, 0], prio                  # all inside (the usual frame): nothing to clip
         d = (a + (pts[:, 1] - a)) - a           # what clipping with t = 0..1 would give
+        clipped = False
     else:
+        clipped = True
         a, b, keep = _clip(pts[:, 0], pts[:, 1], hi)
         a, b, p = a[keep], b[keep], prio[keep]
         d = b - a
@@ -448,11 +450,13 @@ def _samples(segs: np.ndarray, prio: np.ndarray, maps: tuple[np.ndarray, np.ndar
     t = (np.arange(total) - np.repeat(starts, n)) / np.repeat(np.maximum(n - 1, 1), n)
     xy = np.repeat(a, n, axis=0) + t[:, None] * np.repeat(d, n, axis=0)
     xi = xy.astype(np.intp)
-    np.clip(xi, 0, (wd - 1, hd - 1), out=xi)
+    if clipped:      # inside, samples lie between two in-range ends: no clamping needed
+        np.clip(xi, 0, np.array([wd - 1, hd - 1]), out=xi)
     x, y = xi[:, 0], xi[:, 1]
-    return (y >> 2) * w + (x >> 1), BRAILLE_WEIGHTS[y & 3, x & 1], np.repeat(p, n)
+    return (y >> 2) * w + (x >> 1), _BITS.take(((y & 3) << 1) | (x & 1)), np.repeat(p, n)
 
 
+_BITS = BRAILLE_WEIGHTS.ravel()   # the bit of dot (row, col) at 2 * row + col
 _BACKGROUNDS: dict[tuple[int, bytes, int, int, bool, float], tuple[Scene, np.ndarray, np.ndarray]] = {}
 
 
@@ -475,6 +479,29 @@ def _background(scene: Scene, view: ViewTransform, w: int, h: int, back_faces: b
         _BACKGROUNDS.pop(next(iter(_BACKGROUNDS)))
     _BACKGROUNDS[key] = (scene, codes, colours)
     return codes, colours
+
+
+def _chars(codes: np.ndarray, ascii: bool) -> np.ndarray:
+    """Character per braille pattern: the U+2800 block (blank for none), or the ASCII stand-in."""
+    if ascii:
+        chars: np.ndarray = ASCII_TABLE[codes]
+        return chars
+    return np.where(codes > 0, BRAILLE_BASE + codes.astype(np.uint32), np.uint32(0x20)).astype(np.uint32)
+
+
+_STATIC_CHARS: dict[tuple[int, bool], tuple[np.ndarray, np.ndarray]] = {}
+
+
+def _static_chars(scene: Scene, codes: np.ndarray, ascii: bool) -> np.ndarray:
+    """The background's characters, kept with the codes array they were made from."""
+    found = _STATIC_CHARS.get((id(codes), ascii))
+    if found is not None and found[0] is codes:
+        return found[1]
+    if len(_STATIC_CHARS) >= 16:
+        _STATIC_CHARS.pop(next(iter(_STATIC_CHARS)))
+    chars = _chars(codes, ascii)
+    _STATIC_CHARS[(id(codes), ascii)] = (codes, chars)
+    return chars
 
 
 def rasterize(
@@ -503,20 +530,21 @@ def rasterize(
         prio = np.concatenate([prio, np.full(3, scene.n_polyhedra + len(scene.lines) + 1)])
     palette = np.concatenate([scene.palette_indices(), [AXES_COLOUR]]).astype(np.uint8)
     maps = _to_dots(view, 2 * w, 4 * h, dot_aspect)
+    cells, bits, owners = _samples(segs, prio, maps, w, h)
     if scene.background is None:
         codes = np.zeros(h * w, dtype=np.uint8)
         colours = np.zeros(h * w, dtype=np.uint8)
+        np.bitwise_or.at(codes, cells, bits)
+        chars = _chars(codes, ascii)
     else:
         static_codes, static_colours = _background(scene.background, view, w, h, back_faces, dot_aspect)
         codes, colours = static_codes.copy(), static_colours.copy()
-    cells, bits, owners = _samples(segs, prio, maps, w, h)
-    np.bitwise_or.at(codes, cells, bits)
+        np.bitwise_or.at(codes, cells, bits)
+        # only the cells this frame touched change character: the rest are the background's
+        chars = _static_chars(scene.background, static_codes, ascii).copy()
+        chars[cells] = _chars(codes.take(cells), ascii)
     colours[cells] = palette[owners]     # samples come in priority order: the later item wins
-    codes, colours = codes.reshape(h, w), colours.reshape(h, w)
-    if ascii:
-        chars = ASCII_TABLE[codes]
-    else:
-        chars = np.where(codes > 0, BRAILLE_BASE + codes.astype(np.uint32), np.uint32(0x20)).astype(np.uint32)
+    chars, colours = chars.reshape(h, w), colours.reshape(h, w)
 
     if axes:
         a_mat, b_vec, to_dots, centre = maps
