@@ -121,7 +121,8 @@ class ViewTransform:
         self.rotation = np.eye(3)
         return self.fit(self.home_bounds)
 
-    def fit(self, bounds: tuple[Sequence[float], Sequence[float]], margin: float = 0.04) -> "ViewTransform":
+    def fit(self, bounds: tuple[Sequence[float] | np.ndarray, Sequence[float] | np.ndarray],
+            margin: float = 0.04) -> "ViewTransform":
         """Centre and size the view on a world box (lo, hi) as seen with the current rotation."""
         lo, hi = (np.asarray(b, dtype=float) for b in bounds)
         self.home_bounds = (lo.copy(), hi.copy())
@@ -145,7 +146,8 @@ class ViewTransform:
 
     def depth_axis(self) -> np.ndarray:
         """World direction that points at the viewer (Z_s after the view rotation)."""
-        return (self.rotation @ WORLD_TO_SCS)[2]
+        axis: np.ndarray = (self.rotation @ WORLD_TO_SCS)[2]
+        return axis
 
     def key(self) -> bytes:
         """A value that changes whenever the picture would (for redraw decisions)."""
@@ -328,7 +330,7 @@ class Frame:
         return int(self.chars.shape[0])
 
     def row_text(self, y: int) -> str:
-        return self.chars[y].astype("<u4").tobytes().decode("utf-32-le")
+        return str(self.chars[y].astype("<u4").tobytes().decode("utf-32-le"))
 
     def lines(self) -> list[str]:
         return [self.row_text(y) for y in range(self.height)]
@@ -531,6 +533,8 @@ def rasterize(
     palette = np.concatenate([scene.palette_indices(), [AXES_COLOUR]]).astype(np.uint8)
     maps = _to_dots(view, 2 * w, 4 * h, dot_aspect)
     cells, bits, owners = _samples(segs, prio, maps, w, h)
+    codes: np.ndarray
+    colours: np.ndarray
     if scene.background is None:
         codes = np.zeros(h * w, dtype=np.uint8)
         colours = np.zeros(h * w, dtype=np.uint8)
@@ -544,7 +548,8 @@ def rasterize(
         chars = _static_chars(scene.background, static_codes, ascii).copy()
         chars[cells] = _chars(codes.take(cells), ascii)
     colours[cells] = palette[owners]     # samples come in priority order: the later item wins
-    chars, colours = chars.reshape(h, w), colours.reshape(h, w)
+    chars = chars.reshape(h, w)
+    colours = colours.reshape(h, w)
 
     if axes:
         a_mat, b_vec, to_dots, centre = maps
