@@ -121,11 +121,13 @@ class Scene:
 
     @property
     def lo(self) -> np.ndarray:
-        return self.mid - self.half
+        lo: np.ndarray = self.mid - self.half
+        return lo
 
     @property
     def hi(self) -> np.ndarray:
-        return self.mid + self.half
+        hi: np.ndarray = self.mid + self.half
+        return hi
 
 
 # cross products as one matmul: (a outer b) flattened to 9, times the Levi-Civita symbol
@@ -138,11 +140,13 @@ for _i, _j, _k in ((0, 1, 2), (1, 2, 0), (2, 0, 1)):
 @lru_cache(maxsize=16)
 def _levi_summed(m: int) -> np.ndarray:
     """Levi-Civita stacked m times: the matmul also sums the m cross products (Newell)."""
-    return np.tile(_LEVI, (m, 1))
+    tiled: np.ndarray = np.tile(_LEVI, (m, 1))
+    return tiled
 
 
 def _outer(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    return (a[..., :, None] * b[..., None, :]).reshape(*a.shape[:-1], 9)
+    outer: np.ndarray = (a[..., :, None] * b[..., None, :]).reshape(*a.shape[:-1], 9)
+    return outer
 
 
 # -- the two checks ----------------------------------------------------------------------------
@@ -151,7 +155,8 @@ def coarse(scene: Scene, moving: np.ndarray, stationary: np.ndarray, grow: float
     """Boolean per pair: is the moving centre inside the stationary box grown by radius + margin?"""
     gap = np.abs(scene.centres.take(moving, axis=0) - scene.mid.take(stationary, axis=0))
     gap -= scene.half.take(stationary, axis=0)
-    return gap.max(axis=1) <= scene.radii.take(moving) + grow
+    near: np.ndarray = gap.max(axis=1) <= scene.radii.take(moving) + grow
+    return near
 
 
 def face_planes(vertices: np.ndarray, face_idx: np.ndarray, face_next: np.ndarray
@@ -203,8 +208,8 @@ def fine(scene: Scene, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     s = (seg.reshape(pn, 2 * e, 3) @ unit.transpose(0, 2, 1)).reshape(pn, e, 2, f) - off[:, None, None, :]
     s0, s1 = s[:, :, 0], s[:, :, 1]
     crossing = (np.minimum(s0, s1) < -EPS) & (np.maximum(s0, s1) > EPS)
-    hit = _contained(scene.centres, src, dst, unit, off, size)
-    hit = hit[:n] | hit[n:]
+    contained = _contained(scene.centres, src, dst, unit, off, size)
+    hit: np.ndarray = contained[:n] | contained[n:]
     cand = np.flatnonzero(crossing)                  # flat (pair, edge, face) candidates
     if len(cand) == 0:
         return hit
@@ -235,7 +240,7 @@ def _contained(centres: np.ndarray, src: np.ndarray, dst: np.ndarray, unit: np.n
     d_src = np.einsum("nfk,nk->nf", unit, centres.take(src, axis=0)) - off
     d_dst = np.einsum("nfk,nk->nf", unit, centres.take(dst, axis=0)) - off
     inner = d_src * np.sign(d_dst) > EPS
-    result: np.ndarray = np.where(size > 0, inner, True).all(axis=1)
+    result = np.asarray(np.where(size > 0, inner, True).all(axis=1), dtype=bool)
     return result
 
 

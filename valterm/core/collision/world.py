@@ -148,7 +148,10 @@ class CollisionWorld:
         b: list[Party] = []
 
         def add(i: int, j: int, pa: Party, pb: Party) -> None:
-            mv.append(i), st.append(j), a.append(pa), b.append(pb)
+            mv.append(i)
+            st.append(j)
+            a.append(pa)
+            b.append(pb)
 
         for i, label in enumerate(self.labels):                 # 1. links x objects
             for n in free:
@@ -189,7 +192,7 @@ class CollisionWorld:
         return found
 
 
-_WORLDS: dict[tuple, CollisionWorld] = {}
+_WORLDS: dict[tuple[object, ...], CollisionWorld] = {}
 
 
 def check_scene(links: Sequence[tuple[str, Polyhedron]], objects: Sequence[Polyhedron],
