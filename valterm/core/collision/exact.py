@@ -19,9 +19,9 @@ collision for fcl either, but treat it as the tolerance band it is.
 
 from __future__ import annotations
 
-from typing import Sequence
+from typing import Any, Sequence
 
-import fcl
+import fcl  # type: ignore[import-untyped]
 import numpy as np
 
 from valterm.core.cell.polyhedron import Polyhedron
@@ -67,7 +67,8 @@ def distance(a: Polyhedron, b: Polyhedron) -> float:
 def _frames(p0: np.ndarray, p1: np.ndarray, p2: np.ndarray) -> np.ndarray:
     """(n, 3, 3) orthonormal frames (columns) from three points each (Gram-Schmidt)."""
     def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-        return (a[:, :, None] * b[:, None, :]).reshape(-1, 9) @ _LEVI
+        product: np.ndarray = (a[:, :, None] * b[:, None, :]).reshape(-1, 9) @ _LEVI
+        return product
 
     e1 = p1 - p0
     e1 /= np.sqrt(np.einsum("ij,ij->i", e1, e1))[:, None]
@@ -85,8 +86,8 @@ class ExactChecker:
         self._ks: tuple[int, ...] | None = None
         self._objects: list[fcl.CollisionObject] = []
         self._index: dict[int, int] = {}
-        self._managers: dict[tuple[tuple[int, ...], tuple[int, ...]], tuple] = {}
-        self._plan: tuple | None = None  # pair bookkeeping for the last (moving, stationary) arrays
+        self._managers: dict[tuple[tuple[int, ...], tuple[int, ...]], tuple[Any, ...]] = {}
+        self._plan: tuple[Any, ...] | None = None  # pair bookkeeping for the last (moving, stationary) arrays
 
     # -- keeping fcl in step with the polyhedra ---------------------------------------------
     def _build(self, polys: Sequence[Polyhedron]) -> None:
@@ -94,8 +95,8 @@ class ExactChecker:
         counts = np.array([2 * k for k in self._ks], dtype=np.intp)
         self._starts = np.concatenate([[0], np.cumsum(counts)[:-1]]).astype(np.intp)
         self._counts = counts
-        self._objects = [None] * len(polys)  # type: ignore[list-item]
-        self._geoms: list[fcl.Convex] = [None] * len(polys)  # type: ignore[list-item]
+        self._objects = [None] * len(polys)
+        self._geoms: list[fcl.Convex] = [None] * len(polys)
         self._local: list[np.ndarray] = [np.zeros((0, 3))] * len(polys)
         self._base_frames = np.zeros((len(polys), 3, 3))
         self._index = {}
@@ -158,17 +159,17 @@ class ExactChecker:
             m_moving.update()
             m_still.update()
 
-    def _manager_pair(self, moving: tuple[int, ...], still: tuple[int, ...]) -> tuple:
+    def _manager_pair(self, moving: tuple[int, ...], still: tuple[int, ...]) -> tuple[Any, ...]:
         key = (moving, still)
         found = self._managers.get(key)
         if found is None:
-            found = []
+            built = []
             for group in key:
                 m = fcl.DynamicAABBTreeCollisionManager()
                 m.registerObjects([self._objects[i] for i in group])
                 m.setup()
-                found.append(m)
-            found = self._managers[key] = tuple(found)
+                built.append(m)
+            found = self._managers[key] = tuple(built)
         return found
 
     # -- the check --------------------------------------------------------------------------
@@ -204,8 +205,8 @@ class ExactChecker:
             v = self._last
             lo = np.minimum.reduceat(v, self._starts, axis=0)
             hi = np.maximum.reduceat(v, self._starts, axis=0)
-            a, b = moving[rest], stationary[rest]
-            overlap = np.all((lo[a] <= hi[b]) & (lo[b] <= hi[a]), axis=1)
+            ma, sb = moving[rest], stationary[rest]
+            overlap = np.all((lo[ma] <= hi[sb]) & (lo[sb] <= hi[ma]), axis=1)
             for n in rest[overlap]:
                 ok = fcl.collide(self._objects[moving[n]], self._objects[stationary[n]],
                                  fcl.CollisionRequest(), fcl.CollisionResult())
