@@ -48,3 +48,33 @@ def test_ik_batch_in_chunks_round_trips_and_matches_ik():
     # a (3,) configuration broadcasts to every pose, chunked the same way
     one = ik_batch(xyz, rot, np.array([1, 1, 1]))[0]
     assert one.shape == joints.shape
+
+
+def test_ik_fast_path_gives_what_fit_to_stops_gives():
+    """ik() skips fit_to_stops when every angle is well inside its stops with no equivalent
+    inside: the answer must be the general one, for any current pose."""
+    import math
+
+    from valterm.core.kinematics import IKError, fit_to_stops, ik_fast, indicators, wrap180
+
+    geometry = robot_geometry()
+    rng = np.random.default_rng(21)
+    shortcut = 0
+    for q in _poses(2000, seed=21):
+        current = [float(v) for v in q + rng.normal(0.0, 40.0, 6)]
+        pose = fk(list(q))
+        config = indicators(list(q))
+        radians = ik_fast(*pose.xyz.tolist(), pose.rotation.tolist(), config.arm, config.elbow, config.wrist,
+                          math.radians(current[3]), geometry)
+        wrapped = [wrap180(math.degrees(v)) for v in radians]
+        try:
+            expected: object = fit_to_stops(wrapped, current, geometry)
+        except IKError as error:
+            expected = str(error)
+        try:
+            got: object = ik(pose.xyz, pose.rotation, config, current)
+        except IKError as error:
+            got = str(error)
+        assert got == expected
+        shortcut += got == wrapped
+    assert 200 < shortcut < 2000     # both ways taken

@@ -612,12 +612,17 @@ def ik(
     hint = math.radians(current[3]) if current is not None else 0.0
     # Python floats on entry: math on numpy scalars is several times slower
     rot = rotation.tolist() if isinstance(rotation, np.ndarray) else rotation
-    x, y, z = (float(v) for v in xyz)
+    x, y, z = xyz.tolist() if isinstance(xyz, np.ndarray) else (float(v) for v in xyz)
     radians = ik_fast(x, y, z, rot, config.arm, config.elbow, config.wrist, hint, geometry)
     degrees = [wrap180(math.degrees(v)) for v in radians]
     if not enforce_stops:
         return degrees
-    return fit_to_stops(degrees, current, geometry)
+    for angle, (low, high) in zip(degrees, geometry.stops):
+        # the usual case: the angle is well inside its stops and no 360-degree equivalent is,
+        # so fit_to_stops would return the angles as they are (anything else goes to it)
+        if not (low + 1e-6 <= angle <= high - 1e-6 and angle - 360.0 < low - 1e-6 and angle + 360.0 > high + 1e-6):
+            return fit_to_stops(degrees, current, geometry)
+    return degrees
 
 
 def ik_oat(
