@@ -74,6 +74,7 @@ class Simulator:
         self._carried_local: np.ndarray | None = None
         self.locations: dict[str, Location] = {}
         self.base = np.eye(4)
+        self._home_base = self.base
         self.base_offsets = (0.0, 0.0, 0.0, 0.0)
         self.collision_checks = False
         self.stop_on_collision = False
@@ -341,7 +342,8 @@ class Simulator:
         for known, base, frames in self._frames_cache:
             if known == key and base is self.base:
                 return frames
-        frames = self.model.link_frames(joints, self.base)
+        # the base frame as built (identity, no BASE given): skip a product that changes nothing
+        frames = self.model.link_frames(joints, None if self.base is self._home_base else self.base)
         self._frames_cache = [(key, self.base, frames), *self._frames_cache[:1]]
         return frames
 
