@@ -55,6 +55,10 @@ def topology_faces(k: int) -> list[list[int]]:
 class RobotScene:
     """Collision check of robot links given as frames, against the parts of a work cell."""
 
+    # below this many mover x part pairs the coarse test of them all costs less than the
+    # broad phase that would pick among them (a few numpy calls either way)
+    broad_phase_from = 600
+
     def __init__(self, labels: Sequence[str], owners: Sequence[int],
                  checker: Literal["thesis", "exact"] = "thesis",
                  near_with_collision: bool = False) -> None:
@@ -173,7 +177,7 @@ class RobotScene:
         grow = margin(speed)
         n_free = len(self._free)
         ruled = len(movers) * n_free                     # rules 1 and 2: movers x free parts
-        if n_free:
+        if n_free and ruled >= self.broad_phase_from:
             near = self._candidates(movers, grow)
             sel = np.concatenate([(np.arange(0, ruled, n_free)[:, None] + near).ravel(),
                                   np.arange(ruled, len(pairs.moving))])
