@@ -60,6 +60,9 @@ PROCESS_COLLISIONS = {
     # and the wrist flange enter part 1 and the fingertips (50.8 mm further) pass the top of
     # the right-hand table (object 8, top -320)
     "CLAMP COLLIDES WITH 1": 6, "WRIST COLLIDES WITH 1": 6, "FINGER COLLIDES WITH 8": 6,
+    # ... and on the way down a finger passes through part 1 between two poses (the swept
+    # check's substeps find it; python-fcl agrees at those joints)
+    "FINGER COLLIDES WITH 1": 6,
     # MOVES F: F (Z -400) lies inside the part processor, a solid column (objects 13, 14)
     "1 COLLIDES WITH 13": 12, "1 COLLIDES WITH 14": 12, "CLAMP COLLIDES WITH 13": 12,
     "FINGER COLLIDES WITH 13": 12, "WRIST COLLIDES WITH 13": 12,

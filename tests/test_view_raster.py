@@ -210,3 +210,26 @@ def test_raster_clock_and_bench_import_no_textual_or_rich() -> None:
         "assert not bad, bad\n"
     )
     subprocess.run([sys.executable, "-c", code], check=True)
+
+
+def test_static_background_draws_the_same_frame_as_one_scene() -> None:
+    """The cell rasterised once as a background, the robot over a copy: the same picture."""
+    from valterm.core.render.raster import _BACKGROUNDS, link_colour, object_colour
+
+    rng = np.random.default_rng(5)
+    cell = [(Polyhedron.box(lo, lo + rng.uniform(40, 300, 3)), object_colour(i + 1))
+            for i, lo in enumerate(rng.uniform(-900, 700, (20, 3)))]
+    robot = [(Polyhedron.box(lo, lo + rng.uniform(20, 120, 3)), link_colour(i))
+             for i, lo in enumerate(rng.uniform(-300, 300, (8, 3)))]
+    led = np.array([[[0.0, 0, 500], [0, 70, 500]]])
+    background = Scene.build(cell)
+    _BACKGROUNDS.clear()
+    for turn, (w, h) in ((0.0, (80, 24)), (35.0, (200, 60)), (-70.0, (33, 17))):
+        view = ViewTransform().rotate_by("y", turn).rotate_by("x", 20)
+        for back_faces in (True, False):
+            for axes, ascii in ((False, False), (True, False), (True, True)):
+                whole = rasterize(Scene.build(cell + robot, led), view, w, h, back_faces, axes, ascii)
+                split = rasterize(Scene.build(robot, led, background=background), view, w, h, back_faces, axes, ascii)
+                assert np.array_equal(whole.chars, split.chars) and np.array_equal(whole.colours, split.colours)
+                assert (whole.chars != 0x20).sum() > 50
+    assert len(_BACKGROUNDS) == 6          # one per view, size and face mode: the rest were reused

@@ -8,12 +8,15 @@ world Z axis, so fcl re-places every link each step) and the whole scene is chec
 from __future__ import annotations
 
 import time
-from typing import Collection, Sequence
+from typing import TYPE_CHECKING, Collection, Sequence
 
 import numpy as np
 
 from valterm.core.cell.polyhedron import Polyhedron
 from valterm.core.collision.world import CollisionWorld
+
+if TYPE_CHECKING:
+    from valterm.core.simulator import Simulator
 
 
 def _turn(poly: Polyhedron, degrees: float) -> Polyhedron:
@@ -89,3 +92,120 @@ def demo_objects(n: int = 14, seed: int = 1985) -> list[Polyhedron]:
         half = rng.uniform(40, 180, 3)
         out.append(Polyhedron.box(c - half, c + half, str(i + 1)))
     return out
+
+
+# -- the goals' own scenes (issue 15): the real PUMA model among n parts -------------------
+
+def ring_cell(n: int, seed: int = 1985) -> list[Polyhedron]:
+    """``n`` boxes around the robot at a constant density: the ring grows with n, as a bigger
+    cell does (30 parts reach about 1 m, 300 about 3 m), so most parts are far from the arm."""
+    rng = np.random.default_rng(seed)
+    outer = np.sqrt(350.0 ** 2 + n * 30_000.0)
+    out = []
+    for i in range(n):
+        angle = rng.uniform(-np.pi, np.pi)
+        r = np.sqrt(rng.uniform(350.0 ** 2, outer ** 2))
+        c = np.array([r * np.cos(angle), r * np.sin(angle), rng.uniform(-600, 100)])
+        half = rng.uniform(30, 120, 3)
+        out.append(Polyhedron.box(c - half, c + half, str(i + 1)))
+    return out
+
+
+def sweep_path(poses: int = 120) -> np.ndarray:
+    """A joint path that turns JT1 once round with the hand low among the parts (3 degrees a step)."""
+    j1 = np.linspace(-180.0, 180.0, poses)
+    return np.column_stack([j1, np.full(poses, -150.0), np.full(poses, 150.0),
+                            np.zeros(poses), np.full(poses, 40.0), np.zeros(poses)])
+
+
+def _old_check(sim: "Simulator", world: CollisionWorld, said: set[tuple[str, object, object]]) -> int:
+    """The pre-issue-15 path: ten Polyhedron objects per pose, the whole scene concatenated."""
+    findings = world.check(sim.robot_polyhedra(), sim.cell.objects, (), sim.speed)
+    now = {(f.kind, f.a, f.b) for f in findings}
+    events = [f.event() for f in findings if (f.kind, f.a, f.b) not in said]
+    said.clear()
+    said.update(now)
+    return len(events)
+
+
+def bench_collision_per_pose(n_parts: int = 30, rounds: int = 5) -> dict[str, float]:
+    """µs per motion pose as ``run --collisions`` pays it (link frames, swept substeps, the check,
+    the events), the new path and the old one on the same poses; median of ``rounds``."""
+    from valterm.core.cell.workcell import WorkCell
+    from valterm.core.simulator import Simulator
+
+    sim = Simulator(WorkCell(objects=ring_cell(n_parts)))
+    path = [[float(v) for v in pose] for pose in sweep_path()]
+    world = CollisionWorld(sim.model.names)
+    said: set[tuple[str, object, object]] = set()
+
+    def new() -> int:
+        count = 0
+        previous = path[0]
+        for pose in path:
+            sim.joints = pose
+            count += sum(1 for _ in sim.check_collisions(previous))
+            previous = pose
+        return count
+
+    def old() -> int:
+        count = 0
+        for pose in path:
+            sim.joints = pose
+            count += _old_check(sim, world, said)
+        return count
+
+    times: dict[str, list[float]] = {"new": [], "old": []}
+    found = {"new": new(), "old": old()}               # warm up: layouts, caches
+    for _ in range(rounds):
+        for name, func in (("new", new), ("old", old)):
+            start = time.perf_counter()
+            func()
+            times[name].append((time.perf_counter() - start) / len(path) * 1e6)
+    return {
+        "us_per_pose": float(np.median(times["new"])),
+        "old_us_per_pose": float(np.median(times["old"])),
+        "events_new": float(found["new"]),
+        "events_old": float(found["old"]),
+    }
+
+
+def bench_puma_step(n_parts: int = 30, rounds: int = 5, steps: int = 60) -> dict[str, float]:
+    """µs per step of the thesis check and of fcl, both fed by link frames, PUMA links x n parts;
+    and fcl on placed polyhedra (``ExactChecker``, the path before) as the peer."""
+    from valterm.core.cell.workcell import WorkCell
+    from valterm.core.collision.frames import RobotScene
+    from valterm.core.simulator import Simulator
+
+    sim = Simulator(WorkCell(objects=ring_cell(n_parts)))
+    frames = [sim.model.link_frames([float(v) for v in pose], sim.base) for pose in sweep_path(steps)]
+    polys = []
+    for pose in sweep_path(steps):
+        sim.joints = [float(v) for v in pose]
+        polys.append(sim.robot_polyhedra())
+    objects = sim.cell.objects
+    scenes = {}
+    for kind in ("thesis", "exact"):
+        scenes[kind] = RobotScene(sim.model.names, sim.model.frames.tolist(), checker=kind)  # type: ignore[arg-type]
+        scenes[kind].set_shapes(sim.model.shapes(sim.gap))
+    exact_old = CollisionWorld(sim.model.names, checker="exact")
+
+    def run(kind: str) -> None:
+        if kind == "fcl_polyhedra":
+            for p in polys:
+                exact_old.check(p, objects)
+        else:
+            for f in frames:
+                scenes[kind].check(f, objects)
+
+    runs: dict[str, list[float]] = {"thesis": [], "exact": [], "fcl_polyhedra": []}
+    for kind in runs:
+        run(kind)                                       # warm up: layouts, fcl objects
+    for _ in range(rounds):
+        for kind in runs:
+            start = time.perf_counter()
+            run(kind)
+            runs[kind].append((time.perf_counter() - start) / steps * 1e6)
+    return {"thesis_us": float(np.median(runs["thesis"])), "fcl_us": float(np.median(runs["exact"])),
+            "fcl_polyhedra_us": float(np.median(runs["fcl_polyhedra"])),
+            "links": float(len(sim.model.names)), "parts": float(n_parts)}

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import time
+from typing import Callable
 
 import numpy as np
 
@@ -44,3 +45,74 @@ if __name__ == "__main__":  # pragma: no cover - manual timing
         for bf in (False, True):
             print(f"{w}x{h} back_faces={bf}: {bench_raster(w, h, bf):.3f} ms, "
                   f"with build {bench_raster(w, h, bf, with_build=True):.3f} ms")
+
+
+def process_scenes(width: int = 200, height: int = 60) -> tuple[Scene, Scene, ViewTransform]:
+    """The PROCESS cell and the robot at READY as the app draws them: the whole scene, and the
+    robot alone over the cell as a background (what each frame of a motion draws)."""
+    from valterm.core import resources
+    from valterm.core.files.setup import read_setup
+    from valterm.core.render.raster import LED_COLOUR, link_colour
+    from valterm.core.simulator import Simulator
+
+    sim = Simulator(read_setup(resources.data_path("cells", "PROCESS.SET")))
+    cell = [(p, object_colour(i)) for i, p in enumerate(sim.cell.objects, start=1)]
+    robot = [(p, link_colour(i)) for i, p in enumerate(sim.robot_polyhedra())]
+    p0, p1 = sim.model.led_segment(sim.joints, sim.gap, sim.base)
+    led = np.stack([np.stack([p0, p1])])
+    whole = Scene.build(cell + robot, led, LED_COLOUR)
+    framed = Scene.build(robot, led, LED_COLOUR, background=Scene.build(cell))
+    view = ViewTransform().rotate_by("y", 25).rotate_by("x", 15).fit(whole.bounds())
+    return whole, framed, view
+
+
+def _drawille_segments(scene: Scene, view: ViewTransform, width: int, height: int) -> np.ndarray:
+    """The segments ``rasterize`` draws (all edges, back faces on), in dot coordinates."""
+    segs, _ = scene.segments(view, back_faces=True)
+    a_mat, b_vec = view.affine()
+    assert view.half_extent is not None
+    wd, hd = 2 * width, 4 * height
+    ppm = min(wd / (2 * view.half_extent[0]), hd / (2 * view.half_extent[1]))
+    flat = segs.reshape(-1, 3) @ a_mat[:2].T + b_vec[:2]
+    pts = flat * [ppm, -ppm] + [wd / 2, hd / 2]
+    return np.clip(pts, 0, [wd - 1, hd - 1]).reshape(-1, 4)
+
+
+def bench_raster_vs_drawille(width: int = 200, height: int = 60, rounds: int = 7) -> dict[str, float]:
+    """Milliseconds per frame of the PROCESS cell at width x height (back faces on): ours for
+    the whole scene, ours per motion frame (cell as background), drawille on the same edges.
+
+    Raises ImportError when drawille (the ``bench`` extra) is not installed."""
+    import drawille  # type: ignore[import-untyped]
+
+    whole, framed, view = process_scenes(width, height)
+    edges = _drawille_segments(whole, view, width, height).tolist()
+
+    def with_drawille() -> str:
+        canvas = drawille.Canvas()
+        for x1, y1, x2, y2 in edges:
+            for x, y in drawille.line(x1, y1, x2, y2):
+                canvas.set(x, y)
+        return str(canvas.frame(0, 0, 2 * width, 4 * height))
+
+    def median_ms(func: Callable[[], object], number: int) -> float:
+        func()
+        runs = []
+        for _ in range(rounds):
+            t0 = time.perf_counter()
+            for _ in range(number):
+                func()
+            runs.append((time.perf_counter() - t0) / number)
+        return float(np.median(runs) * 1000)
+
+    whole_ms = median_ms(lambda: rasterize(whole, view, width, height, back_faces=True), 20)
+    frame_ms = median_ms(lambda: rasterize(framed, view, width, height, back_faces=True), 20)
+    drawille_ms = median_ms(with_drawille, 2)
+    return {
+        "raster_process_ms_200x60": whole_ms,
+        "raster_process_frame_ms_200x60": frame_ms,
+        "drawille_process_ms_200x60": drawille_ms,
+        "raster_vs_drawille_x": drawille_ms / frame_ms,
+        "raster_whole_vs_drawille_x": drawille_ms / whole_ms,
+        "raster_process_edges": float(len(edges)),
+    }

@@ -4,24 +4,44 @@ from __future__ import annotations
 
 import argparse
 import json
+import sys
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     parser = sub.add_parser("bench", help="measure speed against the project's goals")
     parser.add_argument("--json", action="store_true", help="one JSON object")
+    parser.add_argument("--md", action="store_true", help="the goals table in Markdown (docs/PERFORMANCE.md)")
+    parser.add_argument("--no-app", action="store_true", help="skip the app under a pseudo-terminal")
+    parser.add_argument("--svg", metavar="FILE", help="also write the collision scaling curve to FILE")
     parser.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> int:
-    from valterm.bench.suite import run_all
+    from valterm.bench.suite import markdown, run_all
 
-    entries = run_all()
+    entries = run_all(app=not args.no_app)
+    if args.svg:
+        from valterm.bench.plot import scaling_series, scaling_svg
+
+        series = scaling_series(entries)
+        if not series:
+            print(f"valterm bench: no collision figures to plot into {args.svg}", file=sys.stderr)
+            return 1
+        try:
+            with open(args.svg, "w", encoding="utf-8") as out:
+                out.write(scaling_svg(series, "Collision check per motion pose: the PUMA among n parts"))
+        except OSError as error:
+            print(f"valterm bench: cannot write {args.svg}: {error.strerror}", file=sys.stderr)
+            return 1
     if args.json:
         print(json.dumps(entries, indent=2))
         return 0
+    if args.md:
+        print(markdown(entries))
+        return 0
     goals = entries.get("goals", {})
     for key, value in entries.items():
-        if key in ("goals", "missing"):
+        if key in ("goals", "missing", "machine"):
             continue
         goal = goals.get(key)
         mark = "" if goal is None else f"   goal {goal['goal']}: {'met' if goal['met'] else 'NOT met'}"

@@ -372,14 +372,80 @@ def fk(joints: Sequence[float], point: int = 1, geometry: RobotGeometry | None =
 
 
 def fk_batch(joints: np.ndarray, point: int = 1, geometry: RobotGeometry | None = None) -> tuple[np.ndarray, np.ndarray]:
-    """Batch forward kinematics: joints (n, 6) degrees -> xyz (n, 3), rotations (n, 3, 3)."""
+    """Batch forward kinematics: joints (n, 6) degrees -> xyz (n, 3), rotations (n, 3, 3).
+
+    The tool frame only (``fk_fast`` on arrays), not the seven link frames: what a batch of
+    poses needs, at a fraction of the memory.
+    """
     geometry = geometry or robot_geometry()
-    q = np.radians(np.asarray(joints, dtype=float).reshape(-1, 6))
-    frames = link_frames_batch(q, geometry, radians=True)
-    tool = frames[:, 6]
-    # link frame 6 has its origin at the wrist centre; the TCS origin lies d6 beyond it
-    xyz = tool[:, :3, 3] + geometry.point_offset(point) * tool[:, :3, 2]
-    return xyz, tool[:, :3, :3].copy()
+    all_joints = np.asarray(joints, dtype=float).reshape(-1, 6)
+    n = len(all_joints)
+    xyz = np.empty((n, 3))
+    rot = np.empty((n, 3, 3))
+    for lo in range(0, n, BATCH_CHUNK):   # in chunks: temporaries stay in cache
+        part = slice(lo, lo + BATCH_CHUNK)
+        _fk_chunk(all_joints[part], geometry.point_offset(point), geometry, xyz[part], rot[part])
+    return xyz, rot
+
+
+def _fk_chunk(joints: np.ndarray, offset: float, geometry: RobotGeometry, xyz: np.ndarray, rot: np.ndarray) -> None:
+    """``fk_batch`` of one chunk, written into ``xyz`` and ``rot``."""
+    q = np.radians(joints).T
+    c, s = np.cos(q), np.sin(q)
+    c1, s1, c2, s2, c4, s4, c5, s5, c6, s6 = c[0], s[0], c[1], s[1], c[3], s[3], c[4], s[4], c[5], s[5]
+    q23 = q[1] + q[2]
+    c23, s23 = np.cos(q23), np.sin(q23)
+    u = geometry.a2 * c2 + geometry.d4 * s23
+    w = geometry.d4 * c23 - geometry.a2 * s2
+    # W = Rz4 Ry5 Rz6 as columns, then R = Rz1 Ry23 W (see fk_fast)
+    c5c6, c5s6 = c5 * c6, c5 * s6
+    wcols = ((c4 * c5c6 - s4 * s6, s4 * c5c6 + c4 * s6, -s5 * c6),
+             (-c4 * c5s6 - s4 * c6, c4 * c6 - s4 * c5s6, s5 * s6),
+             (c4 * s5, s4 * s5, c5))
+    r00, r10, r20 = c1 * c23, s1 * c23, -s23
+    r02, r12 = c1 * s23, s1 * s23
+    for col, (wx, wy, wz) in enumerate(wcols):
+        rot[:, 0, col] = r00 * wx - s1 * wy + r02 * wz
+        rot[:, 1, col] = r10 * wx + c1 * wy + r12 * wz
+        rot[:, 2, col] = r20 * wx + c23 * wz
+    xyz[:, 0] = c1 * u - s1 * geometry.d2 + offset * rot[:, 0, 2]
+    xyz[:, 1] = s1 * u + c1 * geometry.d2 + offset * rot[:, 1, 2]
+    xyz[:, 2] = w + offset * rot[:, 2, 2]
+
+
+def link_frames(joints: Sequence[float], geometry: RobotGeometry | None = None) -> np.ndarray:
+    """The seven link frames of one pose (JT1..JT6 degrees) as (7, 4, 4): ``link_frames_batch``
+    for a single pose, on Python floats (one array built at the end, no numpy temporaries)."""
+    geometry = geometry or robot_geometry()
+    q1, q2, q3, q4, q5, q6 = (math.radians(float(j)) for j in joints)
+    c1, s1, c2, s2 = math.cos(q1), math.sin(q1), math.cos(q2), math.sin(q2)
+    c23, s23 = math.cos(q2 + q3), math.sin(q2 + q3)
+    c4, s4, c5, s5, c6, s6 = math.cos(q4), math.sin(q4), math.cos(q5), math.sin(q5), math.cos(q6), math.sin(q6)
+
+    def turn(a: _Col, b: _Col, c: float, s: float) -> tuple[_Col, _Col]:
+        """(c a + s b, -s a + c b): two columns turned about the third."""
+        return ((c * a[0] + s * b[0], c * a[1] + s * b[1], c * a[2] + s * b[2]),
+                (c * b[0] - s * a[0], c * b[1] - s * a[1], c * b[2] - s * a[2]))
+
+    r1 = ((c1, s1, 0.0), (-s1, c1, 0.0), (0.0, 0.0, 1.0))            # columns of Rz(JT1)
+    r2 = ((c1 * c2, s1 * c2, -s2), r1[1], (c1 * s2, s1 * s2, c2))     # Rz1 Ry2
+    r3 = ((c1 * c23, s1 * c23, -s23), r1[1], (c1 * s23, s1 * s23, c23))
+    r4 = (*turn(r3[0], r3[1], c4, s4), r3[2])                          # about z by JT4
+    r5x, r5z = turn(r4[2], r4[0], c5, s5)                               # about y by JT5
+    r5 = (r5z, r4[1], r5x)
+    r6 = (*turn(r5[0], r5[1], c6, s6), r5[2])
+    d2, a2, d4 = geometry.d2, geometry.a2, geometry.d4
+    shoulder = (-s1 * d2, c1 * d2, 0.0)
+    elbow = tuple(o + a2 * x for o, x in zip(shoulder, r2[0]))
+    wrist = tuple(o + d4 * x for o, x in zip(elbow, r3[2]))
+    zero = (0.0, 0.0, 0.0)
+    flat = [1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0]
+    for (x, y, z), o in ((r1, zero), (r2, shoulder), (r3, elbow), (r4, wrist), (r5, wrist), (r6, wrist)):
+        flat += (x[0], y[0], z[0], o[0], x[1], y[1], z[1], o[1], x[2], y[2], z[2], o[2], 0.0, 0.0, 0.0, 1.0)
+    return np.array(flat).reshape(7, 4, 4)
+
+
+_Col = tuple[float, float, float]
 
 
 def link_frames_batch(joints: np.ndarray, geometry: RobotGeometry | None = None, radians: bool = False) -> np.ndarray:
@@ -544,7 +610,7 @@ def ik_fast(
 
 
 def ik(
-    xyz: Sequence[float],
+    xyz: Sequence[float] | np.ndarray,
     rotation: np.ndarray | Sequence[Sequence[float]],
     config: Config,
     current: Sequence[float] | None = None,
@@ -562,11 +628,19 @@ def ik(
     if not all(math.isfinite(v) for v in (*xyz, *np.ravel(rotation))):
         raise OutOfReach("not a location: a coordinate is not a finite number")
     hint = math.radians(current[3]) if current is not None else 0.0
-    radians = ik_fast(xyz[0], xyz[1], xyz[2], rotation, config.arm, config.elbow, config.wrist, hint, geometry)
+    # Python floats on entry: math on numpy scalars is several times slower
+    rot = rotation.tolist() if isinstance(rotation, np.ndarray) else rotation
+    x, y, z = xyz.tolist() if isinstance(xyz, np.ndarray) else (float(v) for v in xyz)
+    radians = ik_fast(x, y, z, rot, config.arm, config.elbow, config.wrist, hint, geometry)
     degrees = [wrap180(math.degrees(v)) for v in radians]
     if not enforce_stops:
         return degrees
-    return fit_to_stops(degrees, current, geometry)
+    for angle, (low, high) in zip(degrees, geometry.stops):
+        # the usual case: the angle is well inside its stops and no 360-degree equivalent is,
+        # so fit_to_stops would return the angles as they are (anything else goes to it)
+        if not (low + 1e-6 <= angle <= high - 1e-6 and angle - 360.0 < low - 1e-6 and angle + 360.0 > high + 1e-6):
+            return fit_to_stops(degrees, current, geometry)
+    return degrees
 
 
 def ik_oat(
@@ -598,7 +672,24 @@ def ik_batch(
     p = np.asarray(xyz, dtype=float).reshape(-1, 3)
     r = np.asarray(rotations, dtype=float).reshape(-1, 3, 3)
     n = len(p)
-    cfg = np.broadcast_to(np.asarray(tuple(config), dtype=float).reshape(-1, 3), (n, 3))
+    # one array as given (never a tuple of rows per pose): (3,) broadcasts, (n, 3) is per pose
+    cfg = np.asarray(config if isinstance(config, np.ndarray) else tuple(config), dtype=float).reshape(-1, 3)
+    if n <= BATCH_CHUNK:
+        return _ik_chunk(p, r, cfg, geometry)
+    # in chunks: the temporaries stay in cache and the memory per pose stays small
+    joints = np.empty((n, 6))
+    status = np.empty(n, dtype=np.intp)
+    for lo in range(0, n, BATCH_CHUNK):
+        part = slice(lo, lo + BATCH_CHUNK)
+        joints[part], status[part] = _ik_chunk(p[part], r[part], cfg if len(cfg) == 1 else cfg[part], geometry)
+    return joints, status
+
+
+BATCH_CHUNK = 8192   # poses per pass of the batch functions
+
+
+def _ik_chunk(p: np.ndarray, r: np.ndarray, cfg: np.ndarray, geometry: RobotGeometry) -> tuple[np.ndarray, np.ndarray]:
+    """``ik_batch`` on one chunk of poses (see there)."""
     arm, elbow, wrist = cfg[:, 0], cfg[:, 1], cfg[:, 2]
     a = r[:, :, 2]
     w = p - geometry.d6 * a

@@ -15,7 +15,7 @@ import numpy as np
 
 from valterm.core.cell.polyhedron import Polyhedron
 from valterm.core import resources
-from valterm.core.kinematics import ROBOT_FILE, RobotGeometry, link_frames_batch, robot_geometry
+from valterm.core.kinematics import ROBOT_FILE, RobotGeometry, link_frames, robot_geometry
 
 
 @dataclass(frozen=True)
@@ -34,30 +34,38 @@ class RobotModel:
     def count(self) -> int:
         return len(self.names)
 
-    def _stacked(self, gap: float) -> tuple[np.ndarray, np.ndarray]:
+    def shapes(self, gap: float) -> list[np.ndarray]:
+        """Each link's vertices in its own frame, the fingers set for this clamp gap."""
         verts = []
         for shape, side in zip(self.local, self.finger_side):
             if side:
                 # each finger slides along the clamp's Y (its o axis) by half the extra gap
                 shape = shape + np.array([0.0, side * (gap - self.closed_gap) / 2.0, 0.0])
             verts.append(shape)
+        return verts
+
+    def _stacked(self, gap: float) -> tuple[np.ndarray, np.ndarray]:
+        verts = self.shapes(gap)
         owners = np.repeat(self.frames, [len(v) for v in verts])
         return np.concatenate(verts), owners
 
     def place(self, joints: Sequence[float], gap: float | None = None, base: np.ndarray | None = None) -> list[Polyhedron]:
         """The link polyhedra in world millimetres at JT1..JT6 (degrees) with the clamp gap."""
         gap = self.open_gap if gap is None else gap
-        frames = link_frames_batch(np.asarray(joints, dtype=float), self.geometry)[0]
-        if base is not None:
-            frames = base @ frames
+        frames = self.link_frames(joints, base)
         verts, owners = self._stacked(gap)
         world = np.einsum("vij,vj->vi", frames[owners, :3, :3], verts) + frames[owners, :3, 3]
         split = np.cumsum([len(v) for v in self.local])[:-1]
         return [Polyhedron(v, name) for v, name in zip(np.split(world, split), self.names)]
 
+    def link_frames(self, joints: Sequence[float], base: np.ndarray | None = None) -> np.ndarray:
+        """The seven (4, 4) link frames in world coordinates at JT1..JT6 (degrees)."""
+        frames = link_frames(joints, self.geometry)
+        return frames if base is None else base @ frames
+
     def clamp_frame(self, joints: Sequence[float], base: np.ndarray | None = None) -> np.ndarray:
         """The 4x4 clamp frame (R6, origin at the wrist centre) in world coordinates."""
-        frame = link_frames_batch(np.asarray(joints, dtype=float), self.geometry)[0, 6]
+        frame: np.ndarray = link_frames(joints, self.geometry)[6]
         return frame if base is None else base @ frame
 
     def led_segment(self, joints: Sequence[float], gap: float | None = None,

@@ -39,6 +39,8 @@ from valterm.core.motion import (
     straight_path,
 )
 from valterm.core.robot import RobotModel, load_model
+from valterm.core.collision.frames import RobotScene
+from valterm.core.collision.world import Finding, Party
 
 GRASP_MESSAGE = "IT IS POSSIBLE TO GRASP THIS PART"
 
@@ -73,13 +75,16 @@ class Simulator:
         self._carried_local: np.ndarray | None = None
         self.locations: dict[str, Location] = {}
         self.base = np.eye(4)
+        self._home_base = self.base
         self.base_offsets = (0.0, 0.0, 0.0, 0.0)
         self.collision_checks = False
         self.stop_on_collision = False
         self.autoconfig = False  # AUTOCONFIG ON: try the other configurations (§8.1)
         self.pendant_increment = PENDANT_INCREMENT  # signed: N flips it
-        self._findings: set[tuple[str, str, str]] = set()
-        self._checker = None
+        self._findings: set[tuple[str, Party, Party]] = set()
+        self._checker: RobotScene | None = None
+        self._checker_gap: float | None = None
+        self._frames_cache: list[tuple[tuple[float, ...], np.ndarray, np.ndarray]] = []
 
     # -- readouts ------------------------------------------------------------
     def robot_polyhedra(self) -> list[Polyhedron]:
@@ -254,11 +259,12 @@ class Simulator:
         steps = len(path)
         seconds = self._motion_seconds(path, kind)
         for index, pose in enumerate(path, start=1):
+            previous = self.joints
             self.joints = [float(v) for v in pose]
             self._follow_clamp()
             yield PoseEvent(tuple(self.joints), index, steps)
             if self.collision_checks:
-                for finding in self.check_collisions():
+                for finding in self.check_collisions(previous):
                     yield finding
                     if self.stop_on_collision and isinstance(finding, Collision):
                         # the robot stops where the collision was found (off by default, as in 1985)
@@ -371,19 +377,66 @@ class Simulator:
         part.vertices = vertices
         return part
 
-    def check_collisions(self) -> Iterator[Event]:
-        """The thesis's coarse and fine checks at this pose; each finding is said as it starts."""
+    def _collision_scene(self) -> RobotScene:
+        """The collision check fed by link frames, its link shapes set for the clamp gap."""
         if self._checker is None:
-            from valterm.core.collision.world import CollisionWorld
+            self._checker = RobotScene(self.model.names, self.model.frames.tolist())
+        if self._checker_gap != self.gap:
+            self._checker.set_shapes(self.model.shapes(self.gap))
+            self._checker_gap = self.gap
+        return self._checker
 
-            self._checker = CollisionWorld(self.model.names)
-        findings = self._checker.check(
-            self.robot_polyhedra(), self.cell.objects,
-            carried=() if self.carried is None else (self.carried,), speed=self.speed,
-        )
-        now = {(f.kind, f.a, f.b) for f in findings}
+    def _frames_at(self, joints: Sequence[float]) -> np.ndarray:
+        """Link frames in world coordinates, the last two poses' kept (a step's two ends)."""
+        key = tuple(joints)
+        for known, base, frames in self._frames_cache:
+            if known == key and base is self.base:
+                return frames
+        # the base frame as built (identity, no BASE given): skip a product that changes nothing
+        frames = self.model.link_frames(joints, None if self.base is self._home_base else self.base)
+        self._frames_cache = [(key, self.base, frames), *self._frames_cache[:1]]
+        return frames
+
+    def check_collisions(self, previous: Sequence[float] | None = None) -> Iterator[Event]:
+        """The thesis's coarse and fine checks at this pose; each finding is said as it starts.
+
+        With ``previous`` (the pose before, on the same path) the step between is checked too,
+        at substeps no longer than the thinnest part near the path (issue 13: a thin part
+        straddled by two consecutive poses is reported).
+        """
+        scene = self._collision_scene()
+        carried = () if self.carried is None else (self.carried,)
+        objects = self.cell.objects
+        frames = self._frames_at(self.joints)
+        findings = scene.check(frames, objects, carried, self.speed)
+        if previous is not None:
+            findings = self._swept(scene, previous, frames, carried) + findings
+        now: set[tuple[str, Party, Party]] = {(f.kind, f.a, f.b) for f in findings}
+        said: set[tuple[str, Party, Party]] = set()
         for finding in findings:
-            if (finding.kind, finding.a, finding.b) not in self._findings:
+            key = (finding.kind, finding.a, finding.b)
+            if key not in self._findings and key not in said:
+                said.add(key)
                 yield finding.event()
         self._findings = now
+
+    def _swept(self, scene: RobotScene, previous: Sequence[float], frames: np.ndarray,
+               carried: tuple[int, ...]) -> list[Finding]:
+        """Findings at the substeps between ``previous`` and the pose now (none if one step will do)."""
+        n = scene.substeps(self._frames_at(previous), frames, self.cell.objects, carried)
+        if n <= 1:
+            return []
+        here = self.joints
+        q0, q1 = np.asarray(previous, dtype=float), np.asarray(here, dtype=float)
+        found: list[Finding] = []
+        try:
+            for step in range(1, n):
+                self.joints = [float(v) for v in q0 + (q1 - q0) * (step / n)]
+                self._follow_clamp()
+                found += scene.check(self.model.link_frames(self.joints, self.base),
+                                     self.cell.objects, carried, self.speed)
+        finally:
+            self.joints = here
+            self._follow_clamp()
+        return found
 

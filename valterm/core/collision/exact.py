@@ -12,16 +12,16 @@ stationary ones) collided against each other; the pairs of moving polyhedra (rob
 against robot link) are few and go straight to ``fcl.collide`` after a numpy box test.
 Every query gets a fresh ``CollisionRequest``/``CollisionResult`` (fcl accumulates results).
 
-Reports "collides" only, never "near". Unlike the 1985 edge-through-face check it sees a
-polyhedron wholly inside another. Exact touching (a shared face, edge or corner) is not a
+Reports "collides" only, never "near". Like the thesis check with its containment test, it
+sees a polyhedron wholly inside another. Exact touching (a shared face, edge or corner) is not a
 collision for fcl either, but treat it as the tolerance band it is.
 """
 
 from __future__ import annotations
 
-from typing import Sequence
+from typing import Any, Sequence
 
-import fcl
+import fcl  # type: ignore[import-untyped]
 import numpy as np
 
 from valterm.core.cell.polyhedron import Polyhedron
@@ -67,7 +67,8 @@ def distance(a: Polyhedron, b: Polyhedron) -> float:
 def _frames(p0: np.ndarray, p1: np.ndarray, p2: np.ndarray) -> np.ndarray:
     """(n, 3, 3) orthonormal frames (columns) from three points each (Gram-Schmidt)."""
     def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-        return (a[:, :, None] * b[:, None, :]).reshape(-1, 9) @ _LEVI
+        product: np.ndarray = (a[:, :, None] * b[:, None, :]).reshape(-1, 9) @ _LEVI
+        return product
 
     e1 = p1 - p0
     e1 /= np.sqrt(np.einsum("ij,ij->i", e1, e1))[:, None]
@@ -85,8 +86,8 @@ class ExactChecker:
         self._ks: tuple[int, ...] | None = None
         self._objects: list[fcl.CollisionObject] = []
         self._index: dict[int, int] = {}
-        self._managers: dict[tuple[tuple[int, ...], tuple[int, ...]], tuple] = {}
-        self._plan: tuple | None = None  # pair bookkeeping for the last (moving, stationary) arrays
+        self._managers: dict[tuple[tuple[int, ...], tuple[int, ...]], tuple[Any, ...]] = {}
+        self._plan: tuple[Any, ...] | None = None  # pair bookkeeping for the last (moving, stationary) arrays
 
     # -- keeping fcl in step with the polyhedra ---------------------------------------------
     def _build(self, polys: Sequence[Polyhedron]) -> None:
@@ -94,8 +95,8 @@ class ExactChecker:
         counts = np.array([2 * k for k in self._ks], dtype=np.intp)
         self._starts = np.concatenate([[0], np.cumsum(counts)[:-1]]).astype(np.intp)
         self._counts = counts
-        self._objects = [None] * len(polys)  # type: ignore[list-item]
-        self._geoms: list[fcl.Convex] = [None] * len(polys)  # type: ignore[list-item]
+        self._objects = [None] * len(polys)
+        self._geoms: list[fcl.Convex] = [None] * len(polys)
         self._local: list[np.ndarray] = [np.zeros((0, 3))] * len(polys)
         self._base_frames = np.zeros((len(polys), 3, 3))
         self._index = {}
@@ -158,17 +159,17 @@ class ExactChecker:
             m_moving.update()
             m_still.update()
 
-    def _manager_pair(self, moving: tuple[int, ...], still: tuple[int, ...]) -> tuple:
+    def _manager_pair(self, moving: tuple[int, ...], still: tuple[int, ...]) -> tuple[Any, ...]:
         key = (moving, still)
         found = self._managers.get(key)
         if found is None:
-            found = []
+            built = []
             for group in key:
                 m = fcl.DynamicAABBTreeCollisionManager()
                 m.registerObjects([self._objects[i] for i in group])
                 m.setup()
-                found.append(m)
-            found = self._managers[key] = tuple(found)
+                built.append(m)
+            found = self._managers[key] = tuple(built)
         return found
 
     # -- the check --------------------------------------------------------------------------
@@ -204,8 +205,8 @@ class ExactChecker:
             v = self._last
             lo = np.minimum.reduceat(v, self._starts, axis=0)
             hi = np.maximum.reduceat(v, self._starts, axis=0)
-            a, b = moving[rest], stationary[rest]
-            overlap = np.all((lo[a] <= hi[b]) & (lo[b] <= hi[a]), axis=1)
+            ma, sb = moving[rest], stationary[rest]
+            overlap = np.all((lo[ma] <= hi[sb]) & (lo[sb] <= hi[ma]), axis=1)
             for n in rest[overlap]:
                 ok = fcl.collide(self._objects[moving[n]], self._objects[stationary[n]],
                                  fcl.CollisionRequest(), fcl.CollisionResult())
@@ -218,4 +219,100 @@ class ExactChecker:
         codes = np.where(self.colliding(polys, moving, stationary), COLLIDES, CLEAR).astype(np.int8)
         if coarse_only is not None:
             codes[coarse_only] = CLEAR
+        return codes
+
+
+class FrameExact:
+    """python-fcl fed by link frames: link objects built once in their own frames and moved by
+    ``setTransform``; the free parts built once into one AABB tree that never updates; the
+    links in a second tree, collided against it (fcl's broad phase picks the nearby pairs).
+    Carried parts (rebuilt each pose: they move) and link-link pairs go pair by pair."""
+
+    def __init__(self) -> None:
+        self._links: list[fcl.CollisionObject] = []
+        self._link_centres = np.zeros((0, 3))
+        self._links_tree: fcl.DynamicAABBTreeCollisionManager | None = None
+        self._parts_key: tuple[object, ...] | None = None
+        self._parts_tree: fcl.DynamicAABBTreeCollisionManager | None = None
+        self._index: dict[int, tuple[str, int]] = {}
+
+    def set_shapes(self, local: Sequence[np.ndarray], owners: np.ndarray) -> None:
+        """Link shapes (2k, 3) in their frames; ``owners`` (links,) the frame of each."""
+        self._owners = np.asarray(owners, dtype=np.intp)
+        self._links, centres = [], []
+        self._geoms: list[fcl.Convex] = []
+        self._index = {}
+        self._parts_key = None
+        for i, shape in enumerate(local):
+            poly = Polyhedron(shape)
+            c = poly.centre
+            geom = convex(poly, c)
+            obj = fcl.CollisionObject(geom, fcl.Transform(np.eye(3), c))
+            self._links.append(obj)
+            self._geoms.append(geom)          # fcl reports contacts by geometry: keep them alive
+            self._index[id(geom)] = ("link", i)
+            centres.append(c)
+        self._link_centres = np.array(centres)
+        self._links_tree = fcl.DynamicAABBTreeCollisionManager()
+        self._links_tree.registerObjects(self._links)
+        self._links_tree.setup()
+
+    def _parts(self, objects: Sequence[Polyhedron], free: Sequence[int]) -> None:
+        key = (tuple(free), *(objects[n - 1].vertices for n in free))
+        old = self._parts_key
+        if old is not None and len(old) == len(key) and old[0] == key[0] and all(
+                a is b for a, b in zip(old[1:], key[1:])):
+            return
+        self._index = {k: v for k, v in self._index.items() if v[0] == "link"}
+        objs, geoms = [], []
+        for position, n in enumerate(free):
+            p = objects[n - 1]
+            geom = convex(p)
+            obj = fcl.CollisionObject(geom, fcl.Transform(np.eye(3), p.centre))
+            self._index[id(geom)] = ("part", position)
+            objs.append(obj)
+            geoms.append(geom)
+        tree = fcl.DynamicAABBTreeCollisionManager()
+        tree.registerObjects(objs)
+        tree.setup()
+        self._parts_tree, self._parts_key, self._part_objects, self._part_geoms = tree, key, objs, geoms
+
+    def codes(self, frames: np.ndarray, objects: Sequence[Polyhedron], free: Sequence[int],
+              carried: Sequence[int], n_pairs: int, link_pairs: dict[tuple[int, int], int],
+              boxes: tuple[np.ndarray, np.ndarray]) -> np.ndarray:
+        """COLLIDES/CLEAR per pair, in ``CollisionWorld.pairs`` order (rules 1, 2, 3)."""
+        self._parts(objects, free)
+        assert self._links_tree is not None and self._parts_tree is not None
+        f = frames[self._owners]
+        rot = f[:, :3, :3]
+        centres = np.einsum("lij,lj->li", rot, self._link_centres) + f[:, :3, 3]
+        for obj, r, t in zip(self._links, rot, centres):
+            obj.setTransform(fcl.Transform(r, t))
+        self._links_tree.update()
+        codes = np.zeros(n_pairs, dtype=np.int8)
+        n_free, nl = len(free), len(self._links)
+        if n_free:
+            data = fcl.CollisionData(fcl.CollisionRequest(num_max_contacts=1 << 30), fcl.CollisionResult())
+            self._links_tree.collide(self._parts_tree, data, fcl.defaultCollisionCallback)
+            for contact in data.result.contacts:
+                a = self._index.get(id(contact.o1))
+                b = self._index.get(id(contact.o2))
+                if a is None or b is None or a[0] == b[0]:
+                    continue
+                link, part = (a[1], b[1]) if a[0] == "link" else (b[1], a[1])
+                codes[link * n_free + part] = COLLIDES
+            for row, c in enumerate(carried):           # a carried part moves: built as it is now
+                held = objects[c - 1]
+                obj = fcl.CollisionObject(convex(held), fcl.Transform(np.eye(3), held.centre))
+                for part, other in enumerate(self._part_objects):
+                    if fcl.collide(obj, other, fcl.CollisionRequest(), fcl.CollisionResult()):
+                        codes[(nl + row) * n_free + part] = COLLIDES
+        if link_pairs:                                  # robot link against robot link
+            lo, hi = boxes
+            ij = np.array(list(link_pairs), dtype=np.intp)
+            i, j = ij[:, 0], ij[:, 1]
+            overlap = np.all((lo[i] <= hi[j]) & (lo[j] <= hi[i]), axis=1)
+            for a, b in ij[overlap].tolist():
+                if fcl.collide(self._links[a], self._links[b], fcl.CollisionRequest(), fcl.CollisionResult()):
+                    codes[link_pairs[(a, b)]] = COLLIDES
         return codes

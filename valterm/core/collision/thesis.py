@@ -20,8 +20,8 @@ Conventions chosen here (documented because the thesis leaves them open):
   possibility of Fig. 2-14), is clear; a real crossing always has other, non-parallel edges.
 * The area test accepts a point on the polygon's boundary (relative tolerance ``AREA_TOL``).
 * Blind spot of the 1985 method: a polyhedron wholly inside another has no edge crossing any
-  face, so the fine check says "clear" (the pair is still "near"). The exact checker
-  (``valterm.core.collision.exact``) reports that case; the agreement tests detect it explicitly.
+  face. Added here (issue 13): the fine check also asks whether either centre lies strictly
+  inside the other polyhedron (``_contained``), so that case collides, as fcl says too.
 
 Every step works on whole arrays: the coarse test of all pairs is one numpy expression and the
 fine test of all near pairs (both directions) is one batch; only the loop over the (few)
@@ -100,6 +100,10 @@ class Scene:
     radii: np.ndarray      # (N,)
     mid: np.ndarray        # (N, 3) middle of the extreme box
     half: np.ndarray       # (N, 3) half its size
+    # face planes (unit normal (N, F, 3), offset (N, F), twice the area (N, F)) when kept
+    # up to date by the owner (``valterm.core.collision.frames``); else computed per pair
+    planes: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
+    stale: np.ndarray | None = None   # (N,) bool: planes of these polyhedra moved, not kept
 
     @classmethod
     def of(cls, polys: Sequence[Polyhedron]) -> "Scene":
@@ -117,11 +121,13 @@ class Scene:
 
     @property
     def lo(self) -> np.ndarray:
-        return self.mid - self.half
+        lo: np.ndarray = self.mid - self.half
+        return lo
 
     @property
     def hi(self) -> np.ndarray:
-        return self.mid + self.half
+        hi: np.ndarray = self.mid + self.half
+        return hi
 
 
 # cross products as one matmul: (a outer b) flattened to 9, times the Levi-Civita symbol
@@ -134,11 +140,13 @@ for _i, _j, _k in ((0, 1, 2), (1, 2, 0), (2, 0, 1)):
 @lru_cache(maxsize=16)
 def _levi_summed(m: int) -> np.ndarray:
     """Levi-Civita stacked m times: the matmul also sums the m cross products (Newell)."""
-    return np.tile(_LEVI, (m, 1))
+    tiled: np.ndarray = np.tile(_LEVI, (m, 1))
+    return tiled
 
 
 def _outer(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    return (a[..., :, None] * b[..., None, :]).reshape(*a.shape[:-1], 9)
+    outer: np.ndarray = (a[..., :, None] * b[..., None, :]).reshape(*a.shape[:-1], 9)
+    return outer
 
 
 # -- the two checks ----------------------------------------------------------------------------
@@ -147,11 +155,42 @@ def coarse(scene: Scene, moving: np.ndarray, stationary: np.ndarray, grow: float
     """Boolean per pair: is the moving centre inside the stationary box grown by radius + margin?"""
     gap = np.abs(scene.centres.take(moving, axis=0) - scene.mid.take(stationary, axis=0))
     gap -= scene.half.take(stationary, axis=0)
-    return gap.max(axis=1) <= scene.radii.take(moving) + grow
+    near: np.ndarray = gap.max(axis=1) <= scene.radii.take(moving) + grow
+    return near
+
+
+def face_planes(vertices: np.ndarray, face_idx: np.ndarray, face_next: np.ndarray
+                ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Unit normal, offset and twice the area of every face (Newell), for (P, F, M) face indices."""
+    poly = vertices[face_idx]
+    nxt = vertices[face_next]
+    pn, f, m = poly.shape[0], poly.shape[1], poly.shape[2]
+    # Newell's vector area, sum of v_i x v_i+1: twice the area times the unit normal
+    area2 = _outer(poly, nxt).reshape(pn, f, 9 * m) @ _levi_summed(m)           # (P, F, 3)
+    size = np.sqrt(np.einsum("nfk,nfk->nf", area2, area2))                    # 2 * area
+    unit = area2 / np.where(size > 0, size, 1.0)[..., None]
+    off = np.einsum("nfk,nfk->nf", poly[:, :, 0], unit)
+    return unit, off, size
+
+
+def _kept_planes(scene: Scene, dst: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The face planes of ``dst`` from the scene's kept ones, the moved polyhedra's computed now."""
+    assert scene.planes is not None
+    unit, off, size = (x.take(dst, axis=0) for x in scene.planes)
+    if scene.stale is not None:
+        rows = np.flatnonzero(scene.stale.take(dst))
+        if len(rows):
+            which, back = np.unique(dst.take(rows), return_inverse=True)
+            lay = scene.layout
+            u, o, z = face_planes(scene.vertices, lay.face_idx.take(which, axis=0),
+                                  lay.face_next.take(which, axis=0))
+            unit[rows], off[rows], size[rows] = u[back], o[back], z[back]
+    return unit, off, size
 
 
 def fine(scene: Scene, a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Boolean per pair (a[i], b[i]): does an edge of one cross a face polygon of the other?"""
+    """Boolean per pair (a[i], b[i]): does an edge of one cross a face polygon of the other,
+    or does one lie wholly inside the other (its centre inside)?"""
     n = len(a)
     if n == 0:
         return np.zeros(0, dtype=bool)
@@ -159,19 +198,18 @@ def fine(scene: Scene, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     src = np.concatenate([a, b])    # whose edges
     dst = np.concatenate([b, a])    # whose faces
     seg = v[lay.edge_idx.take(src, axis=0)]                 # (2n, E, 2, 3)
-    poly = v[lay.face_idx.take(dst, axis=0)]                # (2n, F, M, 3)
-    nxt = v[lay.face_next.take(dst, axis=0)]
-    pn, e, f, m = poly.shape[0], seg.shape[1], poly.shape[1], poly.shape[2]
-    # Newell's vector area, sum of v_i x v_i+1: twice the area times the unit normal
-    area2 = _outer(poly, nxt).reshape(pn, f, 9 * m) @ _levi_summed(m)           # (2n, F, 3)
-    size = np.sqrt(np.einsum("nfk,nfk->nf", area2, area2))                    # 2 * area
-    unit = area2 / np.where(size > 0, size, 1.0)[..., None]
-    off = np.einsum("nfk,nfk->nf", poly[:, :, 0], unit)
+    faces = lay.face_idx.take(dst, axis=0)                  # (2n, F, M)
+    if scene.planes is None:
+        unit, off, size = face_planes(v, faces, lay.face_next.take(dst, axis=0))
+    else:
+        unit, off, size = _kept_planes(scene, dst)
+    pn, e, f, m = faces.shape[0], seg.shape[1], faces.shape[1], faces.shape[2]
     # signed distances of both ends of every edge from every face plane: one batched matmul
     s = (seg.reshape(pn, 2 * e, 3) @ unit.transpose(0, 2, 1)).reshape(pn, e, 2, f) - off[:, None, None, :]
     s0, s1 = s[:, :, 0], s[:, :, 1]
     crossing = (np.minimum(s0, s1) < -EPS) & (np.maximum(s0, s1) > EPS)
-    hit = np.zeros(n, dtype=bool)
+    contained = _contained(scene.centres, src, dst, unit, off, size)
+    hit: np.ndarray = contained[:n] | contained[n:]
     cand = np.flatnonzero(crossing)                  # flat (pair, edge, face) candidates
     if len(cand) == 0:
         return hit
@@ -182,12 +220,28 @@ def fine(scene: Scene, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     a0 = s0.take(cand)
     ends = seg.reshape(pn * e, 2, 3).take(edge, axis=0)
     x = ends[:, :1] + (a0 / (a0 - s1.take(cand)))[:, None, None] * (ends[:, 1:] - ends[:, :1])
-    tri = _outer(poly.reshape(pn * f, m, 3).take(face, axis=0) - x,
-                 nxt.reshape(pn * f, m, 3).take(face, axis=0) - x) @ _LEVI        # (c, M, 3)
+    corners = faces.reshape(pn * f, m).take(face, axis=0)
+    following = lay.face_next.take(dst, axis=0).reshape(pn * f, m).take(face, axis=0)
+    tri = _outer(v[corners] - x, v[following] - x) @ _LEVI                     # (c, M, 3)
     tri_sum = np.sqrt(np.einsum("cmk,cmk->cm", tri, tri)).sum(axis=1)
     inside = tri_sum <= size.take(face) * (1.0 + AREA_TOL)
     hit[pair[inside] % n] = True
     return hit
+
+
+def _contained(centres: np.ndarray, src: np.ndarray, dst: np.ndarray, unit: np.ndarray,
+               off: np.ndarray, size: np.ndarray) -> np.ndarray:
+    """Per (src, dst): is src's centre strictly inside the convex dst (all its face planes)?
+
+    The containment test the 1985 edge-face check lacks: a polyhedron wholly inside another
+    crosses no face, but its centre lies inside the other. Faces are oriented by the side
+    dst's own centre is on, so the file's winding does not matter.
+    """
+    d_src = np.einsum("nfk,nk->nf", unit, centres.take(src, axis=0)) - off
+    d_dst = np.einsum("nfk,nk->nf", unit, centres.take(dst, axis=0)) - off
+    inner = d_src * np.sign(d_dst) > EPS
+    result = np.asarray(np.where(size > 0, inner, True).all(axis=1), dtype=bool)
+    return result
 
 
 def check_pairs(scene: Scene, moving: np.ndarray, stationary: np.ndarray, grow: float,

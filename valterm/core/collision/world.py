@@ -148,7 +148,10 @@ class CollisionWorld:
         b: list[Party] = []
 
         def add(i: int, j: int, pa: Party, pb: Party) -> None:
-            mv.append(i), st.append(j), a.append(pa), b.append(pb)
+            mv.append(i)
+            st.append(j)
+            a.append(pa)
+            b.append(pb)
 
         for i, label in enumerate(self.labels):                 # 1. links x objects
             for n in free:
@@ -173,6 +176,10 @@ class CollisionWorld:
         if len(pairs.moving) == 0:
             return []
         codes = self.checker.check([*links, *objects], pairs.moving, pairs.stationary, margin(speed))
+        return self.findings(pairs, codes)
+
+    def findings(self, pairs: _Pairs, codes: np.ndarray) -> list[Finding]:
+        """The findings of a step from the kind code of each pair, in the stable order."""
         found: list[Finding] = []
         seen: set[Finding] = set()
         for p in np.nonzero(codes)[0]:
@@ -185,7 +192,7 @@ class CollisionWorld:
         return found
 
 
-_WORLDS: dict[tuple, CollisionWorld] = {}
+_WORLDS: dict[tuple[object, ...], CollisionWorld] = {}
 
 
 def check_scene(links: Sequence[tuple[str, Polyhedron]], objects: Sequence[Polyhedron],

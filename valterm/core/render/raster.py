@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from functools import lru_cache
+from functools import cached_property, lru_cache
 from typing import Iterable, Sequence
 
 import numpy as np
@@ -121,7 +121,8 @@ class ViewTransform:
         self.rotation = np.eye(3)
         return self.fit(self.home_bounds)
 
-    def fit(self, bounds: tuple[Sequence[float], Sequence[float]], margin: float = 0.04) -> "ViewTransform":
+    def fit(self, bounds: tuple[Sequence[float] | np.ndarray, Sequence[float] | np.ndarray],
+            margin: float = 0.04) -> "ViewTransform":
         """Centre and size the view on a world box (lo, hi) as seen with the current rotation."""
         lo, hi = (np.asarray(b, dtype=float) for b in bounds)
         self.home_bounds = (lo.copy(), hi.copy())
@@ -145,7 +146,8 @@ class ViewTransform:
 
     def depth_axis(self) -> np.ndarray:
         """World direction that points at the viewer (Z_s after the view rotation)."""
-        return (self.rotation @ WORLD_TO_SCS)[2]
+        axis: np.ndarray = (self.rotation @ WORLD_TO_SCS)[2]
+        return axis
 
     def key(self) -> bytes:
         """A value that changes whenever the picture would (for redraw decisions)."""
@@ -220,6 +222,9 @@ class Scene:
     index: _Index
     lines: np.ndarray  # (L, 2, 3) world mm
     line_colours: np.ndarray  # (L,)
+    # what does not move (the cell's parts), drawn before everything here: rasterised once
+    # per view and size and kept (see ``rasterize``); build it once and pass the same object
+    background: "Scene | None" = None
 
     @classmethod
     def build(
@@ -227,25 +232,32 @@ class Scene:
         items: Iterable[tuple[Polyhedron, int]],
         lines: np.ndarray | Sequence[Sequence[Sequence[float]]] | None = None,
         line_colours: Sequence[int] | int = LED_COLOUR,
+        background: "Scene | None" = None,
     ) -> "Scene":
-        """``items``: (polyhedron, colour index) pairs in drawing order; ``lines``: (L, 2, 3)."""
+        """``items``: (polyhedron, colour index) pairs in drawing order; ``lines``: (L, 2, 3);
+        ``background``: a static scene drawn first (its own lines and background ignored)."""
         items = list(items)
         polys = [p for p, _ in items]
         vertices = np.concatenate([p.vertices for p in polys]) if polys else np.zeros((0, 3))
         colours = np.array([c for _, c in items], dtype=np.uint8)
         seg = np.zeros((0, 2, 3)) if lines is None else np.asarray(lines, dtype=float).reshape(-1, 2, 3)
         lc = np.broadcast_to(np.asarray(line_colours, dtype=np.uint8), (len(seg),)).copy()
-        return cls(vertices, colours, _index(tuple(p.k for p in polys)), seg, lc)
+        return cls(vertices, colours, _index(tuple(p.k for p in polys)), seg, lc, background)
 
     @property
     def n_polyhedra(self) -> int:
         return len(self.colours)
 
     def bounds(self) -> tuple[np.ndarray, np.ndarray]:
-        pts = np.concatenate([self.vertices, self.lines.reshape(-1, 3)])
+        back = self.background.vertices if self.background is not None else np.zeros((0, 3))
+        pts = np.concatenate([back, self.vertices, self.lines.reshape(-1, 3)])
         if len(pts) == 0:
             return DEFAULT_BOUNDS
         return pts.min(axis=0), pts.max(axis=0)
+
+    @cached_property
+    def _normals(self) -> np.ndarray:
+        return self.face_normals()
 
     def face_normals(self) -> np.ndarray:
         """(F, 3) outward unit normals of every face, Newell's method on all faces at once."""
@@ -271,7 +283,8 @@ class Scene:
 
     def visible_faces(self, view: ViewTransform) -> np.ndarray:
         """(F,) bool: front faces (transformed normal Z_s >= 0; edge-on faces count as front)."""
-        return self.face_normals() @ view.depth_axis() >= -1e-9
+        visible: np.ndarray = self._normals @ view.depth_axis() >= -1e-9   # normals kept per scene
+        return visible
 
     def segments(self, view: ViewTransform, back_faces: bool) -> tuple[np.ndarray, np.ndarray]:
         """World segments to draw, (S, 2, 3), and the priority (item number + 1) of each.
@@ -317,7 +330,7 @@ class Frame:
         return int(self.chars.shape[0])
 
     def row_text(self, y: int) -> str:
-        return self.chars[y].astype("<u4").tobytes().decode("utf-32-le")
+        return str(self.chars[y].astype("<u4").tobytes().decode("utf-32-le"))
 
     def lines(self) -> list[str]:
         return [self.row_text(y) for y in range(self.height)]
@@ -397,6 +410,102 @@ def _clip(a: np.ndarray, b: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.
     return a + t0[:, None] * d, a + t1[:, None] * d, keep
 
 
+def _to_dots(view: ViewTransform, wd: int, hd: int, dot_aspect: float
+             ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The view's affine map and the view-mm -> dot map (to_dots, centre) for this canvas."""
+    a_mat, b_vec = view.affine()
+    half = view.half_extent
+    assert half is not None
+    ppm = min(wd / (2 * half[0]), hd * dot_aspect / (2 * half[1]))
+    to_dots = np.array([[ppm, 0.0], [0.0, -ppm / dot_aspect]])
+    return a_mat, b_vec, to_dots, np.array([wd / 2, hd / 2])
+
+
+def _samples(segs: np.ndarray, prio: np.ndarray, maps: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray],
+             w: int, h: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The dots that world segments (S, 2, 3) light: per sample its cell (flat index), its
+    braille bit and the priority of its segment, in drawing order."""
+    wd, hd = 2 * w, 4 * h
+    empty = np.zeros(0, dtype=np.intp)
+    if len(segs) == 0:
+        return empty, empty.astype(np.uint8), empty
+    a_mat, b_vec, to_dots, centre = maps
+    # world -> view mm -> continuous dot coordinates, every endpoint in one product
+    flat = segs.reshape(-1, 3) @ a_mat[:2].T + b_vec[:2]
+    pts = (flat @ to_dots.T + centre).reshape(-1, 2, 2)
+    hi = np.array([wd - 1e-6, hd - 1e-6])
+    if pts.min() >= 0.0 and (pts.reshape(-1, 2) <= hi).all():
+        a, p = pts[:, 0], prio                  # all inside (the usual frame): nothing to clip
+        d = (a + (pts[:, 1] - a)) - a           # what clipping with t = 0..1 would give
+        clipped = False
+    else:
+        clipped = True
+        a, b, keep = _clip(pts[:, 0], pts[:, 1], hi)
+        a, b, p = a[keep], b[keep], prio[keep]
+        d = b - a
+    # samples per edge from its length in dots: consecutive samples <= 1 dot apart
+    n = np.ceil(np.abs(d).max(axis=1)).astype(np.intp) + 1
+    total = int(n.sum())
+    if not total:
+        return empty, empty.astype(np.uint8), empty
+    starts = np.cumsum(n) - n
+    t = (np.arange(total) - np.repeat(starts, n)) / np.repeat(np.maximum(n - 1, 1), n)
+    xy = np.repeat(a, n, axis=0) + t[:, None] * np.repeat(d, n, axis=0)
+    xi = xy.astype(np.intp)
+    if clipped:      # inside, samples lie between two in-range ends: no clamping needed
+        np.clip(xi, 0, np.array([wd - 1, hd - 1]), out=xi)
+    x, y = xi[:, 0], xi[:, 1]
+    return (y >> 2) * w + (x >> 1), _BITS.take(((y & 3) << 1) | (x & 1)), np.repeat(p, n)
+
+
+_BITS = BRAILLE_WEIGHTS.ravel()   # the bit of dot (row, col) at 2 * row + col
+_BACKGROUNDS: dict[tuple[int, bytes, int, int, bool, float], tuple[Scene, np.ndarray, np.ndarray]] = {}
+
+
+def _background(scene: Scene, view: ViewTransform, w: int, h: int, back_faces: bool,
+                dot_aspect: float) -> tuple[np.ndarray, np.ndarray]:
+    """The static scene's braille codes and colours per cell for this view and size (flat),
+    rasterised once and kept."""
+    key = (id(scene), view.key(), w, h, back_faces, dot_aspect)
+    found = _BACKGROUNDS.get(key)
+    if found is not None and found[0] is scene:
+        return found[1], found[2]
+    segs, prio = scene.segments(view, back_faces)
+    polys = len(prio) - len(scene.lines)
+    cells, bits, owners = _samples(segs[:polys], prio[:polys], _to_dots(view, 2 * w, 4 * h, dot_aspect), w, h)
+    codes = np.zeros(h * w, dtype=np.uint8)
+    np.bitwise_or.at(codes, cells, bits)
+    colours = np.zeros(h * w, dtype=np.uint8)
+    colours[cells] = scene.colours[owners - 1]     # samples in priority order: the last wins
+    if len(_BACKGROUNDS) >= 8:          # a few views and sizes (the app, a hardcopy, a bench)
+        _BACKGROUNDS.pop(next(iter(_BACKGROUNDS)))
+    _BACKGROUNDS[key] = (scene, codes, colours)
+    return codes, colours
+
+
+def _chars(codes: np.ndarray, ascii: bool) -> np.ndarray:
+    """Character per braille pattern: the U+2800 block (blank for none), or the ASCII stand-in."""
+    if ascii:
+        chars: np.ndarray = ASCII_TABLE[codes]
+        return chars
+    return np.where(codes > 0, BRAILLE_BASE + codes.astype(np.uint32), np.uint32(0x20)).astype(np.uint32)
+
+
+_STATIC_CHARS: dict[tuple[int, bool], tuple[np.ndarray, np.ndarray]] = {}
+
+
+def _static_chars(scene: Scene, codes: np.ndarray, ascii: bool) -> np.ndarray:
+    """The background's characters, kept with the codes array they were made from."""
+    found = _STATIC_CHARS.get((id(codes), ascii))
+    if found is not None and found[0] is codes:
+        return found[1]
+    if len(_STATIC_CHARS) >= 16:
+        _STATIC_CHARS.pop(next(iter(_STATIC_CHARS)))
+    chars = _chars(codes, ascii)
+    _STATIC_CHARS[(id(codes), ascii)] = (codes, chars)
+    return chars
+
+
 def rasterize(
     scene: Scene,
     view: ViewTransform,
@@ -410,57 +519,40 @@ def rasterize(
     """Draw ``scene`` into a ``width_cells`` x ``height_cells`` frame.
 
     ``dot_aspect`` is a braille dot's height over its width (1.0 for the usual 1:2 cell);
-    the same dot grid backs the ASCII fallback so both keep the same proportions.
+    the same dot grid backs the ASCII fallback so both keep the same proportions. The
+    scene's ``background`` (the static cell) is rasterised once per view and size and
+    each frame draws only the scene's own items over a copy of it.
     """
     w, h = max(int(width_cells), 0), max(int(height_cells), 0)
     if w == 0 or h == 0:
         return empty_frame(w, h)
-    wd, hd = 2 * w, 4 * h
     segs, prio = scene.segments(view, back_faces)
     if axes:
         segs = np.concatenate([segs, frame_lines((0.0, 0.0, 0.0))])
         prio = np.concatenate([prio, np.full(3, scene.n_polyhedra + len(scene.lines) + 1)])
     palette = np.concatenate([scene.palette_indices(), [AXES_COLOUR]]).astype(np.uint8)
-
-    # world -> view mm -> continuous dot coordinates, every endpoint in one product
-    a_mat, b_vec = view.affine()
-    half = view.half_extent
-    assert half is not None
-    ppm = min(wd / (2 * half[0]), hd * dot_aspect / (2 * half[1]))
-    to_dots = np.array([[ppm, 0.0], [0.0, -ppm / dot_aspect]])
-    centre = np.array([wd / 2, hd / 2])
-    flat = segs.reshape(-1, 3) @ a_mat[:2].T + b_vec[:2]
-    pts = (flat @ to_dots.T + centre).reshape(-1, 2, 2)
-
-    dots = np.zeros(hd * wd, dtype=np.uint8)  # 1 = lit
-    owner_cell = np.zeros(h * w, dtype=np.uint16)  # priority of the cell's colour, 0 = dark
-    if len(pts):
-        a, b, keep = _clip(pts[:, 0], pts[:, 1], np.array([wd - 1e-6, hd - 1e-6]))
-        a, b, p = a[keep], b[keep], prio[keep]
-        d = b - a
-        # samples per edge from its length in dots: consecutive samples <= 1 dot apart
-        n = np.ceil(np.abs(d).max(axis=1)).astype(np.intp) + 1
-        total = int(n.sum())
-        if total:
-            owner = np.repeat(np.arange(len(n)), n)
-            starts = np.cumsum(n) - n
-            t = (np.arange(total) - starts[owner]) / np.maximum(n - 1, 1)[owner]
-            xy = a[owner] + t[:, None] * d[owner]
-            x = np.clip(xy[:, 0].astype(np.intp), 0, wd - 1)
-            y = np.clip(xy[:, 1].astype(np.intp), 0, hd - 1)
-            dots[y * wd + x] = 1
-            # samples come in priority order, so the later (higher) item's colour wins a cell
-            owner_cell[(y >> 2) * w + (x >> 1)] = p[owner]
-    g = dots.reshape(h, 4, w, 2)
-    codes = (g[:, 0, :, 0] | g[:, 1, :, 0] << 1 | g[:, 2, :, 0] << 2 | g[:, 0, :, 1] << 3
-             | g[:, 1, :, 1] << 4 | g[:, 2, :, 1] << 5 | g[:, 3, :, 0] << 6 | g[:, 3, :, 1] << 7)
-    colours = palette[owner_cell.reshape(h, w)]
-    if ascii:
-        chars = ASCII_TABLE[codes]
+    maps = _to_dots(view, 2 * w, 4 * h, dot_aspect)
+    cells, bits, owners = _samples(segs, prio, maps, w, h)
+    codes: np.ndarray
+    colours: np.ndarray
+    if scene.background is None:
+        codes = np.zeros(h * w, dtype=np.uint8)
+        colours = np.zeros(h * w, dtype=np.uint8)
+        np.bitwise_or.at(codes, cells, bits)
+        chars = _chars(codes, ascii)
     else:
-        chars = np.where(codes > 0, BRAILLE_BASE + codes.astype(np.uint32), np.uint32(0x20)).astype(np.uint32)
+        static_codes, static_colours = _background(scene.background, view, w, h, back_faces, dot_aspect)
+        codes, colours = static_codes.copy(), static_colours.copy()
+        np.bitwise_or.at(codes, cells, bits)
+        # only the cells this frame touched change character: the rest are the background's
+        chars = _static_chars(scene.background, static_codes, ascii).copy()
+        chars[cells] = _chars(codes.take(cells), ascii)
+    colours[cells] = palette[owners]     # samples come in priority order: the later item wins
+    chars = chars.reshape(h, w)
+    colours = colours.reshape(h, w)
 
     if axes:
+        a_mat, b_vec, to_dots, centre = maps
         _label_axes(chars, colours, a_mat, b_vec, to_dots, centre)
     return Frame(chars, colours)
 

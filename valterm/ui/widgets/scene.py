@@ -17,8 +17,7 @@ def simulator_scene(simulator, part_axes: int | None = None) -> Scene:  # type: 
     mode with AXES on)."""
     objects = simulator.cell.objects
     carried = simulator.carried
-    items = [(p, object_colour(i)) for i, p in enumerate(objects, start=1) if i != carried]
-    items += [(p, link_colour(i)) for i, p in enumerate(simulator.robot_polyhedra())]
+    items = [(p, link_colour(i)) for i, p in enumerate(simulator.robot_polyhedra())]
     if carried is not None and 1 <= carried <= len(objects):
         items.append((objects[carried - 1], object_colour(carried)))
     p0, p1 = simulator.model.led_segment(simulator.joints, simulator.gap, simulator.base)
@@ -28,4 +27,20 @@ def simulator_scene(simulator, part_axes: int | None = None) -> Scene:  # type: 
         frame = frame_lines(objects[part_axes - 1].reference, length=150.0)
         lines.extend(frame)
         colours.extend([LED_COLOUR] * 3)
-    return Scene.build(items, np.stack(lines), colours)
+    return Scene.build(items, np.stack(lines), colours, background=_cell_scene(objects, carried))
+
+
+_CELL: list[tuple[tuple[object, ...], Scene]] = []
+
+
+def _cell_scene(objects, carried) -> Scene:  # type: ignore[no-untyped-def]
+    """The parts that are not carried, as one static scene kept while none of them moves
+    (the rasteriser draws it once per view and size)."""
+    key = (carried, *(p.vertices for p in objects))
+    if _CELL:
+        (held, *arrays), scene = _CELL[0]
+        if held == carried and len(arrays) == len(objects) and all(a is p.vertices for a, p in zip(arrays, objects)):
+            return scene
+    scene = Scene.build((p, object_colour(i)) for i, p in enumerate(objects, start=1) if i != carried)
+    _CELL[:] = [(key, scene)]
+    return scene

@@ -1,0 +1,262 @@
+"""The scene's collision check fed straight from the robot's link frames (what the simulator has).
+
+``CollisionWorld.check`` takes polyhedra: the simulator used to build ten ``Polyhedron`` objects
+per pose and the check concatenated every part's vertices again. ``RobotScene`` keeps instead:
+
+* the link shapes in their own frames (fingers at the current gap), placed at each pose with
+  one einsum from the 4x4 link frames, written into a vertex array allocated once;
+* the parts' vertices, centres, radii and boxes, computed once and again only when a part is
+  moved (its vertex array replaced) - a carried part is re-placed every pose like a link;
+* a broad phase: the parts whose box, grown by the largest mover's radius and the margin,
+  reaches the box of the movers' centres. Only their pairs go to the coarse + fine check, so
+  the cost grows with the parts near the robot. The skipped pairs are exactly the ones the
+  coarse test would call clear, so the findings are those of ``CollisionWorld.check``.
+
+The same pair rules, kinds and message order as ``CollisionWorld`` (it is used for them).
+With ``checker="exact"`` python-fcl answers the pairs the broad phase keeps
+(``valterm.core.collision.exact.FrameExact``: link objects built once, moved by their frames).
+"""
+
+from __future__ import annotations
+
+import math
+import operator
+from typing import TYPE_CHECKING, Collection, Literal, Sequence
+
+import numpy as np
+
+from valterm.core.cell.polyhedron import Polyhedron
+from valterm.core.collision.thesis import Layout, Scene, check_pairs, face_planes, layout, margin
+from valterm.core.collision.world import CollisionWorld, Finding, _Pairs
+
+if TYPE_CHECKING:
+    from valterm.core.collision.exact import FrameExact
+
+
+def thickness(vertices: np.ndarray, k: int) -> float:
+    """The polyhedron's smallest width across its own faces (mm): how thin a part is."""
+    faces = np.asarray(topology_faces(k))
+    v = vertices
+    p = v[faces]                                                    # (F, 4, 3) side quads + caps
+    normal = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
+    size = np.linalg.norm(normal, axis=1)
+    normal = normal[size > 0] / size[size > 0, None]
+    spans = v @ normal.T
+    return float((spans.max(axis=0) - spans.min(axis=0)).min())
+
+
+def topology_faces(k: int) -> list[list[int]]:
+    """Three vertices of each face of an extruded polyhedron (caps, then side quads)."""
+    faces = [[0, 1, 2], [k, k + 1, k + 2]]
+    faces += [[i, (i + 1) % k, k + (i + 1) % k] for i in range(k)]
+    return faces
+
+
+class RobotScene:
+    """Collision check of robot links given as frames, against the parts of a work cell."""
+
+    # below this many mover x part pairs the coarse test of them all costs less than the
+    # broad phase that would pick among them (a few numpy calls either way)
+    broad_phase_from = 600
+
+    def __init__(self, labels: Sequence[str], owners: Sequence[int],
+                 checker: Literal["thesis", "exact"] = "thesis",
+                 near_with_collision: bool = False) -> None:
+        self.world = CollisionWorld(labels, near_with_collision=near_with_collision)
+        self.owners = np.asarray(owners, dtype=np.intp)
+        self.checker = checker
+        self._exact: FrameExact | None = None
+        self._local = np.zeros((0, 3))
+        self._link_ks: tuple[int, ...] = ()
+        self._owner_rows = np.zeros(0, dtype=np.intp)
+        self._parts: tuple[np.ndarray, ...] | None = None   # the part arrays the cache was built from
+        self._carried: tuple[int, ...] = ()
+        self._thin: dict[int, tuple[np.ndarray, float]] = {}
+        self._placed: list[tuple[np.ndarray, np.ndarray]] = []
+        self._thin_all: tuple[object, float] | None = None
+
+    # -- what is built once ----------------------------------------------------------------
+    def set_shapes(self, local: Sequence[np.ndarray]) -> None:
+        """The link shapes, each (2k, 3) in its link's frame (call again when the fingers move)."""
+        if len(local) != len(self.world.labels):
+            raise ValueError(f"expected {len(self.world.labels)} robot links, got {len(local)}")
+        self._local = np.concatenate(local)
+        self._link_ks = tuple(len(v) // 2 for v in local)
+        self._owner_rows = np.repeat(self.owners, [len(v) for v in local])
+        self._parts = None
+        if self.checker == "exact":
+            from valterm.core.collision.exact import FrameExact   # fcl only when asked for
+            self._exact = FrameExact()
+            self._exact.set_shapes(local, self.owners)
+
+    def _rebuild(self, objects: Sequence[Polyhedron], carried: tuple[int, ...]) -> None:
+        """Layout, vertex array and per-polyhedron figures for the parts where they are now."""
+        ks = self._link_ks + tuple(p.k for p in objects)
+        self._layout: Layout = layout(ks)
+        nl = len(self._link_ks)
+        self._nl_rows = int(self._layout.starts[nl]) if objects else len(self._local)
+        scene = Scene.of([Polyhedron(np.zeros((2 * k, 3))) for k in self._link_ks] + list(objects))
+        lay = self._layout
+        scene.planes = face_planes(scene.vertices, lay.face_idx, lay.face_next)
+        scene.stale = np.zeros(len(ks), dtype=bool)
+        self._scene = scene
+        self._parts = tuple(p.vertices for p in objects)
+        self._carried = carried
+        self._movers = np.array([*range(nl), *(nl + c - 1 for c in carried)], dtype=np.intp)
+        scene.stale[self._movers] = True
+        free = np.array([nl + n - 1 for n in range(1, len(objects) + 1) if n not in set(carried)], dtype=np.intp)
+        self._free = free
+        self._free_lo, self._free_hi = scene.mid[free] - scene.half[free], scene.mid[free] + scene.half[free]
+        self._carried_rows = [(nl + c - 1, slice(int(self._layout.starts[nl + c - 1]),
+                                                 int(self._layout.starts[nl + c - 1]) + 2 * objects[c - 1].k))
+                              for c in carried]
+
+    def _parts_changed(self, objects: Sequence[Polyhedron], carried: tuple[int, ...]) -> bool:
+        parts = self._parts
+        if parts is None or carried != self._carried or len(parts) != len(objects):
+            return True
+        now = [p.vertices for p in objects]
+        for c in carried:              # a carried part moves every pose: not part of the cache
+            now[c - 1] = parts[c - 1]
+        return not all(map(operator.is_, parts, now))
+
+    # -- each pose -----------------------------------------------------------------------------
+    def place(self, frames: np.ndarray) -> np.ndarray:
+        """World vertices of every link shape at these (links, 4, 4) frames, concatenated."""
+        f = frames[self._owner_rows]
+        placed: np.ndarray = np.einsum("vij,vj->vi", f[:, :3, :3], self._local) + f[:, :3, 3]
+        return placed
+
+    def _update(self, frames: np.ndarray, objects: Sequence[Polyhedron]) -> np.ndarray:
+        """Put links and carried parts where they are now; the indices of the moving polyhedra."""
+        s, lay = self._scene, self._layout
+        v = s.vertices
+        nl = len(self._link_ks)
+        placed = self.place(frames)
+        v[: self._nl_rows] = placed
+        self._placed = [(frames, placed), *self._placed[:1]]   # the last two poses, for substeps
+        runs = [(0, nl, 0, self._nl_rows)]
+        for i, rows in self._carried_rows:
+            v[rows] = objects[i - nl].vertices
+            runs.append((i, i + 1, rows.start, rows.stop))
+        for first, last, lo_row, hi_row in runs:     # the figures of the moved polyhedra only
+            part = v[lo_row:hi_row]
+            st = lay.starts[first:last] - lo_row
+            counts = lay.counts[first:last]
+            centres = np.add.reduceat(part, st, axis=0) / counts[:, None]
+            d = part - np.repeat(centres, counts, axis=0)
+            s.centres[first:last] = centres
+            s.radii[first:last] = np.sqrt(np.maximum.reduceat(np.einsum("ij,ij->i", d, d), st))
+            lo = np.minimum.reduceat(part, st, axis=0)
+            hi = np.maximum.reduceat(part, st, axis=0)
+            s.mid[first:last] = (lo + hi) * 0.5
+            s.half[first:last] = (hi - lo) * 0.5
+        return self._movers
+
+    def _candidates(self, movers: np.ndarray, grow: float) -> np.ndarray:
+        """Broad phase: positions among the free parts of those a mover could be near."""
+        s = self._scene
+        reach = float(s.radii[movers].max()) + grow
+        c = s.centres[movers]
+        cmin, cmax = c.min(axis=0) - reach, c.max(axis=0) + reach
+        return np.flatnonzero(np.all((self._free_lo <= cmax) & (self._free_hi >= cmin), axis=1))
+
+    def check(self, frames: np.ndarray, objects: Sequence[Polyhedron], carried: Collection[int] = (),
+              speed: float = 100.0) -> list[Finding]:
+        """One motion step: findings for the links at ``frames`` (links, 4, 4) and the parts."""
+        held = tuple(sorted(set(carried)))
+        if self._parts_changed(objects, held):
+            self._rebuild(objects, held)
+        world = self.world
+        pairs = world.pairs(len(objects), held)
+        if len(pairs.moving) == 0:
+            return []
+        movers = self._update(frames, objects)
+        if self.checker == "exact":
+            return world.findings(pairs, self._exact_codes(frames, objects, held, pairs))
+        grow = margin(speed)
+        n_free = len(self._free)
+        ruled = len(movers) * n_free                     # rules 1 and 2: movers x free parts
+        if n_free and ruled >= self.broad_phase_from:
+            near = self._candidates(movers, grow)
+            sel = np.concatenate([(np.arange(0, ruled, n_free)[:, None] + near).ravel(),
+                                  np.arange(ruled, len(pairs.moving))])
+        else:
+            sel = np.arange(len(pairs.moving))
+        codes = np.zeros(len(pairs.moving), dtype=np.int8)
+        if len(sel):
+            codes[sel] = check_pairs(self._scene, pairs.moving.take(sel), pairs.stationary.take(sel), grow)
+        return world.findings(pairs, codes)
+
+    def _exact_codes(self, frames: np.ndarray, objects: Sequence[Polyhedron], held: tuple[int, ...],
+                     pairs: _Pairs) -> np.ndarray:
+        """python-fcl on the same pairs (its own AABB trees are the broad phase)."""
+        assert self._exact is not None
+        nl = len(self._link_ks)
+        free = [n for n in range(1, len(objects) + 1) if n not in set(held)]
+        ruled = (nl + len(held)) * len(free)
+        link_pairs = {(int(i), int(j)): n for n, (i, j) in
+                      enumerate(zip(pairs.moving[ruled:], pairs.stationary[ruled:]), start=ruled)}
+        s = self._scene
+        codes: np.ndarray = self._exact.codes(frames, objects, free, held, len(pairs.moving), link_pairs,
+                                              (s.mid - s.half, s.mid + s.half))
+        return codes
+
+    # -- swept motion (issue 13) -----------------------------------------------------------------
+    def _width(self, p: Polyhedron) -> float:
+        """A part's thinnest width, cached with the vertex array it was measured on."""
+        found = self._thin.get(id(p.vertices))
+        if found is not None and found[0] is p.vertices:
+            return found[1]
+        if len(self._thin) > 4096:
+            self._thin.clear()
+        w = thickness(p.vertices, p.k)
+        self._thin[id(p.vertices)] = (p.vertices, w)
+        return w
+
+    def _placed_at(self, frames: np.ndarray) -> np.ndarray:
+        for known, placed in self._placed:
+            if known is frames:
+                return placed
+        return self.place(frames)
+
+    def _thinnest(self, objects: Sequence[Polyhedron]) -> float:
+        """The thinnest free part of the cached set (measured once per set of parts)."""
+        if self._thin_all is None or self._thin_all[0] is not self._parts:
+            held = set(self._carried)
+            widths = [self._width(p) for n, p in enumerate(objects, 1) if n not in held]
+            self._thin_all = (self._parts, min(widths, default=math.inf))
+        return self._thin_all[1]
+
+    def substeps(self, before: np.ndarray, after: np.ndarray, objects: Sequence[Polyhedron],
+                 carried: Collection[int] = ()) -> int:
+        """How many checks the step between link frames ``before`` and ``after`` needs.
+
+        No link vertex may move by more than the width of the thinnest part near its path
+        between two checks, or the step could pass through the part with both poses clear.
+        Call after ``check`` at ``after`` (it uses the parts' boxes cached there).
+        """
+        a, b = self._placed_at(before), self._placed_at(after)
+        moved = b - a
+        distance = float(np.sqrt(np.einsum("ij,ij->i", moved, moved).max())) if len(moved) else 0.0
+        if distance == 0.0 or self._parts is None or distance <= self._thinnest(objects):
+            return 1
+        held = set(carried)
+        numbers = [n for n in range(1, len(objects) + 1) if n not in held]
+        # the parts whose box meets the box of the path (grown by the step: joint paths bulge)
+        lo = np.minimum(a.min(axis=0), b.min(axis=0)) - distance
+        hi = np.maximum(a.max(axis=0), b.max(axis=0)) + distance
+        s, nl = self._scene, len(self._link_ks)
+        idx = np.asarray(numbers, dtype=np.intp) + nl - 1
+        box_lo, box_hi = s.mid[idx] - s.half[idx], s.mid[idx] + s.half[idx]
+        meet = np.flatnonzero(np.all((box_lo <= hi) & (box_hi >= lo), axis=1))
+        thin = min((self._width(objects[numbers[i] - 1]) for i in meet.tolist()), default=math.inf)
+        if distance <= thin:
+            return 1
+        return int(math.ceil(distance / max(thin, 1.0)))
+
+
+def _runs(idx: np.ndarray) -> list[np.ndarray]:
+    """Split sorted indices into runs of consecutive numbers."""
+    breaks = np.flatnonzero(np.diff(idx) != 1) + 1
+    return np.split(idx, breaks)
