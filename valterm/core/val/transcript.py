@@ -6,6 +6,7 @@ Shared by ``valterm run`` and anything else that prints a VAL-II session as text
 from __future__ import annotations
 
 from valterm.core.events import (
+    Breakpoint,
     Collision,
     Error,
     Event,
@@ -18,7 +19,9 @@ from valterm.core.events import (
     Release,
     Status,
     Step,
+    Trace,
     TypeOut,
+    Watch,
     Where,
 )
 
@@ -45,6 +48,29 @@ def error_line(error: Error) -> str:
     return f"*** {error.message}"
 
 
+def breakpoint_line(event: Breakpoint) -> str:
+    """Where the debugger paused: before a breakpoint's step, or after a single step."""
+    what = "BREAKPOINT" if event.reason == "BPT" else f"{event.reason}: PAUSED"
+    return f"{what} BEFORE {event.program} step {event.step}: {event.text.strip()}"
+
+
+def _number(value: float | None) -> str:
+    from valterm.core.val.builders import format_value
+
+    return "UNDEFINED" if value is None else format_value(value)
+
+
+def watch_line(event: Watch) -> str:
+    where = f"{event.program} step {event.step}" if event.program else "TYPED"
+    return f"WATCH {event.variable}: {_number(event.old)} -> {_number(event.new)} ({where})"
+
+
+def trace_line(event: Trace) -> str:
+    values = "  ".join(f"{name}={_number(value)}" for name, value in event.assigned)
+    line = f"TRACE {event.program:<9} {event.step:>3}  {event.text.strip()}"
+    return f"{line}   [{values}]" if values else line
+
+
 def event_lines(event: Event) -> list[str]:
     """What a transcript shows for one event (nothing for poses and motions)."""
     if isinstance(event, Step):
@@ -58,7 +84,13 @@ def event_lines(event: Event) -> list[str]:
     if isinstance(event, Where):
         return where_lines(event)
     if isinstance(event, Status):
-        return [event.text]
+        return [event.text, event.cycle_text]
+    if isinstance(event, Breakpoint):  # before Pause: it is one
+        return [breakpoint_line(event)]
+    if isinstance(event, Watch):
+        return [watch_line(event)]
+    if isinstance(event, Trace):
+        return [trace_line(event)]
     if isinstance(event, Pause):
         return [f"PAUSE {event.text}".rstrip()]
     if isinstance(event, (Near, Collision)):
