@@ -109,7 +109,7 @@ class Interpreter:
         self.hook: StepHook | None = None
         self.pass_end: Callable[[], Iterator[Event]] | None = None
         self.cycle = CycleClock()  # the robot's time since the last EXECUTE (STATUS shows it)
-        self.debugger = Debugger(self)
+        self.debugger: Debugger = Debugger(self)
         self._run: Run | None = None  # the pass being run (its CALL frames: call_depth)
         self.program = ""      # the program EXECUTE runs ("" when none)
         self.loops_total = 0
