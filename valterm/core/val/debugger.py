@@ -183,6 +183,8 @@ class Debugger:
         self._step, self._step_depth = kind, None
         self._attach()
         yield from interpreter.execute(name, 1, int(step_text.strip() or "0"))
+        if not interpreter.running:  # it could not start (or it ended): no step is pending
+            self.run_ended()
 
     def proceed(self) -> Iterator[Event]:
         if not self.interpreter.paused:

@@ -240,7 +240,7 @@ class Interpreter:
         if start_step <= 0:
             start = 0
         elif start is None:
-            yield Error(name, 0, f"PROGRAM {name} HAS NO STEP {start_step} THAT CAN RUN")
+            yield Error("", 0, f"PROGRAM {name} HAS NO STEP {start_step} THAT CAN RUN")
             return
         self.program, self.loops_total, self.loops_done = name, total, 0
         self._running, self._paused, self._abort = True, False, False
