@@ -14,8 +14,8 @@ when the pass ends.
 from __future__ import annotations
 
 import re
-from collections.abc import Iterator
-from typing import TYPE_CHECKING, Callable
+from collections.abc import Callable, Iterator
+from typing import TYPE_CHECKING
 
 from valterm.core.errors import ValtermError
 from valterm.core.events import Breakpoint, Error, Event, Message, Step, Trace, Watch
@@ -25,7 +25,7 @@ from valterm.core.val.parser import Statement
 if TYPE_CHECKING:
     from valterm.core.val.interpreter import Interpreter
 
-__all__ = ["DEBUG_COMMANDS", "Debugger", "DebugError"]
+__all__ = ["DEBUG_COMMANDS", "DebugError", "Debugger"]
 
 _NAME = re.compile(r"[A-Z][A-Z0-9]{0,8}")
 _BREAKPOINT = re.compile(r"(-?)\s*([A-Z][A-Z0-9]*)(?:\.DAT)?\s*,\s*(\d+)")
@@ -238,7 +238,7 @@ def _autoconfig(interpreter: Interpreter, text: str) -> Iterator[Event]:
         sim.autoconfig = text == "ON"
     elif text:
         raise DebugError(f"AUTOCONFIG {text}: EXPECTED AUTOCONFIG ON OR AUTOCONFIG OFF")
-    yield Message(f"AUTOCONFIG {'ON' if getattr(sim, 'autoconfig') else 'OFF'}")
+    yield Message(f"AUTOCONFIG {'ON' if sim.autoconfig else 'OFF'}")
 
 
 MonitorCommand = Callable[["Interpreter", Statement], Iterator[Event]]
