@@ -95,7 +95,7 @@ def run(args: argparse.Namespace, stdin: TextIO | None = None, stdout: TextIO | 
                     write(f". {text}")
                 monitor.line(text)
             except KeyboardInterrupt:
-                write("^C")
+                write("" if interactive else "^C")  # a terminal has shown ^C itself
                 monitor.interrupted()
     finally:
         signal.signal(signal.SIGINT, previous)
