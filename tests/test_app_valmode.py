@@ -6,17 +6,20 @@ import asyncio
 import math
 from pathlib import Path
 
-from textual.app import App
-
 from valterm.core.session import Session
+from valterm.ui.app import ValtermApp
 from valterm.ui.screens.editor import EditorScreen
 from valterm.ui.screens.valmode import ValModeScreen
 
 
-class Host(App[None]):
+class Host(ValtermApp):
+    """The app on a session, with no screen of its own: the test pushes VAL-II mode."""
+
     def __init__(self, root: Path) -> None:
-        super().__init__()
-        self.session = Session(root)
+        super().__init__(session=Session(root), motion_rate=math.inf)
+
+    def on_mount(self) -> None:
+        pass
 
 
 class Clock:
@@ -49,7 +52,7 @@ def test_editor_then_define_execute_abort_and_rerun(tmp_path: Path) -> None:
             await pilot.press("s", "e")
             await pilot.pause()
 
-            screen = ValModeScreen(rate=math.inf)
+            screen = ValModeScreen()
             await app.push_screen(screen)
             await pilot.pause()
             assert "VAL-II MENU" in str(screen.query_one("#val-menu").content)
@@ -81,27 +84,26 @@ def test_editor_then_define_execute_abort_and_rerun(tmp_path: Path) -> None:
             await typed(pilot, "EXEC PICK,1")
             text = "\n".join(screen.transcript)
             assert "GOING TO A" in text and "IT IS POSSIBLE TO GRASP THIS PART" in text
-            assert "   4. MOVE A" in screen.transcript
+            assert "PICK        4  MOVE A" in screen.transcript
             assert screen.simulator.carried is not None
 
             # now paced by a clock the test holds: CTRL-C stops after the current step
-            screen.rate = 20.0
-            screen.clock = clock
+            app.player.rate = 20.0
+            app.player.clock = clock
             await pilot.press("c")
             await pilot.press(*"EXEC PICK,5", "enter")
             assert screen.mode == "running"
             await pilot.press("ctrl+c")
             for _ in range(50):
                 clock.now += 1.0
-                screen._pump()
                 if screen.mode != "running":
                     break
-                await pilot.pause()
+                await pilot.pause(0.05)
             assert screen.mode == "after"
             assert any("ABORTED" in line for line in screen.transcript)
             assert not screen.interpreter.running
             # and it runs again
-            screen.rate = math.inf
+            app.player.rate = math.inf
             await pilot.press("c")
             await typed(pilot, "EXEC PICK,1")
             assert "PROGRAM PICK COMPLETED: 1 LOOP" in screen.transcript
@@ -119,7 +121,7 @@ def test_pause_hands_the_line_to_the_user(tmp_path: Path) -> None:
         (tmp_path / "ws").mkdir(parents=True, exist_ok=True)
         async with app.run_test(size=(140, 45)) as pilot:
             (app.session.workspace.root / "WAIT.DAT").write_text("    X=1\n    PAUSE\n    TYPE X=\n    STOP\n")
-            screen = ValModeScreen(rate=math.inf, show_menu=False)
+            screen = ValModeScreen(show_menu=False)
             await app.push_screen(screen)
             await pilot.pause()
             await typed(pilot, "EXEC WAIT")

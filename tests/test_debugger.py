@@ -47,7 +47,7 @@ def test_a_breakpoint_set_while_paused_stops_the_same_pass_even_inside_a_call(se
     mon.line("SSTEP MAIN")
     mon.line("BPT SUB,2")
     mon.line("SSTEP")  # over the CALL, but the breakpoint in SUB stops it first
-    assert out[-1] == "BREAKPOINT BEFORE SUB step 2: K=K+10"
+    assert out[-1] == "BREAKPOINT BEFORE SUB STEP 2: K=K+10"
     assert session.interpreter.call_depth == 1
     mon.line("PROCEED")
     assert out[-1] == "PROGRAM MAIN COMPLETED: 1 LOOP"
@@ -60,7 +60,7 @@ def test_ctrl_c_at_a_breakpoint_aborts_before_the_step_runs(session: Session) ->
     mon.line("EXECUTE MAIN")
     assert mon.paused and session.interpreter.variables["K"] == 11
     mon.abort()
-    assert out[-1] == "*** MAIN step 3: ABORTED"
+    assert out[-1] == "*** MAIN STEP 3: ABORTED"
     assert not mon.paused and not session.interpreter.running
     assert session.interpreter.variables["K"] == 11  # step 3 never ran
     assert mon.end() == 1
@@ -99,11 +99,11 @@ def test_a_single_step_left_pending_at_the_end_is_forgotten(session: Session) ->
 
 
 @pytest.mark.parametrize(("line", "message"), [
-    ("BPT MAIN", "*** BPT MAIN: EXPECTED BPT <program>,<step> OR BPT -<program>,<step>"),
+    ("BPT MAIN", "*** BPT MAIN: EXPECTED BPT <PROGRAM>,<STEP> OR BPT -<PROGRAM>,<STEP>"),
     ("BPT NOPE,1", "*** PROGRAM NOPE DOES NOT EXIST"),
     ("BPT SUB,1", "*** SUB STEP 1 CANNOT HAVE A BREAKPOINT (A COMMENT OR BLANK STEP)"),
     ("BPT SUB,9", "*** SUB STEP 9 CANNOT HAVE A BREAKPOINT (IT HAS 3 STEPS)"),
-    ("XSTEP", "*** NO PROGRAM IS PAUSED (XSTEP <program> STARTS ONE)"),
+    ("XSTEP", "*** NO PROGRAM IS PAUSED (XSTEP <PROGRAM> STARTS ONE)"),
     ("XSTEP MAIN,9", "*** PROGRAM MAIN HAS NO STEP 9 THAT CAN RUN"),
     ("WATCH 9X", "*** WATCH 9X: 9X IS NOT A VARIABLE NAME"),
     ("WATCH -K", "*** K IS NOT WATCHED"),

@@ -48,10 +48,10 @@ def test_a_breakpoint_stops_before_its_step_xstep_runs_exactly_it_proceed_comple
     assert after(out, "BPT PROCESS,8") == ["BREAKPOINT SET AT PROCESS STEP 8"]
     run = after(out, "EXECUTE PROCESS")
     assert steps(run, "PROCESS") == [3, 4, 5, 6, 7]  # steps 1-2 are comments
-    assert run[-1] == "BREAKPOINT BEFORE PROCESS step 8: MOVE A"
+    assert run[-1] == "BREAKPOINT BEFORE PROCESS STEP 8: MOVE A"
     stepped = after(out, "XSTEP")
     assert steps(stepped, "PROCESS") == [8]
-    assert stepped[-1] == "XSTEP: PAUSED BEFORE PROCESS step 9: CLOSEI 50"
+    assert stepped[-1] == "XSTEP: PAUSED BEFORE PROCESS STEP 9: CLOSEI 50"
     rest = after(out, "PROCEED")
     assert steps(rest, "PROCESS") == list(range(9, 36))
     assert rest[-1] == "PROGRAM PROCESS COMPLETED: 1 LOOP"
@@ -85,17 +85,17 @@ def test_sstep_runs_a_call_as_one_step_xstep_goes_into_it(
     status, out = monitor(monkeypatch, capsys, workspace, ["SSTEP MAIN", "SSTEP", "PROCEED"])
     assert status == 0
     first = after(out, "SSTEP MAIN")
-    assert steps(first, "MAIN") == [1] and first[-1] == "SSTEP: PAUSED BEFORE MAIN step 2: CALL SUB"
+    assert steps(first, "MAIN") == [1] and first[-1] == "SSTEP: PAUSED BEFORE MAIN STEP 2: CALL SUB"
     over = after(out, "SSTEP")
     assert steps(over, "MAIN") == [2] and steps(over, "SUB") == [1, 2, 3]
-    assert "K = 11" in over and over[-1] == "SSTEP: PAUSED BEFORE MAIN step 3: K=K+1"
+    assert "K = 11" in over and over[-1] == "SSTEP: PAUSED BEFORE MAIN STEP 3: K=K+1"
     assert after(out, "PROCEED")[-2:] == ["K = 12", "PROGRAM MAIN COMPLETED: 1 LOOP"]
 
     status, out = monitor(monkeypatch, capsys, workspace, ["XSTEP MAIN,2", "XSTEP", "XSTEP", "PROCEED"])
     assert status == 0
-    assert after(out, "XSTEP MAIN,2")[-1] == "XSTEP: PAUSED BEFORE SUB step 1: K=K+10"  # started at step 2
+    assert after(out, "XSTEP MAIN,2")[-1] == "XSTEP: PAUSED BEFORE SUB STEP 1: K=K+10"  # started at step 2
     into = out[out.index(". XSTEP") + 1:]
-    assert into[:2] == ["SUB         1  K=K+10", "XSTEP: PAUSED BEFORE SUB step 2: TYPE K="]
+    assert into[:2] == ["SUB         1  K=K+10", "XSTEP: PAUSED BEFORE SUB STEP 2: TYPE K="]
 
 
 def test_watch_reports_each_change_with_old_and_new_value_and_trace_the_assignments(
@@ -107,13 +107,13 @@ def test_watch_reports_each_change_with_old_and_new_value_and_trace_the_assignme
     assert after(out, "WATCH N") == ["WATCHING N = UNDEFINED"]
     run = after(out, "EXECUTE COUNT")
     assert [line for line in run if line.startswith("WATCH")] == [
-        "WATCH N: UNDEFINED -> 1 (COUNT step 1)", "WATCH N: 1 -> 3 (COUNT step 3)"]
+        "WATCH N: UNDEFINED -> 1 (COUNT STEP 1)", "WATCH N: 1 -> 3 (COUNT STEP 3)"]
     assert [line for line in run if line.startswith("TRACE")] == [
         "TRACE COUNT       1  N=1   [N=1]", "TRACE COUNT       2  M=5   [M=5]",
         "TRACE COUNT       3  N=N+2   [N=3]", "TRACE COUNT       4  TYPE N="]
     # a value typed while paused is told as typed; the program's change after it, from 10
     assert after(out, "PROCEED")[:3] == ["WATCH N: 3 -> 10 (TYPED)", "COUNT       6  N=N*2",
-                                         "WATCH N: 10 -> 20 (COUNT step 6)"]
+                                         "WATCH N: 10 -> 20 (COUNT STEP 6)"]
     assert not any(line.startswith("TRACE") for line in after(out, "PROCEED"))
     assert after(out, "WATCH -N") == ["N NO LONGER WATCHED"]
     assert out[-1] == "NO VARIABLES ARE WATCHED"
@@ -154,7 +154,7 @@ def test_the_end_of_the_input_ends_the_monitor_with_0_or_1_if_a_command_failed(
     assert got == status
     assert not any("Traceback" in line for line in out)
     if lines[-1:] == ["EXECUTE PROCESS"]:
-        assert out[-1] == "*** PROCESS step 9: ABORTED"
+        assert out[-1] == "*** PROCESS STEP 9: ABORTED"
 
 
 def test_a_bad_setup_is_exit_2_with_its_reason(

@@ -491,7 +491,7 @@ def test_cli_run_transcript(tmp_path: Path, capsys: pytest.CaptureFixture[str]) 
     assert "CONV1      19  IF COL.EQ.2, THEN" in out
     assert "CONV2       2  OPENI 100" in out
     assert "COL = 3" in out and "IT IS POSSIBLE TO GRASP THIS PART" in out
-    assert "\nWHERE\n" in out and "JT1" in out and "VARIABLES  COL=3  ROW=3" in out
+    assert "\nWHERE\n" in out and "JT 1" in out and "VARIABLES  COL=3  ROW=3" in out
 
 
 def test_cli_run_json(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
@@ -512,7 +512,7 @@ def test_cli_run_errors(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> N
     ws = ["--workspace", str(tmp_path / "ws")]
     assert main([*ws, "run", str(bad)]) == 1
     out = capsys.readouterr().out
-    assert "*** BAD step 2:" in out and "NOWHERE" in out and "VARIABLES  X=1" in out
+    assert "*** BAD STEP 2:" in out and "NOWHERE" in out and "VARIABLES  X=1" in out
     assert main([*ws, "run", "NOSUCH"]) == 2
     assert "NOSUCH.DAT" in capsys.readouterr().err
     broken = tmp_path / "BROKEN.SET"

@@ -9,7 +9,6 @@ import numpy as np
 from textual.app import App, ComposeResult
 
 from valterm.core.cell.polyhedron import Polyhedron
-from valterm.ui.view.animation import MotionDriver
 from valterm.ui.view.model_view import ModelView
 from valterm.core.render.raster import Scene, object_colour
 
@@ -123,33 +122,3 @@ async def test_resize_redraws_at_the_new_size() -> None:
         await pilot.pause()
         view = app.query_one(ModelView)
         assert view.frame is not None and view.frame.chars.shape == (20, 60)
-
-
-@sync
-async def test_motion_driver_plays_then_stops_its_timer() -> None:
-    app = ViewApp()
-    async with app.run_test(size=(80, 24)) as pilot:
-        await pilot.pause()
-        view = app.query_one(ModelView)
-        shown: list[float] = []
-        done: list[bool] = []
-
-        def on_pose(dy: float) -> None:
-            shown.append(dy)
-            view.update_scene(two_boxes(dy))
-
-        driver: MotionDriver[float] = MotionDriver(view, on_pose, lambda p: done.append(p.aborted))
-        driver.play([0.0, 100.0, 200.0, 300.0], rate=50.0)
-        assert driver.playing and shown == [0.0]
-        await pilot.pause(0.3)
-        assert not driver.playing and done == [False]
-        assert shown[-1] == 300.0 and driver._timer is None
-
-        # skip_to_end for tests; abort keeps the pose on screen
-        driver.play([float(i) for i in range(100)], rate=10.0)
-        driver.skip_to_end()
-        assert shown[-1] == 99.0 and done == [False, False] and driver._timer is None
-        driver.play([float(i) for i in range(100)], rate=10.0)
-        driver.abort()
-        assert done == [False, False, True] and shown[-1] == 0.0 and driver._timer is None
-        await pilot.press("x")  # no timer left running: key presses do not wait

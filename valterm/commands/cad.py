@@ -20,6 +20,7 @@ from pathlib import Path
 from valterm.core.cad.convert import add_parts, import_cad, summary
 from valterm.core.cad.errors import CadImportError
 from valterm.core.errors import ValtermError
+from valterm.core.files.errors import error_message
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -84,7 +85,7 @@ def run_import(args: argparse.Namespace) -> int:
         print(error, file=sys.stderr)
         return 2
     except OSError as error:
-        print(f"valterm import: {error.strerror or error}: {error.filename or ''}", file=sys.stderr)
+        print(f"valterm import: {error_message(error)}", file=sys.stderr)
         return 2
     for warning in cell.warnings:
         print(f"warning: {warning}", file=sys.stderr)

@@ -12,7 +12,7 @@ import sys
 from pathlib import Path
 
 from valterm.core.cell.workcell import WorkCell
-from valterm.core.files.errors import FileFormatError
+from valterm.core.files.errors import FileFormatError, error_message
 from valterm.core.files.setup import read_setup
 from valterm.core.workspace import Workspace, WorkspaceError
 
@@ -48,8 +48,8 @@ def show_cell(args: argparse.Namespace) -> int:
     try:
         path = find_setup(args.file, getattr(args, "workspace", None))
         cell = read_setup(path)
-    except (FileFormatError, WorkspaceError, FileNotFoundError) as error:
-        print(error, file=sys.stderr)
+    except (FileFormatError, WorkspaceError, OSError) as error:
+        print(error_message(error), file=sys.stderr)
         return 2
     for warning in cell.warnings:
         print(f"warning: {warning}", file=sys.stderr)

@@ -13,7 +13,7 @@ import sys
 from pathlib import Path
 from typing import Callable
 
-from valterm.core.files.errors import FileFormatError
+from valterm.core.files.errors import FileFormatError, error_message
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -24,18 +24,16 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def find_program(argument: str, workspace_root: str | None) -> tuple[Path, Callable[[str], bool]]:
     """The program file and a test for the programs it may CALL (same folder, or the workspace)."""
+    from valterm.core.workspace import Workspace
+
     given = Path(argument).expanduser()
     if given.is_file():
-        folder = given.resolve().parent
-        names = {p.name.upper() for p in folder.iterdir() if p.is_file()}
-        return given, lambda name: f"{name.upper()}.DAT" in names
+        return given, Workspace(given.resolve().parent).program_test()  # CALLs: the same folder
     looks_like_path = any(sep in argument for sep in ("/", "\\")) or given.suffix.upper() not in ("", ".DAT")
     if looks_like_path:
         raise FileNotFoundError(f"{argument}: no such program file")
-    from valterm.core.workspace import Workspace
-
     workspace = Workspace.open(workspace_root)
-    return workspace.path(argument, "DAT"), lambda name: workspace.exists(name, "DAT")
+    return workspace.path(argument, "DAT"), workspace.program_test()
 
 
 def run(args: argparse.Namespace) -> int:
@@ -49,10 +47,15 @@ def run(args: argparse.Namespace) -> int:
             path, exists = find_program(argument, getattr(args, "workspace", None))
             program = read_program(path)
         except (FileFormatError, WorkspaceError, FileNotFoundError, OSError) as error:
-            print(error, file=sys.stderr)
+            print(error_message(error), file=sys.stderr)
             status = 2
             continue
-        report = check_program(program, program_exists=exists)
+        try:
+            report = check_program(program, program_exists=exists)
+        except WorkspaceError as error:  # a CALLed program that links outside the workspace
+            print(f"{path.name}: {error}", file=sys.stderr)
+            status = status or 1
+            continue
         for diagnostic in report.diagnostics:
             print(diagnostic)
         print(report.summary())

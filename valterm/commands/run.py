@@ -52,13 +52,13 @@ def _find(argument: str, ext: str, workspace: Any) -> Path:
 def run(args: argparse.Namespace) -> int:
     from valterm.core.cycletime import CycleClock
     from valterm.core.events import End, Error, Pause
-    from valterm.core.files.errors import FileFormatError
+    from valterm.core.files.errors import FileFormatError, error_message
     from valterm.core.files.locations import read_locations
     from valterm.core.files.programs import read_program
     from valterm.core.files.setup import read_setup
     from valterm.core.simulator import Simulator
     from valterm.core.val.interpreter import Interpreter
-    from valterm.core.val.transcript import event_lines, where_lines
+    from valterm.core.text.transcript import event_lines, where_lines
     from valterm.core.val.variables import VariableStore
     from valterm.core.workspace import Workspace, WorkspaceError
 
@@ -77,16 +77,13 @@ def run(args: argparse.Namespace) -> int:
         if check.is_file():
             variables.load(check)
     except (FileFormatError, WorkspaceError, FileNotFoundError, OSError) as error:
-        print(error, file=sys.stderr)
+        print(error_message(error), file=sys.stderr)
         return 2
     sim.collision_checks = bool(args.collisions)
-    folder = program_path.resolve().parent
+    load_called = workspace.program_loader(program_path.resolve().parent)
 
     def load_program(name: str):  # type: ignore[no-untyped-def]
-        if name == main.name:
-            return main
-        beside = next((p for p in folder.iterdir() if p.name.upper() == f"{name}.DAT"), None)
-        return read_program(beside if beside is not None else workspace.path(name, "DAT"))
+        return main if name == main.name else load_called(name)
 
     interpreter = Interpreter(sim, load_program, variables, keep_variables=workspace.write_variables)
     errors = 0

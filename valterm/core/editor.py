@@ -140,7 +140,7 @@ class ProgramEditor:
         self.messages: list[str] = []
         self.name = workspace._program_name(program_name(name))  # WorkspaceError for a bad name
         self.path: Path = workspace.path(self.name, "DAT")
-        self.journal_path: Path = workspace.root / f"{self.name}.{JOURNAL_EXT}"
+        self.journal_path: Path = workspace.path(self.name, JOURNAL_EXT)  # refused if it links outside
         self.new = False
         self.recovered = False
         self.dirty = False  # changes not yet saved to NAME.DAT

@@ -2,7 +2,7 @@
 
 ``LineMonitor`` drives a session's interpreter as the app's VAL-II mode does (EXECUTE,
 PAUSE / PROCEED, the debugger's BPT, XSTEP, SSTEP, WATCH, TRACE) but writes each event as
-the lines of the one transcript renderer (``valterm.core.val.transcript``).  Motions are not
+the lines of the one transcript renderer (``valterm.core.text.transcript``).  Motions are not
 paced and DELAY is not waited: the robot's time is the cycle time STATUS shows.
 ``valterm monitor`` reads standard input into it; nothing here reads a terminal.
 """
@@ -16,7 +16,7 @@ from valterm.core.events import Error, Event, Monitor, Pause
 from valterm.core.files.locations import format_locations
 from valterm.core.session import Session
 from valterm.core.val.interpreter import Interpreter
-from valterm.core.val.transcript import event_lines
+from valterm.core.text.transcript import event_lines
 
 __all__ = ["LineMonitor"]
 

@@ -19,7 +19,6 @@ from valterm.core.kinematics import (
     Config,
     IKError,
     RobotGeometry,
-    fit_to_stops,
     fk,
     ik,
     ik_batch,

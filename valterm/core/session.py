@@ -6,9 +6,16 @@ The app, ``valterm run`` and the tests build one of these; nothing here imports 
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Iterator
 
 from valterm.core.cell.workcell import WorkCell
+from valterm.core.events import Event
+from valterm.core.files.locations import read_locations
+from valterm.core.files.setup import read_setup, write_setup
+from valterm.core.kinematics import Location
 from valterm.core.simulator import Simulator
+from valterm.core.val.interpreter import Interpreter
+from valterm.core.workspace import Workspace
 
 DEFAULT_SETUP = "PROCESS"
 
@@ -17,20 +24,16 @@ class Session:
     """What a VAL-II SIMULATOR session holds: the workspace, the cell, the robot, the programs."""
 
     def __init__(self, workspace_root: str | Path | None = None, setup: str | None = DEFAULT_SETUP) -> None:
-        from valterm.core.workspace import Workspace
-
         self.workspace = Workspace.open(workspace_root)
         self.setup_name = ""
         self.simulator = Simulator()
-        self._interpreter = None
+        self._interpreter: Interpreter | None = None
         if setup:
             self.load_setup(setup)
 
     # -- setup files -----------------------------------------------------------
     def load_setup(self, name: str) -> WorkCell:
         """Read NAME.SET from the workspace into the simulator (FileFormatError if malformed)."""
-        from valterm.core.files.setup import read_setup
-
         path = self.workspace.path(name, "SET")
         cell = read_setup(path)
         self.simulator.cell = cell
@@ -39,8 +42,6 @@ class Session:
         return cell
 
     def save_setup(self, name: str | None = None) -> Path:
-        from valterm.core.files.setup import write_setup
-
         path = self.workspace.path(name or self.setup_name, "SET")
         write_setup(path, self.simulator.cell)
         self.setup_name = path.stem
@@ -48,18 +49,45 @@ class Session:
 
     def load_locations(self, name: str) -> int:
         """Read NAME.LOC into the simulator's locations; returns how many."""
-        from valterm.core.files.locations import read_locations
-
         locations = read_locations(self.workspace.path(name, "LOC"))
         self.simulator.locations.update(locations)
         return len(locations)
 
+    def define_location(self, name: str, location: Location) -> None:
+        """D_DEFINE or POINT in VAL-II mode: the location is known from now on."""
+        self.simulator.locations[name] = location
+
+    def toggle_collision_checks(self) -> bool:
+        """S at KEYBOARD: collision checks on or off; returns the new state."""
+        self.simulator.collision_checks = not self.simulator.collision_checks
+        return bool(self.simulator.collision_checks)
+
     # -- the interpreter -------------------------------------------------------
     @property
-    def interpreter(self):  # type: ignore[no-untyped-def]
+    def interpreter(self) -> Interpreter:
         """The VAL-II interpreter bound to this session's simulator and workspace (made once)."""
         if self._interpreter is None:
-            from valterm.core.val.interpreter import Interpreter
-
             self._interpreter = Interpreter.for_workspace(self.simulator, self.workspace)
         return self._interpreter
+
+    def command(self, text: str) -> Iterator[Event]:
+        """One line typed at the VAL-II prompt (or after V at a menu), as events."""
+        return self.interpreter.command(text)
+
+    @property
+    def program_running(self) -> bool:
+        """An EXECUTE is under way (also while it is paused)."""
+        return self._interpreter is not None and self._interpreter.running
+
+    @property
+    def program_paused(self) -> bool:
+        """The running program waits at a PAUSE for PROCEED."""
+        return self._interpreter is not None and self._interpreter.paused
+
+    def abort_program(self) -> bool:
+        """CTRL-C: the running program stops after its step (§6.4.10); False if none runs."""
+        if not self.program_running:
+            return False
+        assert self._interpreter is not None
+        self._interpreter.abort()
+        return True

@@ -3,22 +3,32 @@
 Names are 1 to 9 characters of A-Z and 0-9 before the extension, as on the VAX; typed
 names are upper-cased. Nothing is read or written outside the workspace: a name that
 could reach elsewhere (a path separator, ``..``, anything but A-Z0-9) is refused before
-any file is touched. On first use the bundled cells and programs of the thesis are copied
-in, with DATFILER.DAT listing the programs and an empty CHECK.DAT.
+any file is touched, and so is a file that is a link to somewhere outside the folder.
+Every file is written through ``valterm.core.files.atomic`` (never through a link).
+
+On first use the bundled cells and programs of the thesis are copied in, each atomically,
+then an empty CHECK.DAT and, last, DATFILER.DAT listing the programs: DATFILER.DAT marks a
+finished first use. Until it exists every open seeds again, restoring a bundled file that
+is missing, empty or cut short (a strict prefix of the bundled one); afterwards only an
+empty bundled file is restored. A file the user changed is never touched. Each open also
+removes the temporaries of writes that were killed.
 """
 
 from __future__ import annotations
 
 import os
 import re
-import shutil
+import stat
+from collections.abc import Callable
 from pathlib import Path
 
-from valterm.core.errors import ValtermError
 from valterm.core import resources
 from valterm.core.cell.workcell import WorkCell
+from valterm.core.errors import ValtermError
 from valterm.core.files import datfiler, locations, programs, setup, variables
+from valterm.core.files.atomic import remove_stale_temporaries, write_bytes_atomic
 from valterm.core.files.datfiler import DATFILER
+from valterm.core.files.errors import shown_name
 from valterm.core.files.programs import Program
 from valterm.core.files.variables import CHECK
 from valterm.core.kinematics import Location
@@ -58,7 +68,7 @@ def check_name(name: str, ext: str) -> str:
     stem, dot, given = upper.rpartition(".") if "." in upper else (upper, "", "")
 
     def refuse(why: str) -> WorkspaceError:
-        return WorkspaceError(f"{name!r} is not a valid name: {why}")
+        return WorkspaceError(f"{shown_name(name)!r} is not a valid name: {why}")
 
     if "/" in typed or "\\" in typed or ".." in typed or typed.startswith("~"):
         raise refuse("names may not contain a path; files live in the workspace folder")
@@ -76,6 +86,64 @@ def check_name(name: str, ext: str) -> str:
     return f"{stem}.{ext}"
 
 
+def checked_path(folder: Path, file_name: str) -> Path:
+    """folder/FILE_NAME (an existing file in another case is found too), or WorkspaceError when
+    that file is a link to somewhere outside ``folder``. ``file_name`` is already checked."""
+    path = folder / file_name
+    if not os.path.lexists(path):
+        path = _other_case(folder, file_name) or path
+    if path.is_symlink():
+        try:
+            outside = path.resolve().parent != folder.resolve()
+        except (OSError, RuntimeError):  # a link loop
+            outside = True
+        if outside:
+            raise WorkspaceError(f"{path.name} links outside the workspace; refusing to use it")
+    return path
+
+
+def _other_case(folder: Path, file_name: str) -> Path | None:
+    """A file copied in as ``process.set`` still answers to PROCESS.SET."""
+    try:
+        return next((p for p in folder.iterdir() if p.name.upper() == file_name), None)
+    except OSError:
+        return None
+
+
+def bundled_workspace_files() -> list[tuple[str, Path]]:
+    """(NAME.EXT, bundled path) of every setup, location and program file a workspace is seeded with."""
+    found: list[tuple[str, Path]] = []
+    for folder in (resources.CELLS, resources.PROGRAMS):
+        for source in resources.bundled_files(folder):
+            try:
+                file_name = check_name(source.name, source.suffix.lstrip(".") or "?")
+            except WorkspaceError:
+                continue  # README.md and the like
+            if file_name.rsplit(".", 1)[1] in _KINDS:
+                found.append((file_name, source))
+    return found
+
+
+def _damaged_copy(target: Path, source: Path, prefix: bool) -> bytes | None:
+    """The bundled bytes when ``target`` is a damaged copy of ``source`` (a plain file that is
+    empty or, when ``prefix``, a strict prefix of it), else None: a user's file stays as it is."""
+    try:
+        info = os.lstat(target)
+    except OSError:
+        return None
+    if not stat.S_ISREG(info.st_mode):
+        return None
+    if info.st_size == 0:
+        return source.read_bytes()
+    if not prefix:
+        return None
+    data = source.read_bytes()
+    if info.st_size >= len(data):
+        return None
+    with open(target, "rb") as handle:
+        return data if data.startswith(handle.read(len(data))) else None
+
+
 class Workspace:
     """The workspace folder and the files in it, read and written through valterm.core.files."""
 
@@ -83,71 +151,96 @@ class Workspace:
         self.root = Path(root).expanduser()
 
     @classmethod
-    def open(cls, root: str | Path | None = None) -> "Workspace":
+    def open(cls, root: str | Path | None = None) -> Workspace:
         """The workspace at ``root`` (default: $VALTERM_WORKSPACE or ~/valterm), created and
-        seeded with the bundled data on first use."""
+        seeded with the bundled data on first use; killed writes' temporaries removed."""
         workspace = cls(default_root() if root is None else root)
-        if workspace.root.exists() and not workspace.root.is_dir():
-            raise WorkspaceError(f"the workspace {workspace.root} is a file, not a folder")
+        shown = shown_name(str(workspace.root), 80)
         try:
+            if workspace.root.exists() and not workspace.root.is_dir():
+                raise WorkspaceError(f"the workspace {shown} is a file, not a folder")
             workspace.root.mkdir(parents=True, exist_ok=True)
-        except OSError as error:
-            raise WorkspaceError(f"cannot create the workspace {workspace.root}: {error.strerror or error}") from None
-        if not (workspace.root / DATFILER).exists():
+        except OSError as error:  # a name too long, a path through a file, no permission
+            raise WorkspaceError(f"cannot create the workspace {shown}: {error.strerror or error}") from None
+        remove_stale_temporaries(workspace.root)
+        try:
             workspace.seed()
+        except OSError as error:  # a read-only or full disk: say so, once, with the file
+            raise WorkspaceError(f"cannot fill the workspace {shown}: {error}") from None
         return workspace
 
     # -- names ---------------------------------------------------------------
     check_name = staticmethod(check_name)
 
     def path(self, name: str, ext: str) -> Path:
-        """root/NAME.EXT after the name check; an existing file in another case is found too."""
-        file_name = check_name(name, ext)
-        path = self.root / file_name
-        if not path.exists():
-            path = self._other_case(file_name) or path
-        if path.is_symlink() and path.resolve().parent != self.root.resolve():
-            raise WorkspaceError(f"{file_name} links outside the workspace; refusing to use it")
-        return path
+        """root/NAME.EXT after the name check; an existing file in another case is found too.
 
-    def _other_case(self, file_name: str) -> Path | None:
-        """A file copied in as ``process.set`` still answers to PROCESS.SET."""
-        try:
-            return next((p for p in self.root.iterdir() if p.name.upper() == file_name), None)
-        except OSError:
-            return None
+        WorkspaceError when the file is a link to somewhere outside the workspace."""
+        return checked_path(self.root, check_name(name, ext))
 
     def exists(self, name: str, ext: str) -> bool:
         return self.path(name, ext).is_file()
 
     # -- first use -----------------------------------------------------------
     def seed(self) -> list[str]:
-        """Copy the bundled cells and programs in (never over a user's file); make DATFILER.DAT
-        list the bundled programs and CHECK.DAT exist. Returns the file names copied."""
+        """Copy the bundled cells and programs in (see the module docstring); make CHECK.DAT
+        exist, then DATFILER.DAT list the bundled programs. Returns the file names written."""
+        first_use = not os.path.lexists(self.root / DATFILER)
         copied: list[str] = []
         program_names: list[str] = []
-        for folder in (resources.CELLS, resources.PROGRAMS):
-            for source in resources.bundled_files(folder):
-                try:
-                    file_name = check_name(source.name, source.suffix.lstrip(".") or "?")
-                except WorkspaceError:
-                    continue  # README.md and the like
-                stem, ext = file_name.rsplit(".", 1)
-                if ext not in _KINDS or not source.is_file():
-                    continue
-                if ext == "DAT" and stem not in SYSTEM_FILES:
-                    program_names.append(stem)
-                target = self.root / file_name
-                if not target.exists():
-                    shutil.copyfile(source, target)
-                    copied.append(file_name)
-        datfiler_path = self.root / DATFILER
-        if not datfiler_path.exists():
-            datfiler.write_datfiler(datfiler_path, program_names)
-        check_path = self.root / CHECK
-        if not check_path.exists():
-            variables.write_variables(check_path, {})
+        for file_name, source in bundled_workspace_files():
+            stem, ext = file_name.rsplit(".", 1)
+            if ext == "DAT" and stem not in SYSTEM_FILES:
+                program_names.append(stem)
+            target = self.root / file_name
+            if first_use and not os.path.lexists(target) and _other_case(self.root, file_name) is None:
+                data: bytes | None = source.read_bytes()
+            else:
+                data = _damaged_copy(target, source, prefix=first_use)
+            if data is None:
+                continue
+            try:
+                write_bytes_atomic(target, data)
+            except OSError:
+                if first_use:
+                    raise
+                continue  # a read-only workspace: the damaged file says so when it is read
+            copied.append(file_name)
+        if first_use:
+            if not os.path.lexists(self.root / CHECK):
+                variables.write_variables(self.root / CHECK, {})
+            datfiler.write_datfiler(self.root / DATFILER, program_names)
         return copied
+
+    def program_loader(self, beside: str | Path | None = None) -> Callable[[str], Program]:
+        """``load(NAME) -> Program`` for CALLed programs: NAME.DAT from the folder ``beside``
+        (the main program's, when it was given as a path) if it holds one, else from the
+        workspace. Both folders get the workspace's checks: a valid name, and no link to
+        anywhere outside the folder."""
+        folder = Path(beside) if beside is not None else None
+
+        def load(name: str) -> Program:
+            stem = self._program_name(name)
+            if folder is not None:
+                near = checked_path(folder, f"{stem}.DAT")
+                if os.path.lexists(near):
+                    return programs.read_program(near)
+            return self.read_program(stem)
+
+        return load
+
+    def program_test(self, beside: str | Path | None = None) -> Callable[[str], bool]:
+        """``exists(NAME) -> bool`` matching :meth:`program_loader` (the syntax checker's CALL
+        test); WorkspaceError for a file that links outside its folder."""
+        folder = Path(beside) if beside is not None else None
+
+        def exists(name: str) -> bool:
+            file_name = check_name(name, "DAT")
+            if folder is not None and checked_path(folder, file_name).is_file():
+                return True
+            return self.path(file_name, "DAT").is_file()
+
+        return exists
 
     # -- listings (names without extension, as LISTF / LISTL show them) -------
     def _names(self, ext: str) -> list[str]:
@@ -218,7 +311,7 @@ class Workspace:
     def _program_name(self, name: str) -> str:
         stem = check_name(name, "DAT").removesuffix(".DAT")
         if stem in SYSTEM_FILES:
-            raise WorkspaceError(f"{name!r} is not a valid name: {stem}.DAT is kept by the simulator")
+            raise WorkspaceError(f"{shown_name(name)!r} is not a valid name: {stem}.DAT is kept by the simulator")
         return stem
 
     # -- variables (CHECK.DAT) ---------------------------------------------------

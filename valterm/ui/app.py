@@ -1,54 +1,40 @@
 """The VAL-II SIMULATOR app: the start screen, the menus and the model view (Chapters 2-4).
 
 The app holds what the screens share: the session (workspace, cell, robot, interpreter),
-the view options of KEYBOARD mode (FACES, AXES, ORIENT's view transform) and the one motion
-player. Motions are paced by elapsed time (``valterm.core.render.clock``); the pacing clock is
-injectable and no timer runs while nothing moves, so Pilot tests stay fast.
+the view options of KEYBOARD mode (FACES, AXES, ORIENT's view transform) and the one event
+player (``valterm.ui.playback``). Motions are paced by elapsed time on an injectable clock;
+no timer runs while nothing plays, so Pilot tests stay fast. Screens never import this
+module: they reach the app's state through ``self.app``.
 """
 
 from __future__ import annotations
 
 import time
-from functools import lru_cache
-from itertools import chain
+from collections.abc import Callable, Iterable
 from pathlib import Path
-from typing import Callable, Iterable, Iterator
 
+import numpy as np
 from textual.app import App
 from textual.binding import Binding
 
-from valterm.core.events import Error, Event, Message, PoseEvent
-from valterm.ui.messages import MotionDone, PoseShown, SceneChanged, SimulatorEvent
-from valterm.ui.view.animation import MotionDriver
+from valterm.core.errors import ValtermError
+from valterm.core.events import Event
 from valterm.core.render.clock import DEFAULT_RATE
 from valterm.core.render.raster import Scene, ViewTransform
-
-@lru_cache(maxsize=1)
-def core_errors() -> tuple[type[BaseException], ...]:
-    from valterm.core.cad.errors import CadImportError
-    from valterm.core.files.errors import FileFormatError
-    from valterm.core.motion import MotionRefused
-    from valterm.core.workspace import WorkspaceError
-
-    # errors of the core shown as messages, never as tracebacks
-    return (FileFormatError, WorkspaceError, MotionRefused, CadImportError, OSError, ValueError, IndexError, KeyError)
-
-
-def error_text(error: BaseException) -> str:
-    """The message of a core error, upper case as on the VS11."""
-    from valterm.core.motion import MotionRefused
-
-    text = str(error).strip() or type(error).__name__
-    if isinstance(error, KeyError) and error.args:
-        text = str(error.args[0])
-    text = text.upper()
-    return f"MOTION REFUSED: {text}" if isinstance(error, MotionRefused) else text
+from valterm.core.session import Session
+from valterm.core.workspace import Workspace
+from valterm.ui.errors import error_text
+from valterm.ui.messages import SceneChanged
+from valterm.ui.playback import Audience, Player
+from valterm.ui.screens.main_menu import MainMenuScreen
+from valterm.ui.screens.start import StartScreen
+from valterm.ui.widgets.scene import simulator_scene
 
 
 class ValtermApp(App[int]):
     """The whole simulator; ``setup`` skips the start screen (tests and ``--setup``)."""
 
-    CSS_PATH = "app.tcss"
+    CSS_PATH = Path(__file__).with_name("app.tcss")  # absolute: subclasses (demo, tests) live elsewhere
     TITLE = "VAL-II SIMULATOR"
     ENABLE_COMMAND_PALETTE = False
     AUTO_FOCUS = None  # menus take single keys: nothing is focused unless a question asks
@@ -64,29 +50,22 @@ class ValtermApp(App[int]):
         ascii: bool = False,
         clock: Callable[[], float] = time.monotonic,
         motion_rate: float = DEFAULT_RATE,
-        session=None,  # type: ignore[no-untyped-def]  # a ready Session (tests)
+        session: Session | None = None,  # a ready Session (tests)
     ) -> None:
         super().__init__()
         self.workspace_root = workspace
         self.initial_setup = setup
-        self.session = session
+        self.session: Session | None = session
         self.ascii = ascii
-        self.motion_rate = motion_rate
-        self.clock = clock
         # KEYBOARD mode's view options, shared by every model view
         self.view_transform = ViewTransform()
         self.back_faces = False  # hidden surfaces removed until FACES (Table C-1)
         self.axes = False
-        self.motion: MotionDriver[PoseEvent] = MotionDriver(self, self._on_pose, self._on_motion_done, clock=clock)
-        self._source: Iterator[Event] | None = None
-        self._target = None  # the screen that started the motion
-        self._workspace = None  # the workspace before any session (start screen)
+        self.player = Player(self, clock=clock, rate=motion_rate)
+        self._workspace: Workspace | None = None  # the workspace before any session (start screen)
 
     # -- starting ------------------------------------------------------------------
     def on_mount(self) -> None:
-        from valterm.ui.screens.main_menu import MainMenuScreen
-        from valterm.ui.screens.start import StartScreen
-
         if self.session is not None:
             self.fit_view()
             self.push_screen(MainMenuScreen())
@@ -94,17 +73,26 @@ class ValtermApp(App[int]):
         if self.initial_setup:
             try:
                 self.open_session(self.initial_setup)
-            except core_errors() as error:
+            except ValtermError as error:
                 self.push_screen(StartScreen(message=error_text(error)))
                 return
             self.push_screen(MainMenuScreen())
             return
         self.push_screen(StartScreen())
 
-    def open_session(self, setup: str | None):  # type: ignore[no-untyped-def]
-        """A fresh session on ``setup`` (raises the core's errors for the caller to show)."""
-        from valterm.core.session import Session
+    def on_unmount(self) -> None:
+        self.player.close()  # a running program ends (and keeps its variables) before the exit
 
+    def show_main_menu(self) -> None:
+        """The start screen's way on: MAIN MENU in its place."""
+        self.switch_screen(MainMenuScreen())
+
+    def show_start(self) -> None:
+        """B (BEGIN) at MAIN MENU: the start screen in its place."""
+        self.switch_screen(StartScreen())
+
+    def open_session(self, setup: str | None) -> Session:
+        """A fresh session on ``setup`` (raises the core's errors for the caller to show)."""
         root = self.workspace_root if self.session is None else self.session.workspace.root
         session = Session(workspace_root=root, setup=setup)
         self.session = session
@@ -114,30 +102,25 @@ class ValtermApp(App[int]):
 
     def fit_view(self) -> None:
         """The first view (and ORIENT's home): the whole cell and the robot's reach."""
-        import numpy as np
-
         lo, hi = self.scene().bounds()
         reach = np.array([1000.0, 1000.0, 1050.0])
         self.view_transform.fit((np.minimum(lo, -reach * [1, 1, 0.6]), np.maximum(hi, reach)))
 
-    def session_workspace(self):  # type: ignore[no-untyped-def]
+    def session_workspace(self) -> Workspace:
         """The workspace, also before a setup is read (the start screen's CAD files)."""
         if self.session is not None:
             return self.session.workspace
         if self._workspace is None:
-            from valterm.core.workspace import Workspace
-
             self._workspace = Workspace.open(self.workspace_root)
         return self._workspace
 
     @property
     def simulator(self):  # type: ignore[no-untyped-def]
+        assert self.session is not None
         return self.session.simulator
 
     # -- the picture -----------------------------------------------------------------
     def scene(self, part_axes: int | None = None) -> Scene:
-        from valterm.ui.widgets.scene import simulator_scene
-
         if self.session is None:
             return Scene.build([])
         return simulator_scene(self.session.simulator, part_axes)
@@ -146,68 +129,25 @@ class ValtermApp(App[int]):
         """The cell or the robot changed outside a motion: tell the screen to redraw."""
         self.screen.post_message(SceneChanged())
 
-    # -- motions ---------------------------------------------------------------------
+    # -- playing events ----------------------------------------------------------------
     @property
     def moving(self) -> bool:
-        return self.motion.playing
+        return self.player.playing
 
-    def run_events(self, events: Iterable[Event]) -> bool:
-        """Play what a simulator action yields: poses paced by the clock, the rest as messages.
-
-        A refused motion (raised before the first pose) is shown, and False returned.
-        """
-        if self.motion.playing:
-            self.motion.skip_to_end()  # one motion at a time, as on the controller
-        source = iter(events)
-        target = self.screen
-        try:
-            first = next(source)
-        except StopIteration:
-            target.post_message(MotionDone())
-            return True
-        except core_errors() as error:
-            target.post_message(SimulatorEvent(Message(error_text(error), "warning")))
-            target.post_message(MotionDone())
-            return False
-        self._source, self._target = source, target
-        self.motion.play(self._poses(chain([first], source), target), self.motion_rate)
-        return True
-
-    def _poses(self, events: Iterator[Event], target) -> Iterator[PoseEvent]:  # type: ignore[no-untyped-def]
-        """Only poses go to the player; the rest is shown as it is reached."""
-        errors = core_errors()  # looked up now: the generator may be closed at shutdown
-        try:
-            for event in events:
-                if isinstance(event, PoseEvent):
-                    yield event
-                else:
-                    target.post_message(SimulatorEvent(event))
-        except errors as error:
-            target.post_message(SimulatorEvent(Error("", 0, error_text(error))))
-
-    def _on_pose(self, pose: PoseEvent) -> None:
-        if self._target is not None:
-            self._target.post_message(PoseShown())
-
-    def _on_motion_done(self, player) -> None:  # type: ignore[no-untyped-def]
-        target, self._target = self._target, None
-        self._source = None
-        if target is not None:
-            target.post_message(MotionDone(aborted=player.aborted))
+    def run_events(self, events: Iterable[Event], audience: Audience | None = None) -> None:
+        """Play what a simulator action or a command yields on the one player, to
+        ``audience`` (default: the screen on top). CTRL-C reaches a running program."""
+        target = audience if audience is not None else self.screen
+        stop = self.session.abort_program if self.session is not None else None
+        self.player.play(events, target, stop)  # type: ignore[arg-type]
 
     def action_abort(self) -> None:
-        """CTRL-C: abort the running program or motion within a frame (§6.4.10)."""
-        if self.session is not None and self.session._interpreter is not None:
-            self.session.interpreter.abort()
-        source = self._source
-        if self.motion.playing:
-            self.motion.abort()
-        if source is not None and hasattr(source, "close"):
-            source.close()  # the interpreter's generator ends where it stood
+        """CTRL-C: abort the running program or motion (§6.4.10)."""
+        self.player.abort()
 
     def skip_motion(self) -> None:
-        """Show the end of the running motion now (tests; an impatient user)."""
-        self.motion.skip_to_end()
+        """Show the end of what is playing now (tests; an impatient user)."""
+        self.player.skip_to_end()
 
 
 def run(workspace: str | Path | None = None, setup: str | None = None, ascii: bool = False) -> int:

@@ -2,21 +2,26 @@
 
 from __future__ import annotations
 
+import os
 import time
 from pathlib import Path
 
+from valterm.core.files.atomic import write_text_atomic
 from valterm.core.render.raster import rasterize
-from valterm.ui.widgets.readouts import format_part, format_where
+from valterm.core.text.transcript import where_lines
+from valterm.ui.widgets.readouts import format_part
 
 PRINT_WIDTH = 100
 PRINT_HEIGHT = 40
 
 
 def next_name(root: Path, stem: str = "HCOPY") -> str:
-    """HCOPY1, HCOPY2, ... : the first number with neither .SVG nor .TXT taken (≤ 9 chars)."""
+    """HCOPY1, HCOPY2, ... : the first number with neither .SVG nor .TXT taken (≤ 9 chars).
+
+    A name is taken by any directory entry, a dangling link included (never written through)."""
     for number in range(1, 10_000):
         name = f"{stem}{number}"
-        if not (root / f"{name}.SVG").exists() and not (root / f"{name}.TXT").exists():
+        if not os.path.lexists(root / f"{name}.SVG") and not os.path.lexists(root / f"{name}.TXT"):
             return name
     raise OSError("no free HCOPY name left in the workspace")
 
@@ -30,7 +35,7 @@ def printout(app) -> str:  # type: ignore[no-untyped-def]
         time.strftime("%d-%b-%Y %H:%M:%S").upper(),
         f"SETUP FILE {session.setup_name}.SET, {len(simulator.cell.objects)} PARTS",
         "",
-        *format_where(simulator.where(1)),
+        *where_lines(simulator.where(1)),
         "",
     ]
     for number, part in enumerate(simulator.cell.objects, start=1):
@@ -42,12 +47,12 @@ def printout(app) -> str:  # type: ignore[no-untyped-def]
 
 
 def write_hardcopy(app) -> tuple[Path, Path]:  # type: ignore[no-untyped-def]
-    """Write HCOPYn.SVG (the screen) and HCOPYn.TXT (the printout) into the workspace."""
-    root = app.session.workspace.root
-    name = next_name(root)
-    text_path = root / f"{name}.TXT"
-    from valterm.core.files.atomic import write_text_atomic
-
+    """Write HCOPYn.SVG (the screen) and HCOPYn.TXT (the printout) into the workspace,
+    each through the one safe write path (atomic, never through a link)."""
+    workspace = app.session.workspace
+    name = next_name(workspace.root)
+    svg_path = workspace.path(name, "SVG")
+    text_path = workspace.path(name, "TXT")
     write_text_atomic(text_path, printout(app))
-    svg = app.save_screenshot(filename=f"{name}.SVG", path=str(root))
-    return Path(svg), text_path
+    write_text_atomic(svg_path, app.export_screenshot())
+    return svg_path, text_path

@@ -21,12 +21,14 @@ from __future__ import annotations
 
 import math
 import re
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from valterm.core.cad.errors import CadImportError
+from valterm.core.cad.iges_entities import Entity, Hollerith
+from valterm.core.cad.iges_geometry import Walker
 
 # units flag (global field 14) -> millimetres per model unit
 UNIT_MM: dict[int, float] = {1: 25.4, 2: 1.0, 4: 304.8, 5: 1_609_344.0, 6: 1000.0, 7: 1_000_000.0,
@@ -42,43 +44,6 @@ GENERIC_LABELS = {"POINT", "LINE", "ARC", "CIRCLE", "CURVE", "SPLINE", "SURFACE"
                   "ATT_TBLE", "3DSKETCH", "SKETCH"}
 _HOLLERITH = re.compile(r"\s*(\d+)H")
 _SECTIONS = "SGDPT"
-
-
-class Hollerith(str):
-    """A string parameter (``nH...``), told apart from numbers."""
-
-
-@dataclass
-class Entity:
-    """One directory entry, with its parameters once read."""
-
-    seq: int                  # directory sequence number of its first line (odd)
-    line: int                 # file line of that directory line
-    type: int
-    param_ptr: int
-    level: int
-    matrix_ptr: int
-    status: str
-    form: int
-    param_count: int
-    label: str
-    params: list[str] = field(default_factory=list)
-    param_lines: list[int] = field(default_factory=list)   # file line of each parameter's start
-
-    @property
-    def subordinate(self) -> int:
-        s = self.status.replace(" ", "0").rjust(8, "0")
-        return int(s[2:4]) if s[2:4].isdigit() else 0
-
-    @property
-    def use(self) -> int:
-        s = self.status.replace(" ", "0").rjust(8, "0")
-        return int(s[4:6]) if s[4:6].isdigit() else 0
-
-
-# entity types never drawn as geometry: annotation, structure, properties, views, drawings
-_NON_GEOMETRY = set(range(200, 300)) | {0, 124, 134, 125, 302, 304, 306, 308, 310, 312, 314, 316, 320,
-                                        322, 402, 404, 406, 410, 420, 430}
 
 
 @dataclass
@@ -370,7 +335,6 @@ class IgesModel:
     # ------------------------------------------------------------------ parts
     def model_points(self) -> dict[int, np.ndarray]:
         """Model-space points (mm) of every top-level entity, by directory sequence number."""
-        from valterm.core.cad.iges_geometry import Walker
         return Walker(self).run()
 
     def parts(self, count: int | None = None) -> list[Part]:

@@ -11,12 +11,12 @@ control points, so the envelope is not inflated by the control polygon.
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING, Callable
+from typing import Callable
 
 import numpy as np
 
-if TYPE_CHECKING:
-    from valterm.core.cad.iges import Entity, IgesModel
+from valterm.core.cad.iges_entities import NON_GEOMETRY, Entity, EntityModel
+
 
 SAMPLES_PER_TURN = 64
 SURFACE_GRID = 16
@@ -70,12 +70,12 @@ def bspline_basis(knots: np.ndarray, degree: int, t: np.ndarray) -> np.ndarray:
 class Walker:
     """Visits the entities of an ``IgesModel`` and returns the points of each top-level one."""
 
-    def __init__(self, model: "IgesModel") -> None:
+    def __init__(self, model: EntityModel) -> None:
         self.m = model
         self.cache: dict[int, np.ndarray] = {}
         self.active: set[int] = set()
         self.ignored: dict[int, int] = {}
-        self.handlers: dict[int, Callable[["Entity"], np.ndarray]] = {
+        self.handlers: dict[int, Callable[[Entity], np.ndarray]] = {
             100: self.arc, 102: self.composite, 104: self.conic, 106: self.copious, 108: self.plane,
             110: self.line, 112: self.spline112, 116: self.point, 118: self.ruled, 120: self.revolution,
             122: self.tabulated, 126: self.spline126, 128: self.surface128, 141: self.boundary141,
@@ -86,7 +86,6 @@ class Walker:
 
     # ------------------------------------------------------------------ driver
     def run(self) -> dict[int, np.ndarray]:
-        from valterm.core.cad.iges import _NON_GEOMETRY
         ents = self.m.entities
         in_definitions: set[int] = set()
         for e in ents.values():
@@ -94,12 +93,12 @@ class Walker:
                 n = self.m.integer(e, 3)
                 in_definitions.update(abs(self.m.integer(e, 4 + i)) for i in range(n))
         roots = [e for e in ents.values()
-                 if e.type not in _NON_GEOMETRY and e.subordinate in (0, 2) and e.use not in (1, 2, 5)
+                 if e.type not in NON_GEOMETRY and e.subordinate in (0, 2) and e.use not in (1, 2, 5)
                  and e.seq not in in_definitions]
         out = {e.seq: p for e in roots if len(p := self.visit(e))}
         if not out:
             # some writers mark everything dependent: fall back to every model-space entity
-            loose = [e for e in ents.values() if e.type not in _NON_GEOMETRY and e.use != 5 and e.type in self.handlers]
+            loose = [e for e in ents.values() if e.type not in NON_GEOMETRY and e.use != 5 and e.type in self.handlers]
             out = {e.seq: p for e in loose if len(p := self.visit(e))}
             if out:
                 self.m.warnings.append(f"{self.m.path.name}: no independent geometry; read every entity instead")
@@ -109,7 +108,7 @@ class Walker:
         factor = self.m.mm_per_unit / self.m.scale
         return {s: p * factor for s, p in out.items()}
 
-    def visit(self, ent: "Entity") -> np.ndarray:
+    def visit(self, ent: Entity) -> np.ndarray:
         """Model-space points (file units) of one entity, its own matrix applied."""
         if ent.seq in self.cache:
             return self.cache[ent.seq]
@@ -129,18 +128,18 @@ class Walker:
         self.cache[ent.seq] = pts
         return pts
 
-    def ref(self, ent: "Entity", i: int) -> np.ndarray:
+    def ref(self, ent: Entity, i: int) -> np.ndarray:
         target = self.m.pointer(ent, i, optional=True)
         return self.visit(target) if target is not None else np.zeros((0, 3))
 
     # ------------------------------------------------------------------ points and curves
-    def point(self, e: "Entity") -> np.ndarray:
+    def point(self, e: Entity) -> np.ndarray:
         return self.m.nums(e, 1, 3)
 
-    def line(self, e: "Entity") -> np.ndarray:
+    def line(self, e: Entity) -> np.ndarray:
         return self.m.nums(e, 1, 6)
 
-    def arc(self, e: "Entity") -> np.ndarray:
+    def arc(self, e: Entity) -> np.ndarray:
         zt, cx, cy, sx, sy, ex, ey = self.m.nums(e, 1, 7)
         r = math.hypot(sx - cx, sy - cy)
         a0 = math.atan2(sy - cy, sx - cx)
@@ -150,7 +149,7 @@ class Walker:
         pts = np.stack([cx + r * np.cos(ts), cy + r * np.sin(ts), np.full_like(ts, zt)], 1)
         return np.vstack([pts, [[ex, ey, zt]]])
 
-    def conic(self, e: "Entity") -> np.ndarray:
+    def conic(self, e: Entity) -> np.ndarray:
         a, b, c, d, ee, f, zt, x1, y1, x2, y2 = self.m.nums(e, 1, 11)
         scale = max(abs(a), abs(b), abs(c), abs(d), abs(ee), abs(f)) or 1.0
         ends = np.array([[x1, y1, zt], [x2, y2, zt]])
@@ -181,7 +180,7 @@ class Walker:
             return ends
         return np.vstack([pts, ends])
 
-    def copious(self, e: "Entity") -> np.ndarray:
+    def copious(self, e: Entity) -> np.ndarray:
         if 20 <= e.form <= 40:
             return np.zeros((0, 3))  # centre lines, section and witness lines: drafting, not the part
         ip, n = self.m.integer(e, 1), self.m.integer(e, 2)
@@ -194,7 +193,7 @@ class Walker:
             return self.m.nums(e, 3, width * n).reshape(n, width)[:, :3]
         raise self.m.error(e.param_lines[0], f"copious data (D{e.seq}): interpretation flag {ip} is not 1, 2 or 3")
 
-    def spline112(self, e: "Entity") -> np.ndarray:
+    def spline112(self, e: Entity) -> np.ndarray:
         n = self.m.integer(e, 4)
         if n < 1:
             raise self.m.error(e.param_lines[3], f"parametric spline (D{e.seq}): {n} segments")
@@ -204,7 +203,7 @@ class Walker:
         powers = np.stack([np.ones_like(s), s, s * s, s ** 3], -1)   # (n, 9, 4)
         return np.einsum("nsk,nck->nsc", powers, coef).reshape(-1, 3)
 
-    def spline126(self, e: "Entity") -> np.ndarray:
+    def spline126(self, e: Entity) -> np.ndarray:
         k, m = self.m.integer(e, 1), self.m.integer(e, 2)
         if m < 1 or k < m:
             raise self.m.error(e.param_lines[0], f"rational B-spline curve (D{e.seq}): bad upper index {k} or degree {m}")
@@ -225,7 +224,7 @@ class Walker:
         basis = bspline_basis(knots, m, t) * w
         return (basis @ ctrl) / basis.sum(axis=1, keepdims=True)
 
-    def _surface128(self, e: "Entity") -> tuple[Callable[[np.ndarray, np.ndarray], np.ndarray], tuple[float, float, float, float]]:
+    def _surface128(self, e: Entity) -> tuple[Callable[[np.ndarray, np.ndarray], np.ndarray], tuple[float, float, float, float]]:
         """An evaluator (u, v arrays -> points, surface's own space) and the parameter ranges."""
         k1, k2, m1, m2 = (self.m.integer(e, i) for i in (1, 2, 3, 4))
         if min(k1, k2) < 0 or min(m1, m2) < 1:
@@ -251,24 +250,24 @@ class Walker:
 
         return evaluate, ranges  # type: ignore[return-value]
 
-    def surface128(self, e: "Entity") -> np.ndarray:
+    def surface128(self, e: Entity) -> np.ndarray:
         evaluate, (u0, u1, v0, v1) = self._surface128(e)
         u, v = np.meshgrid(np.linspace(u0, u1, SURFACE_GRID), np.linspace(v0, v1, SURFACE_GRID))
         return evaluate(u.ravel(), v.ravel())
 
     # ------------------------------------------------------------------ composites and surfaces
-    def composite(self, e: "Entity") -> np.ndarray:
+    def composite(self, e: Entity) -> np.ndarray:
         n = self.m.integer(e, 1)
         return np.vstack([np.zeros((0, 3))] + [self.ref(e, 2 + i) for i in range(n)])
 
-    def plane(self, e: "Entity") -> np.ndarray:
+    def plane(self, e: Entity) -> np.ndarray:
         # bounded plane: its bounding curve; an unbounded one has no extent to envelop
         return self.ref(e, 5) if self.m.integer(e, 5, 0) else np.zeros((0, 3))
 
-    def ruled(self, e: "Entity") -> np.ndarray:
+    def ruled(self, e: Entity) -> np.ndarray:
         return np.vstack([self.ref(e, 1), self.ref(e, 2)])
 
-    def revolution(self, e: "Entity") -> np.ndarray:
+    def revolution(self, e: Entity) -> np.ndarray:
         axis = self.ref(e, 1)
         curve = self.ref(e, 2)
         sa, ta = self.m.num(e, 3, 0.0), self.m.num(e, 4, 2 * math.pi)
@@ -285,12 +284,12 @@ class Walker:
         pts = (p + along[:, None] * d)[None] + np.cos(ts)[:, None, None] * radial[None] + np.sin(ts)[:, None, None] * cross[None]
         return pts.reshape(-1, 3)
 
-    def tabulated(self, e: "Entity") -> np.ndarray:
+    def tabulated(self, e: Entity) -> np.ndarray:
         curve = self.ref(e, 1)
         end = self.m.nums(e, 2, 3)
         return np.vstack([curve, curve + (end - curve[0])]) if len(curve) else curve
 
-    def curve_on_surface(self, e: "Entity") -> np.ndarray:
+    def curve_on_surface(self, e: Entity) -> np.ndarray:
         model = self.ref(e, 4)
         if len(model):
             return model
@@ -301,7 +300,7 @@ class Walker:
             return _apply(self.m.matrix(surface), evaluate(uv[:, 0], uv[:, 1]))
         return np.zeros((0, 3))
 
-    def trimmed(self, e: "Entity") -> np.ndarray:
+    def trimmed(self, e: Entity) -> np.ndarray:
         surface = self.m.pointer(e, 1)
         assert surface is not None
         if self.m.integer(e, 2, 0) == 0:
@@ -311,7 +310,7 @@ class Walker:
         extra = self._inside_uv(surface, outer) if outer is not None and surface.type == 128 else np.zeros((0, 3))
         return np.vstack([boundary, extra])
 
-    def _inside_uv(self, surface: "Entity", outer: "Entity") -> np.ndarray:
+    def _inside_uv(self, surface: Entity, outer: Entity) -> np.ndarray:
         """Surface points inside a uv trimming curve, so a curved patch's bulge is enveloped too."""
         uv_ent = self.m.pointer(outer, 3, optional=True)
         if uv_ent is None:
@@ -333,7 +332,7 @@ class Walker:
             return np.zeros((0, 3))
         return _apply(self.m.matrix(surface), evaluate(inside[:, 0], inside[:, 1]))
 
-    def boundary141(self, e: "Entity") -> np.ndarray:
+    def boundary141(self, e: Entity) -> np.ndarray:
         n = self.m.integer(e, 4)
         pts, i = [np.zeros((0, 3))], 5
         for _ in range(n):
@@ -342,31 +341,31 @@ class Walker:
             i += 3 + k
         return np.vstack(pts)
 
-    def bounded_surface(self, e: "Entity") -> np.ndarray:
+    def bounded_surface(self, e: Entity) -> np.ndarray:
         n = self.m.integer(e, 3)
         return np.vstack([np.zeros((0, 3))] + [self.ref(e, 4 + i) for i in range(n)])
 
     # ------------------------------------------------------------------ subfigures
-    def subfigure(self, e: "Entity") -> np.ndarray:
+    def subfigure(self, e: Entity) -> np.ndarray:
         n = self.m.integer(e, 3)
         return np.vstack([np.zeros((0, 3))] + [self.ref(e, 4 + i) for i in range(n)])
 
-    def instance(self, e: "Entity") -> np.ndarray:
+    def instance(self, e: Entity) -> np.ndarray:
         pts = self.ref(e, 1)
         x, y, z = (self.m.num(e, i, 0.0) for i in (2, 3, 4))
         s = self.m.num(e, 5, 1.0)
         return pts * s + np.array([x, y, z])
 
     # ------------------------------------------------------------------ B-rep
-    def vertex_list(self, e: "Entity") -> np.ndarray:
+    def vertex_list(self, e: Entity) -> np.ndarray:
         n = self.m.integer(e, 1)
         return self.m.nums(e, 2, 3 * n).reshape(n, 3)
 
-    def edge_list(self, e: "Entity") -> np.ndarray:
+    def edge_list(self, e: Entity) -> np.ndarray:
         n = self.m.integer(e, 1)
         return np.vstack([np.zeros((0, 3))] + [self.ref(e, 2 + 5 * i) for i in range(n)])
 
-    def loop(self, e: "Entity") -> np.ndarray:
+    def loop(self, e: Entity) -> np.ndarray:
         n = self.m.integer(e, 1)
         pts, i = [np.zeros((0, 3))], 2
         for _ in range(n):
@@ -386,13 +385,13 @@ class Walker:
             i += 5 + 2 * k
         return np.vstack(pts)
 
-    def face(self, e: "Entity") -> np.ndarray:
+    def face(self, e: Entity) -> np.ndarray:
         n = self.m.integer(e, 2)
         return np.vstack([np.zeros((0, 3))] + [self.ref(e, 4 + i) for i in range(n)])
 
-    def shell(self, e: "Entity") -> np.ndarray:
+    def shell(self, e: Entity) -> np.ndarray:
         n = self.m.integer(e, 1)
         return np.vstack([np.zeros((0, 3))] + [self.ref(e, 2 + 2 * i) for i in range(n)])
 
-    def msbo(self, e: "Entity") -> np.ndarray:
+    def msbo(self, e: Entity) -> np.ndarray:
         return self.ref(e, 1)

@@ -5,17 +5,14 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
+from valterm.core import numbers
 from valterm.core.files.errors import FileFormatError
-
-# The thesis's files are a few kilobytes; anything this large is not one of them, and
-# reading it whole would only stall the terminal.
-MAX_FILE_BYTES = 5 * 1024 * 1024
+from valterm.core.files.limits import MAX_FILE_BYTES, MAX_LINE
+from valterm.core.numbers import MAX_MAGNITUDE, NumberError
 
 # Control characters other than tab, newline, carriage return and form feed mark binary junk.
 _JUNK = re.compile(r"[\x00-\x08\x0b\x0e-\x1f\x7f]")
 
-# A number as Fortran wrote it: `465.`, `-.27`, `1.5E+02`, `1.5D+02`.
-_NUMBER = re.compile(r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[EeDd][+-]?\d+)?")
 
 
 def read_text(path: str | Path, what: str, limit: int = MAX_FILE_BYTES) -> str:
@@ -70,14 +67,27 @@ def split_fields(line: str) -> list[str]:
     return [field for field in re.split(r"[,\s]+", line.strip()) if field]
 
 
-def parse_number(field: str, path: str | Path, line: int, what: str) -> float:
-    """One number, Fortran style, or a located error naming the field."""
-    if not _NUMBER.fullmatch(field):
-        raise FileFormatError(path, line, f"{what}: {field!r} is not a number")
-    value = float(field.replace("D", "E").replace("d", "e"))
-    if value != value or value in (float("inf"), float("-inf")):
-        raise FileFormatError(path, line, f"{what}: {field!r} is out of range")
-    return value
+def parse_number(field: str, path: str | Path, line: int, what: str, limit: float = MAX_MAGNITUDE) -> float:
+    """One number, Fortran style (valterm.core.numbers), or a located error naming the field."""
+    try:
+        return numbers.parse_number(field, limit)
+    except NumberError as error:
+        raise FileFormatError(path, line, f"{what}: {error}") from None
+
+
+def parse_count(field: str, path: str | Path, line: int, what: str, limit: int) -> int:
+    """A whole number 0..limit (a count, a vertex number), or a located error."""
+    try:
+        return numbers.parse_count(field, limit, what)
+    except NumberError as error:
+        raise FileFormatError(path, line, str(error)) from None
+
+
+def check_line_lengths(text: str, path: str | Path, what: str, limit: int = MAX_LINE) -> None:
+    """Refuse the first line longer than ``limit`` characters, with its number."""
+    for number, line in enumerate(text.splitlines(), start=1):
+        if len(line) > limit:
+            raise FileFormatError(path, number, f"line is {len(line)} characters long (at most {limit} in a {what} file)")
 
 
 def format_number(value: float) -> str:

@@ -1,38 +1,161 @@
-"""Atomic writes (SPEC §5): a crash or a full disk never leaves a file truncated."""
+"""The one way the program writes a file (SPEC §5): whole or not at all, never through a link.
+
+Every file valterm writes (setup, location and program files, DATFILER.DAT, CHECK.DAT, the
+editor's journal, hardcopies, exports, the files seeded into a new workspace) goes through
+:func:`write_bytes_atomic`:
+
+* the data goes to a temporary ``.NAME.<random>.tmp`` created exclusively (``O_EXCL``, and
+  ``O_NOFOLLOW`` where the platform has it) in the target's own folder, so nothing planted
+  under a guessable name is ever written through;
+* it is flushed to the disk (``fsync``) and renamed over the target with ``os.replace``:
+  readers, and a program killed at any moment, see the old file or the new one, never a part;
+* a target that is a symbolic link (dangling or not), a folder or a device is refused with
+  :class:`FileWriteError`: the program never writes where a link points.
+
+A kill between creating the temporary and the rename leaves a stray temporary;
+:func:`remove_stale_temporaries` (called when a workspace opens) clears them.
+"""
 
 from __future__ import annotations
 
 import os
-import tempfile
+import re
+import secrets
+import stat
 from pathlib import Path
+
+from valterm.core.files.errors import FileWriteError
+
+try:  # POSIX: a temporary being written is locked, so a second session never removes it
+    import fcntl
+except ImportError:  # pragma: no cover - Windows
+    fcntl = None  # type: ignore[assignment]
+
+TEMP_SUFFIX = ".tmp"
+_RANDOM_CHARS = 16  # hex digits of the temporary's random part
+
+# `.NAME.<8-32 random characters>.tmp`: ours, and those of older versions (tempfile.mkstemp).
+_TEMPORARY = re.compile(r"\..+\.[A-Za-z0-9_]{8,32}\.tmp")
+
+_CREATE = os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_NOFOLLOW", 0) | getattr(os, "O_BINARY", 0)
 
 
 def write_text_atomic(path: str | Path, text: str, encoding: str = "utf-8") -> None:
-    """Write ``text`` to ``path`` through a temporary file in the same folder, then rename.
-
-    The temporary file lives beside the target so ``os.replace`` is a same-filesystem
-    rename: readers see either the old file or the new one, never a part of either.
-    """
+    """Write ``text`` to ``path`` atomically (see the module docstring)."""
     write_bytes_atomic(path, text.encode(encoding, errors="strict"))
 
 
 def write_bytes_atomic(path: str | Path, data: bytes) -> None:
-    """``write_text_atomic`` for bytes (a GLB export)."""
+    """Write ``data`` to ``path`` through an exclusive temporary in the same folder, then rename.
+
+    Raises FileWriteError (a ValtermError naming the file) when the target is a link or not a
+    regular file, or when the disk refuses (full, read-only, no permission).
+    """
     target = Path(path)
-    fd, temp_name = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
+    mode = check_writable(target)
+    temp = target.with_name(f".{target.name}.{secrets.token_hex(_RANDOM_CHARS // 2)}{TEMP_SUFFIX}")
+    try:
+        fd = os.open(temp, _CREATE, 0o666)  # the umask applies, as for any new file
+    except OSError as error:
+        raise FileWriteError(target, _reason(error)) from None
     try:
         with os.fdopen(fd, "wb") as handle:
+            _lock(handle.fileno())
             handle.write(data)
             handle.flush()
             os.fsync(handle.fileno())
-        os.replace(temp_name, target)
-    except BaseException:
+            if mode is not None:
+                os.chmod(temp, mode)  # a rewritten file keeps its permissions
+            check_writable(target)  # a link planted while we wrote is still refused
+            os.replace(temp, target)
+    except BaseException as error:
+        _unlink(temp)
+        if isinstance(error, OSError):
+            raise FileWriteError(target, _reason(error)) from None
+        raise
+
+
+def check_writable(target: Path) -> int | None:
+    """The permission bits of an existing regular file, None for a new one; FileWriteError
+    for a symbolic link, a folder or anything else that is not a plain file."""
+    try:
+        info = os.lstat(target)
+    except FileNotFoundError:
+        return None
+    except OSError as error:
+        raise FileWriteError(target, _reason(error)) from None
+    if stat.S_ISLNK(info.st_mode):
+        raise FileWriteError(target, "is a symbolic link; refusing to write through it")
+    if stat.S_ISDIR(info.st_mode):
+        raise FileWriteError(target, "is a folder, not a file")
+    if not stat.S_ISREG(info.st_mode):
+        raise FileWriteError(target, "is not a regular file; refusing to write to it")
+    return stat.S_IMODE(info.st_mode)
+
+
+def is_temporary(name: str) -> bool:
+    """True for a name this module (or an older valterm) gives its temporaries."""
+    return _TEMPORARY.fullmatch(name) is not None
+
+
+def remove_stale_temporaries(folder: str | Path) -> list[str]:
+    """Remove the temporaries left in ``folder`` by writes that were killed; returns their names.
+
+    A temporary another session is writing right now is locked and left alone (POSIX).
+    Links with a temporary's name are removed too (the link only, never what it points to).
+    """
+    removed: list[str] = []
+    try:
+        entries = list(os.scandir(folder))
+    except OSError:
+        return removed
+    for entry in entries:
+        if not is_temporary(entry.name) or entry.is_dir(follow_symlinks=False):
+            continue
+        if not entry.is_symlink() and _in_use(entry.path):
+            continue
         try:
-            os.unlink(temp_name)
+            os.unlink(entry.path)
+        except OSError:
+            continue
+        removed.append(entry.name)
+    return removed
+
+
+def _lock(fd: int) -> None:
+    if fcntl is not None:
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except OSError:
             pass
-        raise
-    _fsync_folder(target.parent)
+
+
+def _in_use(path: str) -> bool:
+    """True when another process holds the temporary's lock (it is being written)."""
+    if fcntl is None:
+        return False
+    try:
+        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NOFOLLOW", 0))
+    except OSError:
+        return False
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except OSError:
+        return True
+    finally:
+        os.close(fd)
+    return False
+
+
+def _unlink(path: Path) -> None:
+    try:
+        os.unlink(path)
+    except OSError:
+        pass
+
+
+def _reason(error: OSError) -> str:
+    return f"cannot write the file: {error.strerror or error}"
 
 
 def _fsync_folder(folder: Path) -> None:

@@ -9,9 +9,9 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-from valterm.core.files._text import numbered_lines, read_text
+from valterm.core.files._text import check_line_lengths, numbered_lines, read_text
 from valterm.core.files.atomic import write_text_atomic
-from valterm.core.files.errors import FileFormatError
+from valterm.core.files.errors import FileFormatError, shown_name
 
 DATFILER = "DATFILER.DAT"
 
@@ -21,13 +21,14 @@ _ENTRY = re.compile(r"([A-Z0-9]{1,9})(?:\.DAT)?")
 def parse_datfiler(text: str, path: str | Path = DATFILER) -> list[str]:
     """Program names (upper case, no extension) in file order, each once."""
     names: list[str] = []
+    check_line_lengths(text, path, "program directory")
     for number, line in numbered_lines(text):
         entry = line.strip().upper()
         if not entry or entry.startswith(";"):
             continue
         match = _ENTRY.fullmatch(entry)
         if match is None:
-            raise FileFormatError(path, number, f"{line.strip()!r} is not a program name (1-9 letters or digits, then .DAT)")
+            raise FileFormatError(path, number, f"{shown_name(line.strip())!r} is not a program name (1-9 letters or digits, then .DAT)")
         if match.group(1) not in names:
             names.append(match.group(1))
     return names
@@ -44,7 +45,7 @@ def format_datfiler(names: list[str]) -> str:
     for name in names:
         upper = name.upper().removesuffix(".DAT")
         if not _ENTRY.fullmatch(upper):
-            raise ValueError(f"{name!r} is not a program name (1-9 letters or digits)")
+            raise ValueError(f"{shown_name(name)!r} is not a program name (1-9 letters or digits)")
         entry = f"{upper}.DAT"
         if entry not in lines:
             lines.append(entry)

@@ -23,9 +23,55 @@ class FileFormatError(ValtermError):
 
     @property
     def name(self) -> str:
-        return self.path.name or str(self.path)
+        return shown_name(self.path.name or str(self.path))
 
     def __str__(self) -> str:
         if self.line > 0:
             return f"{self.name}:{self.line}: {self.reason}"
         return f"{self.name}: {self.reason}"
+
+
+class BadName(ValtermError, ValueError):
+    """A name (typed or read) that is not a VAL-II name; ``str()`` says why."""
+
+
+class FileWriteError(ValtermError, OSError):
+    """A file the program will not or cannot write: ``NAME.SET: reason``.
+
+    Raised for a target that is a symbolic link (never written through), a folder or a
+    device, and for a disk that refuses (full, read-only, no permission). It is an OSError
+    too, so code that already catches failed writes keeps catching it.
+    """
+
+    def __init__(self, path: str | Path, reason: str) -> None:
+        self.path = Path(path)
+        self.reason = reason
+        super().__init__(str(self))
+
+    @property
+    def name(self) -> str:
+        return shown_name(self.path.name or str(self.path))
+
+    def __str__(self) -> str:
+        return f"{self.name}: {self.reason}"
+
+
+# Names echoed in messages are cut to this many characters: a 10 000-character name typed
+# or planted in a file is shown as its start, not as a screenful.
+SHOWN_NAME = 40
+
+
+def shown_name(name: str, limit: int = SHOWN_NAME) -> str:
+    """``name`` as a message shows it: whole up to ``limit`` characters, else its start and '...'."""
+    return name if len(name) <= limit else name[:limit] + "..."
+
+
+def error_message(error: BaseException) -> str:
+    """The one line an edge prints for ``error``: a ValtermError's own message; an OSError as
+    ``NAME: reason`` with the name cut (``[Errno 36] File name too long: '<10 000 characters>'``
+    is not a message)."""
+    if isinstance(error, OSError) and not isinstance(error, ValtermError) and error.strerror:
+        if error.filename is None:
+            return error.strerror
+        return f"{shown_name(str(error.filename))}: {error.strerror}"
+    return str(error)

@@ -10,9 +10,17 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-from valterm.core.files._text import format_number, numbered_lines, parse_number, read_text, split_fields
+from valterm.core.files._text import (
+    check_line_lengths,
+    format_number,
+    numbered_lines,
+    parse_number,
+    read_text,
+    split_fields,
+)
 from valterm.core.files.atomic import write_text_atomic
-from valterm.core.files.errors import FileFormatError
+from valterm.core.files.errors import BadName, FileFormatError, shown_name
+from valterm.core.files.limits import MAX_LOCATIONS
 from valterm.core.kinematics import Location
 
 # A location name: a letter then up to 8 letters or digits (§7.3: "up to 9 characters").
@@ -24,11 +32,11 @@ _FIELDS = ("X", "Y", "Z", "O", "A", "T")
 
 
 def check_location_name(name: str) -> str:
-    """The name upper-cased, or ValueError saying why it is not a location name."""
+    """The name upper-cased, or BadName saying why it is not a location name."""
     upper = name.strip().upper()
     if not LOCATION_NAME.fullmatch(upper):
-        raise ValueError(
-            f"{name!r} is not a location name: a letter then up to 8 letters or digits (at most 9 characters)"
+        raise BadName(
+            f"{shown_name(name)!r} is not a location name: a letter then up to 8 letters or digits (at most 9 characters)"
         )
     return upper
 
@@ -47,6 +55,7 @@ def parse_locations(text: str, name: str | Path) -> dict[str, Location]:
     where = Path(name)
     if not text.strip():
         raise FileFormatError(where, 0, "the location file is empty (no POINT lines)")
+    check_line_lengths(text, where, "location")
     found: dict[str, Location] = {}
     for number, line in numbered_lines(text):
         stripped = line.strip()
@@ -68,6 +77,8 @@ def parse_locations(text: str, name: str | Path) -> dict[str, Location]:
                 where, number, f"POINT {point}: expected 6 numbers (X, Y, Z, O, A, T), found {len(values)}"
             )
         numbers = [parse_number(v, where, number, f"POINT {point} {axis}") for v, axis in zip(values, _FIELDS)]
+        if point not in found and len(found) >= MAX_LOCATIONS:
+            raise FileFormatError(where, number, f"more than {MAX_LOCATIONS} locations in one file")
         found[point] = Location(
             (numbers[0], numbers[1], numbers[2]), (numbers[3], numbers[4], numbers[5])
         )

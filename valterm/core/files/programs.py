@@ -21,15 +21,18 @@ import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from valterm.core.files import limits
 from valterm.core.files._text import numbered_lines, read_text
 from valterm.core.files.atomic import write_text_atomic
-from valterm.core.files.errors import FileFormatError
+from valterm.core.files.errors import FileFormatError, FileWriteError
+from valterm.core.files.limits import MAX_STEPS
+from valterm.core.numbers import NumberError, parse_count
 
 LABEL_COLUMNS = 4         # columns 1-4: the step label
 MAX_LABEL = 65535         # VAL-II step labels are 0..65535
-MAX_LINE = 255            # longer lines are not VAL-II program steps
+MAX_LINE = limits.MAX_LINE  # longer lines are not VAL-II program steps (the editor's limit too)
 
-_FREE_LABEL = re.compile(r"\s*(\d+)(?:\s+(.*))?")
+_FREE_LABEL = re.compile(r"\s*([0-9]+)(?:\s+(.*))?", re.ASCII)
 _CONTROL = re.compile(r"[\x00-\x1f\x7f]")
 
 
@@ -74,15 +77,16 @@ def split_label(line: str) -> tuple[int | None, str]:
     head = line[:LABEL_COLUMNS]
     if free is not None:
         label_text, statement = free.group(1), (free.group(2) or "").strip()
-    elif len(line) > LABEL_COLUMNS and head.strip().isdigit() and head == head.rstrip():
+    elif len(line) > LABEL_COLUMNS and head.strip().isascii() and head.strip().isdigit() and head == head.rstrip():
         # label filling column 4 with the statement glued on at column 5: "1234READY"
         label_text, statement = head.strip(), line[LABEL_COLUMNS:].strip()
     if label_text is None:
         return None, statement
-    label = int(label_text)
-    if label > MAX_LABEL:
-        raise ValueError(f"step label {label_text} is too large (labels are 0 to {MAX_LABEL})")
-    return label, statement
+    try:
+        return parse_count(label_text, MAX_LABEL, "step label"), statement
+    except NumberError:  # only digits reach here: the label is too large
+        shown = label_text if len(label_text) <= 12 else label_text[:12] + "..."
+        raise ValueError(f"step label {shown} is too large (labels are 0 to {MAX_LABEL})") from None
 
 
 def read_program(path: str | Path) -> Program:
@@ -106,6 +110,8 @@ def parse_program(text: str, name: str, path: str | Path | None = None) -> Progr
             label, statement = split_label(line)
         except ValueError as error:
             raise FileFormatError(where, number, str(error)) from None
+        if len(program.steps) >= MAX_STEPS:
+            raise FileFormatError(where, number, f"more than {MAX_STEPS} steps in one program")
         program.steps.append(ProgramLine(label, statement, number))
     return program
 
@@ -130,5 +136,7 @@ def format_program(program: Program) -> str:
 
 
 def write_program(path: str | Path, program: Program) -> None:
-    """Write the program atomically."""
+    """Write the program atomically (FileWriteError for one of more than MAX_STEPS steps)."""
+    if len(program.steps) > MAX_STEPS:
+        raise FileWriteError(path, f"{len(program.steps)} steps are too many for one program (at most {MAX_STEPS})")
     write_text_atomic(path, format_program(program))

@@ -30,9 +30,18 @@ import numpy as np
 
 from valterm.core.cell.polyhedron import Polyhedron
 from valterm.core.cell.workcell import WorkCell
-from valterm.core.files._text import numbered_lines, parse_number, read_text, split_fields
+from valterm.core.files._text import (
+    check_line_lengths,
+    numbered_lines,
+    parse_count,
+    parse_number,
+    read_text,
+    split_fields,
+)
 from valterm.core.files.atomic import write_text_atomic
-from valterm.core.files.errors import FileFormatError
+from valterm.core.files.errors import FileFormatError, FileWriteError
+from valterm.core.files.limits import MAX_PARTS, MAX_VERTICES
+from valterm.core.numbers import numpy_errors
 
 MM_PER_INCH = 25.4
 SCS_HEIGHT = 26.0  # H of SPEC §1: Y_s = Z_w + H, in millimetres
@@ -124,20 +133,21 @@ def parse_setup(text: str, name: str | Path) -> WorkCell:
         number, line = found
         return number, split_fields(line)
 
+    check_line_lengths(text, where, "setup")
     number, fields = need("the number of objects (line 1)")
-    if len(fields) != 1 or not fields[0].isdigit():
-        raise FileFormatError(where, number, f"line 1 must be the number of objects, not {' '.join(fields)!r}")
-    count = int(fields[0])
+    if len(fields) != 1:
+        raise FileFormatError(where, number, f"line 1 must be the number of objects, not {_shown(fields)!r}")
+    count = parse_count(fields[0], where, number, "the number of objects", MAX_PARTS)
 
     number, fields = need("the units (MM or IN)")
     units = fields[0].upper() if len(fields) == 1 else ""
     if units not in UNITS:
-        raise FileFormatError(where, number, f"units must be MM or IN, not {' '.join(fields)!r}")
+        raise FileFormatError(where, number, f"units must be MM or IN, not {_shown(fields)!r}")
 
     number, fields = need("the frame (W or S)")
     system = fields[0].upper() if len(fields) == 1 else ""
     if system not in SYSTEMS:
-        raise FileFormatError(where, number, f"the frame must be W (world) or S (screen), not {' '.join(fields)!r}")
+        raise FileFormatError(where, number, f"the frame must be W (world) or S (screen), not {_shown(fields)!r}")
 
     cell = WorkCell(units=units, system=system, name=where.name)
     for part in range(1, count + 1):
@@ -149,9 +159,12 @@ def parse_setup(text: str, name: str | Path) -> WorkCell:
         for index in range(1, vertex_count + 1):
             line_number, fields = need(f"vertex {index} of {vertex_count} of object {part}")
             relative.append(_point(fields, where, line_number, f"object {part} vertex {index}"))
-        absolute = np.asarray(relative) + reference
-        vertices = file_to_world(absolute, units, system)
-        polyhedron = Polyhedron(vertices, name=lines.names.get(header_line, f"PART {part}"))
+        try:
+            with numpy_errors():
+                vertices = file_to_world(np.asarray(relative) + reference, units, system)
+                polyhedron = Polyhedron(vertices, name=lines.names.get(header_line, f"PART {part}"))
+        except (FloatingPointError, ValueError) as error:
+            raise FileFormatError(where, header_line, f"object {part}: unusable vertices ({error})") from None
         for warning in _check_geometry(polyhedron, part):
             cell.warnings.append(f"{where.name}:{header_line}: object {part}: {warning}")
         cell.objects.append(polyhedron)
@@ -166,14 +179,15 @@ def parse_setup(text: str, name: str | Path) -> WorkCell:
 
 def _object_size(fields: list[str], where: Path, line: int, part: int) -> int:
     """N of the object's ``1,N`` line, checked."""
-    shown = ",".join(fields)
-    if len(fields) != 2 or not all(f.isdigit() for f in fields):
+    shown = _shown(fields, ",")
+    if len(fields) != 2 or not all(f.isascii() and f.isdigit() for f in fields):
         if len(fields) == 3:
             reason = f"object {part}: expected '1,N' (first and last vertex), found a point {shown!r}; is the vertex count wrong?"
         else:
             reason = f"object {part}: expected '1,N' (first and last vertex), not {shown!r}"
         raise FileFormatError(where, line, reason)
-    first, last = int(fields[0]), int(fields[1])
+    first = parse_count(fields[0], where, line, f"object {part}: the first vertex", MAX_VERTICES)
+    last = parse_count(fields[1], where, line, f"object {part}: N", MAX_VERTICES)
     if first != 1:
         raise FileFormatError(where, line, f"object {part}: the first vertex must be 1, not {first}")
     if last % 2:
@@ -183,9 +197,15 @@ def _object_size(fields: list[str], where: Path, line: int, part: int) -> int:
     return last
 
 
+def _shown(fields: list[str], separator: str = " ") -> str:
+    """Fields as a message quotes them: at most 40 characters."""
+    text = separator.join(fields)
+    return text if len(text) <= 40 else text[:40] + "..."
+
+
 def _point(fields: list[str], where: Path, line: int, what: str) -> np.ndarray:
     if len(fields) != 3:
-        raise FileFormatError(where, line, f"{what}: expected 3 numbers (X, Y, Z), found {len(fields)}: {' '.join(fields)!r}")
+        raise FileFormatError(where, line, f"{what}: expected 3 numbers (X, Y, Z), found {len(fields)}: {_shown(fields)!r}")
     return np.array([parse_number(f, where, line, what) for f in fields])
 
 
@@ -193,34 +213,40 @@ def _check_geometry(polyhedron: Polyhedron, part: int) -> list[str]:
     """Cheap sanity checks; problems are warnings (the object is still drawn), never errors."""
     warnings: list[str] = []
     try:
-        if not polyhedron.file_winding_outward():
-            polyhedron.winding_flipped = True
-            warnings.append("vertices wind inward; drawn with outward normals")
-        v = polyhedron.vertices
-        size = float(np.ptp(v, axis=0).max())
-        if size <= 1e-9:
-            return warnings + ["all vertices coincide"]
-        tolerance = 1e-3 * size + 0.01
-        centred = v - v.mean(axis=0)
-        if np.linalg.svd(centred, compute_uv=False)[-1] <= 1e-6 * size:
-            warnings.append("flat: the vertices enclose no volume")
-            return warnings
-        worst = 0.0
-        for face in polyhedron.topology.faces:
-            pts = v[face]
-            normal = _newell(pts)
-            length = float(np.linalg.norm(normal))
-            if length == 0.0:
-                continue
-            worst = max(worst, float(np.abs((pts - pts.mean(axis=0)) @ (normal / length)).max()))
-        if worst > tolerance:
-            warnings.append(f"a face is not planar (off by {worst:.2f} mm)")
-        for label, polygon in (("front", v[: polyhedron.k]), ("back", v[polyhedron.k :])):
-            if not _convex(polygon):
-                warnings.append(f"the {label} polygon is not convex")
-    except Exception:  # a check must never stop a file from loading
-        pass
+        with numpy_errors():
+            _geometry_warnings(polyhedron, warnings)
+    except (FloatingPointError, ValueError, np.linalg.LinAlgError):
+        pass  # numbers too odd to check: a check must never stop a file from loading
     return warnings
+
+
+def _geometry_warnings(polyhedron: Polyhedron, warnings: list[str]) -> None:
+    if not polyhedron.file_winding_outward():
+        polyhedron.winding_flipped = True
+        warnings.append("vertices wind inward; drawn with outward normals")
+    v = polyhedron.vertices
+    size = float(np.ptp(v, axis=0).max())
+    if size <= 1e-9:
+        warnings.append("all vertices coincide")
+        return
+    tolerance = 1e-3 * size + 0.01
+    centred = v - v.mean(axis=0)
+    if np.linalg.svd(centred, compute_uv=False)[-1] <= 1e-6 * size:
+        warnings.append("flat: the vertices enclose no volume")
+        return
+    worst = 0.0
+    for face in polyhedron.topology.faces:
+        pts = v[face]
+        normal = _newell(pts)
+        length = float(np.linalg.norm(normal))
+        if length == 0.0:
+            continue
+        worst = max(worst, float(np.abs((pts - pts.mean(axis=0)) @ (normal / length)).max()))
+    if worst > tolerance:
+        warnings.append(f"a face is not planar (off by {worst:.2f} mm)")
+    for label, polygon in (("front", v[: polyhedron.k]), ("back", v[polyhedron.k :])):
+        if not _convex(polygon):
+            warnings.append(f"the {label} polygon is not convex")
 
 
 def _newell(pts: np.ndarray) -> np.ndarray:
@@ -269,5 +295,10 @@ def _format_point(point: np.ndarray, decimals: int) -> str:
 
 
 def write_setup(path: str | Path, cell: WorkCell) -> None:
-    """Write ``cell`` atomically."""
+    """Write ``cell`` atomically (FileWriteError for a cell no setup file can hold)."""
+    if len(cell.objects) > MAX_PARTS:
+        raise FileWriteError(path, f"{len(cell.objects)} objects are too many for a setup file (at most {MAX_PARTS})")
+    largest = max((len(p.vertices) for p in cell.objects), default=0)
+    if largest > MAX_VERTICES:
+        raise FileWriteError(path, f"an object of {largest} vertices is too large for a setup file (at most {MAX_VERTICES})")
     write_text_atomic(path, format_setup(cell))

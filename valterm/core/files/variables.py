@@ -10,9 +10,16 @@ import math
 import re
 from pathlib import Path
 
-from valterm.core.files._text import numbered_lines, parse_number, read_text
+from valterm.core.files._text import (
+    check_line_lengths,
+    numbered_lines,
+    parse_number,
+    read_text,
+)
 from valterm.core.files.atomic import write_text_atomic
-from valterm.core.files.errors import FileFormatError
+from valterm.core.files.errors import FileFormatError, FileWriteError, shown_name
+from valterm.core.files.limits import MAX_VARIABLES
+from valterm.core.numbers import MAX_FINITE
 
 CHECK = "CHECK.DAT"
 
@@ -23,13 +30,14 @@ def check_variable_name(name: str) -> str:
     """The name upper-cased, or ValueError saying why it is not a variable name."""
     upper = name.strip().upper()
     if not VARIABLE_NAME.fullmatch(upper):
-        raise ValueError(f"{name!r} is not a variable name: a letter then up to 8 letters or digits")
+        raise ValueError(f"{shown_name(name)!r} is not a variable name: a letter then up to 8 letters or digits")
     return upper
 
 
 def parse_variables(text: str, path: str | Path = CHECK) -> dict[str, float]:
     """{NAME: value} from CHECK.DAT text; a later line with the same name wins."""
     values: dict[str, float] = {}
+    check_line_lengths(text, path, "variables")
     for number, line in numbered_lines(text):
         entry = line.strip()
         if not entry or entry.startswith(";"):
@@ -41,7 +49,10 @@ def parse_variables(text: str, path: str | Path = CHECK) -> dict[str, float]:
             variable = check_variable_name(name)
         except ValueError as error:
             raise FileFormatError(path, number, str(error)) from None
-        values[variable] = parse_number(value.strip(), path, number, variable)
+        if variable not in values and len(values) >= MAX_VARIABLES:
+            raise FileFormatError(path, number, f"more than {MAX_VARIABLES} variables")
+        # any finite value: what a program computed must read back
+        values[variable] = parse_number(value.strip(), path, number, variable, MAX_FINITE)
     return values
 
 
@@ -66,5 +77,8 @@ def format_variables(values: dict[str, float]) -> str:
 
 
 def write_variables(path: str | Path, values: dict[str, float]) -> None:
-    """Write CHECK.DAT atomically."""
+    """Write CHECK.DAT atomically; FileWriteError (nothing written) for a value no file can hold."""
+    for name, value in values.items():
+        if not math.isfinite(float(value)):
+            raise FileWriteError(path, f"{shown_name(name)}={value} cannot be kept: not a finite number")
     write_text_atomic(path, format_variables(values))

@@ -137,7 +137,7 @@ class Debugger:
             return
         match = _BREAKPOINT.fullmatch(text)
         if match is None:
-            raise DebugError(f"BPT {text}: EXPECTED BPT <program>,<step> OR BPT -<program>,<step>")
+            raise DebugError(f"BPT {text}: EXPECTED BPT <PROGRAM>,<STEP> OR BPT -<PROGRAM>,<STEP>")
         clear, program, step = match.group(1) == "-", match.group(2), int(match.group(3))
         if clear:
             if (program, step) not in self.breakpoints:
@@ -168,7 +168,7 @@ class Debugger:
         interpreter = self.interpreter
         if not text:
             if not interpreter.paused:
-                raise DebugError(f"NO PROGRAM IS PAUSED ({kind} <program> STARTS ONE)")
+                raise DebugError(f"NO PROGRAM IS PAUSED ({kind} <PROGRAM> STARTS ONE)")
             yield from self.typed_changes()
             self._step, self._step_depth = kind, None
             self._attach()
@@ -177,7 +177,7 @@ class Debugger:
         name, _, step_text = text.partition(",")
         name = name.strip().removesuffix(".DAT")
         if not _NAME.fullmatch(name) or not (step_text.strip() or "0").isdigit():
-            raise DebugError(f"{kind} {text}: EXPECTED {kind} <program>,<step>")
+            raise DebugError(f"{kind} {text}: EXPECTED {kind} <PROGRAM>,<STEP>")
         if interpreter.running:
             raise DebugError(f"A PROGRAM ({interpreter.program}) IS ALREADY RUNNING")
         self._step, self._step_depth = kind, None

@@ -15,14 +15,15 @@ from textual.containers import Horizontal, Vertical
 from textual.screen import Screen
 from textual.widgets import Input
 
-from valterm.core.events import Collision, Error, Message, Near, Pause, Step, TypeOut, Where
-from valterm.ui.messages import MotionDone, PoseShown, SceneChanged, SimulatorEvent
+from valterm.core.events import Event, Help, Pause
+from valterm.ui.errors import problem_text
+from valterm.ui.messages import SceneChanged
+from valterm.ui.screens.help import HelpScreen
 from valterm.ui.view.model_view import ModelView
 from valterm.ui.widgets.cell_view import CellView
 from valterm.ui.widgets.menu_text import MenuText
 from valterm.ui.widgets.message_log import MessageLog
 from valterm.ui.widgets.prompt import Prompt, type_ahead
-from valterm.ui.widgets.readouts import format_where
 
 WIDE = 100  # columns from which the model is shown beside the menu
 
@@ -117,40 +118,36 @@ class MenuScreen(Screen):
     def update_readout(self) -> None:
         """Subclasses keep their readout current here."""
 
-    def on_pose_shown(self, message: PoseShown) -> None:
+    # -- the player's audience (valterm.ui.playback) -------------------------------------
+    def show_scene(self) -> None:
         self.redraw()
 
-    def on_motion_done(self, message: MotionDone) -> None:
+    def show_lines(self, lines: list[str]) -> None:
+        for line in lines[-self.messages.max_lines:]:
+            self.say(line, "error" if line.startswith("***") else "info")
+
+    def take_event(self, event: Event) -> bool:
+        if isinstance(event, Help):
+            self.app.push_screen(HelpScreen(event.topic))
+            return True
+        return False
+
+    def paused(self, pause: Pause) -> None:
+        """A menu has no PROCEED line: the program goes on (VAL-II mode waits)."""
+        self.app.player.resume()
+
+    def played(self, aborted: bool) -> None:
         self.redraw()
-        if message.aborted:
+        if aborted:
             self.say("*** ABORTED ***", "warning")
-        self.after_motion(message)
+        self.after_motion(aborted)
 
-    def after_motion(self, message: MotionDone) -> None:
-        """Subclasses' hook after a motion ends."""
+    def after_motion(self, aborted: bool) -> None:
+        """Subclasses' hook after a motion (or a command) ends."""
 
     def on_scene_changed(self, message: SceneChanged) -> None:
         self._sync_view_options()
         self.redraw()
-
-    def on_simulator_event(self, message: SimulatorEvent) -> None:
-        event = message.event
-        if isinstance(event, (Near, Collision)):
-            self.say(event.text or f"{event.a} {event.b}", "warning")
-        elif isinstance(event, Message):
-            self.say(event.text, event.level)
-        elif isinstance(event, Error):
-            where = f"{event.program} STEP {event.step}: " if event.program else ""
-            self.say(f"{where}{event.message}".upper(), "error")
-        elif isinstance(event, TypeOut):
-            self.say(event.text)
-        elif isinstance(event, Step):
-            self.say(f"{event.step:>4} {event.text}")
-        elif isinstance(event, Where):
-            for line in format_where(event):
-                self.say(line)
-        elif isinstance(event, Pause):
-            self.say(f"PAUSE {event.text}".strip())
 
     def say(self, text: str, level: str = "info") -> None:
         self.messages.say(text, level)
@@ -161,30 +158,19 @@ class MenuScreen(Screen):
 
     def run_command(self, text: str) -> None:
         """One VAL-II command typed at a menu, run through the session's interpreter."""
-        from valterm.ui.app import core_errors, error_text
-
         if not text:
             return
         try:
-            events_ = self.app.session.interpreter.command(text)
-        except ImportError:
-            self.say("VAL-II IS NOT AVAILABLE YET", "warning")
-            return
-        except core_errors() as error:
-            self.say(error_text(error), "error")
+            events_ = self.app.session.command(text)
+        except Exception as error:
+            self.say(problem_text(error), "error")
             return
         self.say(f"    {text.upper()}")
         self.show_model_if_narrow()
-        self.app.run_events(events_)
+        self.app.run_events(events_, self)
 
     def action_help(self) -> None:
-        from valterm.ui.screens import external_screen
-
-        screen = external_screen("help")
-        if screen is None:
-            self.say("HELP IS NOT AVAILABLE YET", "warning")
-        else:
-            self.app.push_screen(screen)
+        self.app.push_screen(HelpScreen())
 
     # -- questions --------------------------------------------------------------------
     @property

@@ -7,8 +7,7 @@ from textual import events
 from textual.app import ComposeResult
 from textual.binding import Binding
 
-from valterm.ui.app import core_errors, error_text
-from valterm.ui.messages import MotionDone
+from valterm.ui.errors import Refusal, problem_text
 from valterm.ui.screens.base import MenuScreen
 from valterm.ui.widgets.menus import KEYBOARD_MENU, ORIENT_MENU
 from valterm.ui.widgets.readouts import PositionReadout
@@ -33,7 +32,7 @@ def command_view(session, command: str) -> list[str]:  # type: ignore[no-untyped
     """LISTP name / LISTF / LISTL typed after L (the LIST prefix may be left out)."""
     words = command.strip().upper().replace(",", " ").split()
     if not words:
-        raise ValueError("type LISTP NAME, LISTF OR LISTL")
+        raise Refusal("type LISTP NAME, LISTF OR LISTL")
     verb = words[0] if words[0].startswith("LIST") else "LIST" + words[0]
     workspace = session.workspace
     if verb == "LISTF":
@@ -44,9 +43,9 @@ def command_view(session, command: str) -> list[str]:  # type: ignore[no-untyped
         return ["VAL-II LOCATION DATA FILES:", *(f"  {n}.LOC" for n in names)] if names else ["NO LOCATION DATA FILES"]
     if verb == "LISTP":
         if len(words) < 2:
-            raise ValueError("LISTP needs a program name")
+            raise Refusal("LISTP needs a program name")
         return program_listing(workspace, words[1])
-    raise ValueError(f"{words[0]} is not LISTP, LISTF or LISTL")
+    raise Refusal(f"{words[0]} is not LISTP, LISTF or LISTL")
 
 
 class KeyboardScreen(MenuScreen):
@@ -87,8 +86,8 @@ class KeyboardScreen(MenuScreen):
     def _list(self, command: str) -> None:
         try:
             lines = command_view(self.app.session, command)
-        except core_errors() as error:
-            self.say(error_text(error), "error")
+        except Exception as error:
+            self.say(problem_text(error), "error")
             return
         self.menu.set_text("\n".join([*lines, "", "PRESS ANY KEY FOR THE MENU"]))
         self.listing = True
@@ -122,9 +121,8 @@ class KeyboardScreen(MenuScreen):
         self.update_readout()
 
     def action_smooth(self) -> None:
-        simulator = self.app.simulator
-        simulator.collision_checks = not simulator.collision_checks
-        self.say(f"COLLISION CHECKS {'ON' if simulator.collision_checks else 'OFF'}")
+        on = self.app.session.toggle_collision_checks()
+        self.say(f"COLLISION CHECKS {'ON' if on else 'OFF'}")
 
     def action_faces(self) -> None:
         self.app.back_faces = not self.app.back_faces
@@ -174,5 +172,5 @@ class KeyboardScreen(MenuScreen):
     def action_model(self) -> None:
         self.toggle_model()
 
-    def after_motion(self, message: MotionDone) -> None:
+    def after_motion(self, aborted: bool) -> None:
         self.update_readout()

@@ -4,9 +4,16 @@ from __future__ import annotations
 
 from textual.binding import Binding
 
-from valterm.ui.app import core_errors, error_text
-from valterm.ui.screens import external_screen
+from valterm.core.cad.export import export_scene
+from valterm.ui.errors import problem_text
+from valterm.ui.hardcopy import write_hardcopy
 from valterm.ui.screens.base import MenuScreen
+from valterm.ui.screens.editor import EditorScreen
+from valterm.ui.screens.help import HelpScreen
+from valterm.ui.screens.keyboard import KeyboardScreen
+from valterm.ui.screens.manipulation import ManipulationScreen
+from valterm.ui.screens.pendant import PendantScreen
+from valterm.ui.screens.valmode import ValModeScreen
 from valterm.ui.widgets.menus import MAIN_MENU
 
 
@@ -35,51 +42,36 @@ class MainMenuScreen(MenuScreen):
 
     # -- to the modes ---------------------------------------------------------------
     def action_keyboard(self) -> None:
-        from valterm.ui.screens.keyboard import KeyboardScreen
-
         self.app.push_screen(KeyboardScreen())
 
     def action_manipulation(self) -> None:
-        from valterm.ui.screens.manipulation import ManipulationScreen
-
         self.app.push_screen(ManipulationScreen())
 
     def action_pendant(self) -> None:
-        from valterm.ui.screens.pendant import PendantScreen
-
         self.app.push_screen(PendantScreen())
 
-    def _external(self, kind: str, title: str) -> None:
-        screen = external_screen(kind)
-        if screen is None:
-            self.say(f"{title} IS NOT AVAILABLE YET", "warning")
-            return
-        self.app.push_screen(screen)
-
     def action_editor(self) -> None:
-        self._external("editor", "EDIT MODE")
+        self.app.push_screen(EditorScreen())
 
     def action_valmode(self) -> None:
-        self._external("valmode", "VAL-II MODE")
+        self.app.push_screen(ValModeScreen())
 
     def action_help(self) -> None:
-        self._external("help", "HELP")
+        self.app.push_screen(HelpScreen())
 
     def action_toggle_model(self) -> None:
         self.toggle_model()
 
     # -- the session ------------------------------------------------------------------
     def action_begin(self) -> None:
-        from valterm.ui.screens.start import StartScreen
-
-        self.app.switch_screen(StartScreen())
+        self.app.show_start()
 
     def action_initialize(self) -> None:
         name = self.app.session.setup_name if self.app.session else ""
         try:
             self.app.open_session(name or None)
-        except core_errors() as error:
-            self.say(error_text(error), "error")
+        except Exception as error:
+            self.say(problem_text(error), "error")
             return
         self.messages.clear()
         self.say(f"INITIALIZED WITH {name}.SET" if name else "INITIALIZED")
@@ -95,12 +87,10 @@ class MainMenuScreen(MenuScreen):
         self.ask_key("ARE YOU SURE YOU WANT TO EXIT (Y/N) ?:", answer)
 
     def action_hardcopy(self) -> None:
-        from valterm.ui.hardcopy import write_hardcopy
-
         try:
             svg, txt = write_hardcopy(self.app)
-        except core_errors() as error:
-            self.say(error_text(error), "error")
+        except Exception as error:
+            self.say(problem_text(error), "error")
             return
         self.say(f"HARDCOPY WRITTEN: {svg.name} AND {txt.name}")
 
@@ -109,8 +99,6 @@ class MainMenuScreen(MenuScreen):
         name = session.setup_name or "CELL"
         written = []
         try:
-            from valterm.core.cad.export import export_scene
-
             for ext in ("OBJ", "GLB"):
                 path = session.workspace.root / f"{name}.{ext}"
                 export_scene(session.simulator.cell, session.simulator.robot_polyhedra(), path)
@@ -118,7 +106,7 @@ class MainMenuScreen(MenuScreen):
         except ImportError as error:
             self.say(f"EXPORT NOT AVAILABLE: {error}".upper(), "error")
             return
-        except core_errors() as error:
-            self.say(error_text(error), "error")
+        except Exception as error:
+            self.say(problem_text(error), "error")
             return
         self.say("POLYGON FILES WRITTEN: " + ", ".join(written))

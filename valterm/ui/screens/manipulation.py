@@ -14,7 +14,7 @@ from __future__ import annotations
 from textual.app import ComposeResult
 from textual.binding import Binding
 
-from valterm.ui.app import core_errors, error_text
+from valterm.ui.errors import Refusal, problem_text
 from valterm.ui.screens.base import MenuScreen
 from valterm.ui.widgets.menus import MANIPULATION_CHOICE, MANIPULATION_MENU
 from valterm.ui.widgets.readouts import PartReadout
@@ -38,11 +38,11 @@ def screen_to_world_offset(dx: float, dy: float, dz: float) -> tuple[float, floa
 def parse_triple(text: str) -> tuple[float, float, float]:
     parts = [p for p in text.replace(",", " ").split()]
     if len(parts) != 3:
-        raise ValueError(f"{text or 'nothing'}: type three numbers X, Y, Z")
+        raise Refusal(f"{text or 'nothing'}: type three numbers X, Y, Z")
     try:
         x, y, z = (float(p) for p in parts)
-    except ValueError:
-        raise ValueError(f"{text}: type three numbers X, Y, Z") from None
+    except ValueError:  # float()'s own refusal of a word
+        raise Refusal(f"{text}: type three numbers X, Y, Z") from None
     return x, y, z
 
 
@@ -123,8 +123,8 @@ class ManipulationScreen(MenuScreen):
     def _move(self, translation=(0.0, 0.0, 0.0), axis: int | None = None, degrees: float = 0.0) -> None:  # type: ignore[no-untyped-def]
         try:
             self.app.simulator.move_part(self.part, translation, axis, degrees)
-        except core_errors() as error:
-            self.say(error_text(error), "error")
+        except Exception as error:
+            self.say(problem_text(error), "error")
             return
         self.modified = True
         self.show_model_if_narrow()
@@ -173,8 +173,8 @@ class ManipulationScreen(MenuScreen):
     def _translate(self, text: str) -> None:
         try:
             dx, dy, dz = parse_triple(text)
-        except ValueError as error:
-            self.say(error_text(error), "error")
+        except Refusal as error:
+            self.say(problem_text(error), "error")
             self._ask_triple_translate()
             return
         self._move(screen_to_world_offset(dx, dy, dz))
@@ -192,8 +192,8 @@ class ManipulationScreen(MenuScreen):
     def _rotate(self, text: str) -> None:
         try:
             angles = parse_triple(text)
-        except ValueError as error:
-            self.say(error_text(error), "error")
+        except Refusal as error:
+            self.say(problem_text(error), "error")
             self._ask_triple_rotate()
             return
         for axis, degrees in zip("XYZ", angles):
@@ -224,8 +224,8 @@ class ManipulationScreen(MenuScreen):
     def _save(self, name: str) -> None:
         try:
             path = self.app.session.save_setup(name or None)
-        except core_errors() as error:
-            self.say(error_text(error), "error")
+        except Exception as error:
+            self.say(problem_text(error), "error")
             self._ask_name()
             return
         self.modified = False

@@ -11,7 +11,6 @@ from __future__ import annotations
 from textual.app import ComposeResult
 from textual.binding import Binding
 
-from valterm.ui.messages import MotionDone
 from valterm.ui.screens.base import MenuScreen
 from valterm.ui.widgets.menus import PENDANT_MENU
 from valterm.ui.widgets.readouts import PositionReadout
@@ -49,7 +48,7 @@ class PendantScreen(MenuScreen):
     def _move(self, events) -> None:  # type: ignore[no-untyped-def]
         # messages stay: a collision is reported once, when it starts (Fig. C-12 a-d)
         self.show_model_if_narrow()
-        self.app.run_events(events)
+        self.app.run_events(events, self)
 
     def action_joint(self, joint: int) -> None:
         self._move(self.app.simulator.pendant_joint(joint))
@@ -71,7 +70,7 @@ class PendantScreen(MenuScreen):
         self.say(f"ROTATIONAL INCREMENT {value:+.2f} DEG")
         self.update_readout()
 
-    def after_motion(self, message: MotionDone) -> None:
+    def after_motion(self, aborted: bool) -> None:
         self.update_readout()
 
     def action_return(self) -> None:

@@ -13,7 +13,10 @@ from dataclasses import dataclass, field
 
 from textual.binding import Binding
 
-from valterm.ui.app import core_errors, error_text
+from valterm.core.cad.convert import add_parts, import_cad, native_units
+from valterm.core.errors import ValtermError
+from valterm.core.workspace import check_name
+from valterm.ui.errors import Refusal, problem_text
 from valterm.ui.screens.base import MenuScreen
 from valterm.ui.widgets.menus import COPYRIGHT, START_MENU, TITLE
 
@@ -61,15 +64,13 @@ class StartScreen(MenuScreen):
         name = name or DEFAULT_SETUP
         try:
             self.app.open_session(name)
-        except core_errors() as error:
-            self.say(error_text(error), "error")
+        except Exception as error:
+            self.say(problem_text(error), "error")
             return
         self._to_main_menu()
 
     def _to_main_menu(self) -> None:
-        from valterm.ui.screens.main_menu import MainMenuScreen
-
-        self.app.switch_screen(MainMenuScreen())
+        self.app.show_main_menu()
 
     # -- I_GES FILE / U_GII FILE --------------------------------------------------------
     def action_iges(self) -> None:
@@ -99,8 +100,6 @@ class StartScreen(MenuScreen):
             self._convert(t)
 
     def _answer(self, t: Transfer, what: str, answer: str) -> None:
-        from valterm.core.workspace import check_name
-
         answer = answer.strip().upper()
         try:
             if what == "cad_file":
@@ -110,26 +109,26 @@ class StartScreen(MenuScreen):
                 file_name = check_name(stem, ext)
                 path = self.app.session_workspace().path(*file_name.rsplit(".", 1))
                 if not path.is_file():
-                    raise ValueError(f"input file {file_name} does not exist in the workspace")
+                    raise Refusal(f"input file {file_name} does not exist in the workspace")
                 t.cad_file = str(path)
                 t.file_units = self._file_units(path)
             elif what == "setup":
                 t.setup = check_name(answer, "SET").removesuffix(".SET")
             elif what == "parts":
                 if not answer.isdigit() or int(answer) < 1:
-                    raise ValueError(f"{answer or 'nothing'} is not a number of workpieces")
+                    raise Refusal(f"{answer or 'nothing'} is not a number of workpieces")
                 t.parts = int(answer)
             elif what == "units":
                 if answer not in ("MM", "IN", "M"):
-                    raise ValueError("units must be MM, IN or M")
+                    raise Refusal("units must be MM, IN or M")
                 t.units = answer
             elif what == "system":
                 if answer not in ("W", "S"):
-                    raise ValueError("the coordinate axes system must be W or S")
+                    raise Refusal("the coordinate axes system must be W or S")
                 t.system = answer
             t.done.append(what)
-        except core_errors() as error:
-            self.say(error_text(error), "error")
+        except Exception as error:
+            self.say(problem_text(error), "error")
             self.ask_key("DO YOU WANT TO CONTINUE THE PART TRANSFER (Y/N) ?:",
                          lambda key: self._transfer(t) if key == "Y" else self.say("PART TRANSFER ENDED"))
             return
@@ -140,12 +139,8 @@ class StartScreen(MenuScreen):
         """The file's own units for the units question; MM when the file cannot tell (the
         conversion reports what is wrong with it)."""
         try:
-            from valterm.core.cad.convert import native_units
-
             return native_units(str(path))
-        except ImportError:
-            return "MM"
-        except core_errors():
+        except ValtermError:
             return "MM"
 
     def _replace(self, t: Transfer, key: str) -> None:
@@ -159,8 +154,6 @@ class StartScreen(MenuScreen):
 
     def _convert(self, t: Transfer) -> None:
         try:
-            from valterm.core.cad.convert import add_parts, import_cad
-
             workspace = self.app.session_workspace()
             setup = workspace.read_setup(t.setup) if t.add else None
             cell = import_cad(t.cad_file, units=t.units, system=t.system, name=t.setup, parts=t.parts,
@@ -171,8 +164,8 @@ class StartScreen(MenuScreen):
         except ImportError as error:
             self.say(f"CAD IMPORT NOT AVAILABLE: {error}".upper(), "error")
             return
-        except core_errors() as error:
-            self.say(error_text(error), "error")
+        except Exception as error:
+            self.say(problem_text(error), "error")
             self.say("PART TRANSFER ENDED")
             return
         for warning in cell.warnings:

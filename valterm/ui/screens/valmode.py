@@ -7,112 +7,64 @@ M model, D define locations (from a .LOC file, one at a time with the robot show
 A accept, R reject, E accept and end; or P to type a POINT by hand). Any other key starts
 the next command line with that key, as the example session types ``LE`` then ``AB``.
 
-A running program scrolls its steps; motions are paced by the view's MotionPlayer (no timer
-runs when nothing moves); PAUSE hands the line to the user until PROCEED; CTRL-C aborts
-after the step being simulated, and the program can be run again.
+A running program is played by the app's one player (``valterm.ui.playback``): its steps
+scroll through the core's transcript renderer, motions are paced, the screen keeps updating
+whatever the program does; PAUSE hands the line to the user until PROCEED; CTRL-C (the
+app's key) aborts after the step being simulated, and the program can be run again.
 """
 
 from __future__ import annotations
 
-import math
-import time
-from typing import Callable, Iterator
+from collections.abc import Callable, Iterator
+from enum import StrEnum
 
 from textual.app import ComposeResult
 from textual.binding import Binding
 from textual.containers import Horizontal, Vertical
 from textual.events import Key
 from textual.screen import Screen
-from textual.timer import Timer
 from textual.widgets import RichLog, Static
 
-from valterm.core.events import (
-    Collision,
-    Delay,
-    End,
-    Error,
-    Event,
-    Help,
-    Message,
-    Monitor,
-    Motion,
-    Near,
-    Pause,
-    PoseEvent,
-    Status,
-    Step,
-    TypeOut,
-    Where,
-)
+from valterm.core.errors import ValtermError
+from valterm.core.events import Error, Event, Help, Monitor, Pause
 from valterm.core.files.locations import check_location_name, format_locations
 from valterm.core.kinematics import Location
-from valterm.ui.screens.editor import StepInput
-from valterm.core.render.clock import DEFAULT_RATE, MotionPlayer
+from valterm.core.session import Session
+from valterm.core.text.transcript import where_lines
+from valterm.ui.errors import Refusal, problem_text
+from valterm.ui.playback import TRANSCRIPT_LINES, Player, Transcript, show_at_once
+from valterm.ui.screens.editor import EditorScreen, StepInput
+from valterm.ui.screens.help import HelpScreen
 from valterm.ui.view.model_view import ModelView
-from valterm.ui.widgets.readouts import format_where
+from valterm.ui.widgets.menus import (
+    DEFINE_EACH,
+    DEFINE_HOW,
+    THEN_PRESS,
+    VAL_MENU_1,
+    VAL_MENU_2,
+)
 from valterm.ui.widgets.scene import simulator_scene
 
-VAL_MENU_1 = """VAL-II MENU
 
-ENTER COMMANDS BY TYPING IN:
+class Mode(StrEnum):
+    """Where VAL-II mode's keys go."""
 
-READY        - VERTICAL CONFIGURATION
-HERE P       - DEFINE CONFIGURATION P
-MOVE P       - JOINT COORDINATE TO P
-MOVES P      - STRAIGHT-LINE TO P
-OPENI(X)     - OPEN CLAMP BY X%
-CLOSEI(X)    - CLOSE CLAMP BY X%
-SPEED S      - PERCENT OF FULL SPEED
-WHERE        - DISPLAY POSITIONAL INFORMATION
-APPRO P, D   - JOINT COORDINATE APPROACH
-APPROS P, D  - STRAIGHT LINE APPROACH
-STOP         - END VAL-II PROGRAM
-HALT         - LIKE STOP (SEE CTRL_C)
-DEPART D     - JOINT COORDINATE
-DEPARTS D    - STRAIGHT LINE DEPART
-DELAY N      - DELAY PROGRAM N SECONDS
-PAUSE        - RETURN CONTROL TO USER
-RIGHTY       - RIGHT HANDED ROBOT
-LEFTY        - LEFT HANDED ROBOT
-ABOVE        - ELBOW ABOVE WRIST
-BELOW        - ELBOW BELOW WRIST
-FLIP         - NEGATIVE JOINT 5 ANGLES
-NOFLIP       - POSITIVE JOINT 5 ANGLES
+    MENU = "menu"  # the VAL-II MENU pages: N, V, R
+    COMMAND = "command"  # the command line is open
+    AFTER = "after"  # the THEN PRESS keys of Fig. C-13
+    RUNNING = "running"  # the player plays a command or a program: only CTRL-C counts
+    PAUSED = "paused"  # a program waits at PAUSE: the line takes commands and PROCEED
+    MODEL = "model"  # the model alone: any key returns
+    DEFINE = "define?"  # D: from a file or a typed POINT
+    DEFINE_FILE = "define-file"  # the line asks the .LOC file name
+    DEFINE_EACH = "define-each"  # A / R / E for the location shown
+    POINT = "point"  # the line takes NAME, X, Y, Z, O, A, T
 
-N: NEXT PAGE   V: TO VAL-II MODE   R: RETURN"""
 
-VAL_MENU_2 = """VAL-II MENU CONTINUED
+LOG_WRITE = 200  # lines written to the log at once (more scroll past unseen within a tick)
 
-ENTER COMMANDS BY TYPING IN:
-
-;                - BEFORE COMMENTS
-TYPE X=          - WRITES THE VALUE OF X
-STATUS           - WRITES ROBOT STATUS (SPEED, PROG. LOOP NO.)
-SET P1=P2        - EQUATE P1 TO P2
-DRAW X, Y, Z     - STRAIGHT LINE INCREMENT
-DRIVE J, A, S    - MOVE JT. J, A DEG. AT SP. S
-BASE X, Y, Z, R  - SHIFT AND ROTATE ROBOT
-SHIFT P, X, Y, Z - SHIFT POSITION P
-EXECUTE NAME, N  - EXECUTE NAME, N TIMES
-CTRL_C           - TO ABORT A VAL-II PROGRAM
-GRASP X, NUM     - CLOSE CLAMP BY X%. ELSE GO TO STATEMENT NO. (NUM)
-ALIGN            - ALIGNS THE TOOL Z-AXIS WITH NEAREST WORLD COORDS. Z-AXIS
-VAR 1 = VAR 2    - SETS VAR. ON THE LEFT EQUAL TO ONE ON THE RIGHT OF EQUAL SIGN
-HELP             - DISPLAYS HELP MENU
-
-THEN PRESS:
-
-C_CONTINUE : TO CONTINUE TYPING IN VAL COMMANDS
-W_WIPE     : TO WIPE THE VT100 CHARACTERS FROM THE SCREEN
-R_RETURN   : TO RETURN TO THE TOP OF A MENU
-M_MODEL    : TO DISPLAY THE MODEL
-D_DEFINE   : TO DEFINE ORIENTATIONS
-
-N: FIRST PAGE   V: TO VAL-II MODE   R: RETURN"""
-
-THEN_PRESS = "C_CONTINUE  W_WIPE  R_RETURN  M_MODEL  D_DEFINE"
-DEFINE_HOW = "D_DATA FILE (.LOC)  P_POINT TYPED IN  R_RETURN"
-DEFINE_EACH = "A_ACCEPT AND CONTINUE  R_REJECT  E_ACCEPT AND END"
+# modes in which the open line takes every key
+LINE_MODES = (Mode.COMMAND, Mode.PAUSED, Mode.DEFINE_FILE, Mode.POINT, Mode.RUNNING)
 
 
 class ValModeScreen(Screen[None]):
@@ -133,38 +85,26 @@ class ValModeScreen(Screen[None]):
     ValModeScreen #val-model { width: 1fr; height: 1fr; }
     """
     BINDINGS = [
-        Binding("ctrl+c", "abort", "Abort", priority=True, id="valmode.abort"),
         Binding("escape", "escape", "Back", id="valmode.escape"),
     ]
 
-    def __init__(self, session=None, *, rate: float | None = None,  # type: ignore[no-untyped-def]
-                 clock: Callable[[], float] | None = None, show_menu: bool = True) -> None:
+    def __init__(self, session: Session | None = None, *, show_menu: bool = True) -> None:
         super().__init__()
         self._session = session
-        # poses per second (math.inf: every motion at once, for tests); default: the app's
-        self.rate: float = rate if rate is not None else DEFAULT_RATE
-        self._rate_given = rate is not None
-        self.clock: Callable[[], float] = clock or time.monotonic
-        self._clock_given = clock is not None
         self.show_menu = show_menu
-        self.mode = "menu"  # menu | command | after | running | paused | model | define? | define-file | define-each | point
+        self.mode = Mode.MENU
         self.page = 1
-        self._run: Iterator[Event] | None = None
-        self._player: MotionPlayer[PoseEvent] | None = None
-        self._motion_tail: list[Event] = []
-        self._timer: Timer | None = None
-        self._resume_at: float | None = None
         self._defining: list[tuple[str, Location]] = []
         self._defined: list[str] = []
         self._after_run: Callable[[], None] | None = None
-        self.transcript: list[str] = []  # every line the log showed (tests, the demo)
+        self.transcript = Transcript()  # the last lines the log showed (tests, the demo)
 
     # -- layout ---------------------------------------------------------------------
     def compose(self) -> ComposeResult:
         with Horizontal():
             with Vertical(id="val-left"):
                 yield Static(VAL_MENU_1, id="val-menu")
-                yield RichLog(id="val-log", wrap=True, markup=False, max_lines=2000)
+                yield RichLog(id="val-log", wrap=True, markup=False, max_lines=TRANSCRIPT_LINES)
                 yield Static("", id="val-keys")
                 yield Static("", id="val-where")
                 with Horizontal(id="val-prompt-row"):
@@ -173,9 +113,10 @@ class ValModeScreen(Screen[None]):
             yield ModelView(id="val-model")
 
     @property
-    def session(self):  # type: ignore[no-untyped-def]
+    def session(self) -> Session:
         if self._session is None:
             self._session = self.app.session  # type: ignore[attr-defined]
+        assert self._session is not None
         return self._session
 
     @property
@@ -186,11 +127,13 @@ class ValModeScreen(Screen[None]):
     def interpreter(self):  # type: ignore[no-untyped-def]
         return self.session.interpreter
 
+    @property
+    def player(self) -> Player:
+        """The app's one event player."""
+        player: Player = self.app.player  # type: ignore[attr-defined]
+        return player
+
     def on_mount(self) -> None:
-        if not self._rate_given:
-            self.rate = float(getattr(self.app, "motion_rate", DEFAULT_RATE))
-        if not self._clock_given:
-            self.clock = getattr(self.app, "clock", time.monotonic)
         self.redraw()
         self.query_one(ModelView).call_after_refresh(self._fit)
         if self.show_menu:
@@ -212,19 +155,17 @@ class ValModeScreen(Screen[None]):
         return str(self.query_one("#val-prompt", Static).content)
 
     def log_line(self, text: str) -> None:
-        for line in str(text).splitlines() or [""]:
-            self.transcript.append(line)
-            self.query_one("#val-log", RichLog).write(line)
+        self.show_lines(str(text).splitlines() or [""])
 
     def redraw(self) -> None:
         self.query_one(ModelView).update_scene(simulator_scene(self.simulator))
-        self.query_one("#val-where", Static).update("\n".join(format_where(self.simulator.where())))
+        self.query_one("#val-where", Static).update("\n".join(where_lines(self.simulator.where())))
 
     def _keys(self, text: str) -> None:
         self.query_one("#val-keys", Static).update(text)
 
     def _show_menu(self, page: int) -> None:
-        self.mode, self.page = "menu", page
+        self.mode, self.page = Mode.MENU, page
         menu = self.query_one("#val-menu", Static)
         menu.update(VAL_MENU_1 if page == 1 else VAL_MENU_2)
         menu.remove_class("hidden")
@@ -232,7 +173,7 @@ class ValModeScreen(Screen[None]):
         self._keys("")
         self._close_line()
 
-    def _open_line(self, mode: str, prompt: str, start: str = "", placeholder: str = "VAL-II COMMAND") -> None:
+    def _open_line(self, mode: Mode, prompt: str, start: str = "", placeholder: str = "VAL-II COMMAND") -> None:
         self.mode = mode
         self.query_one("#val-menu").add_class("hidden")
         self.query_one("#val-log").remove_class("hidden")
@@ -252,10 +193,10 @@ class ValModeScreen(Screen[None]):
 
     def to_command(self, start: str = "") -> None:
         self._keys("")
-        self._open_line("command", ".", start)
+        self._open_line(Mode.COMMAND, ".", start)
 
     def to_after(self) -> None:
-        self.mode = "after"
+        self.mode = Mode.AFTER
         self._close_line()
         self._keys(THEN_PRESS)
 
@@ -263,30 +204,30 @@ class ValModeScreen(Screen[None]):
     def on_key(self, event: Key) -> None:
         char = (event.character or "").upper()
         mode = self.mode
-        if mode in ("command", "paused", "define-file", "point", "running") or event.key in ("escape", "ctrl+c"):
-            return  # the line takes the keys; while running only CTRL-C counts
+        if mode in LINE_MODES or event.key in ("escape", "ctrl+c"):
+            return  # the line takes the keys; while running only CTRL-C (the app's) counts
         event.stop()
         event.prevent_default()
-        if mode == "menu":
+        if mode == Mode.MENU:
             if char == "N":
                 self._show_menu(2 if self.page == 1 else 1)
             elif char == "V" or event.key == "enter":
                 self.to_command()
             elif char == "R":
                 self.dismiss(None)
-        elif mode == "model":
+        elif mode == Mode.MODEL:
             self.query_one("#val-left").remove_class("model-only")
             self.to_after()
-        elif mode == "after":
+        elif mode == Mode.AFTER:
             self._after_key(char, event)
-        elif mode == "define?":
+        elif mode == Mode.DEFINE:
             if char == "D":
-                self._open_line("define-file", "LOCATION FILE NAME:", "", "e.g. PROCESS.LOC")
+                self._open_line(Mode.DEFINE_FILE, "LOCATION FILE NAME:", "", "e.g. PROCESS.LOC")
             elif char == "P":
-                self._open_line("point", "POINT", "", "NAME, X, Y, Z, O, A, T")
+                self._open_line(Mode.POINT, "POINT", "", "NAME, X, Y, Z, O, A, T")
             elif char == "R":
                 self.to_after()
-        elif mode == "define-each":
+        elif mode == Mode.DEFINE_EACH:
             if char in ("A", "R", "E"):
                 self._define_answer(char)
 
@@ -299,11 +240,11 @@ class ValModeScreen(Screen[None]):
         elif char == "R":
             self.dismiss(None)
         elif char == "M":
-            self.mode = "model"
+            self.mode = Mode.MODEL
             self.query_one("#val-left").add_class("model-only")
             self._keys("")
         elif char == "D":
-            self.mode = "define?"
+            self.mode = Mode.DEFINE
             self._keys(DEFINE_HOW)
         elif event.key == "enter":
             self.to_command()
@@ -313,180 +254,74 @@ class ValModeScreen(Screen[None]):
             self.to_command(event.character)  # the next command starts with this key
 
     def action_escape(self) -> None:
-        if self.mode in ("running",):
-            return
-        if self.mode in ("command", "after", "menu"):
+        if self.mode in (Mode.RUNNING, Mode.PAUSED):
+            return  # CTRL-C ends a program, not ESCAPE
+        if self.mode in (Mode.COMMAND, Mode.AFTER, Mode.MENU):
             self.dismiss(None)
-        elif self.mode in ("define?", "define-file", "point", "model"):
+        elif self.mode in (Mode.DEFINE, Mode.DEFINE_FILE, Mode.POINT, Mode.MODEL):
             self.to_after()
-
-    def action_abort(self) -> None:
-        """CTRL-C: the program stops after the step being simulated (§6.4.10)."""
-        if self._run is not None:
-            self.interpreter.abort()
-            if self.mode == "paused":
-                self._resume()
 
     # -- typed lines -----------------------------------------------------------------------
     def on_input_submitted(self, event) -> None:  # type: ignore[no-untyped-def]
         event.stop()
         text = event.value
         self.query_one("#val-line", StepInput).value = ""
-        if self.mode == "define-file":
+        if self.mode == Mode.DEFINE_FILE:
             self._define_from_file(text)
-        elif self.mode == "point":
+        elif self.mode == Mode.POINT:
             self._define_point(text)
-        elif self.mode == "paused":
+        elif self.mode == Mode.PAUSED:
             self.log_line(f". {text}")
-            was_paused = self.interpreter.paused
-            self._drain(self.interpreter.command(text))
-            if was_paused and not self.interpreter.paused:
-                self._resume()
-        elif self.mode == "command":
+            show_at_once(self.session.command(text), self)
+            if not self.session.program_paused:  # PROCEED
+                self._show_running()
+                self.player.resume()
+        elif self.mode == Mode.COMMAND:
             if not text.strip():
                 return
             self.log_line(f". {text}")
-            self.run_events(self.interpreter.command(text))
+            self.run_events(self.session.command(text))
 
-    # -- running events ----------------------------------------------------------------------
+    # -- playing events (the player's audience) --------------------------------------------
     def run_events(self, events: Iterator[Event], after: Callable[[], None] | None = None) -> None:
-        """Play a stream of core events: steps scroll, motions move, PAUSE waits."""
-        self._run = events
+        """Play a stream of core events on the app's player; ``after`` when it has ended."""
         self._after_run = after
-        self.mode = "running"
+        self._show_running()
+        self.app.run_events(events, self)  # type: ignore[attr-defined]
+
+    def _show_running(self) -> None:
+        self.mode = Mode.RUNNING
         self._close_line()
         self._keys("RUNNING   CTRL-C: ABORT")
-        self._pump()
 
-    def _drain(self, events: Iterator[Event]) -> None:
-        """A command typed while paused: shown at once (its motions jump to the end)."""
-        for event in events:
-            if isinstance(event, PoseEvent):
-                continue
-            self._show_event(event)
+    def show_scene(self) -> None:
         self.redraw()
 
-    def _pump(self) -> None:
-        """Pull events until a motion must be paced, a DELAY waits, a PAUSE stops, or the end."""
-        while self._run is not None:
-            now = self.clock()
-            if self._resume_at is not None:
-                if now < self._resume_at:
-                    self._schedule(self._resume_at - now)
-                    return
-                self._resume_at = None
-            if self._player is not None:
-                pose = self._player.poll(now)
-                if pose is not None:
-                    self.redraw()
-                if not self._player.finished:
-                    self._schedule(self._player.next_due_in(now) or 1.0 / max(1.0, min(self.rate, 60.0)))
-                    return
-                self._player = None
-                for event in self._motion_tail:
-                    self._show_event(event)
-                self._motion_tail = []
-                continue
-            try:
-                event = next(self._run)
-            except StopIteration:
-                self._finish_run()
-                return
-            if event is None:
-                continue
-            if isinstance(event, PoseEvent):
-                if math.isinf(self.rate):
-                    continue  # drawn once the motion ends
-                self._player = MotionPlayer(self._motion(event), self.rate, clock=self.clock)
-                continue
-            if isinstance(event, Motion):
-                self.redraw()
-                continue
-            if isinstance(event, Delay) and not math.isinf(self.rate):
-                self.log_line(f"DELAY {event.seconds:g}")
-                self._resume_at = self.clock() + float(event.seconds)
-                continue
-            if isinstance(event, Pause):
-                self._show_event(event)
-                self.redraw()
-                self._stop_timer()
-                self._keys("PROGRAM PAUSED: TYPE COMMANDS, PROCEED TO GO ON, CTRL-C TO ABORT")
-                self._open_line("paused", "PAUSED .")
-                return
-            self._show_event(event)
+    def show_lines(self, lines: list[str]) -> None:
+        self.transcript.extend(lines)
+        # one write a tick, of what a screen can show: a TYPE loop scrolls, it does not stall
+        self.query_one("#val-log", RichLog).write("\n".join(lines[-LOG_WRITE:]))
 
-    def _motion(self, first: PoseEvent) -> Iterator[PoseEvent]:
-        """The poses of one motion, pulled from the run as the clock wants them; what comes
-        between poses (collision messages) is shown as it comes; the end is kept for later."""
-        yield first
-        assert self._run is not None
-        for event in self._run:
-            if isinstance(event, PoseEvent):
-                yield event
-            elif isinstance(event, (Near, Collision, Message)):
-                self._show_event(event)
-            else:
-                self._motion_tail.append(event)
-                return
+    def take_event(self, event: Event) -> bool:
+        if isinstance(event, Help):
+            self.app.push_screen(HelpScreen(event.topic))
+            return True
+        if isinstance(event, Monitor):
+            self._monitor(event)
+            return True
+        return False
 
-    def _schedule(self, delay: float) -> None:
-        self._stop_timer()
-        self._timer = self.set_timer(max(0.005, delay), self._pump, name="valmode-run")
+    def paused(self, pause: Pause) -> None:
+        self._keys("PROGRAM PAUSED: TYPE COMMANDS, PROCEED TO GO ON, CTRL-C TO ABORT")
+        self._open_line(Mode.PAUSED, "PAUSED .")
 
-    def _stop_timer(self) -> None:
-        if self._timer is not None:
-            self._timer.stop()
-            self._timer = None
-
-    def _resume(self) -> None:
-        self.mode = "running"
-        self._close_line()
-        self._keys("RUNNING   CTRL-C: ABORT")
-        self._pump()
-
-    def _finish_run(self) -> None:
-        self._stop_timer()
-        self._run = None
-        self._player = None
+    def played(self, aborted: bool) -> None:
         self.redraw()
         after, self._after_run = self._after_run, None
         if after is not None:
             after()
         else:
             self.to_after()
-
-    def _show_event(self, event: Event) -> None:
-        if isinstance(event, Step):
-            self.log_line(f"{event.step:>4}. {event.text}")
-        elif isinstance(event, TypeOut):
-            self.log_line(event.text)
-        elif isinstance(event, (Message, Near, Collision)):
-            self.log_line(event.text or f"{event.a} {event.event.upper()} {event.b}")  # type: ignore[union-attr]
-        elif isinstance(event, Error):
-            where = f"{event.program} STEP {event.step}: " if event.program else ""
-            self.log_line(f"*** {where}{event.message}")
-        elif isinstance(event, Where):
-            for line in format_where(event):
-                self.log_line(line)
-        elif isinstance(event, Status):
-            self.log_line(f"SPEED {event.speed:g}%   PROGRAM {event.program or '-'}   "
-                          f"LOOPS DONE {event.loops_done}   LEFT {event.loops_left}")
-        elif isinstance(event, Pause):
-            self.log_line(f"PAUSE {event.text}".rstrip())
-        elif isinstance(event, Delay):
-            self.log_line(f"DELAY {event.seconds:g}")
-        elif isinstance(event, Help):
-            from valterm.ui.screens.help import HelpScreen
-
-            self.app.push_screen(HelpScreen(event.topic))
-        elif isinstance(event, Monitor):
-            self._monitor(event)
-        elif isinstance(event, End):
-            pass
-        else:
-            text = getattr(event, "text", "") or getattr(event, "message", "")
-            if text:
-                self.log_line(text)
 
     def _monitor(self, event: Monitor) -> None:
         workspace = self.session.workspace
@@ -505,14 +340,12 @@ class ValModeScreen(Screen[None]):
                     label = "" if step.label is None else str(step.label)
                     self.log_line(f"{number:>4}. {label:<4}{step.text}")
             elif command == "EDIT":
-                from valterm.ui.screens.editor import EditorScreen
-
                 self.app.push_screen(EditorScreen(workspace, argument))
             elif command == "POINT":
-                self._after_run = lambda: self._open_line("point", "POINT", f"{argument}, " if argument else "",
+                self._after_run = lambda: self._open_line(Mode.POINT, "POINT", f"{argument}, " if argument else "",
                                                           "NAME, X, Y, Z, O, A, T")
         except Exception as error:  # a missing or damaged file: say so, stay in VAL-II mode
-            self.log_line(f"*** {error}")
+            self.log_line(problem_text(error))
 
     # -- D_DEFINE: locations ----------------------------------------------------------------------
     def _define_from_file(self, typed: str) -> None:
@@ -523,8 +356,8 @@ class ValModeScreen(Screen[None]):
         try:
             points = self.session.workspace.read_locations(name)
         except Exception as error:
-            self.log_line(f"*** {error}")
-            self._open_line("define-file", "LOCATION FILE NAME:", "", "e.g. PROCESS.LOC")
+            self.log_line(f"*** {problem_text(error)}")
+            self._open_line(Mode.DEFINE_FILE, "LOCATION FILE NAME:", "", "e.g. PROCESS.LOC")
             return
         self.log_line(f"READING {name}.LOC: {len(points)} LOCATIONS")
         self._defining = list(points.items())
@@ -539,15 +372,13 @@ class ValModeScreen(Screen[None]):
         self.log_line(format_locations({name: location}).rstrip())
 
         def moved() -> None:
-            self.mode = "define-each"
+            self.mode = Mode.DEFINE_EACH
             self._keys(f"{name}: {DEFINE_EACH}")
 
         def motion() -> Iterator[Event]:
-            from valterm.core.motion import MotionRefused
-
             try:
                 yield from self.simulator.move(location)
-            except (MotionRefused, ValueError) as error:
+            except ValtermError as error:
                 yield Error("", 0, f"THE ROBOT CANNOT REACH {name}: {error}")
 
         self.run_events(motion(), after=moved)
@@ -555,7 +386,7 @@ class ValModeScreen(Screen[None]):
     def _define_answer(self, key: str) -> None:
         name, location = self._defining.pop(0)
         if key in ("A", "E"):
-            self.simulator.locations[name] = location
+            self.session.define_location(name, location)
             self._defined.append(name)
             self.log_line(f"{name} ACCEPTED")
         else:
@@ -574,13 +405,21 @@ class ValModeScreen(Screen[None]):
         parts = [p for p in typed.replace(",", " ").split()]
         try:
             if len(parts) != 7:
-                raise ValueError("TYPE: NAME, X, Y, Z, O, A, T (SIX NUMBERS)")
+                raise Refusal("TYPE: NAME, X, Y, Z, O, A, T (SIX NUMBERS)")
             name = check_location_name(parts[0])
-            numbers = [float(p) for p in parts[1:]]
-        except ValueError as error:
-            self.log_line(f"*** {str(error).upper()}")
-            self._open_line("point", "POINT", typed, "NAME, X, Y, Z, O, A, T")
+            numbers = [_number(p) for p in parts[1:]]
+        except ValtermError as error:
+            self.log_line(f"*** {problem_text(error)}")
+            self._open_line(Mode.POINT, "POINT", typed, "NAME, X, Y, Z, O, A, T")
             return
-        self.simulator.locations[name] = Location(tuple(numbers[:3]), tuple(numbers[3:]))  # type: ignore[arg-type]
+        x, y, z, o, a, t = numbers
+        self.session.define_location(name, Location((x, y, z), (o, a, t)))
         self.log_line(f"POINT {name} DEFINED")
         self.to_after()
+
+
+def _number(text: str) -> float:
+    try:
+        return float(text)
+    except ValueError:  # float()'s refusal of a word
+        raise Refusal(f"{text} IS NOT A NUMBER") from None

@@ -1,4 +1,3 @@
-"""The model view: the braille wireframe of robot and cell (raster, clock, widget).
-
-``raster`` and ``clock`` are pure Python/numpy; ``model_view`` and ``animation`` are Textual.
+"""The model view: the braille wireframe of robot and cell (``model_view``, a Textual widget
+drawing what ``core.render.raster`` rasterises; poses are paced by ``ui.playback``).
 """

@@ -1,6 +1,6 @@
 """The readouts: the clamp position of Fig. 2-8 and the part position of Fig. 4-2.
 
-The ``format_*`` functions are plain text (the hardcopy and the tests use them too); the
+The ``format_part`` lines and the core's ``where_lines`` are plain text (the hardcopy and the tests use them too); the
 widgets show them.
 """
 
@@ -11,30 +11,11 @@ from typing import Sequence
 from textual.widgets import Static
 
 from valterm.core.events import Where
+from valterm.core.text.transcript import number as readout_number
+from valterm.core.text.transcript import where_lines
 
 SCS_H = 26.0  # SPEC §1: Y_s = Z_w + H
-LABEL = 8
 COLUMN = 9
-
-
-def _row(label: str, cells: Sequence[str]) -> str:
-    return label.ljust(LABEL) + "".join(c.rjust(COLUMN) for c in cells)
-
-
-def _num(value: float) -> str:
-    text = f"{value:.2f}"
-    return "0.00" if text == "-0.00" else text
-
-
-def format_where(where: Where) -> list[str]:
-    """Fig. 2-8: clamp status, XW YW ZW O A T, the indicators, JT1..JT6 (four lines)."""
-    config = where.config
-    return [
-        _row(where.clamp, ("XW", "YW", "ZW", "O", "A", "T")),
-        _row(config.get("arm", ""), [_num(v) for v in (*where.xyz, *where.oat)]),
-        _row(config.get("elbow", ""), [f"JT {i}" for i in range(1, 7)]),
-        _row(config.get("wrist", ""), [_num(v) for v in where.joints]),
-    ]
 
 
 def world_to_screen(xyz: Sequence[float]) -> tuple[float, float, float]:
@@ -46,8 +27,8 @@ def world_to_screen(xyz: Sequence[float]) -> tuple[float, float, float]:
 def format_part(number: int, reference: Sequence[float]) -> list[str]:
     """Fig. 4-2: the part's reference corner in world and in screen coordinates."""
     head = 32
-    world = [_num(v) for v in reference]
-    screen = [_num(v) for v in world_to_screen(reference)]
+    world = [readout_number(v) for v in reference]
+    screen = [readout_number(v) for v in world_to_screen(reference)]
     return [
         f"WORLD COORDINATES FOR PART NO. {number}".ljust(head) + "".join(c.rjust(COLUMN) for c in ("XW", "YW", "ZW")),
         " " * head + "".join(c.rjust(COLUMN) for c in world),
@@ -62,7 +43,7 @@ class PositionReadout(Static):
     DEFAULT_CSS = "PositionReadout { height: auto; }"
 
     def show_where(self, where: Where, extra: str = "") -> None:
-        lines = format_where(where)
+        lines = where_lines(where)
         if extra:
             lines.append(extra)
         self.update("\n".join(lines))

@@ -1,0 +1,207 @@
+"""The one event player (ui/playback.py) in the app: runaway programs keep the screen alive,
+CTRL-C is seen at the next tick, the transcript stays capped, and VAL-II mode, ``valterm run``
+and the core's renderer print the same lines for the same program."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterator
+from pathlib import Path
+
+import pytest
+
+from tests.app_helpers import FakeClock, screen_text, sync
+from valterm.core.errors import ValtermError
+from valterm.core.events import Event, Message, TypeOut
+from valterm.core.session import Session
+from valterm.core.text.transcript import event_lines
+from valterm.ui.app import ValtermApp
+from valterm.ui.playback import TRANSCRIPT_LINES
+from valterm.ui.screens.keyboard import KeyboardScreen
+from valterm.ui.screens.valmode import Mode, ValModeScreen
+
+
+class Host(ValtermApp):
+    """The app on a session; the test pushes VAL-II mode itself."""
+
+    def __init__(self, session: Session, **kwargs) -> None:  # type: ignore[no-untyped-def]
+        super().__init__(session=session, **kwargs)
+
+    def on_mount(self) -> None:
+        pass
+
+
+async def typed(pilot, text: str) -> None:  # type: ignore[no-untyped-def]
+    await pilot.press(*text, "enter")
+
+
+async def valmode(app: ValtermApp, pilot) -> ValModeScreen:  # type: ignore[no-untyped-def]
+    screen = ValModeScreen(show_menu=False)
+    await app.push_screen(screen)
+    await pilot.pause()
+    return screen
+
+
+async def run_until(pilot, done, rounds: int = 200) -> None:  # type: ignore[no-untyped-def]
+    for _ in range(rounds):
+        if done():
+            return
+        await pilot.pause(0.02)
+    raise AssertionError("the player did not get there")
+
+
+def session_with(tmp_path: Path, programs: dict[str, str]) -> Session:
+    session = Session(workspace_root=tmp_path / "ws")
+    for name, text in programs.items():
+        (session.workspace.root / f"{name}.DAT").write_text(text)
+    return session
+
+
+@pytest.mark.parametrize("program", ["10  GOTO 10\n", '10  TYPE "AGAIN"\n    GOTO 10\n'])
+@sync
+async def test_a_runaway_program_keeps_the_screen_alive_and_ctrl_c_stops_it(tmp_path: Path, program: str) -> None:
+    """EXECUTE of a loop with no motion and no DELAY: ticks go on, the screen shows the
+    steps, CTRL-C is seen at the next tick, and the command line answers afterwards."""
+    app = Host(session_with(tmp_path, {"SPIN": program}), motion_rate=10.0, clock=FakeClock())
+    async with app.run_test(size=(120, 40)) as pilot:
+        screen = await valmode(app, pilot)
+        await typed(pilot, "EXEC SPIN")
+        player = app.player
+        first = player.ticks
+        # the pump hands the loop back to Textual tick after tick (a pump that did not would
+        # never let this coroutine run again)
+        await run_until(pilot, lambda: player.ticks - first >= 5 and len(screen.transcript) == TRANSCRIPT_LINES,
+                        rounds=1000)
+        assert screen.mode == Mode.RUNNING and player.playing
+        assert "SPIN" in screen_text(app) and "GOTO 10" in screen_text(app)  # the screen was drawn
+        assert len(screen.transcript) == TRANSCRIPT_LINES  # capped: memory stays flat
+        assert len(screen.query_one("#val-log").lines) <= TRANSCRIPT_LINES
+
+        await pilot.press("ctrl+c")
+        await run_until(pilot, lambda: not player.playing)
+        assert player.end_tick - player.abort_tick <= 1  # seen at the next tick (a few ms)
+        assert screen.transcript[-1].startswith("*** SPIN STEP") and screen.transcript[-1].endswith("ABORTED")
+        assert screen.mode == Mode.AFTER and not app.session.program_running
+        await pilot.press("c")
+        await typed(pilot, "WHERE")
+        await run_until(pilot, lambda: screen.mode == Mode.AFTER)
+        assert any(line.startswith("OPENED") for line in list(screen.transcript)[-4:])
+
+
+@sync
+async def test_ctrl_c_while_paused_aborts_and_delay_waits_on_the_clock(tmp_path: Path) -> None:
+    clock = FakeClock()
+    program = "    PAUSE\n    DELAY 5\n    TYPE \"LATE\"\n"
+    app = Host(session_with(tmp_path, {"WAIT": program}), motion_rate=10.0, clock=clock)
+    async with app.run_test(size=(120, 40)) as pilot:
+        screen = await valmode(app, pilot)
+        await typed(pilot, "EXEC WAIT")
+        assert screen.mode == Mode.PAUSED and app.player.paused
+        await typed(pilot, "PROCEED")
+        await pilot.pause(0.1)
+        assert app.player.playing and screen.transcript[-1] == "WAIT        2  DELAY 5"  # on the test's clock
+        clock.t += 5.0
+        await run_until(pilot, lambda: not app.player.playing)
+        assert screen.transcript[-1] == "PROGRAM WAIT COMPLETED: 1 LOOP" and screen.mode == Mode.AFTER
+
+        await pilot.press("c")
+        await typed(pilot, "EXEC WAIT")
+        assert screen.mode == Mode.PAUSED
+        await pilot.press("ctrl+c")
+        await run_until(pilot, lambda: not app.player.playing)
+        assert screen.transcript[-1] == "*** WAIT STEP 2: ABORTED" and screen.mode == Mode.AFTER
+
+
+def _refused() -> Iterator[Event]:
+    raise ValtermError("no such thing here")
+    yield Message("never")
+
+
+def _buggy() -> Iterator[Event]:
+    yield TypeOut("BEFORE")
+    raise RuntimeError("a bug in the core")
+
+
+@sync
+async def test_refusals_are_shown_and_bugs_logged(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    log = tmp_path / "valterm.log"
+    monkeypatch.setenv("VALTERM_LOG", str(log))
+    app = Host(Session(workspace_root=tmp_path / "ws"), motion_rate=math.inf)
+    async with app.run_test(size=(120, 40)) as pilot:
+        screen = KeyboardScreen()
+        await app.push_screen(screen)
+        await pilot.pause()
+        app.run_events(_refused(), screen)
+        await pilot.pause()
+        assert "NO SUCH THING HERE" in screen.messages.text and not log.exists()
+        app.run_events(_buggy(), screen)
+        await pilot.pause()
+        shown = screen.messages.text.splitlines()
+        assert shown[-2:] == ["BEFORE", f"*** INTERNAL ERROR (RuntimeError: a bug in the core); SEE {log}"]
+        assert "Traceback" in log.read_text() and "_buggy" in log.read_text()
+        assert not app.player.playing
+
+
+@sync
+async def test_a_flood_of_lines_keeps_the_last_ones(tmp_path: Path) -> None:
+    app = Host(Session(workspace_root=tmp_path / "ws"), motion_rate=math.inf)
+    async with app.run_test(size=(120, 40)) as pilot:
+        screen = await valmode(app, pilot)
+        screen.run_events(iter([TypeOut(f"LINE {i}") for i in range(50_000)]))
+        await run_until(pilot, lambda: not app.player.playing)
+        assert list(screen.transcript) == [f"LINE {i}" for i in range(48_000, 50_000)]
+        assert len(screen.query_one("#val-log").lines) <= TRANSCRIPT_LINES
+
+
+def _transcript_of_run(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> list[str]:
+    from valterm.cli import main
+
+    assert main(["--workspace", str(tmp_path / "run"), "run", "PROCESS", "--cell", "PROCESS", "--loc", "PROCESS"]) == 0
+    out = capsys.readouterr().out.splitlines()
+    return out[: out.index("WHERE") - 1]  # the final WHERE and VARIABLES are run's own
+
+
+def _transcript_of_renderer(tmp_path: Path) -> list[str]:
+    session = Session(workspace_root=tmp_path / "core", setup="PROCESS")
+    session.load_locations("PROCESS")
+    return [line for event in session.interpreter.execute("PROCESS") for line in event_lines(event)]
+
+
+def test_valmode_run_and_the_renderer_print_the_same_lines(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    by_run = _transcript_of_run(tmp_path, capsys)
+    by_renderer = _transcript_of_renderer(tmp_path)
+    session = Session(workspace_root=tmp_path / "app", setup="PROCESS")
+    session.load_locations("PROCESS")
+    app = Host(session, motion_rate=math.inf)
+    seen: list[str] = []
+
+    async def body() -> None:
+        async with app.run_test(size=(120, 40)) as pilot:
+            screen = await valmode(app, pilot)
+            await typed(pilot, "EXECUTE PROCESS")
+            await run_until(pilot, lambda: screen.mode == Mode.AFTER)
+            seen.extend(screen.transcript)
+
+    sync(body)()
+    assert seen[0] == ". EXECUTE PROCESS"
+    assert seen[1:] == by_run == by_renderer
+    assert "PROCESS     6  APPRO A, -50" in by_run and "PROGRAM PROCESS COMPLETED: 1 LOOP" in by_run
+
+
+@sync
+async def test_a_command_at_a_menu_stops_a_running_loop_first(tmp_path: Path) -> None:
+    """V at KEYBOARD: EXECUTE of a loop, then another command: the loop is aborted, not
+    skipped to an end it does not have."""
+    app = Host(session_with(tmp_path, {"SPIN": "10  GOTO 10\n"}), motion_rate=math.inf)
+    async with app.run_test(size=(120, 40)) as pilot:
+        screen = KeyboardScreen()
+        await app.push_screen(screen)
+        await pilot.pause()
+        screen.run_command("EXECUTE SPIN")
+        await pilot.pause(0.1)
+        assert app.player.playing and app.session.program_running
+        screen.run_command("WHERE")
+        await run_until(pilot, lambda: not app.player.playing)
+        shown = screen.messages.text
+        assert "*** SPIN STEP 1: ABORTED" in shown and "NOFLIP" in shown.splitlines()[-1]
+        assert not app.session.program_running

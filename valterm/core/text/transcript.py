@@ -1,0 +1,129 @@
+"""Events as the lines a terminal shows: the scrolled steps, TYPE output, messages, WHERE.
+
+The one renderer of events to text: the app's VAL-II mode and menus, ``valterm run`` and the
+tests all print a session through ``event_lines``, so they print the same lines. Poses,
+motions and the clamp's redraws have no line; HELP and the monitor commands (LISTP, EDIT,
+...) are carried out by the edge that shows them, and are rendered here only as text.
+"""
+
+from __future__ import annotations
+
+from typing import Sequence
+
+from valterm.core.events import (
+    Breakpoint,
+    Collision,
+    Error,
+    Event,
+    Help,
+    Message,
+    Monitor,
+    Near,
+    Pause,
+    Release,
+    Status,
+    Step,
+    Trace,
+    TypeOut,
+    Watch,
+    Where,
+)
+
+LABEL = 8  # Fig. 2-8: the indicator column
+COLUMN = 9  # Fig. 2-8: each number right-aligned in nine columns
+
+
+def _row(label: str, cells: Sequence[str]) -> str:
+    return label.ljust(LABEL) + "".join(cell.rjust(COLUMN) for cell in cells)
+
+
+def number(value: float) -> str:
+    """A readout number as Fig. 2-8 prints it: two decimals, never ``-0.00``."""
+    text = f"{value:.2f}"
+    return "0.00" if text == "-0.00" else text
+
+
+def where_lines(where: Where) -> list[str]:
+    """The WHERE readout of Fig. 2-8: clamp, XW YW ZW O A T, the indicators, JT 1 .. JT 6."""
+    config = where.config
+    return [
+        _row(where.clamp, ("XW", "YW", "ZW", "O", "A", "T")),
+        _row(config.get("arm", ""), [number(v) for v in (*where.xyz, *where.oat)]),
+        _row(config.get("elbow", ""), [f"JT {i}" for i in range(1, 7)]),
+        _row(config.get("wrist", ""), [number(v) for v in where.joints]),
+    ]
+
+
+def step_line(step: Step) -> str:
+    """A step as it scrolls (§6.4.9): the program, the step number, the statement."""
+    return f"{step.program:<9} {step.step:>3}  {step.text}"
+
+
+def error_line(error: Error) -> str:
+    """A run-time error located by program and step, upper case as on the VS11."""
+    where = f"{error.program} STEP {error.step}: " if error.program else ""
+    return f"*** {where}{error.message}".upper()
+
+
+def finding_line(event: Near | Collision) -> str:
+    """A collision check's finding (Fig. C-12): the core's own text when it has one."""
+    if event.text:
+        return event.text
+    verb = "IS NEAR" if isinstance(event, Near) else "COLLIDES WITH"
+    return f"{event.a} {verb} {event.b}".upper()
+
+
+def breakpoint_line(event: Breakpoint) -> str:
+    """Where the debugger paused: before a breakpoint's step, or after a single step."""
+    what = "BREAKPOINT" if event.reason == "BPT" else f"{event.reason}: PAUSED"
+    return f"{what} BEFORE {event.program} STEP {event.step}: {event.text.strip()}"
+
+
+def _value(value: float | None) -> str:
+    from valterm.core.val.builders import format_value
+
+    return "UNDEFINED" if value is None else format_value(value)
+
+
+def watch_line(event: Watch) -> str:
+    """WATCH: a variable's change, old -> new, and the step that made it."""
+    where = f"{event.program} STEP {event.step}" if event.program else "TYPED"
+    return f"WATCH {event.variable}: {_value(event.old)} -> {_value(event.new)} ({where})"
+
+
+def trace_line(event: Trace) -> str:
+    """TRACE ON: an executed step again, with the values of the variables it assigned."""
+    values = "  ".join(f"{name}={_value(value)}" for name, value in event.assigned)
+    line = f"TRACE {event.program:<9} {event.step:>3}  {event.text.strip()}"
+    return f"{line}   [{values}]" if values else line
+
+
+def event_lines(event: Event) -> list[str]:
+    """What a transcript shows for one event (nothing for poses, motions, DELAY, the clamp)."""
+    if isinstance(event, Step):
+        return [step_line(event)]
+    if isinstance(event, (TypeOut, Message)):
+        return event.text.splitlines() or [""]
+    if isinstance(event, Error):
+        return [error_line(event)]
+    if isinstance(event, Where):
+        return where_lines(event)
+    if isinstance(event, Status):
+        return [event.text, event.cycle_text]
+    if isinstance(event, Breakpoint):  # before Pause: it is one
+        return [breakpoint_line(event)]
+    if isinstance(event, Watch):
+        return [watch_line(event)]
+    if isinstance(event, Trace):
+        return [trace_line(event)]
+    if isinstance(event, Pause):
+        return [f"PAUSE {event.text}".rstrip()]
+    if isinstance(event, (Near, Collision)):
+        return [finding_line(event)]
+    if isinstance(event, Release):
+        return [f"PART {event.part} RELEASED"]
+    if isinstance(event, Help):
+        return list(event.lines)
+    if isinstance(event, Monitor):
+        return [f"{event.command} {event.argument}".rstrip()]
+    return []  # PoseEvent, Motion, Hand, Grasp (its message says it), Delay, End

@@ -1,0 +1,333 @@
+"""The one event pump: every screen that plays what the core yields plays it here.
+
+A ``Player`` takes the core's event stream (a typed command, EXECUTE, a pendant jog, a
+MOVE of D_DEFINE) and works through it in ticks on its host's timers:
+
+- poses are paced by elapsed time on the injectable clock (``core.render.clock``), DELAY
+  waits on the same clock; with ``rate`` infinite both happen at once (tests);
+- whatever the program does (``10 GOTO 10`` has no motion and no DELAY) a tick works at
+  most ``budget`` seconds of real time, then hands control back to Textual, so the screen
+  updates and CTRL-C is seen at the next tick;
+- every other event becomes transcript lines through the core's one renderer
+  (``core.text.transcript``), handed to the audience once a tick (at most
+  ``TRANSCRIPT_LINES`` a tick: a runaway TYPE loop cannot flood memory);
+- PAUSE stops the pump until ``resume()``; ``abort()`` asks the source to stop after its
+  step (a running program: the core then says ABORTED) or closes it where it stands.
+
+The audience (a screen) draws; the player never touches widgets. It keeps no history:
+``Transcript`` is the capped record a screen keeps of what it showed.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections import deque
+from collections.abc import Callable, Generator, Iterable, Iterator
+from typing import Protocol
+
+from textual.message_pump import MessagePump
+from textual.timer import Timer
+
+from valterm.core.events import (
+    Collision,
+    Delay,
+    Event,
+    Grasp,
+    Hand,
+    Message,
+    Motion,
+    Near,
+    Pause,
+    PoseEvent,
+    Release,
+)
+from valterm.core.render.clock import DEFAULT_RATE, MotionPlayer
+from valterm.core.text.transcript import event_lines
+from valterm.ui.errors import problem_text
+
+TICK_BUDGET = 0.005  # seconds of work a tick, then Textual gets the loop back
+YIELD = 0.001  # seconds the pump sleeps between busy ticks (keys and redraws run then)
+MAX_FPS = 60.0  # no more redraws a second than this while a motion is paced
+TRANSCRIPT_LINES = 2000  # lines a screen keeps of its transcript (and the most handed a tick)
+
+# events after which the picture changes although no pose came
+_SCENE_EVENTS = (PoseEvent, Motion, Hand, Grasp, Release)
+# events shown while a motion is paced (between its poses); anything else ends the motion
+_DURING_MOTION = (Near, Collision, Message)
+
+
+class Transcript(deque[str]):
+    """The lines a screen showed, the last ``TRANSCRIPT_LINES`` of them (memory stays flat)."""
+
+    def __init__(self, lines: Iterable[str] = (), maxlen: int = TRANSCRIPT_LINES) -> None:
+        super().__init__(lines, maxlen=maxlen)
+
+
+class Audience(Protocol):
+    """What a screen does with a playing stream."""
+
+    def show_scene(self) -> None:
+        """The robot or the cell changed: redraw the model and the readouts."""
+
+    def show_lines(self, lines: list[str]) -> None:
+        """Transcript lines (rendered by the core's renderer) to add to what is shown."""
+
+    def take_event(self, event: Event) -> bool:
+        """A screen's own event (HELP, a monitor command): True if it took it, no lines then."""
+
+    def paused(self, pause: Pause) -> None:
+        """PAUSE: the stream waits until the player's ``resume()``."""
+
+    def played(self, aborted: bool) -> None:
+        """The stream ended (``aborted`` by CTRL-C)."""
+
+
+class Player:
+    """Plays one event stream at a time on ``host``'s timers (see the module's docstring)."""
+
+    def __init__(self, host: MessagePump, *, clock: Callable[[], float] = time.monotonic,
+                 rate: float = DEFAULT_RATE, budget: float = TICK_BUDGET) -> None:
+        self.host = host
+        self.clock = clock
+        self.rate = rate
+        self.budget = budget
+        self.ticks = 0  # ticks worked so far (tests count them)
+        self.abort_tick = -1  # the tick count when CTRL-C came, and when the stream ended
+        self.end_tick = -1
+        self._source: Iterator[Event] | None = None
+        self._audience: Audience | None = None
+        self._stop_source: Callable[[], bool] | None = None
+        self._motion: MotionPlayer[PoseEvent] | None = None
+        self._after_motion: list[Event] = []
+        self._resume_at: float | None = None
+        self._paused = False
+        self._aborting = False
+        self._lines: deque[str] = deque(maxlen=TRANSCRIPT_LINES)
+        self._scene_changed = False
+        self._last_pause: Pause | None = None  # to hand to the audience after the lines
+        self._ended: bool | None = None  # the stream ended (aborted?): to tell the audience
+        self._timer: Timer | None = None
+
+    # -- state -----------------------------------------------------------------------
+    @property
+    def playing(self) -> bool:
+        """A stream is under way (also while paused)."""
+        return self._source is not None
+
+    @property
+    def paused(self) -> bool:
+        return self._paused
+
+    # -- control ---------------------------------------------------------------------
+    def play(self, events: Iterable[Event], audience: Audience,
+             stop: Callable[[], bool] | None = None) -> None:
+        """Play ``events`` to ``audience``; a motion still playing first jumps to its end.
+
+        ``stop()`` is how CTRL-C reaches the source: it returns True when the source will
+        end by itself after its current step (a running program), False to close it.
+        """
+        if self.playing:  # a running program is stopped first: a loop has no end to skip to
+            if self._stop_source is not None and self._stop_source():
+                self._aborting = True
+            self.skip_to_end()
+        self._source, self._audience, self._stop_source = iter(events), audience, stop
+        self._paused = self._aborting = False
+        self._tick()  # the first events (and a refusal) at once
+
+    def resume(self) -> None:
+        """After PAUSE: go on (PROCEED was typed)."""
+        if self._paused:
+            self._paused = False
+            self._schedule(0.0)
+
+    def abort(self) -> None:
+        """CTRL-C: the program stops after its step; anything else stops where it stands."""
+        if not self.playing or self._aborting:
+            return
+        self._aborting = True
+        self.abort_tick = self.ticks
+        self._paused = False
+        self._resume_at = None
+        if self._stop_source is None or not self._stop_source():
+            self._end(aborted=True)
+            return
+        self._schedule(0.0)  # the next tick sees the program's ABORTED
+
+    def close(self) -> None:
+        """The app is closing: end the stream where it stands, telling no one."""
+        self._audience = None
+        if self.playing:
+            self._end(aborted=True)
+
+    def skip_to_end(self) -> None:
+        """Run the stream to its end now, no pacing, no DELAY (tests, an impatient user).
+
+        A paused stream is left paused: PAUSE waits for the user.
+        """
+        while self.playing and not self._paused:
+            self._resume_at = None
+            self._guarded(math.inf, pace=False)
+            self._flush()
+        if self.playing:  # paused: a new stream replaces it
+            self._end(aborted=True)
+
+    # -- the tick --------------------------------------------------------------------
+    def _tick(self) -> None:
+        self._timer = None
+        if not self.playing:
+            return
+        self.ticks += 1
+        wait = self._guarded(time.perf_counter() + self.budget, pace=not math.isinf(self.rate))
+        self._flush()
+        if wait is not None and self.playing and not self._paused:
+            self._schedule(wait)
+
+    def _schedule(self, delay: float) -> None:
+        if self._timer is not None:
+            self._timer.stop()
+        # a Textual timer needs a positive delay; 1 ms is enough to let the loop breathe
+        self._timer = self.host.set_timer(max(YIELD, delay), self._tick, name="playback")
+
+    def _guarded(self, deadline: float, pace: bool) -> float | None:
+        """``_work``, with a refusal or a bug of the source shown as a line that ends the stream."""
+        try:
+            return self._work(deadline, pace)
+        except Exception as error:
+            self._lines.append(problem_text(error))
+            self._end(aborted=self._aborting)
+            return None
+
+    def _work(self, deadline: float, pace: bool) -> float | None:
+        """Pull events until the budget is spent, a pose or DELAY must wait, PAUSE or the end.
+
+        Returns the seconds until the next tick is due, or None when none is.
+        """
+        while self.playing and not self._paused:
+            if self._motion is not None:
+                wait = self._motion_step(pace)
+                if wait is not None:
+                    return wait
+                continue
+            if self._resume_at is not None:
+                now = self.clock()
+                if now < self._resume_at and not self._aborting:
+                    return min(self._resume_at - now, 0.1)  # a fresh look at the clock
+                self._resume_at = None
+            if time.perf_counter() > deadline:
+                return 0.0
+            try:
+                event = next(self._source)  # type: ignore[arg-type]
+            except StopIteration:
+                self._end(aborted=self._aborting)
+                return None
+            self._take(event, pace)
+        return None
+
+    def _take(self, event: Event, pace: bool) -> None:
+        if isinstance(event, _SCENE_EVENTS):
+            self._scene_changed = True
+        if isinstance(event, PoseEvent):
+            if pace and not self._aborting:
+                self._motion = MotionPlayer(self._poses(event), self.rate, clock=self.clock)
+            return
+        if isinstance(event, Delay):
+            if pace and not self._aborting:
+                self._resume_at = self.clock() + float(event.seconds)
+            return
+        self._show(event)
+        if isinstance(event, Pause):
+            self._paused, self._last_pause = True, event
+
+    def _show(self, event: Event) -> None:
+        audience = self._audience
+        if audience is not None and audience.take_event(event):
+            return
+        self._lines.extend(event_lines(event))
+
+    def _poses(self, first: PoseEvent) -> Iterator[PoseEvent]:
+        """The poses of one motion, pulled from the stream as the clock wants them; findings
+        between poses are shown as they come, the first other event is kept for after."""
+        yield first
+        for event in self._source or ():
+            if isinstance(event, PoseEvent):
+                yield event
+            elif isinstance(event, _DURING_MOTION):
+                self._show(event)
+            else:
+                self._after_motion.append(event)
+                return
+
+    def _motion_step(self, pace: bool) -> float | None:
+        """Show the pose due now; the seconds to wait, or None once the motion is over."""
+        motion = self._motion
+        assert motion is not None
+        if self._aborting or not pace:
+            motion.skip_to_end()
+        elif motion.poll() is not None:
+            self._scene_changed = True
+        if not motion.finished:
+            return max(motion.next_due_in(), 1.0 / MAX_FPS)
+        self._motion = None
+        self._scene_changed = True
+        tail, self._after_motion = self._after_motion, []
+        for event in tail:
+            self._take(event, pace)
+        return None
+
+    def _flush(self) -> None:
+        """Hand this tick's lines and redraw to the audience."""
+        audience = self._audience
+        if audience is None:
+            return
+        if self._lines:
+            lines = list(self._lines)
+            self._lines.clear()
+            audience.show_lines(lines)
+        if self._scene_changed:
+            self._scene_changed = False
+            audience.show_scene()
+        if self._last_pause is not None:
+            pause, self._last_pause = self._last_pause, None
+            audience.paused(pause)
+        if self._ended is not None:
+            aborted, self._ended = self._ended, None
+            self._audience = None
+            audience.played(aborted)
+
+    def _end(self, aborted: bool) -> None:
+        source, self._source = self._source, None
+        self.end_tick = self.ticks
+        self._motion, self._after_motion, self._resume_at = None, [], None
+        self._paused = False
+        self._stop_source = None
+        if self._timer is not None:
+            self._timer.stop()
+            self._timer = None
+        self._scene_changed = True
+        self._ended = aborted
+        self._last_pause = None
+        if isinstance(source, Generator):
+            try:
+                source.close()  # a generator ends where it stood (its finally runs now)
+            except Exception as error:
+                self._lines.append(problem_text(error))
+        self._flush()
+
+
+def show_at_once(events: Iterable[Event], audience: Audience) -> None:
+    """A short stream shown whole now, no pacing (a command typed while a program is paused).
+
+    Poses only move the robot (the picture is redrawn once); the lines come from the same
+    renderer as the player's.
+    """
+    lines: list[str] = []
+    try:
+        for event in events:
+            if isinstance(event, (PoseEvent, Delay)) or audience.take_event(event):
+                continue
+            lines.extend(event_lines(event))
+    except Exception as error:
+        lines.append(problem_text(error))
+    audience.show_lines(lines[-TRANSCRIPT_LINES:])
+    audience.show_scene()
