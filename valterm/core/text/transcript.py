@@ -79,7 +79,8 @@ def breakpoint_line(event: Breakpoint) -> str:
     return f"{what} BEFORE {event.program} STEP {event.step}: {event.text.strip()}"
 
 
-def _value(value: float | None) -> str:
+def watched_value(value: float | None) -> str:
+    """A variable's value as WATCH shows it (UNDEFINED: not declared)."""
     from valterm.core.val.builders import format_value
 
     return "UNDEFINED" if value is None else format_value(value)
@@ -88,12 +89,12 @@ def _value(value: float | None) -> str:
 def watch_line(event: Watch) -> str:
     """WATCH: a variable's change, old -> new, and the step that made it."""
     where = f"{event.program} STEP {event.step}" if event.program else "TYPED"
-    return f"WATCH {event.variable}: {_value(event.old)} -> {_value(event.new)} ({where})"
+    return f"WATCH {event.variable}: {watched_value(event.old)} -> {watched_value(event.new)} ({where})"
 
 
 def trace_line(event: Trace) -> str:
     """TRACE ON: an executed step again, with the values of the variables it assigned."""
-    values = "  ".join(f"{name}={_value(value)}" for name, value in event.assigned)
+    values = "  ".join(f"{name}={watched_value(value)}" for name, value in event.assigned)
     line = f"TRACE {event.program:<9} {event.step:>3}  {event.text.strip()}"
     return f"{line}   [{values}]" if values else line
 

@@ -19,7 +19,8 @@ from typing import TYPE_CHECKING
 
 from valterm.core.errors import ValtermError
 from valterm.core.events import Breakpoint, Error, Event, Message, Step, Trace, Watch
-from valterm.core.val.ops import Assign, CompiledProgram, Op
+from valterm.core.text.transcript import watched_value
+from valterm.core.val.ops import Assign, CompiledProgram, Op, ProgramError
 from valterm.core.val.parser import Statement
 
 if TYPE_CHECKING:
@@ -61,6 +62,28 @@ class Debugger:
         else:
             self.interpreter.hook = self.interpreter.pass_end = None
             self._previous = None
+
+    def watched(self) -> list[tuple[str, float | None]]:
+        """The watched variables and their present values (None: not declared)."""
+        V = self.interpreter.variables
+        return [(name, V.get(name)) for name in self.watches]
+
+    def listing(self, program: str, step: int, around: int = 4) -> list[tuple[int, str, bool]]:
+        """The steps of `program` around `step` (where it is paused): number, text, is it `step`.
+
+        The program as the running EXECUTE decoded it; empty if it cannot be read.
+        """
+        try:
+            steps = self.interpreter.compile(program).analysis.program.steps
+        except ProgramError:
+            return []
+        first, last = max(1, step - around), min(len(steps), step + around)
+        lines = []
+        for number in range(first, last + 1):
+            line = steps[number - 1]
+            label = "" if line.label is None else str(line.label)
+            lines.append((number, f"{label:<4}{line.text.strip()}", number == step))
+        return lines
 
     def run_ended(self) -> None:
         """The program is over: a pending single step is forgotten."""
@@ -198,7 +221,7 @@ class Debugger:
             if not self.watches:
                 yield Message("NO VARIABLES ARE WATCHED")
                 return
-            yield Message("WATCHED: " + "  ".join(f"{n}={_value(v)}" for n, v in self.watches.items()))
+            yield Message("WATCHED: " + "  ".join(f"{n}={watched_value(v)}" for n, v in self.watches.items()))
             return
         clear = text.startswith("-")
         name = text.removeprefix("-").strip()
@@ -211,7 +234,7 @@ class Debugger:
         else:
             value = self.interpreter.variables.get(name)
             self.watches[name] = None if value is None else float(value)
-            yield Message(f"WATCHING {name} = {_value(self.watches[name])}")
+            yield Message(f"WATCHING {name} = {watched_value(self.watches[name])}")
         self._attach()
 
     def set_trace(self, text: str) -> Iterator[Event]:
@@ -223,10 +246,6 @@ class Debugger:
         yield Message(f"TRACE {'ON' if self.trace else 'OFF'}")
 
 
-def _value(value: float | None) -> str:
-    from valterm.core.val.builders import format_value
-
-    return "UNDEFINED" if value is None else format_value(value)
 
 
 def _autoconfig(interpreter: Interpreter, text: str) -> Iterator[Event]:
