@@ -79,8 +79,9 @@ class ValModeScreen(Screen[None]):
     DEFAULT_CSS = """
     ValModeScreen #val-left { width: 72; }
     ValModeScreen #val-left.model-only { display: none; }
-    ValModeScreen #val-menu { height: 1fr; padding: 0 1; border: round $primary; }
-    ValModeScreen #val-log { height: 1fr; border: round $secondary; padding: 0 1; }
+    ValModeScreen #val-middle { height: 1fr; }
+    ValModeScreen #val-menu { width: 1fr; height: 1fr; padding: 0 1; border: round $primary; }
+    ValModeScreen #val-log { width: 1fr; height: 1fr; border: round $secondary; padding: 0 1; }
     ValModeScreen .hidden { display: none; }
     ValModeScreen #val-keys { height: auto; padding: 0 1; color: $accent; }
     ValModeScreen #val-where { height: 4; padding: 0 1; }
@@ -113,14 +114,15 @@ class ValModeScreen(Screen[None]):
     def compose(self) -> ComposeResult:
         with Horizontal():
             with Vertical(id="val-left"):
-                yield Static(VAL_MENU_1, id="val-menu")
-                yield RichLog(id="val-log", wrap=True, markup=False, max_lines=TRANSCRIPT_LINES)
+                with Horizontal(id="val-middle"):
+                    yield Static(VAL_MENU_1, id="val-menu")
+                    yield RichLog(id="val-log", wrap=True, markup=False, max_lines=TRANSCRIPT_LINES)
+                    yield DebugPanel(id="val-debug", classes="hidden")  # beside the transcript
                 yield Static("", id="val-keys")
                 yield Static("", id="val-where")
                 with Horizontal(id="val-prompt-row"):
                     yield Static(".", id="val-prompt")
                     yield StepInput(id="val-line", placeholder="VAL-II COMMAND")
-            yield DebugPanel(id="val-debug", classes="hidden")
             yield ModelView(id="val-model")
 
     @property
@@ -319,6 +321,8 @@ class ValModeScreen(Screen[None]):
         self.redraw()
 
     def show_lines(self, lines: list[str]) -> None:
+        if not lines:
+            return  # a command with nothing to say (PROCEED) leaves no blank line
         self.transcript.extend(lines)
         # one write a tick, of what a screen can show: a TYPE loop scrolls, it does not stall
         self.query_one("#val-log", RichLog).write("\n".join(lines[-LOG_WRITE:]))
@@ -333,7 +337,7 @@ class ValModeScreen(Screen[None]):
         return False
 
     def paused(self, pause: Pause) -> None:
-        self._keys(f"PROGRAM PAUSED: TYPE COMMANDS   {PAUSED_KEYS}")
+        self._keys(f"PAUSED: TYPE COMMANDS  {PAUSED_KEYS}")
         self._open_line(Mode.PAUSED, "PAUSED .")
         self._pause = pause
         self._show_pause(pause)

@@ -15,14 +15,15 @@ from textual.widgets import Static
 
 from valterm.core.text.transcript import watched_value
 
-PAUSED_KEYS = "F5 PROCEED   F7 XSTEP   F8 SSTEP (A CALL AS ONE STEP)   CTRL-C ABORT"
+PAUSED_KEYS = "F5 PROCEED  F7 XSTEP  F8 SSTEP  CTRL-C ABORT"
 
 
 class DebugPanel(Static):
     """The paused program's listing and the watched variables."""
 
     DEFAULT_CSS = """
-    DebugPanel { width: 36; height: 1fr; border: round $warning; padding: 0 1; }
+    DebugPanel { width: 30; height: 1fr; border: round $warning; padding: 0 1;
+                 text-wrap: nowrap; text-overflow: ellipsis; }
     DebugPanel.hidden { display: none; }
     """
 
