@@ -115,3 +115,12 @@ def test_bad_debugger_commands_say_what_is_wrong(session: Session, line: str, me
     mon.line(line)
     assert out == [message] and mon.failed
     assert session.interpreter.hook is None
+
+
+def test_the_monitor_lists_programs_and_refuses_what_needs_the_app(session: Session) -> None:
+    mon, out = monitor(session)
+    mon.line("LISTP SUB")
+    assert out == ["PROGRAM SUB", "   1.     ; a comment step", "   2.     K=K+10", "   3.     RETURN"]
+    assert not mon.failed
+    mon.line("EDIT SUB")
+    assert out[-1].startswith("*** EDIT NEEDS THE APP") and mon.failed

@@ -75,5 +75,8 @@ def test_a_breakpoint_shows_the_listing_xstep_and_proceed_keys_and_the_watched_v
             assert "WATCH N: UNDEFINED -> 7 (TYPED)" in screen.transcript
             assert screen.transcript[-1] == "PROGRAM PROCESS COMPLETED: 1 LOOP"
             assert not panel.display or panel.has_class("hidden")
+            await pilot.press("c")
+            await typed(pilot, "LISTP PROCESS")  # the steps numbered as BPT takes them
+            assert "   8.     MOVE A" in screen.transcript
 
     asyncio.run(body())

@@ -15,10 +15,10 @@ from valterm.core.errors import ValtermError
 from valterm.core.events import Error, Event, Monitor, Pause
 from valterm.core.files.locations import format_locations
 from valterm.core.session import Session
-from valterm.core.val.interpreter import Interpreter
 from valterm.core.text.transcript import event_lines
+from valterm.core.val.interpreter import Interpreter
 
-__all__ = ["LineMonitor"]
+__all__ = ["LineMonitor", "listing_lines"]
 
 Events = Generator[Event, None, None]
 
@@ -110,26 +110,37 @@ class LineMonitor:
 
     def _monitor(self, event: Monitor) -> None:
         """LISTP, LISTF, LISTL here; EDIT and POINT need the app's screens."""
-        workspace = self.session.workspace
-        command, argument = event.command, event.argument.strip()
         try:
-            if command == "LISTF":
-                self.write("PROGRAMS: " + "  ".join(workspace.list_programs()))
-            elif command == "LISTL":
-                self.write("LOCATION FILES: " + "  ".join(workspace.list_locations()))
-                locations = self.session.simulator.locations
-                if locations:
-                    for text in format_locations(dict(locations)).rstrip().splitlines():
-                        self.write(text)
-            elif command == "LISTP":
-                program = workspace.read_program(argument)
-                self.write(f"PROGRAM {program.name}")
-                for number, step in enumerate(program.steps, start=1):
-                    label = "" if step.label is None else str(step.label)
-                    self.write(f"{number:>4}. {label:<4}{step.text}")
-            elif command == "POINT":
-                self.show(Error("", 0, "POINT NEEDS THE APP: HERE, SET OR A .LOC FILE (--loc) DEFINE LOCATIONS"))
-            else:
-                self.show(Error("", 0, f"{command} NEEDS THE APP: EDIT THE FILES OF THE WORKSPACE"))
+            lines = listing_lines(self.session, event.command, event.argument.strip())
         except (OSError, ValtermError) as error:  # a missing or damaged file: say so, go on
             self.show(Error("", 0, str(error)))
+            return
+        if lines is not None:
+            for text in lines:
+                self.write(text)
+        elif event.command == "POINT":
+            self.show(Error("", 0, "POINT NEEDS THE APP: HERE, SET OR A .LOC FILE (--loc) DEFINE LOCATIONS"))
+        else:
+            self.show(Error("", 0, f"{event.command} NEEDS THE APP: EDIT THE FILES OF THE WORKSPACE"))
+
+
+def listing_lines(session: Session, command: str, argument: str) -> list[str] | None:
+    """LISTF, LISTL, LISTP as lines (None for another command); OSError / ValtermError
+    for a missing or damaged file."""
+    workspace = session.workspace
+    if command == "LISTF":
+        return ["PROGRAMS: " + "  ".join(workspace.list_programs())]
+    if command == "LISTL":
+        lines = ["LOCATION FILES: " + "  ".join(workspace.list_locations())]
+        locations = session.simulator.locations
+        if locations:
+            lines += format_locations(dict(locations)).rstrip().splitlines()
+        return lines
+    if command == "LISTP":
+        program = workspace.read_program(argument)
+        lines = [f"PROGRAM {program.name}"]
+        for number, step in enumerate(program.steps, start=1):
+            label = "" if step.label is None else str(step.label)
+            lines.append(f"{number:>4}. {label:<4}{step.text}")
+        return lines
+    return None

@@ -33,6 +33,7 @@ from valterm.core.errors import ValtermError
 from valterm.core.events import Error, Event, Help, Monitor, Pause
 from valterm.core.files.locations import check_location_name, format_locations
 from valterm.core.kinematics import Location
+from valterm.core.monitor import listing_lines
 from valterm.core.session import Session
 from valterm.core.text.transcript import where_lines
 from valterm.ui.errors import Refusal, problem_text
@@ -362,18 +363,9 @@ class ValModeScreen(Screen[None]):
         workspace = self.session.workspace
         command, argument = event.command, event.argument.strip()
         try:
-            if command == "LISTF":
-                self.log_line("PROGRAMS: " + "  ".join(workspace.list_programs()))
-            elif command == "LISTL":
-                self.log_line("LOCATION FILES: " + "  ".join(workspace.list_locations()))
-                if self.simulator.locations:
-                    self.log_line(format_locations(dict(self.simulator.locations)).rstrip())
-            elif command == "LISTP":
-                program = workspace.read_program(argument)
-                self.log_line(f"PROGRAM {program.name}")
-                for number, step in enumerate(program.steps, start=1):
-                    label = "" if step.label is None else str(step.label)
-                    self.log_line(f"{number:>4}. {label:<4}{step.text}")
+            lines = listing_lines(self.session, command, argument)  # LISTF, LISTL, LISTP
+            if lines is not None:
+                self.show_lines(lines)
             elif command == "EDIT":
                 self.app.push_screen(EditorScreen(workspace, argument))
             elif command == "POINT":
