@@ -124,3 +124,13 @@ def test_the_monitor_lists_programs_and_refuses_what_needs_the_app(session: Sess
     assert not mon.failed
     mon.line("EDIT SUB")
     assert out[-1].startswith("*** EDIT NEEDS THE APP") and mon.failed
+
+
+def test_a_value_typed_between_runs_is_told_as_typed_not_as_the_first_step(session: Session) -> None:
+    mon, out = monitor(session)
+    mon.line("WATCH K")
+    mon.line("K=5")
+    mon.line("EXECUTE MAIN")
+    assert [line for line in out if line.startswith("WATCH K:")] == [
+        "WATCH K: UNDEFINED -> 5 (TYPED)", "WATCH K: 5 -> 1 (MAIN STEP 1)",
+        "WATCH K: 1 -> 11 (SUB STEP 2)", "WATCH K: 11 -> 12 (MAIN STEP 3)"]

@@ -93,6 +93,8 @@ class Debugger:
     # -- the hook -----------------------------------------------------------------------
     def before_step(self, program: CompiledProgram, op: Op) -> Iterator[Event]:
         """Before each step: tell what the last step did, then stop here if asked to."""
+        if self._previous is None:  # a run starts: what was typed since is not the step's doing
+            yield from self._watch_changes("", 0)
         yield from self._told()
         reason = self._stop_reason(op)
         if reason:
