@@ -79,7 +79,7 @@ def run(args: argparse.Namespace, stdin: TextIO | None = None, stdout: TextIO | 
             return
         raise KeyboardInterrupt  # at the prompt
 
-    previous = signal.signal(signal.SIGINT, on_sigint)
+    previous = signal.signal(signal.SIGINT, on_sigint)  # the main thread: the CLI's
     try:
         while True:
             on_sigint.pressed = False  # type: ignore[attr-defined]
