@@ -56,8 +56,8 @@ def run(args: argparse.Namespace) -> int:
     from valterm.core.files.programs import read_program
     from valterm.core.files.setup import read_setup
     from valterm.core.simulator import Simulator
-    from valterm.core.val.interpreter import Interpreter
     from valterm.core.text.transcript import event_lines, where_lines
+    from valterm.core.val.interpreter import Interpreter
     from valterm.core.val.variables import VariableStore
     from valterm.core.workspace import Workspace, WorkspaceError
 

@@ -262,7 +262,7 @@ def _autoconfig(interpreter: Interpreter, text: str) -> Iterator[Event]:
     yield Message(f"AUTOCONFIG {'ON' if sim.autoconfig else 'OFF'}")
 
 
-MonitorCommand = Callable[["Interpreter", Statement], Iterator[Event]]
+MonitorCommand = Callable[["Interpreter", Statement], Iterator[Event]]  # interpreter.MonitorCommand (no import circle)
 
 
 def _command(run: Callable[[Interpreter, str], Iterator[Event]]) -> MonitorCommand:

@@ -236,12 +236,13 @@ class Interpreter:
                 yield Error(name, diagnostic.step, diagnostic.message)
             yield Error(name, 0, "THE PROGRAM CANNOT RUN (PASS 1 FOUND THE ERRORS ABOVE)")
             return
-        start = next((pc for pc, op in enumerate(main.code) if op.step.step >= start_step), None)
-        if start_step <= 0:
-            start = 0
-        elif start is None:
-            yield Error("", 0, f"PROGRAM {name} HAS NO STEP {start_step} THAT CAN RUN")
-            return
+        start = 0
+        if start_step > 0:
+            found = next((pc for pc, op in enumerate(main.code) if op.step.step >= start_step), None)
+            if found is None:
+                yield Error("", 0, f"PROGRAM {name} HAS NO STEP {start_step} THAT CAN RUN")
+                return
+            start = found
         self.program, self.loops_total, self.loops_done = name, total, 0
         self._running, self._paused, self._abort = True, False, False
         self.cycle = CycleClock(self.cycle.timing)
