@@ -167,6 +167,7 @@ class Status(Event):
     program: str
     loops_done: int
     loops_left: int
+    cycle_time_s: float = 0.0  # the real robot's time since the last EXECUTE (core/cycletime.py)
     event = "status"
 
     @property
@@ -174,6 +175,10 @@ class Status(Event):
         program = self.program or "(NONE)"
         return (f"SPEED {self.speed:g}  PROGRAM {program}  "
                 f"LOOPS COMPLETED {self.loops_done}  REMAINING {self.loops_left}")
+
+    @property
+    def cycle_text(self) -> str:
+        return f"CYCLE TIME {self.cycle_time_s:.2f} S SO FAR (ESTIMATE FOR THE REAL PUMA)"
 
     def to_json(self) -> dict[str, Any]:
         return {**super().to_json(), "text": self.text}
@@ -195,3 +200,36 @@ class Monitor(Event):
     command: str
     argument: str = ""
     event = "monitor"
+
+
+@dataclass(frozen=True)
+class Breakpoint(Pause):
+    """The debugger paused a program before step ``step``: a breakpoint (BPT) or the end of a
+    single step (XSTEP, SSTEP).  A ``Pause``: the app stops pulling; PROCEED goes on."""
+
+    reason: str = "BPT"  # BPT | XSTEP | SSTEP
+    event = "breakpoint"
+
+
+@dataclass(frozen=True)
+class Watch(Event):
+    """WATCH: a watched variable changed (``old`` None: it was not declared) at a step
+    (program "" and step 0: typed while the program was paused)."""
+
+    variable: str
+    old: float | None
+    new: float | None
+    program: str
+    step: int
+    event = "watch"
+
+
+@dataclass(frozen=True)
+class Trace(Event):
+    """TRACE ON: a step that was executed, with the variables it assigned and their values."""
+
+    program: str
+    step: int
+    text: str
+    assigned: tuple[tuple[str, float], ...] = ()
+    event = "trace"

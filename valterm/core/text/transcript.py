@@ -11,6 +11,7 @@ from __future__ import annotations
 from typing import Sequence
 
 from valterm.core.events import (
+    Breakpoint,
     Collision,
     Error,
     Event,
@@ -22,7 +23,9 @@ from valterm.core.events import (
     Release,
     Status,
     Step,
+    Trace,
     TypeOut,
+    Watch,
     Where,
 )
 
@@ -70,6 +73,32 @@ def finding_line(event: Near | Collision) -> str:
     return f"{event.a} {verb} {event.b}".upper()
 
 
+def breakpoint_line(event: Breakpoint) -> str:
+    """Where the debugger paused: before a breakpoint's step, or after a single step."""
+    what = "BREAKPOINT" if event.reason == "BPT" else f"{event.reason}: PAUSED"
+    return f"{what} BEFORE {event.program} STEP {event.step}: {event.text.strip()}"
+
+
+def watched_value(value: float | None) -> str:
+    """A variable's value as WATCH shows it (UNDEFINED: not declared)."""
+    from valterm.core.val.builders import format_value
+
+    return "UNDEFINED" if value is None else format_value(value)
+
+
+def watch_line(event: Watch) -> str:
+    """WATCH: a variable's change, old -> new, and the step that made it."""
+    where = f"{event.program} STEP {event.step}" if event.program else "TYPED"
+    return f"WATCH {event.variable}: {watched_value(event.old)} -> {watched_value(event.new)} ({where})"
+
+
+def trace_line(event: Trace) -> str:
+    """TRACE ON: an executed step again, with the values of the variables it assigned."""
+    values = "  ".join(f"{name}={watched_value(value)}" for name, value in event.assigned)
+    line = f"TRACE {event.program:<9} {event.step:>3}  {event.text.strip()}"
+    return f"{line}   [{values}]" if values else line
+
+
 def event_lines(event: Event) -> list[str]:
     """What a transcript shows for one event (nothing for poses, motions, DELAY, the clamp)."""
     if isinstance(event, Step):
@@ -81,7 +110,13 @@ def event_lines(event: Event) -> list[str]:
     if isinstance(event, Where):
         return where_lines(event)
     if isinstance(event, Status):
-        return [event.text]
+        return [event.text, event.cycle_text]
+    if isinstance(event, Breakpoint):  # before Pause: it is one
+        return [breakpoint_line(event)]
+    if isinstance(event, Watch):
+        return [watch_line(event)]
+    if isinstance(event, Trace):
+        return [trace_line(event)]
     if isinstance(event, Pause):
         return [f"PAUSE {event.text}".rstrip()]
     if isinstance(event, (Near, Collision)):

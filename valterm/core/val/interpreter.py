@@ -9,8 +9,9 @@ them, tests collect them.  PAUSE yields a ``Pause`` event; the app stops pulling
 user type commands through ``command(text)`` and, on PROCEED, pulls again (pulling again
 *is* proceeding; ``proceed()`` only clears the ``paused`` flag).  ``abort()`` (CTRL-C) is
 checked before each step.  ``hook`` (None by default) is called before each step of a
-program with the program and the op, and may yield events of its own: the place for
-breakpoints, single steps, watches and traces.
+program with the program and the op, and may yield events of its own; ``pass_end`` after
+each execution pass.  The debugger (``debugger.Debugger``, the BPT, XSTEP, SSTEP, WATCH and
+TRACE commands) sets them while it has something to do.
 """
 
 from __future__ import annotations
@@ -18,6 +19,7 @@ from __future__ import annotations
 from collections.abc import Callable, Generator, Iterator, Mapping
 from typing import Protocol
 
+from valterm.core.cycletime import CycleClock
 from valterm.core.errors import ValtermError
 from valterm.core.events import (
     Error,
@@ -25,6 +27,7 @@ from valterm.core.events import (
     Help,
     Message,
     Monitor,
+    Pause,
     Status,
     Step,
     TypeOut,
@@ -43,6 +46,7 @@ from valterm.core.val.builders import (
 )
 from valterm.core.val.commands import CommandTable, default_commands
 from valterm.core.val.compiler import Analysis, analyse, step_text
+from valterm.core.val.debugger import DEBUG_COMMANDS, Debugger
 from valterm.core.val.expr import MAX_NUMBER
 from valterm.core.val.ops import (
     Action,
@@ -103,6 +107,10 @@ class Interpreter:
         self.builders: dict[str, Builder] = dict(builders or BUILDERS)
         self.monitor: dict[str, MonitorCommand] = dict(monitor or MONITOR_COMMANDS)
         self.hook: StepHook | None = None
+        self.pass_end: Callable[[], Iterator[Event]] | None = None
+        self.cycle = CycleClock()  # the robot's time since the last EXECUTE (STATUS shows it)
+        self.debugger: Debugger = Debugger(self)
+        self._run: Run | None = None  # the pass being run (its CALL frames: call_depth)
         self.program = ""      # the program EXECUTE runs ("" when none)
         self.loops_total = 0
         self.loops_done = 0
@@ -142,9 +150,21 @@ class Interpreter:
         self._paused = False
         return True
 
+    @property
+    def call_depth(self) -> int:
+        """How many CALLs deep the running program is (0 in the program EXECUTE started)."""
+        return len(self._run.frames) if self._run is not None else 0
+
     def status(self) -> Status:
         left = max(0, self.loops_total - self.loops_done) if self._running else 0
-        return Status(float(self.sim.speed), self.program, self.loops_done, left)
+        return Status(float(self.sim.speed), self.program, self.loops_done, left,
+                      round(self.cycle.seconds, 3))
+
+    def pause(self, event: Pause) -> Iterator[Event]:
+        """Yield `event` with the program paused: the app stops pulling; pulling again goes on."""
+        self._paused = True
+        yield event
+        self._paused = False
 
     def _set_paused(self, paused: bool) -> None:
         self._paused = paused
@@ -193,8 +213,11 @@ class Interpreter:
                      self._set_paused)
 
     # -- pass 2 ------------------------------------------------------------------
-    def execute(self, name: str, loops: int = 1) -> Generator[Event, None, None]:
-        """EXECUTE name,loops: run the program `loops` times (negative: 1000) as events."""
+    def execute(self, name: str, loops: int = 1, start_step: int = 0) -> Generator[Event, None, None]:
+        """EXECUTE name,loops: run the program `loops` times (negative: 1000) as events.
+
+        ``start_step``: the first pass starts at that step (XSTEP name,step), the others at the top.
+        """
         if self._running:
             yield Error("", 0, f"A PROGRAM ({self.program}) IS ALREADY RUNNING")
             return
@@ -213,11 +236,22 @@ class Interpreter:
                 yield Error(name, diagnostic.step, diagnostic.message)
             yield Error(name, 0, "THE PROGRAM CANNOT RUN (PASS 1 FOUND THE ERRORS ABOVE)")
             return
+        start = 0
+        if start_step > 0:
+            found = next((pc for pc, op in enumerate(main.code) if op.step.step >= start_step), None)
+            if found is None:
+                yield Error("", 0, f"PROGRAM {name} HAS NO STEP {start_step} THAT CAN RUN")
+                return
+            start = found
         self.program, self.loops_total, self.loops_done = name, total, 0
         self._running, self._paused, self._abort = True, False, False
+        self.cycle = CycleClock(self.cycle.timing)
         try:
             while self.loops_done < total:
-                finished = yield from self._pass(main)
+                finished = yield from self._pass(main, start)
+                start = 0
+                if self.pass_end is not None:
+                    yield from self.pass_end()
                 if not finished:
                     return
                 self.loops_done += 1
@@ -225,19 +259,21 @@ class Interpreter:
             yield Message(f"PROGRAM {name} COMPLETED: {self.loops_done} LOOP{plural}")
         finally:
             self._running = self._paused = self._abort = False
+            self._run = None
+            self.debugger.run_ended()
             self._keep()
 
     def _keep(self) -> None:
         if self.keep_variables is not None:
             self.keep_variables(dict(self.variables))
 
-    def _pass(self, main: CompiledProgram) -> Ran:
-        """One execution pass; returns True when it ends normally (STOP, end, RETURN).
+    def _pass(self, main: CompiledProgram, start: int = 0) -> Ran:
+        """One execution pass from op `start`; returns True when it ends normally (STOP, end, RETURN).
 
         The plain ops (Assign, Branch, Jump) run here in place: the fast path.
         """
-        run = Run(main)
-        prog, pc, V, hook = main, 0, self.variables, self.hook
+        run = self._run = Run(main)
+        prog, pc, V = main, start, self.variables
         code, size = prog.code, len(prog.code)
         low, high = -MAX_NUMBER, MAX_NUMBER  # a number past these is refused, never inf or NaN
         while True:
@@ -252,8 +288,12 @@ class Interpreter:
                 yield Error(prog.name, prog.step_number(pc), "ABORTED")
                 return False
             op = code[pc]
+            hook = self.hook  # read each step: a breakpoint may be set while the program is paused
             if hook is not None:
                 yield from hook(prog, op)
+                if self._abort:  # CTRL-C while the hook held the program paused
+                    yield Error(prog.name, op.step.step, "ABORTED")
+                    return False
             yield op.step
             if isinstance(op, Assign):
                 try:
@@ -291,12 +331,19 @@ class Interpreter:
         yield Error(op.step.program, op.step.step, reason)
         return op.error
 
-    @staticmethod
-    def _act(op: Action) -> Generator[Event, None, int]:
-        """An op that yields events; -1 when its error stops the program."""
+    def _act(self, op: Action) -> Generator[Event, None, int]:
+        """An op that yields events (the cycle clock sees them); -1 when its error stops the program."""
         program, number = op.step.program, op.step.step
+        observe = self.cycle.observe
         try:
-            return (yield from op.run())
+            events = op.run()
+            while True:
+                try:
+                    event = next(events)
+                except StopIteration as done:
+                    return int(done.value)
+                observe(event)
+                yield event
         except UndefinedVariable as error:
             yield Error(program, number, error.message)
         except ZeroDivisionError:
@@ -405,11 +452,6 @@ def _execute(interpreter: Interpreter, st: Statement) -> Iterator[Event]:
     yield from interpreter.execute(st.args[0], loops)
 
 
-def _proceed(interpreter: Interpreter, st: Statement) -> Iterator[Event]:
-    if not interpreter.proceed():
-        yield Error("", 0, "NO PROGRAM IS PAUSED")
-
-
 def _help(interpreter: Interpreter, st: Statement) -> Iterator[Event]:
     yield interpreter.help(st.args[0] or "")
 
@@ -424,7 +466,7 @@ def _stop_typed(interpreter: Interpreter, st: Statement) -> Iterator[Event]:
 
 
 MONITOR_COMMANDS: dict[str, MonitorCommand] = {
-    "EXECUTE": _execute, "PROCEED": _proceed, "HELP": _help,
+    "EXECUTE": _execute, "HELP": _help, **DEBUG_COMMANDS,  # PROCEED is the debugger's
     **{name: _monitor_event for name in ("LISTP", "LISTF", "LISTL", "EDIT", "POINT")},
     "STOP": _stop_typed, "HALT": _stop_typed,
 }

@@ -11,6 +11,10 @@ A running program is played by the app's one player (``valterm.ui.playback``): i
 scroll through the core's transcript renderer, motions are paced, the screen keeps updating
 whatever the program does; PAUSE hands the line to the user until PROCEED; CTRL-C (the
 app's key) aborts after the step being simulated, and the program can be run again.
+
+The debugger (BPT, XSTEP, SSTEP, WATCH, TRACE: typed commands) pauses a program the same
+way; while it is paused a panel beside the transcript lists the steps around it, that step
+highlighted, and the watched variables; F5 PROCEED, F7 XSTEP, F8 SSTEP.
 """
 
 from __future__ import annotations
@@ -29,6 +33,7 @@ from valterm.core.errors import ValtermError
 from valterm.core.events import Error, Event, Help, Monitor, Pause
 from valterm.core.files.locations import check_location_name, format_locations
 from valterm.core.kinematics import Location
+from valterm.core.monitor import listing_lines
 from valterm.core.session import Session
 from valterm.core.text.transcript import where_lines
 from valterm.ui.errors import Refusal, problem_text
@@ -36,6 +41,7 @@ from valterm.ui.playback import TRANSCRIPT_LINES, Player, Transcript, show_at_on
 from valterm.ui.screens.editor import EditorScreen, StepInput
 from valterm.ui.screens.help import HelpScreen
 from valterm.ui.view.model_view import ModelView
+from valterm.ui.widgets.debugpanel import PAUSED_KEYS, DebugPanel
 from valterm.ui.widgets.menus import (
     DEFINE_EACH,
     DEFINE_HOW,
@@ -74,8 +80,9 @@ class ValModeScreen(Screen[None]):
     DEFAULT_CSS = """
     ValModeScreen #val-left { width: 72; }
     ValModeScreen #val-left.model-only { display: none; }
-    ValModeScreen #val-menu { height: 1fr; padding: 0 1; border: round $primary; }
-    ValModeScreen #val-log { height: 1fr; border: round $secondary; padding: 0 1; }
+    ValModeScreen #val-middle { height: 1fr; }
+    ValModeScreen #val-menu { width: 1fr; height: 1fr; padding: 0 1; border: round $primary; }
+    ValModeScreen #val-log { width: 1fr; height: 1fr; border: round $secondary; padding: 0 1; }
     ValModeScreen .hidden { display: none; }
     ValModeScreen #val-keys { height: auto; padding: 0 1; color: $accent; }
     ValModeScreen #val-where { height: 4; padding: 0 1; }
@@ -86,6 +93,10 @@ class ValModeScreen(Screen[None]):
     """
     BINDINGS = [
         Binding("escape", "escape", "Back", id="valmode.escape"),
+        # while a program is paused (the line has the focus: function keys pass it)
+        Binding("f5", "paused_command('PROCEED')", "Proceed", show=False, id="valmode.proceed"),
+        Binding("f7", "paused_command('XSTEP')", "Xstep", show=False, id="valmode.xstep"),
+        Binding("f8", "paused_command('SSTEP')", "Sstep", show=False, id="valmode.sstep"),
     ]
 
     def __init__(self, session: Session | None = None, *, show_menu: bool = True) -> None:
@@ -97,14 +108,17 @@ class ValModeScreen(Screen[None]):
         self._defining: list[tuple[str, Location]] = []
         self._defined: list[str] = []
         self._after_run: Callable[[], None] | None = None
+        self._pause: Pause | None = None  # what the paused program stopped at (the debugger's panel)
         self.transcript = Transcript()  # the last lines the log showed (tests, the demo)
 
     # -- layout ---------------------------------------------------------------------
     def compose(self) -> ComposeResult:
         with Horizontal():
             with Vertical(id="val-left"):
-                yield Static(VAL_MENU_1, id="val-menu")
-                yield RichLog(id="val-log", wrap=True, markup=False, max_lines=TRANSCRIPT_LINES)
+                with Horizontal(id="val-middle"):
+                    yield Static(VAL_MENU_1, id="val-menu")
+                    yield RichLog(id="val-log", wrap=True, markup=False, max_lines=TRANSCRIPT_LINES)
+                    yield DebugPanel(id="val-debug", classes="hidden")  # beside the transcript
                 yield Static("", id="val-keys")
                 yield Static("", id="val-where")
                 with Horizontal(id="val-prompt-row"):
@@ -271,16 +285,24 @@ class ValModeScreen(Screen[None]):
         elif self.mode == Mode.POINT:
             self._define_point(text)
         elif self.mode == Mode.PAUSED:
-            self.log_line(f". {text}")
-            show_at_once(self.session.command(text), self)
-            if not self.session.program_paused:  # PROCEED
-                self._show_running()
-                self.player.resume()
+            self.action_paused_command(text)
         elif self.mode == Mode.COMMAND:
             if not text.strip():
                 return
             self.log_line(f". {text}")
             self.run_events(self.session.command(text))
+
+    def action_paused_command(self, text: str) -> None:
+        """A command while a program is paused (typed, or F5 / F7 / F8)."""
+        if self.mode != Mode.PAUSED:
+            return
+        self.log_line(f". {text}")
+        show_at_once(self.session.command(text), self)
+        if not self.session.program_paused:  # PROCEED, XSTEP, SSTEP
+            self._show_running()
+            self.player.resume()
+        elif self._pause is not None:
+            self._show_pause(self._pause)  # WATCH, X=5 ... show at once
 
     # -- playing events (the player's audience) --------------------------------------------
     def run_events(self, events: Iterator[Event], after: Callable[[], None] | None = None) -> None:
@@ -290,6 +312,8 @@ class ValModeScreen(Screen[None]):
         self.app.run_events(events, self)  # type: ignore[attr-defined]
 
     def _show_running(self) -> None:
+        self._pause = None
+        self.query_one(DebugPanel).hide()
         self.mode = Mode.RUNNING
         self._close_line()
         self._keys("RUNNING   CTRL-C: ABORT")
@@ -298,6 +322,8 @@ class ValModeScreen(Screen[None]):
         self.redraw()
 
     def show_lines(self, lines: list[str]) -> None:
+        if not lines:
+            return  # a command with nothing to say (PROCEED) leaves no blank line
         self.transcript.extend(lines)
         # one write a tick, of what a screen can show: a TYPE loop scrolls, it does not stall
         self.query_one("#val-log", RichLog).write("\n".join(lines[-LOG_WRITE:]))
@@ -312,10 +338,20 @@ class ValModeScreen(Screen[None]):
         return False
 
     def paused(self, pause: Pause) -> None:
-        self._keys("PROGRAM PAUSED: TYPE COMMANDS, PROCEED TO GO ON, CTRL-C TO ABORT")
+        self._keys(f"PAUSED: TYPE COMMANDS  {PAUSED_KEYS}")
         self._open_line(Mode.PAUSED, "PAUSED .")
+        self._pause = pause
+        self._show_pause(pause)
+
+    def _show_pause(self, pause: Pause) -> None:
+        """The debugger's panel: the steps around the paused one, the watched variables."""
+        debugger = self.interpreter.debugger
+        listing = debugger.listing(pause.program, pause.step)
+        self.query_one(DebugPanel).show_pause(pause.program, pause.step, listing, debugger.watched())
 
     def played(self, aborted: bool) -> None:
+        self._pause = None
+        self.query_one(DebugPanel).hide()
         self.redraw()
         after, self._after_run = self._after_run, None
         if after is not None:
@@ -327,18 +363,9 @@ class ValModeScreen(Screen[None]):
         workspace = self.session.workspace
         command, argument = event.command, event.argument.strip()
         try:
-            if command == "LISTF":
-                self.log_line("PROGRAMS: " + "  ".join(workspace.list_programs()))
-            elif command == "LISTL":
-                self.log_line("LOCATION FILES: " + "  ".join(workspace.list_locations()))
-                if self.simulator.locations:
-                    self.log_line(format_locations(dict(self.simulator.locations)).rstrip())
-            elif command == "LISTP":
-                program = workspace.read_program(argument)
-                self.log_line(f"PROGRAM {program.name}")
-                for number, step in enumerate(program.steps, start=1):
-                    label = "" if step.label is None else str(step.label)
-                    self.log_line(f"{number:>4}. {label:<4}{step.text}")
+            lines = listing_lines(self.session, command, argument)  # LISTF, LISTL, LISTP
+            if lines is not None:
+                self.show_lines(lines)
             elif command == "EDIT":
                 self.app.push_screen(EditorScreen(workspace, argument))
             elif command == "POINT":
