@@ -8,7 +8,8 @@ with the final WHERE and the variables.
 Files are paths or names in the workspace. Without --cell / --loc, a setup or location
 file with the program's own name is used if the workspace has one. CALLed programs are
 read from the program's folder first, then the workspace. CHECK.DAT's variables are read
-(they are kept across sessions, section 6.7) but not written back. DELAY is not waited.
+and, when the program ends, written back as EXECUTE does (section 6.7: an assignment
+updates CHECK.DAT, so variables are kept across sessions). DELAY is not waited.
 
 Exit 0: the program ended normally; 1: a run-time error; 2: a bad input file
 (``FILE:LINE: reason`` on stderr); 130: aborted with CTRL-C (after the current step).

@@ -118,6 +118,13 @@ class Error(Event):
     message: str
     event = "error"
 
+    @property
+    def where(self) -> str:
+        """`PROG STEP 3: `, `PROG: ` for a whole-program error (step 0), "" for a typed command."""
+        if not self.program:
+            return ""
+        return f"{self.program} STEP {self.step}: " if self.step else f"{self.program}: "
+
 
 @dataclass(frozen=True)
 class Where(Event):

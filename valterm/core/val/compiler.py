@@ -12,14 +12,17 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
+from valterm.core.errors import ValtermError
 from valterm.core.files.programs import Program
 from valterm.core.val.commands import CommandTable, default_commands
+from valterm.core.val.expr import compile_expr
 from valterm.core.val.parser import (
     Statement,
     ValSyntaxError,
     parse_statement,
     strip_comment,
 )
+from valterm.core.val.typeout import parse_items
 
 # Commands that transfer control to a label (GRASP and IF ... GOTO too).
 _LABEL_USERS = ("GOTO", "GRASP", "IF")
@@ -109,7 +112,12 @@ def analyse(program: Program, table: CommandTable | None = None) -> Analysis:
         except ValSyntaxError as error:
             result.statements.append(None)
             result.syntax[index] = str(error)
-            report(index, str(error), fatal=False)
+            opening = _opener_word(step.text, table)
+            # A structure's opener that does not decode still opens it (so its END is not
+            # reported as a stray one) and the program cannot run.
+            report(index, str(error), fatal=opening is not None)
+            if opening is not None:
+                stack.append((opening, index))
             continue
         result.statements.append(statement)
         command = statement.command
@@ -118,6 +126,12 @@ def analyse(program: Program, table: CommandTable | None = None) -> Analysis:
             result.statements[index] = None
             result.syntax[index] = reason
             report(index, reason, fatal=False)
+            continue
+        problem = static_problem(statement)
+        if problem is not None:
+            result.statements[index] = None
+            result.syntax[index] = problem
+            report(index, problem, fatal=False)
             continue
         _structure(statement, index, stack, result, report)
     for kind, opener in stack:
@@ -134,6 +148,36 @@ def analyse(program: Program, table: CommandTable | None = None) -> Analysis:
                           "(at run time: an error message, then the next step)", "warning")
     diagnostics.sort(key=lambda d: (d.step, not d.is_error))
     return result
+
+
+def _opener_word(text: str, table: CommandTable) -> str | None:
+    """IF (with THEN), WHILE or DO when a step that failed to decode starts with one."""
+    words = strip_comment(text).upper().replace(",", " ").split()
+    if not words:
+        return None
+    try:
+        command = table.lookup(words[0]).name if words[0].isalpha() else ""
+    except ValueError:
+        return None
+    if command == "WHILE" or command == "DO":
+        return command
+    if command == "IF" and "THEN" in words and "GOTO" not in words:
+        return "IF"
+    return None
+
+
+def static_problem(statement: Statement) -> str | None:
+    """What is certainly wrong with a decoded step whatever the variables (DRIVE 7,...)."""
+    if statement.command == "DRIVE" and statement.args and statement.args[0] is not None:
+        joint = statement.args[0].const
+        if joint is not None and (joint != int(joint) or not 1 <= joint <= 6):
+            return f"DRIVE: JOINT NUMBER {joint:g} IS NOT 1 TO 6"
+    if statement.command == "TYPE" and statement.shape != 0 and (statement.args[0] or "").lstrip().startswith('"'):
+        try:
+            parse_items(statement.args[0], compile_expr)
+        except (ValueError, ValtermError) as error:
+            return str(error)
+    return None
 
 
 def _structure(statement: Statement, index: int, stack: list[tuple[str, int]], result: Analysis,

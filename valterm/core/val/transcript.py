@@ -40,8 +40,10 @@ def step_line(step: Step) -> str:
 
 
 def error_line(error: Error) -> str:
-    if error.program:
+    if error.program and error.step:
         return f"*** {error.program} step {error.step}: {error.message}"
+    if error.program:  # a whole-program error (it cannot start, a missing subroutine)
+        return f"*** {error.program}: {error.message}"
     return f"*** {error.message}"
 
 

@@ -140,7 +140,7 @@ class MenuScreen(Screen):
         elif isinstance(event, Message):
             self.say(event.text, event.level)
         elif isinstance(event, Error):
-            where = f"{event.program} STEP {event.step}: " if event.program else ""
+            where = event.where
             self.say(f"{where}{event.message}".upper(), "error")
         elif isinstance(event, TypeOut):
             self.say(event.text)

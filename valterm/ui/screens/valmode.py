@@ -463,7 +463,7 @@ class ValModeScreen(Screen[None]):
         elif isinstance(event, (Message, Near, Collision)):
             self.log_line(event.text or f"{event.a} {event.event.upper()} {event.b}")  # type: ignore[union-attr]
         elif isinstance(event, Error):
-            where = f"{event.program} STEP {event.step}: " if event.program else ""
+            where = event.where
             self.log_line(f"*** {where}{event.message}")
         elif isinstance(event, Where):
             for line in format_where(event):
