@@ -11,6 +11,12 @@ read from the program's folder first, then the workspace. CHECK.DAT's variables 
 and, when the program ends, written back as EXECUTE does (section 6.7: an assignment
 updates CHECK.DAT, so variables are kept across sessions). DELAY is not waited.
 
+A V+ file (``.v2``/``.pg``, ``.PROGRAM`` blocks) runs its first program; every program of
+the file can be CALLed, and they are v+ (``--dialect v+`` makes .DAT programs v+ too).
+``--config LEFTY,BELOW`` sets the user's indicators first; ``--inputs FILE`` scripts the
+input signals ("TIME SIGNAL VALUE" lines); precision points (``POINT #SAFE, j1..j6``) in the
+location files are read too. Signal changes are in the transcript (``SIGNAL 1 ON``) and JSON.
+
 Exit 0: the program ended normally; 1: a run-time error; 2: a bad input file
 (``FILE:LINE: reason`` on stderr); 130: aborted with CTRL-C (after the current step).
 """
@@ -34,7 +40,42 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         help="execution passes (EXECUTE name,N; negative = 1000)")
     parser.add_argument("--json", action="store_true", help="JSON lines, one event each")
     parser.add_argument("--collisions", action="store_true", help="check collisions at every motion step")
+    parser.add_argument("--dialect", choices=("1985", "v+"), default=None,
+                        help="the language of .DAT programs (default 1985; a .v2/.pg file is always v+)")
+    parser.add_argument("--config", metavar="LEFTY,ABOVE,NOFLIP",
+                        help="the user's configuration indicators at the start (default RIGHTY,ABOVE,NOFLIP)")
+    parser.add_argument("--inputs", metavar="FILE",
+                        help='input signals scripted as "TIME SIGNAL VALUE" lines (V+ SIG, WAIT)')
     parser.set_defaults(func=run)
+
+
+def _vplus_setup(args: argparse.Namespace, sim: Any, interpreter: Any, loc_paths: list[Path]) -> None:
+    """--config, --inputs, and the precision points of the location files (ValueError, FileFormatError)."""
+    from valterm.core.files.locations import read_location_file
+    from valterm.core.kinematics import CONFIG_WORDS
+    from valterm.core.signals import read_inputs
+
+    if args.config:
+        for word in (w.strip().upper() for w in args.config.split(",")):
+            if word not in CONFIG_WORDS:
+                raise ValueError(f"--config: {word or '(empty)'} is not one of {', '.join(CONFIG_WORDS)}")
+            sim.set_indicator(word)
+    if args.inputs:
+        interpreter.machine.inputs = read_inputs(args.inputs)
+    for path in loc_paths:
+        interpreter.machine.precision.update(read_location_file(path)[1])
+
+
+def _program_file(path: Path) -> tuple[Any, dict[str, Any]]:
+    """The main program and every program of its file (a V+ file holds several)."""
+    from valterm.core.files.programs import read_program
+    from valterm.core.files.vplus import EXTENSIONS, read_vplus
+
+    if path.suffix.upper() in EXTENSIONS:
+        programs = [block.program for block in read_vplus(path)]
+        return programs[0], {p.name: p for p in programs}
+    main = read_program(path)
+    return main, {main.name: main}
 
 
 def _find(argument: str, ext: str, workspace: Any) -> Path:
@@ -66,13 +107,14 @@ def run(args: argparse.Namespace) -> int:
     try:
         workspace = Workspace.open(getattr(args, "workspace", None))
         program_path = _find(args.program, "DAT", workspace)
-        main = read_program(program_path)
-        cell_name = args.cell or (main.name if workspace.exists(main.name, "SET") else None)
+        main, in_file = _program_file(program_path)
+        cell_name = args.cell or (main.name if _in_workspace(workspace, main.name, "SET") else None)
         cell = read_setup(_find(cell_name, "SET", workspace)) if cell_name else None
         sim = Simulator(cell)
-        loc_names = args.loc or ([main.name] if workspace.exists(main.name, "LOC") else [])
-        for name in loc_names:
-            sim.locations.update(read_locations(_find(name, "LOC", workspace)))
+        loc_names = args.loc or ([main.name] if _in_workspace(workspace, main.name, "LOC") else [])
+        loc_paths = [_find(name, "LOC", workspace) for name in loc_names]
+        for path in loc_paths:
+            sim.locations.update(read_locations(path))
         variables = VariableStore()
         check = workspace.path("CHECK", "DAT")
         if check.is_file():
@@ -84,12 +126,18 @@ def run(args: argparse.Namespace) -> int:
     folder = program_path.resolve().parent
 
     def load_program(name: str):  # type: ignore[no-untyped-def]
-        if name == main.name:
-            return main
+        if name in in_file:
+            return in_file[name]
         beside = next((p for p in folder.iterdir() if p.name.upper() == f"{name}.DAT"), None)
         return read_program(beside if beside is not None else workspace.path(name, "DAT"))
 
-    interpreter = Interpreter(sim, load_program, variables, keep_variables=workspace.write_variables)
+    interpreter = Interpreter(sim, load_program, variables, keep_variables=workspace.write_variables,
+                              dialect=args.dialect or "1985")
+    try:
+        _vplus_setup(args, sim, interpreter, loc_paths)
+    except (FileFormatError, OSError, ValueError) as error:
+        print(error, file=sys.stderr)
+        return 2
     errors = 0
     aborted = False
 
@@ -132,6 +180,16 @@ def run(args: argparse.Namespace) -> int:
     if aborted:
         return 130
     return 1 if errors else 0
+
+
+def _in_workspace(workspace: Any, name: str, ext: str) -> bool:
+    """Whether NAME.EXT is in the workspace (a V+ dotted name never is: not a workspace name)."""
+    from valterm.core.errors import ValtermError
+
+    try:
+        return bool(workspace.exists(name, ext))
+    except (ValtermError, ValueError):
+        return False
 
 
 def _value(value: float) -> str:

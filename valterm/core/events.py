@@ -167,6 +167,20 @@ class Delay(Event):
 
 
 @dataclass(frozen=True)
+class Signal(Event):
+    """A binary signal of the I/O panel changed (V+ SIGNAL, a scripted or keyed input)."""
+
+    number: int
+    on: bool
+    time: float = 0.0  # the robot's estimated seconds since the run started
+    event = "signal"
+
+    @property
+    def text(self) -> str:
+        return f"SIGNAL {self.number} {'ON' if self.on else 'OFF'}"
+
+
+@dataclass(frozen=True)
 class Status(Event):
     """STATUS (section 6.8.4): the speed, the program and its loops done and remaining."""
 

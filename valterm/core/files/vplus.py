@@ -55,7 +55,8 @@ def _header(text: str, where: Path, number: int) -> VplusProgram:
     for parameter in parameters:
         if not re.fullmatch(r"[A-Z$][A-Z0-9._]*(\[\])?", parameter):
             raise FileFormatError(where, number, f"{parameter[:40]!r} is not a parameter name")
-    return VplusProgram(Program(name), parameters, (match.group(3) or "").lstrip(";").strip())
+    program = Program(name, parameters=parameters, dialect="v+")
+    return VplusProgram(program, parameters, (match.group(3) or "").lstrip(";").strip())
 
 
 def parse_vplus(text: str, path: str | Path) -> list[VplusProgram]:

@@ -15,6 +15,7 @@ from valterm.core.events import Delay, Error, Message, Status, Step, TypeOut
 from valterm.core.kinematics import CONFIG_WORDS, Location
 from valterm.core.val.compiler import Analysis
 from valterm.core.val.expr import Expr, Values, compile_expr
+from valterm.core.val.machine import Machine
 from valterm.core.val.ops import (
     Action,
     Assign,
@@ -48,6 +49,7 @@ class Build:
     sim: Simulator
     status: Callable[[], Status]
     set_paused: Callable[[bool], None]
+    machine: Machine | None = None  # the V+ controller state (signals, strings, ...)
 
     @property
     def next(self) -> int:

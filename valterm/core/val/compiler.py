@@ -72,6 +72,10 @@ class Analysis(Diagnosed):
     partner: dict[int, int] = field(default_factory=dict)  # IF->END, WHILE->END, END->WHILE, UNTIL->DO
     else_of: dict[int, int] = field(default_factory=dict)  # IF -> its ELSE
     calls: list[tuple[int, str]] = field(default_factory=list)  # (step index, program called)
+    cases: dict[int, list[int]] = field(default_factory=dict)  # V+ CASE -> its VALUE/ANY steps
+    case_of: dict[int, int] = field(default_factory=dict)  # V+ VALUE/ANY -> its CASE
+    autos: list[str] = field(default_factory=list)  # V+ AUTO/LOCAL names (saved across a CALL)
+    dialect: str = "1985"
     diagnostics: list[Diagnostic] = field(default_factory=list)
     fatal: list[Diagnostic] = field(default_factory=list)  # structure errors: the program cannot run
 
@@ -86,11 +90,18 @@ class Analysis(Diagnosed):
 
 
 
-def analyse(program: Program, table: CommandTable | None = None) -> Analysis:
-    """Pass 1 over a program: every bad step, every structure error, GOTOs to missing labels."""
+Parse = Callable[[str], Statement]
+
+
+def analyse(program: Program, table: CommandTable | None = None, parse: Parse | None = None,
+            dialect: str = "1985") -> Analysis:
+    """Pass 1 over a program: every bad step, every structure error, GOTOs to missing labels.
+
+    ``parse`` decodes one step (the dialect's parser; the 1985 COMMAND.DAT one by default).
+    """
     table = table or default_commands()
     name = program.name
-    result = Analysis(program, [])
+    result = Analysis(program, [], dialect=dialect)
     diagnostics = result.diagnostics
 
     def report(index: int, message: str, severity: str = "error", fatal: bool = True) -> None:
@@ -108,11 +119,11 @@ def analyse(program: Program, table: CommandTable | None = None) -> Analysis:
             else:
                 result.labels[step.label] = index
         try:
-            statement = parse_statement(step.text, table)
+            statement = parse(step.text) if parse is not None else parse_statement(step.text, table)
         except ValSyntaxError as error:
             result.statements.append(None)
             result.syntax[index] = str(error)
-            opening = _opener_word(step.text, table)
+            opening = _opener_word(step.text, table, parse is not None)
             # A structure's opener that does not decode still opens it (so its END is not
             # reported as a stray one) and the program cannot run.
             report(index, str(error), fatal=opening is not None)
@@ -127,7 +138,7 @@ def analyse(program: Program, table: CommandTable | None = None) -> Analysis:
             result.syntax[index] = reason
             report(index, reason, fatal=False)
             continue
-        problem = static_problem(statement)
+        problem = static_problem(statement) if parse is None else None
         if problem is not None:
             result.statements[index] = None
             result.syntax[index] = problem
@@ -136,7 +147,7 @@ def analyse(program: Program, table: CommandTable | None = None) -> Analysis:
         _structure(statement, index, stack, result, report)
     for kind, opener in stack:
         closing = "UNTIL" if kind == "DO" else "END"
-        what = "IF" if kind == "ELSE" else kind
+        what = "IF" if kind == "ELSE" else kind.split(".")[0]
         report(opener, f"{what} without {closing}")
 
     for index, decoded in enumerate(result.statements):
@@ -150,11 +161,15 @@ def analyse(program: Program, table: CommandTable | None = None) -> Analysis:
     return result
 
 
-def _opener_word(text: str, table: CommandTable) -> str | None:
-    """IF (with THEN), WHILE or DO when a step that failed to decode starts with one."""
+def _opener_word(text: str, table: CommandTable, vplus: bool = False) -> str | None:
+    """IF (with THEN), WHILE or DO (V+: FOR, CASE) when a step that failed to decode starts with one."""
     words = strip_comment(text).upper().replace(",", " ").split()
     if not words:
         return None
+    if vplus:
+        if words[0] in ("FOR", "CASE", "WHILE", "DO"):
+            return words[0]
+        return "IF" if words[0] == "IF" and "GOTO" not in words else None
     try:
         command = table.lookup(words[0]).name if words[0].isalpha() else ""
     except ValueError:
@@ -184,7 +199,9 @@ def _structure(statement: Statement, index: int, stack: list[tuple[str, int]], r
                report: Callable[[int, str], None]) -> None:
     """Record a CALL, or match one step of IF/ELSE/END, WHILE/END, DO/UNTIL on `stack`."""
     command = statement.command
-    if command == "CALL":
+    if command in ("FOR", "CASE", "VALUE", "ANY", "AUTO"):
+        _vplus_structure(statement, index, stack, result, report)
+    elif command == "CALL":
         result.calls.append((index, statement.args[0]))
     elif command == "IF" and "THEN" in statement.keywords:
         stack.append(("IF", index))
@@ -204,7 +221,8 @@ def _structure(statement: Statement, index: int, stack: list[tuple[str, int]], r
     elif command in ("END", "ENDIF"):
         if not stack or stack[-1][0] == "DO":
             where = f" (the DO at step {stack[-1][1] + 1} needs UNTIL first)" if stack else ""
-            report(index, f"{command} without IF or WHILE{where}")
+            openers = "IF, WHILE, FOR or CASE" if result.dialect == "v+" else "IF or WHILE"
+            report(index, f"{command} without {openers}{where}")
         else:
             kind, opener = stack.pop()
             if kind == "WHILE" and command == "ENDIF":
@@ -219,6 +237,28 @@ def _structure(statement: Statement, index: int, stack: list[tuple[str, int]], r
         else:
             where = f" (the {stack[-1][0]} at step {stack[-1][1] + 1} needs END first)" if stack else ""
             report(index, f"UNTIL without DO{where}")
+
+
+def _vplus_structure(statement: Statement, index: int, stack: list[tuple[str, int]], result: Analysis,
+                     report: Callable[[int, str], None]) -> None:
+    """FOR ... END, CASE ... OF / VALUE ... : / ANY / END, and AUTO/LOCAL declarations."""
+    command = statement.command
+    if command == "AUTO":
+        result.autos.extend(name for name in statement.args[0] if name not in result.autos)
+    elif command in ("FOR", "CASE"):
+        stack.append((command, index))
+        if command == "CASE":
+            result.cases[index] = []
+    elif not stack or stack[-1][0] not in ("CASE", "CASE.ANY"):
+        report(index, f"{command} without CASE")
+    elif stack[-1][0] == "CASE.ANY":
+        report(index, f"{command} after ANY (ANY is the last choice of the CASE at step {stack[-1][1] + 1})")
+    else:
+        opener = stack[-1][1]
+        result.cases[opener].append(index)
+        result.case_of[index] = opener
+        if command == "ANY":
+            stack[-1] = ("CASE.ANY", opener)
 
 
 def _jump_label(statement: Statement) -> int | None:

@@ -30,6 +30,7 @@ from valterm.core.events import (
     TypeOut,
 )
 from valterm.core.files.programs import Program, ProgramLine, split_label
+from valterm.core.files.variables import VARIABLE_NAME
 from valterm.core.motion import MotionRefused
 from valterm.core.val.builders import (
     BUILDERS,
@@ -44,6 +45,7 @@ from valterm.core.val.builders import (
 from valterm.core.val.commands import CommandTable, default_commands
 from valterm.core.val.compiler import Analysis, analyse, step_text
 from valterm.core.val.expr import MAX_NUMBER
+from valterm.core.val.machine import Machine
 from valterm.core.val.ops import (
     Action,
     Assign,
@@ -60,6 +62,18 @@ from valterm.core.val.ops import (
 from valterm.core.val.parser import Statement, ValSyntaxError, parse_statement
 from valterm.core.val.protocol import Simulator
 from valterm.core.val.variables import VariableStore
+from valterm.core.val.vplus import DIALECT as VPLUS
+from valterm.core.val.vplus import VPLUS_BUILDERS, parse_vplus
+
+DIALECTS = ("1985", VPLUS)
+
+
+def check_dialect(name: str) -> str:
+    """'1985' or 'v+' (any case; 'vplus' too), else ValueError saying which there are."""
+    wanted = name.strip().lower().replace("vplus", "v+")
+    if wanted not in DIALECTS:
+        raise ValueError(f"{name!r} is not a dialect: use 1985 or v+")
+    return wanted
 
 __all__ = [
     "FOREVER_LOOPS", "MAX_CALL_DEPTH", "CompiledProgram", "Interpreter", "ProgramError", "RunStop",
@@ -92,8 +106,13 @@ class Interpreter:
                  commands: CommandTable | None = None,
                  keep_variables: Callable[[dict[str, float]], object] | None = None,
                  builders: Mapping[str, Builder] | None = None,
-                 monitor: Mapping[str, MonitorCommand] | None = None) -> None:
+                 monitor: Mapping[str, MonitorCommand] | None = None,
+                 dialect: str = "1985") -> None:
         self.sim = sim
+        # "1985" (COMMAND.DAT, the thesis) or "v+": the dialect of programs that do not say
+        # (a program read from a V+ file is v+ whatever this says)
+        self.dialect = check_dialect(dialect)
+        self.machine = Machine(sim)  # V+ signals, strings, precision points, timers
         # CHECK.DAT is written when a program or a typed command ends (section 6.7), not per
         # assignment: a 100 000-pass loop must not write a file 100 000 times
         self.keep_variables = keep_variables
@@ -165,7 +184,13 @@ class Interpreter:
         return compiled
 
     def compile_program(self, program: Program) -> CompiledProgram:
-        analysis = analyse(program, self.commands)
+        vplus = VPLUS in (program.dialect, self.dialect)
+        if vplus:
+            analysis = analyse(program, self.commands, parse_vplus, VPLUS)
+        else:
+            analysis = analyse(program, self.commands)
+        builders = {**VPLUS_BUILDERS, **{k: v for k, v in self.builders.items() if k not in BUILDERS}} \
+            if vplus else self.builders
         # Comment and empty steps do nothing: they get no op; a jump to one lands on the next op.
         op_index: list[int] = []
         count = 0
@@ -185,12 +210,12 @@ class Interpreter:
             if statement is None:
                 code.append(failed(context, analysis.syntax[index]))
             else:
-                code.append(build(context, statement, self.builders))
+                code.append(build(context, statement, builders))
         return CompiledProgram(program.name, analysis, code)
 
     def _context(self, step: Step, index: int, analysis: Analysis | None, op_index: list[int]) -> Build:
         return Build(step, index, analysis, op_index, self.variables, self.sim, self.status,
-                     self._set_paused)
+                     self._set_paused, self.machine)
 
     # -- pass 2 ------------------------------------------------------------------
     def execute(self, name: str, loops: int = 1) -> Generator[Event, None, None]:
@@ -229,7 +254,9 @@ class Interpreter:
 
     def _keep(self) -> None:
         if self.keep_variables is not None:
-            self.keep_variables(dict(self.variables))
+            # CHECK.DAT keeps the 1985 kind of variable: V+ array elements and long names stay out
+            kept = {k: v for k, v in self.variables.items() if VARIABLE_NAME.fullmatch(k)}
+            self.keep_variables(kept)
 
     def _pass(self, main: CompiledProgram) -> Ran:
         """One execution pass; returns True when it ends normally (STOP, end, RETURN).
@@ -320,6 +347,11 @@ class Interpreter:
             return (yield from op.control(run, self.compile))
         except RunStop as stop:
             yield Error(stop.program, stop.step, stop.message)
+            run.failed = True
+            return 0
+        except (ValtermError, KeyError, ValueError, ZeroDivisionError) as error:  # a V+ CALL's arguments
+            message = error.message if isinstance(error, ProgramError) else _reason(error)
+            yield Error(op.step.program, op.step.step, message)
             run.failed = True
             return 0
 

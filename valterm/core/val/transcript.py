@@ -16,6 +16,7 @@ from valterm.core.events import (
     Near,
     Pause,
     Release,
+    Signal,
     Status,
     Step,
     TypeOut,
@@ -59,7 +60,7 @@ def event_lines(event: Event) -> list[str]:
         return [error_line(event)]
     if isinstance(event, Where):
         return where_lines(event)
-    if isinstance(event, Status):
+    if isinstance(event, (Status, Signal)):
         return [event.text]
     if isinstance(event, Pause):
         return [f"PAUSE {event.text}".rstrip()]
