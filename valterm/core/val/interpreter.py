@@ -255,7 +255,8 @@ class Interpreter:
     def _keep(self) -> None:
         if self.keep_variables is not None:
             # CHECK.DAT keeps the 1985 kind of variable: V+ array elements and long names stay out
-            kept = {k: v for k, v in self.variables.items() if VARIABLE_NAME.fullmatch(k)}
+            local = {name for compiled in self._cache.values() for name in compiled.analysis.autos}
+            kept = {k: v for k, v in self.variables.items() if VARIABLE_NAME.fullmatch(k) and k not in local}
             self.keep_variables(kept)
 
     def _pass(self, main: CompiledProgram) -> Ran:

@@ -32,6 +32,7 @@ from valterm.core.transform import (
     rz,
     shift,
     trans,
+    translation,
 )
 from valterm.core.val.expr import (
     Binary,
@@ -262,6 +263,9 @@ class _Compiler:
             inner = self.condition()
             self.tokens.expect(")")
             return inner
+        if kind == "op" and value == "MOD" and self._next_is("("):  # MOD(a, b), the function
+            self.tokens.pos += 1
+            return self.function("MOD")
         if kind != "name" or value[0] in "$#":
             raise ExprError(f"unexpected {value!r} in {self.text!r}")
         self.tokens.pos += 1
@@ -277,6 +281,10 @@ class _Compiler:
         if value not in self.names:
             self.names.append(value)
         return Var(value)
+
+    def _next_is(self, value: str) -> bool:
+        index = self.tokens.pos + 1
+        return index < len(self.tokens.items) and self.tokens.items[index][1] == value
 
     def element(self, name: str) -> Node:
         self.tokens.expect("[")
@@ -385,7 +393,7 @@ class _Compiler:
         if value == "HERE":
             return lambda V: _here(get())
         if value == "NULL":
-            return lambda V: trans()
+            return lambda V: translation()
         if len(value.lstrip("#")) > MAX_VNAME:
             raise ExprError(f"location name {value} is longer than {MAX_VNAME} characters")
         return lambda V: get().location(value)
@@ -428,6 +436,8 @@ class _Compiler:
         args = [a.closure() for a in self.arguments()]
         if len(args) > most or (most == 1 and len(args) != 1):
             raise ExprError(f"{name} takes {most if most == 1 else 'up to ' + str(most)} argument(s)")
+        if name == "TRANS" and len(args) <= 3:
+            make = translation  # no angles: an offset, no rotation
         return lambda V: make(*(a(V) for a in args))
 
     # -- strings --------------------------------------------------------------------

@@ -218,9 +218,8 @@ def _argument_kind(text: str) -> str:
 
 
 def _assignment(upper: str, original: str) -> Statement | None:
-    match = _ASSIGN.match(upper)
-    if match is None or match.group(2) in COMMANDS and match.group(1) is None and match.group(2) not in (
-            "TIMER", "PARAMETER"):
+    match = _ASSIGN.match(upper)  # a name right before '=' is assigned to, whatever word it is
+    if match is None:
         return None
     is_set, target, _brackets, index, value = match.groups()
     value = original[match.start(5):]  # quoted text keeps its case
@@ -845,12 +844,16 @@ def _here(c: Build, st: Statement) -> Op:
 
 
 def _decompose(c: Build, st: Statement) -> Op:
+    """DECOMPOSE a[i] = loc: X Y Z O A T; of a precision point #p: its six joint angles."""
     name, start_text, location_text = st.args
     start, where = _num(c, start_text), _loc(c, location_text)
+    machine = _machine(c)
+    point = location_text if re.fullmatch(rf"#{_N}", location_text) else None
 
     def run() -> Events:
         first = int(start(c.variables))
-        for offset, value in enumerate(where(c.variables).decompose()):
+        values = machine.point(point) if point is not None else where(c.variables).decompose()
+        for offset, value in enumerate(values):
             c.variables[array_key(name, [first + offset])] = round(value, 9)
         return c.next
         yield
