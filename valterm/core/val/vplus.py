@@ -145,8 +145,11 @@ def _value_kind(text: str) -> str:
     try:
         compile_number(text)
         return "N"
-    except (ExprError, MachineError):
-        compile_location(text)  # raises ExprError: reported as the number's reason below
+    except (ExprError, MachineError) as as_number:
+        try:
+            compile_location(text)
+        except (ExprError, MachineError):
+            raise ExprError(str(as_number)) from None  # the reason it is not a number
         return "L"
 
 
