@@ -339,6 +339,9 @@ class Interpreter:
         except (KeyError, ValueError) as error:
             yield Error(program, number, _reason(error))
             return -1
+        except (ValtermError, OverflowError) as error:  # V+: a signal, a transformation, a huge number
+            yield Error(program, number, str(error).upper())
+            return -1
         return op.error
 
     def _control(self, op: Op, run: Run) -> Generator[Event, None, int]:

@@ -18,17 +18,17 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from valterm.core.cycletime import CycleClock
-from valterm.core.errors import ValtermError
 from valterm.core.events import Event, Signal
 from valterm.core.kinematics import Location, fk, rotation_to_oat
 from valterm.core.signals import InputChange, SignalPanel
 from valterm.core.transform import Transform, inverse
+from valterm.core.val.ops import ProgramError
 from valterm.core.val.protocol import Simulator
 
 JOINTS = 6
 
 
-class MachineError(ValtermError):
+class MachineError(ProgramError):
     """A V+ run-time error about the controller's state (an undefined string or point)."""
 
 
