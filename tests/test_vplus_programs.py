@@ -111,6 +111,7 @@ def test_handshake_waits_for_its_inputs_and_pulses_its_outputs(capsys: pytest.Ca
     assert arrival == pytest.approx(40.0, abs=0.2)  # it waited for the scripted input
     typed = [e["text"] for e in events if e["event"] == "type"]
     assert "WAITING FOR THE SECOND PART" in typed
+    assert events[-1]["signals_on"] == [1001, 1002, 1003]  # the outputs were all turned off again
 
 
 def test_handshake_without_its_inputs_stops_at_the_wait(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:

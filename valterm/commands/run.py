@@ -164,8 +164,10 @@ def run(args: argparse.Namespace) -> int:
             if isinstance(event, Pause):
                 out.write("(headless: PROCEED)\n")
         where = sim.where()
+        panel = interpreter.machine.signals
         end = End(where=where.to_json(), variables=dict(interpreter.variables),
-                  cycle_time_s=round(cycle.seconds, 3))
+                  cycle_time_s=round(cycle.seconds, 3),
+                  signals_on=tuple(panel.outputs_on() + panel.inputs_on()))
         if args.json:
             out.write(json.dumps(end.to_json()) + "\n")
         else:
@@ -173,6 +175,8 @@ def run(args: argparse.Namespace) -> int:
             if interpreter.variables:
                 values = "  ".join(f"{k}={_value(v)}" for k, v in interpreter.variables.items())
                 out.write(f"VARIABLES  {values}\n")
+            if end.signals_on:
+                out.write(f"SIGNALS ON {' '.join(str(n) for n in end.signals_on)}\n")
             out.write(f"CYCLE TIME {cycle.seconds:.2f} S (ESTIMATE FOR THE REAL PUMA)\n")
         out.flush()
     finally:

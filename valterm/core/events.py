@@ -155,6 +155,7 @@ class End(Event):
     where: dict[str, Any]
     variables: dict[str, float]
     cycle_time_s: float = 0.0  # the real robot's time for the whole run
+    signals_on: tuple[int, ...] = ()  # the I/O panel's signals on at the end (V+)
     event = "end"
 
 
