@@ -98,6 +98,19 @@ def test_conveyor_unloads_three_parts_onto_the_table(capsys: pytest.CaptureFixtu
     assert signals == [(3, True), (3, False)] * 3  # the belt stopped for each pick
 
 
+def test_swap_exchanges_the_two_parts_of_demo3(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+    from valterm.core.files.setup import read_setup
+
+    cell = read_setup(resources.data_path("cells", "DEMO3.SET"))
+    status, events = run_json(capsys, tmp_path, str(VPLUS / "swap.v2"), "--cell", "DEMO3.SET")
+    assert status == 0
+    hand = [(e["event"], e["part"]) for e in events if e["event"] in ("grasp", "release")]
+    assert hand == [("grasp", 1), ("release", 1), ("grasp", 2), ("release", 2), ("grasp", 1), ("release", 1)]
+    placed = releases(events)  # the last release of each part: where it stays
+    assert placed[1] == pytest.approx(np.asarray(cell.object(2).reference), abs=1e-6)
+    assert placed[2] == pytest.approx(np.asarray(cell.object(1).reference), abs=1e-6)
+
+
 def test_handshake_waits_for_its_inputs_and_pulses_its_outputs(capsys: pytest.CaptureFixture[str],
                                                                 tmp_path: Path) -> None:
     status, events = run_json(capsys, tmp_path, str(VPLUS / "handshake.v2"), "--cell", "PROCESS.SET",
