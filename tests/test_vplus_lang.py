@@ -189,6 +189,16 @@ def test_wait_needs_a_scripted_input_and_time_passes() -> None:
 
 # -- dialects and files -----------------------------------------------------------------------
 
+def test_react_calls_its_program_once_when_the_signal_changes() -> None:
+    text = body("REACT 2001, alarm", "REACT -1002, gone", "IGNORE -1002", "SIGNAL 2001", 'TYPE "BACK"',
+                "SIGNAL -2001", "SIGNAL 2001", 'TYPE "END"') + '.PROGRAM alarm()\n    TYPE "ALARM"\n.END\n'
+    _, events = vplus(text)
+    assert typed(events) == ["ALARM", "BACK", "END"]  # once: REACT must be given again to re-arm
+    assert any(isinstance(e, Message) and e.text == "REACT 2001: CALL ALARM" for e in events)
+    _, events = vplus(body("REACT 99999, x"))
+    assert "THERE IS NO SIGNAL 99999" in errors(events)[0].message
+
+
 def test_dialects_are_checked_and_named() -> None:
     assert check_dialect("V+") == "v+" and check_dialect("vplus") == "v+" and check_dialect("1985") == "1985"
     with pytest.raises(ValueError, match="use 1985 or v\\+"):

@@ -45,8 +45,9 @@ class Machine:
     parameters: dict[str, float] = field(default_factory=lambda: {"HAND.TIME": 0.05})
     inputs: list[InputChange] = field(default_factory=list)  # scripted, in time order
     tool: Transform | None = None
-    changes: list[Signal] = field(default_factory=list)  # signal changes to report
     clock: CycleClock | None = None
+    reactions: dict[int, str] = field(default_factory=dict)  # REACT: signed signal -> program
+    pending: list[tuple[int, str]] = field(default_factory=list)  # reactions triggered, not yet run
 
     @property
     def time(self) -> float:
@@ -85,6 +86,7 @@ class Machine:
         while self.inputs and self.inputs[0].time <= self.time + 1e-9:
             change = self.inputs.pop(0)
             self.signals.set_input(change.signal, change.on)
+            self._triggered(change.signal)
             yield Signal(change.signal, change.on, round(self.time, 3))
 
     def next_input_time(self) -> float | None:
@@ -92,7 +94,24 @@ class Machine:
 
     def set_signal(self, signed: int) -> Signal:
         number = self.signals.set_by_program(signed)
+        self._triggered(number)
         return Signal(number, signed > 0, round(self.time, 3))
+
+    def react(self, signed: int, program: str) -> None:
+        """REACT n, program: when signal n comes on (-n: goes off), CALL the program once."""
+        self.signals.sig(signed)  # a signal that does not exist is refused here
+        self.reactions = {s: p for s, p in self.reactions.items() if abs(s) != abs(signed)}
+        self.reactions[signed] = program
+
+    def ignore(self, signed: int) -> None:
+        self.signals.sig(signed)
+        self.reactions = {s: p for s, p in self.reactions.items() if abs(s) != abs(signed)}
+
+    def _triggered(self, number: int) -> None:
+        for signed, program in list(self.reactions.items()):
+            if abs(signed) == number and self.signals.sig(signed):
+                del self.reactions[signed]  # a reaction happens once; REACT again to re-arm it
+                self.pending.append((signed, program))
 
     def sig(self, *signed: float) -> float:
         """SIG(a, b, ...): TRUE when all are (SIG(-n): n is off)."""

@@ -18,8 +18,8 @@ V+ semantics (Adept V+ Language Reference) where the thesis is silent:
 - ``BREAK`` waits for the motion to finish: simulated motions always have;
 - ``SPEED n`` stays in force (as in the 1985 dialect), ``ALWAYS`` is accepted;
 - ``MOVET loc, hand`` / ``MOVEST``: the motion, then the hand opened (hand not 0) or closed;
-- ``REACT``/``REACTI`` are accepted and checked; the reaction is reported, not run as an
-  interrupt (the simulator runs one program at a time).
+- ``REACT``/``REACTI n, prog``: when signal n changes to the wanted state during a motion,
+  WAIT, DELAY or SIGNAL step, prog is CALLed after that step (once; ``IGNORE`` disarms).
 """
 
 from __future__ import annotations
@@ -740,7 +740,7 @@ def _move(c: Build, st: Statement) -> Op:
             action = c.sim.open if hand(c.variables) else c.sim.close
             yield from machine.observe(action(immediate=False))
         return c.next
-    return c.action(run)
+    return _reacting(c, run)
 
 
 def _appro(c: Build, st: Statement) -> Op:
@@ -754,7 +754,7 @@ def _appro(c: Build, st: Statement) -> Op:
         where = _point(c, goal) if isinstance(goal, Joints) else goal
         yield from machine.observe(c.sim.appro(where, float(distance(c.variables)), straight=straight))
         return c.next
-    return c.action(run)
+    return _reacting(c, run)
 
 
 def _depart(c: Build, st: Statement) -> Op:
@@ -764,7 +764,7 @@ def _depart(c: Build, st: Statement) -> Op:
     def run() -> Events:
         yield from machine.observe(c.sim.depart(float(distance(c.variables)), straight=st.command == "DEPARTS"))
         return c.next
-    return c.action(run)
+    return _reacting(c, run)
 
 
 def _hand(c: Build, st: Statement) -> Op:
@@ -776,7 +776,7 @@ def _hand(c: Build, st: Statement) -> Op:
     def run() -> Events:
         yield from machine.observe(action(immediate=immediate))
         return c.next
-    return c.action(run)
+    return _reacting(c, run)
 
 
 def _delay(c: Build, st: Statement) -> Op:
@@ -788,7 +788,7 @@ def _delay(c: Build, st: Statement) -> Op:
         if value > 0:
             yield from machine.observe(iter([Delay(value)]))
         return c.next
-    return c.action(run)
+    return _reacting(c, run)
 
 
 def _with_numbers(c: Build, st: Statement) -> Op:
@@ -801,7 +801,7 @@ def _with_numbers(c: Build, st: Statement) -> Op:
 
     def run() -> Events:
         return (yield from machine.timed(inner()))
-    return c.action(run)
+    return _reacting(c, run)
 
 
 def _speed(c: Build, st: Statement) -> Op:
@@ -899,7 +899,7 @@ def _signal(c: Build, st: Statement) -> Op:
             except ValtermError as error:
                 raise ProgramError(str(error).upper()) from None
         return c.next
-    return c.action(run)
+    return _reacting(c, run)
 
 
 def _wait(c: Build, st: Statement) -> Op:
@@ -919,7 +919,7 @@ def _wait(c: Build, st: Statement) -> Op:
                 raise ProgramError(f"WAIT {text}: STILL FALSE AFTER {WAIT_LIMIT:g} S")
             yield from machine.wait(max(WAIT_POLL, coming - machine.time))
         return c.next
-    return c.action(run)
+    return _reacting(c, run)
 
 
 def _wait_event(c: Build, st: Statement) -> Op:
@@ -931,20 +931,60 @@ def _wait_event(c: Build, st: Statement) -> Op:
         yield Delay(value)
         yield from machine.wait(value)
         return c.next
-    return c.action(run)
+    return _reacting(c, run)
 
 
 def _react(c: Build, st: Statement) -> Op:
+    """REACT/REACTI n, program: armed here; run by the next motion, WAIT or SIGNAL that sees it."""
     signal = _num(c, st.args[0])
     machine = _machine(c)
+    program = st.args[1].upper() if len(st.args) > 1 else ""
+    if st.command != "IGNORE" and not re.fullmatch(_N, program):
+        return b85.failed(c, f"{st.command}: EXPECTED {st.command} <signal>, <program>")
 
     def run() -> Events:
         number = int(signal(c.variables))
-        machine.sig(number)  # a signal that does not exist is an error here
-        if st.command != "IGNORE":
-            yield Message(f"{st.command} {number}: NOTED (THE SIMULATOR RUNS NO INTERRUPT PROGRAMS)", "warning")
+        try:
+            if st.command == "IGNORE":
+                machine.ignore(number)
+            else:
+                machine.react(number, program)
+        except ValtermError as error:
+            raise ProgramError(str(error).upper()) from None
         return c.next
+        yield
     return c.action(run)
+
+
+def _no_events() -> Events:
+    return 0
+    yield
+
+
+@dataclass(frozen=True, slots=True)
+class Reacting(Control):
+    """A V+ step during which signals may change (motions, WAIT, DELAY, SIGNAL): after it, a
+    triggered REACT program is CALLed, returning to the next step (V+ reaction semantics,
+    checked between steps rather than mid-motion)."""
+
+    body: Callable[[], Events] = field(default=_no_events, repr=False)
+    machine: Machine | None = field(default=None, repr=False)
+
+    def control(self, run: Run, call: Callable[[str], CompiledProgram]) -> Events:
+        pc = yield from self.body()
+        if self.machine is None or not self.machine.pending:
+            return pc
+        signed, program = self.machine.pending.pop(0)
+        yield Message(f"REACT {signed}: CALL {program}")
+        try:
+            sub = call(program)
+        except RunStop as stop:
+            raise RunStop(f"REACT {signed}: {stop.message}", run.program.name, self.step.step) from None
+        return run.enter(sub, pc)
+
+
+def _reacting(c: Build, body: Callable[[], Events]) -> Op:
+    return Reacting(c.step, c.next, c.next, body, _machine(c))
 
 
 def _timer(c: Build, st: Statement) -> Op:
