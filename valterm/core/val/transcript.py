@@ -41,11 +41,13 @@ def step_line(step: Step) -> str:
 
 
 def error_line(error: Error) -> str:
+    """`*** PROG step 3: REASON` in the thesis's upper case (as the app shows it)."""
+    message = error.message.upper()
     if error.program and error.step:
-        return f"*** {error.program} step {error.step}: {error.message}"
+        return f"*** {error.program} step {error.step}: {message}"
     if error.program:  # a whole-program error (it cannot start, a missing subroutine)
-        return f"*** {error.program}: {error.message}"
-    return f"*** {error.message}"
+        return f"*** {error.program}: {message}"
+    return f"*** {message}"
 
 
 def event_lines(event: Event) -> list[str]:
