@@ -108,6 +108,13 @@ def test_strings_and_formats() -> None:
     assert typed(events) == ["Pick and place:  3.142   42 3.14159", " 3.1"]
 
 
+def test_math_errors_are_reported_not_raised() -> None:
+    _, events = vplus(body("x = SQRT(-1)", "y = 10^400", "z = MOD(1, 0)", 'TYPE "ON"'))
+    assert [e.message for e in errors(events)] == [
+        "NOT A NUMBER (MATH DOMAIN ERROR)", "NUMBER TOO LARGE", "NOT A NUMBER (MATH DOMAIN ERROR)"]
+    assert typed(events) == ["ON"]  # as the thesis does for an undeclared variable: report, go on
+
+
 def test_an_undefined_variable_or_string_stops_with_its_name() -> None:
     _, events = vplus(body("TYPE $nothing"))
     assert "STRING $NOTHING IS NOT DEFINED" in errors(events)[0].message

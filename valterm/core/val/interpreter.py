@@ -291,12 +291,12 @@ class Interpreter:
                         pc = op.next
                     else:
                         pc = yield from self._failed(op, f"NUMBER TOO LARGE: {op.name} WOULD BE {value:g}")
-                except (KeyError, ZeroDivisionError) as error:
+                except (KeyError, ArithmeticError, ValueError) as error:
                     pc = yield from self._failed(op, _plain_reason(error))
             elif isinstance(op, Branch):
                 try:
                     pc = op.if_true if op.condition(V) else op.if_false
-                except (KeyError, ZeroDivisionError) as error:
+                except (KeyError, ArithmeticError, ValueError) as error:
                     pc = yield from self._failed(op, _plain_reason(error))
             elif isinstance(op, Jump):
                 pc = op.next
@@ -466,10 +466,14 @@ MONITOR_COMMANDS: dict[str, MonitorCommand] = {
 }
 
 
-def _plain_reason(error: KeyError | ZeroDivisionError) -> str:
+def _plain_reason(error: KeyError | ArithmeticError | ValueError) -> str:
     if isinstance(error, KeyError):
         return f"VARIABLE {error.args[0]} IS NOT DECLARED"
-    return "DIVISION BY ZERO"
+    if isinstance(error, ZeroDivisionError):
+        return "DIVISION BY ZERO"
+    if isinstance(error, OverflowError):
+        return "NUMBER TOO LARGE"
+    return f"NOT A NUMBER ({str(error).upper()})"  # V+ functions: SQRT(-1), MOD(1, 0)
 
 
 def _reason(error: Exception) -> str:
