@@ -11,6 +11,11 @@ user type commands through ``command(text)`` and, on PROCEED, pulls again (pulli
 checked before each step.  ``hook`` (None by default) is called before each step of a
 program with the program and the op, and may yield events of its own: the place for
 breakpoints, single steps, watches and traces.
+
+Two dialects (docs/VPLUS.md): a program whose ``Program.dialect`` is ``"v+"`` (read from a
+V+ file), or any program of an ``Interpreter(dialect="v+")``, is decoded by
+``vplus.parse_vplus`` and built by ``vplus.VPLUS_BUILDERS``; the rest is the thesis's 1985
+language. ``machine`` holds the V+ controller's state (signals, strings, precision points).
 """
 
 from __future__ import annotations
