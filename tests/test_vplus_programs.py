@@ -127,6 +127,18 @@ def test_handshake_waits_for_its_inputs_and_pulses_its_outputs(capsys: pytest.Ca
     assert events[-1]["signals_on"] == [1001, 1002, 1003]  # the outputs were all turned off again
 
 
+def test_handshake_reacts_when_the_cell_stops_during_a_wait(capsys: pytest.CaptureFixture[str],
+                                                             tmp_path: Path) -> None:
+    inputs = tmp_path / "stop.inputs"
+    inputs.write_text("0 1003 1\n0 1001 1\n20 1003 0\n")  # the cell stops before part 2 comes
+    status, events = run_json(capsys, tmp_path, str(VPLUS / "handshake.v2"), "--cell", "PROCESS.SET",
+                              "--loc", "PROCESS.LOC", "--inputs", str(inputs))
+    assert status == 0
+    texts = [e.get("text") for e in events if e["event"] in ("type", "message")]
+    assert texts[-3:] == ["REACT -1003: CALL STOP.ALL", "STOP REQUESTED", "PROGRAM HANDSHAKE COMPLETED: 1 LOOP"]
+    assert [e["part"] for e in events if e["event"] == "release"] == [1]  # part 2 never came
+
+
 def test_handshake_without_its_inputs_stops_at_the_wait(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
     status, events = run_json(capsys, tmp_path, str(VPLUS / "handshake.v2"), "--cell", "PROCESS.SET",
                               "--loc", "PROCESS.LOC")

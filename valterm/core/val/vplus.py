@@ -918,6 +918,8 @@ def _wait(c: Build, st: Statement) -> Op:
             if machine.time - started > WAIT_LIMIT:
                 raise ProgramError(f"WAIT {text}: STILL FALSE AFTER {WAIT_LIMIT:g} S")
             yield from machine.wait(max(WAIT_POLL, coming - machine.time))
+            if machine.pending:  # a REACT program runs first, then this WAIT looks again
+                return c.op_index[c.index]
         return c.next
     return _reacting(c, run)
 
