@@ -341,10 +341,12 @@ def test_structure_errors_stop_the_run_before_it_starts() -> None:
     assert errors(events)[0].step == 2 and "IF without END" in errors(events)[0].message
 
 
-def test_a_bad_step_reports_at_run_time_and_goes_on() -> None:
+def test_a_bad_step_stops_the_program_at_run_time() -> None:
+    # issue 14: a step that fails the syntax check stops the program with its located error
     _, events = run(["    JUMP", "    TYPE NEXT"])
     assert errors(events)[0].step == 1 and "JUMP" in errors(events)[0].message
-    assert typed(events) == ["NEXT"]
+    assert typed(events) == []
+    assert not any(isinstance(e, Message) and "COMPLETED" in e.text for e in events)
 
 
 def test_refused_motion_stops_the_program_at_that_step() -> None:

@@ -8,7 +8,7 @@ import sys
 from typing import Sequence
 
 # Each module in valterm.commands registers one subcommand (see its docstring).
-SUBCOMMANDS = ("kin", "cell", "cad", "export", "check", "run", "monitor", "bench", "app", "demo")
+SUBCOMMANDS = ("kin", "cell", "cad", "export", "export-program", "check", "run", "monitor", "bench", "app", "demo")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -22,9 +22,9 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     for name in SUBCOMMANDS:
         try:
-            module = importlib.import_module(f"valterm.commands.{name}")
+            module = importlib.import_module(f"valterm.commands.{name.replace('-', '')}")
         except ModuleNotFoundError as error:
-            if error.name == f"valterm.commands.{name}":
+            if error.name == f"valterm.commands.{name.replace('-', '')}":
                 continue  # not built yet
             raise
         module.register(sub)

@@ -10,16 +10,29 @@ from __future__ import annotations
 
 import argparse
 import sys
+from collections.abc import Callable
 from pathlib import Path
-from typing import Callable
 
 from valterm.core.files.errors import FileFormatError, error_message
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     parser = subparsers.add_parser("check", help="syntax-check VAL-II programs (.DAT)")
-    parser.add_argument("files", nargs="+", metavar="FILE.DAT", help="a path, or a program name in the workspace")
+    parser.add_argument("files", nargs="+", metavar="FILE.DAT",
+                        help="a path (.DAT, or a V+ file .v2/.pg with .PROGRAM blocks), or a program name in the workspace")
+    parser.add_argument("--dialect", choices=("1985", "v+"), default=None,
+                        help="the language to check against (default: 1985 for .DAT, v+ for .v2/.pg)")
     parser.set_defaults(func=run)
+
+
+def read_programs(path: Path) -> list:  # type: ignore[type-arg]
+    """The programs of a file: one for NAME.DAT, every .PROGRAM block of a V+ file."""
+    from valterm.core.files.programs import read_program
+    from valterm.core.files.vplus import EXTENSIONS, read_vplus
+
+    if path.suffix.upper() in EXTENSIONS:
+        return [block.program for block in read_vplus(path)]
+    return [read_program(path)]
 
 
 def find_program(argument: str, workspace_root: str | None) -> tuple[Path, Callable[[str], bool]]:
@@ -37,28 +50,33 @@ def find_program(argument: str, workspace_root: str | None) -> tuple[Path, Calla
 
 
 def run(args: argparse.Namespace) -> int:
-    from valterm.core.files.programs import read_program
     from valterm.core.val.checker import check_program
     from valterm.core.workspace import WorkspaceError
 
     status = 0
+    dialect = getattr(args, "dialect", None)
     for argument in args.files:
         try:
             path, exists = find_program(argument, getattr(args, "workspace", None))
-            program = read_program(path)
+            programs = read_programs(path)
         except (FileFormatError, WorkspaceError, FileNotFoundError, OSError) as error:
             print(error_message(error), file=sys.stderr)
             status = 2
             continue
-        try:
-            report = check_program(program, program_exists=exists)
-        except WorkspaceError as error:  # a CALLed program that links outside the workspace
-            print(f"{path.name}: {error}", file=sys.stderr)
-            status = status or 1
-            continue
-        for diagnostic in report.diagnostics:
-            print(diagnostic)
-        print(report.summary())
-        if not report.ok and status == 0:
-            status = 1
+        in_file = {program.name for program in programs}
+
+        def known(name: str, in_file: set[str] = in_file, exists: Callable[[str], bool] = exists) -> bool:
+            return name in in_file or exists(name)
+        for program in programs:
+            try:
+                report = check_program(program, program_exists=known, dialect=dialect)
+            except WorkspaceError as error:  # a CALLed program that links outside the workspace
+                print(f"{path.name}: {error}", file=sys.stderr)
+                status = status or 1
+                continue
+            for diagnostic in report.diagnostics:
+                print(diagnostic)
+            print(f"{report.summary()}  [{report.against}]")
+            if not report.ok and status == 0:
+                status = 1
     return status

@@ -8,7 +8,14 @@ with the final WHERE and the variables.
 Files are paths or names in the workspace. Without --cell / --loc, a setup or location
 file with the program's own name is used if the workspace has one. CALLed programs are
 read from the program's folder first, then the workspace. CHECK.DAT's variables are read
-(they are kept across sessions, section 6.7) but not written back. DELAY is not waited.
+and, when the program ends, written back as EXECUTE does (section 6.7: an assignment
+updates CHECK.DAT, so variables are kept across sessions). DELAY is not waited.
+
+A V+ file (``.v2``/``.pg``, ``.PROGRAM`` blocks) runs its first program; every program of
+the file can be CALLed, and they are v+ (``--dialect v+`` makes .DAT programs v+ too).
+``--config LEFTY,BELOW`` sets the user's indicators first; ``--inputs FILE`` scripts the
+input signals ("TIME SIGNAL VALUE" lines); precision points (``POINT #SAFE, j1..j6``) in the
+location files are read too. Signal changes are in the transcript (``SIGNAL 1 ON``) and JSON.
 
 Exit 0: the program ended normally; 1: a run-time error; 2: a bad input file
 (``FILE:LINE: reason`` on stderr); 130: aborted with CTRL-C (after the current step).
@@ -33,7 +40,42 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         help="execution passes (EXECUTE name,N; negative = 1000)")
     parser.add_argument("--json", action="store_true", help="JSON lines, one event each")
     parser.add_argument("--collisions", action="store_true", help="check collisions at every motion step")
+    parser.add_argument("--dialect", choices=("1985", "v+"), default=None,
+                        help="the language of .DAT programs (default 1985; a .v2/.pg file is always v+)")
+    parser.add_argument("--config", metavar="LEFTY,ABOVE,NOFLIP",
+                        help="the user's configuration indicators at the start (default RIGHTY,ABOVE,NOFLIP)")
+    parser.add_argument("--inputs", metavar="FILE",
+                        help='input signals scripted as "TIME SIGNAL VALUE" lines (V+ SIG, WAIT)')
     parser.set_defaults(func=run)
+
+
+def _vplus_setup(args: argparse.Namespace, sim: Any, interpreter: Any, loc_paths: list[Path]) -> None:
+    """--config, --inputs, and the precision points of the location files (ValueError, FileFormatError)."""
+    from valterm.core.files.locations import read_location_file
+    from valterm.core.kinematics import CONFIG_WORDS
+    from valterm.core.signals import read_inputs
+
+    if args.config:
+        for word in (w.strip().upper() for w in args.config.split(",")):
+            if word not in CONFIG_WORDS:
+                raise ValueError(f"--config: {word or '(empty)'} is not one of {', '.join(CONFIG_WORDS)}")
+            sim.set_indicator(word)
+    if args.inputs:
+        interpreter.machine.inputs = read_inputs(args.inputs)
+    for path in loc_paths:
+        interpreter.machine.precision.update(read_location_file(path)[1])
+
+
+def _program_file(path: Path) -> tuple[Any, dict[str, Any]]:
+    """The main program and every program of its file (a V+ file holds several)."""
+    from valterm.core.files.programs import read_program
+    from valterm.core.files.vplus import EXTENSIONS, read_vplus
+
+    if path.suffix.upper() in EXTENSIONS:
+        programs = [block.program for block in read_vplus(path)]
+        return programs[0], {p.name: p for p in programs}
+    main = read_program(path)
+    return main, {main.name: main}
 
 
 def _find(argument: str, ext: str, workspace: Any) -> Path:
@@ -53,7 +95,6 @@ def run(args: argparse.Namespace) -> int:
     from valterm.core.events import End, Error, Pause
     from valterm.core.files.errors import FileFormatError, error_message
     from valterm.core.files.locations import read_locations
-    from valterm.core.files.programs import read_program
     from valterm.core.files.setup import read_setup
     from valterm.core.simulator import Simulator
     from valterm.core.text.transcript import event_lines, where_lines
@@ -64,13 +105,14 @@ def run(args: argparse.Namespace) -> int:
     try:
         workspace = Workspace.open(getattr(args, "workspace", None))
         program_path = _find(args.program, "DAT", workspace)
-        main = read_program(program_path)
-        cell_name = args.cell or (main.name if workspace.exists(main.name, "SET") else None)
+        main, in_file = _program_file(program_path)
+        cell_name = args.cell or (main.name if _in_workspace(workspace, main.name, "SET") else None)
         cell = read_setup(_find(cell_name, "SET", workspace)) if cell_name else None
         sim = Simulator(cell)
-        loc_names = args.loc or ([main.name] if workspace.exists(main.name, "LOC") else [])
-        for name in loc_names:
-            sim.locations.update(read_locations(_find(name, "LOC", workspace)))
+        loc_names = args.loc or ([main.name] if _in_workspace(workspace, main.name, "LOC") else [])
+        loc_paths = [_find(name, "LOC", workspace) for name in loc_names]
+        for path in loc_paths:
+            sim.locations.update(read_locations(path))
         variables = VariableStore()
         check = workspace.path("CHECK", "DAT")
         if check.is_file():
@@ -82,9 +124,17 @@ def run(args: argparse.Namespace) -> int:
     load_called = workspace.program_loader(program_path.resolve().parent)
 
     def load_program(name: str):  # type: ignore[no-untyped-def]
-        return main if name == main.name else load_called(name)
+        if name in in_file:
+            return in_file[name]
+        return load_called(name)  # through the workspace's checks (no links outside)
 
-    interpreter = Interpreter(sim, load_program, variables, keep_variables=workspace.write_variables)
+    interpreter = Interpreter(sim, load_program, variables, keep_variables=workspace.write_variables,
+                              dialect=args.dialect or "1985")
+    try:
+        _vplus_setup(args, sim, interpreter, loc_paths)
+    except (FileFormatError, OSError, ValueError) as error:
+        print(error, file=sys.stderr)
+        return 2
     errors = 0
     aborted = False
 
@@ -109,8 +159,10 @@ def run(args: argparse.Namespace) -> int:
             if isinstance(event, Pause):
                 out.write("(headless: PROCEED)\n")
         where = sim.where()
+        panel = interpreter.machine.signals
         end = End(where=where.to_json(), variables=dict(interpreter.variables),
-                  cycle_time_s=round(interpreter.cycle.seconds, 3))  # the interpreter's clock
+                  cycle_time_s=round(interpreter.cycle.seconds, 3),  # the interpreter's clock
+                  signals_on=tuple(panel.outputs_on() + panel.inputs_on()))
         if args.json:
             out.write(json.dumps(end.to_json()) + "\n")
         else:
@@ -118,6 +170,8 @@ def run(args: argparse.Namespace) -> int:
             if interpreter.variables:
                 values = "  ".join(f"{k}={_value(v)}" for k, v in interpreter.variables.items())
                 out.write(f"VARIABLES  {values}\n")
+            if end.signals_on:
+                out.write(f"SIGNALS ON {' '.join(str(n) for n in end.signals_on)}\n")
             out.write(f"CYCLE TIME {interpreter.cycle.seconds:.2f} S (ESTIMATE FOR THE REAL PUMA)\n")
         out.flush()
     finally:
@@ -125,6 +179,16 @@ def run(args: argparse.Namespace) -> int:
     if aborted:
         return 130
     return 1 if errors else 0
+
+
+def _in_workspace(workspace: Any, name: str, ext: str) -> bool:
+    """Whether NAME.EXT is in the workspace (a V+ dotted name never is: not a workspace name)."""
+    from valterm.core.errors import ValtermError
+
+    try:
+        return bool(workspace.exists(name, ext))
+    except (ValtermError, ValueError):
+        return False
 
 
 def _value(value: float) -> str:

@@ -118,6 +118,13 @@ class Error(Event):
     message: str
     event = "error"
 
+    @property
+    def where(self) -> str:
+        """`PROG STEP 3: `, `PROG: ` for a whole-program error (step 0), "" for a typed command."""
+        if not self.program:
+            return ""
+        return f"{self.program} STEP {self.step}: " if self.step else f"{self.program}: "
+
 
 @dataclass(frozen=True)
 class Where(Event):
@@ -148,6 +155,7 @@ class End(Event):
     where: dict[str, Any]
     variables: dict[str, float]
     cycle_time_s: float = 0.0  # the real robot's time for the whole run
+    signals_on: tuple[int, ...] = ()  # the I/O panel's signals on at the end (V+)
     event = "end"
 
 
@@ -157,6 +165,20 @@ class Delay(Event):
 
     seconds: float
     event = "delay"
+
+
+@dataclass(frozen=True)
+class Signal(Event):
+    """A binary signal of the I/O panel changed (V+ SIGNAL, a scripted or keyed input)."""
+
+    number: int
+    on: bool
+    time: float = 0.0  # the robot's estimated seconds since the run started
+    event = "signal"
+
+    @property
+    def text(self) -> str:
+        return f"SIGNAL {self.number} {'ON' if self.on else 'OFF'}"
 
 
 @dataclass(frozen=True)

@@ -200,11 +200,14 @@ class OutOfReach(IKError):
 
 
 class BeyondStop(IKError):
-    def __init__(self, joint: int, angle: float) -> None:
+    def __init__(self, joint: int, angle: float, stop: tuple[float, float] | None = None) -> None:
         self.joint = joint
         self.angle = angle
+        self.stop = stop
         self.reason = f"joint {joint} beyond its stop"
-        super().__init__(f"joint {joint} beyond its stop ({angle:.2f} deg)")
+        limits = f", stop {stop[0]:g}..{stop[1]:g}" if stop is not None else ""
+        # the message names the angle and the stop, as a refused straight line does
+        super().__init__(f"{self.reason} ({angle:.2f} deg{limits})")
 
 
 def fit_to_stops(
@@ -225,7 +228,7 @@ def fit_to_stops(
         k_low = math.ceil((low - angle) / 360.0 - 1e-12)
         k_high = math.floor((high - angle) / 360.0 + 1e-12)
         if k_low > k_high:
-            raise BeyondStop(index + 1, wrap180(angle))
+            raise BeyondStop(index + 1, wrap180(angle), (low, high))
         best = None
         for k in range(k_low, k_high + 1):
             candidate = angle + 360.0 * k

@@ -122,7 +122,7 @@ def _slerp(r0: np.ndarray, r1: np.ndarray, fractions: np.ndarray) -> np.ndarray:
 
 def _refusal(error: IKError, step: int) -> MotionRefused:
     if isinstance(error, BeyondStop):
-        return MotionRefused(error.reason, error.joint, step)
+        return MotionRefused(str(error), error.joint, step)  # names the angle and the stop
     return MotionRefused("location out of reach", 0, step)
 
 
@@ -262,7 +262,7 @@ def check_joint_goal(goal: Sequence[float], geometry: RobotGeometry | None = Non
     geometry = geometry or robot_geometry()
     for joint, (angle, (low, high)) in enumerate(zip(goal, geometry.stops), start=1):
         if not low - 1e-9 <= angle <= high + 1e-9:
-            raise MotionRefused(f"joint {joint} beyond its stop", joint)
+            raise MotionRefused(f"joint {joint} beyond its stop ({angle:.2f} deg, stop {low:g}..{high:g})", joint)
 
 
 # ---------------------------------------------------------------------------

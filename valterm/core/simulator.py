@@ -195,6 +195,12 @@ class Simulator:
         increment = joint_increment(self.speed * clamp_speed(speed) / 100.0)
         yield from self._play(joint_path(self.joints, goal, increment), "joint")
 
+    def move_joints(self, goal: Sequence[float]) -> Iterator[Event]:
+        """A joint-coordinated motion to six joint angles (a V+ precision point, #name)."""
+        goal = [float(v) for v in goal]
+        check_joint_goal(goal, self.geometry)
+        yield from self._play(joint_path(self.joints, goal, joint_increment(self.speed)), "joint")
+
     def ready(self) -> Iterator[Event]:
         """READY: the arm straight up; the user's indicators become RIGHTY ABOVE NOFLIP (§6.2.6)."""
         self.config = Config(1, 1, 1)

@@ -10,6 +10,8 @@ V+ semantics followed where the thesis is silent:
 - ``INVERSE(a)``: the inverse transformation;
 - ``RX(d) RY(d) RZ(d)``: pure rotations about the world axes, no translation;
 - ``SHIFT(a BY dx, dy, dz)``: a translated along the world axes;
+- ``TRANS(x, y, z)`` without angles and ``NULL``: a pure translation (identity rotation);
+  with angles, the location of those six components in the thesis's O A T;
 - ``FRAME(l1, l2, l3, l4)``: X axis from l1 towards l2, the XY plane through l3, origin at l4;
 - ``DECOMPOSE``: the six components X Y Z O A T;
 - ``DISTANCE(a, b)``, ``DX/DY/DZ(a)``.
@@ -77,6 +79,15 @@ def trans(x: float = 0.0, y: float = 0.0, z: float = 0.0,
           o: float = 0.0, a: float = 0.0, t: float = 0.0) -> Transform:
     """TRANS(x, y, z, o, a, t): a location from its six components (omitted = 0)."""
     return Transform(_homogeneous(oat_to_rotation(o, a, t), (x, y, z)))
+
+
+def translation(x: float = 0.0, y: float = 0.0, z: float = 0.0) -> Transform:
+    """TRANS(x, y, z) with no angles, and NULL: a pure translation (V+'s null rotation).
+
+    The thesis's O A T (0, 0, 0) is not the identity rotation (its tool points along -X_w),
+    so an offset in a compound (``frame:TRANS(80, 0, 0):grip``) must not go through it.
+    """
+    return Transform(_homogeneous(np.eye(3), (x, y, z)))
 
 
 def _axis_rotation(axis: int, degrees: float) -> Transform:

@@ -3,6 +3,11 @@
 One location a line: ``POINT A, 465., -45., -245., 89., 91., 0.`` -- the word POINT, a
 space, a name of up to 9 characters, then X Y Z (mm) and O A T (degrees), separated by
 commas (spaces are accepted too). Blank lines and ``;`` comment lines are skipped.
+
+V+ programs (issue 14) add two kinds of line: a dotted name of up to 15 characters
+(``POINT pick.1, ...``), and a precision point, six joint angles in degrees
+(``POINT #SAFE, 0, -90, 90, 0, 0, 0``). ``read_locations`` returns the locations only;
+``read_location_file`` returns the precision points too.
 """
 
 from __future__ import annotations
@@ -26,6 +31,11 @@ from valterm.core.kinematics import Location
 # A location name: a letter then up to 8 letters or digits (§7.3: "up to 9 characters").
 LOCATION_NAME = re.compile(r"[A-Z][A-Z0-9]{0,8}")
 
+# A V+ location name (dotted, up to 15 characters) and a precision point name (#name).
+VPLUS_LOCATION_NAME = re.compile(r"[A-Z][A-Z0-9_]*(?:\.[A-Z0-9_]+)+")
+PRECISION_NAME = re.compile(r"#[A-Z][A-Z0-9_.]{0,14}")
+MAX_VPLUS_NAME = 15
+
 _POINT = re.compile(r"POINT(?![A-Z0-9])[\s,]*(.*)", re.IGNORECASE)
 
 _FIELDS = ("X", "Y", "Z", "O", "A", "T")
@@ -41,16 +51,33 @@ def check_location_name(name: str) -> str:
     return upper
 
 
+def _file_name(text: str) -> str:
+    """A name as a location file may hold it: 1985, dotted V+, or a #precision point."""
+    upper = text.strip().upper()
+    if (PRECISION_NAME.fullmatch(upper) or VPLUS_LOCATION_NAME.fullmatch(upper)) and len(upper.lstrip("#")) <= MAX_VPLUS_NAME:
+        return upper
+    return check_location_name(text)
+
+
 def read_locations(path: str | Path) -> dict[str, Location]:
     """Read a location file (FileFormatError if malformed)."""
     path = Path(path)
     return parse_locations(read_text(path, "location"), path)
 
 
-def parse_locations(text: str, name: str | Path) -> dict[str, Location]:
+def read_location_file(path: str | Path) -> tuple[dict[str, Location], dict[str, tuple[float, ...]]]:
+    """The locations and the precision points (#name: six joint angles) of a location file."""
+    path = Path(path)
+    points: dict[str, tuple[float, ...]] = {}
+    return parse_locations(read_text(path, "location"), path, points), points
+
+
+def parse_locations(text: str, name: str | Path,
+                    points: dict[str, tuple[float, ...]] | None = None) -> dict[str, Location]:
     """Parse location-file text into {NAME: Location}; a later line with the same name wins.
 
     A file of only comments holds no locations; a file with nothing at all is damaged.
+    Precision points go to ``points`` when given (skipped otherwise).
     """
     where = Path(name)
     if not text.strip():
@@ -68,14 +95,20 @@ def parse_locations(text: str, name: str | Path) -> dict[str, Location]:
         if not fields:
             raise FileFormatError(where, number, "POINT without a location name")
         try:
-            point = check_location_name(fields[0])
+            point = _file_name(fields[0])
         except ValueError as error:
             raise FileFormatError(where, number, str(error)) from None
         values = fields[1:]
+        what = "JT1..JT6" if point.startswith("#") else "X, Y, Z, O, A, T"
         if len(values) != 6:
             raise FileFormatError(
-                where, number, f"POINT {point}: expected 6 numbers (X, Y, Z, O, A, T), found {len(values)}"
+                where, number, f"POINT {point}: expected 6 numbers ({what}), found {len(values)}"
             )
+        if point.startswith("#"):
+            angles = tuple(parse_number(v, where, number, f"POINT {point} JT{i}") for i, v in enumerate(values, 1))
+            if points is not None:
+                points[point] = angles
+            continue
         numbers = [parse_number(v, where, number, f"POINT {point} {axis}") for v, axis in zip(values, _FIELDS)]
         if point not in found and len(found) >= MAX_LOCATIONS:
             raise FileFormatError(where, number, f"more than {MAX_LOCATIONS} locations in one file")
@@ -89,7 +122,7 @@ def format_locations(locations: dict[str, Location]) -> str:
     """Location-file text, one ``POINT`` line per location, in the order given."""
     lines = []
     for name, location in locations.items():
-        point = check_location_name(name)
+        point = _file_name(name)
         numbers = ", ".join(format_number(v) for v in (*location.xyz, *location.oat))
         lines.append(f"POINT {point}, {numbers}")
     if not lines:

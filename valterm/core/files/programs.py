@@ -51,6 +51,9 @@ class Program:
 
     name: str
     steps: list[ProgramLine] = field(default_factory=list)
+    # V+ (issue 14): the .PROGRAM header's parameter names, and the dialect the steps are in
+    parameters: list[str] = field(default_factory=list)
+    dialect: str = "1985"
 
     def step(self, number: int) -> ProgramLine:
         """Step by its 1-based step number."""

@@ -12,7 +12,8 @@ This is how Adept V+ (the successor of VAL-II) stores programs on disk:
 
 Each block becomes one ``Program`` (its steps are the lines between the header and
 ``.END``), the name kept as written, dotted names included, upper-cased as VAL-II names
-are. Lines outside blocks may only be blank or comments; other dot-directives in the file
+are. Its dialect is v+, unless the header's comment is ``; DIALECT 1985`` (how
+``valterm export-program`` marks a workspace program in the thesis's language). Lines outside blocks may only be blank or comments; other dot-directives in the file
 (``.LOCATIONS``, ``.REALS``, ``.STRINGS`` data sections) are skipped up to their ``.END``.
 """
 
@@ -30,6 +31,7 @@ EXTENSIONS = (".V2", ".PG")
 MAX_NAME = 15  # V+ program names: a letter, then letters, digits, '.' and '_'
 _NAME = re.compile(r"[A-Z][A-Z0-9._]{0,14}")
 _HEADER = re.compile(r"\.PROGRAM\s+([^\s(]+)\s*(?:\((.*)\))?\s*(;.*)?$", re.IGNORECASE)
+DIALECT_1985 = re.compile(r"DIALECT\s+1985", re.IGNORECASE)  # the header comment of a 1985 program
 _DATA_SECTIONS = (".LOCATIONS", ".REALS", ".STRINGS", ".PRECISIONPOINTS")
 
 
@@ -55,7 +57,11 @@ def _header(text: str, where: Path, number: int) -> VplusProgram:
     for parameter in parameters:
         if not re.fullmatch(r"[A-Z$][A-Z0-9._]*(\[\])?", parameter):
             raise FileFormatError(where, number, f"{parameter[:40]!r} is not a parameter name")
-    return VplusProgram(Program(name), parameters, (match.group(3) or "").lstrip(";").strip())
+    comment = (match.group(3) or "").lstrip(";").strip()
+    # A program exported from the workspace says it is in the thesis's language.
+    dialect = "1985" if DIALECT_1985.fullmatch(comment) else "v+"
+    program = Program(name, parameters=parameters, dialect=dialect)
+    return VplusProgram(program, parameters, comment)
 
 
 def parse_vplus(text: str, path: str | Path) -> list[VplusProgram]:
@@ -122,7 +128,8 @@ def format_vplus(blocks: list[VplusProgram]) -> str:
     out: list[str] = []
     for block in blocks:
         arguments = ", ".join(p.lower() for p in block.parameters)
-        comment = f" ; {block.comment}" if block.comment else ""
+        text = block.comment or ("DIALECT 1985" if block.program.dialect == "1985" else "")
+        comment = f" ; {text}" if text else ""
         out.append(f".PROGRAM {block.program.name.lower()}({arguments}){comment}")
         for step in block.program.steps:
             label = f"{step.label} " if step.label is not None else ""

@@ -21,6 +21,7 @@ from valterm.core.events import (
     Near,
     Pause,
     Release,
+    Signal,
     Status,
     Step,
     Trace,
@@ -61,8 +62,7 @@ def step_line(step: Step) -> str:
 
 def error_line(error: Error) -> str:
     """A run-time error located by program and step, upper case as on the VS11."""
-    where = f"{error.program} STEP {error.step}: " if error.program else ""
-    return f"*** {where}{error.message}".upper()
+    return f"*** {error.where}{error.message}".upper()
 
 
 def finding_line(event: Near | Collision) -> str:
@@ -111,6 +111,8 @@ def event_lines(event: Event) -> list[str]:
         return where_lines(event)
     if isinstance(event, Status):
         return [event.text, event.cycle_text]
+    if isinstance(event, Signal):
+        return [event.text]
     if isinstance(event, Breakpoint):  # before Pause: it is one
         return [breakpoint_line(event)]
     if isinstance(event, Watch):

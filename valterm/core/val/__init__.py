@@ -15,4 +15,8 @@
   ``command(text)``, ``abort()``, ``proceed()``, ``paused``, ``running``, ``status()``,
   ``hook`` (called before each step), ``builders`` and ``monitor`` (the dialect's tables)
 - ``transcript``: events as text lines
+- ``typeout``: TYPE's output list (quoted text, values, /F /I /E /H /X /C formats)
+- the ``v+`` dialect (issue 14, docs/VPLUS.md): ``vplus`` (V+ statements decoded, and their
+  builders ``VPLUS_BUILDERS``), ``vexpr`` (V+ numeric, location and string expressions),
+  ``machine`` (the controller's state: signals, strings, precision points, timers, TOOL)
 """

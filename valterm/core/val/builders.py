@@ -10,10 +10,12 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
+from valterm.core.errors import ValtermError
 from valterm.core.events import Delay, Error, Message, Status, Step, TypeOut
 from valterm.core.kinematics import CONFIG_WORDS, Location
 from valterm.core.val.compiler import Analysis
-from valterm.core.val.expr import Expr, Values
+from valterm.core.val.expr import Expr, Values, compile_expr
+from valterm.core.val.machine import Machine
 from valterm.core.val.ops import (
     Action,
     Assign,
@@ -30,6 +32,7 @@ from valterm.core.val.ops import (
 )
 from valterm.core.val.parser import ASSIGN, LocArg, Statement
 from valterm.core.val.protocol import Simulator
+from valterm.core.val.typeout import format_number, parse_items
 
 MAX_CALL_DEPTH = 20   # nested CALLs before "CALL DEPTH" stops the program
 
@@ -46,6 +49,7 @@ class Build:
     sim: Simulator
     status: Callable[[], Status]
     set_paused: Callable[[bool], None]
+    machine: Machine | None = None  # the V+ controller state (signals, strings, ...)
 
     @property
     def next(self) -> int:
@@ -113,10 +117,10 @@ def numbers(fns: Sequence[Callable[[Values], float | None]], variables: Values) 
 
 
 def failed(c: Build, reason: str) -> Action:
-    """A step that cannot run: its error message, then the next step."""
+    """A step that cannot run (it failed the syntax check): the program stops there."""
     def run() -> Events:
-        yield Error(c.step.program, c.step.step, reason)
-        return c.next
+        raise ProgramError(reason)
+        yield
     return c.action(run)
 
 
@@ -241,11 +245,31 @@ def _type(c: Build, st: Statement) -> Op:
             return c.next
         return c.action(type_var)
     text = st.args[0] or ""
+    if not text.lstrip().startswith('"'):  # the 1985 form: the rest of the line as typed
+        def type_text() -> Events:
+            yield TypeOut(text)
+            return c.next
+        return c.action(type_text)
+    return _type_list(c, text)
 
-    def type_text() -> Events:
-        yield TypeOut(text)
+
+def _type_list(c: Build, text: str) -> Op:
+    """TYPE "X=", X /F8.2: quoted text without its quotes, values, formats."""
+    try:
+        items = parse_items(text, compile_expr)
+    except (ValueError, ValtermError) as error:
+        return failed(c, str(error))
+    parts = [(item.text, None if item.expr is None else getter(item.expr), item.fmt)  # type: ignore[arg-type]
+             for item in items]
+
+    def run() -> Events:
+        out = []
+        for literal, value, fmt in parts:
+            out.append(literal if value is None else format_number(number(value, c.variables), fmt))
+        for line in "".join(out).split("\n"):
+            yield TypeOut(line)
         return c.next
-    return c.action(type_text)
+    return c.action(run)
 
 
 def _where(c: Build, st: Statement) -> Op:
@@ -305,7 +329,9 @@ def _set(c: Build, st: Statement) -> Op:
     where = location_of(c, source)
 
     def run() -> Events:
-        if source.shift is None:
+        if source.shift is None and source.name == "HERE" and "HERE" not in c.sim.locations:
+            c.sim.here(destination)  # SET B = HERE: the present location (as HERE B)
+        elif source.shift is None:
             c.sim.set_location(destination, source.name)
         else:
             location = where()
@@ -386,8 +412,8 @@ def _drive(c: Build, st: Statement) -> Op:
 
     def run() -> Events:
         joint, degrees, speed = (float(v or 0.0) for v in numbers(fns, c.variables))
-        if joint != int(joint):
-            raise ProgramError(f"JOINT NUMBER {format_value(joint)} IS NOT 1 TO 6")
+        if joint != int(joint) or not 1 <= joint <= 6:
+            raise ProgramError(f"DRIVE: JOINT NUMBER {format_value(joint)} IS NOT 1 TO 6")
         yield from c.sim.drive(int(joint), degrees, speed)
         return c.next
     return c.action(run)

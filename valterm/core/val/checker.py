@@ -19,6 +19,7 @@ class CheckReport(Diagnosed):
     program: str
     steps: int
     diagnostics: list[Diagnostic] = field(default_factory=list)
+    dialect: str = "1985"  # the language the program was checked against
 
 
     @property
@@ -31,21 +32,40 @@ class CheckReport(Diagnosed):
         return (f"{self.program}: {self.steps} steps, {len(self.errors)} error(s), "
                 f"{len(self.warnings)} warning(s)")
 
+    @property
+    def against(self) -> str:
+        """Which language the program was checked against: `DIALECT 1985 (COMMAND.DAT)`."""
+        return f"DIALECT {DIALECT_NAMES[self.dialect]}"
+
+
+DIALECT_NAMES = {"1985": "1985 (COMMAND.DAT)", "v+": "V+ (ADEPT V+ REFERENCE)"}
+
 
 def check_program(program: Program, table: CommandTable | None = None,
-                  program_exists: Callable[[str], bool] | None = None) -> CheckReport:
-    """Check a whole program.  `program_exists(name)` lets CALLs to missing programs be warned about."""
-    analysis = analyse(program, table or default_commands())
+                  program_exists: Callable[[str], bool] | None = None,
+                  dialect: str | None = None) -> CheckReport:
+    """Check a whole program.  `program_exists(name)` lets CALLs to missing programs be warned about.
+
+    ``dialect`` ("1985" or "v+") overrides the program's own (a V+ file's programs are v+).
+    """
+    dialect = dialect or program.dialect
+    if dialect == "v+":
+        from valterm.core.val.vplus import parse_vplus
+
+        analysis = analyse(program, table or default_commands(), parse_vplus, "v+")
+    else:
+        analysis = analyse(program, table or default_commands())
     diagnostics = list(analysis.diagnostics)
     if program_exists is not None:
         for index, called in analysis.calls:
             if called != program.name and not program_exists(called):
                 step = program.steps[index]
+                where = "in the file or the workspace" if dialect == "v+" else f"{called}.DAT"
                 diagnostics.append(Diagnostic(program.name, index + 1,
-                                              f"CALL {called}: there is no program {called}.DAT",
+                                              f"CALL {called}: there is no program {where}",
                                               "warning", step.line))
         diagnostics.sort(key=lambda d: (d.step, not d.is_error))
-    return CheckReport(program.name, len(program.steps), diagnostics)
+    return CheckReport(program.name, len(program.steps), diagnostics, dialect)
 
 
 def check_statement(text: str, table: CommandTable | None = None) -> str | None:

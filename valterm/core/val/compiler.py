@@ -12,14 +12,17 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
+from valterm.core.errors import ValtermError
 from valterm.core.files.programs import Program
 from valterm.core.val.commands import CommandTable, default_commands
+from valterm.core.val.expr import compile_expr
 from valterm.core.val.parser import (
     Statement,
     ValSyntaxError,
     parse_statement,
     strip_comment,
 )
+from valterm.core.val.typeout import parse_items
 
 # Commands that transfer control to a label (GRASP and IF ... GOTO too).
 _LABEL_USERS = ("GOTO", "GRASP", "IF")
@@ -69,6 +72,10 @@ class Analysis(Diagnosed):
     partner: dict[int, int] = field(default_factory=dict)  # IF->END, WHILE->END, END->WHILE, UNTIL->DO
     else_of: dict[int, int] = field(default_factory=dict)  # IF -> its ELSE
     calls: list[tuple[int, str]] = field(default_factory=list)  # (step index, program called)
+    cases: dict[int, list[int]] = field(default_factory=dict)  # V+ CASE -> its VALUE/ANY steps
+    case_of: dict[int, int] = field(default_factory=dict)  # V+ VALUE/ANY -> its CASE
+    autos: list[str] = field(default_factory=list)  # V+ AUTO/LOCAL names (saved across a CALL)
+    dialect: str = "1985"
     diagnostics: list[Diagnostic] = field(default_factory=list)
     fatal: list[Diagnostic] = field(default_factory=list)  # structure errors: the program cannot run
 
@@ -83,11 +90,18 @@ class Analysis(Diagnosed):
 
 
 
-def analyse(program: Program, table: CommandTable | None = None) -> Analysis:
-    """Pass 1 over a program: every bad step, every structure error, GOTOs to missing labels."""
+Parse = Callable[[str], Statement]
+
+
+def analyse(program: Program, table: CommandTable | None = None, parse: Parse | None = None,
+            dialect: str = "1985") -> Analysis:
+    """Pass 1 over a program: every bad step, every structure error, GOTOs to missing labels.
+
+    ``parse`` decodes one step (the dialect's parser; the 1985 COMMAND.DAT one by default).
+    """
     table = table or default_commands()
     name = program.name
-    result = Analysis(program, [])
+    result = Analysis(program, [], dialect=dialect)
     diagnostics = result.diagnostics
 
     def report(index: int, message: str, severity: str = "error", fatal: bool = True) -> None:
@@ -105,11 +119,16 @@ def analyse(program: Program, table: CommandTable | None = None) -> Analysis:
             else:
                 result.labels[step.label] = index
         try:
-            statement = parse_statement(step.text, table)
+            statement = parse(step.text) if parse is not None else parse_statement(step.text, table)
         except ValSyntaxError as error:
             result.statements.append(None)
             result.syntax[index] = str(error)
-            report(index, str(error), fatal=False)
+            opening = _opener_word(step.text, table, parse is not None)
+            # A structure's opener that does not decode still opens it (so its END is not
+            # reported as a stray one) and the program cannot run.
+            report(index, str(error), fatal=opening is not None)
+            if opening is not None:
+                stack.append((opening, index))
             continue
         result.statements.append(statement)
         command = statement.command
@@ -119,10 +138,16 @@ def analyse(program: Program, table: CommandTable | None = None) -> Analysis:
             result.syntax[index] = reason
             report(index, reason, fatal=False)
             continue
+        problem = static_problem(statement) if parse is None else None
+        if problem is not None:
+            result.statements[index] = None
+            result.syntax[index] = problem
+            report(index, problem, fatal=False)
+            continue
         _structure(statement, index, stack, result, report)
     for kind, opener in stack:
         closing = "UNTIL" if kind == "DO" else "END"
-        what = "IF" if kind == "ELSE" else kind
+        what = "IF" if kind == "ELSE" else kind.split(".")[0]
         report(opener, f"{what} without {closing}")
 
     for index, decoded in enumerate(result.statements):
@@ -136,11 +161,47 @@ def analyse(program: Program, table: CommandTable | None = None) -> Analysis:
     return result
 
 
+def _opener_word(text: str, table: CommandTable, vplus: bool = False) -> str | None:
+    """IF (with THEN), WHILE or DO (V+: FOR, CASE) when a step that failed to decode starts with one."""
+    words = strip_comment(text).upper().replace(",", " ").split()
+    if not words:
+        return None
+    if vplus:
+        if words[0] in ("FOR", "CASE", "WHILE", "DO"):
+            return words[0]
+        return "IF" if words[0] == "IF" and "GOTO" not in words else None
+    try:
+        command = table.lookup(words[0]).name if words[0].isalpha() else ""
+    except ValueError:
+        return None
+    if command == "WHILE" or command == "DO":
+        return command
+    if command == "IF" and "THEN" in words and "GOTO" not in words:
+        return "IF"
+    return None
+
+
+def static_problem(statement: Statement) -> str | None:
+    """What is certainly wrong with a decoded step whatever the variables (DRIVE 7,...)."""
+    if statement.command == "DRIVE" and statement.args and statement.args[0] is not None:
+        joint = statement.args[0].const
+        if joint is not None and (joint != int(joint) or not 1 <= joint <= 6):
+            return f"DRIVE: JOINT NUMBER {joint:g} IS NOT 1 TO 6"
+    if statement.command == "TYPE" and statement.shape != 0 and (statement.args[0] or "").lstrip().startswith('"'):
+        try:
+            parse_items(statement.args[0], compile_expr)
+        except (ValueError, ValtermError) as error:
+            return str(error)
+    return None
+
+
 def _structure(statement: Statement, index: int, stack: list[tuple[str, int]], result: Analysis,
                report: Callable[[int, str], None]) -> None:
     """Record a CALL, or match one step of IF/ELSE/END, WHILE/END, DO/UNTIL on `stack`."""
     command = statement.command
-    if command == "CALL":
+    if command in ("FOR", "CASE", "VALUE", "ANY", "AUTO"):
+        _vplus_structure(statement, index, stack, result, report)
+    elif command == "CALL":
         result.calls.append((index, statement.args[0]))
     elif command == "IF" and "THEN" in statement.keywords:
         stack.append(("IF", index))
@@ -160,7 +221,8 @@ def _structure(statement: Statement, index: int, stack: list[tuple[str, int]], r
     elif command in ("END", "ENDIF"):
         if not stack or stack[-1][0] == "DO":
             where = f" (the DO at step {stack[-1][1] + 1} needs UNTIL first)" if stack else ""
-            report(index, f"{command} without IF or WHILE{where}")
+            openers = "IF, WHILE, FOR or CASE" if result.dialect == "v+" else "IF or WHILE"
+            report(index, f"{command} without {openers}{where}")
         else:
             kind, opener = stack.pop()
             if kind == "WHILE" and command == "ENDIF":
@@ -175,6 +237,28 @@ def _structure(statement: Statement, index: int, stack: list[tuple[str, int]], r
         else:
             where = f" (the {stack[-1][0]} at step {stack[-1][1] + 1} needs END first)" if stack else ""
             report(index, f"UNTIL without DO{where}")
+
+
+def _vplus_structure(statement: Statement, index: int, stack: list[tuple[str, int]], result: Analysis,
+                     report: Callable[[int, str], None]) -> None:
+    """FOR ... END, CASE ... OF / VALUE ... : / ANY / END, and AUTO/LOCAL declarations."""
+    command = statement.command
+    if command == "AUTO":
+        result.autos.extend(name for name in statement.args[0] if name not in result.autos)
+    elif command in ("FOR", "CASE"):
+        stack.append((command, index))
+        if command == "CASE":
+            result.cases[index] = []
+    elif not stack or stack[-1][0] not in ("CASE", "CASE.ANY"):
+        report(index, f"{command} without CASE")
+    elif stack[-1][0] == "CASE.ANY":
+        report(index, f"{command} after ANY (ANY is the last choice of the CASE at step {stack[-1][1] + 1})")
+    else:
+        opener = stack[-1][1]
+        result.cases[opener].append(index)
+        result.case_of[index] = opener
+        if command == "ANY":
+            stack[-1] = ("CASE.ANY", opener)
 
 
 def _jump_label(statement: Statement) -> int | None:

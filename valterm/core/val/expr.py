@@ -166,7 +166,18 @@ class Logical:
         return lambda V: a(V) or b(V)
 
 
-Node = Num | Var | Neg | Binary | Not | Logical
+@dataclass(frozen=True)
+class Opaque:
+    """A node a dialect compiled itself (a V+ function call, an array element): text and closure."""
+
+    text: str
+    fn: Fn = field(compare=False, repr=False)
+
+    def closure(self) -> Fn:
+        return self.fn
+
+
+Node = Num | Var | Neg | Binary | Not | Logical | Opaque
 
 
 @dataclass(frozen=True)
@@ -207,6 +218,8 @@ def render(node: Node) -> str:
         return f"(-{render(node.operand)})"
     if isinstance(node, Not):
         return f"(NOT {render(node.operand)})"
+    if isinstance(node, Opaque):
+        return node.text
     return f"({render(node.left)} {node.op} {render(node.right)})"
 
 

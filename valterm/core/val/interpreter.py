@@ -12,6 +12,11 @@ checked before each step.  ``hook`` (None by default) is called before each step
 program with the program and the op, and may yield events of its own; ``pass_end`` after
 each execution pass.  The debugger (``debugger.Debugger``, the BPT, XSTEP, SSTEP, WATCH and
 TRACE commands) sets them while it has something to do.
+
+Two dialects (docs/VPLUS.md): a program whose ``Program.dialect`` is ``"v+"`` (read from a
+V+ file), or any program of an ``Interpreter(dialect="v+")``, is decoded by
+``vplus.parse_vplus`` and built by ``vplus.VPLUS_BUILDERS``; the rest is the thesis's 1985
+language. ``machine`` holds the V+ controller's state (signals, strings, precision points).
 """
 
 from __future__ import annotations
@@ -33,6 +38,7 @@ from valterm.core.events import (
     TypeOut,
 )
 from valterm.core.files.programs import Program, ProgramLine, split_label
+from valterm.core.files.variables import VARIABLE_NAME
 from valterm.core.motion import MotionRefused
 from valterm.core.val.builders import (
     BUILDERS,
@@ -48,6 +54,7 @@ from valterm.core.val.commands import CommandTable, default_commands
 from valterm.core.val.compiler import Analysis, analyse, step_text
 from valterm.core.val.debugger import DEBUG_COMMANDS, Debugger
 from valterm.core.val.expr import MAX_NUMBER
+from valterm.core.val.machine import Machine
 from valterm.core.val.ops import (
     Action,
     Assign,
@@ -64,6 +71,18 @@ from valterm.core.val.ops import (
 from valterm.core.val.parser import Statement, ValSyntaxError, parse_statement
 from valterm.core.val.protocol import Simulator
 from valterm.core.val.variables import VariableStore
+from valterm.core.val.vplus import DIALECT as VPLUS
+from valterm.core.val.vplus import VPLUS_BUILDERS, parse_vplus
+
+DIALECTS = ("1985", VPLUS)
+
+
+def check_dialect(name: str) -> str:
+    """'1985' or 'v+' (any case; 'vplus' too), else ValueError saying which there are."""
+    wanted = name.strip().lower().replace("vplus", "v+")
+    if wanted not in DIALECTS:
+        raise ValueError(f"{name!r} is not a dialect: use 1985 or v+")
+    return wanted
 
 __all__ = [
     "FOREVER_LOOPS", "MAX_CALL_DEPTH", "CompiledProgram", "Interpreter", "ProgramError", "RunStop",
@@ -96,8 +115,13 @@ class Interpreter:
                  commands: CommandTable | None = None,
                  keep_variables: Callable[[dict[str, float]], object] | None = None,
                  builders: Mapping[str, Builder] | None = None,
-                 monitor: Mapping[str, MonitorCommand] | None = None) -> None:
+                 monitor: Mapping[str, MonitorCommand] | None = None,
+                 dialect: str = "1985") -> None:
         self.sim = sim
+        # "1985" (COMMAND.DAT, the thesis) or "v+": the dialect of programs that do not say
+        # (a program read from a V+ file is v+ whatever this says)
+        self.dialect = check_dialect(dialect)
+        self.machine = Machine(sim)  # V+ signals, strings, precision points, timers
         # CHECK.DAT is written when a program or a typed command ends (section 6.7), not per
         # assignment: a 100 000-pass loop must not write a file 100 000 times
         self.keep_variables = keep_variables
@@ -185,7 +209,13 @@ class Interpreter:
         return compiled
 
     def compile_program(self, program: Program) -> CompiledProgram:
-        analysis = analyse(program, self.commands)
+        vplus = VPLUS in (program.dialect, self.dialect)
+        if vplus:
+            analysis = analyse(program, self.commands, parse_vplus, VPLUS)
+        else:
+            analysis = analyse(program, self.commands)
+        builders = {**VPLUS_BUILDERS, **{k: v for k, v in self.builders.items() if k not in BUILDERS}} \
+            if vplus else self.builders
         # Comment and empty steps do nothing: they get no op; a jump to one lands on the next op.
         op_index: list[int] = []
         count = 0
@@ -205,12 +235,12 @@ class Interpreter:
             if statement is None:
                 code.append(failed(context, analysis.syntax[index]))
             else:
-                code.append(build(context, statement, self.builders))
+                code.append(build(context, statement, builders))
         return CompiledProgram(program.name, analysis, code)
 
     def _context(self, step: Step, index: int, analysis: Analysis | None, op_index: list[int]) -> Build:
         return Build(step, index, analysis, op_index, self.variables, self.sim, self.status,
-                     self._set_paused)
+                     self._set_paused, self.machine)
 
     # -- pass 2 ------------------------------------------------------------------
     def execute(self, name: str, loops: int = 1, start_step: int = 0) -> Generator[Event, None, None]:
@@ -265,7 +295,10 @@ class Interpreter:
 
     def _keep(self) -> None:
         if self.keep_variables is not None:
-            self.keep_variables(dict(self.variables))
+            # CHECK.DAT keeps the 1985 kind of variable: V+ array elements and long names stay out
+            local = {name for compiled in self._cache.values() for name in compiled.analysis.autos}
+            kept = {k: v for k, v in self.variables.items() if VARIABLE_NAME.fullmatch(k) and k not in local}
+            self.keep_variables(kept)
 
     def _pass(self, main: CompiledProgram, start: int = 0) -> Ran:
         """One execution pass from op `start`; returns True when it ends normally (STOP, end, RETURN).
@@ -303,12 +336,12 @@ class Interpreter:
                         pc = op.next
                     else:
                         pc = yield from self._failed(op, f"NUMBER TOO LARGE: {op.name} WOULD BE {value:g}")
-                except (KeyError, ZeroDivisionError) as error:
+                except (KeyError, ArithmeticError, ValueError) as error:
                     pc = yield from self._failed(op, _plain_reason(error))
             elif isinstance(op, Branch):
                 try:
                     pc = op.if_true if op.condition(V) else op.if_false
-                except (KeyError, ZeroDivisionError) as error:
+                except (KeyError, ArithmeticError, ValueError) as error:
                     pc = yield from self._failed(op, _plain_reason(error))
             elif isinstance(op, Jump):
                 pc = op.next
@@ -358,6 +391,9 @@ class Interpreter:
         except (KeyError, ValueError) as error:
             yield Error(program, number, _reason(error))
             return -1
+        except (ValtermError, OverflowError) as error:  # V+: a signal, a transformation, a huge number
+            yield Error(program, number, str(error).upper())
+            return -1
         return op.error
 
     def _control(self, op: Op, run: Run) -> Generator[Event, None, int]:
@@ -367,6 +403,11 @@ class Interpreter:
             return (yield from op.control(run, self.compile))
         except RunStop as stop:
             yield Error(stop.program, stop.step, stop.message)
+            run.failed = True
+            return 0
+        except (ValtermError, KeyError, ValueError, ZeroDivisionError) as error:  # a V+ CALL's arguments
+            message = error.message if isinstance(error, ProgramError) else _reason(error)
+            yield Error(op.step.program, op.step.step, message)
             run.failed = True
             return 0
 
@@ -472,10 +513,14 @@ MONITOR_COMMANDS: dict[str, MonitorCommand] = {
 }
 
 
-def _plain_reason(error: KeyError | ZeroDivisionError) -> str:
+def _plain_reason(error: KeyError | ArithmeticError | ValueError) -> str:
     if isinstance(error, KeyError):
         return f"VARIABLE {error.args[0]} IS NOT DECLARED"
-    return "DIVISION BY ZERO"
+    if isinstance(error, ZeroDivisionError):
+        return "DIVISION BY ZERO"
+    if isinstance(error, OverflowError):
+        return "NUMBER TOO LARGE"
+    return f"NOT A NUMBER ({str(error).upper()})"  # V+ functions: SQRT(-1), MOD(1, 0)
 
 
 def _reason(error: Exception) -> str:

@@ -106,9 +106,13 @@ class Run:
     frames: list[tuple[CompiledProgram, int]] = field(default_factory=list)
     ended: bool = False  # the pass ends normally (STOP, RETURN in the main program)
     failed: bool = False  # the pass is stopped by an error
+    # what to do on leaving each frame (V+: restore the caller's variables), parallel to frames
+    on_leave: list[Callable[[], None] | None] = field(default_factory=list)
 
-    def enter(self, program: CompiledProgram, return_to: int) -> int:
+    def enter(self, program: CompiledProgram, return_to: int,
+              on_leave: Callable[[], None] | None = None) -> int:
         self.frames.append((self.program, return_to))
+        self.on_leave.append(on_leave)
         self.program = program
         return 0
 
@@ -118,6 +122,9 @@ class Run:
             self.ended = True
             return 0
         self.program, pc = self.frames.pop()
+        restore = self.on_leave.pop() if self.on_leave else None
+        if restore is not None:
+            restore()
         return pc
 
 

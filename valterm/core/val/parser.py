@@ -40,6 +40,8 @@ _SHIFT_LOC = re.compile(r"^SHIFT\s*\((.*)\)$", re.DOTALL)
 _BY = re.compile(r"^([A-Z][A-Z0-9]*)\s+BY\s+(.*)$", re.DOTALL)
 _PROG = re.compile(r"^([A-Z][A-Z0-9]*)(?:\.DAT)?$")
 _VAR = re.compile(r"^([A-Z][A-Z0-9]*)\s*=$")
+# Something assigned that is not a 1985 variable name: `Z_PICK = 80`, `A[I] = I`, `Z.PICK = 80`.
+_BAD_ASSIGNMENT = re.compile(r"^([^\s=<>!]+?)\s*(\[[^\]]*\])?\s*=(?!=)")
 
 
 class ValSyntaxError(ValtermError, ValueError):
@@ -244,6 +246,21 @@ def _match(items: tuple[Item, ...], text: str, original: str, i: int, pos: int,
     return None
 
 
+def _refuse_bad_assignment(upper: str) -> None:
+    """A clear reason for an assignment to a name the 1985 dialect does not have."""
+    bad = _BAD_ASSIGNMENT.match(upper)
+    if bad is None:
+        return
+    name, index = bad.group(1), bad.group(2)
+    if index and _IDENT.match(name):
+        raise ValSyntaxError(f"{name}{index}: ARRAYS ARE V+ (NOT IN THE 1985 DIALECT; USE --dialect v+)")
+    if "." in name or name.startswith(("$", "#")):
+        raise ValSyntaxError(f"{name}: DOTTED, $STRING AND #PRECISION NAMES ARE V+ "
+                             "(NOT IN THE 1985 DIALECT; USE --dialect v+)")
+    if not _IDENT.match(name):
+        raise ValSyntaxError(f"{name} IS NOT A VARIABLE NAME (A LETTER, THEN LETTERS OR DIGITS)")
+
+
 def parse_statement(text: str, table: CommandTable | None = None) -> Statement:
     """Decode one statement (no label; a `;` comment is dropped)."""
     table = table or default_commands()
@@ -264,6 +281,7 @@ def parse_statement(text: str, table: CommandTable | None = None) -> Statement:
         except ExprError as error:
             raise ValSyntaxError(str(error)) from None
         return Statement(ASSIGN, (name, value), original)
+    _refuse_bad_assignment(upper)
     word_match = _WORD.match(upper)
     if word_match is None:
         raise ValSyntaxError(f"{original.split()[0]!r} is not a VAL-II command")

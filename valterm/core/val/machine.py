@@ -1,0 +1,153 @@
+"""What a V+ program sees besides its real variables: the controller's state.
+
+The 1985 simulator kept only numbers (CHECK.DAT) and locations. V+ programs also read
+and set binary signals (an I/O panel, ``valterm.core.signals``), strings, precision points
+(six joint angles), timers, system switches and parameters, and a TOOL transformation.
+One ``Machine`` per interpreter holds them; V+ expressions and builders reach it through
+the closures they are compiled with.
+
+Time: the machine's clock is the robot's estimated time (``CycleClock``: motions, the
+hand, DELAY, WAIT polls). Scripted inputs (``run --inputs``) change when it passes their time.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Generator, Iterator
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from valterm.core.cycletime import CycleClock
+from valterm.core.events import Event, Signal
+from valterm.core.kinematics import Location, fk, rotation_to_oat
+from valterm.core.signals import InputChange, SignalPanel
+from valterm.core.transform import Transform, inverse
+from valterm.core.val.ops import ProgramError
+from valterm.core.val.protocol import Simulator
+
+JOINTS = 6
+
+
+class MachineError(ProgramError):
+    """A V+ run-time error about the controller's state (an undefined string or point)."""
+
+
+@dataclass
+class Machine:
+    """Signals, strings, precision points, timers, switches, parameters and the TOOL."""
+
+    sim: Simulator
+    signals: SignalPanel = field(default_factory=SignalPanel)
+    strings: dict[str, str] = field(default_factory=dict)
+    precision: dict[str, tuple[float, ...]] = field(default_factory=dict)
+    timers: dict[int, float] = field(default_factory=dict)
+    switches: dict[str, bool] = field(default_factory=dict)
+    parameters: dict[str, float] = field(default_factory=lambda: {"HAND.TIME": 0.05})
+    inputs: list[InputChange] = field(default_factory=list)  # scripted, in time order
+    tool: Transform | None = None
+    clock: CycleClock | None = None
+    reactions: dict[int, str] = field(default_factory=dict)  # REACT: signed signal -> program
+    pending: list[tuple[int, str]] = field(default_factory=list)  # reactions triggered, not yet run
+
+    @property
+    def time(self) -> float:
+        return self.clock.seconds if self.clock is not None else 0.0
+
+    def observe(self, events: Iterator[Event]) -> Iterator[Event]:
+        """Pass events on, adding their time to the clock (and applying scripted inputs)."""
+        if self.clock is None:
+            self.clock = CycleClock()
+        for event in events:
+            self.clock.observe(event)
+            yield event
+        yield from self.apply_inputs()
+
+    def timed(self, events: Generator[Event, None, int]) -> Generator[Event, None, int]:
+        """An op's events passed on and timed; returns what the op returns (the next pc)."""
+        if self.clock is None:
+            self.clock = CycleClock()
+        while True:
+            try:
+                event = next(events)
+            except StopIteration as stop:
+                yield from self.apply_inputs()
+                return int(stop.value)
+            self.clock.observe(event)
+            yield event
+
+    def wait(self, seconds: float) -> Iterator[Event]:
+        """Time passes with nothing moving (a WAIT poll)."""
+        if self.clock is None:
+            self.clock = CycleClock()
+        self.clock.seconds += seconds
+        yield from self.apply_inputs()
+
+    def apply_inputs(self) -> Iterator[Event]:
+        while self.inputs and self.inputs[0].time <= self.time + 1e-9:
+            change = self.inputs.pop(0)
+            self.signals.set_input(change.signal, change.on)
+            self._triggered(change.signal)
+            yield Signal(change.signal, change.on, round(self.time, 3))
+
+    def next_input_time(self) -> float | None:
+        return self.inputs[0].time if self.inputs else None
+
+    def set_signal(self, signed: int) -> Signal:
+        number = self.signals.set_by_program(signed)
+        self._triggered(number)
+        return Signal(number, signed > 0, round(self.time, 3))
+
+    def react(self, signed: int, program: str) -> None:
+        """REACT n, program: when signal n comes on (-n: goes off), CALL the program once."""
+        self.signals.sig(signed)  # a signal that does not exist is refused here
+        self.reactions = {s: p for s, p in self.reactions.items() if abs(s) != abs(signed)}
+        self.reactions[signed] = program
+
+    def ignore(self, signed: int) -> None:
+        self.signals.sig(signed)
+        self.reactions = {s: p for s, p in self.reactions.items() if abs(s) != abs(signed)}
+
+    def _triggered(self, number: int) -> None:
+        for signed, program in list(self.reactions.items()):
+            if abs(signed) == number and self.signals.sig(signed):
+                del self.reactions[signed]  # a reaction happens once; REACT again to re-arm it
+                self.pending.append((signed, program))
+
+    def sig(self, *signed: float) -> float:
+        """SIG(a, b, ...): TRUE when all are (SIG(-n): n is off)."""
+        return -1.0 if all(self.signals.sig(int(n)) for n in signed) else 0.0
+
+    def timer(self, number: float) -> float:
+        return self.time - self.timers.get(int(number), 0.0)
+
+    def string(self, name: str) -> str:
+        try:
+            return self.strings[name]
+        except KeyError:
+            raise MachineError(f"STRING {name} IS NOT DEFINED") from None
+
+    def location(self, name: str) -> Transform:
+        """A named transformation (``#name``: the precision point's tool pose)."""
+        if name.startswith("#"):
+            return Transform.of(self.point_location(name))
+        return Transform.of(self.sim.location(name))
+
+    def point(self, name: str) -> tuple[float, ...]:
+        try:
+            return self.precision[name]
+        except KeyError:
+            raise MachineError(f"PRECISION POINT {name} IS NOT DEFINED") from None
+
+    def point_location(self, name: str) -> Location:
+        return self.pose_location(self.point(name))
+
+    @staticmethod
+    def pose_location(joints: tuple[float, ...]) -> Location:
+        """The tool's location at six joint angles (the robot's own frame)."""
+        pose = fk(list(joints))
+        x, y, z = (float(v) for v in pose.xyz)
+        return Location((x, y, z), rotation_to_oat(np.asarray(pose.rotation)))
+
+    def through_tool(self, target: Transform) -> Transform:
+        """Where the 1985 tool point must go so that the TOOL point reaches ``target``."""
+        return target if self.tool is None else target @ inverse(self.tool)

@@ -1,0 +1,124 @@
+"""TYPE's output list: quoted text, values and V+ formats (``TYPE "X=", X /F8.2``).
+
+The 1985 simulator typed the rest of the line as it was (``TYPE PICK UP THE PART``,
+section 6.6.2) or a variable's value (``TYPE COL=``); a list that starts with a quote is
+an output list as on the real controller: quoted text is typed without its quotes, an
+expression is typed as its value, and a format (Adept V+ reference, TYPE) changes how
+the values after it are written:
+
+- ``/Fw.d`` fixed point, ``/Ew.d`` exponent, ``/Iw`` whole number, ``/Hw`` hexadecimal,
+  ``/D`` back to the default (w is the width, right-aligned);
+- ``/Xn`` n blanks, ``/Cn`` n line breaks, ``/S`` no line break at the end (ignored: the
+  transcript is line based).
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Callable
+from dataclasses import dataclass
+
+from valterm.core.errors import ValtermError
+
+_FORMAT = re.compile(r"^/([FEIHDXCSU])(\d*)(?:\.(\d+))?$", re.IGNORECASE)
+
+
+class TypeListError(ValtermError, ValueError):
+    """An output list that cannot be decoded (an unclosed quote, a bad format)."""
+
+
+@dataclass(frozen=True)
+class Item:
+    """One item: ``text`` typed as is, or the value of ``expr`` in ``fmt`` (e.g. F8.2)."""
+
+    text: str = ""
+    expr: object | None = None  # whatever the dialect's compile function returns
+    fmt: str = "D"
+
+
+def split_items(text: str) -> list[str]:
+    """The top-level items of an output list (commas and blanks outside quotes and brackets)."""
+    items: list[str] = []
+    current, depth, quoted = "", 0, False
+    for ch in text:
+        if quoted:
+            current += ch
+            quoted = ch != '"'
+            continue
+        if ch == '"':
+            if current.strip() and depth == 0:
+                items.append(current.strip())
+                current = ""
+            current += ch
+            quoted = True
+        elif ch in "([":
+            depth += 1
+            current += ch
+        elif ch in ")]":
+            depth -= 1
+            current += ch
+        elif ch == "," and depth == 0:
+            items.append(current.strip())
+            current = ""
+        elif ch == "/" and depth == 0 and not current.strip():
+            current += ch
+        elif ch.isspace() and depth == 0 and current.strip().startswith(("/", '"')):
+            items.append(current.strip())
+            current = ""
+        else:
+            if current.strip().startswith('"') and depth == 0:  # text glued after a string
+                items.append(current.strip())
+                current = ""
+            current += ch
+    if quoted:
+        raise TypeListError("TYPE: A QUOTE IS NOT CLOSED")
+    if current.strip():
+        items.append(current.strip())
+    return [item for item in items if item]
+
+
+def parse_items(text: str, compile_value: Callable[[str], object]) -> list[Item]:
+    """An output list decoded once; ``compile_value`` compiles one value (raises on a bad one)."""
+    items: list[Item] = []
+    fmt = "D"
+    for word in split_items(text):
+        if word.startswith('"'):
+            items.append(Item(text=word[1:-1]))
+            continue
+        match = _FORMAT.match(word)
+        if match is not None:
+            kind, width, digits = match.group(1).upper(), match.group(2), match.group(3)
+            if kind == "X":
+                items.append(Item(text=" " * int(width or 1)))
+            elif kind == "C":
+                items.append(Item(text="\n" * int(width or 1)))
+            elif kind in "FEIH":
+                fmt = f"{kind}{width}{'.' + digits if digits else ''}"
+            elif kind == "D":
+                fmt = "D"
+            continue
+        if word.startswith("/"):
+            raise TypeListError(f"TYPE: {word} IS NOT A FORMAT (/Fw.d /Ew.d /Iw /Hw /D /Xn /Cn /S)")
+        items.append(Item(expr=compile_value(word), fmt=fmt))
+    return items
+
+
+def format_number(value: float, fmt: str = "D") -> str:
+    """A value as TYPE writes it in format ``fmt`` (D: the shortest form, as TYPE COL=)."""
+    value = float(value)
+    if fmt == "D":
+        if value.is_integer() and abs(value) < 1e15:
+            return str(int(value))
+        return f"{value:.6g}"
+    match = re.fullmatch(r"([FEIH])(\d*)(?:\.(\d+))?", fmt)
+    assert match is not None
+    kind, width, digits = match.group(1), int(match.group(2) or 0), match.group(3)
+    if kind == "F":
+        text = f"{value:.{int(digits or 2)}f}"
+    elif kind == "E":
+        text = f"{value:.{int(digits or 2)}E}"
+    elif kind == "I":
+        text = str(round(value))
+    else:
+        text = format(round(value) & 0xFFFFFFFF, "X")
+    return text.rjust(width)

@@ -1,0 +1,586 @@
+"""V+ expressions: numbers, transformations and strings (Adept V+ reference semantics).
+
+Numeric expressions extend the 1985 ones (``expr``) with dotted names (``z.pick``), array
+elements (``a[i]``, ``t[i,j]``: the variable ``A[3]``), TRUE/FALSE/ON/OFF (-1 and 0),
+``MOD BAND BOR BXOR XOR ^``, and the functions SIN COS TAN ATAN2 SQRT ABS INT MOD SIGN
+MAX MIN, SIG(n...), TIMER(n), DISTANCE(a, b), DX DY DZ(a), PARAMETER(name), SWITCH(name).
+
+A location expression is a compound ``a:b:c`` of named locations, ``#points``, and the
+functions TRANS(x,y,z,o,a,t), RX RY RZ(deg), INVERSE(l), FRAME(l1,l2,l3,l4),
+SHIFT(l BY dx,dy,dz), HERE, NULL; each evaluates to a ``Transform``.
+
+A string expression joins ``"text"``, ``$name`` and $ENCODE(list) with ``+``.
+
+``compile_number(text, machine)`` / ``compile_location`` / ``compile_string`` compile once;
+with ``machine=None`` they only check the text (the syntax checker), and a closure that
+needs the machine says so if it is ever run.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from collections.abc import Callable, Sequence
+
+from valterm.core.transform import (
+    Transform,
+    distance,
+    frame,
+    inverse,
+    rx,
+    ry,
+    rz,
+    shift,
+    trans,
+    translation,
+)
+from valterm.core.val.expr import (
+    Binary,
+    Expr,
+    ExprError,
+    Fn,
+    Logical,
+    Neg,
+    Node,
+    Not,
+    Num,
+    Opaque,
+    Values,
+    Var,
+    finite,
+)
+from valterm.core.val.machine import Machine, MachineError
+
+MAX_VNAME = 15
+NAME = r"[A-Z][A-Z0-9_]*(?:\.[A-Z0-9_]+)*"
+_NAME = re.compile(NAME)
+_TOKEN = re.compile(
+    rf"""\s*(?:
+      (?P<string>"[^"]*")
+    | (?P<number>(?:\d+(?:\.\d*)?|\.\d+)(?:E[+-]?\d+)?)
+    | (?P<name>[$#]?{NAME})
+    | (?P<op><=|>=|<>|==|=<|=>|[-+*/()<>=^,\[\]:])
+    | (?P<bad>\S)
+    )""",
+    re.VERBOSE,
+)
+_RELATIONS = {"==": "==", "=": "==", "<>": "!=", "<": "<", "<=": "<=", "=<": "<=", ">": ">",
+              ">=": ">=", "=>": ">="}
+_KEYWORD_OPS = ("AND", "OR", "XOR", "NOT", "MOD", "BAND", "BOR", "BXOR")
+_CONSTANTS = {"TRUE": -1.0, "FALSE": 0.0, "ON": -1.0, "OFF": 0.0, "PI": math.pi}
+
+LocFn = Callable[[Values], Transform]
+StrFn = Callable[[Values], str]
+
+_MATH: dict[str, tuple[int, int, Callable[..., float]]] = {  # name: (min args, max args, function)
+    "SIN": (1, 1, lambda d: math.sin(math.radians(d))),
+    "COS": (1, 1, lambda d: math.cos(math.radians(d))),
+    "TAN": (1, 1, lambda d: math.tan(math.radians(d))),
+    "ATAN2": (2, 2, lambda y, x: math.degrees(math.atan2(y, x))),
+    "ASIN": (1, 1, lambda v: math.degrees(math.asin(v))),
+    "ACOS": (1, 1, lambda v: math.degrees(math.acos(v))),
+    "SQRT": (1, 1, math.sqrt),
+    "SQR": (1, 1, lambda v: v * v),
+    "ABS": (1, 1, abs),
+    "INT": (1, 1, lambda v: float(math.trunc(v))),
+    "FRACT": (1, 1, lambda v: v - math.trunc(v)),
+    "MOD": (2, 2, lambda a, b: math.fmod(a, b)),
+    "SIGN": (1, 1, lambda v: (v > 0) - (v < 0)),
+    "MAX": (1, 99, max),
+    "MIN": (1, 99, min),
+}
+_LOC_FUNCTIONS = ("DISTANCE", "DX", "DY", "DZ")
+_MACHINE_FUNCTIONS = ("SIG", "TIMER", "PARAMETER", "SWITCH")
+
+
+def _truth(value: bool) -> float:
+    return -1.0 if value else 0.0
+
+
+_ARITH: dict[str, Callable[[float, float], float]] = {
+    "MOD": math.fmod,
+    "^": lambda a, b: float(a) ** float(b),
+    "BAND": lambda a, b: float(int(a) & int(b)),
+    "BOR": lambda a, b: float(int(a) | int(b)),
+    "BXOR": lambda a, b: float(int(a) ^ int(b)),
+    "XOR": lambda a, b: _truth(bool(a) != bool(b)),
+}
+
+
+def array_key(name: str, indexes: Sequence[float]) -> str:
+    """The variable holding one array element: ``A[3]``, ``T[1,2]``."""
+    return f"{name}[{','.join(str(int(i)) for i in indexes)}]"
+
+
+def _needs_machine(what: str) -> Callable[[], Machine]:
+    def missing() -> Machine:
+        raise MachineError(f"{what} NEEDS THE V+ CONTROLLER")
+    return missing
+
+
+class _Tokens:
+    def __init__(self, text: str) -> None:
+        self.text = text
+        self.items: list[tuple[str, str, int, int]] = []  # kind, value, start, end
+        pos = 0
+        upper = text.upper()
+        while pos < len(upper):
+            match = _TOKEN.match(upper, pos)
+            if match is None or match.end() == pos:
+                break
+            kind = match.lastgroup or "bad"
+            value = match.group(kind)
+            start = match.start(kind)
+            if kind == "bad":
+                raise ExprError(f"unexpected character {value!r}")
+            if kind == "string":
+                value = text[start + 1:match.end() - 1]  # the case as written
+            elif kind == "name" and value in _KEYWORD_OPS:
+                kind = "op"
+            self.items.append((kind, value, start, match.end()))
+            pos = match.end()
+        self.pos = 0
+
+    def peek(self) -> tuple[str, str, int, int] | None:
+        return self.items[self.pos] if self.pos < len(self.items) else None
+
+    def take(self, *values: str) -> str | None:
+        token = self.peek()
+        if token is not None and token[0] == "op" and token[1] in values:
+            self.pos += 1
+            return token[1]
+        return None
+
+    def expect(self, value: str) -> None:
+        if not self.take(value):
+            token = self.peek()
+            found = f"{token[1]!r}" if token else "the end"
+            raise ExprError(f"expected {value!r}, found {found} in {self.text.strip()!r}")
+
+    def done(self) -> None:
+        token = self.peek()
+        if token is not None:
+            raise ExprError(f"unexpected {token[1]!r} in {self.text.strip()!r}")
+
+
+class _Compiler:
+    """One expression's parser: numbers, locations and strings share the tokens."""
+
+    def __init__(self, text: str, machine: Machine | None) -> None:
+        self.tokens = _Tokens(text)
+        self.text = text.strip()
+        self.machine = machine
+        self.names: list[str] = []
+
+    def get_machine(self, what: str) -> Callable[[], Machine]:
+        machine = self.machine
+        if machine is None:
+            return _needs_machine(what)
+        return lambda: machine
+
+    # -- numbers --------------------------------------------------------------------
+    def condition(self) -> Node:
+        left = self.conjunction()
+        while True:
+            op = self.tokens.take("OR", "XOR")
+            if op is None:
+                return left
+            right = self.conjunction()
+            left = Logical("OR", left, right) if op == "OR" else self.arith("XOR", left, right)
+
+    def conjunction(self) -> Node:
+        left = self.negation()
+        while self.tokens.take("AND"):
+            left = Logical("AND", left, self.negation())
+        return left
+
+    def negation(self) -> Node:
+        if self.tokens.take("NOT"):
+            inner = self.negation()
+            fn = inner.closure()
+            return Opaque(f"NOT {self.src(inner)}", lambda V: _truth(not fn(V)))
+        return self.relation()
+
+    def relation(self) -> Node:
+        left = self.sum()
+        op = self.tokens.take(*_RELATIONS)
+        if op is None:
+            return left
+        compare = Binary(_RELATIONS[op], left, self.sum()).closure()
+        return Opaque(f"({self.src(left)} {op} ...)", lambda V: _truth(bool(compare(V))))
+
+    def sum(self) -> Node:
+        left = self.term()
+        while True:
+            op = self.tokens.take("+", "-", "BOR", "BXOR")
+            if op is None:
+                return left
+            right = self.term()
+            left = Binary(op, left, right) if op in "+-" else self.arith(op, left, right)
+
+    def term(self) -> Node:
+        left = self.power()
+        while True:
+            op = self.tokens.take("*", "/", "MOD", "BAND")
+            if op is None:
+                return left
+            right = self.power()
+            left = Binary(op, left, right) if op in "*/" else self.arith(op, left, right)
+
+    def power(self) -> Node:
+        base = self.unary()
+        if self.tokens.take("^"):
+            return self.arith("^", base, self.power())
+        return base
+
+    def unary(self) -> Node:
+        op = self.tokens.take("-", "+")
+        if op == "-":
+            return Neg(self.unary())
+        if op == "+":
+            return self.unary()
+        return self.primary()
+
+    def arith(self, op: str, left: Node, right: Node) -> Node:
+        f, g, how = left.closure(), right.closure(), _ARITH[op]
+        return Opaque(f"({self.src(left)} {op} {self.src(right)})", lambda V: how(f(V), g(V)))
+
+    @staticmethod
+    def src(node: Node) -> str:
+        from valterm.core.val.expr import render
+
+        return render(node)
+
+    def primary(self) -> Node:
+        token = self.tokens.peek()
+        if token is None:
+            raise ExprError(f"expression ends too soon: {self.text!r}" if self.text else "missing value")
+        kind, value, _start, _end = token
+        if kind == "number":
+            self.tokens.pos += 1
+            return Num(finite(float(value), value))
+        if self.tokens.take("("):
+            inner = self.condition()
+            self.tokens.expect(")")
+            return inner
+        if kind == "op" and value == "MOD" and self._next_is("("):  # MOD(a, b), the function
+            self.tokens.pos += 1
+            return self.function("MOD")
+        if kind != "name" or value[0] in "$#":
+            raise ExprError(f"unexpected {value!r} in {self.text!r}")
+        self.tokens.pos += 1
+        if value in _CONSTANTS:
+            return Num(_CONSTANTS[value])
+        after = self.tokens.peek()
+        if after is not None and after[1] == "(":
+            return self.function(value)
+        if after is not None and after[1] == "[":
+            return self.element(value)
+        if len(value) > MAX_VNAME:
+            raise ExprError(f"variable name {value} is longer than {MAX_VNAME} characters")
+        if value not in self.names:
+            self.names.append(value)
+        return Var(value)
+
+    def _next_is(self, value: str) -> bool:
+        index = self.tokens.pos + 1
+        return index < len(self.tokens.items) and self.tokens.items[index][1] == value
+
+    def element(self, name: str) -> Node:
+        self.tokens.expect("[")
+        indexes = [self.sum().closure()]
+        while self.tokens.take(","):
+            indexes.append(self.sum().closure())
+        self.tokens.expect("]")
+
+        def read(V: Values) -> float:
+            return V[array_key(name, [i(V) for i in indexes])]
+        return Opaque(f"{name}[...]", read)
+
+    def arguments(self) -> list[Node]:
+        self.tokens.expect("(")
+        if self.tokens.take(")"):
+            return []
+        found = [self.condition()]
+        while self.tokens.take(","):
+            found.append(self.condition())
+        self.tokens.expect(")")
+        return found
+
+    def function(self, name: str) -> Node:
+        if name in _LOC_FUNCTIONS:
+            return self.location_function(name)
+        if name in ("PARAMETER", "SWITCH"):
+            self.tokens.expect("(")
+            token = self.tokens.peek()
+            if token is None or token[0] != "name":
+                raise ExprError(f"{name}(...) needs a name")
+            self.tokens.pos += 1
+            self.tokens.expect(")")
+            return self.setting(name, token[1])
+        args = [a.closure() for a in self.arguments()]
+        if name in ("SIG", "TIMER"):
+            get = self.get_machine(f"{name}()")
+            if not args or (name == "TIMER" and len(args) != 1):
+                raise ExprError(f"{name} needs {'one' if name == 'TIMER' else 'a'} signal number")
+            if name == "SIG":
+                return Opaque("SIG(...)", lambda V: get().sig(*(a(V) for a in args)))
+            timer = args[0]
+            return Opaque("TIMER(...)", lambda V: get().timer(timer(V)))
+        if name not in _MATH:
+            raise ExprError(f"{name} is not a V+ function the simulator knows")
+        low, high, how = _MATH[name]
+        if not low <= len(args) <= high:
+            raise ExprError(f"{name} takes {low}{'' if low == high else ' or more'} argument(s)")
+        return Opaque(f"{name}(...)", lambda V: float(how(*(a(V) for a in args))))
+
+    def setting(self, kind: str, name: str) -> Node:
+        get = self.get_machine(f"{kind}({name})")
+        if kind == "SWITCH":
+            return Opaque(f"SWITCH({name})", lambda V: _truth(get().switches.get(name, False)))
+
+        def parameter(V: Values) -> float:
+            try:
+                return get().parameters[name]
+            except KeyError:
+                raise MachineError(f"PARAMETER {name} IS NOT DEFINED") from None
+        return Opaque(f"PARAMETER({name})", parameter)
+
+    def location_function(self, name: str) -> Node:
+        self.tokens.expect("(")
+        first = self.location()
+        if name == "DISTANCE":
+            self.tokens.expect(",")
+            second = self.location()
+            self.tokens.expect(")")
+            return Opaque("DISTANCE(...)", lambda V: distance(first(V), second(V)))
+        self.tokens.expect(")")
+        axis = "XYZ".index(name[1])
+        return Opaque(f"{name}(...)", lambda V: first(V).xyz[axis])
+
+    # -- locations ------------------------------------------------------------------
+    def location(self) -> LocFn:
+        """A compound a:b:c of location terms."""
+        terms = [self.location_term()]
+        while self.tokens.take(":"):
+            terms.append(self.location_term())
+        if len(terms) == 1:
+            return terms[0]
+
+        def compound(V: Values) -> Transform:
+            result = terms[0](V)
+            for term in terms[1:]:
+                result = result @ term(V)
+            return result
+        return compound
+
+    def location_term(self) -> LocFn:
+        token = self.tokens.peek()
+        if token is None:
+            raise ExprError("missing location")
+        if self.tokens.take("("):
+            inner = self.location()
+            self.tokens.expect(")")
+            return inner
+        kind, value = token[0], token[1]
+        if kind != "name" or value.startswith("$"):
+            raise ExprError(f"{value!r} is not a location")
+        self.tokens.pos += 1
+        after = self.tokens.peek()
+        if after is not None and after[1] == "(":
+            return self.location_call(value)
+        get = self.get_machine(f"location {value}")
+        if value == "HERE":
+            return lambda V: _here(get())
+        if value == "NULL":
+            return lambda V: translation()
+        if len(value.lstrip("#")) > MAX_VNAME:
+            raise ExprError(f"location name {value} is longer than {MAX_VNAME} characters")
+        return lambda V: get().location(value)
+
+    def location_call(self, name: str) -> LocFn:
+        if name in ("INVERSE",):
+            self.tokens.expect("(")
+            inner = self.location()
+            self.tokens.expect(")")
+            return lambda V: inverse(inner(V))
+        if name == "FRAME":
+            self.tokens.expect("(")
+            points = [self.location()]
+            for _ in range(3):
+                self.tokens.expect(",")
+                points.append(self.location())
+            self.tokens.expect(")")
+            return lambda V: frame(*(p(V) for p in points))
+        if name == "SHIFT":
+            self.tokens.expect("(")
+            base = self.location()
+            if not self.tokens.take("BY"):
+                token = self.tokens.peek()
+                if token is None or token[1] != "BY":
+                    raise ExprError("expected SHIFT(<location> BY dx, dy, dz)")
+                self.tokens.pos += 1
+            offsets = [self.sum().closure()]
+            while self.tokens.take(","):
+                offsets.append(self.sum().closure())
+            self.tokens.expect(")")
+            if len(offsets) > 3:
+                raise ExprError("SHIFT takes at most three increments")
+            return lambda V: shift(base(V), *(o(V) for o in offsets))
+        makers: dict[str, tuple[int, Callable[..., Transform]]] = {
+            "TRANS": (6, trans), "RX": (1, rx), "RY": (1, ry), "RZ": (1, rz),
+        }
+        if name not in makers:
+            raise ExprError(f"{name} is not a V+ transformation function")
+        most, make = makers[name]
+        args = [a.closure() for a in self.arguments()]
+        if len(args) > most or (most == 1 and len(args) != 1):
+            raise ExprError(f"{name} takes {most if most == 1 else 'up to ' + str(most)} argument(s)")
+        if name == "TRANS" and len(args) <= 3:
+            make = translation  # no angles: an offset, no rotation
+        return lambda V: make(*(a(V) for a in args))
+
+    # -- strings --------------------------------------------------------------------
+    def string(self) -> StrFn:
+        parts = [self.string_term()]
+        while self.tokens.take("+"):
+            parts.append(self.string_term())
+        return lambda V: "".join(p(V) for p in parts)
+
+    def string_term(self) -> StrFn:
+        token = self.tokens.peek()
+        if token is None:
+            raise ExprError("missing string")
+        kind, value = token[0], token[1]
+        self.tokens.pos += 1
+        if kind == "string":
+            return lambda V: value
+        if kind == "name" and value.startswith("$"):
+            after = self.tokens.peek()
+            if after is not None and after[1] == "(":
+                return self.string_function(value)
+            get = self.get_machine(f"string {value}")
+            return lambda V: get().string(value)
+        raise ExprError(f"{value!r} is not a string (\"text\" or $name)")
+
+    def string_function(self, name: str) -> StrFn:
+        if name == "$ENCODE":
+            from valterm.core.val.typeout import format_number
+
+            self.tokens.expect("(")
+            start = self.tokens.items[self.tokens.pos][2] if self.tokens.peek() else len(self.tokens.text)
+            depth, end_index = 1, self.tokens.pos
+            while end_index < len(self.tokens.items):
+                value = self.tokens.items[end_index][1]
+                depth += value == "("
+                depth -= value == ")"
+                if depth == 0:
+                    break
+                end_index += 1
+            if depth:
+                raise ExprError("missing ')' after $ENCODE(")
+            inner = self.tokens.text[start:self.tokens.items[end_index][2]]
+            self.tokens.pos = end_index + 1
+            items = output_list(inner, self.machine)
+            del format_number
+            return lambda V: render_output(items, V)
+        args = [a.closure() for a in self.arguments()]
+        if name == "$CHR" and len(args) == 1:
+            return lambda V: chr(int(args[0](V)))
+        raise ExprError(f"{name} is not a V+ string function the simulator knows")
+
+
+def _here(machine: Machine) -> Transform:
+    location = machine.sim.where()
+    from valterm.core.kinematics import Location
+
+    transform = Transform.of(Location(location.xyz, location.oat))
+    return transform if machine.tool is None else transform @ machine.tool
+
+
+def _finish(compiler: _Compiler) -> None:
+    compiler.tokens.done()
+
+
+def compile_number(text: str, machine: Machine | None = None) -> Expr:
+    """A numeric V+ expression (conditions included: TRUE is -1, FALSE 0)."""
+    if not text.strip():
+        raise ExprError("missing value")
+    compiler = _Compiler(text, machine)
+    node = compiler.condition()
+    _finish(compiler)
+    fn: Fn = node.closure()
+    const = None
+    if isinstance(node, Num):
+        const = node.value
+    return Expr(node, tuple(compiler.names), text.strip(), const, fn)
+
+
+def compile_location(text: str, machine: Machine | None = None) -> LocFn:
+    compiler = _Compiler(text, machine)
+    fn = compiler.location()
+    _finish(compiler)
+    return fn
+
+
+def compile_string(text: str, machine: Machine | None = None) -> StrFn:
+    compiler = _Compiler(text, machine)
+    fn = compiler.string()
+    _finish(compiler)
+    return fn
+
+
+def is_string_expression(text: str) -> bool:
+    stripped = text.strip()
+    return stripped.startswith(('"', "$"))
+
+
+# -- TYPE output lists with V+ values (strings included) --------------------------------
+
+OutputItem = tuple[str, "Fn | StrFn | None", str]  # literal, value, format
+
+
+def output_list(text: str, machine: Machine | None) -> list[tuple[str, Callable[[Values], object] | None, str]]:
+    """TYPE / $ENCODE items: quoted text, $strings, numeric values, formats."""
+    from valterm.core.val.typeout import parse_items
+
+    def value(word: str) -> tuple[str, Callable[[Values], object]]:
+        if word.startswith("$"):
+            return ("S", compile_string(word, machine))
+        return ("", compile_number(word, machine).function())
+
+    out: list[tuple[str, Callable[[Values], object] | None, str]] = []
+    for item in parse_items(text, value):
+        if item.expr is None:
+            out.append((item.text, None, item.fmt))
+        else:
+            assert isinstance(item.expr, tuple)
+            kind, fn = item.expr
+            out.append((kind, fn, item.fmt))
+    return out
+
+
+def render_output(items: list[tuple[str, Callable[[Values], object] | None, str]], V: Values) -> str:
+    from valterm.core.val.typeout import format_number
+
+    parts = []
+    for literal, fn, fmt in items:
+        if fn is None:
+            parts.append(literal)
+        elif literal == "S":
+            parts.append(str(fn(V)))
+        else:
+            value = fn(V)
+            assert isinstance(value, (int, float))
+            parts.append(format_number(float(value), fmt))
+    return "".join(parts)
+
+
+def is_name(text: str) -> bool:
+    return bool(_NAME.fullmatch(text.strip().upper()))
+
+
+__all__ = [
+    "NAME", "Not", "array_key", "compile_location", "compile_number", "compile_string",
+    "is_name", "is_string_expression", "output_list", "render_output",
+]
