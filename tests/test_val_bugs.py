@@ -13,7 +13,7 @@ from valterm.core.kinematics import Location
 from valterm.core.simulator import Simulator
 from valterm.core.val.checker import check_program
 from valterm.core.val.interpreter import Interpreter, program_from_lines
-from valterm.core.val.transcript import event_lines
+from valterm.core.text.transcript import event_lines
 
 
 def execute(lines: list[str], sim: Simulator | None = None) -> tuple[Simulator, list[Event]]:
