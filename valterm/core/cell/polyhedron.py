@@ -75,17 +75,20 @@ class Polyhedron:
 
     @property
     def reference(self) -> np.ndarray:
-        return self.vertices[0]
+        first: np.ndarray = self.vertices[0]  # numpy types a row of an array as Any
+        return first
 
     @property
     def edges(self) -> np.ndarray:
         """(3k, 2, 3) edge segments."""
-        return self.vertices[self.topology.edges]
+        segments: np.ndarray = self.vertices[self.topology.edges]
+        return segments
 
     # -- geometry ----------------------------------------------------------
     @property
     def centre(self) -> np.ndarray:
-        return self.vertices.mean(axis=0)
+        mean: np.ndarray = self.vertices.mean(axis=0)  # numpy types a mean as Any
+        return mean
 
     @property
     def radius(self) -> float:
