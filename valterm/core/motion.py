@@ -89,7 +89,8 @@ def joint_path(start: Sequence[float], goal: Sequence[float], increment: float) 
     # fraction of the whole motion done after each step: i*inc/largest, the last one 1
     fractions = np.minimum(np.arange(1, steps + 1) * increment / largest, 1.0)
     fractions[-1] = 1.0
-    return a + fractions[:, None] * delta
+    poses: np.ndarray = a + fractions[:, None] * delta
+    return poses
 
 
 # ---------------------------------------------------------------------------
@@ -117,7 +118,8 @@ def _slerp(r0: np.ndarray, r1: np.ndarray, fractions: np.ndarray) -> np.ndarray:
     theta = fractions * angle
     steps = (np.eye(3)[None] + np.sin(theta)[:, None, None] * k[None]
              + (1.0 - np.cos(theta))[:, None, None] * (k @ k)[None])
-    return r0[None] @ steps
+    rotations: np.ndarray = r0[None] @ steps
+    return rotations
 
 
 def _refusal(error: IKError, step: int) -> MotionRefused:
@@ -128,7 +130,7 @@ def _refusal(error: IKError, step: int) -> MotionRefused:
 
 def straight_path(
     start: Sequence[float],
-    goal_xyz: Sequence[float],
+    goal_xyz: Sequence[float] | np.ndarray,
     goal_rotation: np.ndarray,
     config: Config,
     increment: float,
@@ -229,20 +231,22 @@ def _refuse_jumps(best: np.ndarray, previous: np.ndarray, geometry: RobotGeometr
 
 def _nearest_equivalent(angles: np.ndarray, near: np.ndarray) -> np.ndarray:
     """Each angle shifted by whole turns to lie nearest ``near``."""
-    return angles + 360.0 * np.round((near - angles) / 360.0)
+    shifted: np.ndarray = angles + 360.0 * np.round((near - angles) / 360.0)
+    return shifted
 
 
 # ---------------------------------------------------------------------------
 # Targets: APPRO / DEPART / DRAW
 # ---------------------------------------------------------------------------
 
-def approach_point(xyz: Sequence[float], rotation: np.ndarray, distance: float) -> np.ndarray:
+def approach_point(xyz: Sequence[float] | np.ndarray, rotation: np.ndarray, distance: float) -> np.ndarray:
     """APPRO: the point ``distance`` back from the location along its tool Z (positive = -a)."""
-    return np.asarray(xyz, dtype=float) - distance * np.asarray(rotation)[:, 2]
+    point: np.ndarray = np.asarray(xyz, dtype=float) - distance * np.asarray(rotation)[:, 2]
+    return point
 
 
 def joint_goal(
-    xyz: Sequence[float], rotation: np.ndarray, config: Config, current: Sequence[float],
+    xyz: Sequence[float] | np.ndarray, rotation: np.ndarray, config: Config, current: Sequence[float],
     geometry: RobotGeometry | None = None,
 ) -> list[float]:
     """The joint vector of a location for a joint-coordinated move; MotionRefused if none."""
