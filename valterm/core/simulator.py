@@ -14,7 +14,7 @@ from __future__ import annotations
 import itertools
 import math
 from functools import lru_cache
-from typing import Generator, Iterator, Sequence
+from collections.abc import Generator, Iterable, Iterator, Sequence
 
 import numpy as np
 
@@ -46,6 +46,12 @@ GRASP_MESSAGE = "IT IS POSSIBLE TO GRASP THIS PART"
 @lru_cache(maxsize=1)
 def default_model() -> RobotModel:
     return load_model()
+
+
+def _rounded(values: Iterable[float]) -> tuple[float, float, float]:
+    """Three coordinates rounded to 6 places, as the events carry them."""
+    x, y, z = (round(float(v), 6) for v in values)
+    return x, y, z
 
 
 class UndefinedLocation(ValtermError, KeyError):
@@ -93,8 +99,8 @@ class Simulator:
     def where(self, point: int = 1) -> Where:
         xyz, rotation = self.tool_pose(point)
         return Where(
-            xyz=tuple(round(float(v), 6) for v in xyz),
-            oat=tuple(round(v, 6) for v in rotation_to_oat(rotation)),
+            xyz=_rounded(xyz),
+            oat=_rounded(rotation_to_oat(rotation)),
             joints=tuple(round(wrap180(j), 6) for j in self.joints),
             config=indicators(self.joints, self.geometry).as_dict(),
             clamp="CLOSED" if self.clamp_closed else "OPENED",
@@ -102,7 +108,8 @@ class Simulator:
 
     def here_location(self) -> Location:
         xyz, rotation = self.tool_pose()
-        return Location(tuple(float(v) for v in xyz), rotation_to_oat(rotation))
+        x, y, z = (float(v) for v in xyz)
+        return Location((x, y, z), rotation_to_oat(rotation))
 
     # -- settings ------------------------------------------------------------
     def set_speed(self, percent: float) -> float:
@@ -123,12 +130,12 @@ class Simulator:
     def set_base(self, dx: float | None = None, dy: float | None = None, dz: float | None = None,
                  rz: float | None = None) -> Iterator[Event]:
         """BASE dx,dy,dz,rz: the robot's base frame relative to the cell (omitted = 0)."""
-        values = tuple(0.0 if v is None else float(v) for v in (dx, dy, dz, rz))
-        self.base_offsets = values
-        c, s = math.cos(math.radians(values[3])), math.sin(math.radians(values[3]))
+        x, y, z, turn = (0.0 if v is None else float(v) for v in (dx, dy, dz, rz))
+        self.base_offsets = (x, y, z, turn)
+        c, s = math.cos(math.radians(turn)), math.sin(math.radians(turn))
         base = np.eye(4)
         base[:3, :3] = [[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]]
-        base[:3, 3] = values[:3]
+        base[:3, 3] = (x, y, z)
         self.base = base
         yield PoseEvent(tuple(self.joints), 1, 1)
 
@@ -345,7 +352,7 @@ class Simulator:
             self.carried = None
             self._carried_local = None
             corner = self.cell.objects[part - 1].reference
-            yield Release(part, tuple(round(float(v), 6) for v in corner))
+            yield Release(part, _rounded(corner))
         yield Hand(closed=False, gap=self.gap)
 
     def _follow_clamp(self) -> None:
