@@ -61,6 +61,7 @@ class IgesModel:
     def __init__(self, path: str | Path) -> None:
         self.path = Path(path)
         self.global_params: list[str] = []
+        self.global_lines: list[int] = []  # the file line of each global parameter
         self.entities: dict[int, Entity] = {}
         self.warnings: list[str] = []
         self._read()
@@ -182,12 +183,12 @@ class IgesModel:
         if pdelim == rdelim or pdelim in " 0123456789H+-.":
             raise self.error(lines[0][0], f"global section: unusable delimiters {pdelim!r} and {rdelim!r}")
         self.pdelim, self.rdelim = pdelim, rdelim
-        if text[pos - 1:pos] == rdelim:
-            rest, self.global_lines = [], []
-        else:
-            rest, self.global_lines = self._tokens(chunks, pdelim, rdelim, pos)
+        rest: list[str] = []
+        rest_lines: list[int] = []
+        if text[pos - 1:pos] != rdelim:
+            rest, rest_lines = self._tokens(chunks, pdelim, rdelim, pos)
         self.global_params = [pdelim, rdelim, *rest]
-        self.global_lines = [lines[0][0], lines[0][0], *self.global_lines]
+        self.global_lines = [lines[0][0], lines[0][0], *rest_lines]
         self._read_units()
 
     def _global(self, index: int) -> str:

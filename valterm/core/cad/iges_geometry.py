@@ -153,7 +153,10 @@ class Walker:
         a, b, c, d, ee, f, zt, x1, y1, x2, y2 = self.m.nums(e, 1, 11)
         scale = max(abs(a), abs(b), abs(c), abs(d), abs(ee), abs(f)) or 1.0
         ends = np.array([[x1, y1, zt], [x2, y2, zt]])
-        small = lambda v: abs(v) <= 1e-12 * scale  # noqa: E731
+
+        def small(v: float) -> bool:
+            return abs(v) <= 1e-12 * scale
+
         if small(b) and small(d) and small(ee) and a * c > 0 and -f / a > 0:       # ellipse
             ra, rb = math.sqrt(-f / a), math.sqrt(-f / c)
             t0, t1 = math.atan2(y1 / rb, x1 / ra), math.atan2(y2 / rb, x2 / ra)
@@ -201,7 +204,8 @@ class Walker:
         coef = self.m.nums(e, 6 + n, 12 * n).reshape(n, 3, 4)      # per segment: x, y, z cubics
         s = np.linspace(0.0, 1.0, 9)[None, :] * np.diff(t)[:, None]  # (n, 9)
         powers = np.stack([np.ones_like(s), s, s * s, s ** 3], -1)   # (n, 9, 4)
-        return np.einsum("nsk,nck->nsc", powers, coef).reshape(-1, 3)
+        pts: np.ndarray = np.einsum("nsk,nck->nsc", powers, coef)  # numpy types einsum as Any
+        return pts.reshape(-1, 3)
 
     def spline126(self, e: Entity) -> np.ndarray:
         k, m = self.m.integer(e, 1), self.m.integer(e, 2)
@@ -222,7 +226,8 @@ class Walker:
             return ctrl  # negative weights: no convex-hull guarantee either way; the control polygon will do
         t = np.linspace(v0, v1, min(2000, max(SAMPLES_PER_TURN, 8 * (k + 1))))
         basis = bspline_basis(knots, m, t) * w
-        return (basis @ ctrl) / basis.sum(axis=1, keepdims=True)
+        pts: np.ndarray = (basis @ ctrl) / basis.sum(axis=1, keepdims=True)
+        return pts
 
     def _surface128(self, e: Entity) -> tuple[Callable[[np.ndarray, np.ndarray], np.ndarray], tuple[float, float, float, float]]:
         """An evaluator (u, v arrays -> points, surface's own space) and the parameter ranges."""
@@ -236,8 +241,8 @@ class Walker:
         w = self.m.nums(e, 10 + n1 + n2, cnt).reshape(k2 + 1, k1 + 1).T
         ctrl = self.m.nums(e, 10 + n1 + n2 + cnt, 3 * cnt).reshape(k2 + 1, k1 + 1, 3).transpose(1, 0, 2)
         base = 10 + n1 + n2 + 4 * cnt
-        ranges = tuple(self.m.num(e, base + i, d) for i, d in
-                       enumerate((s_knots[m1], s_knots[-m1 - 1], t_knots[m2], t_knots[-m2 - 1])))
+        u0, u1, v0, v1 = (self.m.num(e, base + i, d) for i, d in
+                          enumerate((s_knots[m1], s_knots[-m1 - 1], t_knots[m2], t_knots[-m2 - 1])))
         if self.m.integer(e, 7, 0) == 1 or np.any(w <= 0):
             w = np.ones_like(w)
 
@@ -246,9 +251,10 @@ class Walker:
             bv = bspline_basis(t_knots, m2, v)
             num = np.einsum("pi,pj,ij,ijc->pc", bu, bv, w, ctrl)
             den = np.einsum("pi,pj,ij->p", bu, bv, w)
-            return num / den[:, None]
+            pts: np.ndarray = num / den[:, None]
+            return pts
 
-        return evaluate, ranges  # type: ignore[return-value]
+        return evaluate, (u0, u1, v0, v1)
 
     def surface128(self, e: Entity) -> np.ndarray:
         evaluate, (u0, u1, v0, v1) = self._surface128(e)
@@ -281,7 +287,7 @@ class Walker:
         radial = rel - along[:, None] * d
         cross = np.cross(d, radial)
         # Rodrigues: every curve point at every angle
-        pts = (p + along[:, None] * d)[None] + np.cos(ts)[:, None, None] * radial[None] + np.sin(ts)[:, None, None] * cross[None]
+        pts: np.ndarray = (p + along[:, None] * d)[None] + np.cos(ts)[:, None, None] * radial[None] + np.sin(ts)[:, None, None] * cross[None]
         return pts.reshape(-1, 3)
 
     def tabulated(self, e: Entity) -> np.ndarray:
@@ -354,7 +360,8 @@ class Walker:
         pts = self.ref(e, 1)
         x, y, z = (self.m.num(e, i, 0.0) for i in (2, 3, 4))
         s = self.m.num(e, 5, 1.0)
-        return pts * s + np.array([x, y, z])
+        placed: np.ndarray = pts * s + np.array([x, y, z])
+        return placed
 
     # ------------------------------------------------------------------ B-rep
     def vertex_list(self, e: Entity) -> np.ndarray:
