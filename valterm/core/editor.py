@@ -18,8 +18,8 @@ from __future__ import annotations
 
 import os
 import re
+from collections.abc import Callable
 from pathlib import Path
-from typing import Callable
 
 from valterm.core.errors import ValtermError
 from valterm.core.files.atomic import write_text_atomic

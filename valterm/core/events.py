@@ -11,7 +11,7 @@ from dataclasses import asdict, dataclass, field
 from typing import TypeAlias
 
 # A value json.dumps writes: what ``to_json()`` gives for ``valterm run --json``.
-Json: TypeAlias = "str | int | float | bool | None | list[Json] | tuple[Json, ...] | dict[str, Json]"
+Json: TypeAlias = "str | int | float | bool | list[Json] | tuple[Json, ...] | dict[str, Json] | None"
 
 
 @dataclass(frozen=True)

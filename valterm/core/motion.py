@@ -9,7 +9,7 @@ anything moves.
 from __future__ import annotations
 
 import math
-from typing import Sequence
+from collections.abc import Sequence
 
 import numpy as np
 
@@ -305,14 +305,15 @@ def world_displacement(axis: int, step: float) -> np.ndarray:
     return d
 
 
-def tool_displacement(current: Sequence[float], axis: int, step: float, geometry: RobotGeometry | None = None) -> np.ndarray:
+def tool_displacement(current: Sequence[float], axis: int, step: float,
+                      geometry: RobotGeometry | None = None) -> np.ndarray:
     """A step along the tool's own X, Y or Z axis, in world coordinates."""
     geometry = geometry or robot_geometry()
     return fk(current, geometry=geometry).rotation[:, axis] * step
 
 
 __all__ = [
-    "MotionRefused", "clamp_speed", "joint_increment", "straight_increment", "joint_path",
-    "straight_path", "approach_point", "joint_goal", "check_joint_goal", "pendant_straight",
-    "world_displacement", "tool_displacement", "PENDANT_INCREMENT", "PENDANT_STEP",
+    "PENDANT_INCREMENT", "PENDANT_STEP", "MotionRefused", "approach_point", "check_joint_goal",
+    "clamp_speed", "joint_goal", "joint_increment", "joint_path", "pendant_straight",
+    "straight_increment", "straight_path", "tool_displacement", "world_displacement",
 ]

@@ -13,16 +13,16 @@ from __future__ import annotations
 
 import itertools
 import math
-from functools import lru_cache
 from collections.abc import Generator, Iterable, Iterator, Sequence
+from functools import lru_cache
 
 import numpy as np
 
-from valterm.core.errors import ValtermError
 from valterm.core.cell.polyhedron import Polyhedron
 from valterm.core.cell.workcell import WorkCell
-from valterm.core.events import Collision, Event, Grasp, Hand, Message, Motion, PoseEvent, Release, Where
 from valterm.core.cycletime import joint_motion_seconds, straight_motion_seconds
+from valterm.core.errors import ValtermError
+from valterm.core.events import Collision, Event, Grasp, Hand, Message, Motion, PoseEvent, Release, Where
 from valterm.core.kinematics import Config, Location, fk, indicator_kind, indicators, rotation_to_oat, wrap180
 from valterm.core.motion import (
     PENDANT_INCREMENT,
@@ -238,7 +238,7 @@ class Simulator:
             found = self._other_configurations(xyz, rotation)
             if not found:
                 raise
-        distance, config, goal = min(found, key=lambda option: option[0])
+        _distance, config, goal = min(found, key=lambda option: option[0])
         self.config = config
         yield Message(f"AUTOCONFIG: USING {config}", "warning")
         return goal
@@ -295,12 +295,14 @@ class Simulator:
     def pendant_world(self, axis: int) -> Iterator[Event]:
         step = PENDANT_STEP * self.pendant_increment / PENDANT_INCREMENT
         displacement = self.base[:3, :3].T @ np.eye(3)[axis] * step
-        yield from self._play(pendant_straight(self.joints, displacement, self.pendant_increment, self.geometry), "straight")
+        path = pendant_straight(self.joints, displacement, self.pendant_increment, self.geometry)
+        yield from self._play(path, "straight")
 
     def pendant_tool(self, axis: int) -> Iterator[Event]:
         step = PENDANT_STEP * self.pendant_increment / PENDANT_INCREMENT
         displacement = fk(self.joints, 1, self.geometry).rotation[:, axis] * step
-        yield from self._play(pendant_straight(self.joints, displacement, self.pendant_increment, self.geometry), "straight")
+        path = pendant_straight(self.joints, displacement, self.pendant_increment, self.geometry)
+        yield from self._play(path, "straight")
 
     def change_pendant_increment(self, key: str) -> float:
         """I doubles, D halves, N flips the sign of the pendant increment."""

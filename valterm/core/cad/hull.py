@@ -11,8 +11,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from valterm.core.cell.polyhedron import Polyhedron
 from valterm.core.cad.errors import DegeneratePart
+from valterm.core.cell.polyhedron import Polyhedron
 
 MAX_HULL_VERTICES = 32   # more than enough for a 1985-style envelope; keeps drawing cheap
 MIN_DEPTH_MM = 1.0       # depth given to flat parts (a sheet, a sketch in one plane)
@@ -20,7 +20,8 @@ _REL_TOL = 1e-9
 
 
 def _cross2(o: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    cross: np.ndarray = (a[..., 0] - o[..., 0]) * (b[..., 1] - o[..., 1]) - (a[..., 1] - o[..., 1]) * (b[..., 0] - o[..., 0])
+    cross: np.ndarray = ((a[..., 0] - o[..., 0]) * (b[..., 1] - o[..., 1])
+                         - (a[..., 1] - o[..., 1]) * (b[..., 0] - o[..., 0]))
     return cross
 
 

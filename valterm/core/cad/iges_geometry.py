@@ -11,15 +11,17 @@ control points, so the envelope is not inflated by the control polygon.
 from __future__ import annotations
 
 import math
-from typing import Callable
+from collections.abc import Callable
 
 import numpy as np
 
 from valterm.core.cad.iges_entities import NON_GEOMETRY, Entity, EntityModel
 
-
 SAMPLES_PER_TURN = 64
 SURFACE_GRID = 16
+
+# A surface's evaluator: parameter arrays u, v -> (n, 3) points in the surface's own space.
+Surface = Callable[[np.ndarray, np.ndarray], np.ndarray]
 
 
 def _apply(m: np.ndarray, pts: np.ndarray) -> np.ndarray:
@@ -35,7 +37,8 @@ def _angles(a0: float, a1: float, full: bool, extremes: np.ndarray | None = None
     sweep = 2 * math.pi if full else (a1 - a0) % (2 * math.pi)
     n = max(2, math.ceil(sweep / (2 * math.pi) * SAMPLES_PER_TURN))
     ts = a0 + np.linspace(0.0, sweep, n + 1)
-    crit = np.arange(4) * (math.pi / 2) if extremes is None else np.concatenate([np.arange(4) * (math.pi / 2), extremes])
+    axes = np.arange(4) * (math.pi / 2)
+    crit = axes if extremes is None else np.concatenate([axes, extremes])
     rel = (crit - a0) % (2 * math.pi)
     return np.concatenate([ts, a0 + rel[rel <= sweep]])
 
@@ -179,7 +182,8 @@ class Walker:
             y = np.linspace(y1, y2, 33)
             pts = np.stack([-c * y * y / d, y, np.full_like(y, zt)], 1)
         else:
-            self.m.warnings.append(f"{self.m.path.name}:{e.line}: conic (D{e.seq}) not in standard position; only its end points used")
+            self.m.warnings.append(f"{self.m.path.name}:{e.line}: conic (D{e.seq}) not in standard position; "
+                                   "only its end points used")
             return ends
         return np.vstack([pts, ends])
 
@@ -210,7 +214,8 @@ class Walker:
     def spline126(self, e: Entity) -> np.ndarray:
         k, m = self.m.integer(e, 1), self.m.integer(e, 2)
         if m < 1 or k < m:
-            raise self.m.error(e.param_lines[0], f"rational B-spline curve (D{e.seq}): bad upper index {k} or degree {m}")
+            raise self.m.error(e.param_lines[0],
+                               f"rational B-spline curve (D{e.seq}): bad upper index {k} or degree {m}")
         polynomial = self.m.integer(e, 5, 0) == 1
         nk = k + m + 2
         knots = self.m.nums(e, 7, nk)
@@ -229,11 +234,12 @@ class Walker:
         pts: np.ndarray = (basis @ ctrl) / basis.sum(axis=1, keepdims=True)
         return pts
 
-    def _surface128(self, e: Entity) -> tuple[Callable[[np.ndarray, np.ndarray], np.ndarray], tuple[float, float, float, float]]:
+    def _surface128(self, e: Entity) -> tuple[Surface, tuple[float, float, float, float]]:
         """An evaluator (u, v arrays -> points, surface's own space) and the parameter ranges."""
         k1, k2, m1, m2 = (self.m.integer(e, i) for i in (1, 2, 3, 4))
         if min(k1, k2) < 0 or min(m1, m2) < 1:
-            raise self.m.error(e.param_lines[0], f"B-spline surface (D{e.seq}): bad indices {k1}, {k2}, degrees {m1}, {m2}")
+            raise self.m.error(e.param_lines[0],
+                               f"B-spline surface (D{e.seq}): bad indices {k1}, {k2}, degrees {m1}, {m2}")
         n1, n2 = k1 + m1 + 2, k2 + m2 + 2
         cnt = (k1 + 1) * (k2 + 1)
         s_knots = self.m.nums(e, 10, n1)
@@ -287,7 +293,8 @@ class Walker:
         radial = rel - along[:, None] * d
         cross = np.cross(d, radial)
         # Rodrigues: every curve point at every angle
-        pts: np.ndarray = (p + along[:, None] * d)[None] + np.cos(ts)[:, None, None] * radial[None] + np.sin(ts)[:, None, None] * cross[None]
+        pts: np.ndarray = ((p + along[:, None] * d)[None] + np.cos(ts)[:, None, None] * radial[None]
+                           + np.sin(ts)[:, None, None] * cross[None])
         return pts.reshape(-1, 3)
 
     def tabulated(self, e: Entity) -> np.ndarray:

@@ -27,7 +27,8 @@ def read_mesh_parts(path: str | Path) -> list[Part]:
     path = Path(path)
     ext = path.suffix.lower()
     if ext not in MESH_EXTENSIONS:
-        raise CadImportError(path, None, f"unknown mesh file type {ext or '(none)'}; use one of {', '.join(MESH_EXTENSIONS)}")
+        raise CadImportError(path, None,
+                             f"unknown mesh file type {ext or '(none)'}; use one of {', '.join(MESH_EXTENSIONS)}")
     if not path.is_file():
         raise CadImportError(path, None, "no such file")
     if path.stat().st_size == 0:

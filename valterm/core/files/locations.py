@@ -36,7 +36,8 @@ def check_location_name(name: str) -> str:
     upper = name.strip().upper()
     if not LOCATION_NAME.fullmatch(upper):
         raise BadName(
-            f"{shown_name(name)!r} is not a location name: a letter then up to 8 letters or digits (at most 9 characters)"
+            f"{shown_name(name)!r} is not a location name: "
+            "a letter then up to 8 letters or digits (at most 9 characters)"
         )
     return upper
 

@@ -10,7 +10,8 @@ from __future__ import annotations
 
 import math
 import time
-from typing import Callable, Generic, Iterable, Iterator, TypeVar
+from collections.abc import Callable, Iterable, Iterator
+from typing import Generic, TypeVar
 
 T = TypeVar("T")
 
@@ -65,7 +66,7 @@ class MotionPlayer(Generic[T]):
         if math.isinf(self.rate):
             return 1 << 62
         t = (self.clock() if now is None else now) - self.start_time
-        return int(math.floor(t * self.rate + 1e-9))
+        return math.floor(t * self.rate + 1e-9)
 
     def poll(self, now: float | None = None) -> T | None:
         """The pose to show now if it is a new one, else None.
