@@ -88,11 +88,11 @@ class MotionPlayer(Generic[T]):
             self._next_index += 1
         if not self._has_pending:
             return None
-        shown = self._pending  # a T (the flag says so); T itself may admit None
+        latest = self._pending  # a T (the flag says so); T itself may admit None
         self._pending, self._has_pending = None, False
-        self.current, self.index = shown, self._next_index - 1
+        self.current, self.index = latest, self._next_index - 1
         self.shown += 1
-        return shown
+        return latest
 
     def skip_to_end(self) -> T | None:
         """Drop everything up to the last pose and return it (None if none left or aborted)."""
