@@ -18,8 +18,8 @@ from __future__ import annotations
 
 import os
 import re
+from collections.abc import Callable
 from pathlib import Path
-from typing import Callable
 
 from valterm.core.errors import ValtermError
 from valterm.core.files.atomic import write_text_atomic
@@ -33,6 +33,8 @@ from valterm.core.files.programs import (
     parse_program,
     split_label,
 )
+from valterm.core.val.checker import check_statement
+from valterm.core.workspace import Workspace
 
 JOURNAL_EXT = "~DAT"
 JOURNAL_HEAD = "; VALTERM JOURNAL OF "
@@ -65,54 +67,6 @@ class EditorError(ValtermError):
     """A request the editor refuses; the message is shown to the user as is."""
 
 
-def default_checker() -> Checker:
-    """The interpreter helper's syntax checker, reduced to text -> reason or None.
-
-    The checker module may land after this one; the statement parser is the fallback
-    (it is what the checker builds on).
-    """
-    try:
-        from valterm.core.val import checker as module  # type: ignore[attr-defined]
-    except ImportError:
-        module = None
-    if module is not None:
-        for name in ("check_statement", "check_line", "check_step", "check"):
-            function = getattr(module, name, None)
-            if callable(function):
-                return _wrap_checker(function)
-    from valterm.core.val.parser import ValSyntaxError, parse_statement
-
-    def check(text: str) -> str | None:
-        try:
-            parse_statement(text)
-        except ValSyntaxError as error:
-            return str(error)
-        return None
-
-    return check
-
-
-def _wrap_checker(function: Callable[[str], object]) -> Checker:
-    """Accept the checker's possible answers: None/'' (good), a reason string, a list of
-    reasons, or a raised ValueError."""
-
-    def check(text: str) -> str | None:
-        try:
-            answer = function(text)
-        except ValueError as error:
-            return str(error)
-        if answer is None or answer is True or answer == "" or answer == [] or answer == ():
-            return None
-        if isinstance(answer, (list, tuple)):
-            return "; ".join(str(a) for a in answer)
-        message = getattr(answer, "message", None)
-        if message is not None:
-            return str(message) if getattr(answer, "ok", False) is False else None
-        return str(answer)
-
-    return check
-
-
 def expand_tab(typed: str) -> str:
     """A typed TAB jumps to column 5, where the statement starts (columns 1-4: the label)."""
     if "\t" not in typed:
@@ -134,9 +88,9 @@ def program_name(typed: str) -> str:
 class ProgramEditor:
     """One edit session on one program (Chapter 5)."""
 
-    def __init__(self, workspace, name: str, checker: Checker | None = None) -> None:  # type: ignore[no-untyped-def]
+    def __init__(self, workspace: Workspace, name: str, checker: Checker | None = None) -> None:
         self.workspace = workspace
-        self.check: Checker = checker or default_checker()
+        self.check: Checker = checker or check_statement
         self.messages: list[str] = []
         self.name = workspace._program_name(program_name(name))  # WorkspaceError for a bad name
         self.path: Path = workspace.path(self.name, "DAT")

@@ -8,14 +8,17 @@ Textual app, the headless ``valterm run`` and the tests all drive the same code.
 from __future__ import annotations
 
 from dataclasses import asdict, dataclass, field
-from typing import Any
+from typing import TypeAlias
+
+# A value json.dumps writes: what ``to_json()`` gives for ``valterm run --json``.
+Json: TypeAlias = "str | int | float | bool | list[Json] | tuple[Json, ...] | dict[str, Json] | None"
 
 
 @dataclass(frozen=True)
 class Event:
     event = "event"
 
-    def to_json(self) -> dict[str, Any]:
+    def to_json(self) -> dict[str, Json]:
         return {"event": self.event, **asdict(self)}
 
 
@@ -152,7 +155,7 @@ class Pause(Event):
 class End(Event):
     """The end of a run: the final WHERE and the variables."""
 
-    where: dict[str, Any]
+    where: dict[str, Json]
     variables: dict[str, float]
     cycle_time_s: float = 0.0  # the real robot's time for the whole run
     signals_on: tuple[int, ...] = ()  # the I/O panel's signals on at the end (V+)
@@ -202,7 +205,7 @@ class Status(Event):
     def cycle_text(self) -> str:
         return f"CYCLE TIME {self.cycle_time_s:.2f} S SO FAR (ESTIMATE FOR THE REAL PUMA)"
 
-    def to_json(self) -> dict[str, Any]:
+    def to_json(self) -> dict[str, Json]:
         return {**super().to_json(), "text": self.text}
 
 

@@ -182,7 +182,8 @@ def wrap180(angle: float) -> float:
 def wrap180_array(angles: np.ndarray) -> np.ndarray:
     wrapped = np.fmod(angles, 360.0)
     wrapped = np.where(wrapped <= -180.0, wrapped + 360.0, wrapped)
-    return np.where(wrapped > 180.0, wrapped - 360.0, wrapped)
+    result: np.ndarray = np.where(wrapped > 180.0, wrapped - 360.0, wrapped)
+    return result
 
 
 class IKError(ValtermError):
@@ -260,7 +261,8 @@ def _ry(angle: float) -> np.ndarray:
 
 def oat_to_rotation(o: float, a: float, t: float) -> np.ndarray:
     """The tool rotation (columns n, o, a) of O, A, T in degrees."""
-    return _rz(math.radians(o)) @ _rx(math.radians(a)) @ _ry(-math.radians(t)) @ ORIENTATION_BASE
+    rotation: np.ndarray = _rz(math.radians(o)) @ _rx(math.radians(a)) @ _ry(-math.radians(t)) @ ORIENTATION_BASE
+    return rotation
 
 
 def oat_to_rotation_array(oat: np.ndarray) -> np.ndarray:
@@ -278,7 +280,8 @@ def oat_to_rotation_array(oat: np.ndarray) -> np.ndarray:
     q[:, 2, 0] = -ca * sb
     q[:, 2, 1] = sa
     q[:, 2, 2] = ca * cb
-    return q @ ORIENTATION_BASE
+    rotations: np.ndarray = q @ ORIENTATION_BASE
+    return rotations
 
 
 def rotation_to_oat(rotation: np.ndarray | Sequence[Sequence[float]]) -> tuple[float, float, float]:
@@ -369,7 +372,8 @@ def fk_fast(
 def fk(joints: Sequence[float], point: int = 1, geometry: RobotGeometry | None = None) -> Pose:
     """Forward kinematics of JT1..JT6 (degrees, PUMA convention) to position option 1, 2 or 3."""
     geometry = geometry or robot_geometry()
-    r = fk_fast(*(math.radians(j) for j in joints), offset=geometry.point_offset(point), geometry=geometry)
+    j1, j2, j3, j4, j5, j6 = (math.radians(j) for j in joints)
+    r = fk_fast(j1, j2, j3, j4, j5, j6, offset=geometry.point_offset(point), geometry=geometry)
     rotation = np.array([[r[3], r[6], r[9]], [r[4], r[7], r[10]], [r[5], r[8], r[11]]])
     return Pose(np.array(r[:3]), rotation)
 

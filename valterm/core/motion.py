@@ -9,7 +9,7 @@ anything moves.
 from __future__ import annotations
 
 import math
-from typing import Sequence
+from collections.abc import Sequence
 
 import numpy as np
 
@@ -89,7 +89,8 @@ def joint_path(start: Sequence[float], goal: Sequence[float], increment: float) 
     # fraction of the whole motion done after each step: i*inc/largest, the last one 1
     fractions = np.minimum(np.arange(1, steps + 1) * increment / largest, 1.0)
     fractions[-1] = 1.0
-    return a + fractions[:, None] * delta
+    poses: np.ndarray = a + fractions[:, None] * delta
+    return poses
 
 
 # ---------------------------------------------------------------------------
@@ -117,7 +118,8 @@ def _slerp(r0: np.ndarray, r1: np.ndarray, fractions: np.ndarray) -> np.ndarray:
     theta = fractions * angle
     steps = (np.eye(3)[None] + np.sin(theta)[:, None, None] * k[None]
              + (1.0 - np.cos(theta))[:, None, None] * (k @ k)[None])
-    return r0[None] @ steps
+    rotations: np.ndarray = r0[None] @ steps
+    return rotations
 
 
 def _refusal(error: IKError, step: int) -> MotionRefused:
@@ -128,7 +130,7 @@ def _refusal(error: IKError, step: int) -> MotionRefused:
 
 def straight_path(
     start: Sequence[float],
-    goal_xyz: Sequence[float],
+    goal_xyz: Sequence[float] | np.ndarray,
     goal_rotation: np.ndarray,
     config: Config,
     increment: float,
@@ -229,20 +231,22 @@ def _refuse_jumps(best: np.ndarray, previous: np.ndarray, geometry: RobotGeometr
 
 def _nearest_equivalent(angles: np.ndarray, near: np.ndarray) -> np.ndarray:
     """Each angle shifted by whole turns to lie nearest ``near``."""
-    return angles + 360.0 * np.round((near - angles) / 360.0)
+    shifted: np.ndarray = angles + 360.0 * np.round((near - angles) / 360.0)
+    return shifted
 
 
 # ---------------------------------------------------------------------------
 # Targets: APPRO / DEPART / DRAW
 # ---------------------------------------------------------------------------
 
-def approach_point(xyz: Sequence[float], rotation: np.ndarray, distance: float) -> np.ndarray:
+def approach_point(xyz: Sequence[float] | np.ndarray, rotation: np.ndarray, distance: float) -> np.ndarray:
     """APPRO: the point ``distance`` back from the location along its tool Z (positive = -a)."""
-    return np.asarray(xyz, dtype=float) - distance * np.asarray(rotation)[:, 2]
+    point: np.ndarray = np.asarray(xyz, dtype=float) - distance * np.asarray(rotation)[:, 2]
+    return point
 
 
 def joint_goal(
-    xyz: Sequence[float], rotation: np.ndarray, config: Config, current: Sequence[float],
+    xyz: Sequence[float] | np.ndarray, rotation: np.ndarray, config: Config, current: Sequence[float],
     geometry: RobotGeometry | None = None,
 ) -> list[float]:
     """The joint vector of a location for a joint-coordinated move; MotionRefused if none."""
@@ -301,14 +305,15 @@ def world_displacement(axis: int, step: float) -> np.ndarray:
     return d
 
 
-def tool_displacement(current: Sequence[float], axis: int, step: float, geometry: RobotGeometry | None = None) -> np.ndarray:
+def tool_displacement(current: Sequence[float], axis: int, step: float,
+                      geometry: RobotGeometry | None = None) -> np.ndarray:
     """A step along the tool's own X, Y or Z axis, in world coordinates."""
     geometry = geometry or robot_geometry()
     return fk(current, geometry=geometry).rotation[:, axis] * step
 
 
 __all__ = [
-    "MotionRefused", "clamp_speed", "joint_increment", "straight_increment", "joint_path",
-    "straight_path", "approach_point", "joint_goal", "check_joint_goal", "pendant_straight",
-    "world_displacement", "tool_displacement", "PENDANT_INCREMENT", "PENDANT_STEP",
+    "PENDANT_INCREMENT", "PENDANT_STEP", "MotionRefused", "approach_point", "check_joint_goal",
+    "clamp_speed", "joint_goal", "joint_increment", "joint_path", "pendant_straight",
+    "straight_increment", "straight_path", "tool_displacement", "world_displacement",
 ]

@@ -5,8 +5,8 @@ The app, ``valterm run`` and the tests build one of these; nothing here imports 
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from pathlib import Path
-from typing import Iterator
 
 from valterm.core.cell.workcell import WorkCell
 from valterm.core.events import Event

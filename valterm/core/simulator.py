@@ -13,16 +13,18 @@ from __future__ import annotations
 
 import itertools
 import math
+from collections.abc import Generator, Iterable, Iterator, Sequence
 from functools import lru_cache
-from typing import Generator, Iterator, Sequence
 
 import numpy as np
 
-from valterm.core.errors import ValtermError
 from valterm.core.cell.polyhedron import Polyhedron
 from valterm.core.cell.workcell import WorkCell
-from valterm.core.events import Collision, Event, Grasp, Hand, Message, Motion, PoseEvent, Release, Where
+from valterm.core.collision.frames import RobotScene
+from valterm.core.collision.world import Finding, Party
 from valterm.core.cycletime import joint_motion_seconds, straight_motion_seconds
+from valterm.core.errors import ValtermError
+from valterm.core.events import Collision, Event, Grasp, Hand, Message, Motion, PoseEvent, Release, Where
 from valterm.core.kinematics import Config, Location, fk, indicator_kind, indicators, rotation_to_oat, wrap180
 from valterm.core.motion import (
     PENDANT_INCREMENT,
@@ -39,8 +41,6 @@ from valterm.core.motion import (
     straight_path,
 )
 from valterm.core.robot import RobotModel, load_model
-from valterm.core.collision.frames import RobotScene
-from valterm.core.collision.world import Finding, Party
 
 GRASP_MESSAGE = "IT IS POSSIBLE TO GRASP THIS PART"
 
@@ -48,6 +48,12 @@ GRASP_MESSAGE = "IT IS POSSIBLE TO GRASP THIS PART"
 @lru_cache(maxsize=1)
 def default_model() -> RobotModel:
     return load_model()
+
+
+def _rounded(values: Iterable[float]) -> tuple[float, float, float]:
+    """Three coordinates rounded to 6 places, as the events carry them."""
+    x, y, z = (round(float(v), 6) for v in values)
+    return x, y, z
 
 
 class UndefinedLocation(ValtermError, KeyError):
@@ -98,8 +104,8 @@ class Simulator:
     def where(self, point: int = 1) -> Where:
         xyz, rotation = self.tool_pose(point)
         return Where(
-            xyz=tuple(round(float(v), 6) for v in xyz),
-            oat=tuple(round(v, 6) for v in rotation_to_oat(rotation)),
+            xyz=_rounded(xyz),
+            oat=_rounded(rotation_to_oat(rotation)),
             joints=tuple(round(wrap180(j), 6) for j in self.joints),
             config=indicators(self.joints, self.geometry).as_dict(),
             clamp="CLOSED" if self.clamp_closed else "OPENED",
@@ -107,7 +113,8 @@ class Simulator:
 
     def here_location(self) -> Location:
         xyz, rotation = self.tool_pose()
-        return Location(tuple(float(v) for v in xyz), rotation_to_oat(rotation))
+        x, y, z = (float(v) for v in xyz)
+        return Location((x, y, z), rotation_to_oat(rotation))
 
     # -- settings ------------------------------------------------------------
     def set_speed(self, percent: float) -> float:
@@ -128,12 +135,12 @@ class Simulator:
     def set_base(self, dx: float | None = None, dy: float | None = None, dz: float | None = None,
                  rz: float | None = None) -> Iterator[Event]:
         """BASE dx,dy,dz,rz: the robot's base frame relative to the cell (omitted = 0)."""
-        values = tuple(0.0 if v is None else float(v) for v in (dx, dy, dz, rz))
-        self.base_offsets = values
-        c, s = math.cos(math.radians(values[3])), math.sin(math.radians(values[3]))
+        x, y, z, turn = (0.0 if v is None else float(v) for v in (dx, dy, dz, rz))
+        self.base_offsets = (x, y, z, turn)
+        c, s = math.cos(math.radians(turn)), math.sin(math.radians(turn))
         base = np.eye(4)
         base[:3, :3] = [[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]]
-        base[:3, 3] = values[:3]
+        base[:3, 3] = (x, y, z)
         self.base = base
         yield PoseEvent(tuple(self.joints), 1, 1)
 
@@ -242,7 +249,7 @@ class Simulator:
             found = self._other_configurations(xyz, rotation)
             if not found:
                 raise
-        distance, config, goal = min(found, key=lambda option: option[0])
+        _distance, config, goal = min(found, key=lambda option: option[0])
         self.config = config
         yield Message(f"AUTOCONFIG: USING {config}", "warning")
         return goal
@@ -300,12 +307,14 @@ class Simulator:
     def pendant_world(self, axis: int) -> Iterator[Event]:
         step = PENDANT_STEP * self.pendant_increment / PENDANT_INCREMENT
         displacement = self.base[:3, :3].T @ np.eye(3)[axis] * step
-        yield from self._play(pendant_straight(self.joints, displacement, self.pendant_increment, self.geometry), "straight")
+        path = pendant_straight(self.joints, displacement, self.pendant_increment, self.geometry)
+        yield from self._play(path, "straight")
 
     def pendant_tool(self, axis: int) -> Iterator[Event]:
         step = PENDANT_STEP * self.pendant_increment / PENDANT_INCREMENT
         displacement = fk(self.joints, 1, self.geometry).rotation[:, axis] * step
-        yield from self._play(pendant_straight(self.joints, displacement, self.pendant_increment, self.geometry), "straight")
+        path = pendant_straight(self.joints, displacement, self.pendant_increment, self.geometry)
+        yield from self._play(path, "straight")
 
     def change_pendant_increment(self, key: str) -> float:
         """I doubles, D halves, N flips the sign of the pendant increment."""
@@ -357,7 +366,7 @@ class Simulator:
             self.carried = None
             self._carried_local = None
             corner = self.cell.objects[part - 1].reference
-            yield Release(part, tuple(round(float(v), 6) for v in corner))
+            yield Release(part, _rounded(corner))
         yield Hand(closed=False, gap=self.gap)
 
     def _follow_clamp(self) -> None:

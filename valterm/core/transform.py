@@ -39,7 +39,7 @@ class Transform:
     matrix: np.ndarray
 
     @classmethod
-    def of(cls, location: Location) -> "Transform":
+    def of(cls, location: Location) -> Transform:
         return cls(_homogeneous(oat_to_rotation(*location.oat), location.xyz))
 
     @property
@@ -60,7 +60,7 @@ class Transform:
         location = self.location()
         return (*location.xyz, *location.oat)
 
-    def __matmul__(self, other: "Transform") -> "Transform":
+    def __matmul__(self, other: Transform) -> Transform:
         """``a:b``: b expressed in a's frame."""
         return Transform(self.matrix @ other.matrix)
 

@@ -43,7 +43,8 @@ _NAME = re.compile(r"[A-Z0-9]{1,9}")
 SYSTEM_FILES = frozenset({"DATFILER", "CHECK", "HELPER", "COMMAND"})
 
 # Names Windows will not create as files; refused everywhere so a workspace travels.
-_RESERVED = frozenset({"CON", "PRN", "AUX", "NUL", *(f"COM{i}" for i in range(1, 10)), *(f"LPT{i}" for i in range(1, 10))})
+_RESERVED = frozenset({"CON", "PRN", "AUX", "NUL",
+                       *(f"COM{i}" for i in range(1, 10)), *(f"LPT{i}" for i in range(1, 10))})
 
 _KINDS = {"SET": "setup", "LOC": "location", "DAT": "program"}
 

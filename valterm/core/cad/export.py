@@ -15,7 +15,7 @@ unique within the file with ``-2``, ``-3``...
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -23,6 +23,9 @@ from valterm.core.cad.errors import CadExportError
 from valterm.core.cell.polyhedron import Polyhedron
 from valterm.core.cell.workcell import WorkCell
 from valterm.core.files.atomic import write_bytes_atomic
+
+if TYPE_CHECKING:  # trimesh is imported where it is used: it is slow to import
+    import trimesh
 
 EXPORT_EXTENSIONS = (".glb", ".obj", ".stl")
 # what each format's numbers are, for the user (the CLI prints it)
@@ -45,7 +48,7 @@ def polyhedron_triangles(poly: Polyhedron) -> np.ndarray:
     return np.concatenate(tris)
 
 
-def polyhedron_mesh(poly: Polyhedron, matrix: np.ndarray | None = None) -> Any:
+def polyhedron_mesh(poly: Polyhedron, matrix: np.ndarray | None = None) -> trimesh.Trimesh:
     """A trimesh.Trimesh of ``poly`` (vertices times ``matrix`` if given; import kept lazy)."""
     import trimesh
 
@@ -62,7 +65,7 @@ def export_scene(cell: WorkCell, robot_polyhedra: list[Polyhedron], path: str | 
     if ext not in EXPORT_EXTENSIONS:
         raise CadExportError(f"cannot export {ext or 'a file without extension'}: use .glb, .obj or .stl")
     matrix = Z_UP_TO_Y_UP / 1000.0 if ext == ".glb" else None
-    scene: Any = trimesh.Scene()
+    scene = trimesh.Scene()
     used: set[str] = set()
 
     def unique(name: str) -> str:

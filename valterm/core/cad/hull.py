@@ -11,8 +11,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from valterm.core.cell.polyhedron import Polyhedron
 from valterm.core.cad.errors import DegeneratePart
+from valterm.core.cell.polyhedron import Polyhedron
 
 MAX_HULL_VERTICES = 32   # more than enough for a 1985-style envelope; keeps drawing cheap
 MIN_DEPTH_MM = 1.0       # depth given to flat parts (a sheet, a sketch in one plane)
@@ -20,7 +20,9 @@ _REL_TOL = 1e-9
 
 
 def _cross2(o: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    return (a[..., 0] - o[..., 0]) * (b[..., 1] - o[..., 1]) - (a[..., 1] - o[..., 1]) * (b[..., 0] - o[..., 0])
+    cross: np.ndarray = ((a[..., 0] - o[..., 0]) * (b[..., 1] - o[..., 1])
+                         - (a[..., 1] - o[..., 1]) * (b[..., 0] - o[..., 0]))
+    return cross
 
 
 def _prefilter(pts: np.ndarray) -> np.ndarray:
@@ -40,7 +42,8 @@ def _prefilter(pts: np.ndarray) -> np.ndarray:
     # cross > 0 for every edge -> strictly inside the (counter-clockwise) extreme polygon
     cross = _cross2(poly[None, :, :], nxt[None, :, :], pts[:, None, :])
     inside = np.all(cross > 0, axis=1)
-    return pts[~inside]
+    outside: np.ndarray = pts[~inside]
+    return outside
 
 
 def convex_hull_2d(points: np.ndarray) -> np.ndarray:
@@ -64,13 +67,13 @@ def convex_hull_2d(points: np.ndarray) -> np.ndarray:
     def between(i: int, j: int, cand: np.ndarray) -> list[int]:
         # iterative in-order walk: (i, j, cand) -> [between(i, far), far, between(far, j)]
         result: list[int] = []
-        work: list[object] = [(i, j, cand)]
+        work: list[int | tuple[int, int, np.ndarray]] = [(i, j, cand)]
         while work:
             item = work.pop()
             if isinstance(item, int):
                 result.append(item)
                 continue
-            p, q, c = item  # type: ignore[misc]
+            p, q, c = item
             if len(c) == 0:
                 continue
             far = int(c[np.argmin(_cross2(pts[p], pts[q], pts[c]))])

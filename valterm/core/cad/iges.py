@@ -61,6 +61,7 @@ class IgesModel:
     def __init__(self, path: str | Path) -> None:
         self.path = Path(path)
         self.global_params: list[str] = []
+        self.global_lines: list[int] = []  # the file line of each global parameter
         self.entities: dict[int, Entity] = {}
         self.warnings: list[str] = []
         self._read()
@@ -87,7 +88,8 @@ class IgesModel:
             line = line.rstrip("\r")
             bad = re.search(r"[\x00-\x08\x0b-\x1f\x7f-\x9f]", line)
             if bad:
-                raise self.error(number, f"binary data (byte 0x{ord(bad.group()):02x} in column {bad.start() + 1}): not an ASCII IGES file")
+                raise self.error(number, f"binary data (byte 0x{ord(bad.group()):02x} in column {bad.start() + 1}): "
+                                         "not an ASCII IGES file")
             if len(line) != 80:
                 if len(line) > 72 and line[72] == "T" and len(line.rstrip()) <= 80:
                     line = line.ljust(80)  # some writers trim the blanks off the last line
@@ -162,7 +164,7 @@ class IgesModel:
             pos += 1
 
     def _read_global(self, lines: list[tuple[int, str]]) -> None:
-        chunks = [(n, l[:72]) for n, l in lines]
+        chunks = [(n, text[:72]) for n, text in lines]
         text = "".join(c for _, c in chunks)
         pdelim, rdelim, pos = ",", ";", 0
         # fields 1 and 2 declare the delimiters themselves, so read them by hand
@@ -182,12 +184,12 @@ class IgesModel:
         if pdelim == rdelim or pdelim in " 0123456789H+-.":
             raise self.error(lines[0][0], f"global section: unusable delimiters {pdelim!r} and {rdelim!r}")
         self.pdelim, self.rdelim = pdelim, rdelim
-        if text[pos - 1:pos] == rdelim:
-            rest, self.global_lines = [], []
-        else:
-            rest, self.global_lines = self._tokens(chunks, pdelim, rdelim, pos)
+        rest: list[str] = []
+        rest_lines: list[int] = []
+        if text[pos - 1:pos] != rdelim:
+            rest, rest_lines = self._tokens(chunks, pdelim, rdelim, pos)
         self.global_params = [pdelim, rdelim, *rest]
-        self.global_lines = [lines[0][0], lines[0][0], *self.global_lines]
+        self.global_lines = [lines[0][0], lines[0][0], *rest_lines]
         self._read_units()
 
     def _global(self, index: int) -> str:
@@ -217,7 +219,8 @@ class IgesModel:
             raise self.error(self.global_lines[13] if len(self.global_lines) > 13 else None,
                              f"global field 14: unknown units flag {flag}")
         if self.scale <= 0:
-            raise self.error(self.global_lines[12], f"global field 13: model space scale {self.scale:g} must be positive")
+            raise self.error(self.global_lines[12],
+                             f"global field 13: model space scale {self.scale:g} must be positive")
         self.units_flag = flag
         self.units_name = name
 
@@ -241,7 +244,8 @@ class IgesModel:
                 try:
                     return int(t)
                 except ValueError:
-                    raise self.error(line, f"directory field {what} (columns {col}-{col + 7}): {t!r} is not an integer") from None
+                    raise self.error(
+                        line, f"directory field {what} (columns {col}-{col + 7}): {t!r} is not an integer") from None
 
             etype = num(f1[0], n1, 1, "1 entity type")
             etype2 = num(f2[0], n2, 1, "11 entity type")
@@ -260,7 +264,8 @@ class IgesModel:
                 form=num(f2[4], n2, 33, "15 form"), param_count=count, label=f2[7].strip())
         for ent in self.entities.values():
             if ent.matrix_ptr and (ent.matrix_ptr not in self.entities or self.entities[ent.matrix_ptr].type != 124):
-                raise self.error(ent.line, f"transformation matrix pointer {ent.matrix_ptr} does not point to a 124 entity")
+                raise self.error(ent.line,
+                                 f"transformation matrix pointer {ent.matrix_ptr} does not point to a 124 entity")
 
     def _read_parameters(self, lines: list[tuple[int, str]]) -> None:
         for ent in self.entities.values():
@@ -268,14 +273,17 @@ class IgesModel:
             for number, line in chunk:
                 back = line[64:72].strip()
                 if not back.isdigit() or int(back) != ent.seq:
-                    raise self.error(number, f"parameter line belongs to directory entry {back or '?'}, expected {ent.seq}")
-            params, where = self._tokens([(n, l[:64]) for n, l in chunk], self.pdelim, self.rdelim)
+                    raise self.error(number,
+                                     f"parameter line belongs to directory entry {back or '?'}, expected {ent.seq}")
+            params, where = self._tokens([(n, text[:64]) for n, text in chunk], self.pdelim, self.rdelim)
             try:
                 head = int(float(params[0]))
             except (ValueError, IndexError):
-                raise self.error(chunk[0][0], f"parameter data starts with {params[0]!r}, not the entity type") from None
+                raise self.error(chunk[0][0],
+                                 f"parameter data starts with {params[0]!r}, not the entity type") from None
             if head != ent.type:
-                raise self.error(chunk[0][0], f"parameter data is for entity type {head}, the directory says {ent.type}")
+                raise self.error(chunk[0][0],
+                                 f"parameter data is for entity type {head}, the directory says {ent.type}")
             ent.params, ent.param_lines = params[1:], where[1:]
 
     # ------------------------------------------------------------------ parameters
@@ -300,7 +308,8 @@ class IgesModel:
     def nums(self, ent: Entity, start: int, count: int) -> np.ndarray:
         if count < 0 or start - 1 + count > len(ent.params):
             line = ent.param_lines[-1] if ent.param_lines else ent.line
-            raise self.error(line, f"entity {ent.type} (D{ent.seq}): expected {start - 1 + count} parameters, found {len(ent.params)}")
+            raise self.error(line, f"entity {ent.type} (D{ent.seq}): expected {start - 1 + count} parameters, "
+                                   f"found {len(ent.params)}")
         return np.array([self.num(ent, i) for i in range(start, start + count)])
 
     def integer(self, ent: Entity, i: int, default: int | None = None) -> int:

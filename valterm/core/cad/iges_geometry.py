@@ -11,15 +11,17 @@ control points, so the envelope is not inflated by the control polygon.
 from __future__ import annotations
 
 import math
-from typing import Callable
+from collections.abc import Callable
 
 import numpy as np
 
 from valterm.core.cad.iges_entities import NON_GEOMETRY, Entity, EntityModel
 
-
 SAMPLES_PER_TURN = 64
 SURFACE_GRID = 16
+
+# A surface's evaluator: parameter arrays u, v -> (n, 3) points in the surface's own space.
+Surface = Callable[[np.ndarray, np.ndarray], np.ndarray]
 
 
 def _apply(m: np.ndarray, pts: np.ndarray) -> np.ndarray:
@@ -35,7 +37,8 @@ def _angles(a0: float, a1: float, full: bool, extremes: np.ndarray | None = None
     sweep = 2 * math.pi if full else (a1 - a0) % (2 * math.pi)
     n = max(2, math.ceil(sweep / (2 * math.pi) * SAMPLES_PER_TURN))
     ts = a0 + np.linspace(0.0, sweep, n + 1)
-    crit = np.arange(4) * (math.pi / 2) if extremes is None else np.concatenate([np.arange(4) * (math.pi / 2), extremes])
+    axes = np.arange(4) * (math.pi / 2)
+    crit = axes if extremes is None else np.concatenate([axes, extremes])
     rel = (crit - a0) % (2 * math.pi)
     return np.concatenate([ts, a0 + rel[rel <= sweep]])
 
@@ -153,7 +156,10 @@ class Walker:
         a, b, c, d, ee, f, zt, x1, y1, x2, y2 = self.m.nums(e, 1, 11)
         scale = max(abs(a), abs(b), abs(c), abs(d), abs(ee), abs(f)) or 1.0
         ends = np.array([[x1, y1, zt], [x2, y2, zt]])
-        small = lambda v: abs(v) <= 1e-12 * scale  # noqa: E731
+
+        def small(v: float) -> bool:
+            return abs(v) <= 1e-12 * scale
+
         if small(b) and small(d) and small(ee) and a * c > 0 and -f / a > 0:       # ellipse
             ra, rb = math.sqrt(-f / a), math.sqrt(-f / c)
             t0, t1 = math.atan2(y1 / rb, x1 / ra), math.atan2(y2 / rb, x2 / ra)
@@ -176,7 +182,8 @@ class Walker:
             y = np.linspace(y1, y2, 33)
             pts = np.stack([-c * y * y / d, y, np.full_like(y, zt)], 1)
         else:
-            self.m.warnings.append(f"{self.m.path.name}:{e.line}: conic (D{e.seq}) not in standard position; only its end points used")
+            self.m.warnings.append(f"{self.m.path.name}:{e.line}: conic (D{e.seq}) not in standard position; "
+                                   "only its end points used")
             return ends
         return np.vstack([pts, ends])
 
@@ -201,12 +208,14 @@ class Walker:
         coef = self.m.nums(e, 6 + n, 12 * n).reshape(n, 3, 4)      # per segment: x, y, z cubics
         s = np.linspace(0.0, 1.0, 9)[None, :] * np.diff(t)[:, None]  # (n, 9)
         powers = np.stack([np.ones_like(s), s, s * s, s ** 3], -1)   # (n, 9, 4)
-        return np.einsum("nsk,nck->nsc", powers, coef).reshape(-1, 3)
+        pts: np.ndarray = np.einsum("nsk,nck->nsc", powers, coef)  # numpy types einsum as Any
+        return pts.reshape(-1, 3)
 
     def spline126(self, e: Entity) -> np.ndarray:
         k, m = self.m.integer(e, 1), self.m.integer(e, 2)
         if m < 1 or k < m:
-            raise self.m.error(e.param_lines[0], f"rational B-spline curve (D{e.seq}): bad upper index {k} or degree {m}")
+            raise self.m.error(e.param_lines[0],
+                               f"rational B-spline curve (D{e.seq}): bad upper index {k} or degree {m}")
         polynomial = self.m.integer(e, 5, 0) == 1
         nk = k + m + 2
         knots = self.m.nums(e, 7, nk)
@@ -222,13 +231,15 @@ class Walker:
             return ctrl  # negative weights: no convex-hull guarantee either way; the control polygon will do
         t = np.linspace(v0, v1, min(2000, max(SAMPLES_PER_TURN, 8 * (k + 1))))
         basis = bspline_basis(knots, m, t) * w
-        return (basis @ ctrl) / basis.sum(axis=1, keepdims=True)
+        pts: np.ndarray = (basis @ ctrl) / basis.sum(axis=1, keepdims=True)
+        return pts
 
-    def _surface128(self, e: Entity) -> tuple[Callable[[np.ndarray, np.ndarray], np.ndarray], tuple[float, float, float, float]]:
+    def _surface128(self, e: Entity) -> tuple[Surface, tuple[float, float, float, float]]:
         """An evaluator (u, v arrays -> points, surface's own space) and the parameter ranges."""
         k1, k2, m1, m2 = (self.m.integer(e, i) for i in (1, 2, 3, 4))
         if min(k1, k2) < 0 or min(m1, m2) < 1:
-            raise self.m.error(e.param_lines[0], f"B-spline surface (D{e.seq}): bad indices {k1}, {k2}, degrees {m1}, {m2}")
+            raise self.m.error(e.param_lines[0],
+                               f"B-spline surface (D{e.seq}): bad indices {k1}, {k2}, degrees {m1}, {m2}")
         n1, n2 = k1 + m1 + 2, k2 + m2 + 2
         cnt = (k1 + 1) * (k2 + 1)
         s_knots = self.m.nums(e, 10, n1)
@@ -236,8 +247,8 @@ class Walker:
         w = self.m.nums(e, 10 + n1 + n2, cnt).reshape(k2 + 1, k1 + 1).T
         ctrl = self.m.nums(e, 10 + n1 + n2 + cnt, 3 * cnt).reshape(k2 + 1, k1 + 1, 3).transpose(1, 0, 2)
         base = 10 + n1 + n2 + 4 * cnt
-        ranges = tuple(self.m.num(e, base + i, d) for i, d in
-                       enumerate((s_knots[m1], s_knots[-m1 - 1], t_knots[m2], t_knots[-m2 - 1])))
+        u0, u1, v0, v1 = (self.m.num(e, base + i, d) for i, d in
+                          enumerate((s_knots[m1], s_knots[-m1 - 1], t_knots[m2], t_knots[-m2 - 1])))
         if self.m.integer(e, 7, 0) == 1 or np.any(w <= 0):
             w = np.ones_like(w)
 
@@ -246,9 +257,10 @@ class Walker:
             bv = bspline_basis(t_knots, m2, v)
             num = np.einsum("pi,pj,ij,ijc->pc", bu, bv, w, ctrl)
             den = np.einsum("pi,pj,ij->p", bu, bv, w)
-            return num / den[:, None]
+            pts: np.ndarray = num / den[:, None]
+            return pts
 
-        return evaluate, ranges  # type: ignore[return-value]
+        return evaluate, (u0, u1, v0, v1)
 
     def surface128(self, e: Entity) -> np.ndarray:
         evaluate, (u0, u1, v0, v1) = self._surface128(e)
@@ -281,7 +293,8 @@ class Walker:
         radial = rel - along[:, None] * d
         cross = np.cross(d, radial)
         # Rodrigues: every curve point at every angle
-        pts = (p + along[:, None] * d)[None] + np.cos(ts)[:, None, None] * radial[None] + np.sin(ts)[:, None, None] * cross[None]
+        pts: np.ndarray = ((p + along[:, None] * d)[None] + np.cos(ts)[:, None, None] * radial[None]
+                           + np.sin(ts)[:, None, None] * cross[None])
         return pts.reshape(-1, 3)
 
     def tabulated(self, e: Entity) -> np.ndarray:
@@ -354,7 +367,8 @@ class Walker:
         pts = self.ref(e, 1)
         x, y, z = (self.m.num(e, i, 0.0) for i in (2, 3, 4))
         s = self.m.num(e, 5, 1.0)
-        return pts * s + np.array([x, y, z])
+        placed: np.ndarray = pts * s + np.array([x, y, z])
+        return placed
 
     # ------------------------------------------------------------------ B-rep
     def vertex_list(self, e: Entity) -> np.ndarray:

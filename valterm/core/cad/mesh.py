@@ -10,7 +10,6 @@ returned here are the file's own, the caller scales them.
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 
@@ -28,14 +27,16 @@ def read_mesh_parts(path: str | Path) -> list[Part]:
     path = Path(path)
     ext = path.suffix.lower()
     if ext not in MESH_EXTENSIONS:
-        raise CadImportError(path, None, f"unknown mesh file type {ext or '(none)'}; use one of {', '.join(MESH_EXTENSIONS)}")
+        raise CadImportError(path, None,
+                             f"unknown mesh file type {ext or '(none)'}; use one of {', '.join(MESH_EXTENSIONS)}")
     if not path.is_file():
         raise CadImportError(path, None, "no such file")
     if path.stat().st_size == 0:
         raise CadImportError(path, None, "the file is empty")
-    kwargs: dict[str, Any] = {"split_objects": True} if ext == ".obj" else {}
     try:
-        scene: Any = trimesh.load(str(path), force="scene", **kwargs)
+        # an OBJ's `o` objects are its parts
+        scene = (trimesh.load_scene(str(path), split_objects=True) if ext == ".obj"
+                 else trimesh.load_scene(str(path)))
     except Exception as exc:  # trimesh raises many kinds on junk input; all mean "unreadable"
         reason = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
         raise CadImportError(path, None, f"not a readable {ext[1:].upper()} mesh ({reason})") from None

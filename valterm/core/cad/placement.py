@@ -126,7 +126,8 @@ def _free(corners: np.ndarray, size: np.ndarray, bottom: float,
     return np.asarray(~overlap.any(axis=1))
 
 
-def place_on_table(parts: Sequence[Polyhedron], around: Sequence[Polyhedron] = ()) -> tuple[list[Polyhedron], list[str]]:
+def place_on_table(parts: Sequence[Polyhedron],
+                   around: Sequence[Polyhedron] = ()) -> tuple[list[Polyhedron], list[str]]:
     """``parts`` moved together onto a free, reachable spot of a table; and any warnings."""
     lo_parts, hi_parts = _boxes(parts)
     lo, hi = lo_parts.min(axis=0), hi_parts.max(axis=0)

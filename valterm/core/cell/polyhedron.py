@@ -75,17 +75,20 @@ class Polyhedron:
 
     @property
     def reference(self) -> np.ndarray:
-        return self.vertices[0]
+        first: np.ndarray = self.vertices[0]  # numpy types a row of an array as Any
+        return first
 
     @property
     def edges(self) -> np.ndarray:
         """(3k, 2, 3) edge segments."""
-        return self.vertices[self.topology.edges]
+        segments: np.ndarray = self.vertices[self.topology.edges]
+        return segments
 
     # -- geometry ----------------------------------------------------------
     @property
     def centre(self) -> np.ndarray:
-        return self.vertices.mean(axis=0)
+        mean: np.ndarray = self.vertices.mean(axis=0)  # numpy types a mean as Any
+        return mean
 
     @property
     def radius(self) -> float:
@@ -127,15 +130,15 @@ class Polyhedron:
         return bool(np.dot(n, pts.mean(axis=0) - self.centre) >= 0)
 
     # -- moving ------------------------------------------------------------
-    def transformed(self, rotation: np.ndarray, translation: np.ndarray) -> "Polyhedron":
+    def transformed(self, rotation: np.ndarray, translation: np.ndarray) -> Polyhedron:
         """A copy moved by ``v -> rotation @ v + translation``."""
         return Polyhedron(self.vertices @ np.asarray(rotation).T + translation, self.name, self.winding_flipped)
 
-    def translated(self, offset: np.ndarray) -> "Polyhedron":
+    def translated(self, offset: np.ndarray) -> Polyhedron:
         return Polyhedron(self.vertices + offset, self.name, self.winding_flipped)
 
     @classmethod
-    def from_polygons(cls, front: np.ndarray, back: np.ndarray, name: str = "") -> "Polyhedron":
+    def from_polygons(cls, front: np.ndarray, back: np.ndarray, name: str = "") -> Polyhedron:
         front = np.asarray(front, dtype=float)
         back = np.asarray(back, dtype=float)
         if front.shape != back.shape:
@@ -143,7 +146,7 @@ class Polyhedron:
         return cls(np.concatenate([front, back]), name)
 
     @classmethod
-    def box(cls, lo: np.ndarray, hi: np.ndarray, name: str = "") -> "Polyhedron":
+    def box(cls, lo: np.ndarray, hi: np.ndarray, name: str = "") -> Polyhedron:
         """An axis-aligned box: front polygon at z = lo, back at z = hi."""
         (x0, y0, z0), (x1, y1, z1) = lo, hi
         front = [[x0, y0, z0], [x1, y0, z0], [x1, y1, z0], [x0, y1, z0]]

@@ -21,7 +21,7 @@ from __future__ import annotations
 
 from typing import Any, Sequence
 
-import fcl  # type: ignore[import-untyped]
+import fcl
 import numpy as np
 
 from valterm.core.cell.polyhedron import Polyhedron

@@ -44,7 +44,8 @@ def decode_text(data: bytes, path: str | Path, what: str) -> str:
         text = data.decode("utf-8-sig")
     except UnicodeDecodeError as error:
         line = data.count(b"\n", 0, error.start) + 1
-        raise FileFormatError(path, line, f"not a text {what} file (undecodable byte 0x{data[error.start]:02X})") from None
+        raise FileFormatError(path, line,
+                              f"not a text {what} file (undecodable byte 0x{data[error.start]:02X})") from None
     check_text(text, path, what)
     return text
 
@@ -87,7 +88,8 @@ def check_line_lengths(text: str, path: str | Path, what: str, limit: int = MAX_
     """Refuse the first line longer than ``limit`` characters, with its number."""
     for number, line in enumerate(text.splitlines(), start=1):
         if len(line) > limit:
-            raise FileFormatError(path, number, f"line is {len(line)} characters long (at most {limit} in a {what} file)")
+            raise FileFormatError(path, number,
+                                  f"line is {len(line)} characters long (at most {limit} in a {what} file)")
 
 
 def format_number(value: float) -> str:

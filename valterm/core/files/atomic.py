@@ -22,14 +22,15 @@ import os
 import re
 import secrets
 import stat
+import sys
 from pathlib import Path
 
 from valterm.core.files.errors import FileWriteError
 
-try:  # POSIX: a temporary being written is locked, so a second session never removes it
+# POSIX: a temporary being written is locked, so a second session never removes it.
+# Windows has no flock: there temporaries are not locked.
+if sys.platform != "win32":
     import fcntl
-except ImportError:  # pragma: no cover - Windows
-    fcntl = None  # type: ignore[assignment]
 
 TEMP_SUFFIX = ".tmp"
 _RANDOM_CHARS = 16  # hex digits of the temporary's random part
@@ -123,7 +124,7 @@ def remove_stale_temporaries(folder: str | Path) -> list[str]:
 
 
 def _lock(fd: int) -> None:
-    if fcntl is not None:
+    if sys.platform != "win32":
         try:
             fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except OSError:
@@ -132,19 +133,20 @@ def _lock(fd: int) -> None:
 
 def _in_use(path: str) -> bool:
     """True when another process holds the temporary's lock (it is being written)."""
-    if fcntl is None:
+    if sys.platform == "win32":
         return False
-    try:
-        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NOFOLLOW", 0))
-    except OSError:
+    else:  # a block of its own: mypy checks it only where fcntl exists
+        try:
+            fd = os.open(path, os.O_RDONLY | getattr(os, "O_NOFOLLOW", 0))
+        except OSError:
+            return False
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            return True
+        finally:
+            os.close(fd)
         return False
-    try:
-        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-    except OSError:
-        return True
-    finally:
-        os.close(fd)
-    return False
 
 
 def _unlink(path: Path) -> None:

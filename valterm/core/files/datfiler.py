@@ -28,7 +28,8 @@ def parse_datfiler(text: str, path: str | Path = DATFILER) -> list[str]:
             continue
         match = _ENTRY.fullmatch(entry)
         if match is None:
-            raise FileFormatError(path, number, f"{shown_name(line.strip())!r} is not a program name (1-9 letters or digits, then .DAT)")
+            raise FileFormatError(
+                path, number, f"{shown_name(line.strip())!r} is not a program name (1-9 letters or digits, then .DAT)")
         if match.group(1) not in names:
             names.append(match.group(1))
     return names

@@ -46,7 +46,8 @@ def check_location_name(name: str) -> str:
     upper = name.strip().upper()
     if not LOCATION_NAME.fullmatch(upper):
         raise BadName(
-            f"{shown_name(name)!r} is not a location name: a letter then up to 8 letters or digits (at most 9 characters)"
+            f"{shown_name(name)!r} is not a location name: "
+            "a letter then up to 8 letters or digits (at most 9 characters)"
         )
     return upper
 
@@ -54,7 +55,8 @@ def check_location_name(name: str) -> str:
 def _file_name(text: str) -> str:
     """A name as a location file may hold it: 1985, dotted V+, or a #precision point."""
     upper = text.strip().upper()
-    if (PRECISION_NAME.fullmatch(upper) or VPLUS_LOCATION_NAME.fullmatch(upper)) and len(upper.lstrip("#")) <= MAX_VPLUS_NAME:
+    vplus_name = PRECISION_NAME.fullmatch(upper) or VPLUS_LOCATION_NAME.fullmatch(upper)
+    if vplus_name and len(upper.lstrip("#")) <= MAX_VPLUS_NAME:
         return upper
     return check_location_name(text)
 

@@ -129,7 +129,8 @@ def parse_setup(text: str, name: str | Path) -> WorkCell:
     def need(what: str) -> tuple[int, list[str]]:
         found = lines.next()
         if found is None:
-            raise FileFormatError(where, lines.last_line + 1 if lines.last_line else 0, f"the file ends where {what} should be")
+            raise FileFormatError(where, lines.last_line + 1 if lines.last_line else 0,
+                                  f"the file ends where {what} should be")
         number, line = found
         return number, split_fields(line)
 
@@ -182,7 +183,8 @@ def _object_size(fields: list[str], where: Path, line: int, part: int) -> int:
     shown = _shown(fields, ",")
     if len(fields) != 2 or not all(f.isascii() and f.isdigit() for f in fields):
         if len(fields) == 3:
-            reason = f"object {part}: expected '1,N' (first and last vertex), found a point {shown!r}; is the vertex count wrong?"
+            reason = (f"object {part}: expected '1,N' (first and last vertex), found a point {shown!r}; "
+                      "is the vertex count wrong?")
         else:
             reason = f"object {part}: expected '1,N' (first and last vertex), not {shown!r}"
         raise FileFormatError(where, line, reason)
@@ -191,9 +193,11 @@ def _object_size(fields: list[str], where: Path, line: int, part: int) -> int:
     if first != 1:
         raise FileFormatError(where, line, f"object {part}: the first vertex must be 1, not {first}")
     if last % 2:
-        raise FileFormatError(where, line, f"object {part}: N = {last} is odd; the two polygons need the same number of vertices")
+        raise FileFormatError(where, line,
+                              f"object {part}: N = {last} is odd; the two polygons need the same number of vertices")
     if last < 8:
-        raise FileFormatError(where, line, f"object {part}: N = {last} is too few; each polygon needs at least 4 vertices (N >= 8)")
+        raise FileFormatError(where, line,
+                              f"object {part}: N = {last} is too few; each polygon needs at least 4 vertices (N >= 8)")
     return last
 
 
@@ -205,7 +209,8 @@ def _shown(fields: list[str], separator: str = " ") -> str:
 
 def _point(fields: list[str], where: Path, line: int, what: str) -> np.ndarray:
     if len(fields) != 3:
-        raise FileFormatError(where, line, f"{what}: expected 3 numbers (X, Y, Z), found {len(fields)}: {_shown(fields)!r}")
+        raise FileFormatError(where, line,
+                              f"{what}: expected 3 numbers (X, Y, Z), found {len(fields)}: {_shown(fields)!r}")
     return np.array([parse_number(f, where, line, what) for f in fields])
 
 
@@ -300,5 +305,6 @@ def write_setup(path: str | Path, cell: WorkCell) -> None:
         raise FileWriteError(path, f"{len(cell.objects)} objects are too many for a setup file (at most {MAX_PARTS})")
     largest = max((len(p.vertices) for p in cell.objects), default=0)
     if largest > MAX_VERTICES:
-        raise FileWriteError(path, f"an object of {largest} vertices is too large for a setup file (at most {MAX_VERTICES})")
+        raise FileWriteError(path,
+                             f"an object of {largest} vertices is too large for a setup file (at most {MAX_VERTICES})")
     write_text_atomic(path, format_setup(cell))

@@ -13,7 +13,8 @@ This is how Adept V+ (the successor of VAL-II) stores programs on disk:
 Each block becomes one ``Program`` (its steps are the lines between the header and
 ``.END``), the name kept as written, dotted names included, upper-cased as VAL-II names
 are. Its dialect is v+, unless the header's comment is ``; DIALECT 1985`` (how
-``valterm export-program`` marks a workspace program in the thesis's language). Lines outside blocks may only be blank or comments; other dot-directives in the file
+``valterm export-program`` marks a workspace program in the thesis's language). Lines outside
+blocks may only be blank or comments; other dot-directives in the file
 (``.LOCATIONS``, ``.REALS``, ``.STRINGS`` data sections) are skipped up to their ``.END``.
 """
 

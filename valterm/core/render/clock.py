@@ -10,7 +10,8 @@ from __future__ import annotations
 
 import math
 import time
-from typing import Callable, Generic, Iterable, Iterator, TypeVar
+from collections.abc import Callable, Iterable, Iterator
+from typing import Generic, TypeVar
 
 T = TypeVar("T")
 
@@ -65,7 +66,7 @@ class MotionPlayer(Generic[T]):
         if math.isinf(self.rate):
             return 1 << 62
         t = (self.clock() if now is None else now) - self.start_time
-        return int(math.floor(t * self.rate + 1e-9))
+        return math.floor(t * self.rate + 1e-9)
 
     def poll(self, now: float | None = None) -> T | None:
         """The pose to show now if it is a new one, else None.
@@ -87,11 +88,11 @@ class MotionPlayer(Generic[T]):
             self._next_index += 1
         if not self._has_pending:
             return None
-        pose = self._pending
+        latest = self._pending  # a T (the flag says so); T itself may admit None
         self._pending, self._has_pending = None, False
-        self.current, self.index = pose, self._next_index - 1
+        self.current, self.index = latest, self._next_index - 1
         self.shown += 1
-        return pose
+        return latest
 
     def skip_to_end(self) -> T | None:
         """Drop everything up to the last pose and return it (None if none left or aborted)."""

@@ -8,7 +8,7 @@ motions and the clamp's redraws have no line; HELP and the monitor commands (LIS
 
 from __future__ import annotations
 
-from typing import Sequence
+from collections.abc import Sequence
 
 from valterm.core.events import (
     Breakpoint,

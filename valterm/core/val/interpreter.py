@@ -210,10 +210,7 @@ class Interpreter:
 
     def compile_program(self, program: Program) -> CompiledProgram:
         vplus = VPLUS in (program.dialect, self.dialect)
-        if vplus:
-            analysis = analyse(program, self.commands, parse_vplus, VPLUS)
-        else:
-            analysis = analyse(program, self.commands)
+        analysis = analyse(program, self.commands, parse_vplus, VPLUS) if vplus else analyse(program, self.commands)
         builders = {**VPLUS_BUILDERS, **{k: v for k, v in self.builders.items() if k not in BUILDERS}} \
             if vplus else self.builders
         # Comment and empty steps do nothing: they get no op; a jump to one lands on the next op.
