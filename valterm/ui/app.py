@@ -77,6 +77,7 @@ class ValtermApp(App[int]):
         self.view_transform = ViewTransform()
         self.back_faces = False  # hidden surfaces removed until FACES (Table C-1)
         self.axes = False
+        self.setup_modified = False  # the cell moved since the set-up file was read or saved
         self.motion: MotionDriver[PoseEvent] = MotionDriver(self, self._on_pose, self._on_motion_done, clock=clock)
         self._source: Iterator[Event] | None = None
         self._target = None  # the screen that started the motion
@@ -108,6 +109,7 @@ class ValtermApp(App[int]):
         root = self.workspace_root if self.session is None else self.session.workspace.root
         session = Session(workspace_root=root, setup=setup)
         self.session = session
+        self.setup_modified = False
         self.view_transform = ViewTransform()
         self.fit_view()
         return session
@@ -204,6 +206,12 @@ class ValtermApp(App[int]):
             self.motion.abort()
         if source is not None and hasattr(source, "close"):
             source.close()  # the interpreter's generator ends where it stood
+
+    def action_quit(self) -> None:
+        """CTRL-Q: leave at once, or ask first when there is unsaved work (keymap rule 5)."""
+        from valterm.ui.screens.quit import confirm_quit
+
+        confirm_quit(self)
 
     def skip_motion(self) -> None:
         """Show the end of the running motion now (tests; an impatient user)."""

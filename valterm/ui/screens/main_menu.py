@@ -29,9 +29,29 @@ class MainMenuScreen(MenuScreen):
 
     def on_mount(self) -> None:
         super().on_mount()
+        self._say_setup()
+
+    def on_screen_resume(self) -> None:
+        super().on_screen_resume()
+        self._say_setup()  # a save-as in MANIPULATION renamed the set-up
+
+    def _say_setup(self) -> None:
         session = self.app.session
         if session is not None and session.setup_name:
-            self.say(f"SETUP FILE {session.setup_name}.SET WITH {len(session.simulator.cell.objects)} PARTS")
+            self.messages.new_turn()
+            state = " (NOT SAVED)" if self.app.setup_modified else ""
+            self.say(f"SETUP FILE {session.setup_name}.SET WITH {len(session.simulator.cell.objects)} PARTS{state}")
+
+    def escape_menu(self) -> None:
+        self.say("THIS IS THE MAIN MENU: S TO EXIT, ? OR F1 FOR HELP")
+
+    def _unsaved_then(self, what: str, then) -> None:  # type: ignore[no-untyped-def]
+        """B, I and S throw the moved layout away: ask first when it is not saved."""
+        if not self.app.setup_modified:
+            then()
+            return
+        self.ask_key(f"THE SET-UP IS NOT SAVED. {what} ANYWAY (Y/N) ?:",
+                     lambda k: then() if k == "Y" else self.say("SESSION CONTINUES"))
 
     # -- to the modes ---------------------------------------------------------------
     def action_keyboard(self) -> None:
@@ -72,9 +92,12 @@ class MainMenuScreen(MenuScreen):
     def action_begin(self) -> None:
         from valterm.ui.screens.start import StartScreen
 
-        self.app.switch_screen(StartScreen())
+        self._unsaved_then("START OVER", lambda: self.app.switch_screen(StartScreen()))
 
     def action_initialize(self) -> None:
+        self._unsaved_then("INITIALIZE", self._initialize)
+
+    def _initialize(self) -> None:
         name = self.app.session.setup_name if self.app.session else ""
         try:
             self.app.open_session(name or None)
@@ -92,7 +115,8 @@ class MainMenuScreen(MenuScreen):
             else:
                 self.say("SESSION CONTINUES")
 
-        self.ask_key("ARE YOU SURE YOU WANT TO EXIT (Y/N) ?:", answer)
+        unsaved = " THE SET-UP IS NOT SAVED." if self.app.setup_modified else ""
+        self.ask_key(f"{unsaved} ARE YOU SURE YOU WANT TO EXIT (Y/N) ?:".strip(), answer)
 
     def action_hardcopy(self) -> None:
         from valterm.ui.hardcopy import write_hardcopy
