@@ -50,3 +50,15 @@ def wrong_answer(event: events.Key, keys: str) -> str:
     """The one-line answer to a key that is not one of a question's answers."""
     choices = ", ".join(k for k in keys if k.isprintable() and k.strip())
     return f"'{key_name(event)}' IS NOT AN ANSWER: PRESS {choices} (ESC CANCELS)"
+
+
+def legend(node) -> list[tuple[str, str]]:  # type: ignore[no-untyped-def]
+    """(keys, what they do) of a screen's bindings, for HELP's key legend."""
+    rows: list[tuple[str, str]] = []
+    for binding in getattr(node, "BINDINGS", []):
+        key, description = (binding.key, binding.description) if hasattr(binding, "key") else (binding[0], binding[2])
+        shown = sorted({k.strip().upper().replace("QUESTION_MARK", "?") for k in key.split(",")})
+        rows.append(("/".join(shown), description.upper()))
+    rows += [("ESC", "CANCEL THE PROMPT; AT A MENU: BACK TO THE MAIN MENU"), ("? F1", "THIS HELP"),
+             ("CTRL-C", "ABORT A MOTION OR PROGRAM"), ("CTRL-Q", "LEAVE (ASKS WHEN WORK IS NOT SAVED)")]
+    return rows

@@ -195,13 +195,10 @@ class MenuScreen(Screen):
         self.app.run_events(_confirm_here(self.app.simulator, text, events_))
 
     def action_help(self) -> None:
-        from valterm.ui.screens import external_screen
+        from valterm.ui.screens.help import HelpScreen
 
-        screen = external_screen("help")
-        if screen is None:
-            self.say("HELP IS NOT AVAILABLE YET", "warning")
-        else:
-            self.app.push_screen(screen)
+        title = self.MENU.splitlines()[0] if self.MENU else ""
+        self.app.push_screen(HelpScreen(screen=title, keys=keymap.legend(self)))
 
     # -- questions --------------------------------------------------------------------
     @property
@@ -263,6 +260,8 @@ class MenuScreen(Screen):
             then = self._key_answer
             self._close_prompt()
             then(char)
+        elif keymap.is_help(event):
+            self.action_help()  # ? is no answer to a question: the screen's help
         elif not keymap.is_silent(event) and event.key != "ctrl+c":
             self.say(keymap.wrong_answer(event, self._keys), "warning")
 

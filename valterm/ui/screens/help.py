@@ -35,10 +35,13 @@ class HelpScreen(Screen[None]):
         Binding("escape", "leave", "Return", id="help.return"),
     ]
 
-    def __init__(self, topic: str = "", topics: HelpTopics | None = None) -> None:
+    def __init__(self, topic: str = "", topics: HelpTopics | None = None, *, screen: str = "",
+                 keys: list[tuple[str, str]] | None = None) -> None:
         super().__init__()
         self.topics = topics or default_help()
         self.first_topic = topic.strip()
+        self.screen_name = screen  # the screen HELP was asked from: its keys come first
+        self.keys = keys or []
         self.state = "topic?"  # topic? | topic | menu?
 
     def compose(self) -> ComposeResult:
@@ -78,8 +81,16 @@ class HelpScreen(Screen[None]):
         else:
             self.set_focus(None)
 
+    def key_legend(self) -> list[str]:
+        """The keys that work on the screen HELP was opened from."""
+        if not self.keys:
+            return []
+        width = max(len(k) for k, _ in self.keys)
+        head = f"KEYS OF THE {self.screen_name} SCREEN" if self.screen_name else "KEYS"
+        return [head, *(f"  {k.ljust(width)}  {what}" for k, what in self.keys), ""]
+
     def show_menu(self) -> None:
-        self._show(self.topics.menu())
+        self._show([*self.key_legend(), *self.topics.menu()])
         self._ask("topic?", ASK_TOPIC)
 
     def show_topic(self, word: str) -> None:
@@ -98,6 +109,9 @@ class HelpScreen(Screen[None]):
             return  # the topic field takes the keys
         key = (event.character or "").upper()
         if key not in ("Y", "N"):
+            if event.key not in ("escape", "up", "down", "pageup", "pagedown", "home", "end"):
+                self.query_one("#help-question", Static).update(
+                    f"{self.question.splitlines()[0]}\n'{key or event.key.upper()}': PRESS Y OR N (ESC RETURNS)")
             return
         event.stop()
         if self.state == "topic?":

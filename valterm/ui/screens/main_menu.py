@@ -82,8 +82,6 @@ class MainMenuScreen(MenuScreen):
     def action_valmode(self) -> None:
         self._external("valmode", "VAL-II MODE")
 
-    def action_help(self) -> None:
-        self._external("help", "HELP")
 
     def action_toggle_model(self) -> None:
         self.toggle_model()

@@ -61,6 +61,7 @@ class ManipulationScreen(MenuScreen):
         Binding("a,A", "axes", "Axes", id="manipulation.axes"),
         Binding("s,S", "stop", "Stop", id="manipulation.stop"),
         Binding("m,M", "model", "Model", id="manipulation.model"),
+        Binding("question_mark", "help", "Help", id="manipulation.help"),
     ]
 
     def __init__(self) -> None:

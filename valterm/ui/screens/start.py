@@ -36,6 +36,7 @@ class StartScreen(MenuScreen):
         Binding("i,I", "iges", "IGES file", id="start.iges"),
         Binding("u,U", "ugii", "UGII file", id="start.ugii"),
         Binding("e,E", "existing", "Existing file", id="start.existing"),
+        Binding("question_mark", "help", "Help", id="start.help"),
     ]
 
     def __init__(self, message: str = "") -> None:
