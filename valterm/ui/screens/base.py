@@ -11,6 +11,7 @@ from typing import Callable
 
 from textual import events
 from textual.app import ComposeResult
+from textual.binding import Binding
 from textual.containers import Horizontal, Vertical
 from textual.screen import Screen
 from textual.widgets import Input
@@ -34,6 +35,10 @@ class MenuScreen(Screen):
 
     AUTO_FOCUS = ""  # nothing focused: "" disables auto focus (None would inherit the app's)
     MENU = ""
+    BINDINGS = [
+        Binding("pagedown", "page(1)", "More of the menu", show=False, id="menu.page_down"),
+        Binding("pageup", "page(-1)", "Back in the menu", show=False, id="menu.page_up"),
+    ]
 
     def __init__(self) -> None:
         super().__init__()
@@ -277,6 +282,11 @@ class MenuScreen(Screen):
             self.action_help()
         elif event.key not in self.active_bindings and not keymap.is_silent(event):
             self.say(keymap.unknown_key(event), "warning")
+
+    def action_page(self, direction: int) -> None:
+        """PGDN / PGUP: the rest of a menu that does not fit (80x24)."""
+        if not self.menu.page(direction):
+            self.say("THE WHOLE MENU IS SHOWN")
 
     def prompt_cancelled(self) -> None:
         """ESC closed a prompt that names no way back: the screen's menu is shown again."""

@@ -39,8 +39,9 @@ class QuitScreen(ModalScreen[None]):
 
     DEFAULT_CSS = """
     QuitScreen { align: center middle; }
-    QuitScreen > Vertical { width: auto; max-width: 76; height: auto; border: heavy $warning;
+    QuitScreen > Vertical { width: 70; max-width: 100%; height: auto; border: heavy $warning;
                             padding: 0 1; background: $surface; }
+    QuitScreen Static { width: 100%; height: auto; }
     """
     AUTO_FOCUS = ""
 
