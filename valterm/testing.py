@@ -43,7 +43,21 @@ from pathlib import Path
 from types import TracebackType
 from typing import Any
 
+from textual import events
+
 __all__ = ["ScriptClock", "Simulation", "screen_rows"]
+
+
+_CHARACTERS = {"space": " ", "enter": "\r", "tab": "\t", "escape": "\x1b", "backspace": "\x7f",
+               "question_mark": "?", "plus": "+", "minus": "-", "comma": ",", "full_stop": ".",
+               "ctrl+c": "\x03"}
+
+
+def _character(key: str) -> str | None:
+    """The character a key types (None for keys that type nothing: arrows, F-keys)."""
+    if len(key) == 1:
+        return key
+    return _CHARACTERS.get(key)
 
 
 class ScriptClock:
@@ -119,6 +133,21 @@ class Simulation:
         for key in keys:
             await self.pilot.press(key)
             await self.pilot.pause(pace or None)
+
+    async def burst(self, *keys: str) -> None:
+        """Queue keys all at once, as a fast typist or a paste does, then wait for the app.
+
+        Much faster than ``press`` (one wait for the lot); keys by the same names.
+        """
+        for key in keys:
+            self.app.post_message(events.Key(key, _character(key)))
+        await self.pilot.pause()
+
+    async def paste(self, text: str) -> None:
+        """Paste ``text`` (bracketed paste) into whatever has the focus."""
+        target = self.app.focused or self.screen
+        target.post_message(events.Paste(text))
+        await self.pilot.pause()
 
     async def type(self, text: str, *, enter: bool = False, pace: float = 0.0) -> None:
         """Type ``text`` a character at a time (then RETURN when ``enter``)."""

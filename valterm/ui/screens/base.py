@@ -293,7 +293,13 @@ class MenuScreen(Screen):
 
     def escape_menu(self) -> None:
         """ESC at this screen's menu: back to the MAIN MENU (MAIN itself stays)."""
-        self.app.pop_screen()
+        self.leave()
+
+    def leave(self) -> None:
+        """Back to the screen below, if this one is on top (a key typed ahead of a screen change
+        must not close another screen) and never below the first menu screen."""
+        if self.app.screen is self and len(self.app.screen_stack) > 2:
+            self.app.pop_screen()
 
 
 def _confirm_here(simulator, text: str, events_):  # type: ignore[no-untyped-def]

@@ -22,6 +22,7 @@ from textual.screen import Screen
 from textual.widgets import Input, Static
 
 from valterm.core.editor import EDITOR_MENU, EditorError, ProgramEditor
+from valterm.core.errors import ValtermError
 from valterm.core.files.programs import LABEL_COLUMNS
 from valterm.ui import keymap
 from valterm.ui.widgets.prompt import type_ahead
@@ -159,7 +160,7 @@ class EditorScreen(Screen[None]):
     def open_program(self, typed: str) -> bool:
         try:
             self.editor = ProgramEditor(self.workspace, typed)
-        except (EditorError, ValueError) as error:
+        except (ValtermError, ValueError) as error:  # a refused name (WorkspaceError) too
             self.say(str(error).upper())
             self._prompt("name", "EDIT", "PROGRAM NAME, e.g. TEST.DAT")
             return False
@@ -235,7 +236,7 @@ class EditorScreen(Screen[None]):
             self.say(f"SAVE THE CHANGES TO {self.editor.name}.DAT (Y/N) ?")
             return
         self._unlist_if_never_saved()
-        self.dismiss(None)
+        self.close()
 
     def _leave(self, save: bool) -> None:
         assert self.editor is not None
@@ -244,7 +245,7 @@ class EditorScreen(Screen[None]):
         else:
             self.editor.discard()
             self._unlist_if_never_saved()
-        self.dismiss(None)
+        self.close()
 
     def _unlist_if_never_saved(self) -> None:
         """A program opened new and never saved leaves DATFILER.DAT (LISTF shows no ghosts)."""
@@ -274,7 +275,7 @@ class EditorScreen(Screen[None]):
         elif self.mode == "menu":
             self.action_exit()
         elif self.editor is None:
-            self.dismiss(None)
+            self.close()
 
     # -- lines typed ----------------------------------------------------------------------
     def on_input_submitted(self, event: Input.Submitted) -> None:
@@ -315,7 +316,7 @@ class EditorScreen(Screen[None]):
                 self._refresh_listing(number)
                 self.insert_at = number + 1  # the next line goes in after it
                 self._prompt("insert-line", editor.prompt(self.insert_at))
-        except EditorError as error:
+        except ValtermError as error:
             # rejected: the line stays in the field to be corrected (nothing typed is lost)
             self.say(f"REJECTED: {error}")
 
@@ -325,3 +326,9 @@ class EditorScreen(Screen[None]):
         if not text.isdigit():
             raise EditorError(f"{typed.strip() or 'NOTHING'} IS NOT A STEP NUMBER")
         return int(text)
+
+    def close(self) -> None:
+        """Dismiss this screen if it is still the one on top: keys typed ahead reach a screen's
+        queue before it closes, and a second close must not close the screen below."""
+        if self.app.screen is self:
+            self.dismiss(None)

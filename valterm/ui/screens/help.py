@@ -66,11 +66,15 @@ class HelpScreen(Screen[None]):
         return str(self.query_one("#help-question", Static).content)
 
     def _show(self, lines: list[str] | tuple[str, ...]) -> None:
+        if not self.query("#help-text"):
+            return  # closed again before it was shown (ESC typed ahead of the screen)
         self.query_one("#help-text", Static).update("\n".join(lines))
         self.query_one("#help-scroll", VerticalScroll).scroll_home(animate=False)
 
     def _ask(self, state: str, question: str) -> None:
         self.state = state
+        if not self.query("#help-question"):
+            return
         self.query_one("#help-question", Static).update(question)
         field = self.query_one("#help-topic", Input)
         asking = state == "topic"
@@ -137,4 +141,10 @@ class HelpScreen(Screen[None]):
         if self.state == "topic":
             self._ask("topic?", ASK_TOPIC)
             return
-        self.dismiss(None)
+        self.close()
+
+    def close(self) -> None:
+        """Dismiss this screen if it is still the one on top: keys typed ahead reach a screen's
+        queue before it closes, and a second close must not close the screen below."""
+        if self.app.screen is self:
+            self.dismiss(None)

@@ -169,7 +169,7 @@ class KeyboardScreen(MenuScreen):
 
     # -- R, M, V ------------------------------------------------------------------------
     def action_return(self) -> None:
-        self.app.pop_screen()
+        self.leave()
 
     def action_model(self) -> None:
         self.toggle_model()

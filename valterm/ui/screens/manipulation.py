@@ -90,7 +90,7 @@ class ManipulationScreen(MenuScreen):
         count = len(self.app.simulator.cell.objects)
         if count == 0:
             self.say("THERE ARE NO PARTS IN THIS CELL", "warning")
-            self.ask_key("PRESS R TO RETURN:", lambda _k: self.app.pop_screen(), "R")
+            self.ask_key("PRESS R TO RETURN:", lambda _k: self.leave(), "R")
             return
         self.ask_line(f"ENTER PART NUMBER TO BE MOVED (1-{count}):", self._part, cancel=self._end)
 
@@ -258,4 +258,4 @@ class ManipulationScreen(MenuScreen):
 
     def _back(self) -> None:
         self.part_axes = None
-        self.app.pop_screen()
+        self.leave()

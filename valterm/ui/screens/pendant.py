@@ -90,7 +90,7 @@ class PendantScreen(MenuScreen):
         self.update_readout()
 
     def action_return(self) -> None:
-        self.app.pop_screen()
+        self.leave()
 
     def action_model(self) -> None:
         self.toggle_model()

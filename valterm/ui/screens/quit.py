@@ -61,4 +61,10 @@ class QuitScreen(ModalScreen[None]):
         if char == "Y":
             self.app.exit(0)
         elif char == "N" or event.key == "escape":
+            self.close()
+
+    def close(self) -> None:
+        """Dismiss this screen if it is still the one on top: keys typed ahead reach a screen's
+        queue before it closes, and a second close must not close the screen below."""
+        if self.app.screen is self:
             self.dismiss(None)

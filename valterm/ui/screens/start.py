@@ -49,6 +49,9 @@ class StartScreen(MenuScreen):
         if self._first_message:
             self.say(self._first_message, "error")
 
+    def escape_menu(self) -> None:
+        self.say('PRESS "I", "U" OR "E" (RETURN THEN READS PROCESS); ? OR F1 FOR HELP')
+
     # -- E_XISTING FILE ---------------------------------------------------------------
     def action_existing(self) -> None:
         self.ask_line(f"ENTER SET-UP FILE NAME (RETURN: {DEFAULT_SETUP}):", self._existing)
