@@ -103,8 +103,9 @@ class KeyboardScreen(MenuScreen):
             super().on_key(event)
             return
         if self.listing:
+            # any key brings the menu back; a menu key also does its work
             self._restore_menu()
-            if event.key in ("space", "enter", "escape"):
+            if event.key not in self.active_bindings:
                 event.stop()
                 event.prevent_default()
             return

@@ -26,7 +26,7 @@ def status_fields(app) -> list[tuple[str, str]]:  # type: ignore[no-untyped-def]
     sim = session.simulator
     name = f"{session.setup_name}.SET" if session.setup_name else "(NO NAME)"
     saved = "NOT SAVED" if getattr(app, "setup_modified", False) else "SAVED"
-    fields.append((f"{name} {saved}", f"{name} {'*' if saved == 'NOT SAVED' else ''}".strip()))
+    fields.append((f"{name} {saved}", f"{name} UNSAVED" if saved == "NOT SAVED" else name))
     fields.append((f"SPEED {sim.speed:g}", f"SP {sim.speed:g}"))
     on = "ON" if sim.collision_checks else "OFF"
     fields.append((f"COLLISION CHECKS {on}", f"COLL {on}"))
@@ -36,8 +36,8 @@ def status_fields(app) -> list[tuple[str, str]]:  # type: ignore[no-untyped-def]
     fields.append((f"AXES {axes}", f"AXES {axes}"))
     user = sim.config.words
     arm = arm_configuration(sim)
-    fields.append((f"CONFIG {' '.join(user)}", "CFG " + "/".join(_short(w) for w in user)))
-    fields.append((f"ARM {' '.join(arm)}", "ARM " + "/".join(_short(w) for w in arm)))
+    fields.append((f"CONFIG {' '.join(user)}", "CFG " + "".join(_short(w) for w in user)))
+    fields.append((f"ARM {' '.join(arm)}", "ARM " + "".join(_short(w) for w in arm)))
     fields.append((HELP_HINT, "? HELP"))
     return fields
 
@@ -59,11 +59,11 @@ def status_text(app, width: int) -> str:  # type: ignore[no-untyped-def]
 
 
 class StatusLine(Static):
-    DEFAULT_CSS = "StatusLine { height: 1; background: $boost; color: $text-muted; padding: 0 1; }"
+    DEFAULT_CSS = "StatusLine { height: 1; background: $boost; color: $text-muted; padding: 0 0; }"
 
     @property
     def text(self) -> str:
-        return status_text(self.app, max(self.size.width - 2, 20))
+        return status_text(self.app, max(self.size.width, 20))
 
     def render(self) -> str:
         return self.text
