@@ -15,6 +15,7 @@ import time
 from pathlib import Path
 
 import pytest
+
 from valterm.testing import Simulation
 from valterm.ui.screens.main_menu import MainMenuScreen
 from valterm.ui.screens.quit import QuitScreen

@@ -41,7 +41,7 @@ import math
 import re
 from pathlib import Path
 from types import TracebackType
-from typing import Any
+from typing import Any, Self
 
 from textual import events
 
@@ -117,7 +117,7 @@ class Simulation:
         self._context: Any = None
         self.pilot: Any = None
 
-    async def __aenter__(self) -> "Simulation":
+    async def __aenter__(self) -> Self:
         self._context = self.app.run_test(size=self.size)
         self.pilot = await self._context.__aenter__()
         await self.pilot.pause()
