@@ -305,3 +305,18 @@ def test_here_confirms_and_configuration_change_is_announced(tmp_path: Path) -> 
             assert any(line.startswith("ARM CONFIGURATION CHANGED: ") for line in sim.messages())
 
     run(body())
+
+
+def test_long_listing_lines_wrap_not_cut(tmp_path: Path) -> None:
+    long_step = "TYPE " + "A VERY LONG MESSAGE " * 4
+    (tmp_path / "LONG.DAT").write_text(f" {long_step.strip()}\n STOP\n")
+
+    async def body() -> None:
+        async with Simulation(tmp_path, size=(80, 24)) as sim:
+            await sim.press("K", "L")
+            await sim.type("LISTP LONG", enter=True)
+            text = " ".join(row.strip() for row in sim.rows())
+            assert " ".join(long_step.split()) in " ".join(text.split())
+            assert all(len(row) <= 80 for row in sim.rows())
+
+    run(body())

@@ -35,6 +35,7 @@ class MenuScreen(Screen):
 
     AUTO_FOCUS = ""  # nothing focused: "" disables auto focus (None would inherit the app's)
     MENU = ""
+    SCREEN_NAME = ""  # HELP's name for the screen (the menu's title when empty)
     BINDINGS = [
         Binding("pagedown", "page(1)", "More of the menu", show=False, id="menu.page_down"),
         Binding("pageup", "page(-1)", "Back in the menu", show=False, id="menu.page_up"),
@@ -202,7 +203,7 @@ class MenuScreen(Screen):
     def action_help(self) -> None:
         from valterm.ui.screens.help import HelpScreen
 
-        title = self.MENU.splitlines()[0] if self.MENU else ""
+        title = self.SCREEN_NAME or (self.MENU.splitlines()[0] if self.MENU else "")
         self.app.push_screen(HelpScreen(screen=title, keys=keymap.legend(self)))
 
     # -- questions --------------------------------------------------------------------

@@ -3,6 +3,8 @@ faces, ORIENT, axes, the model, one VAL-II command."""
 
 from __future__ import annotations
 
+import textwrap
+
 from textual import events
 from textual.app import ComposeResult
 from textual.binding import Binding
@@ -90,7 +92,10 @@ class KeyboardScreen(MenuScreen):
         except core_errors() as error:
             self.say(error_text(error), "error")
             return
-        self.menu.set_text("\n".join([*lines, "", "PRESS ANY KEY FOR THE MENU"]))
+        width = max(min(self.app.size.width - 4, 74), 20)  # long lines wrap, never cut (issue 17)
+        wrapped = [part for line in lines
+                   for part in (textwrap.wrap(line, width, subsequent_indent="      ") or [""])]
+        self.menu.set_text("\n".join([*wrapped, "", "PRESS ANY KEY FOR THE MENU"]))
         self.listing = True
         self.show_model(False)
 

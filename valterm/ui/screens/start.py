@@ -31,6 +31,7 @@ class Transfer:
 
 
 class StartScreen(MenuScreen):
+    SCREEN_NAME = "START"
     MENU = f"{TITLE}\n\n{COPYRIGHT}\n* VAL-II is a trademark of Unimation, Inc.\n\n{START_MENU}"
     BINDINGS = [
         Binding("i,I", "iges", "IGES file", id="start.iges"),
