@@ -15,6 +15,7 @@ from textual.screen import Screen
 from textual.widgets import Input, Static
 
 from valterm.core.val.helptopics import HelpTopics, default_help
+from valterm.ui.widgets.status import StatusLine
 
 ASK_TOPIC = "DO YOU NEED MORE INFORMATION ON A SPECIFIC TOPIC (Y/N) ?"
 ASK_MENU = "DO YOU WANT THE HELP MENU DISPLAYED AGAIN (Y/N) ?"
@@ -49,6 +50,7 @@ class HelpScreen(Screen[None]):
             yield Static(id="help-text")
         yield Static(id="help-question")
         yield Input(id="help-topic", placeholder="TOPIC (e.g. MOVE)")
+        yield StatusLine(id="status")
 
     def on_mount(self) -> None:
         if self.first_topic:
