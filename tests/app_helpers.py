@@ -6,17 +6,12 @@ import math
 from pathlib import Path
 
 from valterm.core.session import Session
+from valterm.testing import ScriptClock, screen_rows
 from valterm.ui.app import ValtermApp
 
 
-class FakeClock:
-    """The pacing clock, stepped by hand."""
-
-    def __init__(self) -> None:
-        self.t = 1000.0
-
-    def __call__(self) -> float:
-        return self.t
+class FakeClock(ScriptClock):
+    """The pacing clock, stepped by hand (``valterm.testing.ScriptClock``)."""
 
 
 def make_app(tmp_path: Path, *, rate: float = math.inf, clock=None, start: bool = False) -> ValtermApp:  # type: ignore[no-untyped-def]
@@ -30,9 +25,8 @@ def make_app(tmp_path: Path, *, rate: float = math.inf, clock=None, start: bool 
 
 
 def screen_text(app: ValtermApp) -> str:
-    """What the terminal shows, as plain text (one line per row)."""
-    strips = app.screen._compositor.render_strips()
-    return "\n".join("".join(segment.text for segment in strip).rstrip() for strip in strips)
+    """What the terminal shows, as plain text (one line per row; public API only)."""
+    return "\n".join(screen_rows(app))
 
 
 def sync(test):  # type: ignore[no-untyped-def]

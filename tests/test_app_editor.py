@@ -47,8 +47,9 @@ def test_type_a_program_delete_insert_save_exit(tmp_path: Path) -> None:
                 await pilot.press("enter")
             assert [s.text for s in screen.editor.steps] == ["MOVE A", "MOVE B", "CLOSEI 50", "STOP"]
             assert "   3.     CLOSEI 50" in screen.listing
+            # the line stays open after each accepted step (issue 17 item 3)
+            assert screen.prompt == "S. 5>"
             # a bad line is rejected and stays to be corrected
-            await pilot.press("c")
             await type_text(pilot, " FLY")
             await pilot.press("enter")
             assert "REJECTED" in screen.message
@@ -60,11 +61,13 @@ def test_type_a_program_delete_insert_save_exit(tmp_path: Path) -> None:
             assert screen.prompt == "S. 3>"
             await type_text(pilot, " MOVE E")
             await pilot.press("enter")
+            assert screen.prompt == "S. 4>"  # the next inserted line goes after it
+            await pilot.press("escape")
             assert [s.text for s in screen.editor.steps] == ["MOVE A", "MOVE B", "MOVE E", "STOP"]
             # a label, TAB to column 5
             await pilot.press("c", "2", "0", "tab")
             await type_text(pilot, "TYPE DONE")
-            await pilot.press("enter")
+            await pilot.press("enter", "escape")
             assert screen.editor.steps[-1].label == 20
             await pilot.press("s")
             assert "TEST.DAT SAVED" in screen.message
@@ -87,13 +90,13 @@ def test_wrong_key_saves_and_exit_asks(tmp_path: Path) -> None:
             await pilot.pause()
             await pilot.press("c")
             await type_text(pilot, " READY")
-            await pilot.press("enter")
+            await pilot.press("enter", "escape")
             await pilot.press("q")
             assert "'Q' IS NOT AN EDITOR COMMAND" in screen.message
             assert (tmp_path / "ws" / "NEW1.DAT").exists()
             await pilot.press("space")  # a space starts the next step in the label columns
             await type_text(pilot, "STOP")
-            await pilot.press("enter")
+            await pilot.press("enter", "escape")
             await pilot.press("e")
             assert "(Y/N)" in screen.message
             await pilot.press("n")

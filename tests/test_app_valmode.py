@@ -49,7 +49,7 @@ def test_editor_then_define_execute_abort_and_rerun(tmp_path: Path) -> None:
             await pilot.press("c")
             for line in (" READY", " LEFTY", " TYPE GOING TO A", " MOVE A", " CLOSEI 50", " MOVE B", " STOP"):
                 await typed(pilot, line)
-            await pilot.press("s", "e")
+            await pilot.press("escape", "s", "e")  # ESC closes the step line (issue 17)
             await pilot.pause()
 
             screen = ValModeScreen()

@@ -62,6 +62,7 @@ class ValtermApp(App[int]):
         self.back_faces = False  # hidden surfaces removed until FACES (Table C-1)
         self.axes = False
         self.player = Player(self, clock=clock, rate=motion_rate)
+        self.setup_modified = False  # the cell moved since the set-up file was read or saved
         self._workspace: Workspace | None = None  # the workspace before any session (start screen)
 
     # -- starting ------------------------------------------------------------------
@@ -96,6 +97,7 @@ class ValtermApp(App[int]):
         root = self.workspace_root if self.session is None else self.session.workspace.root
         session = Session(workspace_root=root, setup=setup)
         self.session = session
+        self.setup_modified = False
         self.view_transform = ViewTransform()
         self.fit_view()
         return session
@@ -144,6 +146,12 @@ class ValtermApp(App[int]):
     def action_abort(self) -> None:
         """CTRL-C: abort the running program or motion (§6.4.10)."""
         self.player.abort()
+
+    def action_quit(self) -> None:
+        """CTRL-Q: leave at once, or ask first when there is unsaved work (keymap rule 5)."""
+        from valterm.ui.screens.quit import confirm_quit
+
+        confirm_quit(self)
 
     def skip_motion(self) -> None:
         """Show the end of what is playing now (tests; an impatient user)."""

@@ -11,11 +11,13 @@ from typing import Callable
 
 from textual import events
 from textual.app import ComposeResult
+from textual.binding import Binding
 from textual.containers import Horizontal, Vertical
 from textual.screen import Screen
 from textual.widgets import Input
 
-from valterm.core.events import Event, Help, Pause
+from valterm.core.events import Event, Help, Message, Pause
+from valterm.ui import keymap
 from valterm.ui.errors import problem_text
 from valterm.ui.messages import SceneChanged
 from valterm.ui.screens.help import HelpScreen
@@ -24,6 +26,7 @@ from valterm.ui.widgets.cell_view import CellView
 from valterm.ui.widgets.menu_text import MenuText
 from valterm.ui.widgets.message_log import MessageLog
 from valterm.ui.widgets.prompt import Prompt, type_ahead
+from valterm.ui.widgets.status import StatusLine, arm_configuration
 
 WIDE = 100  # columns from which the model is shown beside the menu
 
@@ -33,6 +36,11 @@ class MenuScreen(Screen):
 
     AUTO_FOCUS = ""  # nothing focused: "" disables auto focus (None would inherit the app's)
     MENU = ""
+    SCREEN_NAME = ""  # HELP's name for the screen (the menu's title when empty)
+    BINDINGS = [
+        Binding("pagedown", "page(1)", "More of the menu", show=False, id="menu.page_down"),
+        Binding("pageup", "page(-1)", "Back in the menu", show=False, id="menu.page_up"),
+    ]
 
     def __init__(self) -> None:
         super().__init__()
@@ -52,6 +60,7 @@ class MenuScreen(Screen):
         yield from self.compose_readout()
         yield MessageLog(id="messages")
         yield Prompt(id="prompt")
+        yield StatusLine(id="status")
 
     def compose_readout(self) -> ComposeResult:
         """The readout under the body (none by default)."""
@@ -114,6 +123,19 @@ class MenuScreen(Screen):
     def redraw(self) -> None:
         self.model_view.update_scene(self.app.scene(self.part_axes))
         self.update_readout()
+        self.update_status()
+
+    def update_status(self) -> None:
+        """The status line again, and a word when the arm changed configuration (§6.5)."""
+        self.query_one("#status", StatusLine).refresh()
+        if self.app.session is None:
+            return
+        arm = arm_configuration(self.app.simulator)
+        before = getattr(self.app, "_arm_shown", None)
+        self.app._arm_shown = arm
+        if before is not None and before != arm:
+            changed = [f"{a} TO {b}" for a, b in zip(before, arm) if a != b]
+            self.say("ARM CONFIGURATION CHANGED: " + ", ".join(changed), "warning")
 
     def update_readout(self) -> None:
         """Subclasses keep their readout current here."""
@@ -151,6 +173,7 @@ class MenuScreen(Screen):
 
     def say(self, text: str, level: str = "info") -> None:
         self.messages.say(text, level)
+        self.query_one("#status", StatusLine).refresh()
 
     # -- shared keys: V (one VAL-II command) and ? (help) ------------------------------
     def action_val(self) -> None:
@@ -167,10 +190,11 @@ class MenuScreen(Screen):
             return
         self.say(f"    {text.upper()}")
         self.show_model_if_narrow()
-        self.app.run_events(events_, self)
+        self.app.run_events(_confirm_here(self.app.simulator, text, events_), self)
 
     def action_help(self) -> None:
-        self.app.push_screen(HelpScreen())
+        title = self.SCREEN_NAME or (self.MENU.splitlines()[0] if self.MENU else "")
+        self.app.push_screen(HelpScreen(screen=title, keys=keymap.legend(self)))
 
     # -- questions --------------------------------------------------------------------
     @property
@@ -208,16 +232,17 @@ class MenuScreen(Screen):
         then(event.value.strip())
 
     def on_key(self, event: events.Key) -> None:
-        """While a question waits, its keys (and ESCAPE) go to it, not to the menu."""
+        """The keyboard model (valterm.ui.keymap): a prompt's keys go to it, never to the menu."""
+        self.messages.new_turn()
         if not self.asking:
+            self._menu_key(event)
             return
-        if event.key == "escape":
+        if event.key == keymap.CANCEL_KEY:
             event.stop()
             event.prevent_default()
             cancel = self._cancel_answer
             self._close_prompt()
-            if cancel is not None:
-                cancel()
+            (cancel or self.prompt_cancelled)()
             return
         if self._key_answer is None:
             type_ahead(event, self.query_one(Prompt).query_one("#answer", Input))
@@ -231,3 +256,47 @@ class MenuScreen(Screen):
             then = self._key_answer
             self._close_prompt()
             then(char)
+        elif keymap.is_help(event):
+            self.action_help()  # ? is no answer to a question: the screen's help
+        elif not keymap.is_silent(event) and event.key != "ctrl+c":
+            self.say(keymap.wrong_answer(event, self._keys), "warning")
+
+    def _menu_key(self, event: events.Key) -> None:
+        """A key at the menu: ESC returns, ? and F1 help, a key bound nowhere is answered."""
+        if event.key == keymap.CANCEL_KEY:
+            event.stop()
+            event.prevent_default()
+            self.escape_menu()
+        elif event.key == "f1":
+            event.stop()
+            event.prevent_default()
+            self.action_help()
+        elif event.key not in self.active_bindings and not keymap.is_silent(event):
+            self.say(keymap.unknown_key(event), "warning")
+
+    def action_page(self, direction: int) -> None:
+        """PGDN / PGUP: the rest of a menu that does not fit (80x24)."""
+        if not self.menu.page(direction):
+            self.say("THE WHOLE MENU IS SHOWN")
+
+    def prompt_cancelled(self) -> None:
+        """ESC closed a prompt that names no way back: the screen's menu is shown again."""
+
+    def escape_menu(self) -> None:
+        """ESC at this screen's menu: back to the MAIN MENU (MAIN itself stays)."""
+        self.leave()
+
+    def leave(self) -> None:
+        """Back to the screen below, if this one is on top (a key typed ahead of a screen change
+        must not close another screen) and never below the first menu screen."""
+        if self.app.screen is self and len(self.app.screen_stack) > 2:
+            self.app.pop_screen()
+
+
+def _confirm_here(simulator, text: str, events_):  # type: ignore[no-untyped-def]
+    """HERE name: after it is done, say what was taught (the VS11 said nothing)."""
+    words = text.upper().replace(",", " ").split()
+    yield from events_
+    if len(words) == 2 and words[0] == "HERE" and words[1] in simulator.locations:
+        xyz = ", ".join(f"{v:.2f}" for v in simulator.locations[words[1]].xyz)
+        yield Message(f"LOCATION {words[1]} TAUGHT HERE ({xyz})")

@@ -2,9 +2,14 @@
 
 First the ``EDIT NAME`` line (``EDIT TEST.DAT`` or just ``TEST``); then single keys:
 C continue with the next step, I insert, D delete, S save, E exit. A space, a TAB or a
-digit in the menu starts the next step too, label columns first (that is how the example
-session types `` MOVE B`` straight after `` MOVE A``). Any other key is a wrong key: it is
-named and the program saved (§5.2). All the work is done by ``valterm.core.editor``.
+digit in the menu starts the next step too, label columns first. Any other key is a wrong
+key: it is named and the program saved (§5.2). All the work is done by ``valterm.core.editor``.
+
+The keyboard model (valterm.ui.keymap): after an accepted step the line stays open with the
+next ``S. n>`` prompt, so a program typed line after line never has a line taken as menu
+keys; ESC (or RETURN on an empty line) closes the line and returns to the editor menu. ESC
+at the menu is E_XIT. A new program never saved is taken off DATFILER.DAT when the editor
+is left.
 """
 
 from __future__ import annotations
@@ -19,7 +24,9 @@ from textual.widgets import Input, Static
 from valterm.core.editor import EDITOR_MENU, EditorError, ProgramEditor
 from valterm.core.errors import ValtermError
 from valterm.core.files.programs import LABEL_COLUMNS
+from valterm.ui import keymap
 from valterm.ui.widgets.prompt import type_ahead
+from valterm.ui.widgets.status import StatusLine
 
 MENU_KEYS = {"c": "create", "i": "insert", "d": "delete", "s": "save", "e": "exit"}
 RULER = "LBL STATEMENT (COLUMNS 1-4: STEP LABEL, TAB: TO COLUMN 5)"
@@ -88,6 +95,7 @@ class EditorScreen(Screen[None]):
         with Horizontal(id="editor-prompt-row"):
             yield Static("EDIT", id="editor-prompt")
             yield StepInput(id="editor-line", placeholder="TEST.DAT")
+        yield StatusLine(id="status")
 
     def on_mount(self) -> None:
         if self.first_name:
@@ -116,6 +124,7 @@ class EditorScreen(Screen[None]):
 
     def say(self, *lines: str) -> None:
         self.query_one("#editor-message", Static).update("\n".join(lines))
+        self.query_one("#status", StatusLine).refresh()
 
     def _prompt(self, mode: str, prompt: str, placeholder: str = "", start: str = "") -> None:
         self.mode = mode
@@ -156,7 +165,7 @@ class EditorScreen(Screen[None]):
             self._prompt("name", "EDIT", "PROGRAM NAME, e.g. TEST.DAT")
             return False
         self.say(*(self.editor.messages or [f"{self.editor.name}.DAT: {len(self.editor.steps)} STEPS"]),
-                 "C CONTINUE  I INSERT  D DELETE  S SAVE  E EXIT")
+                 "C CONTINUE  I INSERT  D DELETE  S SAVE  E EXIT  ? HELP")
         self._refresh_listing()
         self._menu()
         return True
@@ -167,12 +176,21 @@ class EditorScreen(Screen[None]):
             return
         if self.mode == "save?":
             answer = (event.character or "").upper()
-            if answer in ("Y", "N"):
+            if event.key != "escape":
                 event.stop()
                 event.prevent_default()
+            if answer in ("Y", "N"):
                 self._leave(save=answer == "Y")
+            elif event.key != "escape" and not keymap.is_silent(event):
+                self.say(f"SAVE THE CHANGES TO {self.editor.name}.DAT (Y/N) ?",  # type: ignore[union-attr]
+                         keymap.wrong_answer(event, "YN"))
             return
         if self.mode != "menu" or event.key == "escape":
+            return
+        if keymap.is_help(event):
+            event.stop()
+            event.prevent_default()
+            self.action_help()
             return
         char = event.character or ""
         event.stop()
@@ -185,7 +203,7 @@ class EditorScreen(Screen[None]):
         elif char == " " or char.isdigit():
             self._next_line(char)  # the label columns of the next step
         elif self.editor is not None:
-            self.say(self.editor.wrong_key(char or event.key))
+            self.say(self.editor.wrong_key(char or event.key), keymap.HELP_HINT)
             self._refresh_listing()
 
     def check_action(self, action: str, parameters: tuple[object, ...]) -> bool | None:
@@ -217,7 +235,8 @@ class EditorScreen(Screen[None]):
             self.mode = "save?"
             self.say(f"SAVE THE CHANGES TO {self.editor.name}.DAT (Y/N) ?")
             return
-        self.dismiss(None)
+        self._unlist_if_never_saved()
+        self.close()
 
     def _leave(self, save: bool) -> None:
         assert self.editor is not None
@@ -225,17 +244,38 @@ class EditorScreen(Screen[None]):
             self.editor.save()
         else:
             self.editor.discard()
-        self.dismiss(None)
+            self._unlist_if_never_saved()
+        self.close()
+
+    def _unlist_if_never_saved(self) -> None:
+        """A program opened new and never saved leaves DATFILER.DAT (LISTF shows no ghosts)."""
+        from valterm.core.files.datfiler import read_datfiler, write_datfiler
+
+        editor = self.editor
+        if editor is None or not editor.new or editor.path.exists():
+            return
+        path = self.workspace.path("DATFILER", "DAT")
+        names = read_datfiler(path) if path.exists() else []
+        if editor.name in names:
+            write_datfiler(path, [n for n in names if n != editor.name])
+
+    def action_help(self) -> None:
+        from valterm.ui.screens.help import HelpScreen
+
+        self.app.push_screen(HelpScreen(screen="EDITOR", keys=keymap.legend(self)))
 
     def action_cancel(self) -> None:
+        """ESC: the open line closes (editor menu); at the menu ESC is E_XIT."""
         if self.mode in ("line", "insert", "delete", "insert-line") and self.editor is not None:
-            self.say("")
+            self.say("LINE CLOSED: C CONTINUE  I INSERT  D DELETE  S SAVE  E EXIT  ? HELP")
             self._menu()
         elif self.mode == "save?":
             self._menu()
             self.say("")
+        elif self.mode == "menu":
+            self.action_exit()
         elif self.editor is None:
-            self.dismiss(None)
+            self.close()
 
     # -- lines typed ----------------------------------------------------------------------
     def on_input_submitted(self, event: Input.Submitted) -> None:
@@ -248,10 +288,13 @@ class EditorScreen(Screen[None]):
         assert editor is not None
         try:
             if self.mode == "line":
+                if not typed.strip():
+                    self.action_cancel()  # RETURN on an empty line: back to the menu
+                    return
                 number = editor.append(typed)
-                self.say(f"STEP {number} ACCEPTED")
+                self.say(f"STEP {number} ACCEPTED (ESC OR AN EMPTY LINE: EDITOR MENU)")
                 self._refresh_listing(number)
-                self._menu()
+                self._next_line("")  # the line stays open: typed lines are never menu keys
             elif self.mode == "delete":
                 number = self._number(typed)
                 removed = editor.delete(number)
@@ -265,11 +308,15 @@ class EditorScreen(Screen[None]):
                 self.insert_at = number
                 self._prompt("insert-line", editor.prompt(number))
             elif self.mode == "insert-line":
+                if not typed.strip():
+                    self.action_cancel()
+                    return
                 number = editor.insert(self.insert_at, typed)
-                self.say(f"STEP {number} INSERTED")
+                self.say(f"STEP {number} INSERTED (ESC OR AN EMPTY LINE: EDITOR MENU)")
                 self._refresh_listing(number)
-                self._menu()
-        except EditorError as error:
+                self.insert_at = number + 1  # the next line goes in after it
+                self._prompt("insert-line", editor.prompt(self.insert_at))
+        except ValtermError as error:
             # rejected: the line stays in the field to be corrected (nothing typed is lost)
             self.say(f"REJECTED: {error}")
 
@@ -279,3 +326,9 @@ class EditorScreen(Screen[None]):
         if not text.isdigit():
             raise EditorError(f"{typed.strip() or 'NOTHING'} IS NOT A STEP NUMBER")
         return int(text)
+
+    def close(self) -> None:
+        """Dismiss this screen if it is still the one on top: keys typed ahead reach a screen's
+        queue before it closes, and a second close must not close the screen below."""
+        if self.app.screen is self:
+            self.dismiss(None)

@@ -15,6 +15,7 @@ from textual.screen import Screen
 from textual.widgets import Input, Static
 
 from valterm.core.val.helptopics import HelpTopics, default_help
+from valterm.ui.widgets.status import StatusLine
 
 ASK_TOPIC = "DO YOU NEED MORE INFORMATION ON A SPECIFIC TOPIC (Y/N) ?"
 ASK_MENU = "DO YOU WANT THE HELP MENU DISPLAYED AGAIN (Y/N) ?"
@@ -35,10 +36,13 @@ class HelpScreen(Screen[None]):
         Binding("escape", "leave", "Return", id="help.return"),
     ]
 
-    def __init__(self, topic: str = "", topics: HelpTopics | None = None) -> None:
+    def __init__(self, topic: str = "", topics: HelpTopics | None = None, *, screen: str = "",
+                 keys: list[tuple[str, str]] | None = None) -> None:
         super().__init__()
         self.topics = topics or default_help()
         self.first_topic = topic.strip()
+        self.screen_name = screen  # the screen HELP was asked from: its keys come first
+        self.keys = keys or []
         self.state = "topic?"  # topic? | topic | menu?
 
     def compose(self) -> ComposeResult:
@@ -46,6 +50,7 @@ class HelpScreen(Screen[None]):
             yield Static(id="help-text")
         yield Static(id="help-question")
         yield Input(id="help-topic", placeholder="TOPIC (e.g. MOVE)")
+        yield StatusLine(id="status")
 
     def on_mount(self) -> None:
         if self.first_topic:
@@ -63,11 +68,15 @@ class HelpScreen(Screen[None]):
         return str(self.query_one("#help-question", Static).content)
 
     def _show(self, lines: list[str] | tuple[str, ...]) -> None:
+        if not self.query("#help-text"):
+            return  # closed again before it was shown (ESC typed ahead of the screen)
         self.query_one("#help-text", Static).update("\n".join(lines))
         self.query_one("#help-scroll", VerticalScroll).scroll_home(animate=False)
 
     def _ask(self, state: str, question: str) -> None:
         self.state = state
+        if not self.query("#help-question"):
+            return
         self.query_one("#help-question", Static).update(question)
         field = self.query_one("#help-topic", Input)
         asking = state == "topic"
@@ -78,8 +87,16 @@ class HelpScreen(Screen[None]):
         else:
             self.set_focus(None)
 
+    def key_legend(self) -> list[str]:
+        """The keys that work on the screen HELP was opened from."""
+        if not self.keys:
+            return []
+        width = max(len(k) for k, _ in self.keys)
+        head = f"KEYS OF THE {self.screen_name} SCREEN" if self.screen_name else "KEYS"
+        return [head, *(f"  {k.ljust(width)}  {what}" for k, what in self.keys), ""]
+
     def show_menu(self) -> None:
-        self._show(self.topics.menu())
+        self._show([*self.key_legend(), *self.topics.menu()])
         self._ask("topic?", ASK_TOPIC)
 
     def show_topic(self, word: str) -> None:
@@ -98,6 +115,9 @@ class HelpScreen(Screen[None]):
             return  # the topic field takes the keys
         key = (event.character or "").upper()
         if key not in ("Y", "N"):
+            if event.key not in ("escape", "up", "down", "pageup", "pagedown", "home", "end"):
+                self.query_one("#help-question", Static).update(
+                    f"{self.question.splitlines()[0]}\n'{key or event.key.upper()}': PRESS Y OR N (ESC RETURNS)")
             return
         event.stop()
         if self.state == "topic?":
@@ -123,4 +143,10 @@ class HelpScreen(Screen[None]):
         if self.state == "topic":
             self._ask("topic?", ASK_TOPIC)
             return
-        self.dismiss(None)
+        self.close()
+
+    def close(self) -> None:
+        """Dismiss this screen if it is still the one on top: keys typed ahead reach a screen's
+        queue before it closes, and a second close must not close the screen below."""
+        if self.app.screen is self:
+            self.dismiss(None)

@@ -3,6 +3,8 @@ faces, ORIENT, axes, the model, one VAL-II command."""
 
 from __future__ import annotations
 
+import textwrap
+
 from textual import events
 from textual.app import ComposeResult
 from textual.binding import Binding
@@ -89,7 +91,10 @@ class KeyboardScreen(MenuScreen):
         except Exception as error:
             self.say(problem_text(error), "error")
             return
-        self.menu.set_text("\n".join([*lines, "", "PRESS ANY KEY FOR THE MENU"]))
+        width = max(min(self.app.size.width - 4, 74), 20)  # long lines wrap, never cut (issue 17)
+        wrapped = [part for line in lines
+                   for part in (textwrap.wrap(line, width, subsequent_indent="      ") or [""])]
+        self.menu.set_text("\n".join([*wrapped, "", "PRESS ANY KEY FOR THE MENU"]))
         self.listing = True
         self.show_model(False)
 
@@ -102,8 +107,9 @@ class KeyboardScreen(MenuScreen):
             super().on_key(event)
             return
         if self.listing:
+            # any key brings the menu back; a menu key also does its work
             self._restore_menu()
-            if event.key in ("space", "enter", "escape"):
+            if event.key not in self.active_bindings:
                 event.stop()
                 event.prevent_default()
             return
@@ -167,7 +173,7 @@ class KeyboardScreen(MenuScreen):
 
     # -- R, M, V ------------------------------------------------------------------------
     def action_return(self) -> None:
-        self.app.pop_screen()
+        self.leave()
 
     def action_model(self) -> None:
         self.toggle_model()

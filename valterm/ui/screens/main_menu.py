@@ -9,7 +9,6 @@ from valterm.ui.errors import problem_text
 from valterm.ui.hardcopy import write_hardcopy
 from valterm.ui.screens.base import MenuScreen
 from valterm.ui.screens.editor import EditorScreen
-from valterm.ui.screens.help import HelpScreen
 from valterm.ui.screens.keyboard import KeyboardScreen
 from valterm.ui.screens.manipulation import ManipulationScreen
 from valterm.ui.screens.pendant import PendantScreen
@@ -36,9 +35,29 @@ class MainMenuScreen(MenuScreen):
 
     def on_mount(self) -> None:
         super().on_mount()
+        self._say_setup()
+
+    def on_screen_resume(self) -> None:
+        super().on_screen_resume()
+        self._say_setup()  # a save-as in MANIPULATION renamed the set-up
+
+    def _say_setup(self) -> None:
         session = self.app.session
         if session is not None and session.setup_name:
-            self.say(f"SETUP FILE {session.setup_name}.SET WITH {len(session.simulator.cell.objects)} PARTS")
+            self.messages.new_turn()
+            state = " (NOT SAVED)" if self.app.setup_modified else ""
+            self.say(f"SETUP FILE {session.setup_name}.SET WITH {len(session.simulator.cell.objects)} PARTS{state}")
+
+    def escape_menu(self) -> None:
+        self.say("THIS IS THE MAIN MENU: S TO EXIT, ? OR F1 FOR HELP")
+
+    def _unsaved_then(self, what: str, then) -> None:  # type: ignore[no-untyped-def]
+        """B, I and S throw the moved layout away: ask first when it is not saved."""
+        if not self.app.setup_modified:
+            then()
+            return
+        self.ask_key(f"THE SET-UP IS NOT SAVED. {what} ANYWAY (Y/N) ?:",
+                     lambda k: then() if k == "Y" else self.say("SESSION CONTINUES"))
 
     # -- to the modes ---------------------------------------------------------------
     def action_keyboard(self) -> None:
@@ -56,17 +75,18 @@ class MainMenuScreen(MenuScreen):
     def action_valmode(self) -> None:
         self.app.push_screen(ValModeScreen())
 
-    def action_help(self) -> None:
-        self.app.push_screen(HelpScreen())
 
     def action_toggle_model(self) -> None:
         self.toggle_model()
 
     # -- the session ------------------------------------------------------------------
     def action_begin(self) -> None:
-        self.app.show_start()
+        self._unsaved_then("START OVER", self.app.show_start)
 
     def action_initialize(self) -> None:
+        self._unsaved_then("INITIALIZE", self._initialize)
+
+    def _initialize(self) -> None:
         name = self.app.session.setup_name if self.app.session else ""
         try:
             self.app.open_session(name or None)
@@ -84,7 +104,8 @@ class MainMenuScreen(MenuScreen):
             else:
                 self.say("SESSION CONTINUES")
 
-        self.ask_key("ARE YOU SURE YOU WANT TO EXIT (Y/N) ?:", answer)
+        unsaved = " THE SET-UP IS NOT SAVED." if self.app.setup_modified else ""
+        self.ask_key(f"{unsaved} ARE YOU SURE YOU WANT TO EXIT (Y/N) ?:".strip(), answer)
 
     def action_hardcopy(self) -> None:
         try:

@@ -61,6 +61,7 @@ class ManipulationScreen(MenuScreen):
         Binding("a,A", "axes", "Axes", id="manipulation.axes"),
         Binding("s,S", "stop", "Stop", id="manipulation.stop"),
         Binding("m,M", "model", "Model", id="manipulation.model"),
+        Binding("question_mark", "help", "Help", id="manipulation.help"),
     ]
 
     def __init__(self) -> None:
@@ -89,9 +90,29 @@ class ManipulationScreen(MenuScreen):
         count = len(self.app.simulator.cell.objects)
         if count == 0:
             self.say("THERE ARE NO PARTS IN THIS CELL", "warning")
-            self.ask_key("PRESS R TO RETURN:", lambda _k: self.app.pop_screen(), "R")
+            self.ask_key("PRESS R TO RETURN:", lambda _k: self.leave(), "R")
             return
         self.ask_line(f"ENTER PART NUMBER TO BE MOVED (1-{count}):", self._part, cancel=self._end)
+
+    def _ask_choice(self) -> None:
+        """The menu of a chosen part (§7.2): I, K or R."""
+        self.keyboard = False
+        self.menu.set_text(MANIPULATION_CHOICE)
+        self.ask_key("ENTER COMMAND# (I, K OR R):", self._choice, "IKR", cancel=self._end)
+
+    def prompt_cancelled(self) -> None:
+        """ESC at any question of I_NCREMENTS: back to this part's I, K, R menu."""
+        if self.part:
+            self._ask_choice()
+        else:
+            self.ask_part()
+
+    def escape_menu(self) -> None:
+        """ESC in the K_EYBOARD menu is S_TOP; anywhere else the part's menu is asked again."""
+        if self.keyboard:
+            self.action_stop()
+        else:
+            self.prompt_cancelled()
 
     def _part(self, answer: str) -> None:
         count = len(self.app.simulator.cell.objects)
@@ -107,7 +128,7 @@ class ManipulationScreen(MenuScreen):
         elif self.mode == "K":
             self._choice("K")
         else:
-            self.ask_key("ENTER COMMAND# (I, K OR R):", self._choice, "IKR", cancel=self._end)
+            self._ask_choice()
 
     def _choice(self, key: str) -> None:
         self.mode = key if key in "IK" else ""
@@ -127,6 +148,7 @@ class ManipulationScreen(MenuScreen):
             self.say(problem_text(error), "error")
             return
         self.modified = True
+        self.app.setup_modified = True
         self.show_model_if_narrow()
         self.redraw()
 
@@ -214,8 +236,9 @@ class ManipulationScreen(MenuScreen):
         if not self.modified:
             self._back()
             return
+        # ESC here keeps the moved layout in the session (NOT SAVED on the status line)
         self.ask_key("DO YOU WANT TO SAVE THE NEW SET-UP FILE (Y/N) ?:",
-                     lambda k: self._ask_name() if k == "Y" else self._back())
+                     lambda k: self._ask_name() if k == "Y" else self._back(), cancel=self._back)
 
     def _ask_name(self) -> None:
         name = self.app.session.setup_name
@@ -229,9 +252,10 @@ class ManipulationScreen(MenuScreen):
             self._ask_name()
             return
         self.modified = False
+        self.app.setup_modified = False
         self.app.notify(f"{path.name} SAVED", timeout=3)
         self._back()
 
     def _back(self) -> None:
         self.part_axes = None
-        self.app.pop_screen()
+        self.leave()

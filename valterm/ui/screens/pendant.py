@@ -8,14 +8,26 @@ follows every move.
 
 from __future__ import annotations
 
+from collections.abc import Iterator
+
 from textual.app import ComposeResult
 from textual.binding import Binding
 
+from valterm.core.events import Event, Message
+from valterm.core.motion import PENDANT_INCREMENT, PENDANT_STEP, MotionRefused
+from valterm.ui.errors import error_text
 from valterm.ui.screens.base import MenuScreen
 from valterm.ui.widgets.menus import PENDANT_MENU
 from valterm.ui.widgets.readouts import PositionReadout
 
 AXES = {"X": 0, "Y": 1, "Z": 2}
+SINGULAR_HINT = ("HINT: THE ARM IS STRETCHED OR AT A SINGULARITY (AS AT READY): BEND IT FIRST, "
+                 "KEYS 3 AND 5 A FEW TIMES (N CHANGES THE SIGN), THEN W OR T AGAIN")
+
+
+def world_step(increment: float) -> float:
+    """The millimetres a WORLD/TOOL key moves at this rotational increment."""
+    return PENDANT_STEP * increment / PENDANT_INCREMENT
 
 
 class PendantScreen(MenuScreen):
@@ -41,9 +53,8 @@ class PendantScreen(MenuScreen):
     def update_readout(self) -> None:
         simulator = self.app.simulator
         increment = simulator.pendant_increment
-        checks = "ON" if simulator.collision_checks else "OFF"
         self.query_one("#readout", PositionReadout).show_where(
-            simulator.where(1), f"INCREMENT {increment:+.2f} DEG   COLLISION CHECKS {checks}")
+            simulator.where(1), f"JOINT INCREMENT {increment:+.2f} DEG   WORLD/TOOL STEP {world_step(increment):+.2f} MM")
 
     def _move(self, events) -> None:  # type: ignore[no-untyped-def]
         # messages stay: a collision is reported once, when it starts (Fig. C-12 a-d)
@@ -60,21 +71,37 @@ class PendantScreen(MenuScreen):
         self._move(self.app.simulator.close())
 
     def action_world(self) -> None:
-        self.ask_key("WORLD MODE: X, Y OR Z ?:", lambda k: self._move(self.app.simulator.pendant_world(AXES[k])), "XYZ")
+        self.ask_key(f"WORLD MODE ({world_step(self.app.simulator.pendant_increment):+.2f} MM): X, Y OR Z ?:",
+                     lambda k: self._straight(self.app.simulator.pendant_world(AXES[k])), "XYZ")
 
     def action_tool(self) -> None:
-        self.ask_key("TOOL MODE: X, Y OR Z ?:", lambda k: self._move(self.app.simulator.pendant_tool(AXES[k])), "XYZ")
+        self.ask_key(f"TOOL MODE ({world_step(self.app.simulator.pendant_increment):+.2f} MM): X, Y OR Z ?:",
+                     lambda k: self._straight(self.app.simulator.pendant_tool(AXES[k])), "XYZ")
+
+    def _straight(self, events) -> None:  # type: ignore[no-untyped-def]
+        """A WORLD/TOOL step; refused at once (READY is a stretched, singular pose): say what to do."""
+        self.show_model_if_narrow()
+        self.app.run_events(_with_hint(events), self)
 
     def action_increment(self, key: str) -> None:
         value = self.app.simulator.change_pendant_increment(key)
-        self.say(f"ROTATIONAL INCREMENT {value:+.2f} DEG")
+        self.say(f"ROTATIONAL INCREMENT {value:+.2f} DEG (WORLD/TOOL STEP {world_step(value):+.2f} MM)")
         self.update_readout()
 
     def after_motion(self, aborted: bool) -> None:
         self.update_readout()
 
     def action_return(self) -> None:
-        self.app.pop_screen()
+        self.leave()
 
     def action_model(self) -> None:
         self.toggle_model()
+
+
+def _with_hint(events: Iterator[Event]) -> Iterator[Event]:
+    """A WORLD/TOOL step's events; a refusal is said with what to do about it."""
+    try:
+        yield from events
+    except MotionRefused as refusal:
+        yield Message(error_text(refusal), "error")
+        yield Message(SINGULAR_HINT, "warning")

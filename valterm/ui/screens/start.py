@@ -39,11 +39,13 @@ class Transfer:
 
 
 class StartScreen(MenuScreen):
+    SCREEN_NAME = "START"
     MENU = f"{TITLE}\n\n{COPYRIGHT}\n* VAL-II is a trademark of Unimation, Inc.\n\n{START_MENU}"
     BINDINGS = [
         Binding("i,I", "iges", "IGES file", id="start.iges"),
         Binding("u,U", "ugii", "UGII file", id="start.ugii"),
         Binding("e,E", "existing", "Existing file", id="start.existing"),
+        Binding("question_mark", "help", "Help", id="start.help"),
     ]
 
     def __init__(self, message: str = "") -> None:
@@ -55,6 +57,9 @@ class StartScreen(MenuScreen):
         self.add_class("-start")
         if self._first_message:
             self.say(self._first_message, "error")
+
+    def escape_menu(self) -> None:
+        self.say('PRESS "I", "U" OR "E" (RETURN THEN READS PROCESS); ? OR F1 FOR HELP')
 
     # -- E_XISTING FILE ---------------------------------------------------------------
     def action_existing(self) -> None:

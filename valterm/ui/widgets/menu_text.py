@@ -1,4 +1,5 @@
-"""A menu as text: the thesis's lines, squeezed (blank lines first) when the pane is short."""
+"""A menu as text: the thesis's lines, squeezed (blank lines first) when the pane is short,
+and paged (PGUP / PGDN) when even the squeezed menu does not fit (80x24, issue 17)."""
 
 from __future__ import annotations
 
@@ -9,6 +10,7 @@ from textual.geometry import Size
 from textual.widget import Widget
 
 _KEY = re.compile(r"^(-? ?)([A-Z0-9+])(_| - |\s)")
+MORE = "-- MORE: PGDN (PGUP BACK) --"
 
 
 class MenuText(Widget):
@@ -21,6 +23,7 @@ class MenuText(Widget):
     def __init__(self, text: str, *, id: str | None = None, classes: str | None = None) -> None:
         super().__init__(id=id, classes=classes)
         self._lines = text.splitlines()
+        self.top = 0  # the first line shown after the title when the menu is paged
 
     @property
     def text(self) -> str:
@@ -28,6 +31,7 @@ class MenuText(Widget):
 
     def set_text(self, text: str) -> None:
         self._lines = text.splitlines()
+        self.top = 0
         self.refresh(layout=True)
 
     def get_content_width(self, container: Size, viewport: Size) -> int:
@@ -36,12 +40,37 @@ class MenuText(Widget):
     def get_content_height(self, container: Size, viewport: Size, width: int) -> int:
         return len(self._lines)
 
-    def visible_lines(self, height: int) -> list[str]:
-        """The lines that fit ``height`` rows: blank lines go first, then the tail is cut."""
+    def _squeezed(self, height: int) -> list[str]:
         lines = list(self._lines)
         if len(lines) > height:
             lines = [line for line in lines if line.strip()]
-        return lines[: max(height, 0)]
+        return lines
+
+    def paged(self, height: int) -> bool:
+        return len(self._squeezed(height)) > height
+
+    def page(self, direction: int) -> bool:
+        """PGDN (+1) / PGUP (-1); False when the whole menu is shown already."""
+        height = self.size.height
+        lines = self._squeezed(height)
+        if len(lines) <= height:
+            return False
+        body = max(height - 2, 1)  # the title and the MORE line stay
+        last = max(len(lines) - 1 - body, 0)
+        self.top = min(max(self.top + direction * body, 0), last)
+        self.refresh()
+        return True
+
+    def visible_lines(self, height: int) -> list[str]:
+        """The lines that fit ``height`` rows: blank lines go first, then the menu is paged."""
+        lines = self._squeezed(height)
+        if len(lines) <= height:
+            return lines
+        body = max(height - 2, 1)
+        top = min(self.top, max(len(lines) - 1 - body, 0))
+        shown = lines[1 + top: 1 + top + body]
+        more = MORE if 1 + top + body < len(lines) else "-- END: PGUP BACK --"
+        return [lines[0], *shown, more][: max(height, 0)]
 
     def render(self) -> Text:
         lines = self.visible_lines(self.size.height)
@@ -49,7 +78,7 @@ class MenuText(Widget):
         for number, line in enumerate(lines):
             if number:
                 text.append("\n")
-            if number == 0:
+            if number == 0 or line.startswith("-- "):
                 text.append(line, style="bold")
                 continue
             match = _KEY.match(line)

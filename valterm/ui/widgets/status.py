@@ -1,0 +1,69 @@
+"""The lasting status line of every screen: the set-up and whether it is saved, SPEED,
+collision checks, back faces, axes, the user's configuration and the arm's, and the help key.
+
+It reads the app's state each time it is drawn (``refresh`` after anything changes); the
+text is plain so tests and ``valterm.testing`` read it back. Narrow terminals get the short
+words.
+"""
+
+from __future__ import annotations
+
+from textual.widgets import Static
+
+from valterm.ui.keymap import HELP_HINT
+
+
+def _short(word: str) -> str:
+    return word[0] if word else "?"
+
+
+def status_fields(app) -> list[tuple[str, str]]:  # type: ignore[no-untyped-def]
+    """(long, short) texts of each field, in the order shown."""
+    session = getattr(app, "session", None)
+    fields: list[tuple[str, str]] = []
+    if session is None:
+        return [("NO SET-UP FILE READ", "NO SET-UP"), (HELP_HINT, "? HELP")]
+    sim = session.simulator
+    name = f"{session.setup_name}.SET" if session.setup_name else "(NO NAME)"
+    saved = "NOT SAVED" if getattr(app, "setup_modified", False) else "SAVED"
+    fields.append((f"{name} {saved}", f"{name} UNSAVED" if saved == "NOT SAVED" else name))
+    fields.append((f"SPEED {sim.speed:g}", f"SP {sim.speed:g}"))
+    on = "ON" if sim.collision_checks else "OFF"
+    fields.append((f"COLLISION CHECKS {on}", f"COLL {on}"))
+    faces = "ON" if getattr(app, "back_faces", False) else "OFF"
+    fields.append((f"BACK FACES {faces}", f"FACES {faces}"))
+    axes = "ON" if getattr(app, "axes", False) else "OFF"
+    fields.append((f"AXES {axes}", f"AXES {axes}"))
+    user = sim.config.words
+    arm = arm_configuration(sim)
+    fields.append((f"CONFIG {' '.join(user)}", "CFG " + "".join(_short(w) for w in user)))
+    fields.append((f"ARM {' '.join(arm)}", "ARM " + "".join(_short(w) for w in arm)))
+    fields.append((HELP_HINT, "? HELP"))
+    return fields
+
+
+def arm_configuration(sim) -> tuple[str, str, str]:  # type: ignore[no-untyped-def]
+    """The configuration the arm is in now (RIGHTY/LEFTY, ABOVE/BELOW, FLIP/NOFLIP)."""
+    from valterm.core.kinematics import indicators
+
+    return indicators(sim.joints, sim.geometry).words
+
+
+def status_text(app, width: int) -> str:  # type: ignore[no-untyped-def]
+    """The line for ``width`` columns: long words if they fit, else the short ones."""
+    fields = status_fields(app)
+    long = "  ".join(f for f, _ in fields)
+    if len(long) <= width:
+        return long
+    return " ".join(s for _, s in fields)[:max(width, 0)]
+
+
+class StatusLine(Static):
+    DEFAULT_CSS = "StatusLine { height: 1; background: $boost; color: $text-muted; padding: 0 0; }"
+
+    @property
+    def text(self) -> str:
+        return status_text(self.app, max(self.size.width, 20))
+
+    def render(self) -> str:
+        return self.text
