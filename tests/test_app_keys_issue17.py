@@ -148,10 +148,8 @@ def test_main_shows_the_new_setup_name_after_save_as(tmp_path: Path) -> None:
     run(body())
 
 
-@pytest.mark.xfail(reason="valterm/core/files/atomic.py writes through tempfile.mkstemp (0600) and "
-                   "os.replace keeps that mode; helper 'reliab' owns that file", strict=False)
 def test_saved_setup_file_mode_follows_the_umask(tmp_path: Path) -> None:
-    """Saved files are 0644 under umask 022 (tempfile.mkstemp makes 0600: see atomic.py)."""
+    """Saved files are 0644 under umask 022 (the safe write path creates its temporary 0666 & ~umask)."""
     async def body() -> None:
         async with Simulation(tmp_path, size=(80, 24)) as sim:
             await sim.press("M")

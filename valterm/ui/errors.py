@@ -45,7 +45,12 @@ def bug_text(error: BaseException) -> str:
         where = f"SEE {path}"
     except OSError:
         where = "THE LOG FILE COULD NOT BE WRITTEN"
-    return f"*** INTERNAL ERROR ({type(error).__name__}: {error}); {where}"
+    return upper_case(f"*** INTERNAL ERROR ({type(error).__name__}: {error}); {where}")
+
+
+def upper_case(text: str) -> str:
+    """A message in the VS11's upper case, file paths kept as they are (they are case-sensitive)."""
+    return " ".join(word if word.startswith(("/", "~", "./")) else word.upper() for word in text.split(" "))
 
 
 def problem_text(error: Exception) -> str:

@@ -11,6 +11,8 @@ from __future__ import annotations
 from rich.text import Text
 from textual.widgets import Static
 
+from valterm.ui.errors import upper_case
+
 MAX_LINES = 3
 
 
@@ -39,7 +41,7 @@ class MessageLog(Static):
             self._fresh = False
         for part in str(line).splitlines() or [""]:
             if level != "info":
-                part = part.upper()  # the VS11's messages are upper case
+                part = upper_case(part)  # the VS11's messages are upper case
                 if (part, level) in self.lines:
                     continue  # the same collision pair, step after step
             self.lines.append((part, level))
