@@ -2,17 +2,17 @@
 
 FILE is a path or a program name in the workspace. Every bad step is reported as
 ``PROGRAM step N: reason`` (warnings too: GOTO to a missing label, CALL of a missing
-program). Exit 0 with a summary when all is well, 1 when anything is wrong, 2 when a
-file cannot be read (``FILE:LINE: reason`` on stderr).
+program). Exit 0 with a summary when all is well, 1 when anything is wrong or a file
+cannot be read (``valterm: FILE:LINE: reason`` on stderr).
 """
 
 from __future__ import annotations
 
 import argparse
-import sys
 from pathlib import Path
 from typing import Callable
 
+from valterm.commands import FAILURE, OK, say
 from valterm.core.files.errors import FileFormatError
 
 
@@ -43,19 +43,19 @@ def run(args: argparse.Namespace) -> int:
     from valterm.core.val.checker import check_program
     from valterm.core.workspace import WorkspaceError
 
-    status = 0
+    status = OK
     for argument in args.files:
         try:
             path, exists = find_program(argument, getattr(args, "workspace", None))
             program = read_program(path)
         except (FileFormatError, WorkspaceError, FileNotFoundError, OSError) as error:
-            print(error, file=sys.stderr)
-            status = 2
+            say(error)
+            status = FAILURE
             continue
         report = check_program(program, program_exists=exists)
         for diagnostic in report.diagnostics:
             print(diagnostic)
         print(report.summary())
-        if not report.ok and status == 0:
-            status = 1
+        if not report.ok:
+            status = FAILURE
     return status

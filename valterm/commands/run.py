@@ -10,8 +10,8 @@ file with the program's own name is used if the workspace has one. CALLed progra
 read from the program's folder first, then the workspace. CHECK.DAT's variables are read
 (they are kept across sessions, section 6.7) but not written back. DELAY is not waited.
 
-Exit 0: the program ended normally; 1: a run-time error; 2: a bad input file
-(``FILE:LINE: reason`` on stderr); 130: aborted with CTRL-C (after the current step).
+Exit 0: the program ended normally; 1: a run-time error, or a bad or missing input file
+(``valterm: FILE:LINE: reason`` on stderr); 130: aborted with CTRL-C (after the current step).
 """
 
 from __future__ import annotations
@@ -22,6 +22,8 @@ import signal
 import sys
 from pathlib import Path
 from typing import Any
+
+from valterm.commands import FAILURE, OK, fail
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -76,8 +78,7 @@ def run(args: argparse.Namespace) -> int:
         if check.is_file():
             variables.load(check)
     except (FileFormatError, WorkspaceError, FileNotFoundError, OSError) as error:
-        print(error, file=sys.stderr)
-        return 2
+        return fail(error, FAILURE)
     sim.collision_checks = bool(args.collisions)
     folder = program_path.resolve().parent
 
@@ -125,7 +126,7 @@ def run(args: argparse.Namespace) -> int:
         signal.signal(signal.SIGINT, previous)
     if aborted:
         return 130
-    return 1 if errors else 0
+    return FAILURE if errors else OK
 
 
 def _value(value: float) -> str:

@@ -8,6 +8,7 @@ injectable and no timer runs while nothing moves, so Pilot tests stay fast.
 
 from __future__ import annotations
 
+import sys
 import time
 from functools import lru_cache
 from itertools import chain
@@ -17,6 +18,7 @@ from typing import Callable, Iterable, Iterator
 from textual.app import App
 from textual.binding import Binding
 
+from valterm.core.crashlog import EXIT_BUG, crash_line, write_crash_log
 from valterm.core.events import Error, Event, Message, PoseEvent
 from valterm.ui.messages import MotionDone, PoseShown, SceneChanged, SimulatorEvent
 from valterm.ui.view.animation import MotionDriver
@@ -81,6 +83,17 @@ class ValtermApp(App[int]):
         self._source: Iterator[Event] | None = None
         self._target = None  # the screen that started the motion
         self._workspace = None  # the workspace before any session (start screen)
+        self.crash: BaseException | None = None  # the bug that ended the app, if one did
+        self.crash_log: Path | None = None
+
+    def _handle_exception(self, error: Exception) -> None:
+        # A bug: its traceback goes to a log file and run() says so in one line, instead of
+        # Textual's screenful of traceback (Textual is pinned; this is its only hook).
+        if self.crash is None:
+            self.crash, self.crash_log = error, write_crash_log(error)
+        super()._handle_exception(error)
+        if self.crash_log is not None:
+            self._exit_renderables.clear()
 
     # -- starting ------------------------------------------------------------------
     def on_mount(self) -> None:
@@ -213,6 +226,16 @@ class ValtermApp(App[int]):
 def run(workspace: str | Path | None = None, setup: str | None = None, ascii: bool = False) -> int:
     app = ValtermApp(workspace, setup, ascii=ascii)
     result = app.run()
-    return int(result or 0)
+    return exit_status(app, result)
+
+
+def exit_status(app: ValtermApp, result: object) -> int:
+    """The app's exit status: non-zero, with one line naming the log, when it crashed."""
+    if app.crash is not None:
+        print(crash_line(app.crash, app.crash_log), file=sys.stderr)
+        return EXIT_BUG
+    if app.return_code:
+        return app.return_code
+    return int(result or 0)  # type: ignore[call-overload]
 
 
