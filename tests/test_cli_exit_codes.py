@@ -168,7 +168,6 @@ def test_a_closed_pipe_ends_quietly(tmp_path: Path) -> None:
 
 FORCED_APP_CRASH = """
 import sys
-from textual.app import App
 from valterm.ui import app as ui_app
 from valterm.ui.screens.start import StartScreen
 
@@ -176,7 +175,8 @@ def broken(self):
     raise RuntimeError("forced crash in a screen")
 
 StartScreen.on_mount = broken
-ui_app.ValtermApp.run = lambda self, **kw: App.run(self, headless=True, size=(80, 24))
+real_run = ui_app.ValtermApp.run
+ui_app.ValtermApp.run = lambda self, **kw: real_run(self, headless=True, size=(80, 24))
 from valterm.cli import main
 sys.exit(main(sys.argv[1:]))
 """

@@ -13,7 +13,7 @@ import time
 from functools import lru_cache
 from itertools import chain
 from pathlib import Path
-from typing import Callable, Iterable, Iterator
+from typing import Any, Callable, Iterable, Iterator
 
 from textual.app import App
 from textual.binding import Binding
@@ -87,13 +87,18 @@ class ValtermApp(App[int]):
         self.crash_log: Path | None = None
 
     def _handle_exception(self, error: Exception) -> None:
-        # A bug: its traceback goes to a log file and run() says so in one line, instead of
-        # Textual's screenful of traceback (Textual is pinned; this is its only hook).
+        # A bug: its traceback goes to a log file and the terminal gets one line naming it
+        # (see run), instead of Textual's screenful of traceback (Textual is pinned).
         if self.crash is None:
             self.crash, self.crash_log = error, write_crash_log(error)
         super()._handle_exception(error)
-        if self.crash_log is not None:
-            self._exit_renderables.clear()
+        self._exit_renderables.clear()
+
+    def run(self, *args: Any, **kwargs: Any) -> int | None:
+        result = super().run(*args, **kwargs)
+        if self.crash is not None:  # the terminal is restored: now the one line
+            print(crash_line(self.crash, self.crash_log), file=sys.stderr)
+        return result
 
     # -- starting ------------------------------------------------------------------
     def on_mount(self) -> None:
@@ -231,8 +236,7 @@ def run(workspace: str | Path | None = None, setup: str | None = None, ascii: bo
 
 def exit_status(app: ValtermApp, result: object) -> int:
     """The app's exit status: non-zero, with one line naming the log, when it crashed."""
-    if app.crash is not None:
-        print(crash_line(app.crash, app.crash_log), file=sys.stderr)
+    if app.crash is not None:  # its one line is already on stderr
         return EXIT_BUG
     if app.return_code:
         return app.return_code
