@@ -11,10 +11,23 @@ import argparse
 import os
 import re
 import sys
-from typing import NoReturn, Sequence
+from collections.abc import Sequence
+from typing import NoReturn
 
 from valterm import version
-from valterm.commands import FAILURE, USAGE, app, bench, cad, cell, check, demo, kin, run, say
+from valterm.commands import (
+    FAILURE,
+    USAGE,
+    app,
+    bench,
+    cad,
+    cell,
+    check,
+    demo,
+    kin,
+    run,
+    say,
+)
 from valterm.core.crashlog import report_crash
 from valterm.core.errors import ValtermError
 from valterm.core.workspace import ENV_VAR

@@ -9,8 +9,8 @@ cannot be read (``valterm: FILE:LINE: reason`` on stderr).
 from __future__ import annotations
 
 import argparse
+from collections.abc import Callable
 from pathlib import Path
-from typing import Callable
 
 from valterm.commands import FAILURE, OK, say
 from valterm.core.files.errors import FileFormatError

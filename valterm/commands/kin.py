@@ -18,13 +18,21 @@ import argparse
 import json
 import math
 import sys
-from typing import Callable, Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 
 import numpy as np
 
 from valterm.commands import FAILURE, OK, USAGE, say
 from valterm.core.kinematics import (
-    BeyondStop, Config, IKError, fit_to_stops, fk, ik, indicators, oat_to_rotation, wrap180,
+    BeyondStop,
+    Config,
+    IKError,
+    fit_to_stops,
+    fk,
+    ik,
+    indicators,
+    oat_to_rotation,
+    wrap180,
 )
 
 # Larger numbers are no pose at all (mm or degrees); they would only overflow.
