@@ -192,3 +192,15 @@ def test_a_crash_of_the_app_exits_non_zero_with_one_line_and_the_log(tmp_path: P
         f"valterm: internal error (RuntimeError: forced crash in a screen); the traceback is in {logs[0]}"]
     log = logs[0].read_text()
     assert "in broken" in log and "RuntimeError: forced crash in a screen" in log
+
+
+def test_a_bug_while_building_the_parser_is_caught_too(tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
+                                                       capsys: pytest.CaptureFixture[str]) -> None:
+    def broken(sub: object) -> None:
+        raise AttributeError("'NoneType' object has no attribute 'add_parser'")
+
+    monkeypatch.setenv("XDG_STATE_HOME", str(tmp_path / "state"))
+    monkeypatch.setattr(kin, "register", broken)
+    assert main(["--version"]) == 70
+    err = capsys.readouterr().err
+    assert err.startswith("valterm: internal error (AttributeError: ") and len(err.splitlines()) == 1

@@ -87,6 +87,13 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: Sequence[str] | None = None) -> int:
     try:
+        return _dispatch(argv)
+    except Exception as bug:  # noqa: BLE001 - the last resort: log it, one line, non-zero
+        return report_crash(bug)
+
+
+def _dispatch(argv: Sequence[str] | None) -> int:
+    try:
         args = build_parser().parse_args(argv)
     except SystemExit as done:  # --help, --version, a usage error
         return done.code if isinstance(done.code, int) else USAGE
@@ -104,8 +111,6 @@ def main(argv: Sequence[str] | None = None) -> int:
         # second complaint when Python flushes stdout at exit
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 0
-    except Exception as bug:  # noqa: BLE001 - the last resort: log it, one line, non-zero
-        return report_crash(bug)
 
 
 if __name__ == "__main__":
