@@ -122,10 +122,11 @@ def check_commands(valterm: Path, folder: Path, env: dict[str, str]) -> None:
     check(not logs, "no crash logs", "\n".join(str(p) for p in logs))
 
 
-def under_pty(argv: list[str], cwd: Path, env: dict[str, str], seconds: float,
+def under_pty(argv: list[str], cwd: Path, env: dict[str, str], seconds: float, quit_keys: bytes = b"",
               width: int = 80, height: int = 24) -> tuple[bool, int | None, str]:
-    """Run ``argv`` in a terminal of the given size for ``seconds``: (still running, exit
-    status if it ended, the screen text written without escape sequences)."""
+    """Run ``argv`` in a terminal of the given size for ``seconds``: (still running then, its
+    exit status, the screen text written without escape sequences). ``quit_keys`` are then
+    typed and it has 10 s to end by itself (the status is None if it did not)."""
     pid, fd = pty.fork()
     if pid == 0:  # the child: a terminal of the asked size, then the program
         try:
@@ -148,7 +149,19 @@ def under_pty(argv: list[str], cwd: Path, env: dict[str, str], seconds: float,
             status = os.waitstatus_to_exitcode(code)
             break
     running = status is None
-    while not running and select.select([fd], [], [], 0.2)[0]:  # what it wrote before it ended
+    if running and quit_keys:
+        os.write(fd, quit_keys)
+        deadline = time.monotonic() + 10
+        while status is None and time.monotonic() < deadline:
+            if select.select([fd], [], [], 0.05)[0]:
+                try:
+                    output += os.read(fd, 65536)
+                except OSError:
+                    pass
+            ended, code = os.waitpid(pid, os.WNOHANG)
+            if ended:
+                status = os.waitstatus_to_exitcode(code)
+    while status is not None and select.select([fd], [], [], 0.2)[0]:  # what it wrote before it ended
         try:
             chunk = os.read(fd, 65536)
         except OSError:
@@ -156,7 +169,7 @@ def under_pty(argv: list[str], cwd: Path, env: dict[str, str], seconds: float,
         if not chunk:
             break
         output += chunk
-    if running:
+    if status is None:
         os.kill(pid, signal.SIGTERM)
         for _ in range(50):
             ended, _code = os.waitpid(pid, os.WNOHANG)
@@ -173,15 +186,20 @@ def under_pty(argv: list[str], cwd: Path, env: dict[str, str], seconds: float,
 def check_interactive(valterm: Path, folder: Path, env: dict[str, str]) -> None:
     ws = str(folder / "ws-app")
     state = Path(env["XDG_STATE_HOME"]) / "valterm"
-    for what, argv, expect in (
-        ("the app", [str(valterm), "--workspace", ws, "--setup", "PROCESS"], "MAIN MENU"),
-        ("the museum demo", [str(valterm), "--workspace", ws, "demo"], "VAL-II"),
+    ctrl_q = b"\x11"
+    for what, argv, expect, quit_keys in (
+        ("the app", [str(valterm), "--workspace", ws, "--setup", "PROCESS"], "MAIN MENU", ctrl_q),
+        ("the museum demo", [str(valterm), "--workspace", ws, "demo"], "VAL-II", b""),
     ):
-        running, status, screen = under_pty(argv, folder, env, RUNNING_SECONDS)
+        running, status, screen = under_pty(argv, folder, env, RUNNING_SECONDS, quit_keys)
         logs = sorted(state.glob("*.log"))
         ok = running and expect in screen and "Traceback" not in screen and "Error" not in screen and not logs
+        label = f"{what} runs {RUNNING_SECONDS:g} s in an 80x24 terminal (`{' '.join(argv[1:])}`)"
+        if quit_keys:
+            label += ", then Ctrl-Q ends it with status 0"
+            ok = ok and status == 0
         crash = "".join(f"--- {log}\n{log.read_text()[-3000:]}" for log in logs)
-        check(ok, f"{what} runs {RUNNING_SECONDS:g} s in an 80x24 terminal (`{' '.join(argv[1:])}`)",
+        check(ok, label,
               f"running: {running}, exit status: {status}\n--- screen text (last 2000 chars)\n{screen[-2000:]}\n{crash}")
 
 
