@@ -7,7 +7,6 @@ import os
 import stat
 from pathlib import Path
 
-import pytest
 
 from valterm.testing import Simulation
 from valterm.ui.screens.editor import EditorScreen

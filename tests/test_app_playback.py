@@ -124,8 +124,8 @@ def _buggy() -> Iterator[Event]:
 
 @sync
 async def test_refusals_are_shown_and_bugs_logged(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    log = tmp_path / "valterm.log"
-    monkeypatch.setenv("VALTERM_LOG", str(log))
+    monkeypatch.setenv("XDG_STATE_HOME", str(tmp_path / "state"))
+    logs = tmp_path / "state" / "valterm"
     app = Host(Session(workspace_root=tmp_path / "ws"), motion_rate=math.inf)
     async with app.run_test(size=(120, 40)) as pilot:
         screen = KeyboardScreen()
@@ -133,10 +133,11 @@ async def test_refusals_are_shown_and_bugs_logged(tmp_path: Path, monkeypatch: p
         await pilot.pause()
         app.run_events(_refused(), screen)
         await pilot.pause()
-        assert "NO SUCH THING HERE" in screen.messages.text and not log.exists()
+        assert "NO SUCH THING HERE" in screen.messages.text and not logs.exists()
         app.run_events(_buggy(), screen)
         await pilot.pause()
         shown = screen.messages.text.splitlines()
+        [log] = logs.glob("crash-*.log")  # the one crash log of the CLI and the app
         assert shown[-2:] == ["BEFORE", f"*** INTERNAL ERROR (RUNTIMEERROR: A BUG IN THE CORE); SEE {log}"]
         assert "Traceback" in log.read_text() and "_buggy" in log.read_text()
         assert not app.player.playing

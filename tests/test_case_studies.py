@@ -146,12 +146,12 @@ def test_run_time_error_exits_1_with_program_and_step(tmp_path: Path) -> None:
     assert "A" in errors[0]["message"]
 
 
-def test_bad_input_file_exits_2_with_a_located_message(tmp_path: Path) -> None:
+def test_bad_input_file_exits_1_with_a_located_message(tmp_path: Path) -> None:
     bad = tmp_path / "BAD.SET"
     bad.write_text("2\nMM\nW\n1,7\n0 0 0\n")
     result = run(tmp_path, "PROCESS.DAT", "--cell", str(bad))
-    assert result.returncode == 2
-    assert "BAD.SET:4:" in result.stderr
+    assert result.returncode == 1
+    assert "valterm: BAD.SET:4:" in result.stderr
     assert "Traceback" not in result.stderr
 
 

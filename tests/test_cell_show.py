@@ -39,19 +39,19 @@ def test_inches_and_screen_frame_are_shown_in_world_mm(tmp_path: Path, capsys: p
     assert data["objects"][0]["vertices"][0] == pytest.approx([76.2, 25.4, 50.8 - 26.0])
 
 
-def test_malformed_file_exits_2_with_file_line_reason(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+def test_malformed_file_exits_1_with_file_line_reason(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     path = tmp_path / "BAD.SET"
     path.write_text("1\nMM\nW\n1,7\n")
-    assert main(["cell", "show", str(path)]) == 2
+    assert main(["cell", "show", str(path)]) == 1
     captured = capsys.readouterr()
     assert captured.out == ""
-    assert captured.err.strip() == "BAD.SET:4: object 1: N = 7 is odd; the two polygons need the same number of vertices"
+    assert captured.err.strip() == "valterm: BAD.SET:4: object 1: N = 7 is odd; the two polygons need the same number of vertices"
 
 
 def test_damaged_name_in_the_workspace(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     (tmp_path / "JUNK.SET").write_bytes(b"\x00\x01binary")
-    assert main(["--workspace", str(tmp_path), "cell", "show", "junk"]) == 2
-    assert capsys.readouterr().err.startswith("JUNK.SET:1: not a text setup file")
+    assert main(["--workspace", str(tmp_path), "cell", "show", "junk"]) == 1
+    assert capsys.readouterr().err.startswith("valterm: JUNK.SET:1: not a text setup file")
 
 
 @pytest.mark.parametrize("argument, message", [("NOSUCH", "NOSUCH.SET: no such setup file"),
@@ -59,7 +59,7 @@ def test_damaged_name_in_the_workspace(tmp_path: Path, capsys: pytest.CaptureFix
                                                ("A-B", "'A-B' is not a valid name"),
                                                ("TOOLONGNAME", "is not a valid name")])
 def test_missing_or_invalid_names(tmp_path: Path, capsys: pytest.CaptureFixture[str], argument: str, message: str) -> None:
-    assert main(["--workspace", str(tmp_path), "cell", "show", argument]) == 2
+    assert main(["--workspace", str(tmp_path), "cell", "show", argument]) == 1
     assert message in capsys.readouterr().err
 
 

@@ -45,11 +45,9 @@ def test_ik_negative_numbers_need_no_double_dash(capsys: pytest.CaptureFixture[s
 
 def test_ik_failure_exits_1_with_reason_and_joint(capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["kin", "ik", "3000", "0", "0", "0", "0", "0", "--json"]) == 1
-    assert json.loads(capsys.readouterr().out) == {"error": "out of reach", "joint": 0}
-    # Fig. 2-8a2 puts JT2 at 102.63: beyond the -225..45 stop in every equivalent
-    assert main(["kin", "ik", "249.46", "494.67", "-550.56", "167.32", "82.94", "158.35",
-                 "--config", "RIGHTY,BELOW,NOFLIP", "--json"]) == 1
-    assert json.loads(capsys.readouterr().out) == {"error": "joint 2 beyond its stop", "joint": 2}
+    captured = capsys.readouterr()
+    assert json.loads(captured.out) == {"error": "out of reach", "joint": 0}
+    assert captured.err == "valterm: kin ik: out of reach\n"
 
 
 def test_batch_from_standard_input_one_result_per_line() -> None:
@@ -60,13 +58,16 @@ def test_batch_from_standard_input_one_result_per_line() -> None:
         "-537.29 61.79 -610.00 65.00 89.00 0.00 LEFTY,ABOVE,NOFLIP",
     ]) + "\n"
     result = run(["kin", "ik", "--json"], lines)
-    assert result.returncode == 0, result.stderr
+    assert result.returncode == 1  # line 2 failed
     out = [json.loads(line) for line in result.stdout.splitlines()]
     assert len(out) == 4
     assert out[0]["joints"] == pytest.approx([-108.02, 172.08, 19.34, -1.52, 35.64, -9.54], abs=0.05)
     assert out[1]["line"] == 2 and "expected 6 numbers" in out[1]["error"]
-    assert out[2] == {"error": "joint 2 beyond its stop", "joint": 2, "line": 3}
+    # Fig. 2-8c: the geometric solution, flagged (JT2 is beyond its stop)
+    assert out[2]["beyond_stop"] == 2
+    assert out[2]["joints"] == pytest.approx([144.00, 76.14, 20.87, -179.98, -84.00, 1.36], abs=0.05)
     assert out[3]["config"] == {"arm": "LEFTY", "elbow": "ABOVE", "wrist": "NOFLIP"}
+    assert result.stderr.splitlines()[0] == "valterm: kin ik: line 2: expected 6 numbers (X Y Z O A T), got 3"
 
 
 def test_fk_batch_many_poses_in_one_call() -> None:

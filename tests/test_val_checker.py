@@ -136,9 +136,9 @@ def test_cli_check_workspace_name(tmp_path: Path, capsys: pytest.CaptureFixture[
     assert "CONV1: 56 steps, no errors" in out and "CONV2" in out
 
 
-def test_cli_check_unreadable_file_exits_2(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+def test_cli_check_unreadable_file_exits_1(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     binary = tmp_path / "JUNK.DAT"
     binary.write_bytes(b"\x00\x01\x02 READY\n")
-    assert main(["check", str(binary)]) == 2
+    assert main(["check", str(binary)]) == 1
     assert "JUNK.DAT" in capsys.readouterr().err
-    assert main(["check", str(tmp_path / "none" / "X.DAT")]) == 2
+    assert main(["check", str(tmp_path / "none" / "X.DAT")]) == 1

@@ -515,9 +515,9 @@ def test_cli_run_errors(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> N
     assert main([*ws, "run", str(bad)]) == 1
     out = capsys.readouterr().out
     assert "*** BAD STEP 2:" in out and "NOWHERE" in out and "VARIABLES  X=1" in out
-    assert main([*ws, "run", "NOSUCH"]) == 2
+    assert main([*ws, "run", "NOSUCH"]) == 1
     assert "NOSUCH.DAT" in capsys.readouterr().err
     broken = tmp_path / "BROKEN.SET"
     broken.write_text("2\nMM\nW\n1,8\n")
-    assert main([*ws, "run", "PROCESS", "--cell", str(broken)]) == 2
+    assert main([*ws, "run", "PROCESS", "--cell", str(broken)]) == 1
     assert "BROKEN.SET:" in capsys.readouterr().err

@@ -6,3 +6,14 @@ is a thin layer of screens over it.
 """
 
 __version__ = "0.1.0"
+
+
+def version() -> str:
+    """The installed distribution's version; ``__version__`` when run from a bare checkout."""
+    from importlib.metadata import PackageNotFoundError
+    from importlib.metadata import version as installed
+
+    try:
+        return installed("valterm")
+    except PackageNotFoundError:
+        return __version__

@@ -1,59 +1,118 @@
-"""The ``valterm`` command line: the app with no arguments, subcommands for scripts."""
+"""The ``valterm`` command line: the app with no arguments, subcommands for scripts.
+
+Exit status: 0 ok, 1 failure, 2 usage (see ``valterm.commands``); an unexpected
+exception is a bug: one line on stderr naming the log file with its traceback
+(``valterm.core.crashlog``), exit 70.
+"""
 
 from __future__ import annotations
 
 import argparse
-import importlib
+import os
+import re
 import sys
-from typing import Sequence
+from collections.abc import Sequence
+from typing import NoReturn
 
-# Each module in valterm.commands registers one subcommand (see its docstring).
-SUBCOMMANDS = ("kin", "cell", "cad", "export", "export-program", "check", "run", "monitor", "bench", "app", "demo")
+from valterm import version
+from valterm.commands import (
+    FAILURE,
+    USAGE,
+    app,
+    bench,
+    cad,
+    cell,
+    check,
+    demo,
+    export,
+    exportprogram,
+    kin,
+    monitor,
+    run,
+    say,
+)
+from valterm.core.crashlog import report_crash
+from valterm.core.errors import ValtermError
+from valterm.core.workspace import ENV_VAR
+
+# Each module registers its subcommand(s); the order is the order of --help.
+COMMANDS = (kin, cell, cad, export, exportprogram, check, run, monitor, bench, app, demo)
+
+EPILOG = (
+    f"The workspace (programs, setup and location files) is --workspace DIR, else ${ENV_VAR}, "
+    "else ~/valterm; it is created and filled with the bundled examples on first use. "
+    "--workspace may also follow the subcommand. "
+    "Exit status: 0 ok, 1 failure, 2 usage error, 70 internal error (traceback logged)."
+)
+
+
+NEGATIVE_NUMBER = re.compile(r"^-(\d+\.?\d*|\.\d+)(e[-+]?\d+)?$|^-(inf|infinity|nan)$", re.IGNORECASE)
+
+
+class Parser(argparse.ArgumentParser):
+    """Every parser of the command line: usage errors say ``valterm:`` and exit 2, and each
+    subcommand also takes ``--workspace`` (after its name as well as before)."""
+
+    def __init__(self, *args: object, **kwargs: object) -> None:
+        top = kwargs.pop("top", False)
+        super().__init__(*args, **kwargs)  # type: ignore[arg-type]
+        self.add_argument(
+            "--workspace", metavar="DIR",
+            # a subcommand's parser only sets it when given, so it never hides the top one
+            default=None if top else argparse.SUPPRESS,
+            help=f"the workspace folder (default ${ENV_VAR}, else ~/valterm)",
+        )
+        # -1e3, -.5 and -inf are numbers (kin's poses), not options (argparse knows only -12, -1.5)
+        self._negative_number_matcher = NEGATIVE_NUMBER
+
+    def error(self, message: str) -> NoReturn:
+        self.print_usage(sys.stderr)
+        where = self.prog.removeprefix("valterm").strip()
+        say(f"{where}: {message}" if where else message)
+        raise SystemExit(USAGE)
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
-        prog="valterm",
-        description="VAL-II SIMULATOR: teach and program a PUMA robot in VAL-II, in the terminal.",
+    parser = Parser(
+        prog="valterm", top=True,
+        description="VAL-II SIMULATOR: teach and program a PUMA robot in VAL-II, in the terminal. "
+                    "With no COMMAND it starts the app.",
+        epilog=EPILOG,
     )
-    parser.add_argument("--workspace", metavar="DIR", help="the workspace folder (default ~/valterm)")
+    parser.add_argument("--version", action="version", version=f"valterm {version()}")
     parser.add_argument("--setup", metavar="NAME", help="the app: read NAME.SET and go straight to the MAIN MENU")
     parser.add_argument("--ascii", action="store_true", help="the app: draw the model in ASCII, not braille")
-    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
-    for name in SUBCOMMANDS:
-        try:
-            module = importlib.import_module(f"valterm.commands.{name.replace('-', '')}")
-        except ModuleNotFoundError as error:
-            if error.name == f"valterm.commands.{name.replace('-', '')}":
-                continue  # not built yet
-            raise
-        module.register(sub)
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=Parser)
+    for command in COMMANDS:
+        command.register(sub)
     return parser
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    parser = build_parser()
-    args = parser.parse_args(argv)
-    func = getattr(args, "func", None)
-    if func is None:
-        app = getattr(args, "default_app", None)
-        if app is None:
-            try:
-                from valterm.commands.app import run_app
-            except ModuleNotFoundError:
-                print(
-                    "valterm: the VAL-II SIMULATOR app is being built; "
-                    "try `valterm kin fk 0 -90 90 0 0 0` meanwhile."
-                )
-                return 0
-            return run_app(args)
-        return app(args)
+    try:
+        return _dispatch(argv)
+    except Exception as bug:  # noqa: BLE001 - the last resort: log it, one line, non-zero
+        return report_crash(bug)
+
+
+def _dispatch(argv: Sequence[str] | None) -> int:
+    try:
+        args = build_parser().parse_args(argv)
+    except SystemExit as done:  # --help, --version, a usage error
+        return done.code if isinstance(done.code, int) else USAGE
+    func = getattr(args, "func", None) or app.run_app
     try:
         return int(func(args) or 0)
+    except ValtermError as error:  # a refusal the command did not word itself
+        say(error)
+        return FAILURE
     except KeyboardInterrupt:
-        print("valterm: interrupted", file=sys.stderr)
+        say("interrupted")
         return 130
     except BrokenPipeError:
+        # the reader went away (`valterm kin fk < poses | head`): quietly, and with no
+        # second complaint when Python flushes stdout at exit
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 0
 
 

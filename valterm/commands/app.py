@@ -10,6 +10,8 @@ import argparse
 import shlex
 import sys
 
+from valterm.commands import FAILURE, USAGE, fail
+
 
 def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     serve = sub.add_parser("serve", help="serve the app to a web browser (needs valterm[web])")
@@ -28,13 +30,11 @@ def run_app(args: argparse.Namespace) -> int:
 
 def run_serve(args: argparse.Namespace) -> int:
     if not args.web:
-        print("valterm serve: say --web to serve the app over HTTP (valterm serve --web --port 8000)", file=sys.stderr)
-        return 2
+        return fail("serve: say --web to serve the app over HTTP (valterm serve --web --port 8000)", USAGE)
     try:
         from textual_serve.server import Server
     except ImportError:
-        print("valterm serve --web needs textual-serve: pip install 'valterm[web]'", file=sys.stderr)
-        return 1
+        return fail("serve --web needs textual-serve: pip install 'valterm[web]'", FAILURE)
     command = [sys.executable, "-m", "valterm"]
     if getattr(args, "workspace", None):
         command += ["--workspace", args.workspace]

@@ -1,7 +1,8 @@
 """``valterm cell show FILE.SET [--json]``: what a setup file holds, in world millimetres.
 
 FILE is a path, or a name in the workspace (``PROCESS`` or ``PROCESS.SET``). A malformed
-file exits 2 with ``FILE:LINE: reason`` on stderr; warnings (inward winding...) go to stderr too.
+or missing file exits 1 with ``valterm: FILE:LINE: reason`` on stderr; warnings (inward
+winding...) go to stderr too.
 """
 
 from __future__ import annotations
@@ -11,8 +12,9 @@ import json
 import sys
 from pathlib import Path
 
+from valterm.commands import FAILURE, USAGE, fail, say
 from valterm.core.cell.workcell import WorkCell
-from valterm.core.files.errors import FileFormatError, error_message
+from valterm.core.files.errors import FileFormatError
 from valterm.core.files.setup import read_setup
 from valterm.core.workspace import Workspace, WorkspaceError
 
@@ -29,8 +31,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def _usage(parser: argparse.ArgumentParser) -> int:
     parser.print_usage(sys.stderr)
-    print("valterm cell: say what to do, e.g. `valterm cell show PROCESS.SET`", file=sys.stderr)
-    return 2
+    return fail("cell: say what to do, e.g. `valterm cell show PROCESS.SET`", USAGE)
 
 
 def find_setup(argument: str, workspace_root: str | None) -> Path:
@@ -49,10 +50,9 @@ def show_cell(args: argparse.Namespace) -> int:
         path = find_setup(args.file, getattr(args, "workspace", None))
         cell = read_setup(path)
     except (FileFormatError, WorkspaceError, OSError) as error:
-        print(error_message(error), file=sys.stderr)
-        return 2
+        return fail(error, FAILURE)
     for warning in cell.warnings:
-        print(f"warning: {warning}", file=sys.stderr)
+        say(f"warning: {warning}")
     if args.json:
         print(json.dumps(cell_json(cell), indent=1))
     else:

@@ -2,18 +2,18 @@
 
 FILE is a path or a program name in the workspace. Every bad step is reported as
 ``PROGRAM step N: reason`` (warnings too: GOTO to a missing label, CALL of a missing
-program). Exit 0 with a summary when all is well, 1 when anything is wrong, 2 when a
-file cannot be read (``FILE:LINE: reason`` on stderr).
+program). Exit 0 with a summary when all is well, 1 when anything is wrong or a file
+cannot be read (``valterm: FILE:LINE: reason`` on stderr).
 """
 
 from __future__ import annotations
 
 import argparse
-import sys
 from collections.abc import Callable
 from pathlib import Path
 
-from valterm.core.files.errors import FileFormatError, error_message
+from valterm.commands import FAILURE, OK, say
+from valterm.core.files.errors import FileFormatError
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -53,15 +53,15 @@ def run(args: argparse.Namespace) -> int:
     from valterm.core.val.checker import check_program
     from valterm.core.workspace import WorkspaceError
 
-    status = 0
+    status = OK
     dialect = getattr(args, "dialect", None)
     for argument in args.files:
         try:
             path, exists = find_program(argument, getattr(args, "workspace", None))
             programs = read_programs(path)
         except (FileFormatError, WorkspaceError, FileNotFoundError, OSError) as error:
-            print(error_message(error), file=sys.stderr)
-            status = 2
+            say(error)
+            status = FAILURE
             continue
         in_file = {program.name for program in programs}
 
@@ -71,12 +71,12 @@ def run(args: argparse.Namespace) -> int:
             try:
                 report = check_program(program, program_exists=known, dialect=dialect)
             except WorkspaceError as error:  # a CALLed program that links outside the workspace
-                print(f"{path.name}: {error}", file=sys.stderr)
-                status = status or 1
+                say(f"{path.name}: {error}")
+                status = FAILURE
                 continue
             for diagnostic in report.diagnostics:
                 print(diagnostic)
             print(f"{report.summary()}  [{report.against}]")
-            if not report.ok and status == 0:
-                status = 1
+            if not report.ok:
+                status = FAILURE
     return status

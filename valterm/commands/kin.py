@@ -1,58 +1,91 @@
 """``valterm kin fk|ik``: the kinematics core from the command line, one pose or many.
 
-With the pose on the command line it prints one result; with none it reads one pose per
-line from standard input and prints one result per line, so thousands of poses take one
-call. A bad line gives an error for that line and the rest go on.
+With the pose on the command line it prints one result; a malformed pose there is a
+usage error (exit 2), an unreachable one a failure (exit 1). With no pose it reads one
+pose per line from standard input (blank lines and ``#`` comments skipped) and prints
+one result per line; a bad line is reported on standard error with its line number (and
+as an ``{"error": ...}`` object in --json, so outputs stay aligned with inputs), the rest
+go on, and the status is 1 if any line failed.
+
+``kin ik`` prints the geometric solution even when a joint is beyond its stop (the
+thesis's Figs. 2-8a2 and 2-8c show such rows), flagged ``"beyond_stop": n`` in JSON and
+by a warning on standard error; motions still refuse such poses.
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import math
 import sys
-from typing import Iterable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 
-from valterm.core.kinematics import Config, IKError, fk, ik_oat, indicators, wrap180
+import numpy as np
+
+from valterm.commands import FAILURE, OK, USAGE, say
+from valterm.core.kinematics import (
+    BeyondStop,
+    Config,
+    IKError,
+    fit_to_stops,
+    fk,
+    ik,
+    indicators,
+    oat_to_rotation,
+    wrap180,
+)
+
+# Larger numbers are no pose at all (mm or degrees); they would only overflow.
+LIMIT = 1e9
 
 
-def register(sub: argparse._SubParsersAction) -> None:
+def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     kin = sub.add_parser("kin", help="forward and inverse kinematics of the PUMA")
     kin_sub = kin.add_subparsers(dest="kin_command", metavar="fk|ik", required=True)
 
     fk_parser = kin_sub.add_parser("fk", help="JT1..JT6 -> XW YW ZW O A T and indicators")
-    fk_parser.add_argument("joints", nargs="*", metavar="JT", help="six joint angles in degrees (PUMA convention)")
+    fk_parser.add_argument("joints", nargs="*", metavar="JT",
+                           help="six joint angles in degrees (PUMA convention); none: one pose a line on stdin")
     fk_parser.add_argument("--point", type=int, choices=(1, 2, 3), default=1,
                            help="1 TCS origin, 2 LED sensor, 3 clamp tip")
     fk_parser.add_argument("--json", action="store_true", help="one JSON object per result")
     fk_parser.set_defaults(func=run_fk)
 
     ik_parser = kin_sub.add_parser("ik", help="XW YW ZW O A T -> JT1..JT6")
-    ik_parser.add_argument("pose", nargs="*", metavar="V", help="X Y Z (mm) O A T (degrees)")
+    ik_parser.add_argument("pose", nargs="*", metavar="V",
+                           help="X Y Z (mm) O A T (degrees); none: one pose a line on stdin")
     ik_parser.add_argument("--config", default="RIGHTY,ABOVE,NOFLIP",
                            help="configuration indicators, e.g. LEFTY,ABOVE,NOFLIP")
     ik_parser.add_argument("--json", action="store_true", help="one JSON object per result")
     ik_parser.set_defaults(func=run_ik)
 
 
+class BadPose(ValueError):
+    """The words of a pose are not what the command takes (a usage error on the command line)."""
+
+
 def _numbers(words: Sequence[str], count: int, what: str) -> list[float]:
     if len(words) != count:
-        raise ValueError(f"expected {count} numbers ({what}), got {len(words)}")
+        raise BadPose(f"expected {count} numbers ({what}), got {len(words)}")
     values = []
     for word in words:
         try:
-            values.append(float(word))
+            value = float(word)
         except ValueError:
-            raise ValueError(f"{word!r} is not a number") from None
+            raise BadPose(f"{word!r} is not a number") from None
+        if not math.isfinite(value) or abs(value) > LIMIT:
+            raise BadPose(f"{word!r} is not a usable number (finite, at most {LIMIT:g} in size)")
+        values.append(value)
     return values
 
 
-def _lines(args_values: Sequence[str]) -> Iterable[tuple[int, list[str]]]:
-    """The command-line pose, or one pose per line of standard input (blank lines skipped)."""
-    if args_values:
-        yield 0, list(args_values)
+def _poses(given: Sequence[str]) -> Iterator[tuple[int, list[str]]]:
+    """The command-line pose (line 0), or one pose per line of standard input."""
+    if given:
+        yield 0, list(given)
         return
     for number, line in enumerate(sys.stdin, start=1):
-        words = line.split()
+        words = line.split("#", 1)[0].split()
         if not words:
             continue
         # a trailing configuration word (RIGHTY,BELOW,NOFLIP) keeps its commas
@@ -60,17 +93,51 @@ def _lines(args_values: Sequence[str]) -> Iterable[tuple[int, list[str]]]:
         yield number, " ".join(words).replace(",", " ").split() + tail
 
 
-def _error(message: str, line: int, as_json: bool, joint: int | None = None) -> None:
-    if as_json:
-        obj: dict[str, object] = {"error": message}
+def _each(args: argparse.Namespace, given: Sequence[str], solve: Callable[[list[str], int], None]) -> int:
+    """Solve each pose; report failures on stderr (and as JSON records); the exit status."""
+    if not given and sys.stdin.isatty():
+        return _usage_hint(args)
+    status = OK
+    for line, words in _poses(given):
+        try:
+            with np.errstate(all="ignore"):  # overflow shows as a message below, not a warning
+                solve(words, line)
+        except BadPose as error:
+            _failed(args, str(error), line)
+            status = max(status, USAGE if line == 0 else FAILURE)
+        except IKError as error:
+            _failed(args, str(error), line, error.joint)
+            status = max(status, FAILURE)
+    return status
+
+
+def _usage_hint(args: argparse.Namespace) -> int:
+    what = "six joint angles" if args.kin_command == "fk" else "X Y Z O A T"
+    say(f"kin {args.kin_command}: give {what}, or pipe one pose a line on standard input")
+    return USAGE
+
+
+def _failed(args: argparse.Namespace, message: str, line: int, joint: int | None = None) -> None:
+    where = f"line {line}: " if line else ""
+    say(f"kin {args.kin_command}: {where}{message}")
+    if args.json:
+        record: dict[str, object] = {"error": message}
         if joint is not None:
-            obj["joint"] = joint
+            record["joint"] = joint
         if line:
-            obj["line"] = line
-        print(json.dumps(obj))
-    else:
-        where = f"line {line}: " if line else ""
-        print(f"{where}{message}", file=sys.stdout if line else sys.stderr)
+            record["line"] = line
+        print(json.dumps(record))
+
+
+def _warn(args: argparse.Namespace, message: str, line: int) -> None:
+    where = f"line {line}: " if line else ""
+    say(f"kin {args.kin_command}: {where}warning: {message}")
+
+
+def _finite(values: Sequence[float]) -> list[float]:
+    if not all(math.isfinite(v) for v in values):
+        raise IKError("no finite solution")
+    return list(values)
 
 
 def _table(xyz: Sequence[float], oat: Sequence[float], config: Config, joints: Sequence[float], clamp: str = "OPENED") -> str:
@@ -85,54 +152,53 @@ def _table(xyz: Sequence[float], oat: Sequence[float], config: Config, joints: S
 
 
 def run_fk(args: argparse.Namespace) -> int:
-    failed = False
-    for line, words in _lines(args.joints):
-        try:
-            joints = _numbers(words, 6, "JT1..JT6")
-        except ValueError as error:
-            _error(str(error), line, args.json)
-            failed = True
-            continue
+    def solve(words: list[str], line: int) -> None:
+        joints = _numbers(words, 6, "JT1..JT6")
         pose = fk(joints, point=args.point)
-        xyz = [round(float(v), 6) for v in pose.xyz]
-        oat = [round(v, 6) for v in pose.oat]
+        xyz = [round(v, 6) for v in _finite([float(v) for v in pose.xyz])]
+        oat = [round(v, 6) for v in _finite(pose.oat)]
         config = indicators(joints)
         shown = [round(wrap180(j), 6) for j in joints]
         if args.json:
             print(json.dumps({"xyz": xyz, "oat": oat, "config": config.as_dict(), "joints": shown}))
         else:
             print(_table(xyz, oat, config, joints))
-    # a single pose that failed exits 1; a batch reports per line and exits 0
-    return 1 if failed and args.joints else 0
+
+    return _each(args, args.joints, solve)
 
 
 def run_ik(args: argparse.Namespace) -> int:
     try:
         default_config = Config.parse(args.config)
     except ValueError as error:
-        print(f"valterm kin ik: --config: {error}", file=sys.stderr)
-        return 2
-    failed = False
-    for line, words in _lines(args.pose):
+        say(f"kin ik: --config: {error}")
+        return USAGE
+
+    def solve(words: list[str], line: int) -> None:
         config = default_config
-        try:
-            if len(words) == 7:
+        if len(words) == 7:
+            try:
                 config = Config.parse(words[6])
-                words = words[:6]
-            pose = _numbers(words, 6, "X Y Z O A T")
-            joints = ik_oat(pose[:3], pose[3:], config)
-        except IKError as error:
-            _error(str(error.reason), line, args.json, error.joint)
-            failed = True
-            continue
-        except ValueError as error:
-            _error(str(error), line, args.json)
-            failed = True
-            continue
+            except ValueError as error:
+                raise BadPose(str(error)) from None
+            words = words[:6]
+        pose = _numbers(words, 6, "X Y Z O A T")
+        # the geometric solution first; the stops only flag it
+        joints = _finite(ik(pose[:3], oat_to_rotation(*pose[3:]), config, enforce_stops=False))
+        beyond = 0
+        try:
+            joints = fit_to_stops(joints)
+        except BeyondStop as stop:
+            beyond = stop.joint
+            _warn(args, f"joint {beyond} beyond its stop ({stop.angle:.2f} deg): "
+                        "the geometric solution is shown; the robot cannot take this pose", line)
         shown = [round(wrap180(j), 6) for j in joints]
         if args.json:
-            print(json.dumps({"joints": shown, "config": config.as_dict()}))
+            result: dict[str, object] = {"joints": shown, "config": config.as_dict()}
+            if beyond:
+                result["beyond_stop"] = beyond
+            print(json.dumps(result))
         else:
             print(" ".join(f"{v:.2f}" for v in shown))
-    # a single pose that failed exits 1; a batch reports per line and exits 0
-    return 1 if failed and args.pose else 0
+
+    return _each(args, args.pose, solve)

@@ -29,8 +29,6 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     # SUPPRESS: given before the subcommand (valterm --setup X monitor), the value stays
     parser.add_argument("--setup", metavar="NAME", default=argparse.SUPPRESS, help="read NAME.SET (and NAME.LOC)")
     parser.add_argument("--loc", metavar="FILE", action="append", help="a location file (may repeat)")
-    parser.add_argument("--workspace", metavar="DIR", default=argparse.SUPPRESS,
-                        help="the workspace folder (default ~/valterm)")
     parser.set_defaults(func=run)
 
 

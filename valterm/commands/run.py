@@ -17,8 +17,8 @@ the file can be CALLed, and they are v+ (``--dialect v+`` makes .DAT programs v+
 input signals ("TIME SIGNAL VALUE" lines); precision points (``POINT #SAFE, j1..j6``) in the
 location files are read too. Signal changes are in the transcript (``SIGNAL 1 ON``) and JSON.
 
-Exit 0: the program ended normally; 1: a run-time error; 2: a bad input file
-(``FILE:LINE: reason`` on stderr); 130: aborted with CTRL-C (after the current step).
+Exit 0: the program ended normally; 1: a run-time error, or a bad or missing input file
+(``valterm: FILE:LINE: reason`` on stderr); 130: aborted with CTRL-C (after the current step).
 """
 
 from __future__ import annotations
@@ -29,6 +29,8 @@ import signal
 import sys
 from pathlib import Path
 from typing import Any
+
+from valterm.commands import FAILURE, OK, fail
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -93,7 +95,7 @@ def _find(argument: str, ext: str, workspace: Any) -> Path:
 
 def run(args: argparse.Namespace) -> int:
     from valterm.core.events import End, Error, Pause
-    from valterm.core.files.errors import FileFormatError, error_message
+    from valterm.core.files.errors import FileFormatError
     from valterm.core.files.locations import read_locations
     from valterm.core.files.setup import read_setup
     from valterm.core.simulator import Simulator
@@ -118,8 +120,7 @@ def run(args: argparse.Namespace) -> int:
         if check.is_file():
             variables.load(check)
     except (FileFormatError, WorkspaceError, FileNotFoundError, OSError) as error:
-        print(error_message(error), file=sys.stderr)
-        return 2
+        return fail(error, FAILURE)
     sim.collision_checks = bool(args.collisions)
     load_called = workspace.program_loader(program_path.resolve().parent)
 
@@ -178,7 +179,7 @@ def run(args: argparse.Namespace) -> int:
         signal.signal(signal.SIGINT, previous)
     if aborted:
         return 130
-    return 1 if errors else 0
+    return FAILURE if errors else OK
 
 
 def _in_workspace(workspace: Any, name: str, ext: str) -> bool:

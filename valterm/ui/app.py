@@ -9,14 +9,17 @@ module: they reach the app's state through ``self.app``.
 
 from __future__ import annotations
 
+import sys
 import time
 from collections.abc import Callable, Iterable
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 from textual.app import App
 from textual.binding import Binding
 
+from valterm.core.crashlog import EXIT_BUG, crash_line, write_crash_log
 from valterm.core.errors import ValtermError
 from valterm.core.events import Event
 from valterm.core.render.clock import DEFAULT_RATE
@@ -64,6 +67,22 @@ class ValtermApp(App[int]):
         self.player = Player(self, clock=clock, rate=motion_rate)
         self.setup_modified = False  # the cell moved since the set-up file was read or saved
         self._workspace: Workspace | None = None  # the workspace before any session (start screen)
+        self.crash: BaseException | None = None  # the bug that ended the app, if one did
+        self.crash_log: Path | None = None
+
+    def _handle_exception(self, error: Exception) -> None:
+        # A bug: its traceback goes to a log file and the terminal gets one line naming it
+        # (see run), instead of Textual's screenful of traceback (Textual is pinned).
+        if self.crash is None:
+            self.crash, self.crash_log = error, write_crash_log(error)
+        super()._handle_exception(error)
+        self._exit_renderables.clear()
+
+    def run(self, *args: Any, **kwargs: Any) -> int | None:
+        result = super().run(*args, **kwargs)
+        if self.crash is not None:  # the terminal is restored: now the one line
+            print(crash_line(self.crash, self.crash_log), file=sys.stderr)
+        return result
 
     # -- starting ------------------------------------------------------------------
     def on_mount(self) -> None:
@@ -161,6 +180,15 @@ class ValtermApp(App[int]):
 def run(workspace: str | Path | None = None, setup: str | None = None, ascii: bool = False) -> int:
     app = ValtermApp(workspace, setup, ascii=ascii)
     result = app.run()
-    return int(result or 0)
+    return exit_status(app, result)
+
+
+def exit_status(app: ValtermApp, result: object) -> int:
+    """The app's exit status: non-zero, with one line naming the log, when it crashed."""
+    if app.crash is not None:  # its one line is already on stderr
+        return EXIT_BUG
+    if app.return_code:
+        return app.return_code
+    return int(result or 0)  # type: ignore[call-overload]
 
 

@@ -7,25 +7,9 @@ as one line that says where the details are. No built-in exception is taken for 
 
 from __future__ import annotations
 
-import datetime
-import os
-import traceback
-from pathlib import Path
-
+from valterm.core.crashlog import write_crash_log
 from valterm.core.errors import ValtermError
 from valterm.core.motion import MotionRefused
-
-LOG_ENV = "VALTERM_LOG"  # where bugs are logged (default: the user's state folder)
-
-
-def log_path() -> Path:
-    """$VALTERM_LOG, else $XDG_STATE_HOME/valterm/valterm.log (~/.local/state by default)."""
-    given = os.environ.get(LOG_ENV)
-    if given:
-        return Path(given).expanduser()
-    state = os.environ.get("XDG_STATE_HOME") or str(Path.home() / ".local" / "state")
-    return Path(state) / "valterm" / "valterm.log"
-
 
 def error_text(error: ValtermError) -> str:
     """The message of a core refusal, upper case as on the VS11."""
@@ -34,17 +18,9 @@ def error_text(error: ValtermError) -> str:
 
 
 def bug_text(error: BaseException) -> str:
-    """Log a bug with its traceback; the one line to show for it."""
-    path = log_path()
-    stamp = datetime.datetime.now().isoformat(timespec="seconds")
-    trace = "".join(traceback.format_exception(type(error), error, error.__traceback__))
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        with path.open("a", encoding="utf-8") as log:
-            log.write(f"--- {stamp}\n{trace}\n")
-        where = f"SEE {path}"
-    except OSError:
-        where = "THE LOG FILE COULD NOT BE WRITTEN"
+    """Log a bug with its traceback (the one crash log, ``core/crashlog.py``); the line to show."""
+    path = write_crash_log(error)
+    where = f"SEE {path}" if path is not None else "THE LOG FILE COULD NOT BE WRITTEN"
     return upper_case(f"*** INTERNAL ERROR ({type(error).__name__}: {error}); {where}")
 
 
