@@ -130,7 +130,7 @@ def test_import_command_writes_a_setup_file(tmp_path, capsys, setup_module_ready
     assert len(cell.objects) == 1
     assert np.allclose(np.ptp(cell.objects[0].vertices, axis=0), 100)
     # no silent overwrite
-    assert run(["--workspace", str(ws), "import", str(box), "--out", "BOX.SET"]) == 2
+    assert run(["--workspace", str(ws), "import", str(box), "--out", "BOX.SET"]) == 1
     assert "exists" in capsys.readouterr().err
     assert run(["--workspace", str(ws), "import", str(box), "--out", "BOX", "--force", "--system", "s"]) == 0
 
@@ -152,12 +152,12 @@ def test_import_command_errors(tmp_path, capsys, setup_module_ready):
     ws = tmp_path / "ws"
     bad = tmp_path / "bad.igs"
     bad.write_text("short line\n")
-    assert run(["--workspace", str(ws), "import", str(bad), "--out", "BAD"]) == 2
+    assert run(["--workspace", str(ws), "import", str(bad), "--out", "BAD"]) == 1
     assert capsys.readouterr().err.startswith(f"{bad}:1: line is 10 columns long")
     good = tmp_path / "b.stl"
     trimesh.creation.box(extents=(1, 1, 1)).export(good)
-    assert run(["--workspace", str(ws), "import", str(good), "--out", "TOO_LONG_NAME.SET"]) == 2
+    assert run(["--workspace", str(ws), "import", str(good), "--out", "TOO_LONG_NAME.SET"]) == 1
     assert "not a valid name" in capsys.readouterr().err
-    assert run(["--workspace", str(ws), "import", str(tmp_path / "missing.igs"), "--out", "X"]) == 2
+    assert run(["--workspace", str(ws), "import", str(tmp_path / "missing.igs"), "--out", "X"]) == 1
     assert "no such file" in capsys.readouterr().err
     assert not (ws / "BAD.SET").exists()

@@ -188,7 +188,7 @@ def test_import_into_keeps_the_setup_and_appends_named_parts(tmp_path, capsys):
     assert_placed_well(after.objects[-1:], before.objects)
     # into one setup, out to another: the new file refuses to be overwritten without --force
     argv = ["--workspace", str(ws), "import", str(sample("occt-box-100mm.iges")), "--into", "PROCESS", "--out", "BOX"]
-    assert cli(argv) == 2
+    assert cli(argv) == 1
     assert "exists" in capsys.readouterr().err
     assert len(read_setup(ws / "BOX.SET").objects) == 1
     assert cli(argv + ["--force"]) == 0
@@ -197,7 +197,7 @@ def test_import_into_keeps_the_setup_and_appends_named_parts(tmp_path, capsys):
 
 def test_import_into_a_missing_setup_writes_nothing(tmp_path, capsys):
     ws = tmp_path / "ws"
-    assert cli(["--workspace", str(ws), "import", str(sample("occt-box-100mm.iges")), "--into", "NOSUCH"]) == 2
+    assert cli(["--workspace", str(ws), "import", str(sample("occt-box-100mm.iges")), "--into", "NOSUCH"]) == 1
     assert "no such setup file" in capsys.readouterr().err
     assert not (ws / "NOSUCH.SET").exists()
     with pytest.raises(SystemExit) as caught:   # neither --out nor --into: a usage error

@@ -138,7 +138,7 @@ def _write(folder: Path, name: str, data: str | bytes) -> Path:
 def test_mutated_setup_files(workspace: Path, text: str) -> None:
     path = _write(workspace, "FUZZ.SET", text)
     status, _, err = call(["--workspace", str(workspace), "cell", "show", str(path), "--json"])
-    assert status in (0, 2)
+    assert status in (0, 1)  # 1: a bad file (exit codes: 0 ok, 1 failure, 2 usage)
     assert_located(status, err, "FUZZ.SET")
 
 
@@ -149,29 +149,26 @@ def test_mutated_setup_files(workspace: Path, text: str) -> None:
 def test_mutated_location_files(workspace: Path, text: str) -> None:
     _write(workspace, "FUZZ.LOC", text)
     status, _, err = call(["--workspace", str(workspace), "run", "HELLO", "--loc", "FUZZ"])
-    assert status in (0, 2)
+    assert status in (0, 1)
     assert_located(status, err, "FUZZ.LOC")
 
 
 # -- programs ------------------------------------------------------------------------------------
 
-# A number too large for a double in a program (`X = 1e400`) is the expression parser's to
-# refuse (helper "interp" is rewriting it); these tokens stay out of programs until then.
-_OVERFLOW = re.compile(r"[0-9.][eEdD][+-]?[0-9]{3}")
-PROGRAM_NASTY = [t for t in NASTY if not _OVERFLOW.search(t)] + ["CALL FUZZ", "GOTO 10", "10 ", "IF X THEN", "END"]
+# Numbers too large for a double (`X = 1e400`) included: the expression parser refuses them.
+PROGRAM_NASTY = [*NASTY, "CALL FUZZ", "GOTO 10", "10 ", "IF X THEN", "END"]
 
 
 @fuzz(300)
 @given(text=st.one_of(mutated(_bundled("PROCESS.DAT"), PROGRAM_NASTY), mutated(_bundled("CONV1.DAT"), PROGRAM_NASTY)))
 def test_mutated_programs_checked(workspace: Path, text: str) -> None:
-    if _OVERFLOW.search(text):
-        text = _OVERFLOW.sub("1", text)
     path = _write(workspace, "FUZZ.DAT", text)
     status, out, err = call(["--workspace", str(workspace), "check", str(path)])
-    assert status in (0, 1, 2)
-    assert_located(2 if status == 2 else 0, err, "FUZZ.DAT")
-    if status == 1:  # the checker's findings: `FUZZ step N: reason`
-        assert re.search(r"FUZZ step \d+", out) or "FUZZ" in err, out[:300]
+    assert status in (0, 1)
+    if status == 1 and err.strip():  # the file itself: `FUZZ.DAT:LINE: reason`
+        assert_located(status, err, "FUZZ.DAT")
+    elif status == 1:  # the checker's findings: `FUZZ step N: reason`
+        assert re.search(r"FUZZ step \d+", out) or "FUZZ:" in out, out[:300]
 
 
 # -- IGES files ------------------------------------------------------------------------------------
@@ -189,7 +186,7 @@ IGES_NASTY = NASTY + ["H", "1H,", "2H;;", ";", "E+", "0.D0", "         1D", "S  
 def test_mutated_iges_files(workspace: Path, text: str) -> None:
     path = _write(workspace, "fuzz.igs", text)
     status, _, err = call(["--workspace", str(workspace), "import", str(path), "--out", "IGESFUZZ", "--force"])
-    assert status in (0, 2)
+    assert status in (0, 1)
     assert_located(status, err, "fuzz.igs")
 
 
@@ -228,7 +225,6 @@ def test_random_arguments(workspace: Path, argv: list[str]) -> None:
         assert longest < 1000, f"{shown}: a {longest}-character message: {err[:300]!r}"
 
 
-@pytest.mark.xfail(reason="`kin fk/ik` with inf/nan/1e300 is helper ship's fix (commands/kin.py)", strict=False)
 @pytest.mark.parametrize("argv", [["kin", "fk", "0", "inf", "0", "0", "0", "0"],
                                   ["kin", "ik", "nan", "inf", "1e308", "0", "0", "0"],
                                   ["kin", "ik", "0", "1e300", "0", "0", "0", "0"]], ids=["fk-inf", "ik-nan", "ik-1e300"])

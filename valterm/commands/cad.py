@@ -17,6 +17,7 @@ import argparse
 import sys
 from pathlib import Path
 
+from valterm.commands import FAILURE, USAGE, fail
 from valterm.core.cad.convert import add_parts, import_cad, summary
 from valterm.core.cad.errors import CadImportError
 from valterm.core.errors import ValtermError
@@ -64,7 +65,7 @@ def run_import(args: argparse.Namespace) -> int:
     from valterm.core.workspace import Workspace
 
     if not args.out and not args.into:
-        args.parser.error("give --out NAME.SET (a new setup) or --into NAME.SET (add to a setup)")
+        return fail("import: give --out NAME.SET (a new setup) or --into NAME.SET (add to a setup)", USAGE)
     root = getattr(args, "workspace", None)
     try:
         workspace = Workspace.open(root)
@@ -74,19 +75,14 @@ def run_import(args: argparse.Namespace) -> int:
         if not source.is_file():
             raise CadImportError(source, None, "no such file")
         if args.out and out.exists() and not args.force:
-            print(f"valterm import: {out.name} exists in the workspace; use --force to replace it", file=sys.stderr)
-            return 2
+            return fail(f"import: {out.name} exists in the workspace; use --force to replace it", FAILURE)
         cell = import_cad(source, units=args.units, system=args.system, name=out.stem, parts=args.parts,
                           around=setup.objects if setup is not None else ())
         if setup is not None:
             cell = add_parts(setup, cell)
         write_setup(out, cell)
-    except ValtermError as error:
-        print(error, file=sys.stderr)
-        return 2
-    except OSError as error:
-        print(f"valterm import: {error_message(error)}", file=sys.stderr)
-        return 2
+    except (ValtermError, OSError) as error:
+        return fail(f"import: {error_message(error)}", FAILURE)
     for warning in cell.warnings:
         print(f"warning: {warning}", file=sys.stderr)
     added = f", {len(cell.objects) - len(setup.objects)} part(s) added" if setup is not None else ""
