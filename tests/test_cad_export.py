@@ -153,7 +153,7 @@ def test_import_command_errors(tmp_path, capsys, setup_module_ready):
     bad = tmp_path / "bad.igs"
     bad.write_text("short line\n")
     assert run(["--workspace", str(ws), "import", str(bad), "--out", "BAD"]) == 1
-    assert capsys.readouterr().err.startswith(f"{bad}:1: line is 10 columns long")
+    assert capsys.readouterr().err.startswith(f"valterm: {bad}:1: line is 10 columns long")
     good = tmp_path / "b.stl"
     trimesh.creation.box(extents=(1, 1, 1)).export(good)
     assert run(["--workspace", str(ws), "import", str(good), "--out", "TOO_LONG_NAME.SET"]) == 1

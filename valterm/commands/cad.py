@@ -82,7 +82,7 @@ def run_import(args: argparse.Namespace) -> int:
             cell = add_parts(setup, cell)
         write_setup(out, cell)
     except (ValtermError, OSError) as error:
-        return fail(f"import: {error_message(error)}", FAILURE)
+        return fail(error_message(error), FAILURE)
     for warning in cell.warnings:
         print(f"warning: {warning}", file=sys.stderr)
     added = f", {len(cell.objects) - len(setup.objects)} part(s) added" if setup is not None else ""
