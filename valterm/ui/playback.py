@@ -250,15 +250,13 @@ class Player:
             self._paused, self._last_pause = True, event
 
     def _paced(self, first: PoseEvent) -> MotionPlayer[PoseEvent]:
-        """The motion's poses on the clock: its last pose shows ``seconds x factor`` from now."""
+        """The motion's poses on the clock: it ends ``seconds x factor`` from now."""
         seconds = float(first.seconds) * self.factor
         if seconds <= 0 or first.steps <= 0 or math.isinf(self.rate):
             return MotionPlayer(self._poses(first), self.rate, clock=self.clock)
-        rate = first.steps / seconds
-        motion: MotionPlayer[PoseEvent] = MotionPlayer(self._poses(first), rate, clock=self.clock, start=False)
-        # pose i (from 0) is due at (i + 1) / rate: the robot leaves now, arrives at `seconds`
-        motion.start(self.clock() + 1.0 / rate)
-        return motion
+        # pose i (from 0) is due at i / rate; the motion is over when pose `steps` would be
+        # due, `seconds` from now (what follows it is pulled then)
+        return MotionPlayer(self._poses(first), first.steps / seconds, clock=self.clock)
 
     def set_factor(self, factor: float) -> float:
         """A new playback factor (from the next motion or DELAY on); returns it."""
