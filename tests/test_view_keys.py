@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from tests.app_helpers import FakeClock, make_app, sync
+from tests.app_helpers import FakeClock, make_app, screen_text, sync
 from valterm.core.events import Motion
 from valterm.core.render import views
 from valterm.core.render.overlays import SEEN_COLOUR, TRACE_COLOUR
@@ -50,6 +50,10 @@ async def test_arrows_turn_the_view_and_never_the_world(tmp_path: Path, keys, sc
         assert view.view is app.view_transform and view.frame.text() != before
         await pilot.press("plus")
         assert app.view_transform.scale == pytest.approx(views.ZOOM_STEP)
+        await pilot.press("greater_than_sign" if screen_type is not ValModeScreen else "f7")
+        assert app.player.factor == 0.5
+        assert view.caption == f"AZ {az + 15:.0f} EL {el + 15:.0f}  TIME x0.5"
+        assert screen_text(app).count("TIME x0.5") >= 1  # the status line on the screen
         await pilot.press("f2")  # a turned view -> iso, then side: the thesis's view
         assert views.angles(app.view_transform) == pytest.approx((az, el))
         await pilot.press("f2")

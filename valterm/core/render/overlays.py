@@ -54,12 +54,12 @@ def clamp_point(simulator: Simulator) -> np.ndarray:
 class Trace:
     """The clamp's path over the last motions (a capped polyline)."""
 
-    def __init__(self, points: Iterable[Sequence[float]] = (), maxlen: int = TRACE_POINTS) -> None:
+    def __init__(self, points: Iterable[Sequence[float] | np.ndarray] = (), maxlen: int = TRACE_POINTS) -> None:
         self._points: deque[np.ndarray] = deque(maxlen=maxlen)
         for point in points:
             self.add(point)
 
-    def add(self, point: Sequence[float]) -> None:
+    def add(self, point: Sequence[float] | np.ndarray) -> None:
         p = np.asarray(point, dtype=float)
         if not self._points or float(np.linalg.norm(p - self._points[-1])) >= TRACE_STEP:
             self._points.append(p)

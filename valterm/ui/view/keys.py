@@ -4,7 +4,7 @@ screen that asks a typed answer keeps its keys (the focused input takes them fir
 
 Arrows orbit, + / - (or PAGE UP / PAGE DOWN) zoom, F2 cycles the iso / side / front / top
 views, F3 frames the whole cell, F4 follows the clamp, F5 shows or hides the tool-path
-trace, F6 / F7 (or < / >) make the playback slower / faster. KEYBOARD's ORIENT takes the
+trace, F6 / F7 (or < / >) make the playback slower / faster (HELP topic VIEW). KEYBOARD's ORIENT takes the
 arrows and + / - itself while it is on (the screen stops those keys), as the thesis has it.
 The view never changes world data.
 """
@@ -34,15 +34,6 @@ VIEW_BINDINGS = [
 
 # every key bound above (VAL-II mode lets them through to the app)
 VIEW_KEYS = frozenset(key for binding in VIEW_BINDINGS for key in binding.key.split(","))
-
-# the help text (HELP screens list it)
-VIEW_KEYS_HELP = """\
-VIEW KEYS (every screen with the model)
-  ARROWS        TURN THE VIEW (ORBIT)      + -  (PGUP PGDN)  ZOOM
-  F2            ISO / SIDE / FRONT / TOP   F3                WHOLE CELL
-  F4            FOLLOW THE CLAMP (ON/OFF)  F5                TOOL PATH (ON/OFF)
-  F6 <  F7 >    PLAYBACK SLOWER / FASTER (TIME x0.25 .. x8 OF THE REAL PUMA)
-"""
 
 
 class ViewActions:
@@ -110,9 +101,18 @@ class ViewActions:
     def action_pace(self, steps: int) -> None:
         factor = self.player.change_factor(steps)  # type: ignore[attr-defined]
         self._say(f"PLAYBACK: TIME x{factor:g} OF THE REAL PUMA")
-        refresh = getattr(self.screen, "update_readout", None)  # type: ignore[attr-defined]
-        if callable(refresh):
-            refresh()
+        for view in self._model_views():
+            view.redraw()  # the status line shows the factor
+
+    def view_caption(self) -> str:
+        """The model view's status line: which view, following the clamp, the playback factor."""
+        azimuth, elevation = views.angles(self.view_transform)  # type: ignore[attr-defined]
+        name = next((n.upper() for n, (az, el) in views.PRESETS.items()
+                     if abs(el - elevation) < 0.5 and (abs(el) >= 89.5 or abs(az - azimuth) < 0.5)),
+                    f"AZ {azimuth:.0f} EL {elevation:.0f}")
+        follow = "  FOLLOW" if self.follow_clamp else ""
+        factor = self.player.factor  # type: ignore[attr-defined]
+        return f"{name}{follow}  TIME x{factor:g}"
 
     # -- the shared view state ---------------------------------------------------------
     follow_clamp: bool = False

@@ -125,6 +125,7 @@ class ModelView(Widget):
         self.dirty_rows: tuple[int, ...] = ()
         self.dirty_spans: tuple[tuple[int, int, int], ...] = ()  # (row, x0, x1)
         self.last_raster_ms = 0.0
+        self.caption = ""  # shown over the last row (see _update_caption)
 
     # -- inputs --------------------------------------------------------------------
     @property
@@ -199,6 +200,7 @@ class ModelView(Widget):
         width, height = self.size
         if width <= 0 or height <= 0:
             return  # hidden (a narrow screen shows the menu): nothing to draw until a size comes
+        self._update_caption(height)
         key = (self._scene_version, self._view.key(), self.back_faces, self.axes, self.ascii, width, height)
         if key == self._drawn_key and not force:
             return
@@ -221,6 +223,18 @@ class ModelView(Widget):
             self._strips[r] = None
         if self.dirty_spans:
             self.refresh(*(Region(a, r, b - a, 1) for r, a, b in self.dirty_spans))
+
+    def _update_caption(self, height: int) -> None:
+        """The status line in the picture's bottom right corner: the view and the playback
+        factor, from the app's ``view_caption()`` (none in an app without one)."""
+        source = getattr(self.app, "view_caption", None)
+        caption = source() if callable(source) else ""
+        if caption == self.caption:
+            return
+        self.caption = caption
+        if self._frame is not None and len(self._strips) == height and height:
+            self._strips[height - 1] = None
+            self.refresh(Region(0, height - 1, self.size.width, 1))
 
     def _restyle(self) -> None:
         self._styles.clear()
@@ -251,6 +265,11 @@ class ModelView(Widget):
         """One row as runs of equal colour (few segments per row: cheap to send)."""
         colours = frame.colours[y]
         text = frame.row_text(y)
+        caption = f" {self.caption} " if self.caption and y == frame.height - 1 else ""
+        if caption and len(caption) < frame.width:
+            text = text[: frame.width - len(caption)] + caption
+            colours = colours.copy()
+            colours[frame.width - len(caption):] = AXES_COLOUR
         cuts = np.flatnonzero(np.diff(colours)) + 1
         starts = [0, *cuts.tolist()]
         ends = [*cuts.tolist(), frame.width]
