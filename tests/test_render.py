@@ -148,3 +148,15 @@ def test_the_clamp_point_follows_the_robot() -> None:
     trace.add(clamp_point(sim))  # no move: no point
     assert len(trace) == 2 and trace.segments().shape == (1, 2, 3)
     assert len(cell_points(sim, trace)) > len(sim.cell.objects) * 8
+
+
+def test_ascii_render_is_plain_ascii_and_the_app_options_count(ws, capsys) -> None:
+    code = main(["--workspace", ws, "--ascii", "--setup", "CONV", "render", "--size", "60x20"])
+    out = capsys.readouterr().out
+    lines = out.rstrip("\n").split("\n")
+    assert code == 0 and len(lines) == 20 and all(len(line) == 60 for line in lines)
+    assert out.isascii() and sum(c not in " \n" for c in out) > 50
+    code, conv, _ = render(ws, capsys, "--setup", "CONV", "--ascii", "--size", "60x20")
+    assert conv == out
+    _, process, _ = render(ws, capsys, "--ascii", "--size", "60x20")
+    assert process != out  # a different cell

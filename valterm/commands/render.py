@@ -91,7 +91,8 @@ def run(args: argparse.Namespace) -> int:
         return _fail(error_message(error), 2)
     try:
         trace = _place(session, args)
-        picture = draw(session.simulator, azimuth, elevation, size, trace=trace, ascii=args.render_ascii)
+        picture = draw(session.simulator, azimuth, elevation, size, trace=trace,
+                       ascii=args.render_ascii or bool(getattr(args, "ascii", False)))
         if args.svg:
             from valterm.core.files.atomic import write_text_atomic
 
@@ -113,7 +114,8 @@ def _session(args: argparse.Namespace) -> Any:
     """The session on the setup, with the location files read."""
     from valterm.core.session import DEFAULT_SETUP, Session
 
-    session = Session(workspace_root=getattr(args, "workspace", None), setup=args.render_setup or DEFAULT_SETUP)
+    setup = args.render_setup or getattr(args, "setup", None) or DEFAULT_SETUP  # also `valterm --setup X render`
+    session = Session(workspace_root=getattr(args, "workspace", None), setup=setup)
     for name in args.loc or ():
         session.load_locations(_stem(name, "LOC"))
     if args.trace and not session.workspace.exists(_stem(args.trace, "DAT"), "DAT"):
