@@ -153,3 +153,20 @@ def test_the_playback_factor_steps_through_x0_25_to_x8(tmp_path: Path) -> None:
     assert FACTORS[0] == 0.25 and FACTORS[-1] == 8.0
     with pytest.raises(ValueError):
         player.set_factor(math.inf)
+
+
+@sync
+async def test_on_the_val_ii_command_line_printable_keys_type_and_f_keys_turn(tmp_path: Path) -> None:
+    app = make_app(tmp_path)
+    async with app.run_test(size=(160, 50)) as pilot:
+        await pilot.press("V", "V")  # VAL-II mode, then its command line
+        await pilot.pause()
+        line = app.screen.query_one("#val-line")
+        assert line.has_focus
+        az, el = views.preset_angles("iso")
+        await pilot.press("plus", "minus", "left", "up")
+        assert line.value == "+-" and app.view_transform.scale == 1.0  # typed, not zoomed
+        assert views.angles(app.view_transform) == pytest.approx((az, el + 15))  # LEFT: the cursor
+        await pilot.press("f2", "pageup")
+        assert app.view_transform.scale == pytest.approx(views.ZOOM_STEP)  # PAGE UP zoomed
+        assert views.angles(app.view_transform) == pytest.approx((az, el))  # UP turned, F2 -> iso
