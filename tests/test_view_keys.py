@@ -58,6 +58,10 @@ async def test_arrows_turn_the_view_and_never_the_world(tmp_path: Path, keys, sc
         assert views.angles(app.view_transform) == pytest.approx((az, el))
         await pilot.press("f2")
         assert views.angles(app.view_transform) == pytest.approx((0.0, 0.0))
+        await pilot.press("plus", "f3")  # the whole cell again, still from the side
+        assert app.view_transform.scale == 1.0 and views.angles(app.view_transform) == pytest.approx((0.0, 0.0))
+        await pilot.press("f5")
+        assert not app.show_trace
         assert isinstance(app.screen, screen_type)  # no key reached the screen's menu
         assert all(np.array_equal(a.vertices, b) for a, b in zip(app.session.simulator.cell.objects, world))
         assert app.session.simulator.joints == joints
