@@ -5,13 +5,13 @@ from __future__ import annotations
 
 import numpy as np
 
+from valterm.core.render.overlays import DIM_OFFSET
 from valterm.core.render.raster import Scene, ViewTransform
 
 # colour index -> SVG colour, by range (robot warm, objects cool, overlays distinct)
 _FIXED = {1: "#9e9e9e", 2: "#ff0000", 3: "#ff3030", 4: "#00d7ff", 5: "#ff00ff", 6: "#ffd700"}
 _LINK = "#d7af00"
 _OBJECT = ("#00afff", "#00ff87", "#ff87ff", "#87d7ff", "#87ff87", "#ffafff", "#87ffd7", "#af87ff")
-DIM_OFFSET = 64
 
 
 def _colour(index: int) -> str:
