@@ -6,6 +6,7 @@ from pathlib import Path
 
 from app_helpers import FakeClock, make_app, screen_text, sync
 
+from valterm.core.cycletime import joint_motion_seconds
 from valterm.ui.screens.keyboard import KeyboardScreen
 from valterm.ui.screens.main_menu import MainMenuScreen
 from valterm.ui.widgets.menus import KEYBOARD_MENU, MANIPULATION_MENU, PENDANT_MENU
@@ -213,10 +214,11 @@ async def test_motion_is_paced_by_the_clock_and_ctrl_c_aborts(tmp_path: Path) ->
     async with app.run_test(size=(120, 40)) as pilot:
         await pilot.press("K")
         simulator = app.session.simulator
-        app.run_events(simulator.drive(1, 60.0))  # 5 steps of 12 degrees
+        seconds = joint_motion_seconds(simulator.joints, [60.0, *simulator.joints[1:]], simulator.speed)
+        app.run_events(simulator.drive(1, 60.0))  # 5 steps of 12 degrees, in the real PUMA's time
         await pilot.pause()
         assert app.moving and round(simulator.joints[0]) == 12
-        clock.t += 0.2
+        clock.t += 2 * seconds / 5 + 1e-6  # the third pose is due (the first shows at once)
         await pilot.pause(0.15)  # the driver's timer polls the clock every 0.1 s
         assert round(simulator.joints[0]) == 36
         await pilot.press("ctrl+c")

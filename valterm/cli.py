@@ -28,6 +28,7 @@ from valterm.commands import (
     exportprogram,
     kin,
     monitor,
+    render,
     run,
     say,
 )
@@ -36,7 +37,7 @@ from valterm.core.errors import ValtermError
 from valterm.core.workspace import ENV_VAR
 
 # Each module registers its subcommand(s); the order is the order of --help.
-COMMANDS = (kin, cell, cad, export, exportprogram, check, run, monitor, bench, app, demo)
+COMMANDS = (kin, cell, cad, export, exportprogram, check, run, monitor, render, bench, app, demo)
 
 EPILOG = (
     f"The workspace (programs, setup and location files) is --workspace DIR, else ${ENV_VAR}, "

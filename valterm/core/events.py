@@ -56,6 +56,9 @@ class PoseEvent(Event):
     joints: tuple[float, ...]
     index: int
     steps: int
+    # announced with every pose, so a player can pace the motion and show where it goes
+    seconds: float = 0.0  # the whole motion's real time (core/cycletime.py), as Motion's
+    goal: tuple[float, ...] = ()  # the motion's last pose (joints)
     event = "pose"
 
 

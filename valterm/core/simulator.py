@@ -271,11 +271,12 @@ class Simulator:
         """Show every pose of a computed path; the path was checked before the first pose."""
         steps = len(path)
         seconds = self._motion_seconds(path, kind)
+        goal = tuple(float(v) for v in path[-1]) if steps else ()
         for index, pose in enumerate(path, start=1):
             previous = self.joints
             self.joints = [float(v) for v in pose]
             self._follow_clamp()
-            yield PoseEvent(tuple(self.joints), index, steps)
+            yield PoseEvent(tuple(self.joints), index, steps, round(seconds, 6), goal)
             if self.collision_checks:
                 for finding in self.check_collisions(previous):
                     yield finding

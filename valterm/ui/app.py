@@ -15,7 +15,6 @@ from collections.abc import Callable, Iterable
 from pathlib import Path
 from typing import Any
 
-import numpy as np
 from textual.app import App
 from textual.binding import Binding
 
@@ -23,6 +22,8 @@ from valterm.core.crashlog import EXIT_BUG, crash_line, write_crash_log
 from valterm.core.errors import ValtermError
 from valterm.core.events import Event
 from valterm.core.render.clock import DEFAULT_RATE
+from valterm.core.render import views
+from valterm.core.render.overlays import Overlays, Trace, cell_points, clamp_point, picture_scene
 from valterm.core.render.raster import Scene, ViewTransform
 from valterm.core.session import Session
 from valterm.core.workspace import Workspace
@@ -31,10 +32,10 @@ from valterm.ui.messages import SceneChanged
 from valterm.ui.playback import Audience, Player
 from valterm.ui.screens.main_menu import MainMenuScreen
 from valterm.ui.screens.start import StartScreen
-from valterm.ui.widgets.scene import simulator_scene
+from valterm.ui.view.keys import VIEW_BINDINGS, ViewActions
 
 
-class ValtermApp(App[int]):
+class ValtermApp(ViewActions, App[int]):
     """The whole simulator; ``setup`` skips the start screen (tests and ``--setup``)."""
 
     CSS_PATH = Path(__file__).with_name("app.tcss")  # absolute: subclasses (demo, tests) live elsewhere
@@ -43,6 +44,7 @@ class ValtermApp(App[int]):
     AUTO_FOCUS = None  # menus take single keys: nothing is focused unless a question asks
     BINDINGS = [
         Binding("ctrl+c", "abort", "Abort", priority=True, show=False, id="app.abort"),
+        *VIEW_BINDINGS,  # arrows, + -, F2-F7 (valterm.ui.view.keys)
     ]
 
     def __init__(
@@ -64,6 +66,9 @@ class ValtermApp(App[int]):
         self.view_transform = ViewTransform()
         self.back_faces = False  # hidden surfaces removed until FACES (Table C-1)
         self.axes = False
+        self.trace = Trace()  # the clamp's path over the last motions (F5 shows or hides it)
+        self.show_trace = True
+        self.follow_clamp = False  # F4: the view follows the clamp
         self.player = Player(self, clock=clock, rate=motion_rate)
         self.setup_modified = False  # the cell moved since the set-up file was read or saved
         self._workspace: Workspace | None = None  # the workspace before any session (start screen)
@@ -118,14 +123,17 @@ class ValtermApp(App[int]):
         self.session = session
         self.setup_modified = False
         self.view_transform = ViewTransform()
+        self.trace.clear()
+        self.player.goal = None
         self.fit_view()
         return session
 
     def fit_view(self) -> None:
-        """The first view (and ORIENT's home): the whole cell and the robot's reach."""
-        lo, hi = self.scene().bounds()
-        reach = np.array([1000.0, 1000.0, 1050.0])
-        self.view_transform.fit((np.minimum(lo, -reach * [1, 1, 0.6]), np.maximum(hi, reach)))
+        """The first view: the oblique three-quarter view of the whole cell (ORIENT's H
+        turns it to the thesis's side view of the same box)."""
+        view = views.orient(self.view_transform, *views.preset_angles(views.DEFAULT_VIEW))
+        if self.session is not None:
+            views.fit_points(view, cell_points(self.session.simulator))
 
     def session_workspace(self) -> Workspace:
         """The workspace, also before a setup is read (the start screen's CAD files)."""
@@ -142,9 +150,22 @@ class ValtermApp(App[int]):
 
     # -- the picture -----------------------------------------------------------------
     def scene(self, part_axes: int | None = None) -> Scene:
+        """The picture: cell, robot, LED line and the overlays (trace, ghost, collisions, axes)."""
         if self.session is None:
             return Scene.build([])
-        return simulator_scene(self.session.simulator, part_axes)
+        sim = self.session.simulator
+        self.trace.add(clamp_point(sim))
+        if self.follow_clamp:
+            self.frame_clamp()
+        overlays = Overlays(
+            trace=self.trace if self.show_trace else None,
+            goal=self.player.goal,
+            collided=frozenset(self.player.collided),
+            axes=True,
+            depth=self.view_transform,
+            part_axes=part_axes,
+        )
+        return picture_scene(sim, overlays)
 
     def changed(self) -> None:
         """The cell or the robot changed outside a motion: tell the screen to redraw."""

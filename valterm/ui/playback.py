@@ -3,8 +3,11 @@
 A ``Player`` takes the core's event stream (a typed command, EXECUTE, a pendant jog, a
 MOVE of D_DEFINE) and works through it in ticks on its host's timers:
 
-- poses are paced by elapsed time on the injectable clock (``core.render.clock``), DELAY
-  waits on the same clock; with ``rate`` infinite both happen at once (tests);
+- poses are paced by elapsed time on the injectable clock (``core.render.clock``): a
+  motion takes the real PUMA's time for it (``PoseEvent.seconds``, the cycle-time estimate)
+  times the playback ``factor``; DELAY waits its seconds times the factor on the same
+  clock; with ``rate`` infinite both happen at once (tests); ``rate`` paces the poses of a
+  motion that announces no time;
 - whatever the program does (``10 GOTO 10`` has no motion and no DELAY) a tick works at
   most ``budget`` seconds of real time, then hands control back to Textual, so the screen
   updates and CTRL-C is seen at the next tick;
@@ -50,6 +53,8 @@ TICK_BUDGET = 0.005  # seconds of work a tick, then Textual gets the loop back
 YIELD = 0.001  # seconds the pump sleeps between busy ticks (keys and redraws run then)
 MAX_FPS = 60.0  # no more redraws a second than this while a motion is paced
 TRANSCRIPT_LINES = 2000  # lines a screen keeps of its transcript (and the most handed a tick)
+# playback factors: the animation takes the real robot's time times this (x0.25 is 4x faster)
+FACTORS = (0.25, 0.5, 1.0, 2.0, 4.0, 8.0)
 
 # events after which the picture changes although no pose came
 _SCENE_EVENTS = (PoseEvent, Motion, Hand, Grasp, Release)
@@ -92,6 +97,9 @@ class Player:
         self.clock = clock
         self.rate = rate
         self.budget = budget
+        self.factor = 1.0  # the playback factor (FACTORS): real time x factor
+        self.goal: tuple[float, ...] | None = None  # the target of the motion under way (or last)
+        self.collided: set[str] = set()  # parts and links found colliding in this stream
         self.ticks = 0  # ticks worked so far (tests count them)
         self.abort_tick = -1  # the tick count when CTRL-C came, and when the stream ended
         self.end_tick = -1
@@ -132,6 +140,7 @@ class Player:
                 self._aborting = True
             self.skip_to_end()
         self._source, self._audience, self._stop_source = iter(events), audience, stop
+        self.collided = set()
         self._paused = self._aborting = False
         self._tick()  # the first events (and a refusal) at once
 
@@ -228,18 +237,42 @@ class Player:
         if isinstance(event, _SCENE_EVENTS):
             self._scene_changed = True
         if isinstance(event, PoseEvent):
+            self.goal = event.goal or None
             if pace and not self._aborting:
-                self._motion = MotionPlayer(self._poses(event), self.rate, clock=self.clock)
+                self._motion = self._paced(event)
             return
         if isinstance(event, Delay):
             if pace and not self._aborting:
-                self._resume_at = self.clock() + float(event.seconds)
+                self._resume_at = self.clock() + float(event.seconds) * self.factor
             return
         self._show(event)
         if isinstance(event, Pause):
             self._paused, self._last_pause = True, event
 
+    def _paced(self, first: PoseEvent) -> MotionPlayer[PoseEvent]:
+        """The motion's poses on the clock: it ends ``seconds x factor`` from now."""
+        seconds = float(first.seconds) * self.factor
+        if seconds <= 0 or first.steps <= 0 or math.isinf(self.rate):
+            return MotionPlayer(self._poses(first), self.rate, clock=self.clock)
+        # pose i (from 0) is due at i / rate; the motion is over when pose `steps` would be
+        # due, `seconds` from now (what follows it is pulled then)
+        return MotionPlayer(self._poses(first), first.steps / seconds, clock=self.clock)
+
+    def set_factor(self, factor: float) -> float:
+        """A new playback factor (from the next motion or DELAY on); returns it."""
+        if not (factor > 0 and math.isfinite(factor)):
+            raise ValueError("the playback factor must be a positive number")
+        self.factor = float(factor)
+        return self.factor
+
+    def change_factor(self, steps: int) -> float:
+        """Move ``steps`` along FACTORS (+1: slower, each motion takes twice the time)."""
+        nearest = min(range(len(FACTORS)), key=lambda i: abs(math.log(FACTORS[i] / self.factor)))
+        return self.set_factor(FACTORS[max(0, min(len(FACTORS) - 1, nearest + steps))])
+
     def _show(self, event: Event) -> None:
+        if isinstance(event, Collision):
+            self.collided.update((event.a, event.b))
         audience = self._audience
         if audience is not None and audience.take_event(event):
             return
@@ -267,7 +300,8 @@ class Player:
         elif motion.poll() is not None:
             self._scene_changed = True
         if not motion.finished:
-            return max(motion.next_due_in(), 1.0 / MAX_FPS)
+            # at most 0.1 s without a fresh look at the clock (as for DELAY)
+            return min(max(motion.next_due_in(), 1.0 / MAX_FPS), 0.1)
         self._motion = None
         self._scene_changed = True
         tail, self._after_motion = self._after_motion, []

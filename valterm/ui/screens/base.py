@@ -21,6 +21,7 @@ from valterm.ui import keymap
 from valterm.ui.errors import problem_text
 from valterm.ui.messages import SceneChanged
 from valterm.ui.screens.help import HelpScreen
+from valterm.ui.view.keys import VIEW_KEYS
 from valterm.ui.view.model_view import ModelView
 from valterm.ui.widgets.cell_view import CellView
 from valterm.ui.widgets.menu_text import MenuText
@@ -247,6 +248,8 @@ class MenuScreen(Screen):
         if self._key_answer is None:
             type_ahead(event, self.query_one(Prompt).query_one("#answer", Input))
             return
+        if event.key in VIEW_KEYS:
+            return  # the view keys still turn the model while a one-key answer waits
         event.stop()
         event.prevent_default()
         char = (event.character or "").upper()

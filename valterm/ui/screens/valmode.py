@@ -40,6 +40,7 @@ from valterm.ui.errors import Refusal, problem_text
 from valterm.ui.playback import TRANSCRIPT_LINES, Player, Transcript, show_at_once
 from valterm.ui.screens.editor import EditorScreen, StepInput
 from valterm.ui.screens.help import HelpScreen
+from valterm.ui.view.keys import VIEW_KEYS
 from valterm.ui.view.model_view import ModelView
 from valterm.ui.widgets.debugpanel import PAUSED_KEYS, DebugPanel
 from valterm.ui.widgets.menus import (
@@ -49,7 +50,6 @@ from valterm.ui.widgets.menus import (
     VAL_MENU_1,
     VAL_MENU_2,
 )
-from valterm.ui.widgets.scene import simulator_scene
 
 
 class Mode(StrEnum):
@@ -148,16 +148,12 @@ class ValModeScreen(Screen[None]):
         return player
 
     def on_mount(self) -> None:
+        self.query_one(ModelView).set_view(self.app.view_transform)  # the app's shared view
         self.redraw()
-        self.query_one(ModelView).call_after_refresh(self._fit)
         if self.show_menu:
             self._show_menu(1)
         else:
             self.to_command()
-
-    def _fit(self) -> None:
-        view = self.query_one(ModelView)
-        view.fit()
 
     # -- what the screen shows ---------------------------------------------------------
     @property
@@ -172,7 +168,7 @@ class ValModeScreen(Screen[None]):
         self.show_lines(str(text).splitlines() or [""])
 
     def redraw(self) -> None:
-        self.query_one(ModelView).update_scene(simulator_scene(self.simulator))
+        self.query_one(ModelView).update_scene(self.app.scene())  # with the view's overlays
         self.query_one("#val-where", Static).update("\n".join(where_lines(self.simulator.where())))
 
     def _keys(self, text: str) -> None:
@@ -218,7 +214,7 @@ class ValModeScreen(Screen[None]):
     def on_key(self, event: Key) -> None:
         char = (event.character or "").upper()
         mode = self.mode
-        if mode in LINE_MODES or event.key in ("escape", "ctrl+c"):
+        if mode in LINE_MODES or event.key in ("escape", "ctrl+c") or event.key in VIEW_KEYS:
             return  # the line takes the keys; while running only CTRL-C (the app's) counts
         event.stop()
         event.prevent_default()

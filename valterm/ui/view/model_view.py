@@ -13,6 +13,7 @@ from typing import Mapping, Sequence
 
 import numpy as np
 from rich.segment import Segment
+from rich.color import Color
 from rich.style import Style
 from textual.events import Resize
 from textual.geometry import Region
@@ -20,6 +21,7 @@ from textual.reactive import var
 from textual.strip import Strip
 from textual.widget import Widget
 
+from valterm.core.render.overlays import DIM_OFFSET, GHOST_COLOUR, SEEN_COLOUR, TRACE_COLOUR
 from valterm.core.render.raster import (
     AXES_COLOUR,
     HIGHLIGHT_COLOUR,
@@ -41,12 +43,27 @@ _OBJECT_COLOURS = (
     "aquamarine1", "medium_purple1", "sky_blue1", "light_green", "violet", "turquoise2",
     "cornflower_blue", "green_yellow", "hot_pink", "cyan1",
 )
-DEFAULT_PALETTE: dict[int, str] = {
+BRIGHT_PALETTE: dict[int, str] = {
     AXES_COLOUR: "grey62",
     LED_COLOUR: "red1",
     HIGHLIGHT_COLOUR: "bright_red",
+    TRACE_COLOUR: "magenta1",
+    GHOST_COLOUR: "white",
+    SEEN_COLOUR: "yellow1",
     **{LINK_COLOUR_BASE + i: c for i, c in enumerate(_LINK_COLOURS)},
     **{OBJECT_COLOUR_BASE + i: c for i, c in enumerate(_OBJECT_COLOURS[:N_OBJECT_COLOURS])},
+}
+
+
+def _dim(name: str, amount: float = 0.55) -> str:
+    """The same colour, darker (the depth cue for what is far from the viewer)."""
+    r, g, b = Color.parse(name).get_truecolor()
+    return f"rgb({int(r * amount)},{int(g * amount)},{int(b * amount)})"
+
+
+DEFAULT_PALETTE: dict[int, str] = {
+    **BRIGHT_PALETTE,
+    **{index + DIM_OFFSET: _dim(name) for index, name in BRIGHT_PALETTE.items()},
 }
 
 
@@ -108,6 +125,7 @@ class ModelView(Widget):
         self.dirty_rows: tuple[int, ...] = ()
         self.dirty_spans: tuple[tuple[int, int, int], ...] = ()  # (row, x0, x1)
         self.last_raster_ms = 0.0
+        self.caption = ""  # shown over the last row (see _update_caption)
 
     # -- inputs --------------------------------------------------------------------
     @property
@@ -180,6 +198,9 @@ class ModelView(Widget):
         if not self.is_mounted:
             return
         width, height = self.size
+        if width <= 0 or height <= 0:
+            return  # hidden (a narrow screen shows the menu): nothing to draw until a size comes
+        self._update_caption(height)
         key = (self._scene_version, self._view.key(), self.back_faces, self.axes, self.ascii, width, height)
         if key == self._drawn_key and not force:
             return
@@ -202,6 +223,18 @@ class ModelView(Widget):
             self._strips[r] = None
         if self.dirty_spans:
             self.refresh(*(Region(a, r, b - a, 1) for r, a, b in self.dirty_spans))
+
+    def _update_caption(self, height: int) -> None:
+        """The status line in the picture's bottom right corner: the view and the playback
+        factor, from the app's ``view_caption()`` (none in an app without one)."""
+        source = getattr(self.app, "view_caption", None)
+        caption = source() if callable(source) else ""
+        if caption == self.caption:
+            return
+        self.caption = caption
+        if self._frame is not None and len(self._strips) == height and height:
+            self._strips[height - 1] = None
+            self.refresh(Region(0, height - 1, self.size.width, 1))
 
     def _restyle(self) -> None:
         self._styles.clear()
@@ -232,6 +265,11 @@ class ModelView(Widget):
         """One row as runs of equal colour (few segments per row: cheap to send)."""
         colours = frame.colours[y]
         text = frame.row_text(y)
+        caption = f" {self.caption} " if self.caption and y == frame.height - 1 else ""
+        if caption and len(caption) < frame.width:
+            text = text[: frame.width - len(caption)] + caption
+            colours = colours.copy()
+            colours[frame.width - len(caption):] = AXES_COLOUR
         cuts = np.flatnonzero(np.diff(colours)) + 1
         starts = [0, *cuts.tolist()]
         ends = [*cuts.tolist(), frame.width]

@@ -1,0 +1,71 @@
+"""The overlays that answer "did it reach?": ghost, collisions, LED part, depth cue (issue 12)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from valterm.core.events import PoseEvent
+from valterm.core.render.overlays import (
+    DIM_OFFSET,
+    GHOST_COLOUR,
+    SEEN_COLOUR,
+    Overlays,
+    clamp_point,
+    picture_scene,
+)
+from valterm.core.render.raster import HIGHLIGHT_COLOUR, object_colour
+from valterm.core.render.views import make_view, preset_angles
+from valterm.core.session import Session
+
+
+def test_the_ghost_is_a_frame_at_the_motions_target(tmp_path: Path) -> None:
+    session = Session(tmp_path)
+    session.load_locations("PROCESS")
+    sim = session.simulator
+    events = session.command("MOVE B")
+    first = next(e for e in events if isinstance(e, PoseEvent))
+    assert first.seconds > 0 and len(first.goal) == 6 and first.index == 1
+    scene = picture_scene(sim, Overlays(goal=first.goal))
+    ghost = scene.lines[scene.line_colours == GHOST_COLOUR]
+    assert ghost.shape == (3, 2, 3)
+    for _ in events:  # the motion ends where the ghost stood
+        pass
+    assert np.allclose(ghost[0, 0], sim.model.clamp_frame(sim.joints, sim.base)[:3, 3], atol=1e-6)
+
+
+def test_collided_parts_and_links_take_the_highlight(tmp_path: Path) -> None:
+    sim = Session(tmp_path).simulator
+    scene = picture_scene(sim, Overlays(collided=frozenset({"8", "CLAMP"})))
+    n = len(sim.cell.objects)
+    assert scene.colours[7] == HIGHLIGHT_COLOUR and scene.colours[0] == object_colour(1)
+    names = sim.model.names
+    links = scene.colours[n:n + len(names)]
+    assert [c == HIGHLIGHT_COLOUR for c in links] == [name == "CLAMP" for name in names]
+
+
+def test_the_part_the_led_sees_is_highlighted(tmp_path: Path) -> None:
+    session = Session(tmp_path)
+    session.load_locations("PROCESS")
+    for command in ("LEFTY", "MOVE A"):
+        for _ in session.command(command):
+            pass
+    sim = session.simulator
+    assert sim.led_part() == 1
+    assert picture_scene(sim).colours[0] == SEEN_COLOUR
+    assert picture_scene(sim, Overlays(led_part=False)).colours[0] == object_colour(1)
+
+
+def test_far_parts_are_dimmer(tmp_path: Path) -> None:
+    sim = Session(tmp_path).simulator
+    points = np.concatenate([p.vertices for p in sim.cell.objects])
+    view = make_view(points, *preset_angles("iso"))
+    colours = picture_scene(sim, Overlays(depth=view)).colours
+    dim = colours >= DIM_OFFSET
+    assert dim.any() and not dim.all()
+    depth = [float(p.vertices.mean(axis=0) @ view.depth_axis()) for p in sim.cell.objects]
+    n = len(depth)
+    # every dimmed part is further from the viewer than every undimmed one
+    assert max(d for d, k in zip(depth, dim[:n]) if k) < min(d for d, k in zip(depth, dim[:n]) if not k)
+    assert clamp_point(sim).shape == (3,)

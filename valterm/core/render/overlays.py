@@ -1,0 +1,194 @@
+"""What the user needs to judge a program, drawn over the cell and the robot.
+
+The tool-path trace of the last motions, the LED sensor line with the part it sees, the
+target of the current motion as a small frame (the "ghost"), the parts in collision in a
+colour of their own, the WORLD axes, and a depth cue (polyhedra further away take a dimmer
+colour index, which the view maps to a darker shade where the terminal has colour).
+
+Everything here is extra coloured segments and per-polyhedron colour indices handed to
+``Scene.build``; the rasterizer itself is untouched.
+"""
+
+from __future__ import annotations
+
+from collections import deque
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from valterm.core.cell.polyhedron import Polyhedron
+from valterm.core.render.raster import (
+    AXIS_LENGTH,
+    HIGHLIGHT_COLOUR,
+    LED_COLOUR,
+    Scene,
+    ViewTransform,
+    frame_lines,
+    link_colour,
+    object_colour,
+)
+
+if TYPE_CHECKING:
+    from valterm.core.simulator import Simulator
+
+# colour indices added to raster's (0 empty, 1 axes, 2 LED, 3 highlight, 8.. links, 16.. objects)
+TRACE_COLOUR = 4
+GHOST_COLOUR = 5
+SEEN_COLOUR = 6  # the part the LED sensor sees
+DIM_OFFSET = 64  # colour + DIM_OFFSET: the same colour, dimmer (further from the viewer)
+DIM_FRACTION = 0.45  # polyhedra in the farthest 45 % of the depth range are dimmed
+
+TRACE_POINTS = 4000  # clamp positions kept by the trace
+TRACE_STEP = 0.5  # mm the clamp must move to add a point
+GHOST_LENGTH = 80.0  # mm, the axes of the target frame
+
+
+def clamp_point(simulator: Simulator) -> np.ndarray:
+    """The world position whose path the trace draws: the clamp tip (KEYBOARD's POSITION 3)."""
+    xyz, _ = simulator.tool_pose(3)
+    return np.asarray(xyz, dtype=float)
+
+
+class Trace:
+    """The clamp's path over the last motions (a capped polyline)."""
+
+    def __init__(self, points: Iterable[Sequence[float] | np.ndarray] = (), maxlen: int = TRACE_POINTS) -> None:
+        self._points: deque[np.ndarray] = deque(maxlen=maxlen)
+        for point in points:
+            self.add(point)
+
+    def add(self, point: Sequence[float] | np.ndarray) -> None:
+        p = np.asarray(point, dtype=float)
+        if not self._points or float(np.linalg.norm(p - self._points[-1])) >= TRACE_STEP:
+            self._points.append(p)
+
+    def clear(self) -> None:
+        self._points.clear()
+
+    def __len__(self) -> int:
+        return len(self._points)
+
+    def points(self) -> np.ndarray:
+        return np.array(self._points) if self._points else np.zeros((0, 3))
+
+    def segments(self) -> np.ndarray:
+        """(N-1, 2, 3) consecutive points joined."""
+        pts = self.points()
+        if len(pts) < 2:
+            return np.zeros((0, 2, 3))
+        return np.stack([pts[:-1], pts[1:]], axis=1)
+
+
+@dataclass
+class Overlays:
+    """Which extras to draw and their data."""
+
+    trace: Trace | None = None  # None: no trace
+    goal: Sequence[float] | None = None  # joints of the current motion's target: the ghost
+    collided: frozenset[str] = frozenset()  # link names and part numbers (as text) in collision
+    led_part: bool = True  # highlight the part the LED sensor sees
+    axes: bool = False  # the WORLD axes as lines (the rasterizer's AXES adds the labels)
+    depth: ViewTransform | None = None  # dim what is far from the viewer of this view
+    part_axes: int | None = None  # a part whose frame is drawn (MANIPULATION mode)
+    extra: list[tuple[np.ndarray, int]] = field(default_factory=list)  # (segments, colour)
+
+
+def _dimmed(polys: list[Polyhedron], colours: list[int], keep: list[bool], view: ViewTransform) -> list[int]:
+    """Colour indices with the far polyhedra moved to their dim shade."""
+    if len(polys) < 2:
+        return colours
+    depth = np.array([float(p.vertices.mean(axis=0) @ view.depth_axis()) for p in polys])
+    lo, hi = float(depth.min()), float(depth.max())
+    if hi - lo < 1e-6:
+        return colours
+    far = (depth - lo) / (hi - lo) < DIM_FRACTION
+    return [c + DIM_OFFSET if f and k else c for c, f, k in zip(colours, far, keep)]
+
+
+def picture_scene(simulator: Simulator, overlays: Overlays | None = None) -> Scene:
+    """The simulator's scene with the overlays: objects, robot, a carried part, then lines."""
+    ov = overlays or Overlays()
+    objects = simulator.cell.objects
+    carried = simulator.carried
+    seen = simulator.led_part() if ov.led_part else None
+    names = simulator.model.names
+
+    def object_item(number: int) -> tuple[Polyhedron, int, bool]:
+        if str(number) in ov.collided:
+            return objects[number - 1], HIGHLIGHT_COLOUR, False
+        if number == seen:
+            return objects[number - 1], SEEN_COLOUR, False
+        return objects[number - 1], object_colour(number), True
+
+    items = [object_item(n) for n in range(1, len(objects) + 1) if n != carried]
+    for i, poly in enumerate(simulator.robot_polyhedra()):
+        hit = i < len(names) and names[i] in ov.collided
+        items.append((poly, HIGHLIGHT_COLOUR if hit else link_colour(i), not hit))
+    if carried is not None and 1 <= carried <= len(objects):
+        items.append(object_item(carried))
+    polys = [p for p, _, _ in items]
+    colours = [c for _, c, _ in items]
+    if ov.depth is not None:
+        colours = _dimmed(polys, colours, [k for _, _, k in items], ov.depth)
+    lines, line_colours = _lines(simulator, ov)
+    return Scene.build(zip(polys, colours), lines, line_colours)
+
+
+def _lines(simulator: Simulator, ov: Overlays) -> tuple[np.ndarray, list[int]]:
+    """The loose segments, drawn after the polyhedra: trace, ghost, axes, then the LED line."""
+    parts: list[tuple[np.ndarray, int]] = []
+    if ov.trace is not None:
+        parts.append((ov.trace.segments(), TRACE_COLOUR))
+    if ov.goal is not None and len(ov.goal):
+        frame = simulator.model.clamp_frame(list(ov.goal), simulator.base)
+        ghost = frame_lines(frame[:3, 3].tolist(), frame[:3, :3], GHOST_LENGTH)
+        parts.append((ghost, GHOST_COLOUR))
+    if ov.axes:
+        parts.append((frame_lines((0.0, 0.0, 0.0), length=AXIS_LENGTH), 1))
+    objects = simulator.cell.objects
+    if ov.part_axes is not None and 1 <= ov.part_axes <= len(objects):
+        parts.append((frame_lines(list(objects[ov.part_axes - 1].reference), length=150.0), LED_COLOUR))
+    parts.extend(ov.extra)
+    p0, p1 = simulator.model.led_segment(simulator.joints, simulator.gap, simulator.base)
+    parts.append((np.stack([np.asarray(p0, dtype=float), np.asarray(p1, dtype=float)])[None], LED_COLOUR))
+    segs = [np.asarray(s, dtype=float).reshape(-1, 2, 3) for s, _ in parts]
+    colours = [c for s, c in zip(segs, (c for _, c in parts)) for _ in range(len(s))]
+    return np.concatenate(segs), colours
+
+
+def cell_points(simulator: Simulator, trace: Trace | None = None) -> np.ndarray:
+    """What the frame-all view frames: the cell, the robot as it stands, the trace, the origin."""
+    scene = picture_scene(simulator, Overlays(led_part=False, trace=trace))
+    return np.concatenate([scene.vertices, scene.lines.reshape(-1, 3), np.zeros((1, 3))])
+
+
+FOLLOW_HALF = 220.0  # mm about the clamp framed by the follow view
+
+
+def clamp_points(simulator: Simulator) -> np.ndarray:
+    """A box about the clamp tip and the part under it (the follow-the-clamp view)."""
+    tip = clamp_point(simulator)
+    box = tip + FOLLOW_HALF * np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)])
+    under = _part_under(simulator, tip)
+    if under is None:
+        return box
+    return np.concatenate([box, simulator.cell.objects[under - 1].vertices])
+
+
+def _part_under(simulator: Simulator, tip: np.ndarray) -> int | None:
+    """The LED's part, else the nearest part whose footprint holds the clamp tip's XY, below it."""
+    seen = simulator.led_part()
+    if seen is not None:
+        return seen
+    best: tuple[float, int] | None = None
+    for number, poly in enumerate(simulator.cell.objects, start=1):
+        if number == simulator.carried:
+            continue
+        lo, hi = poly.vertices.min(axis=0), poly.vertices.max(axis=0)
+        if lo[0] <= tip[0] <= hi[0] and lo[1] <= tip[1] <= hi[1] and hi[2] <= tip[2] + 1.0:
+            gap = float(tip[2] - hi[2])
+            if best is None or gap < best[0]:
+                best = (gap, number)
+    return None if best is None else best[1]
