@@ -6,6 +6,10 @@ import asyncio
 import re
 from pathlib import Path
 
+import numpy as np
+
+from valterm.core.cycletime import joint_motion_seconds
+
 from valterm.testing import ScriptClock, Simulation
 
 DOC = Path(__file__).resolve().parent.parent / "docs" / "TESTING.md"
@@ -37,10 +41,12 @@ def test_the_script_clock_paces_motions(tmp_path: Path) -> None:
     async def body() -> None:
         async with Simulation(tmp_path, size=(120, 40), animate=True, rate=10.0) as sim:
             await sim.press("P")
-            sim.app.run_events(sim.simulator.drive(1, 60.0))  # five steps of 12 degrees
+            # five steps of 12 degrees, played in the real PUMA's time for them (cycle time)
+            seconds = joint_motion_seconds(np.zeros(6), np.array([60.0, 0, 0, 0, 0, 0]), 100.0)
+            sim.app.run_events(sim.simulator.drive(1, 60.0))
             await sim.pilot.pause()
             assert sim.moving and round(sim.where().joints[0]) == 12
-            await sim.advance(0.2)
+            await sim.advance(seconds * 2.2 / 5)  # a little past the third step's time
             assert round(sim.where().joints[0]) == 36
             await sim.settle()
             assert not sim.moving and round(sim.where().joints[0]) == 60
