@@ -26,7 +26,8 @@ from typing import TYPE_CHECKING, Collection, Literal, Sequence
 import numpy as np
 
 from valterm.core.cell.polyhedron import Polyhedron
-from valterm.core.collision.thesis import Layout, Scene, check_pairs, face_planes, layout, margin
+from valterm.core.collision.thesis import (Layout, Scene, check_pairs, face_planes, largest_of_xyz, layout,
+                                           margin)
 from valterm.core.collision.world import CollisionWorld, Finding, _Pairs
 
 if TYPE_CHECKING:
@@ -83,7 +84,13 @@ class RobotScene:
         self._local = np.concatenate(local)
         self._link_ks = tuple(len(v) // 2 for v in local)
         self._owner_rows = np.repeat(self.owners, [len(v) for v in local])
+        self._local_h = np.column_stack([self._local, np.ones(len(self._local))])
+        self._own_flat = self._owner_rows * len(self._local) + np.arange(len(self._local))
         self._parts = None
+        # what a rigid motion keeps: each link's centre and radius in its own frame
+        own = Scene.of([Polyhedron(np.asarray(v, dtype=float)) for v in local])
+        self._local_centres = np.column_stack([own.centres, np.ones(len(local))])[:, :, None]
+        self._local_radii = own.radii
         if self.checker == "exact":
             from valterm.core.collision.exact import FrameExact   # fcl only when asked for
             self._exact = FrameExact()
@@ -98,12 +105,15 @@ class RobotScene:
         scene = Scene.of([Polyhedron(np.zeros((2 * k, 3))) for k in self._link_ks] + list(objects))
         lay = self._layout
         scene.planes = face_planes(scene.vertices, lay.face_idx, lay.face_next)
+        # the links' face planes in their own frames (padded as the whole scene's): moved by _update
+        self._local_planes = face_planes(self._local, lay.face_idx[:nl], lay.face_next[:nl])
+        scene.planes[2][:nl] = self._local_planes[2]      # a face's area does not move
         scene.stale = np.zeros(len(ks), dtype=bool)
         self._scene = scene
         self._parts = tuple(p.vertices for p in objects)
         self._carried = carried
         self._movers = np.array([*range(nl), *(nl + c - 1 for c in carried)], dtype=np.intp)
-        scene.stale[self._movers] = True
+        scene.stale[nl + np.asarray(carried, dtype=np.intp) - 1] = True   # links' planes kept by _update
         free = np.array([nl + n - 1 for n in range(1, len(objects) + 1) if n not in set(carried)], dtype=np.intp)
         self._free = free
         self._free_lo, self._free_hi = scene.mid[free] - scene.half[free], scene.mid[free] + scene.half[free]
@@ -123,8 +133,10 @@ class RobotScene:
     # -- each pose -----------------------------------------------------------------------------
     def place(self, frames: np.ndarray) -> np.ndarray:
         """World vertices of every link shape at these (links, 4, 4) frames, concatenated."""
-        f = frames[self._owner_rows]
-        placed: np.ndarray = np.einsum("vij,vj->vi", f[:, :3, :3], self._local) + f[:, :3, 3]
+        # every vertex in every frame is one matmul of tiny arrays, cheaper than picking the
+        # frame of each vertex first; the rows wanted are then taken in one call
+        every = np.matmul(self._local_h, frames.transpose(0, 2, 1))          # (frames, V, 4)
+        placed: np.ndarray = every.reshape(-1, 4).take(self._own_flat, axis=0)[:, :3]
         return placed
 
     def _update(self, frames: np.ndarray, objects: Sequence[Polyhedron]) -> np.ndarray:
@@ -135,22 +147,29 @@ class RobotScene:
         placed = self.place(frames)
         v[: self._nl_rows] = placed
         self._placed = [(frames, placed), *self._placed[:1]]   # the last two poses, for substeps
-        runs = [(0, nl, 0, self._nl_rows)]
-        for i, rows in self._carried_rows:
-            v[rows] = objects[i - nl].vertices
-            runs.append((i, i + 1, rows.start, rows.stop))
-        for first, last, lo_row, hi_row in runs:     # the figures of the moved polyhedra only
-            part = v[lo_row:hi_row]
-            st = lay.starts[first:last] - lo_row
-            counts = lay.counts[first:last]
-            centres = np.add.reduceat(part, st, axis=0) / counts[:, None]
-            d = part - np.repeat(centres, counts, axis=0)
-            s.centres[first:last] = centres
-            s.radii[first:last] = np.sqrt(np.maximum.reduceat(np.einsum("ij,ij->i", d, d), st))
-            lo = np.minimum.reduceat(part, st, axis=0)
-            hi = np.maximum.reduceat(part, st, axis=0)
-            s.mid[first:last] = (lo + hi) * 0.5
-            s.half[first:last] = (hi - lo) * 0.5
+        # a link's centre, radius and face planes move with its frame: no pass over its vertices
+        f = frames[self.owners]
+        s.centres[:nl] = np.matmul(f, self._local_centres)[:, :3, 0]
+        s.radii[:nl] = self._local_radii
+        unit = np.matmul(self._local_planes[0], f[:, :3, :3].transpose(0, 2, 1))   # rows R n
+        assert s.planes is not None
+        s.planes[0][:nl] = unit
+        s.planes[1][:nl] = self._local_planes[1] + np.matmul(unit, f[:, :3, 3:])[..., 0]
+        starts = lay.starts[:nl]
+        lo = np.minimum.reduceat(placed, starts, axis=0)
+        hi = np.maximum.reduceat(placed, starts, axis=0)
+        s.mid[:nl] = (lo + hi) * 0.5
+        s.half[:nl] = (hi - lo) * 0.5
+        for i, rows in self._carried_rows:           # a carried part: its figures from its vertices
+            part = objects[i - nl].vertices
+            v[rows] = part
+            centre = part.mean(axis=0)
+            d = part - centre
+            s.centres[i] = centre
+            s.radii[i] = np.sqrt(np.einsum("ij,ij->i", d, d).max())
+            lo1, hi1 = part.min(axis=0), part.max(axis=0)
+            s.mid[i] = (lo1 + hi1) * 0.5
+            s.half[i] = (hi1 - lo1) * 0.5
         return self._movers
 
     def _candidates(self, movers: np.ndarray, grow: float) -> np.ndarray:
@@ -159,7 +178,9 @@ class RobotScene:
         reach = float(s.radii[movers].max()) + grow
         c = s.centres[movers]
         cmin, cmax = c.min(axis=0) - reach, c.max(axis=0) + reach
-        return np.flatnonzero(np.all((self._free_lo <= cmax) & (self._free_hi >= cmin), axis=1))
+        # the box overlap on all three axes as the largest gap below zero (no bool reduction)
+        gap = np.maximum(self._free_lo - cmax, cmin - self._free_hi)
+        return np.flatnonzero(largest_of_xyz(gap) <= 0.0)
 
     def check(self, frames: np.ndarray, objects: Sequence[Polyhedron], carried: Collection[int] = (),
               speed: float = 100.0) -> list[Finding]:
@@ -249,7 +270,7 @@ class RobotScene:
         s, nl = self._scene, len(self._link_ks)
         idx = np.asarray(numbers, dtype=np.intp) + nl - 1
         box_lo, box_hi = s.mid[idx] - s.half[idx], s.mid[idx] + s.half[idx]
-        meet = np.flatnonzero(np.all((box_lo <= hi) & (box_hi >= lo), axis=1))
+        meet = np.flatnonzero(largest_of_xyz(np.maximum(box_lo - hi, lo - box_hi)) <= 0.0)
         thin = min((self._width(objects[numbers[i] - 1]) for i in meet.tolist()), default=math.inf)
         if distance <= thin:
             return 1
