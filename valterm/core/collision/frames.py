@@ -202,11 +202,11 @@ class RobotScene:
             near = self._candidates(movers, grow)
             sel = np.concatenate([(np.arange(0, ruled, n_free)[:, None] + near).ravel(),
                                   np.arange(ruled, len(pairs.moving))])
+            codes = np.zeros(len(pairs.moving), dtype=np.int8)
+            if len(sel):
+                codes[sel] = check_pairs(self._scene, pairs.moving.take(sel), pairs.stationary.take(sel), grow)
         else:
-            sel = np.arange(len(pairs.moving))
-        codes = np.zeros(len(pairs.moving), dtype=np.int8)
-        if len(sel):
-            codes[sel] = check_pairs(self._scene, pairs.moving.take(sel), pairs.stationary.take(sel), grow)
+            codes = check_pairs(self._scene, pairs.moving, pairs.stationary, grow)
         return world.findings(pairs, codes)
 
     def _exact_codes(self, frames: np.ndarray, objects: Sequence[Polyhedron], held: tuple[int, ...],

@@ -182,8 +182,9 @@ class CollisionWorld:
         """The findings of a step from the kind code of each pair, in the stable order."""
         found: list[Finding] = []
         seen: set[Finding] = set()
-        for p in np.nonzero(codes)[0]:
-            kinds = ["near"] if codes[p] == NEAR else ["near", "collides"] if self.near_with_collision else ["collides"]
+        hits = np.flatnonzero(codes)
+        for p, code in zip(hits.tolist(), codes.take(hits).tolist()):   # Python ints: no numpy scalars
+            kinds = ["near"] if code == NEAR else ["near", "collides"] if self.near_with_collision else ["collides"]
             for kind in kinds:
                 f = Finding(kind, pairs.a[p], pairs.b[p])  # type: ignore[arg-type]
                 if f not in seen:
