@@ -107,7 +107,8 @@ class RobotScene:
         scene.planes = face_planes(scene.vertices, lay.face_idx, lay.face_next)
         # the links' face planes in their own frames (padded as the whole scene's): moved by _update
         self._local_planes = face_planes(self._local, lay.face_idx[:nl], lay.face_next[:nl])
-        scene.planes[2][:nl] = self._local_planes[2]      # a face's area does not move
+        scene.planes[2][:nl] = self._local_planes[2]      # a face's area does not move,
+        scene.radii[:nl] = self._local_radii                # nor a link's radius
         scene.stale = np.zeros(len(ks), dtype=bool)
         self._scene = scene
         self._parts = tuple(p.vertices for p in objects)
@@ -150,7 +151,6 @@ class RobotScene:
         # a link's centre, radius and face planes move with its frame: no pass over its vertices
         f = frames[self.owners]
         s.centres[:nl] = np.matmul(f, self._local_centres)[:, :3, 0]
-        s.radii[:nl] = self._local_radii
         unit = np.matmul(self._local_planes[0], f[:, :3, :3].transpose(0, 2, 1))   # rows R n
         assert s.planes is not None
         s.planes[0][:nl] = unit
@@ -158,8 +158,9 @@ class RobotScene:
         starts = lay.starts[:nl]
         lo = np.minimum.reduceat(placed, starts, axis=0)
         hi = np.maximum.reduceat(placed, starts, axis=0)
-        s.mid[:nl] = (lo + hi) * 0.5
-        s.half[:nl] = (hi - lo) * 0.5
+        mid, half = s.mid[:nl], s.half[:nl]
+        np.multiply(np.add(lo, hi, out=mid), 0.5, out=mid)
+        np.multiply(np.subtract(hi, lo, out=half), 0.5, out=half)
         for i, rows in self._carried_rows:           # a carried part: its figures from its vertices
             part = objects[i - nl].vertices
             v[rows] = part

@@ -132,6 +132,7 @@ class CollisionWorld:
             self.checker = checker
         self.near_with_collision = near_with_collision
         self._pairs: dict[tuple[int, tuple[int, ...]], _Pairs] = {}
+        self._findings: dict[tuple[int, str, bytes], tuple[_Pairs, tuple[Finding, ...]]] = {}
 
     def pairs(self, n_objects: int, carried: Collection[int] = ()) -> _Pairs:
         """The (moving, stationary) index pairs into links + objects, with their parties."""
@@ -180,6 +181,18 @@ class CollisionWorld:
 
     def findings(self, pairs: _Pairs, codes: np.ndarray) -> list[Finding]:
         """The findings of a step from the kind code of each pair, in the stable order."""
+        # consecutive steps mostly repeat the last codes: remember the findings of a few
+        key = (id(pairs), codes.dtype.str, codes.tobytes())
+        known = self._findings.get(key)
+        if known is not None and known[0] is pairs:
+            return list(known[1])
+        found = self._new_findings(pairs, codes)
+        if len(self._findings) >= 64:
+            self._findings.clear()
+        self._findings[key] = (pairs, tuple(found))
+        return found
+
+    def _new_findings(self, pairs: _Pairs, codes: np.ndarray) -> list[Finding]:
         found: list[Finding] = []
         seen: set[Finding] = set()
         hits = np.flatnonzero(codes)
