@@ -65,6 +65,7 @@ class RobotScene:
                  near_with_collision: bool = False) -> None:
         self.world = CollisionWorld(labels, near_with_collision=near_with_collision)
         self.owners = np.asarray(owners, dtype=np.intp)
+        self._n_frames = int(self.owners.max()) + 1 if len(self.owners) else 0   # the frames used
         self.checker = checker
         self._exact: FrameExact | None = None
         self._local = np.zeros((0, 3))
@@ -85,11 +86,12 @@ class RobotScene:
         self._link_ks = tuple(len(v) // 2 for v in local)
         self._owner_rows = np.repeat(self.owners, [len(v) for v in local])
         self._local_h = np.column_stack([self._local, np.ones(len(self._local))])
-        self._own_flat = self._owner_rows * len(self._local) + np.arange(len(self._local))
+        self._own_flat = _pick(self._owner_rows, self._n_frames)
         self._parts = None
         # what a rigid motion keeps: each link's centre and radius in its own frame
         own = Scene.of([Polyhedron(np.asarray(v, dtype=float)) for v in local])
-        self._local_centres = np.column_stack([own.centres, np.ones(len(local))])[:, :, None]
+        self._local_centres = np.column_stack([own.centres, np.ones(len(local))])
+        self._centre_pick = _pick(self.owners, self._n_frames)
         self._local_radii = own.radii
         if self.checker == "exact":
             from valterm.core.collision.exact import FrameExact   # fcl only when asked for
@@ -108,6 +110,9 @@ class RobotScene:
         # the links' face planes in their own frames (padded as the whole scene's): moved by _update
         self._local_planes = face_planes(self._local, lay.face_idx[:nl], lay.face_next[:nl])
         scene.planes[2][:nl] = self._local_planes[2]      # a face's area does not move,
+        self._local_normals = self._local_planes[0].reshape(-1, 3)
+        faces = self._local_planes[0].shape[1]
+        self._normal_pick = _pick(np.repeat(self.owners, faces), self._n_frames)
         scene.radii[:nl] = self._local_radii                # nor a link's radius
         scene.stale = np.zeros(len(ks), dtype=bool)
         self._scene = scene
@@ -134,10 +139,12 @@ class RobotScene:
     # -- each pose -----------------------------------------------------------------------------
     def place(self, frames: np.ndarray) -> np.ndarray:
         """World vertices of every link shape at these (links, 4, 4) frames, concatenated."""
-        # every vertex in every frame is one matmul of tiny arrays, cheaper than picking the
-        # frame of each vertex first; the rows wanted are then taken in one call
-        every = np.matmul(self._local_h, frames.transpose(0, 2, 1))          # (frames, V, 4)
-        placed: np.ndarray = every.reshape(-1, 4).take(self._own_flat, axis=0)[:, :3]
+        # every vertex in every frame is one 2-D matmul (cheaper than a stack of tiny ones or
+        # picking each vertex's frame first); the coordinates wanted are then taken in one call
+        return self._place(_stacked(frames[: self._n_frames]))
+
+    def _place(self, stacked: np.ndarray) -> np.ndarray:
+        placed: np.ndarray = (self._local_h @ stacked).take(self._own_flat)
         return placed
 
     def _update(self, frames: np.ndarray, objects: Sequence[Polyhedron]) -> np.ndarray:
@@ -145,16 +152,16 @@ class RobotScene:
         s, lay = self._scene, self._layout
         v = s.vertices
         nl = len(self._link_ks)
-        placed = self.place(frames)
+        stacked = _stacked(frames[: self._n_frames])
+        placed = self._place(stacked)
         v[: self._nl_rows] = placed
         self._placed = [(frames, placed), *self._placed[:1]]   # the last two poses, for substeps
         # a link's centre, radius and face planes move with its frame: no pass over its vertices
-        f = frames[self.owners]
-        s.centres[:nl] = np.matmul(f, self._local_centres)[:, :3, 0]
-        unit = np.matmul(self._local_planes[0], f[:, :3, :3].transpose(0, 2, 1))   # rows R n
+        s.centres[:nl] = (self._local_centres @ stacked).take(self._centre_pick)
         assert s.planes is not None
-        s.planes[0][:nl] = unit
-        s.planes[1][:nl] = self._local_planes[1] + np.matmul(unit, f[:, :3, 3:])[..., 0]
+        unit = s.planes[0][:nl]
+        unit.reshape(-1, 3)[:] = (self._local_normals @ stacked[:3]).take(self._normal_pick)    # R n
+        s.planes[1][:nl] = self._local_planes[1] + np.matmul(unit, frames[self.owners, :3, 3:])[..., 0]
         starts = lay.starts[:nl]
         lo = np.minimum.reduceat(placed, starts, axis=0)
         hi = np.maximum.reduceat(placed, starts, axis=0)
@@ -276,6 +283,20 @@ class RobotScene:
         if distance <= thin:
             return 1
         return int(math.ceil(distance / max(thin, 1.0)))
+
+
+def _stacked(frames: np.ndarray) -> np.ndarray:
+    """(links, 4, 4) frames as one (4, 3 * links) matrix: row vector [x y z 1] times it gives
+    the point in every frame at once."""
+    stacked: np.ndarray = frames[:, :3, :].transpose(2, 0, 1).reshape(4, -1)
+    return stacked
+
+
+def _pick(owner_rows: np.ndarray, n_frames: int) -> np.ndarray:
+    """Flat indices into (rows, 3 * n_frames) of each row's three coordinates in its own frame."""
+    rows = np.arange(len(owner_rows))[:, None]
+    pick: np.ndarray = rows * (3 * n_frames) + owner_rows[:, None] * 3 + np.arange(3)
+    return pick
 
 
 def _runs(idx: np.ndarray) -> list[np.ndarray]:
