@@ -311,7 +311,9 @@ class FrameExact:
             lo, hi = boxes
             ij = np.array(list(link_pairs), dtype=np.intp)
             i, j = ij[:, 0], ij[:, 1]
-            overlap = np.all((lo[i] <= hi[j]) & (lo[j] <= hi[i]), axis=1)
+            # boxes overlap on all three axes: the largest gap not above zero (no bool reduction)
+            gap = np.maximum(lo[i] - hi[j], lo[j] - hi[i])
+            overlap = np.maximum(np.maximum(gap[:, 0], gap[:, 1]), gap[:, 2]) <= 0.0
             for a, b in ij[overlap].tolist():
                 if fcl.collide(self._links[a], self._links[b], fcl.CollisionRequest(), fcl.CollisionResult()):
                     codes[link_pairs[(a, b)]] = COLLIDES

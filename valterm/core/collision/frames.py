@@ -68,6 +68,7 @@ class RobotScene:
         self._n_frames = int(self.owners.max()) + 1 if len(self.owners) else 0   # the frames used
         self.checker = checker
         self._exact: FrameExact | None = None
+        self._exact_pairs: tuple[_Pairs, list[int], dict[tuple[int, int], int]] | None = None
         self._local = np.zeros((0, 3))
         self._link_ks: tuple[int, ...] = ()
         self._owner_rows = np.zeros(0, dtype=np.intp)
@@ -221,11 +222,14 @@ class RobotScene:
                      pairs: _Pairs) -> np.ndarray:
         """python-fcl on the same pairs (its own AABB trees are the broad phase)."""
         assert self._exact is not None
-        nl = len(self._link_ks)
-        free = [n for n in range(1, len(objects) + 1) if n not in set(held)]
-        ruled = (nl + len(held)) * len(free)
-        link_pairs = {(int(i), int(j)): n for n, (i, j) in
-                      enumerate(zip(pairs.moving[ruled:], pairs.stationary[ruled:]), start=ruled)}
+        if self._exact_pairs is None or self._exact_pairs[0] is not pairs:   # once per set of pairs
+            nl = len(self._link_ks)
+            free = [n for n in range(1, len(objects) + 1) if n not in set(held)]
+            ruled = (nl + len(held)) * len(free)
+            link_pairs = {(int(i), int(j)): n for n, (i, j) in
+                          enumerate(zip(pairs.moving[ruled:], pairs.stationary[ruled:]), start=ruled)}
+            self._exact_pairs = (pairs, free, link_pairs)
+        _, free, link_pairs = self._exact_pairs
         s = self._scene
         codes: np.ndarray = self._exact.codes(frames, objects, free, held, len(pairs.moving), link_pairs,
                                               (s.mid - s.half, s.mid + s.half))
