@@ -431,13 +431,13 @@ def _samples(segs: np.ndarray, prio: np.ndarray, maps: tuple[np.ndarray, np.ndar
         return empty, empty.astype(np.uint8), empty
     a_mat, b_vec, to_dots, centre = maps
     # world -> view mm -> continuous dot coordinates, every endpoint in one product
-    flat = segs.reshape(-1, 3) @ a_mat[:2].T + b_vec[:2]
-    pts = (flat @ to_dots.T + centre).reshape(-1, 2, 2)
+    project = a_mat[:2].T @ to_dots.T                  # world -> dots in one (3, 2) product
+    pts = (segs.reshape(-1, 3) @ project + (b_vec[:2] @ to_dots.T + centre)).reshape(-1, 2, 2)
     hi = np.array([wd - 1e-6, hd - 1e-6])
     # whole-array and 1-D reductions: one along the axis of 2 costs several times more
     if pts.min() >= 0.0 and pts[:, :, 0].max() <= hi[0] and pts[:, :, 1].max() <= hi[1]:
         a, p = pts[:, 0], prio                  # all inside (the usual frame): nothing to clip
-        d = (a + (pts[:, 1] - a)) - a           # what clipping with t = 0..1 would give
+        d = pts[:, 1] - a
         clipped = False
     else:
         clipped = True
