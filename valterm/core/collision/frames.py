@@ -76,6 +76,7 @@ class RobotScene:
         self._carried: tuple[int, ...] = ()
         self._thin: dict[int, tuple[np.ndarray, float]] = {}
         self._placed: list[tuple[np.ndarray, np.ndarray]] = []
+        self._planes_due: tuple[np.ndarray, np.ndarray] | None = None   # frames whose planes are not set yet
         self._thin_all: tuple[object, float] | None = None
 
     # -- what is built once ----------------------------------------------------------------
@@ -116,6 +117,8 @@ class RobotScene:
         self._normal_pick = _pick(np.repeat(self.owners, faces), self._n_frames)
         scene.radii[:nl] = self._local_radii                # nor a link's radius
         scene.stale = np.zeros(len(ks), dtype=bool)
+        scene.refresh = self._move_planes
+        self._planes_due = None
         self._scene = scene
         self._parts = tuple(p.vertices for p in objects)
         self._carried = carried
@@ -159,10 +162,7 @@ class RobotScene:
         self._placed = [(frames, placed), *self._placed[:1]]   # the last two poses, for substeps
         # a link's centre, radius and face planes move with its frame: no pass over its vertices
         s.centres[:nl] = (self._local_centres @ stacked).take(self._centre_pick)
-        assert s.planes is not None
-        unit = s.planes[0][:nl]
-        unit.reshape(-1, 3)[:] = (self._local_normals @ stacked[:3]).take(self._normal_pick)    # R n
-        s.planes[1][:nl] = self._local_planes[1] + np.matmul(unit, frames[self.owners, :3, 3:])[..., 0]
+        self._planes_due = (frames, stacked)       # the face planes follow when a fine check asks
         starts = lay.starts[:nl]
         lo = np.minimum.reduceat(placed, starts, axis=0)
         hi = np.maximum.reduceat(placed, starts, axis=0)
@@ -180,6 +180,18 @@ class RobotScene:
             s.mid[i] = (lo1 + hi1) * 0.5
             s.half[i] = (hi1 - lo1) * 0.5
         return self._movers
+
+    def _move_planes(self) -> None:
+        """The links' face planes at the frames of the last ``_update`` (turned normals, moved offsets)."""
+        if self._planes_due is None:
+            return
+        frames, stacked = self._planes_due
+        self._planes_due = None
+        planes, nl = self._scene.planes, len(self._link_ks)
+        assert planes is not None
+        unit = planes[0][:nl]
+        unit.reshape(-1, 3)[:] = (self._local_normals @ stacked[:3]).take(self._normal_pick)    # R n
+        planes[1][:nl] = self._local_planes[1] + np.matmul(unit, frames[self.owners, :3, 3:])[..., 0]
 
     def _candidates(self, movers: np.ndarray, grow: float) -> np.ndarray:
         """Broad phase: positions among the free parts of those a mover could be near."""
@@ -271,7 +283,8 @@ class RobotScene:
         """
         a, b = self._placed_at(before), self._placed_at(after)
         moved = b - a
-        distance = float(np.sqrt(np.einsum("ij,ij->i", moved, moved).max())) if len(moved) else 0.0
+        moved *= moved                                   # squared lengths by a matmul: no einsum
+        distance = math.sqrt(float((moved @ _ONES3).max())) if len(moved) else 0.0
         if distance == 0.0 or self._parts is None or distance <= self._thinnest(objects):
             return 1
         held = set(carried)
@@ -287,6 +300,9 @@ class RobotScene:
         if distance <= thin:
             return 1
         return int(math.ceil(distance / max(thin, 1.0)))
+
+
+_ONES3 = np.ones(3)
 
 
 def _stacked(frames: np.ndarray) -> np.ndarray:

@@ -32,7 +32,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import lru_cache
-from typing import Literal, Sequence
+from typing import Callable, Literal, Sequence
 
 import numpy as np
 
@@ -105,6 +105,9 @@ class Scene:
     # up to date by the owner (``valterm.core.collision.frames``); else computed per pair
     planes: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
     stale: np.ndarray | None = None   # (N,) bool: planes of these polyhedra moved, not kept
+    # called before the kept planes are read: the owner brings them up to date only when a
+    # fine check needs them (most steps need none)
+    refresh: Callable[[], None] | None = None
 
     @classmethod
     def of(cls, polys: Sequence[Polyhedron]) -> "Scene":
@@ -185,6 +188,8 @@ def face_planes(vertices: np.ndarray, face_idx: np.ndarray, face_next: np.ndarra
 def _kept_planes(scene: Scene, dst: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The face planes of ``dst`` from the scene's kept ones, the moved polyhedra's computed now."""
     assert scene.planes is not None
+    if scene.refresh is not None:
+        scene.refresh()
     unit, off, size = (x.take(dst, axis=0) for x in scene.planes)
     if scene.stale is not None:
         rows = np.flatnonzero(scene.stale.take(dst))
