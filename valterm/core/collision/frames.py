@@ -243,8 +243,9 @@ class RobotScene:
             self._exact_pairs = (pairs, free, link_pairs)
         _, free, link_pairs = self._exact_pairs
         s = self._scene
+        nl = len(self._link_ks)
         codes: np.ndarray = self._exact.codes(frames, objects, free, held, len(pairs.moving), link_pairs,
-                                              (s.mid - s.half, s.mid + s.half))
+                                              (s.mid - s.half, s.mid + s.half), s.centres[:nl])
         return codes
 
     # -- swept motion (issue 13) -----------------------------------------------------------------
