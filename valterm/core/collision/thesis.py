@@ -163,14 +163,6 @@ def largest_of_xyz(d: np.ndarray) -> np.ndarray:
 
 # -- the two checks ----------------------------------------------------------------------------
 
-def coarse(scene: Scene, moving: np.ndarray, stationary: np.ndarray, grow: float | np.ndarray) -> np.ndarray:
-    """Boolean per pair: is the moving centre inside the stationary box grown by radius + margin?"""
-    gap = np.abs(scene.centres.take(moving, axis=0) - scene.mid.take(stationary, axis=0))
-    gap -= scene.half.take(stationary, axis=0)
-    near: np.ndarray = largest_of_xyz(gap) <= scene.radii.take(moving) + grow
-    return near
-
-
 def face_planes(vertices: np.ndarray, face_idx: np.ndarray, face_next: np.ndarray
                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Unit normal, offset and twice the area of every face (Newell), for (P, F, M) face indices."""
@@ -287,20 +279,23 @@ def check_pairs(scene: Scene, moving: np.ndarray, stationary: np.ndarray, grow: 
     """
     moving = np.asarray(moving, dtype=np.intp)
     stationary = np.asarray(stationary, dtype=np.intp)
-    near = coarse(scene, moving, stationary, grow)
+    mid_s, half_s = scene.mid.take(stationary, axis=0), scene.half.take(stationary, axis=0)
+    gap = np.abs(scene.centres.take(moving, axis=0) - mid_s)
+    gap -= half_s
+    # the coarse test: the moving centre inside the stationary box grown by radius + margin
+    near = largest_of_xyz(gap) <= scene.radii.take(moving) + grow
     codes = near.astype(np.int8)
-    idx = np.flatnonzero(near if fine_only is None else near & ~fine_only)
-    if len(idx) == 0:
-        return codes
-    # an edge can only cross a face where the two extreme boxes overlap: skip the rest
-    # (an exact shortcut, not a change to the 1985 answer)
-    a, b = moving.take(idx), stationary.take(idx)
-    apart = np.abs(scene.mid.take(a, axis=0) - scene.mid.take(b, axis=0))
-    apart -= scene.half.take(a, axis=0) + scene.half.take(b, axis=0)
-    keep = largest_of_xyz(apart) <= EPS
-    if keep.any():
-        idx, a, b = idx[keep], a[keep], b[keep]
-        codes[idx[fine(scene, a, b)]] = COLLIDES
+    # an edge can only cross a face where the two extreme boxes overlap: the fine test runs
+    # on near pairs whose boxes meet (an exact shortcut, not a change to the 1985 answer;
+    # worked out for every pair at once, fewer numpy calls than picking the near ones first)
+    apart = np.abs(scene.mid.take(moving, axis=0) - mid_s)
+    apart -= scene.half.take(moving, axis=0) + half_s
+    near &= largest_of_xyz(apart) <= EPS
+    if fine_only is not None:
+        near &= ~fine_only
+    idx = np.flatnonzero(near)
+    if len(idx):
+        codes[idx[fine(scene, moving.take(idx), stationary.take(idx))]] = COLLIDES
     return codes
 
 
