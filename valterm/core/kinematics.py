@@ -397,7 +397,7 @@ def fk_batch(joints: np.ndarray, point: int = 1, geometry: RobotGeometry | None 
 
 def _fk_chunk(joints: np.ndarray, offset: float, geometry: RobotGeometry, xyz: np.ndarray, rot: np.ndarray) -> None:
     """``fk_batch`` of one chunk, written into ``xyz`` and ``rot``."""
-    q = np.radians(joints).T
+    q = np.radians(joints.T, order="C")   # one contiguous row per joint: no strided ufuncs
     c, s = np.cos(q), np.sin(q)
     c1, s1, c2, s2, c4, s4, c5, s5, c6, s6 = c[0], s[0], c[1], s[1], c[3], s[3], c[4], s[4], c[5], s[5]
     q23 = q[1] + q[2]

@@ -235,6 +235,7 @@ class FrameExact:
         self._parts_key: tuple[object, ...] | None = None
         self._parts_tree: fcl.DynamicAABBTreeCollisionManager | None = None
         self._index: dict[int, tuple[str, int]] = {}
+        self._link_ij: tuple[dict[tuple[int, int], int], np.ndarray] | None = None
 
     def set_shapes(self, local: Sequence[np.ndarray], owners: np.ndarray) -> None:
         """Link shapes (2k, 3) in their frames; ``owners`` (links,) the frame of each."""
@@ -258,11 +259,11 @@ class FrameExact:
         self._links_tree.setup()
 
     def _parts(self, objects: Sequence[Polyhedron], free: Sequence[int]) -> None:
-        key = (tuple(free), *(objects[n - 1].vertices for n in free))
         old = self._parts_key
-        if old is not None and len(old) == len(key) and old[0] == key[0] and all(
-                a is b for a, b in zip(old[1:], key[1:])):
+        if old is not None and len(old) == len(free) + 1 and old[0] == tuple(free) and all(
+                a is objects[n - 1].vertices for a, n in zip(old[1:], free)):
             return
+        key = (tuple(free), *(objects[n - 1].vertices for n in free))
         self._index = {k: v for k, v in self._index.items() if v[0] == "link"}
         objs, geoms = [], []
         for position, n in enumerate(free):
@@ -279,15 +280,19 @@ class FrameExact:
 
     def codes(self, frames: np.ndarray, objects: Sequence[Polyhedron], free: Sequence[int],
               carried: Sequence[int], n_pairs: int, link_pairs: dict[tuple[int, int], int],
-              boxes: tuple[np.ndarray, np.ndarray]) -> np.ndarray:
-        """COLLIDES/CLEAR per pair, in ``CollisionWorld.pairs`` order (rules 1, 2, 3)."""
+              boxes: tuple[np.ndarray, np.ndarray], centres: np.ndarray | None = None) -> np.ndarray:
+        """COLLIDES/CLEAR per pair, in ``CollisionWorld.pairs`` order (rules 1, 2, 3).
+
+        ``centres``: the links' centres in the world when the caller has them (else computed)."""
         self._parts(objects, free)
         assert self._links_tree is not None and self._parts_tree is not None
         f = frames[self._owners]
         rot = f[:, :3, :3]
-        centres = np.einsum("lij,lj->li", rot, self._link_centres) + f[:, :3, 3]
+        if centres is None:
+            centres = np.einsum("lij,lj->li", rot, self._link_centres) + f[:, :3, 3]
         for obj, r, t in zip(self._links, rot, centres):
-            obj.setTransform(fcl.Transform(r, t))
+            obj.setRotation(r)                  # (cheaper than a new Transform per link)
+            obj.setTranslation(t)
         self._links_tree.update()
         codes = np.zeros(n_pairs, dtype=np.int8)
         n_free, nl = len(free), len(self._links)
@@ -309,9 +314,13 @@ class FrameExact:
                         codes[(nl + row) * n_free + part] = COLLIDES
         if link_pairs:                                  # robot link against robot link
             lo, hi = boxes
-            ij = np.array(list(link_pairs), dtype=np.intp)
+            if self._link_ij is None or self._link_ij[0] is not link_pairs:   # once per set of pairs
+                self._link_ij = (link_pairs, np.array(list(link_pairs), dtype=np.intp))
+            ij = self._link_ij[1]
             i, j = ij[:, 0], ij[:, 1]
-            overlap = np.all((lo[i] <= hi[j]) & (lo[j] <= hi[i]), axis=1)
+            # boxes overlap on all three axes: the largest gap not above zero (no bool reduction)
+            gap = np.maximum(lo[i] - hi[j], lo[j] - hi[i])
+            overlap = np.maximum(np.maximum(gap[:, 0], gap[:, 1]), gap[:, 2]) <= 0.0
             for a, b in ij[overlap].tolist():
                 if fcl.collide(self._links[a], self._links[b], fcl.CollisionRequest(), fcl.CollisionResult()):
                     codes[link_pairs[(a, b)]] = COLLIDES

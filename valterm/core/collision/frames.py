@@ -26,7 +26,8 @@ from typing import TYPE_CHECKING, Collection, Literal, Sequence
 import numpy as np
 
 from valterm.core.cell.polyhedron import Polyhedron
-from valterm.core.collision.thesis import Layout, Scene, check_pairs, face_planes, layout, margin
+from valterm.core.collision.thesis import (Layout, Scene, check_pairs, face_planes, largest_of_xyz, layout,
+                                           margin)
 from valterm.core.collision.world import CollisionWorld, Finding, _Pairs
 
 if TYPE_CHECKING:
@@ -64,8 +65,10 @@ class RobotScene:
                  near_with_collision: bool = False) -> None:
         self.world = CollisionWorld(labels, near_with_collision=near_with_collision)
         self.owners = np.asarray(owners, dtype=np.intp)
+        self._n_frames = int(self.owners.max()) + 1 if len(self.owners) else 0   # the frames used
         self.checker = checker
         self._exact: FrameExact | None = None
+        self._exact_pairs: tuple[_Pairs, list[int], dict[tuple[int, int], int]] | None = None
         self._local = np.zeros((0, 3))
         self._link_ks: tuple[int, ...] = ()
         self._owner_rows = np.zeros(0, dtype=np.intp)
@@ -73,6 +76,7 @@ class RobotScene:
         self._carried: tuple[int, ...] = ()
         self._thin: dict[int, tuple[np.ndarray, float]] = {}
         self._placed: list[tuple[np.ndarray, np.ndarray]] = []
+        self._planes_due: tuple[np.ndarray, np.ndarray] | None = None   # frames whose planes are not set yet
         self._thin_all: tuple[object, float] | None = None
 
     # -- what is built once ----------------------------------------------------------------
@@ -83,7 +87,14 @@ class RobotScene:
         self._local = np.concatenate(local)
         self._link_ks = tuple(len(v) // 2 for v in local)
         self._owner_rows = np.repeat(self.owners, [len(v) for v in local])
+        self._local_h = np.column_stack([self._local, np.ones(len(self._local))])
+        self._own_flat = _pick(self._owner_rows, self._n_frames)
         self._parts = None
+        # what a rigid motion keeps: each link's centre and radius in its own frame
+        own = Scene.of([Polyhedron(np.asarray(v, dtype=float)) for v in local])
+        self._local_centres = np.column_stack([own.centres, np.ones(len(local))])
+        self._centre_pick = _pick(self.owners, self._n_frames)
+        self._local_radii = own.radii
         if self.checker == "exact":
             from valterm.core.collision.exact import FrameExact   # fcl only when asked for
             self._exact = FrameExact()
@@ -98,12 +109,21 @@ class RobotScene:
         scene = Scene.of([Polyhedron(np.zeros((2 * k, 3))) for k in self._link_ks] + list(objects))
         lay = self._layout
         scene.planes = face_planes(scene.vertices, lay.face_idx, lay.face_next)
+        # the links' face planes in their own frames (padded as the whole scene's): moved by _update
+        self._local_planes = face_planes(self._local, lay.face_idx[:nl], lay.face_next[:nl])
+        scene.planes[2][:nl] = self._local_planes[2]      # a face's area does not move,
+        self._local_normals = self._local_planes[0].reshape(-1, 3)
+        faces = self._local_planes[0].shape[1]
+        self._normal_pick = _pick(np.repeat(self.owners, faces), self._n_frames)
+        scene.radii[:nl] = self._local_radii                # nor a link's radius
         scene.stale = np.zeros(len(ks), dtype=bool)
+        scene.refresh = self._move_planes
+        self._planes_due = None
         self._scene = scene
         self._parts = tuple(p.vertices for p in objects)
         self._carried = carried
         self._movers = np.array([*range(nl), *(nl + c - 1 for c in carried)], dtype=np.intp)
-        scene.stale[self._movers] = True
+        scene.stale[nl + np.asarray(carried, dtype=np.intp) - 1] = True   # links' planes kept by _update
         free = np.array([nl + n - 1 for n in range(1, len(objects) + 1) if n not in set(carried)], dtype=np.intp)
         self._free = free
         self._free_lo, self._free_hi = scene.mid[free] - scene.half[free], scene.mid[free] + scene.half[free]
@@ -123,8 +143,12 @@ class RobotScene:
     # -- each pose -----------------------------------------------------------------------------
     def place(self, frames: np.ndarray) -> np.ndarray:
         """World vertices of every link shape at these (links, 4, 4) frames, concatenated."""
-        f = frames[self._owner_rows]
-        placed: np.ndarray = np.einsum("vij,vj->vi", f[:, :3, :3], self._local) + f[:, :3, 3]
+        # every vertex in every frame is one 2-D matmul (cheaper than a stack of tiny ones or
+        # picking each vertex's frame first); the coordinates wanted are then taken in one call
+        return self._place(_stacked(frames[: self._n_frames]))
+
+    def _place(self, stacked: np.ndarray) -> np.ndarray:
+        placed: np.ndarray = (self._local_h @ stacked).take(self._own_flat)
         return placed
 
     def _update(self, frames: np.ndarray, objects: Sequence[Polyhedron]) -> np.ndarray:
@@ -132,26 +156,42 @@ class RobotScene:
         s, lay = self._scene, self._layout
         v = s.vertices
         nl = len(self._link_ks)
-        placed = self.place(frames)
+        stacked = _stacked(frames[: self._n_frames])
+        placed = self._place(stacked)
         v[: self._nl_rows] = placed
         self._placed = [(frames, placed), *self._placed[:1]]   # the last two poses, for substeps
-        runs = [(0, nl, 0, self._nl_rows)]
-        for i, rows in self._carried_rows:
-            v[rows] = objects[i - nl].vertices
-            runs.append((i, i + 1, rows.start, rows.stop))
-        for first, last, lo_row, hi_row in runs:     # the figures of the moved polyhedra only
-            part = v[lo_row:hi_row]
-            st = lay.starts[first:last] - lo_row
-            counts = lay.counts[first:last]
-            centres = np.add.reduceat(part, st, axis=0) / counts[:, None]
-            d = part - np.repeat(centres, counts, axis=0)
-            s.centres[first:last] = centres
-            s.radii[first:last] = np.sqrt(np.maximum.reduceat(np.einsum("ij,ij->i", d, d), st))
-            lo = np.minimum.reduceat(part, st, axis=0)
-            hi = np.maximum.reduceat(part, st, axis=0)
-            s.mid[first:last] = (lo + hi) * 0.5
-            s.half[first:last] = (hi - lo) * 0.5
+        # a link's centre, radius and face planes move with its frame: no pass over its vertices
+        s.centres[:nl] = (self._local_centres @ stacked).take(self._centre_pick)
+        self._planes_due = (frames, stacked)       # the face planes follow when a fine check asks
+        starts = lay.starts[:nl]
+        lo = np.minimum.reduceat(placed, starts, axis=0)
+        hi = np.maximum.reduceat(placed, starts, axis=0)
+        mid, half = s.mid[:nl], s.half[:nl]
+        np.multiply(np.add(lo, hi, out=mid), 0.5, out=mid)
+        np.multiply(np.subtract(hi, lo, out=half), 0.5, out=half)
+        for i, rows in self._carried_rows:           # a carried part: its figures from its vertices
+            part = objects[i - nl].vertices
+            v[rows] = part
+            centre = part.mean(axis=0)
+            d = part - centre
+            s.centres[i] = centre
+            s.radii[i] = np.sqrt(np.einsum("ij,ij->i", d, d).max())
+            lo1, hi1 = part.min(axis=0), part.max(axis=0)
+            s.mid[i] = (lo1 + hi1) * 0.5
+            s.half[i] = (hi1 - lo1) * 0.5
         return self._movers
+
+    def _move_planes(self) -> None:
+        """The links' face planes at the frames of the last ``_update`` (turned normals, moved offsets)."""
+        if self._planes_due is None:
+            return
+        frames, stacked = self._planes_due
+        self._planes_due = None
+        planes, nl = self._scene.planes, len(self._link_ks)
+        assert planes is not None
+        unit = planes[0][:nl]
+        unit.reshape(-1, 3)[:] = (self._local_normals @ stacked[:3]).take(self._normal_pick)    # R n
+        planes[1][:nl] = self._local_planes[1] + np.matmul(unit, frames[self.owners, :3, 3:])[..., 0]
 
     def _candidates(self, movers: np.ndarray, grow: float) -> np.ndarray:
         """Broad phase: positions among the free parts of those a mover could be near."""
@@ -159,7 +199,9 @@ class RobotScene:
         reach = float(s.radii[movers].max()) + grow
         c = s.centres[movers]
         cmin, cmax = c.min(axis=0) - reach, c.max(axis=0) + reach
-        return np.flatnonzero(np.all((self._free_lo <= cmax) & (self._free_hi >= cmin), axis=1))
+        # the box overlap on all three axes as the largest gap below zero (no bool reduction)
+        gap = np.maximum(self._free_lo - cmax, cmin - self._free_hi)
+        return np.flatnonzero(largest_of_xyz(gap) <= 0.0)
 
     def check(self, frames: np.ndarray, objects: Sequence[Polyhedron], carried: Collection[int] = (),
               speed: float = 100.0) -> list[Finding]:
@@ -181,25 +223,29 @@ class RobotScene:
             near = self._candidates(movers, grow)
             sel = np.concatenate([(np.arange(0, ruled, n_free)[:, None] + near).ravel(),
                                   np.arange(ruled, len(pairs.moving))])
+            codes = np.zeros(len(pairs.moving), dtype=np.int8)
+            if len(sel):
+                codes[sel] = check_pairs(self._scene, pairs.moving.take(sel), pairs.stationary.take(sel), grow)
         else:
-            sel = np.arange(len(pairs.moving))
-        codes = np.zeros(len(pairs.moving), dtype=np.int8)
-        if len(sel):
-            codes[sel] = check_pairs(self._scene, pairs.moving.take(sel), pairs.stationary.take(sel), grow)
+            codes = check_pairs(self._scene, pairs.moving, pairs.stationary, grow)
         return world.findings(pairs, codes)
 
     def _exact_codes(self, frames: np.ndarray, objects: Sequence[Polyhedron], held: tuple[int, ...],
                      pairs: _Pairs) -> np.ndarray:
         """python-fcl on the same pairs (its own AABB trees are the broad phase)."""
         assert self._exact is not None
-        nl = len(self._link_ks)
-        free = [n for n in range(1, len(objects) + 1) if n not in set(held)]
-        ruled = (nl + len(held)) * len(free)
-        link_pairs = {(int(i), int(j)): n for n, (i, j) in
-                      enumerate(zip(pairs.moving[ruled:], pairs.stationary[ruled:]), start=ruled)}
+        if self._exact_pairs is None or self._exact_pairs[0] is not pairs:   # once per set of pairs
+            nl = len(self._link_ks)
+            free = [n for n in range(1, len(objects) + 1) if n not in set(held)]
+            ruled = (nl + len(held)) * len(free)
+            link_pairs = {(int(i), int(j)): n for n, (i, j) in
+                          enumerate(zip(pairs.moving[ruled:], pairs.stationary[ruled:]), start=ruled)}
+            self._exact_pairs = (pairs, free, link_pairs)
+        _, free, link_pairs = self._exact_pairs
         s = self._scene
+        nl = len(self._link_ks)
         codes: np.ndarray = self._exact.codes(frames, objects, free, held, len(pairs.moving), link_pairs,
-                                              (s.mid - s.half, s.mid + s.half))
+                                              (s.mid - s.half, s.mid + s.half), s.centres[:nl])
         return codes
 
     # -- swept motion (issue 13) -----------------------------------------------------------------
@@ -238,7 +284,8 @@ class RobotScene:
         """
         a, b = self._placed_at(before), self._placed_at(after)
         moved = b - a
-        distance = float(np.sqrt(np.einsum("ij,ij->i", moved, moved).max())) if len(moved) else 0.0
+        moved *= moved                                   # squared lengths by a matmul: no einsum
+        distance = math.sqrt(float((moved @ _ONES3).max())) if len(moved) else 0.0
         if distance == 0.0 or self._parts is None or distance <= self._thinnest(objects):
             return 1
         held = set(carried)
@@ -249,11 +296,28 @@ class RobotScene:
         s, nl = self._scene, len(self._link_ks)
         idx = np.asarray(numbers, dtype=np.intp) + nl - 1
         box_lo, box_hi = s.mid[idx] - s.half[idx], s.mid[idx] + s.half[idx]
-        meet = np.flatnonzero(np.all((box_lo <= hi) & (box_hi >= lo), axis=1))
+        meet = np.flatnonzero(largest_of_xyz(np.maximum(box_lo - hi, lo - box_hi)) <= 0.0)
         thin = min((self._width(objects[numbers[i] - 1]) for i in meet.tolist()), default=math.inf)
         if distance <= thin:
             return 1
         return int(math.ceil(distance / max(thin, 1.0)))
+
+
+_ONES3 = np.ones(3)
+
+
+def _stacked(frames: np.ndarray) -> np.ndarray:
+    """(links, 4, 4) frames as one (4, 3 * links) matrix: row vector [x y z 1] times it gives
+    the point in every frame at once."""
+    stacked: np.ndarray = frames[:, :3, :].transpose(2, 0, 1).reshape(4, -1)
+    return stacked
+
+
+def _pick(owner_rows: np.ndarray, n_frames: int) -> np.ndarray:
+    """Flat indices into (rows, 3 * n_frames) of each row's three coordinates in its own frame."""
+    rows = np.arange(len(owner_rows))[:, None]
+    pick: np.ndarray = rows * (3 * n_frames) + owner_rows[:, None] * 3 + np.arange(3)
+    return pick
 
 
 def _runs(idx: np.ndarray) -> list[np.ndarray]:

@@ -132,6 +132,7 @@ class CollisionWorld:
             self.checker = checker
         self.near_with_collision = near_with_collision
         self._pairs: dict[tuple[int, tuple[int, ...]], _Pairs] = {}
+        self._findings: dict[tuple[int, str, bytes], tuple[_Pairs, tuple[Finding, ...]]] = {}
 
     def pairs(self, n_objects: int, carried: Collection[int] = ()) -> _Pairs:
         """The (moving, stationary) index pairs into links + objects, with their parties."""
@@ -180,10 +181,23 @@ class CollisionWorld:
 
     def findings(self, pairs: _Pairs, codes: np.ndarray) -> list[Finding]:
         """The findings of a step from the kind code of each pair, in the stable order."""
+        # consecutive steps mostly repeat the last codes: remember the findings of a few
+        key = (id(pairs), codes.dtype.str, codes.tobytes())
+        known = self._findings.get(key)
+        if known is not None and known[0] is pairs:
+            return list(known[1])
+        found = self._new_findings(pairs, codes)
+        if len(self._findings) >= 64:
+            self._findings.clear()
+        self._findings[key] = (pairs, tuple(found))
+        return found
+
+    def _new_findings(self, pairs: _Pairs, codes: np.ndarray) -> list[Finding]:
         found: list[Finding] = []
         seen: set[Finding] = set()
-        for p in np.nonzero(codes)[0]:
-            kinds = ["near"] if codes[p] == NEAR else ["near", "collides"] if self.near_with_collision else ["collides"]
+        hits = np.flatnonzero(codes)
+        for p, code in zip(hits.tolist(), codes.take(hits).tolist()):   # Python ints: no numpy scalars
+            kinds = ["near"] if code == NEAR else ["near", "collides"] if self.near_with_collision else ["collides"]
             for kind in kinds:
                 f = Finding(kind, pairs.a[p], pairs.b[p])  # type: ignore[arg-type]
                 if f not in seen:

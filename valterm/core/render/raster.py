@@ -424,19 +424,20 @@ def _to_dots(view: ViewTransform, wd: int, hd: int, dot_aspect: float
 def _samples(segs: np.ndarray, prio: np.ndarray, maps: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray],
              w: int, h: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The dots that world segments (S, 2, 3) light: per sample its cell (flat index), its
-    braille bit and the priority of its segment, in drawing order."""
+    bit in the packed bit map (``_dot_tables``) and the priority of its segment, in drawing order."""
     wd, hd = 2 * w, 4 * h
     empty = np.zeros(0, dtype=np.intp)
     if len(segs) == 0:
         return empty, empty.astype(np.uint8), empty
     a_mat, b_vec, to_dots, centre = maps
     # world -> view mm -> continuous dot coordinates, every endpoint in one product
-    flat = segs.reshape(-1, 3) @ a_mat[:2].T + b_vec[:2]
-    pts = (flat @ to_dots.T + centre).reshape(-1, 2, 2)
+    project = a_mat[:2].T @ to_dots.T                  # world -> dots in one (3, 2) product
+    pts = (segs.reshape(-1, 3) @ project + (b_vec[:2] @ to_dots.T + centre)).reshape(-1, 2, 2)
     hi = np.array([wd - 1e-6, hd - 1e-6])
-    if pts.min() >= 0.0 and (pts.reshape(-1, 2) <= hi).all():
+    # whole-array and 1-D reductions: one along the axis of 2 costs several times more
+    if pts.min() >= 0.0 and pts[:, :, 0].max() <= hi[0] and pts[:, :, 1].max() <= hi[1]:
         a, p = pts[:, 0], prio                  # all inside (the usual frame): nothing to clip
-        d = (a + (pts[:, 1] - a)) - a           # what clipping with t = 0..1 would give
+        d = pts[:, 1] - a
         clipped = False
     else:
         clipped = True
@@ -444,7 +445,8 @@ def _samples(segs: np.ndarray, prio: np.ndarray, maps: tuple[np.ndarray, np.ndar
         a, b, p = a[keep], b[keep], prio[keep]
         d = b - a
     # samples per edge from its length in dots: consecutive samples <= 1 dot apart
-    n = np.ceil(np.abs(d).max(axis=1)).astype(np.intp) + 1
+    ad = np.abs(d)
+    n = np.ceil(np.maximum(ad[:, 0], ad[:, 1])).astype(np.intp) + 1   # (no reduction along an axis of 2)
     total = int(n.sum())
     if not total:
         return empty, empty.astype(np.uint8), empty
@@ -454,27 +456,57 @@ def _samples(segs: np.ndarray, prio: np.ndarray, maps: tuple[np.ndarray, np.ndar
     xi = xy.astype(np.intp)
     if clipped:      # inside, samples lie between two in-range ends: no clamping needed
         np.clip(xi, 0, np.array([wd - 1, hd - 1]), out=xi)
-    x, y = xi[:, 0], xi[:, 1]
-    return (y >> 2) * w + (x >> 1), _BITS.take(((y & 3) << 1) | (x & 1)), np.repeat(p, n)
+    dot = xi[:, 1] * wd + xi[:, 0]
+    cell_of, lit_of = _dot_tables(w, h)
+    return cell_of.take(dot), lit_of.take(dot), np.repeat(p, n)
 
 
-_BITS = BRAILLE_WEIGHTS.ravel()   # the bit of dot (row, col) at 2 * row + col
+# the number of the bit (0..7) of dot (row, col) at 2 * row + col
+_BIT_NUMBER = np.log2(BRAILLE_WEIGHTS.ravel()).astype(np.intp)
+
+
+_DOT_TABLES: dict[tuple[int, int], tuple[np.ndarray, np.ndarray]] = {}
+
+
+def _dot_tables(w: int, h: int) -> tuple[np.ndarray, np.ndarray]:
+    """Per dot (y * 2w + x) of a w x h canvas: its cell, and its bit in the packed bit map
+    (cell * 8 + bit number). Two lookups per sample instead of a dozen shifts and masks."""
+    found = _DOT_TABLES.get((w, h))
+    if found is not None:
+        return found
+    y, x = np.divmod(np.arange(8 * w * h), 2 * w)
+    cell = (y >> 2) * w + (x >> 1)
+    tables = (cell, cell * 8 + _BIT_NUMBER.take(((y & 3) << 1) | (x & 1)))
+    if len(_DOT_TABLES) >= 4:
+        _DOT_TABLES.pop(next(iter(_DOT_TABLES)))
+    _DOT_TABLES[(w, h)] = tables
+    return tables
+
+
+def _dots_to_codes(lit: np.ndarray, n_cells: int) -> np.ndarray:
+    """Braille codes per cell from the lit dots (``_dot_tables``' bit index of each): each
+    dot set in a bit map and the map packed, eight bits a cell (cheaper than an OR per dot)."""
+    bitmap = np.zeros(n_cells * 8, dtype=bool)
+    bitmap[lit] = True
+    codes: np.ndarray = np.packbits(bitmap, bitorder="little")
+    return codes
 _BACKGROUNDS: dict[tuple[int, bytes, int, int, bool, float], tuple[Scene, np.ndarray, np.ndarray]] = {}
 
 
 def _background(scene: Scene, view: ViewTransform, w: int, h: int, back_faces: bool,
-                dot_aspect: float) -> tuple[np.ndarray, np.ndarray]:
+                dot_aspect: float, maps: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]
+                ) -> tuple[np.ndarray, np.ndarray]:
     """The static scene's braille codes and colours per cell for this view and size (flat),
-    rasterised once and kept."""
-    key = (id(scene), view.key(), w, h, back_faces, dot_aspect)
+    rasterised once and kept. ``maps``: ``_to_dots`` of this view and size (its key)."""
+    a_mat, b_vec, to_dots, _ = maps
+    key = (id(scene), a_mat.tobytes() + b_vec.tobytes() + to_dots.tobytes(), w, h, back_faces, dot_aspect)
     found = _BACKGROUNDS.get(key)
     if found is not None and found[0] is scene:
         return found[1], found[2]
     segs, prio = scene.segments(view, back_faces)
     polys = len(prio) - len(scene.lines)
-    cells, bits, owners = _samples(segs[:polys], prio[:polys], _to_dots(view, 2 * w, 4 * h, dot_aspect), w, h)
-    codes = np.zeros(h * w, dtype=np.uint8)
-    np.bitwise_or.at(codes, cells, bits)
+    cells, lit, owners = _samples(segs[:polys], prio[:polys], maps, w, h)
+    codes = _dots_to_codes(lit, h * w)
     colours = np.zeros(h * w, dtype=np.uint8)
     colours[cells] = scene.colours[owners - 1]     # samples in priority order: the last wins
     if len(_BACKGROUNDS) >= 8:          # a few views and sizes (the app, a hardcopy, a bench)
@@ -485,10 +517,12 @@ def _background(scene: Scene, view: ViewTransform, w: int, h: int, back_faces: b
 
 def _chars(codes: np.ndarray, ascii: bool) -> np.ndarray:
     """Character per braille pattern: the U+2800 block (blank for none), or the ASCII stand-in."""
-    if ascii:
-        chars: np.ndarray = ASCII_TABLE[codes]
-        return chars
-    return np.where(codes > 0, BRAILLE_BASE + codes.astype(np.uint32), np.uint32(0x20)).astype(np.uint32)
+    chars: np.ndarray = (ASCII_TABLE if ascii else _BRAILLE_TABLE).take(codes)
+    return chars
+
+
+# the character of each braille code: U+2800 + code, blank for none
+_BRAILLE_TABLE = np.where(np.arange(256) > 0, BRAILLE_BASE + np.arange(256), 0x20).astype(np.uint32)
 
 
 _STATIC_CHARS: dict[tuple[int, bool], tuple[np.ndarray, np.ndarray]] = {}
@@ -532,18 +566,18 @@ def rasterize(
         prio = np.concatenate([prio, np.full(3, scene.n_polyhedra + len(scene.lines) + 1)])
     palette = np.concatenate([scene.palette_indices(), [AXES_COLOUR]]).astype(np.uint8)
     maps = _to_dots(view, 2 * w, 4 * h, dot_aspect)
-    cells, bits, owners = _samples(segs, prio, maps, w, h)
+    cells, lit, owners = _samples(segs, prio, maps, w, h)
     codes: np.ndarray
     colours: np.ndarray
     if scene.background is None:
-        codes = np.zeros(h * w, dtype=np.uint8)
+        codes = _dots_to_codes(lit, h * w)
         colours = np.zeros(h * w, dtype=np.uint8)
-        np.bitwise_or.at(codes, cells, bits)
         chars = _chars(codes, ascii)
     else:
-        static_codes, static_colours = _background(scene.background, view, w, h, back_faces, dot_aspect)
-        codes, colours = static_codes.copy(), static_colours.copy()
-        np.bitwise_or.at(codes, cells, bits)
+        static_codes, static_colours = _background(scene.background, view, w, h, back_faces, dot_aspect, maps)
+        codes = _dots_to_codes(lit, h * w)
+        codes |= static_codes
+        colours = static_colours.copy()
         # only the cells this frame touched change character: the rest are the background's
         chars = _static_chars(scene.background, static_codes, ascii).copy()
         chars[cells] = _chars(codes.take(cells), ascii)
