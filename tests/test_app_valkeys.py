@@ -139,14 +139,19 @@ async def test_keys_typed_while_a_program_runs_wait_in_the_line(tmp_path: Path) 
         await type_slowly(pilot, "EXEC SLOW")
         assert screen.mode == Mode.RUNNING
         await type_slowly(pilot, "WHERE")  # typed ahead: waits for the program
+        await type_slowly(pilot, "STATUS")
+        await pilot.press(*"REA")  # and a line being typed when it ends stays in the line
         assert echoes(screen)[-1] == ". EXEC SLOW"
         clock.t += 6.0
         for _ in range(100):
-            if screen.mode == Mode.COMMAND and echoes(screen)[-1] == ". WHERE":
+            if screen.mode == Mode.COMMAND and echoes(screen)[-1] == ". STATUS":
                 break
             await pilot.pause(0.01)
         lines = list(screen.transcript)
-        assert lines.index("PROGRAM SLOW COMPLETED: 1 LOOP") < lines.index(". WHERE")
+        assert lines.index("PROGRAM SLOW COMPLETED: 1 LOOP") < lines.index(". WHERE") < lines.index(". STATUS")
+        assert screen.query_one("#val-line").value == "REA"
+        await pilot.press("D", "Y", "enter")
+        assert echoes(screen)[-1] == ". READY"
 
 
 async def escape_to_menu(pilot, screen: ValModeScreen) -> None:  # type: ignore[no-untyped-def]

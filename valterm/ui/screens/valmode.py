@@ -141,7 +141,7 @@ class ValModeScreen(Screen[None]):
         self._defined: list[str] = []
         self._after_run: Callable[[], None] | None = None
         self._answer_ahead = ""  # A / R / E typed while the robot moved to the location
-        self._line_ahead: str | None = None  # a line entered while a command played
+        self._lines_ahead: list[str] = []  # lines entered while a command played, to run next
         self._to_menu = False  # ESC aborted what played: the VAL-II menu when it has ended
         self.transcript = Transcript()  # the last lines the log showed (tests, the demo)
 
@@ -372,6 +372,7 @@ class ValModeScreen(Screen[None]):
         if self._defining or self._defined:  # reading a .LOC file: what was accepted stays
             self.log_line(f"LOCATIONS DEFINED: {', '.join(self._defined) or 'NONE'}")
         self._defining, self._defined, self._answer_ahead = [], [], ""
+        self._lines_ahead.clear()
         self._show_menu(self.page)
 
     def _typed(self) -> str:
@@ -381,10 +382,10 @@ class ValModeScreen(Screen[None]):
     def on_input_submitted(self, event) -> None:  # type: ignore[no-untyped-def]
         event.stop()
         text = event.value
-        if self.mode == Mode.RUNNING:
-            self._line_ahead = text  # entered while a command plays: run when it has ended
-            return
         self.query_one("#val-line", StepInput).value = ""
+        if self.mode == Mode.RUNNING:
+            self._lines_ahead.append(text)  # entered while a command plays: run when it has ended
+            return
         if self.mode == Mode.DEFINE_FILE:
             self._define_from_file(text)
         elif self.mode == Mode.POINT:
@@ -448,17 +449,17 @@ class ValModeScreen(Screen[None]):
     def played(self, aborted: bool) -> None:
         self.redraw()
         after, self._after_run = self._after_run, None
-        ahead, self._line_ahead = self._line_ahead, None
+        if aborted:  # CTRL-C or ESC: what was typed ahead goes too (as on a terminal)
+            self._lines_ahead.clear()
         if self._to_menu:  # ESC (or F6) stopped it: the VAL-II menu
             self._to_menu = False
             self._cancel_to_menu()
         elif after is not None:
             after()
         else:
-            self.to_command(self._typed())
-            if ahead is not None:
-                self.query_one("#val-line", StepInput).value = ""
-                self.run_command(ahead)
+            self.to_command(self._typed())  # what is being typed stays in the line
+            while self._lines_ahead and self.mode == Mode.COMMAND:
+                self.run_command(self._lines_ahead.pop(0))
 
     def _monitor(self, event: Monitor) -> None:
         workspace = self.session.workspace
