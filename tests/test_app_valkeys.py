@@ -238,6 +238,8 @@ async def test_the_menu_pages_at_80x24_and_the_model_at_both_sizes(tmp_path: Pat
         await pilot.pause()
         screen = app.screen
         assert isinstance(screen, ValModeScreen) and screen.has_class("narrow")
+        await pilot.press("q")  # not a key of the menu: said so, the menu stays
+        assert screen.keys_text.startswith("Q IS NOT A KEY HERE (? HELP)") and screen.mode == Mode.MENU
         assert "NOFLIP       - POSITIVE JOINT 5 ANGLES" not in screen_text(app)  # below the fold
         for _ in range(3):
             await pilot.press("pagedown")

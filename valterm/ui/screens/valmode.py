@@ -142,6 +142,7 @@ class ValModeScreen(Screen[None]):
         self._after_run: Callable[[], None] | None = None
         self._answer_ahead = ""  # A / R / E typed while the robot moved to the location
         self._lines_ahead: list[str] = []  # lines entered while a command played, to run next
+        self._legend = ""  # the keys line of the mode (shown again after a wrong key)
         self._to_menu = False  # ESC aborted what played: the VAL-II menu when it has ended
         self.transcript = Transcript()  # the last lines the log showed (tests, the demo)
 
@@ -230,6 +231,7 @@ class ValModeScreen(Screen[None]):
         self.query_one("#val-where", Static).update("\n".join(where_lines(self.simulator.where())))
 
     def _keys(self, text: str) -> None:
+        self._legend = text
         self.query_one("#val-keys", Static).update(text)
 
     def _render_menu(self) -> None:
@@ -282,44 +284,51 @@ class ValModeScreen(Screen[None]):
             return
         if event.key == "escape":
             return
-        event.stop()
-        event.prevent_default()
         char = (event.character or "").upper()
+        if self._single_key(char, event):
+            event.stop()
+            event.prevent_default()
+        elif event.is_printable and char != "?":  # "?" is left to the app's help
+            self._keys(f"{char} IS NOT A KEY HERE (? HELP)   {self._legend}")
+
+    def _single_key(self, char: str, event: Key) -> bool:
+        """A key of the menu or of a one-key question (the line closed): True if it is one."""
         if self.mode == Mode.MENU:
-            self._menu_key(char, event)
-        elif self.mode == Mode.DEFINE:
+            return self._menu_key(char, event)
+        if self.mode == Mode.DEFINE and char in ("D", "P", "R"):
             if char == "D":
                 self._open_line(Mode.DEFINE_FILE, "LOCATION FILE NAME:", "", "e.g. PROCESS.LOC")
                 self._keys("TYPE THE .LOC FILE NAME, RETURN   ESC: MENU")
             elif char == "P":
                 self._open_line(Mode.POINT, "POINT", "", "NAME, X, Y, Z, O, A, T")
                 self._keys("TYPE NAME, X, Y, Z, O, A, T   RETURN   ESC: MENU")
-            elif char == "R":
+            else:
                 self.to_command()
-        elif self.mode == Mode.DEFINE_EACH:
-            if char in ("A", "R", "E"):
-                self._define_answer(char)
-        elif self.mode == Mode.RUNNING and char in ("A", "R", "E") and self._defining:
+            return True
+        if self.mode == Mode.DEFINE_EACH and char in ("A", "R", "E"):
+            self._define_answer(char)
+            return True
+        if self.mode == Mode.RUNNING and self._defining and char in ("A", "R", "E"):
             self._answer_ahead = char  # answered while the robot still moves there
+            return True
+        return self.mode == Mode.RUNNING  # while the robot moves to a location: nothing else
 
-    def _menu_key(self, char: str, event: Key) -> None:
+    def _menu_key(self, char: str, event: Key) -> bool:
         menu = self.query_one("#val-menu-scroll", VerticalScroll)
         scrolls = {"up": menu.scroll_up, "down": menu.scroll_down,
-                   "pageup": menu.scroll_page_up, "pagedown": menu.scroll_page_down}
+                   "pageup": menu.scroll_page_up, "pagedown": menu.scroll_page_down,
+                   "home": menu.scroll_home, "end": menu.scroll_end}
+        actions = {"N": self.action_menu, "V": self.to_command, "C": self.to_command, "W": self.action_wipe,
+                   "M": self.action_model, "D": self.action_define, "R": self.action_leave}
         if event.key in scrolls:
             scrolls[event.key](animate=False)
-        elif char == "N":
-            self._show_menu(2 if self.page == 1 else 1)
-        elif char in ("V", "C") or event.key == "enter":
+        elif event.key == "enter":
             self.to_command()
-        elif char == "W":
-            self.action_wipe()
-        elif char == "M":
-            self.action_model()
-        elif char == "D":
-            self.action_define()
-        elif char == "R":
-            self.action_leave()
+        elif char in actions:
+            actions[char]()
+        else:
+            return False
+        return True
 
     def action_wipe(self) -> None:
         """W_WIPE: the log cleared, the line open."""
