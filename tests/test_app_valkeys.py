@@ -223,6 +223,14 @@ async def test_escape_at_every_prompt_leads_to_the_menu_then_main(tmp_path: Path
         await pilot.press("escape", "r")
         await pilot.pause()
         assert isinstance(app.screen, MainMenuScreen)
+        screen = await open_valmode(app, pilot)
+        await pilot.press(*"DEP", "f6")  # F6: the VAL-II menu from the line, F6 again: its other page
+        assert screen.mode == Mode.MENU and screen.page == 1
+        await pilot.press("f6")
+        assert screen.page == 2 and "VAL-II MENU CONTINUED" in screen.menu_text
+        await pilot.press("v", *"DEP", "f9")  # F9: MAIN from the line
+        await pilot.pause()
+        assert isinstance(app.screen, MainMenuScreen)
         await open_valmode(app, pilot)
         await pilot.press("escape", "escape")
         await pilot.pause()

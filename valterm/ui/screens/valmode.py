@@ -8,9 +8,9 @@ The keyboard (issue 17): keys go either to the open command line or to the menu,
   that does not fit (80x24).
 - The command line stays open between commands, as on the real terminal: every printable
   key is text, so READY, WHERE, MOVE, DEPART, CLOSEI are typed as themselves. The THEN PRESS
-  actions of Fig. C-13 are F-keys there (F2 wipe, F3 model, F4 define, F5 the VAL-II menu,
-  F6 return to MAIN; the legend shows them); the thesis's letters work on the VAL-II menu,
-  one ESC away. C ("continue") is simply the open line.
+  actions of Fig. C-13 are F-keys there (F2 wipe, F3 model, F4 define, F6 the VAL-II menu,
+  F9 return to MAIN; the legend shows them; F1 is help, F5/F7/F8 the debugger's); the
+  thesis's letters work on the VAL-II menu, one ESC away. C ("continue") is simply the open line.
 - Keys typed while a command plays, or before the line has focus, go into the line (type
   ahead); RETURN typed while a command plays runs the line when it has ended.
 - ESC cancels the innermost prompt (D's questions, the .LOC file name, POINT, A/R/E, a
@@ -81,7 +81,7 @@ WIDE = LEFT_WIDTH + 40  # narrower than this, the model is toggled instead (80x2
 MENU_FRAME = 6  # the menu's border, padding and scroll bar, in columns
 
 # the key legend under the log, one per mode (F-keys work wherever the line is open)
-LINE_KEYS = "F2 W_WIPE  F3 M_MODEL  F4 D_DEFINE  F5 MENU  F6 R_RETURN  ESC: MENU"
+LINE_KEYS = "F2 W_WIPE  F3 M_MODEL  F4 D_DEFINE  F6 MENU  F9 R_RETURN  ESC: MENU"
 MENU_KEYS = "N PAGE  V LINE  W WIPE  M MODEL  D DEFINE  R/ESC RETURN  \u2191\u2193 SCROLL"
 RUNNING_KEYS = "RUNNING   CTRL-C OR ESC: ABORT   (KEYS TYPED NOW GO TO THE LINE)"
 DEFINE_KEYS = f"{DEFINE_HOW}  ESC: MENU"
@@ -127,8 +127,8 @@ class ValModeScreen(Screen[None]):
         Binding("f2", "wipe", "Wipe", id="valmode.wipe"),
         Binding("f3", "model", "Model", id="valmode.model"),
         Binding("f4", "define", "Define", id="valmode.define"),
-        Binding("f5", "menu", "Menu", id="valmode.menu"),
-        Binding("f6", "leave", "Return", id="valmode.leave"),
+        Binding("f6", "menu", "Menu", id="valmode.menu"),
+        Binding("f9", "leave", "Return", id="valmode.leave"),
     ]
 
     def __init__(self, session: Session | None = None, *, show_menu: bool = True) -> None:
@@ -460,7 +460,7 @@ class ValModeScreen(Screen[None]):
         after, self._after_run = self._after_run, None
         if aborted:  # CTRL-C or ESC: what was typed ahead goes too (as on a terminal)
             self._lines_ahead.clear()
-        if self._to_menu:  # ESC (or F6) stopped it: the VAL-II menu
+        if self._to_menu:  # ESC (or F9) stopped it: the VAL-II menu
             self._to_menu = False
             self._cancel_to_menu()
         elif after is not None:
