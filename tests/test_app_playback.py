@@ -81,10 +81,9 @@ async def test_a_runaway_program_keeps_the_screen_alive_and_ctrl_c_stops_it(tmp_
         await run_until(pilot, lambda: not player.playing)
         assert player.end_tick - player.abort_tick <= 1  # seen at the next tick (a few ms)
         assert screen.transcript[-1].startswith("*** SPIN STEP") and screen.transcript[-1].endswith("ABORTED")
-        assert screen.mode == Mode.AFTER and not app.session.program_running
-        await pilot.press("c")
-        await typed(pilot, "WHERE")
-        await run_until(pilot, lambda: screen.mode == Mode.AFTER)
+        assert screen.mode == Mode.COMMAND and not app.session.program_running
+        await typed(pilot, "WHERE")  # the line stayed open: no C first
+        await run_until(pilot, lambda: screen.mode == Mode.COMMAND)
         assert any(line.startswith("OPENED") for line in list(screen.transcript)[-4:])
 
 
@@ -102,14 +101,13 @@ async def test_ctrl_c_while_paused_aborts_and_delay_waits_on_the_clock(tmp_path:
         assert app.player.playing and screen.transcript[-1] == "WAIT        2  DELAY 5"  # on the test's clock
         clock.t += 5.0
         await run_until(pilot, lambda: not app.player.playing)
-        assert screen.transcript[-1] == "PROGRAM WAIT COMPLETED: 1 LOOP" and screen.mode == Mode.AFTER
+        assert screen.transcript[-1] == "PROGRAM WAIT COMPLETED: 1 LOOP" and screen.mode == Mode.COMMAND
 
-        await pilot.press("c")
         await typed(pilot, "EXEC WAIT")
         assert screen.mode == Mode.PAUSED
         await pilot.press("ctrl+c")
         await run_until(pilot, lambda: not app.player.playing)
-        assert screen.transcript[-1] == "*** WAIT STEP 2: ABORTED" and screen.mode == Mode.AFTER
+        assert screen.transcript[-1] == "*** WAIT STEP 2: ABORTED" and screen.mode == Mode.COMMAND
 
 
 def _refused() -> Iterator[Event]:
@@ -180,7 +178,7 @@ def test_valmode_run_and_the_renderer_print_the_same_lines(tmp_path: Path, capsy
         async with app.run_test(size=(120, 40)) as pilot:
             screen = await valmode(app, pilot)
             await typed(pilot, "EXECUTE PROCESS")
-            await run_until(pilot, lambda: screen.mode == Mode.AFTER)
+            await run_until(pilot, lambda: screen.mode == Mode.COMMAND)
             seen.extend(screen.transcript)
 
     sync(body)()

@@ -61,11 +61,11 @@ def test_editor_then_define_execute_abort_and_rerun(tmp_path: Path) -> None:
             await pilot.press("v")
             assert screen.mode == "command"
             await typed(pilot, "LE")
-            assert screen.mode == "after" and "C_CONTINUE" in screen.keys_text
-            await pilot.press("a", "b", "enter")  # a non-menu key starts the next command
+            assert screen.mode == "command" and "F4 D_DEFINE" in screen.keys_text  # the line stays open
+            await pilot.press("a", "b", "enter")
             assert screen.simulator.config.elbow == 1
-            # D, D: locations from PROCESS.LOC one at a time: A accept, R reject, E accept and end
-            await pilot.press("d", "d")
+            # F4 (D_DEFINE), D: locations from PROCESS.LOC one at a time: A accept, R reject, E accept and end
+            await pilot.press("f4", "d")
             assert screen.mode == "define-file"
             await typed(pilot, "PROCESS.LOC")
             assert screen.mode == "define-each"
@@ -73,14 +73,13 @@ def test_editor_then_define_execute_abort_and_rerun(tmp_path: Path) -> None:
             await pilot.press("r")  # B rejected
             await pilot.press("a")  # C
             await pilot.press("e")  # D, and the end
-            assert screen.mode == "after"
+            assert screen.mode == "command"
             assert set(screen.simulator.locations) == {"A", "C", "D"}
             assert "B REJECTED" in screen.transcript
             # B by hand
-            await pilot.press("d", "p")
+            await pilot.press("f4", "p")
             await typed(pilot, "B, 465, 120, -245, 90, 90, 0")
             assert "B" in screen.simulator.locations
-            await pilot.press("c")
             await typed(pilot, "EXEC PICK,1")
             text = "\n".join(screen.transcript)
             assert "GOING TO A" in text and "IT IS POSSIBLE TO GRASP THIS PART" in text
@@ -90,7 +89,6 @@ def test_editor_then_define_execute_abort_and_rerun(tmp_path: Path) -> None:
             # now paced by a clock the test holds: CTRL-C stops after the current step
             app.player.rate = 20.0
             app.player.clock = clock
-            await pilot.press("c")
             await pilot.press(*"EXEC PICK,5", "enter")
             assert screen.mode == "running"
             await pilot.press("ctrl+c")
@@ -99,15 +97,14 @@ def test_editor_then_define_execute_abort_and_rerun(tmp_path: Path) -> None:
                 if screen.mode != "running":
                     break
                 await pilot.pause(0.05)
-            assert screen.mode == "after"
+            assert screen.mode == "command"
             assert any("ABORTED" in line for line in screen.transcript)
             assert not screen.interpreter.running
             # and it runs again
             app.player.rate = math.inf
-            await pilot.press("c")
             await typed(pilot, "EXEC PICK,1")
             assert "PROGRAM PICK COMPLETED: 1 LOOP" in screen.transcript
-            await pilot.press("w")
+            await pilot.press("f2")
             assert screen.mode == "command"
             await typed(pilot, "WHERE")
             assert any(line.startswith(("OPENED", "CLOSED")) for line in screen.transcript)
@@ -128,7 +125,7 @@ def test_pause_hands_the_line_to_the_user(tmp_path: Path) -> None:
             assert screen.mode == "paused"
             await typed(pilot, "X=5")
             await typed(pilot, "PROCEED")
-            assert screen.mode == "after"
+            assert screen.mode == "command"
             assert any("5" in line and "X" in line for line in screen.transcript), screen.transcript
 
     asyncio.run(body())

@@ -343,6 +343,9 @@ class Frame:
         if previous is None or previous.chars.shape != self.chars.shape:
             rows = np.arange(self.height)
             return rows, np.zeros(self.height, dtype=int), np.full(self.height, self.width)
+        if self.width == 0:  # a hidden view (0 columns): nothing can differ (argmax needs a column)
+            empty = np.zeros(0, dtype=int)
+            return empty, empty, empty
         changed = (self.chars != previous.chars) | (self.colours != previous.colours)
         rows = np.flatnonzero(changed.any(axis=1))
         sub = changed[rows]

@@ -1,11 +1,25 @@
 """VAL-II mode (App. C §2, Fig. C-13): the command line, the optional VAL-II menu, the model.
 
-It opens on the VAL-II MENU (two pages: N turns the page, V goes to the command line, R
-returns). A typed line (label columns first, TAB to column 5) goes to the interpreter;
-after each command the THEN PRESS keys of Fig. C-13 apply: C continue, W wipe, R return,
-M model, D define locations (from a .LOC file, one at a time with the robot shown there:
-A accept, R reject, E accept and end; or P to type a POINT by hand). Any other key starts
-the next command line with that key, as the example session types ``LE`` then ``AB``.
+The keyboard (issue 17): keys go either to the open command line or to the menu, never both.
+
+- The VAL-II MENU (two pages, the line closed): the thesis's single keys. N turns the page,
+  V / C / RETURN open the command line, W wipes the log and opens the line, M shows the model,
+  D defines locations, R or ESC return to MAIN; the arrows and PAGE UP/DOWN scroll a page
+  that does not fit (80x24).
+- The command line stays open between commands, as on the real terminal: every printable
+  key is text, so READY, WHERE, MOVE, DEPART, CLOSEI are typed as themselves. The THEN PRESS
+  actions of Fig. C-13 are F-keys there (F2 wipe, F3 model, F4 define, F6 the VAL-II menu,
+  F9 return to MAIN; the legend shows them; F1 is help, F5/F7/F8 the debugger's); the
+  thesis's letters work on the VAL-II menu, one ESC away. C ("continue") is simply the open line.
+- Keys typed while a command plays, or before the line has focus, go into the line (type
+  ahead); RETURN typed while a command plays runs the line when it has ended.
+- ESC cancels the innermost prompt (D's questions, the .LOC file name, POINT, A/R/E, a
+  running or paused program: aborted) and shows the VAL-II menu; ESC there returns to MAIN.
+- D defines locations: from a .LOC file, one at a time with the robot shown there (A accept,
+  R reject, E accept and end; answers typed during the motion count), or P to type a POINT.
+- Narrower than ``WIDE`` columns the text and the model cannot both be readable: the text
+  takes the width and M / F3 toggle the model (the thesis's R-like toggle); any other key
+  brings the text back.
 
 A running program is played by the app's one player (``valterm.ui.playback``): its steps
 scroll through the core's transcript renderer, motions are paced, the screen keeps updating
@@ -19,13 +33,15 @@ highlighted, and the watched variables; F5 PROCEED, F7 XSTEP, F8 SSTEP.
 
 from __future__ import annotations
 
+import re
+import textwrap
 from collections.abc import Callable, Iterator
 from enum import StrEnum
 
 from textual.app import ComposeResult
 from textual.binding import Binding
-from textual.containers import Horizontal, Vertical
-from textual.events import Key
+from textual.containers import Horizontal, Vertical, VerticalScroll
+from textual.events import Key, Resize
 from textual.screen import Screen
 from textual.widgets import RichLog, Static
 
@@ -40,27 +56,28 @@ from valterm.ui.errors import Refusal, problem_text
 from valterm.ui.playback import TRANSCRIPT_LINES, Player, Transcript, show_at_once
 from valterm.ui.screens.editor import EditorScreen, StepInput
 from valterm.ui.screens.help import HelpScreen
-from valterm.ui.view.keys import VIEW_KEYS
 from valterm.ui.view.model_view import ModelView
 from valterm.ui.widgets.debugpanel import PAUSED_KEYS, DebugPanel
 from valterm.ui.widgets.menus import (
     DEFINE_EACH,
     DEFINE_HOW,
-    THEN_PRESS,
     VAL_MENU_1,
     VAL_MENU_2,
 )
+from valterm.ui.widgets.prompt import type_ahead
+
+
+# keys that turn and zoom the view while the command line is open (left/right edit the line)
+LINE_VIEW_KEYS = frozenset({"up", "down", "pageup", "pagedown"})
 
 
 class Mode(StrEnum):
     """Where VAL-II mode's keys go."""
 
-    MENU = "menu"  # the VAL-II MENU pages: N, V, R
-    COMMAND = "command"  # the command line is open
-    AFTER = "after"  # the THEN PRESS keys of Fig. C-13
-    RUNNING = "running"  # the player plays a command or a program: only CTRL-C counts
+    MENU = "menu"  # the VAL-II MENU pages, the line closed: the thesis's single keys
+    COMMAND = "command"  # the command line is open: every printable key is text
+    RUNNING = "running"  # the player plays a command or a program (the line takes type-ahead)
     PAUSED = "paused"  # a program waits at PAUSE: the line takes commands and PROCEED
-    MODEL = "model"  # the model alone: any key returns
     DEFINE = "define?"  # D: from a file or a typed POINT
     DEFINE_FILE = "define-file"  # the line asks the .LOC file name
     DEFINE_EACH = "define-each"  # A / R / E for the location shown
@@ -68,31 +85,60 @@ class Mode(StrEnum):
 
 
 LOG_WRITE = 200  # lines written to the log at once (more scroll past unseen within a tick)
+LEFT_WIDTH = 72  # columns of the text side when the model is shown beside it
+WIDE = LEFT_WIDTH + 40  # narrower than this, the model is toggled instead (80x24)
+MENU_FRAME = 6  # the menu's border, padding and scroll bar, in columns
 
-# modes in which the open line takes every key
-LINE_MODES = (Mode.COMMAND, Mode.PAUSED, Mode.DEFINE_FILE, Mode.POINT, Mode.RUNNING)
+# the key legend under the log, one per mode (F-keys work wherever the line is open)
+LINE_KEYS = "F2 W_WIPE  F3 M_MODEL  F4 D_DEFINE  F6 MENU  F9 R_RETURN  ESC: MENU"
+MENU_KEYS = "N PAGE  V LINE  W WIPE  M MODEL  D DEFINE  R/ESC RETURN  \u2191\u2193 SCROLL"
+RUNNING_KEYS = "RUNNING   CTRL-C OR ESC: ABORT   (KEYS TYPED NOW GO TO THE LINE)"
+DEFINE_KEYS = f"{DEFINE_HOW}  ESC: MENU"
+
+_MENU_ROW = re.compile(r"^(\S.*?\s+[-:] )")  # "TYPE X=          - " : the description column
+
+
+def wrap_menu(text: str, width: int) -> str:
+    """The menu's lines wrapped to ``width`` with the description column kept (hanging indent)."""
+    if width < 20:
+        return text
+    rows: list[str] = []
+    for line in text.splitlines():
+        head = _MENU_ROW.match(line)
+        indent = " " * (len(head.group(1)) if head and len(head.group(1)) < width // 2 else 2)
+        rows.extend(textwrap.wrap(line, width, subsequent_indent=indent, break_on_hyphens=False) or [""])
+    return "\n".join(rows)
 
 
 class ValModeScreen(Screen[None]):
     """VAL-II mode."""
 
     AUTO_FOCUS = None
-    DEFAULT_CSS = """
-    ValModeScreen #val-left { width: 72; }
-    ValModeScreen #val-left.model-only { display: none; }
-    ValModeScreen #val-middle { height: 1fr; }
-    ValModeScreen #val-menu { width: 1fr; height: 1fr; padding: 0 1; border: round $primary; }
-    ValModeScreen #val-log { width: 1fr; height: 1fr; border: round $secondary; padding: 0 1; }
-    ValModeScreen .hidden { display: none; }
-    ValModeScreen #val-keys { height: auto; padding: 0 1; color: $accent; }
-    ValModeScreen #val-where { height: 4; padding: 0 1; }
-    ValModeScreen #val-prompt-row { height: 3; }
-    ValModeScreen #val-prompt { width: auto; min-width: 5; padding: 1 1 0 1; }
-    ValModeScreen #val-line { width: 1fr; }
-    ValModeScreen #val-model { width: 1fr; height: 1fr; }
+    DEFAULT_CSS = f"""
+    ValModeScreen #val-left {{ width: {LEFT_WIDTH}; }}
+    ValModeScreen.narrow #val-left {{ width: 1fr; }}
+    ValModeScreen.narrow #val-model {{ display: none; }}
+    ValModeScreen.model-only #val-left {{ display: none; }}
+    ValModeScreen.model-only #val-model {{ display: block; }}
+    ValModeScreen #val-menu-scroll {{ height: 1fr; border: round $primary; }}
+    ValModeScreen #val-menu {{ padding: 0 1; }}
+    ValModeScreen #val-middle {{ height: 1fr; }}
+    ValModeScreen #val-log {{ width: 1fr; height: 1fr; border: round $secondary; padding: 0 1; }}
+    ValModeScreen .hidden {{ display: none; }}
+    ValModeScreen #val-keys {{ height: auto; padding: 0 1; color: $accent; }}
+    ValModeScreen #val-where {{ height: 4; padding: 0 1; }}
+    ValModeScreen #val-prompt-row {{ height: 3; }}
+    ValModeScreen #val-prompt {{ width: auto; min-width: 5; padding: 1 1 0 1; }}
+    ValModeScreen #val-line {{ width: 1fr; }}
+    ValModeScreen #val-model {{ width: 1fr; height: 1fr; }}
     """
     BINDINGS = [
         Binding("escape", "escape", "Back", id="valmode.escape"),
+        Binding("f2", "wipe", "Wipe", id="valmode.wipe"),
+        Binding("f3", "model", "Model", id="valmode.model"),
+        Binding("f4", "define", "Define", id="valmode.define"),
+        Binding("f6", "menu", "Menu", id="valmode.menu"),
+        Binding("f9", "leave", "Return", id="valmode.leave"),
         # while a program is paused (the line has the focus: function keys pass it)
         Binding("f5", "paused_command('PROCEED')", "Proceed", show=False, id="valmode.proceed"),
         Binding("f7", "paused_command('XSTEP')", "Xstep", show=False, id="valmode.xstep"),
@@ -108,6 +154,10 @@ class ValModeScreen(Screen[None]):
         self._defining: list[tuple[str, Location]] = []
         self._defined: list[str] = []
         self._after_run: Callable[[], None] | None = None
+        self._answer_ahead = ""  # A / R / E typed while the robot moved to the location
+        self._lines_ahead: list[str] = []  # lines entered while a command played, to run next
+        self._legend = ""  # the keys line of the mode (shown again after a wrong key)
+        self._to_menu = False  # ESC aborted what played: the VAL-II menu when it has ended
         self._pause: Pause | None = None  # what the paused program stopped at (the debugger's panel)
         self.transcript = Transcript()  # the last lines the log showed (tests, the demo)
 
@@ -115,16 +165,21 @@ class ValModeScreen(Screen[None]):
     def compose(self) -> ComposeResult:
         with Horizontal():
             with Vertical(id="val-left"):
-                with Horizontal(id="val-middle"):
-                    yield Static(VAL_MENU_1, id="val-menu")
-                    yield RichLog(id="val-log", wrap=True, markup=False, max_lines=TRANSCRIPT_LINES)
-                    yield DebugPanel(id="val-debug", classes="hidden")  # beside the transcript
-                yield Static("", id="val-keys")
-                yield Static("", id="val-where")
-                with Horizontal(id="val-prompt-row"):
-                    yield Static(".", id="val-prompt")
-                    yield StepInput(id="val-line", placeholder="VAL-II COMMAND")
+                yield from self.compose_text()
             yield ModelView(id="val-model")
+
+    def compose_text(self) -> ComposeResult:
+        """The text side, top to bottom (panels are added here)."""
+        with VerticalScroll(id="val-menu-scroll"):
+            yield Static(VAL_MENU_1, id="val-menu")
+        with Horizontal(id="val-middle"):
+            yield RichLog(id="val-log", wrap=True, markup=False, max_lines=TRANSCRIPT_LINES)
+            yield DebugPanel(id="val-debug", classes="hidden")  # beside the transcript
+        yield Static("", id="val-keys")
+        yield Static("", id="val-where")
+        with Horizontal(id="val-prompt-row"):
+            yield Static(".", id="val-prompt")
+            yield StepInput(id="val-line", placeholder="VAL-II COMMAND")
 
     @property
     def session(self) -> Session:
@@ -149,11 +204,25 @@ class ValModeScreen(Screen[None]):
 
     def on_mount(self) -> None:
         self.query_one(ModelView).set_view(self.app.view_transform)  # the app's shared view
+        self._fit_width(self.app.size.width)
         self.redraw()
+        self.query_one(ModelView).call_after_refresh(self._fit)
         if self.show_menu:
             self._show_menu(1)
         else:
             self.to_command()
+
+    def on_resize(self, event: Resize) -> None:
+        self._fit_width(event.size.width)
+
+    def _fit_width(self, width: int) -> None:
+        self.set_class(width < WIDE, "narrow")
+        self._render_menu()
+        self.query_one(ModelView).call_after_refresh(self._fit)
+
+    def _fit(self) -> None:
+        view = self.query_one(ModelView)
+        view.fit()
 
     # -- what the screen shows ---------------------------------------------------------
     @property
@@ -164,6 +233,14 @@ class ValModeScreen(Screen[None]):
     def prompt(self) -> str:
         return str(self.query_one("#val-prompt", Static).content)
 
+    @property
+    def menu_text(self) -> str:
+        return str(self.query_one("#val-menu", Static).content)
+
+    @property
+    def model_only(self) -> bool:
+        return self.has_class("model-only")
+
     def log_line(self, text: str) -> None:
         self.show_lines(str(text).splitlines() or [""])
 
@@ -172,22 +249,27 @@ class ValModeScreen(Screen[None]):
         self.query_one("#val-where", Static).update("\n".join(where_lines(self.simulator.where())))
 
     def _keys(self, text: str) -> None:
+        self._legend = text
         self.query_one("#val-keys", Static).update(text)
+
+    def _render_menu(self) -> None:
+        width = (self.app.size.width if self.has_class("narrow") else LEFT_WIDTH) - MENU_FRAME
+        self.query_one("#val-menu", Static).update(wrap_menu(VAL_MENU_1 if self.page == 1 else VAL_MENU_2, width))
 
     def _show_menu(self, page: int) -> None:
         self.mode, self.page = Mode.MENU, page
-        menu = self.query_one("#val-menu", Static)
-        menu.update(VAL_MENU_1 if page == 1 else VAL_MENU_2)
+        self._render_menu()
+        menu = self.query_one("#val-menu-scroll", VerticalScroll)
         menu.remove_class("hidden")
+        menu.scroll_home(animate=False)
         self.query_one("#val-log").add_class("hidden")
-        self._keys("")
+        self._keys(MENU_KEYS)
         self._close_line()
 
     def _open_line(self, mode: Mode, prompt: str, start: str = "", placeholder: str = "VAL-II COMMAND") -> None:
         self.mode = mode
-        self.query_one("#val-menu").add_class("hidden")
+        self.query_one("#val-menu-scroll").add_class("hidden")
         self.query_one("#val-log").remove_class("hidden")
-        self.query_one("#val-left").remove_class("model-only")
         self.query_one("#val-prompt-row").remove_class("hidden")
         self.query_one("#val-prompt", Static).update(prompt)
         field = self.query_one("#val-line", StepInput)
@@ -199,83 +281,140 @@ class ValModeScreen(Screen[None]):
 
     def _close_line(self) -> None:
         self.query_one("#val-prompt-row").add_class("hidden")
+        field = self.query_one("#val-line", StepInput)
+        field.value = ""
+        field.disabled = True  # a closed line never takes a key (type_ahead leaves it alone)
         self.set_focus(None)
 
     def to_command(self, start: str = "") -> None:
-        self._keys("")
+        self._keys(LINE_KEYS)
         self._open_line(Mode.COMMAND, ".", start)
-
-    def to_after(self) -> None:
-        self.mode = Mode.AFTER
-        self._close_line()
-        self._keys(THEN_PRESS)
 
     # -- keys ----------------------------------------------------------------------------
     def on_key(self, event: Key) -> None:
+        if event.key == "ctrl+c" or event.key.startswith("f") and event.key[1:].isdigit():
+            return  # the app's CTRL-C, the F-keys' bindings
+        if self.model_only and event.key != "escape":
+            self.remove_class("model-only")  # any key brings the text back (and still counts)
+        field = self.query_one("#val-line", StepInput)
+        if not field.disabled and event.key in LINE_VIEW_KEYS:
+            return  # up/down and PGUP/PGDN turn and zoom the view (the app's bindings)
+        if not field.disabled:  # the line is open: it takes every key, typed ahead too
+            type_ahead(event, field)
+            return
+        if event.key == "escape":
+            return
         char = (event.character or "").upper()
-        mode = self.mode
-        if mode in LINE_MODES or event.key in ("escape", "ctrl+c") or event.key in VIEW_KEYS:
-            return  # the line takes the keys; while running only CTRL-C (the app's) counts
-        event.stop()
-        event.prevent_default()
-        if mode == Mode.MENU:
-            if char == "N":
-                self._show_menu(2 if self.page == 1 else 1)
-            elif char == "V" or event.key == "enter":
-                self.to_command()
-            elif char == "R":
-                self.dismiss(None)
-        elif mode == Mode.MODEL:
-            self.query_one("#val-left").remove_class("model-only")
-            self.to_after()
-        elif mode == Mode.AFTER:
-            self._after_key(char, event)
-        elif mode == Mode.DEFINE:
+        if self._single_key(char, event):
+            event.stop()
+            event.prevent_default()
+        elif event.is_printable and char != "?":  # "?" is left to the app's help
+            self._keys(f"{char} IS NOT A KEY HERE (? HELP)   {self._legend}")
+
+    def _single_key(self, char: str, event: Key) -> bool:
+        """A key of the menu or of a one-key question (the line closed): True if it is one."""
+        if self.mode == Mode.MENU:
+            return self._menu_key(char, event)
+        if self.mode == Mode.DEFINE and char in ("D", "P", "R"):
             if char == "D":
                 self._open_line(Mode.DEFINE_FILE, "LOCATION FILE NAME:", "", "e.g. PROCESS.LOC")
+                self._keys("TYPE THE .LOC FILE NAME, RETURN   ESC: MENU")
             elif char == "P":
                 self._open_line(Mode.POINT, "POINT", "", "NAME, X, Y, Z, O, A, T")
-            elif char == "R":
-                self.to_after()
-        elif mode == Mode.DEFINE_EACH:
-            if char in ("A", "R", "E"):
-                self._define_answer(char)
+                self._keys("TYPE NAME, X, Y, Z, O, A, T   RETURN   ESC: MENU")
+            else:
+                self.to_command()
+            return True
+        if self.mode == Mode.DEFINE_EACH and char in ("A", "R", "E"):
+            self._define_answer(char)
+            return True
+        if self.mode == Mode.RUNNING and self._defining and char in ("A", "R", "E"):
+            self._answer_ahead = char  # answered while the robot still moves there
+            return True
+        return self.mode == Mode.RUNNING  # while the robot moves to a location: nothing else
 
-    def _after_key(self, char: str, event: Key) -> None:
-        if char == "C":
-            self.to_command()
-        elif char == "W":
-            self.query_one("#val-log", RichLog).clear()
-            self.to_command()
-        elif char == "R":
-            self.dismiss(None)
-        elif char == "M":
-            self.mode = Mode.MODEL
-            self.query_one("#val-left").add_class("model-only")
-            self._keys("")
-        elif char == "D":
-            self.mode = Mode.DEFINE
-            self._keys(DEFINE_HOW)
+    def _menu_key(self, char: str, event: Key) -> bool:
+        menu = self.query_one("#val-menu-scroll", VerticalScroll)
+        scrolls = {"up": menu.scroll_up, "down": menu.scroll_down,
+                   "pageup": menu.scroll_page_up, "pagedown": menu.scroll_page_down,
+                   "home": menu.scroll_home, "end": menu.scroll_end}
+        actions = {"N": self.action_menu, "V": self.to_command, "C": self.to_command, "W": self.action_wipe,
+                   "M": self.action_model, "D": self.action_define, "R": self.action_leave}
+        if event.key in scrolls:
+            scrolls[event.key](animate=False)
         elif event.key == "enter":
             self.to_command()
-        elif event.key == "tab":
-            self.to_command("    ")
-        elif event.character and event.character.isprintable():
-            self.to_command(event.character)  # the next command starts with this key
+        elif char in actions:
+            actions[char]()
+        else:
+            return False
+        return True
+
+    def action_wipe(self) -> None:
+        """W_WIPE: the log cleared, the line open."""
+        if self.mode in (Mode.MENU, Mode.COMMAND):
+            self.query_one("#val-log", RichLog).clear()
+            self.to_command(self._typed() if self.mode == Mode.COMMAND else "")
+
+    def action_model(self) -> None:
+        """M_MODEL: the model alone (toggles); any other key brings the text back."""
+        self.toggle_class("model-only")
+        self.query_one(ModelView).call_after_refresh(self._fit)
+
+    def action_define(self) -> None:
+        """D_DEFINE: locations from a .LOC file or a typed POINT."""
+        if self.mode in (Mode.MENU, Mode.COMMAND):
+            self.query_one("#val-menu-scroll").add_class("hidden")
+            self.query_one("#val-log").remove_class("hidden")
+            self._close_line()
+            self.mode = Mode.DEFINE
+            self._keys(DEFINE_KEYS)
+
+    def action_menu(self) -> None:
+        """The VAL-II menu (its next page when it is shown)."""
+        if self.mode == Mode.MENU:
+            self._show_menu(2 if self.page == 1 else 1)
+        elif self.mode not in (Mode.RUNNING, Mode.PAUSED):
+            self._cancel_to_menu()
+
+    def action_leave(self) -> None:
+        """R_RETURN: back to MAIN (a running program is aborted first)."""
+        if self.mode in (Mode.RUNNING, Mode.PAUSED):
+            self._to_menu = True
+            self.player.abort()
+            return
+        self.dismiss(None)
 
     def action_escape(self) -> None:
-        if self.mode in (Mode.RUNNING, Mode.PAUSED):
-            return  # CTRL-C ends a program, not ESCAPE
-        if self.mode in (Mode.COMMAND, Mode.AFTER, Mode.MENU):
+        """ESC: cancel the innermost prompt and show the VAL-II menu; on the menu, MAIN."""
+        if self.model_only:
+            self.remove_class("model-only")
+        elif self.mode == Mode.MENU:
             self.dismiss(None)
-        elif self.mode in (Mode.DEFINE, Mode.DEFINE_FILE, Mode.POINT, Mode.MODEL):
-            self.to_after()
+        elif self.mode in (Mode.RUNNING, Mode.PAUSED):
+            self._to_menu = True
+            self.player.abort()
+        else:
+            self._cancel_to_menu()
+
+    def _cancel_to_menu(self) -> None:
+        if self._defining or self._defined:  # reading a .LOC file: what was accepted stays
+            self.log_line(f"LOCATIONS DEFINED: {', '.join(self._defined) or 'NONE'}")
+        self._defining, self._defined, self._answer_ahead = [], [], ""
+        self._lines_ahead.clear()
+        self._show_menu(self.page)
+
+    def _typed(self) -> str:
+        return self.query_one("#val-line", StepInput).value
 
     # -- typed lines -----------------------------------------------------------------------
     def on_input_submitted(self, event) -> None:  # type: ignore[no-untyped-def]
         event.stop()
         text = event.value
         self.query_one("#val-line", StepInput).value = ""
+        if self.mode == Mode.RUNNING:
+            self._lines_ahead.append(text)  # entered while a command plays: run when it has ended
+            return
         if self.mode == Mode.DEFINE_FILE:
             self._define_from_file(text)
         elif self.mode == Mode.POINT:
@@ -283,10 +422,7 @@ class ValModeScreen(Screen[None]):
         elif self.mode == Mode.PAUSED:
             self.action_paused_command(text)
         elif self.mode == Mode.COMMAND:
-            if not text.strip():
-                return
-            self.log_line(f". {text}")
-            self.run_events(self.session.command(text))
+            self.run_command(text)
 
     def action_paused_command(self, text: str) -> None:
         """A command while a program is paused (typed, or F5 / F7 / F8)."""
@@ -295,24 +431,38 @@ class ValModeScreen(Screen[None]):
         self.log_line(f". {text}")
         show_at_once(self.session.command(text), self)
         if not self.session.program_paused:  # PROCEED, XSTEP, SSTEP
-            self._show_running()
+            self._show_running(keep_line=True)
             self.player.resume()
         elif self._pause is not None:
             self._show_pause(self._pause)  # WATCH, X=5 ... show at once
 
+    def run_command(self, text: str) -> None:
+        """A typed command line: echoed, then played (the line stays open for type-ahead)."""
+        if not text.strip():
+            return
+        self.log_line(f". {text}")
+        self.run_events(self.session.command(text))
+
     # -- playing events (the player's audience) --------------------------------------------
     def run_events(self, events: Iterator[Event], after: Callable[[], None] | None = None) -> None:
-        """Play a stream of core events on the app's player; ``after`` when it has ended."""
+        """Play a stream of core events on the app's player; ``after`` when it has ended.
+
+        Without ``after`` the command line stays open and takes what is typed meanwhile."""
         self._after_run = after
-        self._show_running()
+        self._to_menu = False
+        self._show_running(keep_line=after is None)
         self.app.run_events(events, self)  # type: ignore[attr-defined]
 
-    def _show_running(self) -> None:
+    def _show_running(self, keep_line: bool) -> None:
         self._pause = None
         self.query_one(DebugPanel).hide()
         self.mode = Mode.RUNNING
-        self._close_line()
-        self._keys("RUNNING   CTRL-C: ABORT")
+        if not keep_line:
+            self._close_line()
+        elif self.query_one("#val-line", StepInput).disabled:
+            self._open_line(Mode.RUNNING, ".")
+        self.query_one("#val-prompt", Static).update(".")
+        self._keys(RUNNING_KEYS)
 
     def show_scene(self) -> None:
         self.redraw()
@@ -334,8 +484,8 @@ class ValModeScreen(Screen[None]):
         return False
 
     def paused(self, pause: Pause) -> None:
-        self._keys(f"PAUSED: TYPE COMMANDS  {PAUSED_KEYS}")
-        self._open_line(Mode.PAUSED, "PAUSED .")
+        self._keys(f"PAUSED: TYPE COMMANDS, ESC TO ABORT  {PAUSED_KEYS}")
+        self._open_line(Mode.PAUSED, "PAUSED .", self._typed())
         self._pause = pause
         self._show_pause(pause)
 
@@ -350,10 +500,17 @@ class ValModeScreen(Screen[None]):
         self.query_one(DebugPanel).hide()
         self.redraw()
         after, self._after_run = self._after_run, None
-        if after is not None:
+        if aborted:  # CTRL-C or ESC: what was typed ahead goes too (as on a terminal)
+            self._lines_ahead.clear()
+        if self._to_menu:  # ESC (or F9) stopped it: the VAL-II menu
+            self._to_menu = False
+            self._cancel_to_menu()
+        elif after is not None:
             after()
         else:
-            self.to_after()
+            self.to_command(self._typed())  # what is being typed stays in the line
+            while self._lines_ahead and self.mode == Mode.COMMAND:
+                self.run_command(self._lines_ahead.pop(0))
 
     def _monitor(self, event: Monitor) -> None:
         workspace = self.session.workspace
@@ -367,6 +524,7 @@ class ValModeScreen(Screen[None]):
             elif command == "POINT":
                 self._after_run = lambda: self._open_line(Mode.POINT, "POINT", f"{argument}, " if argument else "",
                                                           "NAME, X, Y, Z, O, A, T")
+                self._keys("TYPE NAME, X, Y, Z, O, A, T   RETURN   ESC: MENU")
         except Exception as error:  # a missing or damaged file: say so, stay in VAL-II mode
             self.log_line(problem_text(error))
 
@@ -374,7 +532,7 @@ class ValModeScreen(Screen[None]):
     def _define_from_file(self, typed: str) -> None:
         name = typed.strip().upper().removesuffix(".LOC")
         if not name:
-            self.to_after()
+            self.to_command()
             return
         try:
             points = self.session.workspace.read_locations(name)
@@ -396,7 +554,10 @@ class ValModeScreen(Screen[None]):
 
         def moved() -> None:
             self.mode = Mode.DEFINE_EACH
-            self._keys(f"{name}: {DEFINE_EACH}")
+            self._keys(f"{name}: {DEFINE_EACH}  ESC: MENU")
+            ahead, self._answer_ahead = self._answer_ahead, ""
+            if ahead:
+                self._define_answer(ahead)
 
         def motion() -> Iterator[Event]:
             try:
@@ -421,7 +582,8 @@ class ValModeScreen(Screen[None]):
     def _define_done(self) -> None:
         names = ", ".join(self._defined) or "NONE"
         self.log_line(f"LOCATIONS DEFINED: {names}")
-        self.to_after()
+        self._defined = []
+        self.to_command()
 
     def _define_point(self, typed: str) -> None:
         """POINT typed in by hand: NAME, X, Y, Z, O, A, T."""
@@ -438,7 +600,7 @@ class ValModeScreen(Screen[None]):
         x, y, z, o, a, t = numbers
         self.session.define_location(name, Location((x, y, z), (o, a, t)))
         self.log_line(f"POINT {name} DEFINED")
-        self.to_after()
+        self.to_command()
 
 
 def _number(text: str) -> float:
