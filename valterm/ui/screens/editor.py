@@ -17,6 +17,7 @@ from textual.screen import Screen
 from textual.widgets import Input, Static
 
 from valterm.core.editor import EDITOR_MENU, EditorError, ProgramEditor
+from valterm.core.errors import ValtermError
 from valterm.core.files.programs import LABEL_COLUMNS
 from valterm.ui.widgets.prompt import type_ahead
 
@@ -150,7 +151,7 @@ class EditorScreen(Screen[None]):
     def open_program(self, typed: str) -> bool:
         try:
             self.editor = ProgramEditor(self.workspace, typed)
-        except (EditorError, ValueError) as error:
+        except (ValtermError, ValueError) as error:  # a refused name (WorkspaceError) too
             self.say(str(error).upper())
             self._prompt("name", "EDIT", "PROGRAM NAME, e.g. TEST.DAT")
             return False
