@@ -21,6 +21,7 @@ from pathlib import Path
 from rich.text import Text
 from textual import events
 from textual.keys import _character_to_key, _get_unicode_name_from_key
+from textual.dom import DOMNode
 from textual.message_pump import MessagePump
 from textual.screen import Screen
 from textual.widgets import Static
@@ -85,7 +86,7 @@ class DemoApp(ValtermApp):
         self.captions: list[str] = []  # every caption shown, in order (tests, the log)
         self._last_key = time.monotonic()
         self._leaving = False
-        self._forwarded: asyncio.Future[MessagePump | None] | None = None
+        self._forwarded: asyncio.Future[DOMNode] | None = None
 
     # -- starting and looping ------------------------------------------------------
     def on_mount(self) -> None:
@@ -185,17 +186,25 @@ class DemoApp(ValtermApp):
         event = events.Key(key, char)
         setattr(event, DEMO_TAG, True)
         event.set_sender(self)
-        self._forwarded = asyncio.get_running_loop().create_future()
+        forwarded = self._forwarded = asyncio.get_running_loop().create_future()
         self.post_message(event)
-        target = await asyncio.wait_for(self._forwarded, HANDLED_LIMIT)
+        await asyncio.wait([forwarded], timeout=HANDLED_LIMIT)
+        if not forwarded.done():
+            return  # the app is stuck elsewhere: the next key's gap gives it time
         # the key went to the focused widget (or the screen) and bubbles up to the app:
         # each queue on the way has handled it once a callback posted after it has run
-        for node in (target, *target.ancestors) if target is not None else (self,):
+        target = forwarded.result()
+        for node in (target, *target.ancestors):
             await self._handled(node)
 
     async def _handled(self, node: MessagePump) -> None:
         done: asyncio.Future[None] = asyncio.get_running_loop().create_future()
-        if node.call_later(lambda: done.done() or done.set_result(None)):
+
+        def reached() -> None:
+            if not done.done():
+                done.set_result(None)
+
+        if node.call_later(reached):
             await asyncio.wait([done], timeout=HANDLED_LIMIT)
 
     # -- the visitor ----------------------------------------------------------------------
