@@ -8,7 +8,7 @@ import sys
 from typing import Sequence
 
 # Each module in valterm.commands registers one subcommand (see its docstring).
-SUBCOMMANDS = ("kin", "cell", "cad", "check", "run", "bench", "app", "demo")
+SUBCOMMANDS = ("kin", "cell", "cad", "check", "run", "bench", "app", "demo", "serve")
 
 
 def build_parser() -> argparse.ArgumentParser:
