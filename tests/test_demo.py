@@ -103,7 +103,7 @@ async def test_demo_plays_the_whole_session_once_with_captions() -> None:
             await pilot.pause(0.05)
     assert app.return_code == 0
     script = [item.value for item in ITEMS if item.kind == "caption" and not item.replay_only]
-    assert app.captions == script
+    assert list(app.captions) == script
     # the visitor saw the captions on the screens (several phases, read back from the widget)
     # the keys reached the right screens: the editor wrote Table C-2's program
     assert program.split() == ["MOVE", "A", "MOVE", "B", "MOVE", "E", "STOP"]

@@ -9,6 +9,7 @@ S at the MAIN MENU), so a visitor's random keys never end it.
 from __future__ import annotations
 
 import asyncio
+from collections import deque
 import shutil
 import sys
 import tempfile
@@ -39,6 +40,7 @@ HANDLED_LIMIT = 10.0  # seconds a key may take to be handled (a guard, never rea
 SETTLE_LIMIT = 120.0  # seconds a motion may hold the next key back (a program that never ends)
 DEMO_HINT = "Press any key to try it yourself."
 QUIT_KEYS = ("ctrl+q",)  # Textual's quit; the MAIN MENU's S (STOP) is handled apart
+CAPTIONS_KEPT = 1000  # a kiosk runs for months: only the last ones
 DEMO_TAG = "_valterm_demo"  # set on the key events the demo itself presses
 
 
@@ -83,7 +85,7 @@ class DemoApp(ValtermApp):
         self.playing = False   # the demo has the keys (False: the visitor has them)
         self.rounds = 0        # rounds started
         self.caption = ""
-        self.captions: list[str] = []  # every caption shown, in order (tests, the log)
+        self.captions: deque[str] = deque(maxlen=CAPTIONS_KEPT)  # the captions shown, in order (tests)
         self._last_key = time.monotonic()
         self._leaving = False
         self._forwarded: asyncio.Future[DOMNode] | None = None
@@ -235,6 +237,8 @@ class DemoApp(ValtermApp):
             if event.key in QUIT_KEYS:
                 self.leave(0)
                 return False
+        if self.caption != visitor_text(self.idle):
+            self.show_caption(visitor_text(self.idle))
         return True
 
     def _stops_at_main_menu(self, event: events.Key) -> bool:
