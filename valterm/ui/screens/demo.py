@@ -76,6 +76,7 @@ class DemoApp(ValtermApp):
                  once: bool = False, kiosk: bool = False, motion_rate: float = DEFAULT_RATE,
                  clock: Callable[[], float] = time.monotonic, ascii: bool = False) -> None:
         self._folder = Path(tempfile.mkdtemp(prefix="valterm-demo-"))
+        self._previous: Path | None = None
         super().__init__(self._folder / "ws", ascii=ascii, clock=clock, motion_rate=motion_rate * speed)
         self.items = [item for item in items if not item.replay_only]
         self.speed = speed
@@ -99,7 +100,9 @@ class DemoApp(ValtermApp):
         self._start_round()
 
     def on_unmount(self) -> None:
-        shutil.rmtree(self._folder, ignore_errors=True)
+        for folder in (self._folder, self._previous):
+            if folder is not None:
+                shutil.rmtree(folder, ignore_errors=True)
 
     def _start_round(self) -> None:
         self.rounds += 1
@@ -124,7 +127,11 @@ class DemoApp(ValtermApp):
         while len(self.screen_stack) > 2:
             await self.pop_screen()
         await self.switch_screen(StartScreen())
-        shutil.rmtree(old, ignore_errors=True)
+        # the last round's folder goes one round later: a program the visitor left running
+        # may still write its CHECK.DAT there as it is closed
+        if self._previous is not None:
+            shutil.rmtree(self._previous, ignore_errors=True)
+        self._previous = old
         self._start_round()
 
     def _round_over(self) -> None:
@@ -196,6 +203,7 @@ class DemoApp(ValtermApp):
         # the key went to the focused widget (or the screen) and bubbles up to the app:
         # each queue on the way has handled it once a callback posted after it has run
         target = forwarded.result()
+        self._forwarded = None  # no old screen kept alive by the last key
         for node in (target, *target.ancestors):
             await self._handled(node)
 
