@@ -18,7 +18,7 @@ CORE_MODULES = [
     "valterm.core.collision.thesis", "valterm.core.collision.exact", "valterm.core.collision.grasp",
     "valterm.core.collision.world",
     "valterm.core.val.interpreter", "valterm.core.val.checker", "valterm.core.val.commands",
-    "valterm.core.editor",
+    "valterm.core.editor", "valterm.core.files.demokeys",
     "valterm.core.render.raster", "valterm.core.render.clock",
 ]
 

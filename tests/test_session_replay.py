@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from valterm.commands.demo import load_demo, parse_demo
+from valterm.core.files.demokeys import load_demo, parse_demo
 
 ITEMS = load_demo()
 

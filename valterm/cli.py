@@ -31,13 +31,14 @@ from valterm.commands import (
     render,
     run,
     say,
+    serve,
 )
 from valterm.core.crashlog import report_crash
 from valterm.core.errors import ValtermError
 from valterm.core.workspace import ENV_VAR
 
 # Each module registers its subcommand(s); the order is the order of --help.
-COMMANDS = (kin, cell, cad, export, exportprogram, check, run, monitor, render, bench, app, demo)
+COMMANDS = (kin, cell, cad, export, exportprogram, check, run, monitor, render, bench, app, demo, serve)
 
 EPILOG = (
     f"The workspace (programs, setup and location files) is --workspace DIR, else ${ENV_VAR}, "

@@ -1,0 +1,29 @@
+#!/bin/sh
+# valterm-login: the ForceCommand of an SSH login whose only program is the VAL-II SIMULATOR.
+# Install: install -m 755 docs/valterm-login.sh /usr/local/bin/valterm-login
+# (see docs/SERVING.md for the sshd_config Match block that uses it).
+#
+# - Refuses to start without a terminal: `ssh -T`, `ssh host CMD`, scp and sftp get a one-line
+#   message and exit status 1 instead of a simulator hanging on a pipe.
+# - exec: the simulator is the session's process, so when the client leaves, the hangup sshd
+#   sends on closing the terminal ends it (ClientAliveInterval catches links that just die).
+# - Each login user has a workspace of their own, $HOME/valterm, private to them (umask 077).
+
+VALTERM="${VALTERM:-/opt/valterm/venv/bin/valterm}"
+
+if [ ! -t 0 ] || [ ! -t 1 ]; then
+    echo "valterm: this login runs the VAL-II SIMULATOR and needs a terminal: connect with 'ssh -t USER@HOST' (no -T, no command)." >&2
+    exit 1
+fi
+if [ -n "$SSH_ORIGINAL_COMMAND" ]; then
+    echo "valterm: this login runs only the VAL-II SIMULATOR; the command '$SSH_ORIGINAL_COMMAND' is ignored." >&2
+fi
+if [ ! -x "$VALTERM" ]; then
+    echo "valterm: $VALTERM is missing or not executable for $(id -un): ask the administrator (the venv must be readable by login users)." >&2
+    exit 1
+fi
+
+umask 077
+export TEXTUAL_COLOR_SYSTEM="${TEXTUAL_COLOR_SYSTEM:-256}"   # 256 colours travel well
+export TEXTUAL_FPS="${TEXTUAL_FPS:-20}"                      # fewer frames on slow links
+exec "$VALTERM" --workspace "$HOME/valterm"
