@@ -30,6 +30,9 @@ TYPED = {
     "ABOVE": "ABOVE", "BELOW": "BELOW", "FLIP": "FLIP", "NOFLIP": "NOFLIP", "SPEED": "SPEED 50",
     "TYPE": "TYPE X=", "STATUS": "STATUS", "HELP": "HELP MOVE", "LISTP": "LISTP T1",
     "LISTF": "LISTF", "LISTL": "LISTL", "EDIT": "EDIT T1",
+    # the debugger's monitor commands (issue 13)
+    "BPT": "BPT T1, 1", "XSTEP": "XSTEP", "SSTEP": "SSTEP", "WATCH": "WATCH X", "TRACE": "TRACE OFF",
+    "AUTOCONFIG": "AUTOCONFIG OFF",
 }
 
 
@@ -249,13 +252,20 @@ async def test_the_menu_pages_at_80x24_and_the_model_at_both_sizes(tmp_path: Pat
         await pilot.press("q")  # not a key of the menu: said so, the menu stays
         assert screen.keys_text.startswith("Q IS NOT A KEY HERE (? HELP)") and screen.mode == Mode.MENU
         assert "NOFLIP       - POSITIVE JOINT 5 ANGLES" not in screen_text(app)  # below the fold
-        for _ in range(3):
+        seen = ""
+        for _ in range(4):  # paged through: every line of page 1 can be read
             await pilot.press("pagedown")
-        await pilot.pause()
-        assert "NOFLIP       - POSITIVE JOINT 5 ANGLES" in screen_text(app)
+            await pilot.pause()
+            seen += screen_text(app)
+        assert "NOFLIP       - POSITIVE JOINT 5 ANGLES" in seen
         await pilot.press("n")
         await pilot.pause()
-        assert "HELP             - WRITES DESCRIPTION OF VAL-II COMMANDS" in screen_text(app)
+        seen = screen_text(app)
+        for _ in range(3):  # page 2, paged through: every line of it can be read
+            await pilot.press("pagedown")
+            await pilot.pause()
+            seen += screen_text(app)
+        assert "HELP             - WRITES DESCRIPTION OF VAL-II COMMANDS" in seen
         await pilot.press("end")
         for _ in range(3):
             await pilot.press("pagedown")

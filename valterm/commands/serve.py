@@ -140,8 +140,8 @@ def run_serve(args: argparse.Namespace) -> int:
         print("valterm: serve --web needs textual-serve: pip install 'valterm[web]'", file=sys.stderr)
         return 1
     if public_url is None:
-        print(f"valterm: serve: listening on all addresses; each page points back at the address its browser "
-              f"used. Behind a TLS proxy or load balancer give --public-url https://NAME.", file=sys.stderr)
+        print("valterm: serve: listening on all addresses; each page points back at the address its browser "
+              "used. Behind a TLS proxy or load balancer give --public-url https://NAME.", file=sys.stderr)
     try:
         make_server(app_command(args), args.host, args.port, public_url).serve()
     except OSError as error:

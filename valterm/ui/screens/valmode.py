@@ -262,14 +262,14 @@ class ValModeScreen(Screen[None]):
         menu = self.query_one("#val-menu-scroll", VerticalScroll)
         menu.remove_class("hidden")
         menu.scroll_home(animate=False)
-        self.query_one("#val-log").add_class("hidden")
+        self.query_one("#val-middle").add_class("hidden")
         self._keys(MENU_KEYS)
         self._close_line()
 
     def _open_line(self, mode: Mode, prompt: str, start: str = "", placeholder: str = "VAL-II COMMAND") -> None:
         self.mode = mode
         self.query_one("#val-menu-scroll").add_class("hidden")
-        self.query_one("#val-log").remove_class("hidden")
+        self.query_one("#val-middle").remove_class("hidden")
         self.query_one("#val-prompt-row").remove_class("hidden")
         self.query_one("#val-prompt", Static).update(prompt)
         field = self.query_one("#val-line", StepInput)
@@ -365,7 +365,7 @@ class ValModeScreen(Screen[None]):
         """D_DEFINE: locations from a .LOC file or a typed POINT."""
         if self.mode in (Mode.MENU, Mode.COMMAND):
             self.query_one("#val-menu-scroll").add_class("hidden")
-            self.query_one("#val-log").remove_class("hidden")
+            self.query_one("#val-middle").remove_class("hidden")
             self._close_line()
             self.mode = Mode.DEFINE
             self._keys(DEFINE_KEYS)
