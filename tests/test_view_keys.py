@@ -50,10 +50,12 @@ async def test_arrows_turn_the_view_and_never_the_world(tmp_path: Path, keys, sc
         assert view.view is app.view_transform and view.frame.text() != before
         await pilot.press("plus")
         assert app.view_transform.scale == pytest.approx(views.ZOOM_STEP)
-        await pilot.press("greater_than_sign" if screen_type is not ValModeScreen else "f7")
+        await pilot.press("greater_than_sign")  # (VAL-II mode's F-keys are its own: F6 is its menu)
         assert app.player.factor == 0.5
         assert view.caption == f"AZ {az + 15:.0f} EL {el + 15:.0f}  TIME x0.5"
         assert screen_text(app).count("TIME x0.5") >= 1  # the status line on the screen
+        if screen_type is ValModeScreen:
+            return  # F2 there wipes the log (docs/VALMODE_KEYS.md); the presets are tested elsewhere
         await pilot.press("f2")  # a turned view -> iso, then side: the thesis's view
         assert views.angles(app.view_transform) == pytest.approx((az, el))
         await pilot.press("f2")
@@ -171,6 +173,6 @@ async def test_on_the_val_ii_command_line_printable_keys_type_and_f_keys_turn(tm
         await pilot.press("plus", "minus", "left", "up")
         assert line.value == "+-" and app.view_transform.scale == 1.0  # typed, not zoomed
         assert views.angles(app.view_transform) == pytest.approx((az, el + 15))  # LEFT: the cursor
-        await pilot.press("f2", "pageup")
+        await pilot.press("pageup")
         assert app.view_transform.scale == pytest.approx(views.ZOOM_STEP)  # PAGE UP zoomed
-        assert views.angles(app.view_transform) == pytest.approx((az, el))  # UP turned, F2 -> iso
+        assert views.angles(app.view_transform) == pytest.approx((az, el + 15))  # UP turned it

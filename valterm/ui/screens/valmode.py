@@ -4,7 +4,7 @@ The keyboard (issue 17): keys go either to the open command line or to the menu,
 
 - The VAL-II MENU (two pages, the line closed): the thesis's single keys. N turns the page,
   V / C / RETURN open the command line, W wipes the log and opens the line, M shows the model,
-  D defines locations, R or ESC return to MAIN; the arrows and PAGE UP/DOWN scroll a page
+  D defines locations, R or ESC return to MAIN; PAGE UP/DOWN scroll a page
   that does not fit (80x24).
 - The command line stays open between commands, as on the real terminal: every printable
   key is text, so READY, WHERE, MOVE, DEPART, CLOSEI are typed as themselves. The THEN PRESS
@@ -335,8 +335,8 @@ class ValModeScreen(Screen[None]):
 
     def _menu_key(self, char: str, event: Key) -> bool:
         menu = self.query_one("#val-menu-scroll", VerticalScroll)
-        scrolls = {"up": menu.scroll_up, "down": menu.scroll_down,
-                   "pageup": menu.scroll_page_up, "pagedown": menu.scroll_page_down,
+        # the arrows turn the view (the app's keys, issue 12); PGUP/PGDN/HOME/END page the menu
+        scrolls = {"pageup": menu.scroll_page_up, "pagedown": menu.scroll_page_down,
                    "home": menu.scroll_home, "end": menu.scroll_end}
         actions = {"N": self.action_menu, "V": self.to_command, "C": self.to_command, "W": self.action_wipe,
                    "M": self.action_model, "D": self.action_define, "R": self.action_leave}
