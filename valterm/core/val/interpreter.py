@@ -122,6 +122,7 @@ class Interpreter:
         # (a program read from a V+ file is v+ whatever this says)
         self.dialect = check_dialect(dialect)
         self.machine = Machine(sim)  # V+ signals, strings, precision points, timers
+        self.machine.stopping = lambda: self._abort  # CTRL-C ends a WAIT for the keyboard
         # CHECK.DAT is written when a program or a typed command ends (section 6.7), not per
         # assignment: a 100 000-pass loop must not write a file 100 000 times
         self.keep_variables = keep_variables

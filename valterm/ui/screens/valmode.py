@@ -40,6 +40,7 @@ from valterm.ui.errors import Refusal, problem_text
 from valterm.ui.playback import TRANSCRIPT_LINES, Player, Transcript, show_at_once
 from valterm.ui.screens.editor import EditorScreen, StepInput
 from valterm.ui.screens.help import HelpScreen
+from valterm.ui.screens.signals import SignalsScreen
 from valterm.ui.view.model_view import ModelView
 from valterm.ui.widgets.debugpanel import PAUSED_KEYS, DebugPanel
 from valterm.ui.widgets.menus import (
@@ -97,6 +98,7 @@ class ValModeScreen(Screen[None]):
         Binding("f5", "paused_command('PROCEED')", "Proceed", show=False, id="valmode.proceed"),
         Binding("f7", "paused_command('XSTEP')", "Xstep", show=False, id="valmode.xstep"),
         Binding("f8", "paused_command('SSTEP')", "Sstep", show=False, id="valmode.sstep"),
+        Binding("f6", "io_panel", "I/O panel", show=False, id="valmode.io"),  # screens/signals.py
     ]
 
     def __init__(self, session: Session | None = None, *, show_menu: bool = True) -> None:
@@ -292,6 +294,10 @@ class ValModeScreen(Screen[None]):
             self.log_line(f". {text}")
             self.run_events(self.session.command(text))
 
+    def action_io_panel(self) -> None:
+        """F6: the I/O panel over VAL-II mode (a running program goes on beneath it)."""
+        self.app.push_screen(SignalsScreen(self.session))
+
     def action_paused_command(self, text: str) -> None:
         """A command while a program is paused (typed, or F5 / F7 / F8)."""
         if self.mode != Mode.PAUSED:
@@ -316,7 +322,7 @@ class ValModeScreen(Screen[None]):
         self.query_one(DebugPanel).hide()
         self.mode = Mode.RUNNING
         self._close_line()
-        self._keys("RUNNING   CTRL-C: ABORT")
+        self._keys("RUNNING   CTRL-C: ABORT   F6: I/O PANEL")
 
     def show_scene(self) -> None:
         self.redraw()
