@@ -189,3 +189,30 @@ def test_typed_input_commands() -> None:
             assert said in str(error)
         else:
             raise AssertionError(bad)
+
+
+def test_the_editor_shows_a_vplus_program_and_will_not_save_it(tmp_path: Path) -> None:
+    from valterm.ui.screens.editor import EditorScreen
+
+    async def body() -> None:
+        app = Host(tmp_path / "ws")
+        async with app.run_test(size=(140, 45)) as pilot:
+            source = app.session.workspace.root / "CELL1.V2"
+            source.write_text(CELL)
+            screen = ValModeScreen(show_menu=False)
+            await app.push_screen(screen)
+            await pilot.pause()
+            await typed(pilot, "EDIT two.step")
+            editor = app.screen
+            assert isinstance(editor, EditorScreen)
+            await pilot.pause()
+            assert "EDIT TWO.STEP (CELL1.V2, READ ONLY)" in str(editor.query_one("#editor-title").content)
+            assert "k = k*2" in editor.listing and "V+ PROGRAM OF CELL1.V2" in editor.message
+            await pilot.press("s")
+            assert "REJECTED: TWO.STEP IS A V+ PROGRAM OF CELL1.V2" in editor.message
+            await pilot.press("c")
+            await typed(pilot, "    TYPE 1")
+            assert "REJECTED" in editor.message
+            assert source.read_text() == CELL and not (source.parent / "TWO.DAT").exists()
+
+    asyncio.run(body())

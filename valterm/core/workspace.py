@@ -307,6 +307,18 @@ class Workspace:
         return programs.read_program(path)
 
     # -- V+ program files (.V2, .PG) -------------------------------------------------
+    def vplus_source(self, name: str) -> tuple[Program, Path] | None:
+        """(program, its .V2/.PG file) when ``name`` is a V+ program of the workspace that no
+        NAME.DAT holds (the editor shows it read-only); None otherwise."""
+        upper = name.strip().upper().removesuffix(".DAT")
+        if not vplus.is_dotted_name(upper):
+            try:
+                if self.path(self._program_name(upper), "DAT").is_file():
+                    return None
+            except WorkspaceError:
+                return None  # a bad name: the caller's own check says why
+        return self.vplus_programs().get(upper)
+
     def vplus_files(self) -> list[Path]:
         """NAME.V2 / NAME.PG files whose NAME is a workspace name, in name order; a file that
         links outside the workspace is left out (WorkspaceError when it is read by name)."""
