@@ -60,11 +60,11 @@ async def typed(pilot, text: str) -> None:  # type: ignore[no-untyped-def]
 
 
 def lamps(screen: SignalsScreen, row: int) -> dict[int, bool]:
-    """Lamp row ``row`` (0, 1: outputs 1-32; 2, 3: inputs 1001-1032) read back from the screen."""
-    lines = [line for line in screen.lamps_text.splitlines() if line.strip()]
+    """Lamp row ``row`` (0, 1: outputs 1-24; 2, 3: inputs 1001-1024) read back from the screen."""
+    lines = screen.lamps_text.splitlines()
     numbers = [int(word) for word in lines[2 * row].split() if word.isdigit()]
     states = lines[2 * row + 1].split()
-    assert len(numbers) == len(states) == 16
+    assert len(numbers) == len(states) == 12
     return {n: s == "*" for n, s in zip(numbers, states)}
 
 
@@ -144,6 +144,11 @@ def test_wait_sig_waits_for_the_keyboard_and_the_panel_shows_outputs_live(tmp_pa
             await pilot.press("c")
             await typed(pilot, "STATUS")
             assert "SIGNALS ON: OUTPUTS 2 3  INPUTS NONE" in screen.transcript
+            assert screen.mode == "after"  # F6 opens the panel from the THEN PRESS keys too
+            await pilot.press("f6")
+            assert isinstance(app.screen, SignalsScreen)
+            await pilot.press("escape")
+            assert app.screen is screen and screen.mode == "after"
 
     asyncio.run(body())
 

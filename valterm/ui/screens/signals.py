@@ -1,7 +1,7 @@
 """The I/O panel (issue 14): the controller's numbered outputs and inputs, shown live.
 
 Reached from VAL-II mode by F6, also while a program runs (the program goes on beneath).
-Outputs 1-32 and inputs 1001-1032 are drawn as lamps (``*`` on, ``.`` off); any other
+Outputs 1-24 and inputs 1001-1024 are drawn as lamps (``*`` on, ``.`` off); any other
 signal that is on is listed. The user sets inputs from the keyboard: ``1001`` ENTER
 toggles input 1001, ``1001 ON`` / ``1001 OFF`` set it; a program's ``WAIT SIG(1001)``
 sees the change at its next look. ESC returns to VAL-II mode.
@@ -22,14 +22,14 @@ from valterm.core.errors import ValtermError
 from valterm.core.session import Session
 from valterm.core.signals import INPUTS, INTERNAL, OUTPUTS, SignalPanel
 
-SHOWN = 32  # lamps drawn per kind: two rows of 16
-ROW = 16
+SHOWN = 24  # lamps drawn per kind: two rows of 12 (the panel fits an 80 x 24 terminal)
+ROW = 12
 LOOK_EVERY = 0.1  # seconds between two looks at the panel
-KEYS = "TYPE AN INPUT NUMBER + ENTER: TOGGLE IT (1001 ON / 1001 OFF: SET IT)   ESC: RETURN"
+KEYS = "INPUT NUMBER, ENTER: TOGGLE IT   1001 ON / 1001 OFF: SET IT   ESC: RETURN"
 
 
 def lamp_rows(panel: SignalPanel, first: int, label: str) -> list[str]:
-    """Two rows of 16 lamps from signal ``first``, each under its number."""
+    """Two rows of 12 lamps from signal ``first``, each under its number."""
     lines = []
     for start in range(first, first + SHOWN, ROW):
         numbers = range(start, start + ROW)
@@ -47,11 +47,9 @@ def panel_lines(panel: SignalPanel) -> list[str]:
     beyond = [n for n in others if n not in INTERNAL]
     return [
         *lamp_rows(panel, OUTPUTS.start, "OUTPUTS"),
-        "",
         *lamp_rows(panel, INPUTS.start, "INPUTS"),
-        "",
-        "ALSO ON: " + (" ".join(str(n) for n in beyond) or "NONE"),
-        "INTERNAL ON: " + (" ".join(str(n) for n in internal) or "NONE"),
+        "ALSO ON: " + (" ".join(str(n) for n in beyond) or "NONE")
+        + "   INTERNAL ON: " + (" ".join(str(n) for n in internal) or "NONE"),
     ]
 
 
@@ -77,8 +75,9 @@ class SignalsScreen(ModalScreen[None]):
 
     DEFAULT_CSS = """
     SignalsScreen { align: center bottom; }
-    SignalsScreen #io-box { width: 92; max-width: 100%; height: auto; border: round $primary;
+    SignalsScreen #io-box { width: 76; max-width: 100%; height: auto; border: round $primary;
                             background: $surface; padding: 0 1; }
+    SignalsScreen #io-line { border: none; height: 1; padding: 0; }
     SignalsScreen #io-title { text-style: bold; }
     SignalsScreen #io-lamps { height: auto; }
     SignalsScreen #io-state, SignalsScreen #io-message { height: 1; color: $accent; }
@@ -102,7 +101,7 @@ class SignalsScreen(ModalScreen[None]):
             yield Static("", id="io-state")
             yield Static("", id="io-message")
             yield Static(KEYS, id="io-keys")
-            yield Input(id="io-line", placeholder="INPUT NUMBER, e.g. 1001")
+            yield Input(id="io-line", placeholder="INPUT NUMBER, e.g. 1001 (TYPE HERE)")
 
     def on_mount(self) -> None:
         self.look()

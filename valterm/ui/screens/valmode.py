@@ -220,7 +220,7 @@ class ValModeScreen(Screen[None]):
     def on_key(self, event: Key) -> None:
         char = (event.character or "").upper()
         mode = self.mode
-        if mode in LINE_MODES or event.key in ("escape", "ctrl+c"):
+        if mode in LINE_MODES or event.key in ("escape", "ctrl+c", "f6"):  # F6: the I/O panel
             return  # the line takes the keys; while running only CTRL-C (the app's) counts
         event.stop()
         event.prevent_default()
