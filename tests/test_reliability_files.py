@@ -258,6 +258,34 @@ def test_called_programs_inside_still_run(caller_workspace: Path, capsys: pytest
 
 
 @links
+@links
+def test_vplus_files_are_read_only_inside_the_workspace(tmp_path: Path) -> None:
+    workspace = Workspace.open(tmp_path / "ws")
+    outside = tmp_path / "outside"
+    outside.mkdir()
+    (outside / "EVIL.V2").write_text('.PROGRAM evil.one()\n    TYPE "OUT"\n.END\n')
+    (workspace.root / "EVIL.V2").symlink_to(outside / "EVIL.V2")
+    (workspace.root / "GOOD.V2").write_text('.PROGRAM good.one()\n    TYPE "IN"\n.END\n'
+                                            '.PROGRAM main()\n    CALL good.one()\n.END\n')
+    (workspace.root / "my_prog.v2").write_text(".PROGRAM odd.one()\n.END\n")  # not a workspace name
+    (workspace.root / "BAD.PG").write_text(".PROGRAM broken()\n")  # no .END
+    assert list(workspace.vplus_programs()) == ["GOOD.ONE", "MAIN"]
+    assert workspace.list_programs()[-2:] == ["GOOD.ONE", "MAIN"]
+    with pytest.raises(WorkspaceError, match="links outside"):
+        workspace.path("EVIL", "V2")
+    for read in (workspace.read_program, workspace.program_loader()):
+        assert read("good.one").dialect == "v+" and read("MAIN").steps[0].text == "CALL good.one()"
+        with pytest.raises(WorkspaceError, match="BAD.PG CANNOT BE READ"):
+            read("evil.one")  # the linked file is never opened; the damaged one says why
+        with pytest.raises(WorkspaceError, match="not a valid name"):
+            read("../outside/evil.one")
+    exists = workspace.program_test()
+    assert exists("GOOD.ONE") and exists("MAIN") and not exists("EVIL.ONE") and not exists("ODD.ONE")
+    # NAME.DAT wins over a V+ program of the same name
+    (workspace.root / "MAIN.DAT").write_text("    TYPE DAT\n")
+    assert workspace.read_program("MAIN").dialect == "1985"
+
+
 def test_editor_journal_linked_outside_is_refused(tmp_path: Path) -> None:
     from valterm.core.editor import ProgramEditor
 

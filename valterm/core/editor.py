@@ -92,7 +92,15 @@ class ProgramEditor:
         self.workspace = workspace
         self.check: Checker = checker or check_statement
         self.messages: list[str] = []
-        self.name = workspace._program_name(program_name(name))  # WorkspaceError for a bad name
+        # why this program cannot be changed here ("" when it can): a V+ program of a .V2/.PG
+        # file is shown, not edited, since saving one block would rewrite the others' file
+        self.read_only = ""
+        typed = program_name(name)
+        found = workspace.vplus_source(typed)
+        if found is not None:
+            self._open_vplus(*found)
+            return
+        self.name = workspace._program_name(typed)  # WorkspaceError for a bad name
         self.path: Path = workspace.path(self.name, "DAT")
         self.journal_path: Path = workspace.path(self.name, JOURNAL_EXT)  # refused if it links outside
         self.new = False
@@ -101,6 +109,14 @@ class ProgramEditor:
         self.program = self._open()
 
     # -- opening (§5.1) ----------------------------------------------------------
+    def _open_vplus(self, program: Program, source: Path) -> None:
+        self.name, self.path, self.journal_path = program.name, source, source  # no journal is kept
+        self.new = self.recovered = self.dirty = False
+        self.program = program
+        self.read_only = (f"{program.name} IS A V+ PROGRAM OF {source.name}: SHOWN HERE, NOT CHANGED "
+                          f"(EDIT {source.name} ITSELF)")
+        self.messages.append(self.read_only)
+
     def _open(self) -> Program:
         listed = self.name in self.workspace.programs_directory()
         program: Program | None = None
@@ -191,6 +207,8 @@ class ProgramEditor:
 
     def insert(self, number: int, typed: str) -> int:
         """I: a new step ``number``; the steps from there on move down one."""
+        if self.read_only:
+            raise EditorError(self.read_only)
         if not 1 <= number <= self.next_step:
             raise EditorError(f"NO STEP {number}: STEPS ARE 1 TO {self.next_step}")
         step = self.parse_line(typed)
@@ -200,6 +218,8 @@ class ProgramEditor:
 
     def delete(self, number: int) -> ProgramLine:
         """D: remove step ``number``; the later steps move up one."""
+        if self.read_only:
+            raise EditorError(self.read_only)
         if not 1 <= number <= len(self.program.steps):
             if not self.program.steps:
                 raise EditorError(f"{self.name} HAS NO STEPS TO DELETE")
@@ -211,6 +231,8 @@ class ProgramEditor:
     # -- saving and leaving --------------------------------------------------------
     def save(self) -> Path:
         """S: write NAME.DAT atomically, list it in DATFILER.DAT, drop the journal."""
+        if self.read_only:
+            raise EditorError(self.read_only)
         path = self.workspace.write_program(self.program, self.name)
         self.path = path
         self.new = False
@@ -220,6 +242,8 @@ class ProgramEditor:
 
     def discard(self) -> None:
         """Leave without saving: the journal goes, NAME.DAT stays as it was."""
+        if self.read_only:
+            return  # a V+ program: nothing was changed, its file is no journal
         self._drop_journal()
         self.dirty = False
 
@@ -232,6 +256,8 @@ class ProgramEditor:
         return f"{said}; {self.save().name} SAVED"
 
     def _drop_journal(self) -> None:
+        if self.read_only:
+            return
         try:
             os.unlink(self.journal_path)
         except FileNotFoundError:

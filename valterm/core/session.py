@@ -9,7 +9,7 @@ from collections.abc import Iterator
 from pathlib import Path
 
 from valterm.core.cell.workcell import WorkCell
-from valterm.core.events import Event
+from valterm.core.events import Event, Signal
 from valterm.core.files.locations import read_locations
 from valterm.core.files.setup import read_setup, write_setup
 from valterm.core.kinematics import Location
@@ -28,6 +28,7 @@ class Session:
         self.setup_name = ""
         self.simulator = Simulator()
         self._interpreter: Interpreter | None = None
+        self._keyboard = False  # the app's keyboard sets inputs (take_inputs_from_keyboard)
         if setup:
             self.load_setup(setup)
 
@@ -68,7 +69,19 @@ class Session:
         """The VAL-II interpreter bound to this session's simulator and workspace (made once)."""
         if self._interpreter is None:
             self._interpreter = Interpreter.for_workspace(self.simulator, self.workspace)
+            self._interpreter.machine.keyboard = self._keyboard
         return self._interpreter
+
+    def take_inputs_from_keyboard(self) -> None:
+        """The app: a V+ WAIT that no scripted input can end waits for the user's keyboard
+        (``key_input``) instead of stopping the program; CTRL-C still ends it."""
+        self._keyboard = True
+        if self._interpreter is not None:  # else the interpreter is made with it (not read early)
+            self._interpreter.machine.keyboard = True
+
+    def key_input(self, number: int, on: bool) -> Signal:
+        """The user sets input ``number`` (1001-1512) of the I/O panel; SignalError otherwise."""
+        return self.interpreter.machine.key_input(number, on)
 
     def command(self, text: str) -> Iterator[Event]:
         """One line typed at the VAL-II prompt (or after V at a menu), as events."""

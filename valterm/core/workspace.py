@@ -25,7 +25,7 @@ from pathlib import Path
 from valterm.core import resources
 from valterm.core.cell.workcell import WorkCell
 from valterm.core.errors import ValtermError
-from valterm.core.files import datfiler, locations, programs, setup, variables
+from valterm.core.files import datfiler, locations, programs, setup, variables, vplus
 from valterm.core.files.atomic import remove_stale_temporaries, write_bytes_atomic
 from valterm.core.files.datfiler import DATFILER
 from valterm.core.files.errors import shown_name
@@ -47,6 +47,8 @@ _RESERVED = frozenset({"CON", "PRN", "AUX", "NUL",
                        *(f"COM{i}" for i in range(1, 10)), *(f"LPT{i}" for i in range(1, 10))})
 
 _KINDS = {"SET": "setup", "LOC": "location", "DAT": "program"}
+# V+ program files (docs/VPLUS.md): NAME.V2 / NAME.PG, several .PROGRAM blocks each
+VPLUS_KINDS = tuple(ext.lstrip(".") for ext in vplus.EXTENSIONS)
 
 
 class WorkspaceError(ValtermError):
@@ -221,6 +223,8 @@ class Workspace:
         folder = Path(beside) if beside is not None else None
 
         def load(name: str) -> Program:
+            if vplus.is_dotted_name(name):
+                return self.read_program(name)  # only the workspace's V+ files define it
             stem = self._program_name(name)
             if folder is not None:
                 near = checked_path(folder, f"{stem}.DAT")
@@ -236,10 +240,12 @@ class Workspace:
         folder = Path(beside) if beside is not None else None
 
         def exists(name: str) -> bool:
+            if vplus.is_dotted_name(name):
+                return name.strip().upper() in self.vplus_programs()
             file_name = check_name(name, "DAT")
             if folder is not None and checked_path(folder, file_name).is_file():
                 return True
-            return self.path(file_name, "DAT").is_file()
+            return self.path(file_name, "DAT").is_file() or name.strip().upper() in self.vplus_programs()
 
         return exists
 
@@ -267,7 +273,8 @@ class Workspace:
         """The programs of DATFILER.DAT in its order, then any other program file found."""
         listed = self.programs_directory()
         on_disk = [n for n in self._names("DAT") if n not in SYSTEM_FILES and n not in listed]
-        return listed + on_disk
+        seen = set(listed + on_disk)
+        return listed + on_disk + [n for n in self.vplus_programs() if n not in seen]
 
     # -- setup files ------------------------------------------------------------
     def read_setup(self, name: str) -> WorkCell:
@@ -289,7 +296,64 @@ class Workspace:
 
     # -- programs ----------------------------------------------------------------
     def read_program(self, name: str) -> Program:
-        return programs.read_program(self.path(self._program_name(name), "DAT"))
+        """NAME.DAT; else the program NAME of a V+ file of the workspace (a dotted name: only there)."""
+        if vplus.is_dotted_name(name):
+            return self._vplus_program(name.strip().upper())
+        path = self.path(self._program_name(name), "DAT")
+        if not path.is_file():
+            found = self.vplus_programs().get(path.stem.upper())
+            if found is not None:
+                return found[0]
+        return programs.read_program(path)
+
+    # -- V+ program files (.V2, .PG) -------------------------------------------------
+    def vplus_source(self, name: str) -> tuple[Program, Path] | None:
+        """(program, its .V2/.PG file) when ``name`` is a V+ program of the workspace that no
+        NAME.DAT holds (the editor shows it read-only); None otherwise."""
+        upper = name.strip().upper().removesuffix(".DAT")
+        if not vplus.is_dotted_name(upper):
+            try:
+                if self.path(self._program_name(upper), "DAT").is_file():
+                    return None
+            except WorkspaceError:
+                return None  # a bad name: the caller's own check says why
+        return self.vplus_programs().get(upper)
+
+    def vplus_files(self) -> list[Path]:
+        """NAME.V2 / NAME.PG files whose NAME is a workspace name, in name order; a file that
+        links outside the workspace is left out (WorkspaceError when it is read by name)."""
+        found = []
+        for ext in VPLUS_KINDS:
+            for stem in self._names(ext):
+                try:
+                    found.append(self.path(stem, ext))
+                except WorkspaceError:
+                    continue
+        return sorted(found, key=lambda path: path.name.upper())
+
+    def vplus_programs(self) -> dict[str, tuple[Program, Path]]:
+        """Every program of the workspace's V+ files (the first file to define a name wins);
+        a damaged file is left out (reading one of its programs by name says why)."""
+        found: dict[str, tuple[Program, Path]] = {}
+        for path in self.vplus_files():
+            try:
+                blocks = vplus.read_vplus(path)
+            except (ValtermError, OSError):
+                continue
+            for block in blocks:
+                found.setdefault(block.program.name, (block.program, path))
+        return found
+
+    def _vplus_program(self, name: str) -> Program:
+        found = self.vplus_programs().get(name)
+        if found is not None:
+            return found[0]
+        for path in self.vplus_files():  # a damaged file may be the one meant: say why it is not read
+            try:
+                vplus.read_vplus(path)
+            except (ValtermError, OSError) as error:
+                raise WorkspaceError(f"PROGRAM {name} IS NOT DEFINED; {path.name} CANNOT BE READ: {error}") from None
+        raise WorkspaceError(f"PROGRAM {name} IS NOT DEFINED (NO .V2 OR .PG FILE OF THE WORKSPACE HAS IT)")
 
     def write_program(self, program: Program, name: str | None = None) -> Path:
         """Save a program and list it in DATFILER.DAT (§5.1: a new program's name is added)."""

@@ -181,6 +181,8 @@ class ValtermApp(ViewActions, App[int]):
         ``audience`` (default: the screen on top). CTRL-C reaches a running program."""
         target = audience if audience is not None else self.screen
         stop = self.session.abort_program if self.session is not None else None
+        if self.session is not None:
+            self.session.take_inputs_from_keyboard()  # the I/O panel (F6 in VAL-II mode) sets inputs
         self.player.play(events, target, stop)  # type: ignore[arg-type]
 
     def action_abort(self) -> None:

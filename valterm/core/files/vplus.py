@@ -36,6 +36,12 @@ DIALECT_1985 = re.compile(r"DIALECT\s+1985", re.IGNORECASE)  # the header commen
 _DATA_SECTIONS = (".LOCATIONS", ".REALS", ".STRINGS", ".PRECISIONPOINTS")
 
 
+def is_dotted_name(name: str) -> bool:
+    """A V+ program name with a dot (``pick.place``): no NAME.DAT can hold it, only a V+ file."""
+    upper = name.strip().upper()
+    return "." in upper.removesuffix(".DAT") and _NAME.fullmatch(upper) is not None
+
+
 @dataclass
 class VplusProgram:
     """One ``.PROGRAM`` block: the program, its parameter names, and the header's comment."""

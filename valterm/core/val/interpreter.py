@@ -72,7 +72,7 @@ from valterm.core.val.parser import Statement, ValSyntaxError, parse_statement
 from valterm.core.val.protocol import Simulator
 from valterm.core.val.variables import VariableStore
 from valterm.core.val.vplus import DIALECT as VPLUS
-from valterm.core.val.vplus import VPLUS_BUILDERS, parse_vplus
+from valterm.core.val.vplus import VPLUS_BUILDERS, parse_vplus, signal_line
 
 DIALECTS = ("1985", VPLUS)
 
@@ -122,6 +122,7 @@ class Interpreter:
         # (a program read from a V+ file is v+ whatever this says)
         self.dialect = check_dialect(dialect)
         self.machine = Machine(sim)  # V+ signals, strings, precision points, timers
+        self.machine.stopping = lambda: self._abort  # CTRL-C ends a WAIT for the keyboard
         # CHECK.DAT is written when a program or a typed command ends (section 6.7), not per
         # assignment: a 100 000-pass loop must not write a file 100 000 times
         self.keep_variables = keep_variables
@@ -498,6 +499,13 @@ def _monitor_event(interpreter: Interpreter, st: Statement) -> Iterator[Event]:
     yield Monitor(st.command, (st.args[0] or "") if st.args else "")
 
 
+def _status_typed(interpreter: Interpreter, st: Statement) -> Iterator[Event]:
+    """STATUS at the prompt; the I/O panel's line too once a signal is on (or in V+)."""
+    yield interpreter.status()
+    if interpreter.dialect == VPLUS or interpreter.machine.signals.on:
+        yield TypeOut(signal_line(interpreter.machine))
+
+
 def _stop_typed(interpreter: Interpreter, st: Statement) -> Iterator[Event]:
     if st.args[0]:
         yield TypeOut(st.args[0])
@@ -506,7 +514,7 @@ def _stop_typed(interpreter: Interpreter, st: Statement) -> Iterator[Event]:
 MONITOR_COMMANDS: dict[str, MonitorCommand] = {
     "EXECUTE": _execute, "HELP": _help, **DEBUG_COMMANDS,  # PROCEED is the debugger's
     **{name: _monitor_event for name in ("LISTP", "LISTF", "LISTL", "EDIT", "POINT")},
-    "STOP": _stop_typed, "HALT": _stop_typed,
+    "STOP": _stop_typed, "HALT": _stop_typed, "STATUS": _status_typed,
 }
 
 

@@ -12,7 +12,7 @@ hand, DELAY, WAIT polls). Scripted inputs (``run --inputs``) change when it pass
 
 from __future__ import annotations
 
-from collections.abc import Generator, Iterator
+from collections.abc import Callable, Generator, Iterator
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -48,6 +48,10 @@ class Machine:
     clock: CycleClock | None = None
     reactions: dict[int, str] = field(default_factory=dict)  # REACT: signed signal -> program
     pending: list[tuple[int, str]] = field(default_factory=list)  # reactions triggered, not yet run
+    # The app's keyboard sets inputs while a program runs: a WAIT no scripted input can end
+    # then waits for the user (in real time, Delay polls) until this says the run is stopping.
+    keyboard: bool = False
+    stopping: Callable[[], bool] = field(default=lambda: False, repr=False)
 
     @property
     def time(self) -> float:
@@ -88,6 +92,17 @@ class Machine:
             self.signals.set_input(change.signal, change.on)
             self._triggered(change.signal)
             yield Signal(change.signal, change.on, round(self.time, 3))
+
+    def key_input(self, number: int, on: bool) -> Signal:
+        """The user sets input ``number`` from the keyboard (SignalError if it is not an input);
+        an armed REACT sees it at the program's next motion, WAIT, DELAY or SIGNAL."""
+        self.signals.set_input(number, on)
+        self._triggered(number)
+        return Signal(number, on, round(self.time, 3))
+
+    def waits_for_keyboard(self) -> bool:
+        """A WAIT that no scripted input can end waits for the user's keyboard instead."""
+        return self.keyboard and not self.stopping()
 
     def next_input_time(self) -> float | None:
         return self.inputs[0].time if self.inputs else None

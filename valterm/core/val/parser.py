@@ -39,6 +39,9 @@ _IDENT = re.compile(r"^[A-Z][A-Z0-9]*$")
 _SHIFT_LOC = re.compile(r"^SHIFT\s*\((.*)\)$", re.DOTALL)
 _BY = re.compile(r"^([A-Z][A-Z0-9]*)\s+BY\s+(.*)$", re.DOTALL)
 _PROG = re.compile(r"^([A-Z][A-Z0-9]*)(?:\.DAT)?$")
+# A V+ program of a .v2/.pg file may have a dotted name (pick.place): EXECUTE, CALL, LISTP reach it.
+_VPLUS_PROG = re.compile(r"^[A-Z][A-Z0-9_]*(?:\.[A-Z0-9_]+)+$")
+VPLUS_NAME_LENGTH = 15
 _VAR = re.compile(r"^([A-Z][A-Z0-9]*)\s*=$")
 # Something assigned that is not a 1985 variable name: `Z_PICK = 80`, `A[I] = I`, `Z.PICK = 80`.
 _BAD_ASSIGNMENT = re.compile(r"^([^\s=<>!]+?)\s*(\[[^\]]*\])?\s*=(?!=)")
@@ -155,6 +158,8 @@ def _convert(kind: str, text: str, original: str) -> Any:
         return label
     if kind == "PROG":
         match = _PROG.match(text)
+        if match is None and _VPLUS_PROG.match(text) and len(text) <= VPLUS_NAME_LENGTH:
+            return text  # a dotted V+ name: only a workspace .v2/.pg file can define it
         if match is None:
             raise ValSyntaxError(f"{text!r} is not a program name")
         return _check_name(match.group(1), "program")

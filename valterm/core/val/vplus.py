@@ -913,11 +913,18 @@ def _wait(c: Build, st: Statement) -> Op:
         started = machine.time
         while not condition(c.variables):
             coming = machine.next_input_time()
-            if coming is None:
+            if coming is None and machine.waits_for_keyboard():
+                yield Delay(WAIT_POLL)  # the app waits in real time: the user may set an input
+                yield from machine.wait(WAIT_POLL)
+                started = machine.time  # no time limit: the user ends it (an input, or CTRL-C)
+            elif coming is None and machine.keyboard:
+                return c.next  # CTRL-C: the run stops after this step
+            elif coming is None:
                 raise ProgramError(f"WAIT {text}: IT NEVER BECOMES TRUE (NO MORE INPUTS ARE SCRIPTED)")
-            if machine.time - started > WAIT_LIMIT:
+            elif machine.time - started > WAIT_LIMIT:
                 raise ProgramError(f"WAIT {text}: STILL FALSE AFTER {WAIT_LIMIT:g} S")
-            yield from machine.wait(max(WAIT_POLL, coming - machine.time))
+            else:
+                yield from machine.wait(max(WAIT_POLL, coming - machine.time))
             if machine.pending:  # a REACT program runs first, then this WAIT looks again
                 return c.op_index[c.index]
         return c.next

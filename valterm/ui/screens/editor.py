@@ -147,7 +147,8 @@ class EditorScreen(Screen[None]):
             return
         state = " (NEW)" if editor.new else ""
         state += " (NOT SAVED)" if editor.dirty else ""
-        self.query_one("#editor-title", Static).update(f"EDIT {editor.name}.DAT{state}")
+        shown = f"{editor.name} ({editor.path.name}, READ ONLY)" if editor.read_only else f"{editor.name}.DAT"
+        self.query_one("#editor-title", Static).update(f"EDIT {shown}{state}")
         lines = editor.listing() or ["(NO STEPS YET: PRESS C TO TYPE THE FIRST STEP)"]
         self.query_one("#editor-listing", Static).update("\n".join(lines))
         scroll = self.query_one("#editor-scroll", VerticalScroll)
@@ -226,7 +227,11 @@ class EditorScreen(Screen[None]):
 
     def action_save(self) -> None:
         assert self.editor is not None
-        path = self.editor.save()
+        try:
+            path = self.editor.save()
+        except EditorError as error:  # a V+ program of a .V2 file is shown, not saved
+            self.say(f"REJECTED: {error}")
+            return
         self.say(f"{path.name} SAVED ({len(self.editor.steps)} STEPS)")
         self._refresh_listing()
 

@@ -8,7 +8,7 @@ The keyboard (issue 17): keys go either to the open command line or to the menu,
   that does not fit (80x24).
 - The command line stays open between commands, as on the real terminal: every printable
   key is text, so READY, WHERE, MOVE, DEPART, CLOSEI are typed as themselves. The THEN PRESS
-  actions of Fig. C-13 are F-keys there (F2 wipe, F3 model, F4 define, F6 the VAL-II menu,
+  actions of Fig. C-13 are F-keys there (F2 wipe, F3 model, F4 define, F6 the VAL-II menu, F10 the I/O panel,
   F9 return to MAIN; the legend shows them; F1 is help, F5/F7/F8 the debugger's); the
   thesis's letters work on the VAL-II menu, one ESC away. C ("continue") is simply the open line.
 - Keys typed while a command plays, or before the line has focus, go into the line (type
@@ -56,6 +56,7 @@ from valterm.ui.errors import Refusal, problem_text
 from valterm.ui.playback import TRANSCRIPT_LINES, Player, Transcript, show_at_once
 from valterm.ui.screens.editor import EditorScreen, StepInput
 from valterm.ui.screens.help import HelpScreen
+from valterm.ui.screens.signals import SignalsScreen
 from valterm.ui.view.model_view import ModelView
 from valterm.ui.widgets.debugpanel import PAUSED_KEYS, DebugPanel
 from valterm.ui.widgets.menus import (
@@ -90,9 +91,9 @@ WIDE = LEFT_WIDTH + 40  # narrower than this, the model is toggled instead (80x2
 MENU_FRAME = 6  # the menu's border, padding and scroll bar, in columns
 
 # the key legend under the log, one per mode (F-keys work wherever the line is open)
-LINE_KEYS = "F2 W_WIPE  F3 M_MODEL  F4 D_DEFINE  F6 MENU  F9 R_RETURN  ESC: MENU"
-MENU_KEYS = "N PAGE  V LINE  W WIPE  M MODEL  D DEFINE  R/ESC RETURN  \u2191\u2193 SCROLL"
-RUNNING_KEYS = "RUNNING   CTRL-C OR ESC: ABORT   (KEYS TYPED NOW GO TO THE LINE)"
+LINE_KEYS = "F2 W_WIPE  F3 M_MODEL  F4 D_DEFINE  F6 MENU  F9 R_RETURN  F10 I/O  ESC: MENU"
+MENU_KEYS = "N PAGE  V LINE  W WIPE  M MODEL  D DEFINE  R/ESC RETURN  PGUP/PGDN SCROLL  F10 I/O"
+RUNNING_KEYS = "RUNNING   CTRL-C OR ESC: ABORT   F10: I/O PANEL   (KEYS TYPED NOW GO TO THE LINE)"
 DEFINE_KEYS = f"{DEFINE_HOW}  ESC: MENU"
 
 _MENU_ROW = re.compile(r"^(\S.*?\s+[-:] )")  # "TYPE X=          - " : the description column
@@ -143,6 +144,7 @@ class ValModeScreen(Screen[None]):
         Binding("f5", "paused_command('PROCEED')", "Proceed", show=False, id="valmode.proceed"),
         Binding("f7", "paused_command('XSTEP')", "Xstep", show=False, id="valmode.xstep"),
         Binding("f8", "paused_command('SSTEP')", "Sstep", show=False, id="valmode.sstep"),
+        Binding("f10", "io_panel", "I/O panel", show=False, id="valmode.io"),  # screens/signals.py
     ]
 
     def __init__(self, session: Session | None = None, *, show_menu: bool = True) -> None:
@@ -423,6 +425,10 @@ class ValModeScreen(Screen[None]):
             self.action_paused_command(text)
         elif self.mode == Mode.COMMAND:
             self.run_command(text)
+
+    def action_io_panel(self) -> None:
+        """F10: the I/O panel over VAL-II mode (a running program goes on beneath it)."""
+        self.app.push_screen(SignalsScreen(self.session))
 
     def action_paused_command(self, text: str) -> None:
         """A command while a program is paused (typed, or F5 / F7 / F8)."""
