@@ -79,13 +79,11 @@ def test_a_vplus_program_of_a_workspace_file_runs_with_its_call(tmp_path: Path) 
             await typed(pilot, "LISTF")
             listing = next(line for line in screen.transcript if line.startswith("PROGRAMS:"))
             assert listing.split()[-2:] == ["PICK.PLACE", "TWO.STEP"]
-            await pilot.press("c")
             await typed(pilot, "EXECUTE pick.place")
             text = list(screen.transcript)
             assert "START" in text and "IN TWO.STEP 6" in text and "BACK, N=6" in text, "\n".join(text)
             assert "PROGRAM PICK.PLACE COMPLETED: 1 LOOP" in text, "\n".join(text)
             assert not any(line.startswith("***") for line in text), text
-            await pilot.press("c")
             await typed(pilot, "LISTP two.step")
             assert "PROGRAM TWO.STEP" in screen.transcript
             assert any(line.endswith("k = k*2") for line in screen.transcript)
@@ -140,15 +138,14 @@ def test_wait_sig_waits_for_the_keyboard_and_the_panel_shows_outputs_live(tmp_pa
 
             await pilot.press("escape")
             assert app.screen is screen
-            assert screen.mode == "after"
-            await pilot.press("c")
+            assert screen.mode == "command"
             await typed(pilot, "STATUS")
             assert "SIGNALS ON: OUTPUTS 2 3  INPUTS NONE" in screen.transcript
             assert screen.mode == "command"  # F10 opens the panel from the open line too
             await pilot.press("f10")
             assert isinstance(app.screen, SignalsScreen)
             await pilot.press("escape")
-            assert app.screen is screen and screen.mode == "after"
+            assert app.screen is screen and screen.mode == "command"
 
     asyncio.run(body())
 
@@ -172,7 +169,7 @@ def test_ctrl_c_ends_a_wait_for_the_keyboard(tmp_path: Path) -> None:
                 await pilot.pause(0.05)
                 if screen.mode != "running":
                     break
-            assert screen.mode == "after"
+            assert screen.mode == "command"
             assert any("ABORTED" in line for line in screen.transcript), list(screen.transcript)
             assert "INPUT 1001 SEEN" not in screen.transcript
 
@@ -215,7 +212,6 @@ def test_the_editor_shows_a_vplus_program_and_will_not_save_it(tmp_path: Path) -
             assert "k = k*2" in editor.listing and "V+ PROGRAM OF CELL1.V2" in editor.message
             await pilot.press("s")
             assert "REJECTED: TWO.STEP IS A V+ PROGRAM OF CELL1.V2" in editor.message
-            await pilot.press("c")
             await typed(pilot, "    TYPE 1")
             assert "REJECTED" in editor.message
             assert source.read_text() == CELL and not (source.parent / "TWO.DAT").exists()
