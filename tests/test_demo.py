@@ -14,7 +14,7 @@ import pytest
 
 from valterm.core.errors import ValtermError
 from valterm.core.files.demokeys import DemoScriptError, load_demo, parse_demo
-from valterm.ui.screens.demo import DEMO_HINT, Caption, DemoApp
+from valterm.ui.demo import DEMO_HINT, Caption, DemoApp
 
 ITEMS = load_demo()
 FAST = 1000.0  # the demo's speed factor in tests: pauses and gaps all but vanish

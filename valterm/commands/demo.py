@@ -26,7 +26,7 @@ def run(args: argparse.Namespace) -> int:
     if not args.speed > 0 or not args.idle > 0:
         print("valterm: demo: --speed and --idle must be positive", file=sys.stderr)
         return 2
-    from valterm.ui.screens.demo import run_demo
+    from valterm.ui.demo import run_demo
 
     return run_demo(speed=args.speed, once=args.once, kiosk=args.kiosk, idle=args.idle,
                     script=args.script, ascii=bool(getattr(args, "ascii", False)))

@@ -30,7 +30,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from valterm.commands import FAILURE, OK, fail
+from valterm.commands import FAILURE, OK, USAGE, fail
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -94,12 +94,12 @@ def _find(argument: str, ext: str, workspace: Any) -> Path:
 
 
 def run(args: argparse.Namespace) -> int:
-    from valterm.core.events import End, Error, Pause
+    from valterm.core.events import Error, Pause
     from valterm.core.files.errors import FileFormatError
     from valterm.core.files.locations import read_locations
     from valterm.core.files.setup import read_setup
     from valterm.core.simulator import Simulator
-    from valterm.core.text.transcript import event_lines, where_lines
+    from valterm.core.text.transcript import event_lines
     from valterm.core.val.interpreter import Interpreter
     from valterm.core.val.variables import VariableStore
     from valterm.core.workspace import Workspace, WorkspaceError
@@ -133,9 +133,10 @@ def run(args: argparse.Namespace) -> int:
                               dialect=args.dialect or "1985")
     try:
         _vplus_setup(args, sim, interpreter, loc_paths)
-    except (FileFormatError, OSError, ValueError) as error:
-        print(error, file=sys.stderr)
-        return 2
+    except (FileFormatError, OSError) as error:  # a bad --inputs file
+        return fail(error, FAILURE)
+    except ValueError as error:  # --config that names no indicators
+        return fail(error, USAGE)
     errors = 0
     aborted = False
 
@@ -159,27 +160,35 @@ def run(args: argparse.Namespace) -> int:
                 out.write(line + "\n")
             if isinstance(event, Pause):
                 out.write("(headless: PROCEED)\n")
-        where = sim.where()
-        panel = interpreter.machine.signals
-        end = End(where=where.to_json(), variables=dict(interpreter.variables),
-                  cycle_time_s=round(interpreter.cycle.seconds, 3),  # the interpreter's clock
-                  signals_on=tuple(panel.outputs_on() + panel.inputs_on()))
-        if args.json:
-            out.write(json.dumps(end.to_json()) + "\n")
-        else:
-            out.write("\n".join(["", "WHERE", *where_lines(where)]) + "\n")
-            if interpreter.variables:
-                values = "  ".join(f"{k}={_value(v)}" for k, v in interpreter.variables.items())
-                out.write(f"VARIABLES  {values}\n")
-            if end.signals_on:
-                out.write(f"SIGNALS ON {' '.join(str(n) for n in end.signals_on)}\n")
-            out.write(f"CYCLE TIME {interpreter.cycle.seconds:.2f} S (ESTIMATE FOR THE REAL PUMA)\n")
-        out.flush()
+        _write_end(args, sim, interpreter, out)
     finally:
         signal.signal(signal.SIGINT, previous)
     if aborted:
         return 130
     return FAILURE if errors else OK
+
+
+def _write_end(args: argparse.Namespace, sim: Any, interpreter: Any, out: Any) -> None:
+    """The end of a run: the final WHERE, the variables, the signals on and the cycle time."""
+    from valterm.core.events import End
+    from valterm.core.text.transcript import where_lines
+
+    where = sim.where()
+    panel = interpreter.machine.signals
+    end = End(where=where.to_json(), variables=dict(interpreter.variables),
+              cycle_time_s=round(interpreter.cycle.seconds, 3),  # the interpreter's clock
+              signals_on=tuple(panel.outputs_on() + panel.inputs_on()))
+    if args.json:
+        out.write(json.dumps(end.to_json()) + "\n")
+    else:
+        out.write("\n".join(["", "WHERE", *where_lines(where)]) + "\n")
+        if interpreter.variables:
+            values = "  ".join(f"{k}={_value(v)}" for k, v in interpreter.variables.items())
+            out.write(f"VARIABLES  {values}\n")
+        if end.signals_on:
+            out.write(f"SIGNALS ON {' '.join(str(n) for n in end.signals_on)}\n")
+        out.write(f"CYCLE TIME {interpreter.cycle.seconds:.2f} S (ESTIMATE FOR THE REAL PUMA)\n")
+    out.flush()
 
 
 def _in_workspace(workspace: Any, name: str, ext: str) -> bool:
