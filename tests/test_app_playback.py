@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from tests.app_helpers import FakeClock, screen_text, sync
+from app_helpers import FakeClock, screen_text, sync
 from valterm.core.errors import ValtermError
 from valterm.core.events import Event, Message, TypeOut
 from valterm.core.session import Session

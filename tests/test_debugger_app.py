@@ -9,7 +9,7 @@ from pathlib import Path
 
 from rich.text import Text
 
-from tests.app_helpers import screen_text
+from app_helpers import screen_text
 from valterm.core.session import Session
 from valterm.ui.app import ValtermApp
 from valterm.ui.screens.valmode import ValModeScreen

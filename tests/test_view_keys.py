@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from tests.app_helpers import FakeClock, make_app, screen_text, sync
+from app_helpers import FakeClock, make_app, screen_text, sync
 from valterm.core.events import Motion
 from valterm.core.render import views
 from valterm.core.render.overlays import SEEN_COLOUR, TRACE_COLOUR
