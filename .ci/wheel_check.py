@@ -203,6 +203,21 @@ def check_interactive(valterm: Path, folder: Path, env: dict[str, str]) -> None:
               f"running: {running}, exit status: {status}\n--- screen text (last 2000 chars)\n{screen[-2000:]}\n{crash}")
 
 
+def check_readme_example(python: Path, folder: Path, env: dict[str, str]) -> None:
+    """The README's Pilot example (valterm.testing), run as written by the installed package."""
+    readme = (CHECKOUT / "README.md").read_text(encoding="utf-8")
+    blocks = re.findall(r"```python\n(.*?)```", readme, flags=re.DOTALL)
+    check(bool(blocks), "README.md has a python example")
+    if not blocks:
+        return
+    script = folder / "readme_example.py"
+    script.write_text(blocks[0], encoding="utf-8")
+    result = sh(python, script, cwd=folder, env=env, timeout=300)
+    check(result.returncode == 0 and ". WHERE" in result.stdout,
+          "the README's valterm.testing example runs as written from the installed wheel",
+          result.stdout[-2000:] + result.stderr[-3000:])
+
+
 def main() -> int:
     keep = "--keep" in sys.argv[1:]
     top = Path(tempfile.mkdtemp(prefix="valterm-wheel-check-")).resolve()
@@ -219,6 +234,7 @@ def main() -> int:
         if valterm.exists():
             check_commands(valterm, top / "elsewhere", env)
             check_interactive(valterm, top / "elsewhere", env)
+            check_readme_example(valterm.parent / "python", top / "elsewhere", env)
     finally:
         if keep:
             print(f"kept {top}")

@@ -13,6 +13,7 @@ from valterm.core.cycletime import joint_motion_seconds
 from valterm.testing import ScriptClock, Simulation
 
 DOC = Path(__file__).resolve().parent.parent / "docs" / "TESTING.md"
+README = Path(__file__).resolve().parent.parent / "README.md"
 
 
 def test_the_documented_example_runs_as_written(capsys) -> None:  # type: ignore[no-untyped-def]
@@ -21,6 +22,14 @@ def test_the_documented_example_runs_as_written(capsys) -> None:  # type: ignore
     exec(compile(blocks[0], str(DOC), "exec"), {"__name__": "__main__"})  # noqa: S102 - our own doc
     printed = capsys.readouterr().out
     assert "JT 1" in printed and "8.00" in printed  # the Fig. 2-8 readout after joint 1 turned
+
+
+def test_the_readme_example_runs_as_written(capsys) -> None:  # type: ignore[no-untyped-def]
+    blocks = re.findall(r"```python\n(.*?)```", README.read_text(encoding="utf-8"), flags=re.DOTALL)
+    assert blocks, "README.md has no python example"
+    exec(compile(blocks[0], str(README), "exec"), {"__name__": "__main__"})  # noqa: S102 - our own doc
+    printed = capsys.readouterr().out
+    assert ". WHERE" in printed and "JT 1" in printed  # the screen's rows, VAL-II mode's WHERE
 
 
 def test_rows_are_the_terminal_and_the_start_screen_works(tmp_path: Path) -> None:

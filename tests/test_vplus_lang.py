@@ -271,7 +271,7 @@ def test_run_config_inputs_and_dialect_options(capsys: pytest.CaptureFixture[str
     assert "LEFT is not one of" in capsys.readouterr().err
     bad = tmp_path / "in.txt"
     bad.write_text("1.0 7 1\n")
-    assert main([*common, "--inputs", str(bad)]) == 2
+    assert main([*common, "--inputs", str(bad)]) == 1
     assert "in.txt:1" in capsys.readouterr().err
     loop = tmp_path / "LOOP.DAT"
     loop.write_text('    FOR i = 1 TO 2\n    TYPE "I=", i\n    END\n')

@@ -59,6 +59,7 @@ from valterm.ui.screens.help import HelpScreen
 from valterm.ui.screens.signals import SignalsScreen
 from valterm.ui.view.model_view import ModelView
 from valterm.ui.widgets.debugpanel import PAUSED_KEYS, DebugPanel
+from valterm.ui.widgets.status import StatusLine
 from valterm.ui.widgets.menus import (
     DEFINE_EACH,
     DEFINE_HOW,
@@ -169,6 +170,7 @@ class ValModeScreen(Screen[None]):
             with Vertical(id="val-left"):
                 yield from self.compose_text()
             yield ModelView(id="val-model")
+        yield StatusLine(id="status")  # the lasting status line of every screen (issue 17)
 
     def compose_text(self) -> ComposeResult:
         """The text side, top to bottom (panels are added here)."""
@@ -248,6 +250,7 @@ class ValModeScreen(Screen[None]):
 
     def redraw(self) -> None:
         self.query_one(ModelView).update_scene(self.app.scene())  # with the view's overlays
+        self.query_one("#status", StatusLine).refresh()  # the arm's configuration, SPEED, ...
         self.query_one("#val-where", Static).update("\n".join(where_lines(self.simulator.where())))
 
     def _keys(self, text: str) -> None:
