@@ -18,7 +18,6 @@ from pathlib import Path
 
 import pytest
 
-pytest.importorskip("textual_serve")
 
 ROOT = Path(__file__).resolve().parent.parent
 START_LIMIT = 60.0  # seconds the server may take to answer (a guard, not a timing)
