@@ -45,7 +45,7 @@ class Machine:
     parameters: dict[str, float] = field(default_factory=lambda: {"HAND.TIME": 0.05})
     inputs: list[InputChange] = field(default_factory=list)  # scripted, in time order
     tool: Transform | None = None
-    clock: CycleClock | None = None
+    clock: CycleClock = field(default_factory=CycleClock)
     reactions: dict[int, str] = field(default_factory=dict)  # REACT: signed signal -> program
     pending: list[tuple[int, str]] = field(default_factory=list)  # reactions triggered, not yet run
     # The app's keyboard sets inputs while a program runs: a WAIT no scripted input can end
@@ -55,12 +55,10 @@ class Machine:
 
     @property
     def time(self) -> float:
-        return self.clock.seconds if self.clock is not None else 0.0
+        return self.clock.seconds
 
     def observe(self, events: Iterator[Event]) -> Iterator[Event]:
         """Pass events on, adding their time to the clock (and applying scripted inputs)."""
-        if self.clock is None:
-            self.clock = CycleClock()
         for event in events:
             self.clock.observe(event)
             yield event
@@ -68,8 +66,6 @@ class Machine:
 
     def timed(self, events: Generator[Event, None, int]) -> Generator[Event, None, int]:
         """An op's events passed on and timed; returns what the op returns (the next pc)."""
-        if self.clock is None:
-            self.clock = CycleClock()
         while True:
             try:
                 event = next(events)
@@ -81,8 +77,6 @@ class Machine:
 
     def wait(self, seconds: float) -> Iterator[Event]:
         """Time passes with nothing moving (a WAIT poll)."""
-        if self.clock is None:
-            self.clock = CycleClock()
         self.clock.seconds += seconds
         yield from self.apply_inputs()
 
