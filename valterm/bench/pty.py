@@ -1,9 +1,16 @@
 """The app under a pseudo-terminal, as a person's terminal runs it: start time, frames, bytes.
 
-Spawns ``valterm --setup PROCESS`` in a pty of the given size, measures the time until
-MAIN MENU is on the screen, then animates a joint move typed at the KEYBOARD mode's V
-prompt and counts the frames and the bytes written while it plays. Frames are write
-bursts separated by quiet gaps (Textual writes a frame in one go).
+Spawns ``valterm --setup PROCESS`` in a pty of the given size and measures the time until
+MAIN MENU is on the screen. Then, with the playback factor at its fastest (``>`` twice at
+KEYBOARD: x0.25, so poses fall due faster than any screen shows them and the figure is the
+app's drawing rate, not the motion's step rate), it counts the frames and bytes written
+
+- while a joint move typed at the KEYBOARD mode's V prompt plays (``app_move_*``);
+- while the thesis's PROCESS program runs in VAL-II mode, its locations read from
+  PROCESS.LOC with F4 D as a person defines them (``app_program_*``).
+
+Frames are write bursts separated by quiet gaps (Textual writes a frame in one go); the
+rate counts only the time a motion was drawing (a DELAY or a TYPE line is not a frame gap).
 """
 
 from __future__ import annotations
@@ -20,6 +27,8 @@ import termios
 import time
 
 FRAME_GAP = 0.004  # seconds of quiet between two frames
+DRAWING_GAP = 0.1  # a longer gap between frames is not drawing (a DELAY, a prompt)
+LOCATIONS = "ABCDEF"  # the locations of PROCESS.LOC, accepted one by one
 
 
 def _read_until(fd: int, needle: bytes, timeout: float) -> tuple[bytes, float]:
@@ -45,11 +54,15 @@ def _drain(fd: int, quiet: float) -> None:
             return
 
 
-def _record(fd: int, duration: float, quiet_end: float = 0.4) -> list[tuple[float, int]]:
-    """(time, bytes) of every read until ``quiet_end`` s pass with no output (or duration)."""
+def _record(fd: int, duration: float, quiet_end: float = 0.4,
+            until: bytes | None = None) -> list[tuple[float, int]]:
+    """(time, bytes) of every read until ``quiet_end`` s pass with no output (after ``until``
+    was seen, when given), or ``duration`` s in all."""
     chunks: list[tuple[float, int]] = []
     start = time.perf_counter()
     last = start
+    tail = b""
+    seen = until is None
     while time.perf_counter() - start < duration:
         ready, _, _ = select.select([fd], [], [], 0.01)
         now = time.perf_counter()
@@ -60,46 +73,98 @@ def _record(fd: int, duration: float, quiet_end: float = 0.4) -> list[tuple[floa
                 break
             chunks.append((now, len(data)))
             last = now
-        elif chunks and now - last > quiet_end:
+            if not seen and until is not None:
+                tail = (tail + data)[-4096:]
+                seen = until in tail
+        elif seen and chunks and now - last > quiet_end:
             break
     return chunks
 
 
-def bench_app(width: int = 160, height: int = 50, command: str = "DRIVE 1,-150,20") -> dict[str, float]:
-    workspace = tempfile.mkdtemp(prefix="valterm-bench-")
+def frame_figures(chunks: list[tuple[float, int]], name: str, size: str) -> dict[str, float]:
+    """Frames a second while drawing, bytes a frame and frames in all, from timed reads."""
+    starts: list[float] = []
+    sizes: list[int] = []
+    previous = None
+    for when, count in chunks:
+        if previous is None or when - previous > FRAME_GAP:
+            starts.append(when)
+            sizes.append(0)
+        sizes[-1] += count
+        previous = when
+    gaps = [b - a for a, b in zip(starts, starts[1:]) if b - a <= DRAWING_GAP]
+    drawing = sum(gaps)
+    return {
+        f"{name}_fps_{size}": len(gaps) / drawing if drawing > 0 else 0.0,
+        f"{name}_bytes_per_frame_{size}": sum(sizes) / max(1, len(sizes)),
+        f"{name}_frames_{size}": float(len(sizes)),
+    }
+
+
+def _spawn(width: int, height: int, workspace: str) -> tuple[int, int]:
     pid, fd = pty.fork()
     if pid == 0:  # the child: a terminal of the asked size, then the app
         fcntl.ioctl(0, termios.TIOCSWINSZ, struct.pack("HHHH", height, width, 0, 0))
         env = dict(os.environ, TERM="xterm-256color", COLORTERM="truecolor")
         os.execve(sys.executable, [sys.executable, "-m", "valterm", "--workspace", workspace,
                                    "--setup", "PROCESS"], env)
+    return pid, fd
+
+
+def _keys(fd: int, keys: str, settle: float = 0.3) -> None:
+    for key in keys:
+        os.write(fd, key.encode())
+        _drain(fd, settle)
+
+
+def _line(fd: int, text: str) -> None:
+    os.write(fd, text.encode())
+    _drain(fd, 0.3)
+    os.write(fd, b"\r")
+
+
+def _play_drive(fd: int, command: str) -> list[tuple[float, int]]:
+    """KEYBOARD, playback at its fastest, V, the joint move; back to MAIN after it."""
+    os.write(fd, b"K")
+    _read_until(fd, b"KEYBOARD", 10.0)
+    _drain(fd, 0.3)
+    _keys(fd, ">>V")
+    _line(fd, command)
+    chunks = _record(fd, 20.0)
+    _keys(fd, "\x1bR")  # the V prompt closes; R: the MAIN MENU
+    return chunks
+
+
+def _play_program(fd: int) -> list[tuple[float, int]]:
+    """VAL-II mode: PROCESS.LOC's locations accepted one by one (F4 D), then EXECUTE PROCESS."""
+    _keys(fd, "VV")
+    os.write(fd, b"\x1bOS")  # F4: D_DEFINE
+    _drain(fd, 0.3)
+    _keys(fd, "D")
+    _line(fd, "PROCESS.LOC")
+    for name in LOCATIONS:
+        _read_until(fd, f"POINT {name}".encode(), 20.0)
+        os.write(fd, b"A")
+    _read_until(fd, b"LOCATIONS DEFINED", 20.0)
+    _drain(fd, 0.5)
+    _line(fd, "EXECUTE PROCESS")
+    return _record(fd, 60.0, until=b"COMPLETED")
+
+
+def bench_app(width: int = 160, height: int = 50, command: str = "DRIVE 1,-150,20",
+              program: bool = True) -> dict[str, float]:
+    workspace = tempfile.mkdtemp(prefix="valterm-bench-")
+    pid, fd = _spawn(width, height, workspace)
+    size = f"{width}x{height}"
     try:
         _, startup = _read_until(fd, b"MAIN MENU", 30.0)
         _drain(fd, 0.5)
-        os.write(fd, b"K")
-        _read_until(fd, b"KEYBOARD", 10.0)
-        _drain(fd, 0.3)
-        os.write(fd, b"V")
-        _drain(fd, 0.3)
-        os.write(fd, command.encode())
-        _drain(fd, 0.3)
-        os.write(fd, b"\r")
-        chunks = _record(fd, 20.0)
+        figures = {"app_start_to_main_menu_s": startup}
+        figures.update(frame_figures(_play_drive(fd, command), "app_move", size))
+        if program:
+            figures.update(frame_figures(_play_program(fd), "app_program", size))
     finally:
         os.kill(pid, signal.SIGTERM)
         os.waitpid(pid, 0)
         os.close(fd)
-    frames: list[int] = []
-    previous = None
-    for when, size in chunks:
-        if previous is None or when - previous > FRAME_GAP:
-            frames.append(0)
-        frames[-1] += size
-        previous = when
-    span = chunks[-1][0] - chunks[0][0] if len(chunks) > 1 else 0.0
-    return {
-        "app_start_to_main_menu_s": startup,
-        f"app_move_fps_{width}x{height}": (len(frames) - 1) / span if span > 0 else 0.0,
-        f"app_move_bytes_per_frame_{width}x{height}": sum(frames) / max(1, len(frames)),
-        f"app_move_frames_{width}x{height}": float(len(frames)),
-    }
+    return figures

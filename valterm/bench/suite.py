@@ -31,6 +31,8 @@ GOALS: dict[str, tuple[str, float]] = {
     "app_start_to_main_menu_s": ("<=", 1.0),
     "app_move_fps_160x50": (">=", 30.0),
     "app_move_bytes_per_frame_160x50": ("<=", 10_240.0),
+    "app_program_fps_160x50": (">=", 30.0),
+    "app_program_bytes_per_frame_160x50": ("<=", 10_240.0),
 }
 
 # the peer measured in the same run, shown beside a goal's figure in ``--md``
@@ -196,7 +198,8 @@ def _raster_entries() -> dict[str, float]:
 
 
 def _app_entries() -> dict[str, float]:
-    """The real app under a pseudo-terminal at 160x50: start time, frames and bytes of a MOVE."""
+    """The real app under a pseudo-terminal at 160x50: start time, then frames and bytes
+    while a joint move plays and while the PROCESS program runs in VAL-II mode."""
     from valterm.bench.pty import bench_app
 
     return bench_app(160, 50)
