@@ -176,7 +176,7 @@ def _write_end(args: argparse.Namespace, sim: Any, interpreter: Any, out: Any) -
     where = sim.where()
     panel = interpreter.machine.signals
     end = End(where=where.to_json(), variables=dict(interpreter.variables),
-              cycle_time_s=round(interpreter.cycle.seconds, 3),  # the interpreter's clock
+              cycle_time_s=round(interpreter.cycle_seconds, 3),  # the interpreter's clock
               signals_on=tuple(panel.outputs_on() + panel.inputs_on()))
     if args.json:
         out.write(json.dumps(end.to_json()) + "\n")
@@ -187,7 +187,7 @@ def _write_end(args: argparse.Namespace, sim: Any, interpreter: Any, out: Any) -
             out.write(f"VARIABLES  {values}\n")
         if end.signals_on:
             out.write(f"SIGNALS ON {' '.join(str(n) for n in end.signals_on)}\n")
-        out.write(f"CYCLE TIME {interpreter.cycle.seconds:.2f} S (ESTIMATE FOR THE REAL PUMA)\n")
+        out.write(f"CYCLE TIME {interpreter.cycle_seconds:.2f} S (ESTIMATE FOR THE REAL PUMA)\n")
     out.flush()
 
 

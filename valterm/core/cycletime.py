@@ -78,16 +78,22 @@ def straight_motion_seconds(length_mm: float, turn_deg: float, speed_percent: fl
 
 
 class CycleClock:
-    """Adds up the robot's time over a run's events: motions, the hand, DELAY."""
+    """The robot's time: adds up a run's events (motions, the hand, DELAY) and WAIT polls.
+
+    One clock per interpreter: STATUS and ``run`` read the cycle time off it, V+ TIMER and
+    scripted inputs (``run --inputs``) go by it. ``hand_time`` starts as the robot file's;
+    V+ ``PARAMETER HAND.TIME`` sets it.
+    """
 
     def __init__(self, timing: Timing | None = None) -> None:
         self.timing = timing or robot_timing()
+        self.hand_time = self.timing.hand_time
         self.seconds = 0.0
 
     def observe(self, event: Event) -> None:
         if isinstance(event, Motion):
             self.seconds += event.seconds
         elif isinstance(event, Hand):
-            self.seconds += self.timing.hand_time
+            self.seconds += self.hand_time
         elif isinstance(event, Delay):
             self.seconds += event.seconds

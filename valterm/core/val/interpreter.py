@@ -121,7 +121,10 @@ class Interpreter:
         # "1985" (COMMAND.DAT, the thesis) or "v+": the dialect of programs that do not say
         # (a program read from a V+ file is v+ whatever this says)
         self.dialect = check_dialect(dialect)
-        self.machine = Machine(sim)  # V+ signals, strings, precision points, timers
+        # the one clock of the robot's time: STATUS, run's cycle time, V+ TIMER and inputs
+        self.clock = CycleClock()
+        self._cycle_start = 0.0  # the clock when the last EXECUTE began
+        self.machine = Machine(sim, clock=self.clock)  # V+ signals, strings, precision points
         self.machine.stopping = lambda: self._abort  # CTRL-C ends a WAIT for the keyboard
         # CHECK.DAT is written when a program or a typed command ends (section 6.7), not per
         # assignment: a 100 000-pass loop must not write a file 100 000 times
@@ -133,7 +136,6 @@ class Interpreter:
         self.monitor: dict[str, MonitorCommand] = dict(monitor or MONITOR_COMMANDS)
         self.hook: StepHook | None = None
         self.pass_end: Callable[[], Iterator[Event]] | None = None
-        self.cycle = CycleClock()  # the robot's time since the last EXECUTE (STATUS shows it)
         self.debugger: Debugger = Debugger(self)
         self._run: Run | None = None  # the pass being run (its CALL frames: call_depth)
         self.program = ""      # the program EXECUTE runs ("" when none)
@@ -180,10 +182,15 @@ class Interpreter:
         """How many CALLs deep the running program is (0 in the program EXECUTE started)."""
         return len(self._run.frames) if self._run is not None else 0
 
+    @property
+    def cycle_seconds(self) -> float:
+        """The robot's time since the last EXECUTE began (the cycle time STATUS shows)."""
+        return self.clock.seconds - self._cycle_start
+
     def status(self) -> Status:
         left = max(0, self.loops_total - self.loops_done) if self._running else 0
         return Status(float(self.sim.speed), self.program, self.loops_done, left,
-                      round(self.cycle.seconds, 3))
+                      round(self.cycle_seconds, 3))
 
     def pause(self, event: Pause) -> Iterator[Event]:
         """Yield `event` with the program paused: the app stops pulling; pulling again goes on."""
@@ -273,7 +280,7 @@ class Interpreter:
             start = found
         self.program, self.loops_total, self.loops_done = name, total, 0
         self._running, self._paused, self._abort = True, False, False
-        self.cycle = CycleClock(self.cycle.timing)
+        self._cycle_start = self.clock.seconds
         try:
             while self.loops_done < total:
                 finished = yield from self._pass(main, start)
@@ -365,16 +372,8 @@ class Interpreter:
     def _act(self, op: Action) -> Generator[Event, None, int]:
         """An op that yields events (the cycle clock sees them); -1 when its error stops the program."""
         program, number = op.step.program, op.step.step
-        observe = self.cycle.observe
         try:
-            events = op.run()
-            while True:
-                try:
-                    event = next(events)
-                except StopIteration as done:
-                    return int(done.value)
-                observe(event)
-                yield event
+            return (yield from self._timed(op.run()))
         except UndefinedVariable as error:
             yield Error(program, number, error.message)
         except ZeroDivisionError:
@@ -394,11 +393,22 @@ class Interpreter:
             return -1
         return op.error
 
+    def _timed(self, events: Generator[Event, None, int]) -> Generator[Event, None, int]:
+        """An op's events passed on, each one's time added to the one clock; returns its pc."""
+        observe = self.clock.observe
+        while True:
+            try:
+                event = next(events)
+            except StopIteration as done:
+                return int(done.value)
+            observe(event)
+            yield event
+
     def _control(self, op: Op, run: Run) -> Generator[Event, None, int]:
         if not isinstance(op, Control):
             raise TypeError(f"{type(op).__name__} is not an op the run loop knows")
         try:
-            return (yield from op.control(run, self.compile))
+            return (yield from self._timed(op.control(run, self.compile)))
         except RunStop as stop:
             yield Error(stop.program, stop.step, stop.message)
             run.failed = True
@@ -444,7 +454,7 @@ class Interpreter:
                     raise ProgramError(f"NUMBER TOO LARGE: {op.name} WOULD BE {value:g}")
                 self.variables[op.name] = value
             elif isinstance(op, Action):
-                yield from op.run()
+                yield from self._timed(op.run())  # a typed motion takes the robot's time too
         except KeyError as error:
             if type(error) is KeyError:
                 yield Error("", 0, f"VARIABLE {error.args[0]} IS NOT DECLARED")

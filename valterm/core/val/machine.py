@@ -6,8 +6,10 @@ and set binary signals (an I/O panel, ``valterm.core.signals``), strings, precis
 One ``Machine`` per interpreter holds them; V+ expressions and builders reach it through
 the closures they are compiled with.
 
-Time: the machine's clock is the robot's estimated time (``CycleClock``: motions, the
-hand, DELAY, WAIT polls). Scripted inputs (``run --inputs``) change when it passes their time.
+Time: the machine's clock is the interpreter's one clock of the robot's estimated time
+(``CycleClock``). The interpreter adds each event's time as the event passes it (motions,
+the hand, DELAY); the machine adds only what passes with no event (a scripted WAIT's poll)
+and changes scripted inputs (``run --inputs``) when the clock passes their time.
 """
 
 from __future__ import annotations
@@ -42,7 +44,7 @@ class Machine:
     precision: dict[str, tuple[float, ...]] = field(default_factory=dict)
     timers: dict[int, float] = field(default_factory=dict)
     switches: dict[str, bool] = field(default_factory=dict)
-    parameters: dict[str, float] = field(default_factory=lambda: {"HAND.TIME": 0.05})
+    parameters: dict[str, float] = field(default_factory=dict)  # HAND.TIME is the clock's
     inputs: list[InputChange] = field(default_factory=list)  # scripted, in time order
     tool: Transform | None = None
     clock: CycleClock = field(default_factory=CycleClock)
@@ -58,27 +60,35 @@ class Machine:
         return self.clock.seconds
 
     def observe(self, events: Iterator[Event]) -> Iterator[Event]:
-        """Pass events on, adding their time to the clock (and applying scripted inputs)."""
-        for event in events:
-            self.clock.observe(event)
-            yield event
+        """Pass events on (the interpreter times them), then apply the inputs now due."""
+        yield from events
         yield from self.apply_inputs()
 
     def timed(self, events: Generator[Event, None, int]) -> Generator[Event, None, int]:
-        """An op's events passed on and timed; returns what the op returns (the next pc)."""
-        while True:
-            try:
-                event = next(events)
-            except StopIteration as stop:
-                yield from self.apply_inputs()
-                return int(stop.value)
-            self.clock.observe(event)
-            yield event
+        """An op's events passed on, then the inputs now due; returns what the op returns."""
+        next_pc = yield from events
+        yield from self.apply_inputs()
+        return int(next_pc)
 
     def wait(self, seconds: float) -> Iterator[Event]:
-        """Time passes with nothing moving (a WAIT poll)."""
+        """Time passes with nothing moving and no event (a scripted WAIT's poll)."""
         self.clock.seconds += seconds
         yield from self.apply_inputs()
+
+    def parameter(self, name: str) -> float:
+        if name == "HAND.TIME":
+            return self.clock.hand_time
+        try:
+            return self.parameters[name]
+        except KeyError:
+            raise MachineError(f"PARAMETER {name} IS NOT DEFINED") from None
+
+    def set_parameter(self, name: str, value: float) -> None:
+        """PARAMETER name = value; HAND.TIME is the time the cycle clock gives the hand."""
+        if name == "HAND.TIME":
+            self.clock.hand_time = value
+        else:
+            self.parameters[name] = value
 
     def apply_inputs(self) -> Iterator[Event]:
         while self.inputs and self.inputs[0].time <= self.time + 1e-9:

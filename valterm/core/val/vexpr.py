@@ -339,12 +339,7 @@ class _Compiler:
         if kind == "SWITCH":
             return Opaque(f"SWITCH({name})", lambda V: _truth(get().switches.get(name, False)))
 
-        def parameter(V: Values) -> float:
-            try:
-                return get().parameters[name]
-            except KeyError:
-                raise MachineError(f"PARAMETER {name} IS NOT DEFINED") from None
-        return Opaque(f"PARAMETER({name})", parameter)
+        return Opaque(f"PARAMETER({name})", lambda V: get().parameter(name))
 
     def location_function(self, name: str) -> Node:
         self.tokens.expect("(")

@@ -821,7 +821,7 @@ def _parameter(c: Build, st: Statement) -> Op:
     machine = _machine(c)
 
     def run() -> Events:
-        machine.parameters[name] = float(value(c.variables))
+        machine.set_parameter(name, float(value(c.variables)))
         return c.next
         yield
     return c.action(run)
@@ -915,7 +915,7 @@ def _wait(c: Build, st: Statement) -> Op:
             coming = machine.next_input_time()
             if coming is None and machine.waits_for_keyboard():
                 yield Delay(WAIT_POLL)  # the app waits in real time: the user may set an input
-                yield from machine.wait(WAIT_POLL)
+                yield from machine.apply_inputs()
                 started = machine.time  # no time limit: the user ends it (an input, or CTRL-C)
             elif coming is None and machine.keyboard:
                 return c.next  # CTRL-C: the run stops after this step
@@ -937,8 +937,8 @@ def _wait_event(c: Build, st: Statement) -> Op:
 
     def run() -> Events:
         value = max(0.0, float(seconds(c.variables)))
-        yield Delay(value)
-        yield from machine.wait(value)
+        yield Delay(value)  # the interpreter adds its time to the clock
+        yield from machine.apply_inputs()
         return c.next
     return _reacting(c, run)
 
