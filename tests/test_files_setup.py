@@ -189,6 +189,7 @@ def test_malformed_setup_gives_a_located_message(tmp_path: Path, text: str, line
 @pytest.mark.parametrize(
     "data, line",
     [(b"1\nMM\nW\n1,8\n\x00\x00\x00", 5), (b"1\nMM\n\xff\xfe\x00junk", 3), (os.urandom(64).replace(b"\n", b"") + b"\x00", 1)],
+    ids=["nul-bytes", "bom-and-nul", "random-bytes"],  # the random one differs per run (and worker)
 )
 def test_binary_junk_is_refused_with_its_line(tmp_path: Path, data: bytes, line: int) -> None:
     path = tmp_path / "JUNK.SET"

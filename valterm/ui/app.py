@@ -69,6 +69,8 @@ class ValtermApp(ViewActions, App[int]):
         self.trace = Trace()  # the clamp's path over the last motions (F5 shows or hides it)
         self.show_trace = True
         self.follow_clamp = False  # F4: the view follows the clamp
+        # the arm's configuration the screens last showed: a change is said (section 6.5)
+        self.arm_shown: tuple[str, str, str] | None = None
         self.player = Player(self, clock=clock, rate=motion_rate)
         self.setup_modified = False  # the cell moved since the set-up file was read or saved
         self._workspace: Workspace | None = None  # the workspace before any session (start screen)

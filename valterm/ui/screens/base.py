@@ -132,8 +132,7 @@ class MenuScreen(Screen):
         if self.app.session is None:
             return
         arm = arm_configuration(self.app.simulator)
-        before = getattr(self.app, "_arm_shown", None)
-        self.app._arm_shown = arm
+        before, self.app.arm_shown = self.app.arm_shown, arm
         if before is not None and before != arm:
             changed = [f"{a} TO {b}" for a, b in zip(before, arm) if a != b]
             self.say("ARM CONFIGURATION CHANGED: " + ", ".join(changed), "warning")
