@@ -47,6 +47,9 @@ def test_the_cycle_time_is_since_the_last_execute_while_timers_keep_counting() -
     first = list(interpreter.execute("T"))
     second = list(interpreter.execute("T"))
     assert interpreter.cycle_seconds == pytest.approx(2.0)
+    list(interpreter.command("DELAY 3"))  # typed after the run: time passes, not the cycle's
+    assert interpreter.cycle_seconds == pytest.approx(2.0)
+    assert interpreter.machine.timer(1) == pytest.approx(7.0)
     # TIMER 1 was set before the first EXECUTE: it saw both runs' DELAYs
     assert [e.text for e in first + second if isinstance(e, TypeOut)] == ["  2.0", "  4.0"]
 

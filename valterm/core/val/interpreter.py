@@ -123,7 +123,10 @@ class Interpreter:
         self.dialect = check_dialect(dialect)
         # the one clock of the robot's time: STATUS, run's cycle time, V+ TIMER and inputs
         self.clock = CycleClock()
-        self._cycle_start = 0.0  # the clock when the last EXECUTE began
+        # the clock when the last EXECUTE began and ended (None while it runs): typed
+        # motions after it take the robot's time but are not its cycle
+        self._cycle_start: float = 0.0
+        self._cycle_end: float | None = 0.0
         self.machine = Machine(sim, clock=self.clock)  # V+ signals, strings, precision points
         self.machine.stopping = lambda: self._abort  # CTRL-C ends a WAIT for the keyboard
         # CHECK.DAT is written when a program or a typed command ends (section 6.7), not per
@@ -184,8 +187,9 @@ class Interpreter:
 
     @property
     def cycle_seconds(self) -> float:
-        """The robot's time since the last EXECUTE began (the cycle time STATUS shows)."""
-        return self.clock.seconds - self._cycle_start
+        """The last EXECUTE's robot time, so far while it runs (the cycle time STATUS shows)."""
+        end = self.clock.seconds if self._cycle_end is None else self._cycle_end
+        return end - self._cycle_start
 
     def status(self) -> Status:
         left = max(0, self.loops_total - self.loops_done) if self._running else 0
@@ -280,7 +284,7 @@ class Interpreter:
             start = found
         self.program, self.loops_total, self.loops_done = name, total, 0
         self._running, self._paused, self._abort = True, False, False
-        self._cycle_start = self.clock.seconds
+        self._cycle_start, self._cycle_end = self.clock.seconds, None
         try:
             while self.loops_done < total:
                 finished = yield from self._pass(main, start)
@@ -294,6 +298,7 @@ class Interpreter:
             yield Message(f"PROGRAM {name} COMPLETED: {self.loops_done} LOOP{plural}")
         finally:
             self._running = self._paused = self._abort = False
+            self._cycle_end = self.clock.seconds
             self._run = None
             self.debugger.run_ended()
             self._keep()
