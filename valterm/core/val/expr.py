@@ -19,6 +19,7 @@ import operator
 import re
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
+from typing import Any, Generic, TypeVar
 
 from valterm.core.errors import ValtermError
 
@@ -250,27 +251,48 @@ def _tokens(text: str) -> list[tuple[str, str]]:
     return out
 
 
-class _Parser:
-    def __init__(self, text: str) -> None:
-        self.text = text.strip()
-        self.tokens = _tokens(self.text)
-        self.pos = 0
-        self.names: list[str] = []
+Token = TypeVar("Token", bound=tuple[Any, ...])  # (kind, value, ...) as a tokenizer gives it
 
-    def peek(self) -> tuple[str, str] | None:
-        return self.tokens[self.pos] if self.pos < len(self.tokens) else None
+
+class TokenCursor(Generic[Token]):
+    """The one cursor over an expression's tokens (the 1985 and the V+ parsers both read
+    through it): ``items`` as the tokenizer gave them, ``pos`` the next one."""
+
+    def __init__(self, text: str, items: list[Token]) -> None:
+        self.text = text
+        self.items = items
+        self.pos = 0
+
+    def peek(self) -> Token | None:
+        return self.items[self.pos] if self.pos < len(self.items) else None
 
     def take(self, *values: str) -> str | None:
+        """The next token if it is one of the operators ``values`` (then it is used up)."""
         token = self.peek()
         if token is not None and token[0] == "op" and token[1] in values:
             self.pos += 1
-            return token[1]
+            return str(token[1])
         return None
 
-    def finish(self, node: Node) -> Node:
+    def expect(self, value: str) -> None:
+        if not self.take(value):
+            token = self.peek()
+            found = f"{token[1]!r}" if token else "the end"
+            raise ExprError(f"expected {value!r}, found {found} in {self.text.strip()!r}")
+
+    def done(self) -> None:
         token = self.peek()
         if token is not None:
-            raise ExprError(f"unexpected {token[1]!r} in {self.text!r}")
+            raise ExprError(f"unexpected {token[1]!r} in {self.text.strip()!r}")
+
+
+class _Parser(TokenCursor[tuple[str, str]]):
+    def __init__(self, text: str) -> None:
+        super().__init__(text.strip(), _tokens(text.strip()))
+        self.names: list[str] = []
+
+    def finish(self, node: Node) -> Node:
+        self.done()
         return node
 
     # condition := or ; or := and {OR and} ; and := not {AND not} ; not := NOT not | relation

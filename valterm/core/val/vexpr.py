@@ -45,6 +45,7 @@ from valterm.core.val.expr import (
     Not,
     Num,
     Opaque,
+    TokenCursor,
     Values,
     Var,
     finite,
@@ -118,10 +119,11 @@ def _needs_machine(what: str) -> Callable[[], Machine]:
     return missing
 
 
-class _Tokens:
+class _Tokens(TokenCursor[tuple[str, str, int, int]]):
+    """V+ tokens: kind, value, start, end (strings keep the case as written)."""
+
     def __init__(self, text: str) -> None:
-        self.text = text
-        self.items: list[tuple[str, str, int, int]] = []  # kind, value, start, end
+        items: list[tuple[str, str, int, int]] = []
         pos = 0
         upper = text.upper()
         while pos < len(upper):
@@ -137,30 +139,9 @@ class _Tokens:
                 value = text[start + 1:match.end() - 1]  # the case as written
             elif kind == "name" and value in _KEYWORD_OPS:
                 kind = "op"
-            self.items.append((kind, value, start, match.end()))
+            items.append((kind, value, start, match.end()))
             pos = match.end()
-        self.pos = 0
-
-    def peek(self) -> tuple[str, str, int, int] | None:
-        return self.items[self.pos] if self.pos < len(self.items) else None
-
-    def take(self, *values: str) -> str | None:
-        token = self.peek()
-        if token is not None and token[0] == "op" and token[1] in values:
-            self.pos += 1
-            return token[1]
-        return None
-
-    def expect(self, value: str) -> None:
-        if not self.take(value):
-            token = self.peek()
-            found = f"{token[1]!r}" if token else "the end"
-            raise ExprError(f"expected {value!r}, found {found} in {self.text.strip()!r}")
-
-    def done(self) -> None:
-        token = self.peek()
-        if token is not None:
-            raise ExprError(f"unexpected {token[1]!r} in {self.text.strip()!r}")
+        super().__init__(text, items)
 
 
 class _Compiler:
