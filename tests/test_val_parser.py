@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 
 from valterm.core.files.errors import FileFormatError
-from valterm.core.val.commands import AmbiguousCommand, UnknownCommand, default_commands, parse_command_file
+from valterm.core.files.commandfile import AmbiguousCommand, UnknownCommand, default_commands, parse_command_file
 from valterm.core.val.expr import ExprError, compile_condition, compile_expr
 from valterm.core.val.helptopics import default_help, parse_help_file
 from valterm.core.val.parser import ASSIGN, LocArg, ValSyntaxError, parse_statement

@@ -93,7 +93,7 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: Sequence[str] | None = None) -> int:
     try:
         return _dispatch(argv)
-    except Exception as bug:  # noqa: BLE001 - the last resort: log it, one line, non-zero
+    except Exception as bug:
         return report_crash(bug)
 
 

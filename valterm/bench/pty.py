@@ -16,6 +16,7 @@ rate counts only the time a motion was drawing (a DELAY or a TYPE line is not a 
 from __future__ import annotations
 
 import fcntl
+from itertools import pairwise
 import os
 import pty
 import select
@@ -92,7 +93,7 @@ def frame_figures(chunks: list[tuple[float, int]], name: str, size: str) -> dict
             sizes.append(0)
         sizes[-1] += count
         previous = when
-    gaps = [b - a for a, b in zip(starts, starts[1:]) if b - a <= DRAWING_GAP]
+    gaps = [b - a for a, b in pairwise(starts) if b - a <= DRAWING_GAP]
     drawing = sum(gaps)
     return {
         f"{name}_fps_{size}": len(gaps) / drawing if drawing > 0 else 0.0,

@@ -21,8 +21,8 @@ from textual.binding import Binding
 from valterm.core.crashlog import EXIT_BUG, crash_line, write_crash_log
 from valterm.core.errors import ValtermError
 from valterm.core.events import Event
-from valterm.core.render.clock import DEFAULT_RATE
 from valterm.core.render import views
+from valterm.core.render.clock import DEFAULT_RATE
 from valterm.core.render.overlays import Overlays, Trace, cell_points, clamp_point, picture_scene
 from valterm.core.render.raster import Scene, ViewTransform
 from valterm.core.session import Session

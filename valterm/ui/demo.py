@@ -9,20 +9,19 @@ S at the MAIN MENU), so a visitor's random keys never end it.
 from __future__ import annotations
 
 import asyncio
-from collections import deque
 import shutil
 import sys
 import tempfile
 import time
 import unicodedata
+from collections import deque
 from collections.abc import Callable
-from importlib.resources import files
 from pathlib import Path
 
 from rich.text import Text
 from textual import events
-from textual.keys import _character_to_key, _get_unicode_name_from_key
 from textual.dom import DOMNode
+from textual.keys import _character_to_key, _get_unicode_name_from_key
 from textual.message_pump import MessagePump
 from textual.screen import Screen
 from textual.widgets import Static
@@ -66,11 +65,8 @@ class Caption(Static):
 
 
 class DemoApp(ValtermApp):
-    """ValtermApp driven by the key script until a visitor presses a key."""
-
-    # Absolute: Textual resolves a relative CSS_PATH against the folder of the class that
-    # uses it (this module's), where the app's stylesheet is not.
-    CSS_PATH = str(files("valterm.ui").joinpath("app.tcss"))
+    """ValtermApp driven by the key script until a visitor presses a key (its CSS_PATH,
+    absolute, is the app's)."""
 
     def __init__(self, items: list[DemoItem], *, speed: float = 1.0, idle: float = IDLE_RESTART,
                  once: bool = False, kiosk: bool = False, motion_rate: float = DEFAULT_RATE,
@@ -175,7 +171,7 @@ class DemoApp(ValtermApp):
                 await self._wait(item.seconds)
             else:
                 gap = CHAR_GAP if item.kind == "text" else KEY_GAP
-                for key in item.keys():  # noqa: SIM118 (a DemoItem, not a dict)
+                for key in item.keys():
                     await self._settle()
                     await self.press_demo_key(key)
                     await self._wait(gap)

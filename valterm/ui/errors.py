@@ -11,6 +11,7 @@ from valterm.core.crashlog import write_crash_log
 from valterm.core.errors import ValtermError
 from valterm.core.motion import MotionRefused
 
+
 def error_text(error: ValtermError) -> str:
     """The message of a core refusal, upper case as on the VS11."""
     text = (str(error).strip() or type(error).__name__).upper()

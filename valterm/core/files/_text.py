@@ -3,16 +3,26 @@
 from __future__ import annotations
 
 import re
+from collections.abc import Callable
 from pathlib import Path
+from typing import TypeVar
 
 from valterm.core import numbers
 from valterm.core.files.errors import FileFormatError
 from valterm.core.files.limits import MAX_FILE_BYTES, MAX_LINE
 from valterm.core.numbers import MAX_MAGNITUDE, NumberError
 
+Parsed = TypeVar("Parsed")
+
 # Control characters other than tab, newline, carriage return and form feed mark binary junk.
 _JUNK = re.compile(r"[\x00-\x08\x0b\x0e-\x1f\x7f]")
 
+
+
+def read_parsed(path: str | Path, what: str, parse: Callable[[str, Path], Parsed]) -> Parsed:
+    """A ``what`` file read as text (the checks of ``read_text``) and given to ``parse``."""
+    path = Path(path)
+    return parse(read_text(path, what), path)
 
 
 def read_text(path: str | Path, what: str, limit: int = MAX_FILE_BYTES) -> str:

@@ -16,7 +16,7 @@ from pathlib import Path
 
 from valterm.core import resources
 from valterm.core.errors import ValtermError
-from valterm.core.files._text import read_text
+from valterm.core.files._text import read_parsed
 from valterm.core.files.errors import FileFormatError
 
 COMMAND_FILE = resources.data_path("COMMAND.DAT")
@@ -190,9 +190,7 @@ def parse_command_file(text: str, path: Path | str = COMMAND_FILE) -> CommandTab
 
 
 def load_commands(path: Path | str = COMMAND_FILE) -> CommandTable:
-    path = Path(path)
-    text = read_text(path, "command")  # located errors, size limit, no binary junk
-    return parse_command_file(text, path)
+    return read_parsed(path, "command", parse_command_file)  # located errors, size limit, no binary junk
 
 
 @lru_cache(maxsize=1)

@@ -14,7 +14,7 @@ from functools import lru_cache
 from pathlib import Path
 
 from valterm.core import resources
-from valterm.core.files._text import read_text
+from valterm.core.files._text import read_parsed
 from valterm.core.files.errors import FileFormatError
 
 HELPER_FILE = resources.data_path("HELPER.DAT")
@@ -138,9 +138,7 @@ def parse_help_file(text: str, path: Path | str = HELPER_FILE) -> HelpTopics:
 
 
 def load_help(path: Path | str = HELPER_FILE) -> HelpTopics:
-    path = Path(path)
-    text = read_text(path, "help")  # located errors, size limit, no binary junk
-    return parse_help_file(text, path)
+    return read_parsed(path, "help", parse_help_file)  # located errors, size limit, no binary junk
 
 
 @lru_cache(maxsize=1)

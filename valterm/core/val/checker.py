@@ -8,8 +8,8 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
+from valterm.core.files.commandfile import CommandTable, default_commands
 from valterm.core.files.programs import Program, split_label
-from valterm.core.val.commands import CommandTable, default_commands
 from valterm.core.val.compiler import Diagnosed, Diagnostic, analyse
 from valterm.core.val.parser import ValSyntaxError, parse_statement
 

@@ -13,8 +13,8 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from valterm.core.errors import ValtermError
+from valterm.core.files.commandfile import CommandTable, default_commands
 from valterm.core.files.programs import Program
-from valterm.core.val.commands import CommandTable, default_commands
 from valterm.core.val.expr import compile_expr
 from valterm.core.val.parser import (
     Statement,

@@ -37,6 +37,7 @@ from valterm.core.events import (
     Step,
     TypeOut,
 )
+from valterm.core.files.commandfile import CommandTable, default_commands
 from valterm.core.files.programs import Program, ProgramLine, split_label
 from valterm.core.files.variables import VARIABLE_NAME
 from valterm.core.motion import MotionRefused
@@ -50,7 +51,6 @@ from valterm.core.val.builders import (
     getter,
     number,
 )
-from valterm.core.val.commands import CommandTable, default_commands
 from valterm.core.val.compiler import Analysis, analyse, step_text
 from valterm.core.val.debugger import DEBUG_COMMANDS, Debugger
 from valterm.core.val.expr import MAX_NUMBER

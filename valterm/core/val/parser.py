@@ -12,7 +12,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from valterm.core.errors import ValtermError
-from valterm.core.val.commands import (
+from valterm.core.files.commandfile import (
     AmbiguousCommand,
     CommandSpec,
     CommandTable,

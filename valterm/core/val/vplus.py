@@ -33,11 +33,11 @@ import numpy as np
 
 from valterm.core.errors import ValtermError
 from valterm.core.events import Delay, Error, Message, TypeOut
+from valterm.core.files.commandfile import CommandSpec, default_commands
 from valterm.core.kinematics import CONFIG_WORDS, Location
 from valterm.core.transform import Transform
 from valterm.core.val import builders as b85
 from valterm.core.val.builders import Build, Builder
-from valterm.core.val.commands import CommandSpec, default_commands
 from valterm.core.val.compiler import Analysis
 from valterm.core.val.expr import ExprError, Fn, Values
 from valterm.core.val.machine import Machine, MachineError

@@ -54,7 +54,8 @@ class PendantScreen(MenuScreen):
         simulator = self.app.simulator
         increment = simulator.pendant_increment
         self.query_one("#readout", PositionReadout).show_where(
-            simulator.where(1), f"JOINT INCREMENT {increment:+.2f} DEG   WORLD/TOOL STEP {world_step(increment):+.2f} MM")
+            simulator.where(1),
+            f"JOINT INCREMENT {increment:+.2f} DEG   WORLD/TOOL STEP {world_step(increment):+.2f} MM")
 
     def _move(self, events) -> None:  # type: ignore[no-untyped-def]
         # messages stay: a collision is reported once, when it starts (Fig. C-12 a-d)

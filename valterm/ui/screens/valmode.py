@@ -59,7 +59,6 @@ from valterm.ui.screens.help import HelpScreen
 from valterm.ui.screens.signals import SignalsScreen
 from valterm.ui.view.model_view import ModelView
 from valterm.ui.widgets.debugpanel import PAUSED_KEYS, DebugPanel
-from valterm.ui.widgets.status import StatusLine
 from valterm.ui.widgets.menus import (
     DEFINE_EACH,
     DEFINE_HOW,
@@ -67,7 +66,7 @@ from valterm.ui.widgets.menus import (
     VAL_MENU_2,
 )
 from valterm.ui.widgets.prompt import type_ahead
-
+from valterm.ui.widgets.status import StatusLine
 
 # keys that turn and zoom the view while the command line is open (left/right edit the line)
 LINE_VIEW_KEYS = frozenset({"up", "down", "pageup", "pagedown"})
@@ -297,7 +296,7 @@ class ValModeScreen(Screen[None]):
 
     # -- keys ----------------------------------------------------------------------------
     def on_key(self, event: Key) -> None:
-        if event.key == "ctrl+c" or event.key.startswith("f") and event.key[1:].isdigit():
+        if event.key == "ctrl+c" or (event.key.startswith("f") and event.key[1:].isdigit()):
             return  # the app's CTRL-C, the F-keys' bindings
         if self.model_only and event.key != "escape":
             self.remove_class("model-only")  # any key brings the text back (and still counts)

@@ -12,8 +12,8 @@ import time
 from typing import Mapping, Sequence
 
 import numpy as np
-from rich.segment import Segment
 from rich.color import Color
+from rich.segment import Segment
 from rich.style import Style
 from textual.events import Resize
 from textual.geometry import Region
