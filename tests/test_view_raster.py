@@ -233,3 +233,30 @@ def test_static_background_draws_the_same_frame_as_one_scene() -> None:
                 assert np.array_equal(whole.chars, split.chars) and np.array_equal(whole.colours, split.colours)
                 assert (whole.chars != 0x20).sum() > 50
     assert len(_BACKGROUNDS) == 6          # one per view, size and face mode: the rest were reused
+
+
+def test_each_point_projected_once_lights_the_dots_of_the_world_segments() -> None:
+    """``rasterize`` projects each vertex once and pairs the points into edges; the dots it
+    lights are those of the scene's world segments sampled one by one (``_samples``)."""
+    from valterm.core.render.raster import _dot_tables, _dots_to_codes, _samples, _to_dots, link_colour
+
+    rng = np.random.default_rng(11)
+    for trial in range(12):
+        boxes = [(Polyhedron.box(lo, lo + rng.uniform(20, 400, 3)), link_colour(i % 7))
+                 for i, lo in enumerate(rng.uniform(-900, 700, (15, 3)))]
+        lines = rng.uniform(-800, 800, (3, 2, 3))
+        scene = Scene.build(boxes, lines)
+        view = ViewTransform().rotate_by("y", rng.uniform(-180, 180)).rotate_by("x", rng.uniform(-90, 90))
+        view.scale_by(rng.uniform(0.7, 2.5))  # some edges leave the canvas: the clipped path too
+        w, h = (80, 24) if trial % 2 else (150, 41)
+        for back_faces in (True, False):
+            frame = rasterize(scene, view, w, h, back_faces=back_faces)
+            idx = scene.index  # the world segments, fetched one by one from the topology
+            edges = idx.edges if back_faces else idx.face_edges[scene.visible_faces(view)[idx.face_edge_face]]
+            segs = np.concatenate([scene.vertices[edges], lines])
+            cells, lit, _ = _samples(segs, np.ones(len(segs), dtype=np.intp), _to_dots(view, 2 * w, 4 * h, 1.0), w, h)
+            codes = _dots_to_codes(lit, w * h).reshape(h, w)
+            assert np.array_equal(frame.chars != 0x20, codes != 0)
+            assert np.array_equal(frame.chars[codes != 0] - 0x2800, codes[codes != 0])
+            assert len(np.unique(cells)) > 100
+    assert _dot_tables(80, 24)[0].shape == (8 * 80 * 24,)

@@ -290,19 +290,51 @@ class Scene:
         """World segments to draw, (S, 2, 3), and the priority (item number + 1) of each.
 
         Loose lines get priorities after the polyhedra."""
-        idx = self.index
-        if back_faces:
-            pairs, owner = idx.edges, idx.edge_item
-        else:
-            keep = self.visible_faces(view)[idx.face_edge_face]
-            pairs, owner = idx.face_edges[keep], idx.face_item[idx.face_edge_face[keep]]
-        segs = np.concatenate([self.vertices[pairs], self.lines]) if len(self.lines) else self.vertices[pairs]
-        prio = np.concatenate([owner + 1, self.n_polyhedra + 1 + np.arange(len(self.lines))])
-        return segs, prio
+        pairs, prio = self.drawn_pairs(view, back_faces, axes=False)
+        return self.drawn_points(axes=False)[pairs], prio
 
     def palette_indices(self) -> np.ndarray:
         """Colour index by priority (index 0 = empty)."""
         return np.concatenate([[0], self.colours, self.line_colours]).astype(np.uint8)
+
+    @cached_property
+    def _palette_with_axes(self) -> np.ndarray:
+        return np.concatenate([self.palette_indices(), [AXES_COLOUR]]).astype(np.uint8)
+
+    def drawn_points(self, axes: bool) -> np.ndarray:
+        """Every point a segment of ``drawn_pairs`` names: the vertices, then the loose lines'
+        ends, then (``axes``) the WCS axes' ends."""
+        parts = [self.vertices, self.lines.reshape(-1, 3)]
+        if axes:
+            parts.append(_AXES_POINTS)
+        return np.concatenate(parts)
+
+    def drawn_pairs(self, view: ViewTransform, back_faces: bool, axes: bool) -> tuple[np.ndarray, np.ndarray]:
+        """The segments to draw as index pairs into ``drawn_points`` (S, 2), and the priority
+        of each: ``segments`` without fetching the points (so each is projected once)."""
+        if back_faces:
+            return self._every_pair[int(axes)]  # every edge: the same for every view
+        idx = self.index
+        keep = self.visible_faces(view)[idx.face_edge_face]
+        lines, line_prio = self._line_pairs[int(axes)]
+        return (np.concatenate([idx.face_edges[keep], lines]),
+                np.concatenate([idx.face_item[idx.face_edge_face[keep]] + 1, line_prio]))
+
+    @cached_property
+    def _line_pairs(self) -> tuple[tuple[np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray]]:
+        """The loose lines (after the vertices) as pairs and their priorities (after the
+        polyhedra), without and with the WCS axes."""
+        n_lines = len(self.lines)
+        pairs = len(self.vertices) + np.arange(2 * (n_lines + 3)).reshape(-1, 2)
+        prio = self.n_polyhedra + 1 + np.minimum(np.arange(n_lines + 3), n_lines)
+        return (pairs[:n_lines], prio[:n_lines]), (pairs, prio)
+
+    @cached_property
+    def _every_pair(self) -> tuple[tuple[np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray]]:
+        idx = self.index
+        return tuple(  # type: ignore[return-value]
+            (np.concatenate([idx.edges, lines]), np.concatenate([idx.edge_item + 1, prio]))
+            for lines, prio in self._line_pairs)
 
 
 def frame_lines(origin: Sequence[float], rotation: np.ndarray | None = None, length: float = AXIS_LENGTH) -> np.ndarray:
@@ -413,9 +445,33 @@ def _clip(a: np.ndarray, b: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.
     return a + t0[:, None] * d, a + t1[:, None] * d, keep
 
 
+_DOT_MAPS: dict[tuple[bytes, float, int, int, float], tuple[np.ndarray, ...]] = {}
+
+
 def _to_dots(view: ViewTransform, wd: int, hd: int, dot_aspect: float
              ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """The view's affine map and the view-mm -> dot map (to_dots, centre) for this canvas."""
+    """The view's affine map and the view-mm -> dot map (to_dots, centre) for this canvas
+    (kept per view state and canvas: a motion's frames share them)."""
+    assert view.pivot is not None and view.half_extent is not None
+    key = (view.rotation.tobytes() + view.pan.tobytes() + view.pivot.tobytes() + view.half_extent.tobytes(),
+           view.scale, wd, hd, dot_aspect)
+    found = _DOT_MAPS.get(key)
+    if found is None:
+        if len(_DOT_MAPS) >= 8:
+            _DOT_MAPS.pop(next(iter(_DOT_MAPS)))
+        found = _DOT_MAPS[key] = _make_dot_maps(view, wd, hd, dot_aspect)
+    a_mat, b_vec, to_dots, centre = found[:4]
+    return a_mat, b_vec, to_dots, centre
+
+
+def _projection(maps: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+    """World -> continuous dot coordinates as one (3, 2) product and an offset."""
+    a_mat, b_vec, to_dots, centre = maps
+    return a_mat[:2].T @ to_dots.T, b_vec[:2] @ to_dots.T + centre
+
+
+def _make_dot_maps(view: ViewTransform, wd: int, hd: int, dot_aspect: float
+                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     a_mat, b_vec = view.affine()
     half = view.half_extent
     assert half is not None
@@ -428,14 +484,18 @@ def _samples(segs: np.ndarray, prio: np.ndarray, maps: tuple[np.ndarray, np.ndar
              w: int, h: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The dots that world segments (S, 2, 3) light: per sample its cell (flat index), its
     bit in the packed bit map (``_dot_tables``) and the priority of its segment, in drawing order."""
+    if len(segs) == 0:
+        return _dot_samples(np.zeros((0, 2, 2)), prio, w, h)
+    project, offset = _projection(maps)   # world -> view mm -> dots, every endpoint in one product
+    return _dot_samples((segs.reshape(-1, 3) @ project + offset).reshape(-1, 2, 2), prio, w, h)
+
+
+def _dot_samples(pts: np.ndarray, prio: np.ndarray, w: int, h: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``_samples`` of segments already in continuous dot coordinates (S, 2, 2)."""
     wd, hd = 2 * w, 4 * h
     empty = np.zeros(0, dtype=np.intp)
-    if len(segs) == 0:
+    if len(pts) == 0:
         return empty, empty.astype(np.uint8), empty
-    a_mat, b_vec, to_dots, centre = maps
-    # world -> view mm -> continuous dot coordinates, every endpoint in one product
-    project = a_mat[:2].T @ to_dots.T                  # world -> dots in one (3, 2) product
-    pts = (segs.reshape(-1, 3) @ project + (b_vec[:2] @ to_dots.T + centre)).reshape(-1, 2, 2)
     hi = np.array([wd - 1e-6, hd - 1e-6])
     # whole-array and 1-D reductions: one along the axis of 2 costs several times more
     if pts.min() >= 0.0 and pts[:, :, 0].max() <= hi[0] and pts[:, :, 1].max() <= hi[1]:
@@ -455,11 +515,14 @@ def _samples(segs: np.ndarray, prio: np.ndarray, maps: tuple[np.ndarray, np.ndar
         return empty, empty.astype(np.uint8), empty
     starts = np.cumsum(n) - n
     t = (np.arange(total) - np.repeat(starts, n)) / np.repeat(np.maximum(n - 1, 1), n)
-    xy = np.repeat(a, n, axis=0) + t[:, None] * np.repeat(d, n, axis=0)
-    xi = xy.astype(np.intp)
+    # x + iy: one repeat and one product for both coordinates (a real t times a complex d
+    # gives exactly t * dx and t * dy)
+    xy = np.repeat(a[:, 0] + 1j * a[:, 1], n) + t * np.repeat(d[:, 0] + 1j * d[:, 1], n)
+    x, y = xy.real.astype(np.intp), xy.imag.astype(np.intp)
     if clipped:      # inside, samples lie between two in-range ends: no clamping needed
-        np.clip(xi, 0, np.array([wd - 1, hd - 1]), out=xi)
-    dot = xi[:, 1] * wd + xi[:, 0]
+        np.clip(x, 0, wd - 1, out=x)
+        np.clip(y, 0, hd - 1, out=y)
+    dot = y * wd + x
     cell_of, lit_of = _dot_tables(w, h)
     return cell_of.take(dot), lit_of.take(dot), np.repeat(p, n)
 
@@ -563,13 +626,10 @@ def rasterize(
     w, h = max(int(width_cells), 0), max(int(height_cells), 0)
     if w == 0 or h == 0:
         return empty_frame(w, h)
-    segs, prio = scene.segments(view, back_faces)
-    if axes:
-        segs = np.concatenate([segs, frame_lines((0.0, 0.0, 0.0))])
-        prio = np.concatenate([prio, np.full(3, scene.n_polyhedra + len(scene.lines) + 1)])
-    palette = np.concatenate([scene.palette_indices(), [AXES_COLOUR]]).astype(np.uint8)
     maps = _to_dots(view, 2 * w, 4 * h, dot_aspect)
-    cells, lit, owners = _samples(segs, prio, maps, w, h)
+    pts, prio = _scene_dots(scene, view, back_faces, axes, maps)
+    palette = scene._palette_with_axes
+    cells, lit, owners = _dot_samples(pts, prio, w, h)
     codes: np.ndarray
     colours: np.ndarray
     if scene.background is None:
@@ -594,6 +654,15 @@ def rasterize(
     return Frame(chars, colours)
 
 
+def _scene_dots(scene: Scene, view: ViewTransform, back_faces: bool, axes: bool,
+                maps: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+    """The scene's segments in dot coordinates (S, 2, 2) and their priorities: each point
+    projected once, then paired into segments."""
+    project, offset = _projection(maps)
+    pairs, prio = scene.drawn_pairs(view, back_faces, axes)
+    return (scene.drawn_points(axes) @ project + offset)[pairs], prio
+
+
 def _label_axes(chars: np.ndarray, colours: np.ndarray, a_mat: np.ndarray, b_vec: np.ndarray,
                 to_dots: np.ndarray, centre: np.ndarray) -> None:
     """Write X, Y, Z just beyond the tips of the drawn WCS axes."""
@@ -609,3 +678,6 @@ def _label_axes(chars: np.ndarray, colours: np.ndarray, a_mat: np.ndarray, b_vec
         if 0 <= row < h and 0 <= col < w:
             chars[row, col] = ord(name)
             colours[row, col] = AXES_COLOUR
+
+
+_AXES_POINTS = frame_lines((0.0, 0.0, 0.0)).reshape(-1, 3)  # the WCS axes (``rasterize(axes=True)``)
