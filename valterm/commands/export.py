@@ -18,6 +18,8 @@ import sys
 from collections.abc import Sequence
 from pathlib import Path
 
+from valterm.core.errors import RefusedValue
+
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     parser = subparsers.add_parser(
@@ -48,7 +50,7 @@ def _pose(text: str) -> list[float]:
     except ValueError:
         joints = []
     if len(joints) != 6 or not all(abs(j) < 1e6 for j in joints):
-        raise ValueError(f"--pose needs six joint angles in degrees, J1,..,J6; not {text!r}")
+        raise RefusedValue(f"--pose needs six joint angles in degrees, J1,..,J6; not {text!r}")
     return joints
 
 
@@ -65,7 +67,7 @@ def _joints_at(location: object) -> tuple[list[float], str]:
                     return ik_oat(location.xyz, location.oat, config), str(config)  # type: ignore[attr-defined]
                 except IKError as error:
                     reason = reason or str(error)
-    raise ValueError(f"the robot cannot reach it in any configuration ({reason})")
+    raise RefusedValue(f"the robot cannot reach it in any configuration ({reason})")
 
 
 def _out_path(argument: str, root: Path) -> Path:
@@ -85,7 +87,7 @@ def run_export(args: argparse.Namespace) -> int:
         args.parser.error(f"--out {args.out}: use FILE.glb, FILE.obj or FILE.stl")
     try:
         pose = _pose(args.pose) if args.pose else None
-    except ValueError as error:
+    except RefusedValue as error:
         args.parser.error(str(error))
     try:
         workspace = Workspace.open(getattr(args, "workspace", None))
@@ -99,12 +101,12 @@ def run_export(args: argparse.Namespace) -> int:
             points = workspace.read_locations(_stem(args.loc, "LOC"))
             name = args.at.upper()
             if name not in points:
-                raise ValueError(f"{_stem(args.loc, 'LOC').upper()}.LOC has no location {name}")
+                raise RefusedValue(f"{_stem(args.loc, 'LOC').upper()}.LOC has no location {name}")
             joints, config = _joints_at(points[name])
             said = f"location {name} ({config})"
         robot = [] if args.no_robot else model.place(joints)
         out = export_scene(cell, robot, _out_path(args.out, workspace.root))
-    except (ValtermError, ValueError) as error:
+    except ValtermError as error:
         print(f"valterm export: {error}", file=sys.stderr)
         return 1
     except OSError as error:

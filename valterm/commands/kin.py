@@ -22,6 +22,7 @@ from collections.abc import Callable, Iterator, Sequence
 
 import numpy as np
 
+from valterm.core.errors import RefusedValue
 from valterm.commands import FAILURE, OK, USAGE, say
 from valterm.core.kinematics import (
     BeyondStop,
@@ -170,7 +171,7 @@ def run_fk(args: argparse.Namespace) -> int:
 def run_ik(args: argparse.Namespace) -> int:
     try:
         default_config = Config.parse(args.config)
-    except ValueError as error:
+    except RefusedValue as error:
         say(f"kin ik: --config: {error}")
         return USAGE
 
@@ -179,7 +180,7 @@ def run_ik(args: argparse.Namespace) -> int:
         if len(words) == 7:
             try:
                 config = Config.parse(words[6])
-            except ValueError as error:
+            except RefusedValue as error:
                 raise BadPose(str(error)) from None
             words = words[:6]
         pose = _numbers(words, 6, "X Y Z O A T")

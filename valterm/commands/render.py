@@ -22,6 +22,8 @@ import re
 import sys
 from typing import Any
 
+from valterm.core.errors import RefusedValue, ValtermError
+
 DEFAULT_SIZE = (80, 24)
 
 
@@ -56,10 +58,10 @@ def _fail(message: str, status: int) -> int:
 def parse_size(text: str) -> tuple[int, int]:
     match = re.fullmatch(r"\s*(\d{1,4})\s*[xX]\s*(\d{1,4})\s*", text or "")
     if not match:
-        raise ValueError(f"--size {text!r}: give WIDTHxHEIGHT, e.g. 80x24")
+        raise RefusedValue(f"--size {text!r}: give WIDTHxHEIGHT, e.g. 80x24")
     w, h = int(match.group(1)), int(match.group(2))
     if not (8 <= w <= 1000 and 4 <= h <= 500):
-        raise ValueError(f"--size {text}: from 8x4 to 1000x500 characters")
+        raise RefusedValue(f"--size {text}: from 8x4 to 1000x500 characters")
     return w, h
 
 
@@ -67,7 +69,7 @@ def _angles(args: argparse.Namespace) -> tuple[float, float]:
     from valterm.core.render.views import DEFAULT_VIEW, preset_angles
 
     if args.view is not None and (args.azimuth is not None or args.elevation is not None):
-        raise ValueError("give --view or --azimuth/--elevation, not both")
+        raise RefusedValue("give --view or --azimuth/--elevation, not both")
     if args.azimuth is not None or args.elevation is not None:
         default_az, default_el = preset_angles(DEFAULT_VIEW)
         return (default_az if args.azimuth is None else args.azimuth,
@@ -76,7 +78,6 @@ def _angles(args: argparse.Namespace) -> tuple[float, float]:
 
 
 def run(args: argparse.Namespace) -> int:
-    from valterm.core.errors import ValtermError
     from valterm.core.files.errors import error_message
     from valterm.core.render.views import view_axes
 
@@ -85,9 +86,9 @@ def run(args: argparse.Namespace) -> int:
         azimuth, elevation = _angles(args)
         view_axes(azimuth, elevation)  # checks the angles
         if args.at is not None and not args.loc:
-            raise ValueError("--at NAME needs --loc FILE")
+            raise RefusedValue("--at NAME needs --loc FILE")
         session = _session(args)
-    except (ValueError, ValtermError, OSError) as error:
+    except (ValtermError, OSError) as error:
         return _fail(error_message(error), 2)
     try:
         trace = _place(session, args)
@@ -119,7 +120,7 @@ def _session(args: argparse.Namespace) -> Any:
     for name in args.loc or ():
         session.load_locations(_stem(name, "LOC"))
     if args.trace and not session.workspace.exists(_stem(args.trace, "DAT"), "DAT"):
-        raise ValueError(f"{args.trace}: no such program in the workspace {session.workspace.root}")
+        raise RefusedValue(f"{args.trace}: no such program in the workspace {session.workspace.root}")
     if args.joints is not None:
         from valterm.core.motion import check_joint_goal
 
@@ -135,7 +136,6 @@ def _stem(name: str, ext: str) -> str:
 
 def _place(session: Any, args: argparse.Namespace) -> Any:
     """Run the trace program and/or put the robot where asked; the trace (or None)."""
-    from valterm.core.errors import ValtermError
     from valterm.core.events import Error, PoseEvent
     from valterm.core.render.overlays import Trace, clamp_point
 

@@ -30,6 +30,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
+from valterm.core.errors import RefusedValue
 from valterm.commands import FAILURE, OK, USAGE, fail
 
 
@@ -52,7 +53,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def _vplus_setup(args: argparse.Namespace, sim: Any, interpreter: Any, loc_paths: list[Path]) -> None:
-    """--config, --inputs, and the precision points of the location files (ValueError, FileFormatError)."""
+    """--config, --inputs, and the precision points of the location files (RefusedValue, FileFormatError)."""
     from valterm.core.files.locations import read_location_file
     from valterm.core.kinematics import CONFIG_WORDS
     from valterm.core.signals import read_inputs
@@ -60,7 +61,7 @@ def _vplus_setup(args: argparse.Namespace, sim: Any, interpreter: Any, loc_paths
     if args.config:
         for word in (w.strip().upper() for w in args.config.split(",")):
             if word not in CONFIG_WORDS:
-                raise ValueError(f"--config: {word or '(empty)'} is not one of {', '.join(CONFIG_WORDS)}")
+                raise RefusedValue(f"--config: {word or '(empty)'} is not one of {', '.join(CONFIG_WORDS)}")
             sim.set_indicator(word)
     if args.inputs:
         interpreter.machine.inputs = read_inputs(args.inputs)
@@ -135,7 +136,7 @@ def run(args: argparse.Namespace) -> int:
         _vplus_setup(args, sim, interpreter, loc_paths)
     except (FileFormatError, OSError) as error:  # a bad --inputs file
         return fail(error, FAILURE)
-    except ValueError as error:  # --config that names no indicators
+    except RefusedValue as error:  # --config that names no indicators
         return fail(error, USAGE)
     errors = 0
     aborted = False

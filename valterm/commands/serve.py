@@ -18,6 +18,8 @@ import sys
 from typing import Any
 from urllib.parse import urlsplit
 
+from valterm.core.errors import RefusedValue
+
 WILDCARD_HOSTS = ("0.0.0.0", "::", "[::]", "")
 # what a Host header may hold (a name or an address and a port): anything else is refused
 _HOST_HEADER = re.compile(r"[A-Za-z0-9.\-]+(:[0-9]{1,5})?|\[[0-9A-Fa-f:.]+\](:[0-9]{1,5})?")
@@ -40,7 +42,7 @@ def public_url_of(text: str) -> str:
     """``--public-url`` checked: http(s)://host[:port][/path], without a trailing slash."""
     parts = urlsplit(text.strip())
     if parts.scheme not in ("http", "https") or not parts.netloc or parts.query or parts.fragment:
-        raise ValueError(f"--public-url {text!r} is not an http:// or https:// address like https://valterm.example.org")
+        raise RefusedValue(f"--public-url {text!r} is not an http:// or https:// address like https://valterm.example.org")
     return f"{parts.scheme}://{parts.netloc}{parts.path.rstrip('/')}"
 
 
@@ -131,7 +133,7 @@ def run_serve(args: argparse.Namespace) -> int:
         return 2
     try:
         public_url = public_url_of(args.public_url) if args.public_url else default_public_url(args.host, args.port)
-    except ValueError as error:
+    except RefusedValue as error:
         print(f"valterm: serve: {error}", file=sys.stderr)
         return 2
     try:

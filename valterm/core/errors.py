@@ -11,3 +11,8 @@ from __future__ import annotations
 
 class ValtermError(Exception):
     """A refusal the user can act on; ``str(error)`` is the message to show."""
+
+
+class RefusedValue(ValtermError, ValueError):
+    """A value the user gave (an argument, a typed word, a name) that is refused: a
+    ValtermError the edges show, and a ValueError where a parse is expected to fail."""

@@ -19,7 +19,7 @@ import numpy as np
 
 from functools import lru_cache
 
-from valterm.core.errors import ValtermError
+from valterm.core.errors import RefusedValue, ValtermError
 from valterm.core import resources
 
 ROBOT_FILE = ("robot", "PUMA.toml")  # under the package data (core/resources.py)
@@ -62,7 +62,7 @@ class RobotGeometry:
             return self.d6 + self.led_sensor
         if point == 3:
             return self.d6 + self.clamp_tip
-        raise ValueError(f"position option must be 1, 2 or 3, not {point}")
+        raise RefusedValue(f"position option must be 1, 2 or 3, not {point}")
 
 
 def load_robot(path: Path | None = None) -> RobotGeometry:
@@ -127,12 +127,12 @@ class Config(NamedTuple):
         for word in words:
             matches = [name for name in _INDICATORS if name.startswith(word)]
             if len(matches) != 1:
-                raise ValueError(
+                raise RefusedValue(
                     f"{word!r} is not a configuration indicator ({', '.join(CONFIG_WORDS)})"
                 )
             kind, value = _INDICATORS[matches[0]]
             if kind in seen:
-                raise ValueError(f"{text!r} names the {kind} indicator twice")
+                raise RefusedValue(f"{text!r} names the {kind} indicator twice")
             seen.add(kind)
             if kind == "arm":
                 arm = value
@@ -161,7 +161,7 @@ def indicator_kind(word: str) -> str:
     word = word.strip().upper()
     matches = [w for w in CONFIG_WORDS if w.startswith(word)]
     if len(matches) != 1:
-        raise ValueError(f"{word!r} is not a configuration indicator")
+        raise RefusedValue(f"{word!r} is not a configuration indicator")
     return _INDICATORS[matches[0]][0]
 
 

@@ -25,7 +25,7 @@ from collections.abc import Callable, Generator, Iterator, Mapping
 from typing import Protocol
 
 from valterm.core.cycletime import CycleClock
-from valterm.core.errors import ValtermError
+from valterm.core.errors import RefusedValue, ValtermError
 from valterm.core.events import (
     Error,
     Event,
@@ -81,7 +81,7 @@ def check_dialect(name: str) -> str:
     """'1985' or 'v+' (any case; 'vplus' too), else ValueError saying which there are."""
     wanted = name.strip().lower().replace("vplus", "v+")
     if wanted not in DIALECTS:
-        raise ValueError(f"{name!r} is not a dialect: use 1985 or v+")
+        raise RefusedValue(f"{name!r} is not a dialect: use 1985 or v+")
     return wanted
 
 __all__ = [

@@ -18,7 +18,7 @@ from textual.containers import Vertical
 from textual.screen import ModalScreen
 from textual.widgets import Input, Static
 
-from valterm.core.errors import ValtermError
+from valterm.core.errors import RefusedValue, ValtermError
 from valterm.core.session import Session
 from valterm.core.signals import INPUTS, INTERNAL, OUTPUTS, SignalPanel
 
@@ -54,19 +54,19 @@ def panel_lines(panel: SignalPanel) -> list[str]:
 
 
 def parse_input_command(typed: str, panel: SignalPanel) -> tuple[int, bool]:
-    """``1001`` (toggle), ``1001 ON`` or ``1001 OFF`` -> (input, new state); ValueError says why."""
+    """``1001`` (toggle), ``1001 ON`` or ``1001 OFF`` -> (input, new state); RefusedValue says why."""
     words = typed.replace(",", " ").upper().split()
     if words and words[0] in ("INPUT", "SIG", "SIGNAL"):
         words = words[1:]
     if not words or len(words) > 2 or not words[0].lstrip("-").isdigit():
-        raise ValueError("TYPE AN INPUT NUMBER (1001-1512), THEN ENTER; OR 1001 ON / 1001 OFF")
+        raise RefusedValue("TYPE AN INPUT NUMBER (1001-1512), THEN ENTER; OR 1001 ON / 1001 OFF")
     number = int(words[0])
     if number not in INPUTS:
-        raise ValueError(f"{number} IS NOT AN INPUT: INPUTS ARE {INPUTS.start}-{INPUTS.stop - 1}")
+        raise RefusedValue(f"{number} IS NOT AN INPUT: INPUTS ARE {INPUTS.start}-{INPUTS.stop - 1}")
     if len(words) == 1:
         return number, number not in panel.on
     if words[1] not in ("ON", "OFF", "1", "0"):
-        raise ValueError(f"{words[1]}: TYPE ON OR OFF")
+        raise RefusedValue(f"{words[1]}: TYPE ON OR OFF")
     return number, words[1] in ("ON", "1")
 
 
@@ -147,7 +147,7 @@ class SignalsScreen(ModalScreen[None]):
         try:
             number, on = parse_input_command(typed, self.panel)
             self.session.key_input(number, on)
-        except (ValueError, ValtermError) as error:
+        except ValtermError as error:
             return f"*** {str(error).upper()}"
         self.look()
         return f"INPUT {number} {'ON' if on else 'OFF'}"
