@@ -67,10 +67,10 @@ def test_the_monitor_prints_the_same_transcript_as_run(
     ran = capsys.readouterr().out.splitlines()
     transcript = after(out, "EXECUTE PROCESS")
     assert transcript == ran[:len(transcript)]
-    # STATUS keeps its line and adds the cycle time so far: the whole run's, as `run` ends with
+    # STATUS keeps its line and adds the cycle time: the whole run's (it has ended), as `run` ends with
     speed, cycle = after(out, "STATUS")
     assert speed == "SPEED 100  PROGRAM PROCESS  LOOPS COMPLETED 1  REMAINING 0"
-    assert cycle == f"CYCLE TIME {events[-1]['cycle_time_s']:.2f} S SO FAR (ESTIMATE FOR THE REAL PUMA)"
+    assert cycle == f"CYCLE TIME {events[-1]['cycle_time_s']:.2f} S (ESTIMATE FOR THE REAL PUMA)"
     assert events[-1]["cycle_time_s"] > 2.0  # two DELAY 1 and the motions
 
 

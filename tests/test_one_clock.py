@@ -70,3 +70,10 @@ def test_a_1985_program_s_cycle_time_is_its_events_time() -> None:
     events = list(interpreter.execute("P"))
     expected = robot_seconds(events, robot_timing().hand_time) + 1.0
     assert interpreter.cycle_seconds == pytest.approx(expected)
+
+
+def test_status_says_so_far_only_while_the_program_runs() -> None:
+    from valterm.core.events import Status
+
+    assert Status(100.0, "P", 0, 2, 1.5).cycle_text == "CYCLE TIME 1.50 S SO FAR (ESTIMATE FOR THE REAL PUMA)"
+    assert Status(100.0, "P", 2, 0, 3.25).cycle_text == "CYCLE TIME 3.25 S (ESTIMATE FOR THE REAL PUMA)"

@@ -206,7 +206,9 @@ class Status(Event):
 
     @property
     def cycle_text(self) -> str:
-        return f"CYCLE TIME {self.cycle_time_s:.2f} S SO FAR (ESTIMATE FOR THE REAL PUMA)"
+        """The last EXECUTE's robot time: so far while it runs (loops remain), else in all."""
+        so_far = " SO FAR" if self.loops_left else ""
+        return f"CYCLE TIME {self.cycle_time_s:.2f} S{so_far} (ESTIMATE FOR THE REAL PUMA)"
 
     def to_json(self) -> dict[str, Json]:
         return {**super().to_json(), "text": self.text}
