@@ -60,3 +60,24 @@ def test_a_bare_value_error_is_a_bug_not_a_message(target: str, argv: list[str],
     assert "internal error (ValueError: a bug inside)" in err
     (log,) = (tmp_path / "state" / "valterm").glob("crash-*.log")
     assert "Traceback" in log.read_text()
+
+
+def test_a_bare_key_error_in_a_step_is_a_bug_and_an_undeclared_variable_a_message() -> None:
+    from valterm.core.events import Error
+    from valterm.core.simulator import Simulator
+    from valterm.core.val.interpreter import Interpreter, program_from_lines
+
+    sim = Simulator(None)
+    program = program_from_lines("P", ["    X = Y + 1", "    MOVE A"])
+    interpreter = Interpreter(sim, lambda name: program, {})
+    events = list(interpreter.execute("P"))
+    said = [e.message for e in events if isinstance(e, Error)]
+    assert said == ["VARIABLE Y IS NOT DECLARED", "LOCATION A IS NOT DEFINED"]
+
+    def broken(*args: object, **kwargs: object) -> None:
+        raise KeyError("a bug inside the simulator")
+
+    sim.locations["A"] = sim.here_location()
+    sim.move = broken  # type: ignore[method-assign]
+    with pytest.raises(KeyError, match="a bug inside"):
+        list(interpreter.execute("P"))

@@ -25,6 +25,7 @@ from valterm.core.events import (
 from valterm.core.files.programs import Program, read_program
 from valterm.core.kinematics import Location
 from valterm.core.motion import MotionRefused
+from valterm.core.simulator import UndefinedLocation
 from valterm.core.val.interpreter import FOREVER_LOOPS, MAX_CALL_DEPTH, Interpreter, program_from_lines
 
 REPO = Path(__file__).resolve().parent.parent / "valterm" / "data"  # the bundled data
@@ -60,7 +61,7 @@ class FakeSim:
 
     def location(self, name: str) -> Location:
         if name not in self.locations:
-            raise KeyError(name)
+            raise UndefinedLocation(name)  # as the simulator does (a bare KeyError would be a bug)
         return self.locations[name]
 
     def here(self, name: str) -> None:

@@ -28,7 +28,6 @@ from valterm.core.val.ops import (
     ProgramError,
     Return,
     Stop,
-    UndefinedVariable,
 )
 from valterm.core.val.parser import ASSIGN, LocArg, Statement
 from valterm.core.val.protocol import Simulator
@@ -101,19 +100,13 @@ def getter(expr: Expr | None, default: float | None = None) -> Callable[[Values]
 
 
 def number(fn: Callable[[Values], float | None], variables: Values) -> float:
-    """One argument's value; an undeclared variable is UndefinedVariable."""
-    try:
-        value = fn(variables)
-    except KeyError as error:
-        raise UndefinedVariable(str(error.args[0])) from None
+    """One argument's value (an undeclared variable is the store's UndefinedVariable)."""
+    value = fn(variables)
     return 0.0 if value is None else float(value)
 
 
 def numbers(fns: Sequence[Callable[[Values], float | None]], variables: Values) -> list[float | None]:
-    try:
-        return [fn(variables) for fn in fns]
-    except KeyError as error:
-        raise UndefinedVariable(str(error.args[0])) from None
+    return [fn(variables) for fn in fns]
 
 
 def failed(c: Build, reason: str) -> Action:

@@ -9,7 +9,8 @@ operand), `COL. LT. ROW.` (blanks inside the dotted operator).
 The parser builds a tree of small nodes (``Num``, ``Var``, ``Neg``, ``Binary``, ``Not``,
 ``Logical``); each node makes one closure ``fn(V) -> value`` reading the variables from
 the dict ``V``, so a statement never decodes text again (no Python source is generated).
-An undeclared variable raises ``KeyError(name)`` when it runs.  Constant expressions are
+An undeclared variable is the variables' own error when it runs (``VariableStore`` raises
+``UndefinedVariable``, a KeyError).  Constant expressions are
 folded by running their closure; a number that is not finite is refused ("NUMBER TOO LARGE").
 """
 
@@ -111,7 +112,7 @@ class Var:
     name: str
 
     def closure(self) -> Fn:
-        return operator.itemgetter(self.name)  # V[name]: KeyError(name) when undeclared
+        return operator.itemgetter(self.name)  # V[name]: UndefinedVariable when undeclared
 
 
 @dataclass(frozen=True)

@@ -133,7 +133,9 @@ class Interpreter:
         # assignment: a 100 000-pass loop must not write a file 100 000 times
         self.keep_variables = keep_variables
         self.load_program = load_program
-        self.variables: dict[str, float] = variables if variables is not None else VariableStore()
+        # a VariableStore, so that reading an undeclared name is UndefinedVariable
+        self.variables: dict[str, float] = (variables if isinstance(variables, VariableStore)
+                                            else VariableStore(variables or {}))
         self.commands = commands or default_commands()
         self.builders: dict[str, Builder] = dict(builders or BUILDERS)
         self.monitor: dict[str, MonitorCommand] = dict(monitor or MONITOR_COMMANDS)
@@ -346,12 +348,12 @@ class Interpreter:
                         pc = op.next
                     else:
                         pc = yield from self._failed(op, f"NUMBER TOO LARGE: {op.name} WOULD BE {value:g}")
-                except (KeyError, ArithmeticError, ValueError) as error:
+                except (UndefinedVariable, ArithmeticError, ValueError) as error:
                     pc = yield from self._failed(op, _plain_reason(error))
             elif isinstance(op, Branch):
                 try:
                     pc = op.if_true if op.condition(V) else op.if_false
-                except (KeyError, ArithmeticError, ValueError) as error:
+                except (UndefinedVariable, ArithmeticError, ValueError) as error:
                     pc = yield from self._failed(op, _plain_reason(error))
             elif isinstance(op, Jump):
                 pc = op.next
@@ -390,7 +392,7 @@ class Interpreter:
         except ProgramError as error:
             yield Error(program, number, error.message)
             return -1
-        except (KeyError, ValueError) as error:
+        except ValueError as error:  # a V+ function's domain (SQRT(-1)), a number it cannot read
             yield Error(program, number, _reason(error))
             return -1
         except (ValtermError, OverflowError) as error:  # V+: a signal, a transformation, a huge number
@@ -418,7 +420,7 @@ class Interpreter:
             yield Error(stop.program, stop.step, stop.message)
             run.failed = True
             return 0
-        except (ValtermError, KeyError, ValueError, ZeroDivisionError) as error:  # a V+ CALL's arguments
+        except (ValtermError, ValueError, ZeroDivisionError) as error:  # a V+ CALL's arguments
             message = error.message if isinstance(error, ProgramError) else _reason(error)
             yield Error(op.step.program, op.step.step, message)
             run.failed = True
@@ -460,18 +462,13 @@ class Interpreter:
                 self.variables[op.name] = value
             elif isinstance(op, Action):
                 yield from self._timed(op.run())  # a typed motion takes the robot's time too
-        except KeyError as error:
-            if type(error) is KeyError:
-                yield Error("", 0, f"VARIABLE {error.args[0]} IS NOT DECLARED")
-            else:
-                yield Error("", 0, _reason(error))
         except ZeroDivisionError:
             yield Error("", 0, "DIVISION BY ZERO")
         except MotionRefused as refused:
             yield Error("", 0, str(refused))  # typed: it just reports (SPEC section 3)
         except ProgramError as error:
             yield Error("", 0, error.message)
-        except ValueError as error:
+        except (ValtermError, ValueError) as error:  # a location not defined, a V+ domain error
             yield Error("", 0, _reason(error))
 
     def help(self, topic: str = "") -> Help:
@@ -533,9 +530,9 @@ MONITOR_COMMANDS: dict[str, MonitorCommand] = {
 }
 
 
-def _plain_reason(error: KeyError | ArithmeticError | ValueError) -> str:
-    if isinstance(error, KeyError):
-        return f"VARIABLE {error.args[0]} IS NOT DECLARED"
+def _plain_reason(error: UndefinedVariable | ArithmeticError | ValueError) -> str:
+    if isinstance(error, UndefinedVariable):
+        return error.message
     if isinstance(error, ZeroDivisionError):
         return "DIVISION BY ZERO"
     if isinstance(error, OverflowError):

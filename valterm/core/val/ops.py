@@ -39,10 +39,16 @@ class ProgramError(ValtermError):
         return f"{self.program} step {self.step}: {self.message}" if self.program else self.message
 
 
-class UndefinedVariable(ProgramError):
+class UndefinedVariable(ProgramError, KeyError):
+    """A variable read before it was given a value: ``VariableStore`` raises it for the name
+    (a KeyError too, as a missing key of the variables is)."""
+
     def __init__(self, name: str, program: str = "", step: int = 0) -> None:
         super().__init__(f"VARIABLE {name} IS NOT DECLARED", program, step)
         self.name = name
+
+    def __str__(self) -> str:  # the message, not KeyError's quoted key
+        return self.message
 
 
 class RunStop(ProgramError):

@@ -6,7 +6,13 @@ from pathlib import Path
 
 
 class VariableStore(dict[str, float]):
-    """NAME -> value.  A plain dict (compiled statements read it directly) with CHECK.DAT hooks."""
+    """NAME -> value.  A plain dict (compiled statements read it directly) with CHECK.DAT hooks;
+    a name not in it is ``UndefinedVariable`` (the program's error, not a bare KeyError)."""
+
+    def __missing__(self, name: str) -> float:
+        from valterm.core.val.ops import UndefinedVariable
+
+        raise UndefinedVariable(name)
 
     def load(self, path: str | Path) -> None:
         """Replace the contents with CHECK.DAT (FileFormatError if malformed); missing = empty."""
