@@ -7,7 +7,7 @@ import pytest
 from valterm.core.files.errors import FileFormatError
 from valterm.core.files.commandfile import AmbiguousCommand, UnknownCommand, default_commands, parse_command_file
 from valterm.core.val.expr import ExprError, compile_condition, compile_expr
-from valterm.core.val.helptopics import default_help, parse_help_file
+from valterm.core.files.helpfile import NoHelpTopic, default_help, parse_help_file
 from valterm.core.val.parser import ASSIGN, LocArg, ValSyntaxError, parse_statement
 
 # -- COMMAND.DAT and HELPER.DAT ------------------------------------------------------
@@ -40,9 +40,9 @@ def test_help_lookup_by_prefix_and_menu() -> None:
     topics = default_help()
     assert topics.find("EXEC").name == "EXECUTE"
     assert topics.find("appros").name == "APPRO"
-    with pytest.raises(KeyError, match="AMBIGUOUS"):
+    with pytest.raises(NoHelpTopic, match="AMBIGUOUS"):
         topics.find("D")
-    with pytest.raises(KeyError, match="NO HELP"):
+    with pytest.raises(NoHelpTopic, match="NO HELP"):
         topics.find("XYZZY")
     menu = topics.menu()
     assert menu[0] == "HELP MENU" and any("EXECUTE" in line for line in menu)

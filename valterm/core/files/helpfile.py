@@ -14,12 +14,17 @@ from functools import lru_cache
 from pathlib import Path
 
 from valterm.core import resources
+from valterm.core.errors import ValtermError
 from valterm.core.files._text import read_parsed
 from valterm.core.files.errors import FileFormatError
 
 HELPER_FILE = resources.data_path("HELPER.DAT")
 
 _NAME = re.compile(r"^[A-Z][A-Z0-9_-]*$")
+
+
+class NoHelpTopic(ValtermError):
+    """A word that names no help topic, or more than one (the message says which)."""
 
 
 @dataclass
@@ -59,7 +64,7 @@ class HelpTopics:
         return sorted(self._by_name)
 
     def find(self, word: str) -> HelpTopic:
-        """The topic named `word` or the one a unique prefix names; KeyError says why not."""
+        """The topic named `word` or the one a unique prefix names; NoHelpTopic says why not."""
         word = word.strip().upper()
         if word in self._by_name:
             return self._by_name[word]
@@ -70,8 +75,8 @@ class HelpTopics:
         if len(topics) == 1:
             return next(iter(topics.values()))
         if not topics:
-            raise KeyError(f"NO HELP FOR {word}")
-        raise KeyError(f"{word} IS AMBIGUOUS: {', '.join(sorted(topics))}")
+            raise NoHelpTopic(f"NO HELP FOR {word}")
+        raise NoHelpTopic(f"{word} IS AMBIGUOUS: {', '.join(sorted(topics))}")
 
     def menu(self, width: int = 72) -> list[str]:
         """The HELP MENU: every topic name, in rows."""

@@ -472,15 +472,15 @@ class Interpreter:
             yield Error("", 0, _reason(error))
 
     def help(self, topic: str = "") -> Help:
-        from valterm.core.files.helpfile import default_help
+        from valterm.core.files.helpfile import NoHelpTopic, default_help
 
         topics = default_help()
         if not topic.strip():
             return Help("", tuple(topics.menu()))
         try:
             found = topics.find(topic)
-        except KeyError as error:
-            return Help(topic.upper(), (str(error.args[0]), "", *topics.menu()))
+        except NoHelpTopic as error:
+            return Help(topic.upper(), (str(error), "", *topics.menu()))
         return Help(found.name, tuple(found.lines()))
 
 

@@ -14,7 +14,7 @@ from textual.events import Key
 from textual.screen import Screen
 from textual.widgets import Input, Static
 
-from valterm.core.val.helptopics import HelpTopics, default_help
+from valterm.core.files.helpfile import HelpTopics, NoHelpTopic, default_help
 from valterm.ui.widgets.status import StatusLine
 
 ASK_TOPIC = "DO YOU NEED MORE INFORMATION ON A SPECIFIC TOPIC (Y/N) ?"
@@ -102,8 +102,8 @@ class HelpScreen(Screen[None]):
     def show_topic(self, word: str) -> None:
         try:
             lines = self.topics.find(word).lines()
-        except KeyError as error:
-            self._show([str(error.args[0]), "", *self.topics.menu()])
+        except NoHelpTopic as error:
+            self._show([str(error), "", *self.topics.menu()])
             self._ask("topic?", ASK_TOPIC)
             return
         self._show(lines)
