@@ -96,22 +96,25 @@ class Hand(Event):
 
 
 @dataclass(frozen=True)
-class Near(Event):
-    """The coarse check: something is inside another's grown box (`CLAMP IS NEAR PART 10`)."""
+class Contact(Event):
+    """A finding of the collision check about two parties (a link or a part each)."""
 
     a: str
     b: str
     text: str = ""
+
+
+@dataclass(frozen=True)
+class Near(Contact):
+    """The coarse check: something is inside another's grown box (`CLAMP IS NEAR PART 10`)."""
+
     event = "near"
 
 
 @dataclass(frozen=True)
-class Collision(Event):
+class Collision(Contact):
     """The fine check found an edge through a face (`10 COLLIDES WITH 7`)."""
 
-    a: str
-    b: str
-    text: str = ""
     event = "collision"
 
 

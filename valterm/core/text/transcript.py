@@ -12,7 +12,7 @@ from collections.abc import Sequence
 
 from valterm.core.events import (
     Breakpoint,
-    Collision,
+    Contact,
     Error,
     Event,
     Help,
@@ -65,7 +65,7 @@ def error_line(error: Error) -> str:
     return f"*** {error.where}{error.message}".upper()
 
 
-def finding_line(event: Near | Collision) -> str:
+def finding_line(event: Contact) -> str:
     """A collision check's finding (Fig. C-12): the core's own text when it has one."""
     if event.text:
         return event.text
@@ -121,7 +121,7 @@ def event_lines(event: Event) -> list[str]:
         return [trace_line(event)]
     if isinstance(event, Pause):
         return [f"PAUSE {event.text}".rstrip()]
-    if isinstance(event, (Near, Collision)):
+    if isinstance(event, Contact):
         return [finding_line(event)]
     if isinstance(event, Release):
         return [f"PART {event.part} RELEASED"]
