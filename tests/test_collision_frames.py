@@ -170,3 +170,29 @@ def test_exact_from_frames_matches_the_exact_checker_on_polyhedra():
         sim.carried = None
     # links against parts and against links, and the carried part against parts, all seen
     assert {("str", "int", False), ("str", "str", False), ("int", "int", True)} <= kinds, kinds
+
+
+def test_exact_from_frames_follows_a_carried_part_that_leaves_the_hand():
+    """fcl keeps a carried part in the hand's frame while it rides the hand; a part moved any
+    other way (set down elsewhere, swapped for another shape) is built again, not misplaced."""
+    sim = Simulator(read_setup(resources.data_path("cells", "PROCESS.SET")))
+    scene = RobotScene(sim.model.names, sim.model.frames.tolist(), checker="exact")
+    scene.set_shapes(sim.model.shapes(sim.gap))
+    world = CollisionWorld(sim.model.names, checker="exact")
+    sim.locations.update(read_locations(resources.data_path("programs", "PROCESS.LOC")))
+    sim.set_indicator("LEFTY")
+    list(sim.move("A"))
+    frames = sim.model.link_frames(sim.joints, sim.base)
+    objects = list(sim.cell.objects)
+    part = objects[0]
+    others = objects[1:]
+    found = []
+    # held where it is, then dropped onto each other part in turn (not a move of the hand)
+    for target in [None, *others]:
+        if target is not None:
+            objects[0] = Polyhedron(part.vertices - part.centre + target.centre, part.name)
+        new = scene.check(frames, objects, (1,))
+        assert new == world.check(sim.robot_polyhedra(), objects, (1,))
+        found.append({f.b for f in new if f.a == 1 and f.kind == "collides"})
+    # dropped onto part n, it meets part n: fcl saw each new place
+    assert all(n in hit for n, hit in enumerate(found[1:], start=2)), found

@@ -170,20 +170,37 @@ def bench_collision_per_pose(n_parts: int = 30, rounds: int = 5) -> dict[str, fl
     }
 
 
-def bench_puma_step(n_parts: int = 30, rounds: int = 5, steps: int = 60) -> dict[str, float]:
-    """µs per step of the thesis check and of fcl, both fed by link frames, PUMA links x n parts;
+def carried_boxes(count: int) -> list[np.ndarray]:
+    """``count`` boxes held in the clamp, stacked along its approach axis, in the flange frame:
+    a part and what rests on it, carried as GRASP carries them."""
+    boxes = []
+    for i in range(count):
+        lo = np.array([-20.0, -30.0, 145.0 + 45.0 * i])      # between the open fingers, then beyond
+        boxes.append(Polyhedron.box(lo, lo + np.array([40.0, 60.0, 40.0])).vertices)
+    return boxes
+
+
+def bench_puma_step(n_parts: int = 30, rounds: int = 5, steps: int = 60, carried: int = 2) -> dict[str, float]:
+    """µs per step of the thesis check and of fcl, both fed by link frames: the PUMA's link
+    polyhedra plus ``carried`` parts in the clamp (the moving bodies) among ``n_parts`` parts;
     and fcl on placed polyhedra (``ExactChecker``, the path before) as the peer."""
     from valterm.core.cell.workcell import WorkCell
     from valterm.core.collision.frames import RobotScene
     from valterm.core.simulator import Simulator
 
-    sim = Simulator(WorkCell(objects=ring_cell(n_parts)))
-    frames = [sim.model.link_frames([float(v) for v in pose], sim.base) for pose in sweep_path(steps)]
-    polys = []
+    parts = ring_cell(n_parts)
+    sim = Simulator(WorkCell(objects=parts))
+    held = tuple(range(n_parts + 1, n_parts + carried + 1))     # object numbers, 1-based
+    frames, polys, objects = [], [], []
     for pose in sweep_path(steps):
         sim.joints = [float(v) for v in pose]
+        f = sim.model.link_frames(sim.joints, sim.base)
+        flange = f[-1]
+        boxes = [Polyhedron(local @ flange[:3, :3].T + flange[:3, 3], f"C{i + 1}")
+                 for i, local in enumerate(carried_boxes(carried))]
+        frames.append(f)
         polys.append(sim.robot_polyhedra())
-    objects = sim.cell.objects
+        objects.append([*parts, *boxes])
     scenes = {}
     for kind in ("thesis", "exact"):
         scenes[kind] = RobotScene(sim.model.names, sim.model.frames.tolist(), checker=kind)  # type: ignore[arg-type]
@@ -192,11 +209,11 @@ def bench_puma_step(n_parts: int = 30, rounds: int = 5, steps: int = 60) -> dict
 
     def run(kind: str) -> None:
         if kind == "fcl_polyhedra":
-            for p in polys:
-                exact_old.check(p, objects)
+            for p, o in zip(polys, objects):
+                exact_old.check(p, o, held)
         else:
-            for f in frames:
-                scenes[kind].check(f, objects)
+            for f, o in zip(frames, objects):
+                scenes[kind].check(f, o, held)
 
     runs: dict[str, list[float]] = {"thesis": [], "exact": [], "fcl_polyhedra": []}
     for kind in runs:
@@ -208,4 +225,4 @@ def bench_puma_step(n_parts: int = 30, rounds: int = 5, steps: int = 60) -> dict
             runs[kind].append((time.perf_counter() - start) / steps * 1e6)
     return {"thesis_us": float(np.median(runs["thesis"])), "fcl_us": float(np.median(runs["exact"])),
             "fcl_polyhedra_us": float(np.median(runs["fcl_polyhedra"])),
-            "links": float(len(sim.model.names)), "parts": float(n_parts)}
+            "links": float(len(sim.model.names)), "carried": float(carried), "parts": float(n_parts)}

@@ -185,6 +185,7 @@ def _collision_entries() -> dict[str, float]:
     entries["collision_step_fcl_us"] = step["fcl_us"]
     entries["collision_step_fcl_polyhedra_us"] = step["fcl_polyhedra_us"]
     entries["collision_step_links"] = step["links"]
+    entries["collision_step_moving_bodies"] = step["links"] + step["carried"]
     return entries
 
 

@@ -22,6 +22,8 @@ from __future__ import annotations
 from typing import Any, Sequence
 
 import fcl
+from dataclasses import dataclass
+
 import numpy as np
 
 from valterm.core.cell.polyhedron import Polyhedron
@@ -222,11 +224,24 @@ class ExactChecker:
         return codes
 
 
+@dataclass
+class _Held:
+    """fcl's copy of the carried parts, kept in the hand's frame."""
+
+    key: tuple[int, ...]                  # the carried parts' object numbers
+    local: np.ndarray                     # their vertices in the hand's frame, stacked
+    extent: float
+    objects: list[fcl.CollisionObject]
+    geoms: list[fcl.Convex]               # fcl reports contacts by geometry: keep them alive
+    rows: dict[int, int]                  # id(geometry) -> row among the carried parts
+    tree: fcl.DynamicAABBTreeCollisionManager
+
+
 class FrameExact:
     """python-fcl fed by link frames: link objects built once in their own frames and moved by
     ``setTransform``; the free parts built once into one AABB tree that never updates; the
     links in a second tree, collided against it (fcl's broad phase picks the nearby pairs).
-    Carried parts (rebuilt each pose: they move) and link-link pairs go pair by pair."""
+    Carried parts each against the parts' tree; link-link pairs pair by pair."""
 
     def __init__(self) -> None:
         self._links: list[fcl.CollisionObject] = []
@@ -236,6 +251,7 @@ class FrameExact:
         self._parts_tree: fcl.DynamicAABBTreeCollisionManager | None = None
         self._index: dict[int, tuple[str, int]] = {}
         self._link_ij: tuple[dict[tuple[int, int], int], np.ndarray] | None = None
+        self._held: _Held | None = None
 
     def set_shapes(self, local: Sequence[np.ndarray], owners: np.ndarray) -> None:
         """Link shapes (2k, 3) in their frames; ``owners`` (links,) the frame of each."""
@@ -278,6 +294,36 @@ class FrameExact:
         tree.setup()
         self._parts_tree, self._parts_key, self._part_objects, self._part_geoms = tree, key, objs, geoms
 
+    def _carried(self, frames: np.ndarray, objects: Sequence[Polyhedron], carried: Sequence[int]
+                 ) -> tuple[dict[int, int], fcl.DynamicAABBTreeCollisionManager] | None:
+        """The carried parts in an AABB tree of their own (with each geometry's row): built in
+        the hand's frame, then moved with it while the parts ride it rigidly (as they do while
+        the clamp holds them); built again when they do not."""
+        if not carried:
+            return None
+        hand = frames[int(self._owners[-1])]          # the frame the fingers ride
+        rot, origin = hand[:3, :3], hand[:3, 3]
+        now = np.concatenate([objects[c - 1].vertices for c in carried])
+        held = self._held
+        if held is not None and held.key == tuple(carried) and len(held.local) == len(now):
+            off = np.abs(held.local @ rot.T + origin - now).max()
+            if off <= RIGID_TOL * (1.0 + held.extent):
+                for obj in held.objects:
+                    obj.setRotation(rot)
+                    obj.setTranslation(origin)
+                held.tree.update()
+                return held.rows, held.tree
+        local = (now - origin) @ rot                 # the parts' vertices in the hand's frame
+        split = np.cumsum([len(objects[c - 1].vertices) for c in carried])[:-1]
+        geoms = [convex(Polyhedron(part), np.zeros(3)) for part in np.split(local, split)]
+        objs = [fcl.CollisionObject(g, fcl.Transform(rot, origin)) for g in geoms]
+        tree = fcl.DynamicAABBTreeCollisionManager()
+        tree.registerObjects(objs)
+        tree.setup()
+        self._held = _Held(tuple(carried), local, float(np.abs(local).max()), objs, geoms,
+                           {id(g): row for row, g in enumerate(geoms)}, tree)
+        return self._held.rows, tree
+
     def codes(self, frames: np.ndarray, objects: Sequence[Polyhedron], free: Sequence[int],
               carried: Sequence[int], n_pairs: int, link_pairs: dict[tuple[int, int], int],
               boxes: tuple[np.ndarray, np.ndarray], centres: np.ndarray | None = None) -> np.ndarray:
@@ -306,12 +352,16 @@ class FrameExact:
                     continue
                 link, part = (a[1], b[1]) if a[0] == "link" else (b[1], a[1])
                 codes[link * n_free + part] = COLLIDES
-            for row, c in enumerate(carried):           # a carried part moves: built as it is now
-                held = objects[c - 1]
-                obj = fcl.CollisionObject(convex(held), fcl.Transform(np.eye(3), held.centre))
-                for part, other in enumerate(self._part_objects):
-                    if fcl.collide(obj, other, fcl.CollisionRequest(), fcl.CollisionResult()):
-                        codes[(nl + row) * n_free + part] = COLLIDES
+            held = self._carried(frames, objects, carried)
+            if held is not None:
+                rows, tree = held
+                data = fcl.CollisionData(fcl.CollisionRequest(num_max_contacts=1 << 30), fcl.CollisionResult())
+                tree.collide(self._parts_tree, data, fcl.defaultCollisionCallback)   # both trees' broad phase
+                for contact in data.result.contacts:
+                    row = rows.get(id(contact.o1), rows.get(id(contact.o2)))
+                    other = self._index.get(id(contact.o2 if id(contact.o1) in rows else contact.o1))
+                    if row is not None and other is not None and other[0] == "part":
+                        codes[(nl + row) * n_free + other[1]] = COLLIDES
         if link_pairs:                                  # robot link against robot link
             lo, hi = boxes
             if self._link_ij is None or self._link_ij[0] is not link_pairs:   # once per set of pairs

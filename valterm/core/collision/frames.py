@@ -127,9 +127,14 @@ class RobotScene:
         free = np.array([nl + n - 1 for n in range(1, len(objects) + 1) if n not in set(carried)], dtype=np.intp)
         self._free = free
         self._free_lo, self._free_hi = scene.mid[free] - scene.half[free], scene.mid[free] + scene.half[free]
-        self._carried_rows = [(nl + c - 1, slice(int(self._layout.starts[nl + c - 1]),
-                                                 int(self._layout.starts[nl + c - 1]) + 2 * objects[c - 1].k))
-                              for c in carried]
+        # the carried parts' polyhedra, their vertex rows in the scene, and where each starts
+        self._held_at = np.array([nl + c - 1 for c in carried], dtype=np.intp)
+        sizes = np.array([2 * objects[c - 1].k for c in carried], dtype=np.intp)
+        self._held_rows = np.concatenate([np.arange(int(lay.starts[i]), int(lay.starts[i]) + n)
+                                          for i, n in zip(self._held_at.tolist(), sizes.tolist())]
+                                         ) if carried else np.zeros(0, dtype=np.intp)
+        self._held_sizes = sizes
+        self._held_starts = np.concatenate([[0], np.cumsum(sizes)[:-1]]).astype(np.intp)
 
     def _parts_changed(self, objects: Sequence[Polyhedron], carried: tuple[int, ...]) -> bool:
         parts = self._parts
@@ -151,8 +156,8 @@ class RobotScene:
         placed: np.ndarray = (self._local_h @ stacked).take(self._own_flat)
         return placed
 
-    def _update(self, frames: np.ndarray, objects: Sequence[Polyhedron]) -> np.ndarray:
-        """Put links and carried parts where they are now; the indices of the moving polyhedra."""
+    def _update(self, frames: np.ndarray) -> np.ndarray:
+        """Put the links where they are now; the indices of the moving polyhedra."""
         s, lay = self._scene, self._layout
         v = s.vertices
         nl = len(self._link_ks)
@@ -169,17 +174,21 @@ class RobotScene:
         mid, half = s.mid[:nl], s.half[:nl]
         np.multiply(np.add(lo, hi, out=mid), 0.5, out=mid)
         np.multiply(np.subtract(hi, lo, out=half), 0.5, out=half)
-        for i, rows in self._carried_rows:           # a carried part: its figures from its vertices
-            part = objects[i - nl].vertices
-            v[rows] = part
-            centre = part.mean(axis=0)
-            d = part - centre
-            s.centres[i] = centre
-            s.radii[i] = np.sqrt(np.einsum("ij,ij->i", d, d).max())
-            lo1, hi1 = part.min(axis=0), part.max(axis=0)
-            s.mid[i] = (lo1 + hi1) * 0.5
-            s.half[i] = (hi1 - lo1) * 0.5
         return self._movers
+
+    def _place_carried(self, objects: Sequence[Polyhedron]) -> None:
+        """The carried parts' vertices, centres, radii and boxes as they are now (all at once)."""
+        s, at, starts, sizes = self._scene, self._held_at, self._held_starts, self._held_sizes
+        nl = len(self._link_ks)
+        now = np.concatenate([objects[i - nl].vertices for i in at.tolist()])
+        s.vertices[self._held_rows] = now
+        centres = np.add.reduceat(now, starts, axis=0) / sizes[:, None]
+        d = now - np.repeat(centres, sizes, axis=0)
+        s.centres[at] = centres
+        s.radii[at] = np.sqrt(np.maximum.reduceat(np.einsum("ij,ij->i", d, d), starts))
+        lo, hi = np.minimum.reduceat(now, starts, axis=0), np.maximum.reduceat(now, starts, axis=0)
+        s.mid[at] = (lo + hi) * 0.5
+        s.half[at] = (hi - lo) * 0.5
 
     def _move_planes(self) -> None:
         """The links' face planes at the frames of the last ``_update`` (turned normals, moved offsets)."""
@@ -213,9 +222,11 @@ class RobotScene:
         pairs = world.pairs(len(objects), held)
         if len(pairs.moving) == 0:
             return []
-        movers = self._update(frames, objects)
-        if self.checker == "exact":
+        movers = self._update(frames)
+        if self.checker == "exact":                     # fcl keeps its own copy of carried parts
             return world.findings(pairs, self._exact_codes(frames, objects, held, pairs))
+        if held:                                        # the carried parts: figures from their vertices
+            self._place_carried(objects)
         grow = margin(speed)
         n_free = len(self._free)
         ruled = len(movers) * n_free                     # rules 1 and 2: movers x free parts
