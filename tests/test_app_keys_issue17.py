@@ -200,6 +200,9 @@ def test_unknown_keys_are_answered_and_question_mark_helps(tmp_path: Path) -> No
             await sim.press("escape")
             await sim.press("W", "Q")
             assert any("IS NOT AN ANSWER: PRESS X, Y, Z" in line for line in sim.messages())
+            await sim.press("escape", "escape", "K", "H")     # HERE typed at the KEYBOARD menu
+            assert ("'H' IS NOT A KEY OF THIS MENU; V FIRST TO TYPE A VAL-II COMMAND; ? OR F1: HELP"
+                    in sim.messages())
 
     run(body())
 

@@ -41,9 +41,9 @@ def is_silent(event: events.Key) -> bool:
                                     and event.key not in ("enter", "space"))
 
 
-def unknown_key(event: events.Key) -> str:
-    """The one-line answer to a key that means nothing at this menu."""
-    return f"'{key_name(event)}' IS NOT A KEY OF THIS MENU; {HELP_HINT}"
+def unknown_key(event: events.Key, hint: str = "") -> str:
+    """The one-line answer to a key that means nothing at this menu (with the screen's hint)."""
+    return f"'{key_name(event)}' IS NOT A KEY OF THIS MENU; {hint + '; ' if hint else ''}{HELP_HINT}"
 
 
 def wrong_answer(event: events.Key, keys: str) -> str:

@@ -38,6 +38,7 @@ class MenuScreen(Screen):
     AUTO_FOCUS = ""  # nothing focused: "" disables auto focus (None would inherit the app's)
     MENU = ""
     SCREEN_NAME = ""  # HELP's name for the screen (the menu's title when empty)
+    UNKNOWN_KEY_HINT = ""  # what a key that is no menu key may have meant (e.g. a typed command)
     BINDINGS = [
         Binding("pagedown", "page(1)", "More of the menu", show=False, id="menu.page_down"),
         Binding("pageup", "page(-1)", "Back in the menu", show=False, id="menu.page_up"),
@@ -274,7 +275,7 @@ class MenuScreen(Screen):
             event.prevent_default()
             self.action_help()
         elif event.key not in self.active_bindings and not keymap.is_silent(event):
-            self.say(keymap.unknown_key(event), "warning")
+            self.say(keymap.unknown_key(event, self.UNKNOWN_KEY_HINT), "warning")
 
     def action_page(self, direction: int) -> None:
         """PGDN / PGUP: the rest of a menu that does not fit (80x24)."""

@@ -52,6 +52,7 @@ def command_view(session, command: str) -> list[str]:  # type: ignore[no-untyped
 
 class KeyboardScreen(MenuScreen):
     MENU = KEYBOARD_MENU
+    UNKNOWN_KEY_HINT = "V FIRST TO TYPE A VAL-II COMMAND"   # HERE typed at the menu starts with H
     BINDINGS = [
         Binding("l,L", "list", "List", id="keyboard.list"),
         Binding("p,P", "position", "Position", id="keyboard.position"),
