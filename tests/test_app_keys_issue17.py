@@ -200,9 +200,30 @@ def test_unknown_keys_are_answered_and_question_mark_helps(tmp_path: Path) -> No
             await sim.press("escape")
             await sim.press("W", "Q")
             assert any("IS NOT AN ANSWER: PRESS X, Y, Z" in line for line in sim.messages())
-            await sim.press("escape", "escape", "K", "H")     # HERE typed at the KEYBOARD menu
-            assert ("'H' IS NOT A KEY OF THIS MENU; V FIRST TO TYPE A VAL-II COMMAND; ? OR F1: HELP"
+            await sim.press("escape", "escape", "K", "7")     # at the KEYBOARD menu: the hint names V
+            assert ("'7' IS NOT A KEY OF THIS MENU; V FIRST TO TYPE A VAL-II COMMAND; ? OR F1: HELP"
                     in sim.messages())
+
+    run(body())
+
+
+def test_a_command_typed_at_the_keyboard_menu_without_v_is_taken_whole(tmp_path: Path) -> None:
+    """HERE P1 typed at the KEYBOARD menu, as at the real terminal: H is no menu key, so it
+    opens V's command line with the H in it and the rest is typed there (R and E are not taken
+    as RETURN and the editor)."""
+    async def body() -> None:
+        async with Simulation(tmp_path, size=(80, 24)) as sim:
+            await sim.press("K")
+            await sim.type("HERE P1", enter=True, pace=0.05)
+            assert type(sim.screen).__name__ == "KeyboardScreen"     # not MAIN, not the editor
+            assert sim.messages() == ["    HERE P1", "LOCATION P1 TAUGHT HERE (0.00, 158.75, 990.60)"]
+            assert "P1" in sim.simulator.locations
+            await sim.type("DRIVE 1,10,1", pace=0.05)
+            assert sim.prompt() == "VAL-II COMMAND:"
+            assert sim.screen.query_one("#answer").value == "DRIVE 1,10,1"
+            await sim.press("escape")                     # ESC cancels the line: nothing runs
+            assert not sim.prompt() and not sim.moving
+            assert type(sim.screen).__name__ == "KeyboardScreen"
 
     run(body())
 

@@ -39,6 +39,7 @@ class MenuScreen(Screen):
     MENU = ""
     SCREEN_NAME = ""  # HELP's name for the screen (the menu's title when empty)
     UNKNOWN_KEY_HINT = ""  # what a key that is no menu key may have meant (e.g. a typed command)
+    LETTERS_START_A_COMMAND = False  # a letter that is no menu key opens V's command line with it
     BINDINGS = [
         Binding("pagedown", "page(1)", "More of the menu", show=False, id="menu.page_down"),
         Binding("pageup", "page(-1)", "Back in the menu", show=False, id="menu.page_up"),
@@ -203,12 +204,13 @@ class MenuScreen(Screen):
         return self._line_answer is not None or self._key_answer is not None
 
     def ask_line(self, question: str, then: Callable[[str], None], default: str = "",
-                 cancel: Callable[[], None] | None = None) -> None:
-        """Ask a typed answer (RETURN ends it, ESCAPE cancels)."""
+                 cancel: Callable[[], None] | None = None, typed: bool = False) -> None:
+        """Ask a typed answer (RETURN ends it, ESCAPE cancels); ``typed``: the default is the
+        user's first key, kept rather than replaced by what they type next."""
         self._key_answer = None
         self._line_answer = then
         self._cancel_answer = cancel
-        self.query_one(Prompt).open_line(question, default)
+        self.query_one(Prompt).open_line(question, default, typed)
 
     def ask_key(self, question: str, then: Callable[[str], None], keys: str = "YN",
                 cancel: Callable[[], None] | None = None) -> None:
@@ -274,7 +276,13 @@ class MenuScreen(Screen):
             event.stop()
             event.prevent_default()
             self.action_help()
-        elif event.key not in self.active_bindings and not keymap.is_silent(event):
+        elif event.key in self.active_bindings or keymap.is_silent(event):
+            return
+        elif self.LETTERS_START_A_COMMAND and event.character and event.character.isalpha():
+            event.stop()                      # HERE P1 typed without V: the line takes it all
+            event.prevent_default()
+            self.ask_line("VAL-II COMMAND:", self.run_command, event.character.upper(), typed=True)
+        else:
             self.say(keymap.unknown_key(event, self.UNKNOWN_KEY_HINT), "warning")
 
     def action_page(self, direction: int) -> None:

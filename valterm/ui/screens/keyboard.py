@@ -52,7 +52,10 @@ def command_view(session, command: str) -> list[str]:  # type: ignore[no-untyped
 
 class KeyboardScreen(MenuScreen):
     MENU = KEYBOARD_MENU
-    UNKNOWN_KEY_HINT = "V FIRST TO TYPE A VAL-II COMMAND"   # HERE typed at the menu starts with H
+    # the thesis takes V before a command; a person types HERE P1 as at the real terminal:
+    # a letter that is no menu key starts the command line, other keys get the hint
+    LETTERS_START_A_COMMAND = True
+    UNKNOWN_KEY_HINT = "V FIRST TO TYPE A VAL-II COMMAND"
     BINDINGS = [
         Binding("l,L", "list", "List", id="keyboard.list"),
         Binding("p,P", "position", "Position", id="keyboard.position"),

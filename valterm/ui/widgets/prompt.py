@@ -31,12 +31,15 @@ class Prompt(Horizontal):
     def question(self) -> str:
         return str(self.query_one("#question", Label).content)
 
-    def open_line(self, question: str, default: str = "") -> None:
+    def open_line(self, question: str, default: str = "", typed: bool = False) -> None:
+        """Open the typed answer with ``default`` in it: selected, so typing replaces it, or
+        when ``typed`` (the user's own first key) kept, so typing goes on after it."""
         self.remove_class("-key")
         self.add_class("-active")
         self.query_one("#question", Label).update(question)
         answer = self.query_one("#answer", Input)
         answer.disabled = False
+        answer.select_on_focus = not typed
         answer.value = default
         answer.cursor_position = len(default)
         answer.focus()
