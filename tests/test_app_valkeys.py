@@ -249,8 +249,8 @@ async def test_the_menu_pages_at_80x24_and_the_model_at_both_sizes(tmp_path: Pat
         await pilot.pause()
         screen = app.screen
         assert isinstance(screen, ValModeScreen) and screen.has_class("narrow")
-        await pilot.press("q")  # not a key of the menu: said so, the menu stays
-        assert screen.keys_text.startswith("Q IS NOT A KEY HERE (? HELP)") and screen.mode == Mode.MENU
+        await pilot.press("7")  # not a key of the menu: said so, the menu stays
+        assert screen.keys_text.startswith("7 IS NOT A KEY HERE (? HELP)") and screen.mode == Mode.MENU
         assert "NOFLIP       - POSITIVE JOINT 5 ANGLES" not in screen_text(app)  # below the fold
         seen = ""
         for _ in range(4):  # paged through: every line of page 1 can be read
@@ -303,3 +303,21 @@ def test_a_frame_of_no_columns_has_no_changed_spans() -> None:
     empty = Frame(np.zeros((3, 0), dtype=np.uint32), np.zeros((3, 0), dtype=np.uint8))
     rows, x0, x1 = empty.changed_spans(empty)
     assert len(rows) == len(x0) == len(x1) == 0
+
+
+@sync
+async def test_a_command_typed_at_the_menu_opens_the_line_with_it(tmp_path: Path) -> None:
+    """LOAD PROCESS typed at the VAL-II menu: L is no menu key, so it opens the command line with
+    the L typed, and O, A, D (D: DEFINE at the menu) go into the line."""
+    app = make_app(tmp_path)
+    async with app.run_test(size=(80, 24)) as pilot:
+        await pilot.pause()
+        await pilot.press("v")
+        await pilot.pause()
+        screen = app.screen
+        assert isinstance(screen, ValModeScreen) and screen.mode == Mode.MENU
+        for key in "LOAD PROCESS":
+            await pilot.press("space" if key == " " else key)
+            await pilot.pause(0.02)
+        assert screen.mode == Mode.COMMAND
+        assert screen.query_one("#val-line").value == "LOAD PROCESS"

@@ -5,7 +5,8 @@ The keyboard (issue 17): keys go either to the open command line or to the menu,
 - The VAL-II MENU (two pages, the line closed): the thesis's single keys. N turns the page,
   V / C / RETURN open the command line, W wipes the log and opens the line, M shows the model,
   D defines locations, R or ESC return to MAIN; PAGE UP/DOWN scroll a page
-  that does not fit (80x24).
+  that does not fit (80x24). Any other letter opens the line with it typed (LOAD typed at
+  the menu is taken whole).
 - The command line stays open between commands, as on the real terminal: every printable
   key is text, so READY, WHERE, MOVE, DEPART, CLOSEI are typed as themselves. The THEN PRESS
   actions of Fig. C-13 are F-keys there (F2 wipe, F3 model, F4 define, F6 the VAL-II menu, F10 the I/O panel,
@@ -279,6 +280,7 @@ class ValModeScreen(Screen[None]):
         field = self.query_one("#val-line", StepInput)
         field.disabled = False
         field.placeholder = placeholder
+        field.select_on_focus = False    # what is in the line was typed: typing goes on after it
         field.value = start
         field.cursor_position = len(start)
         field.focus()
@@ -350,6 +352,8 @@ class ValModeScreen(Screen[None]):
             self.to_command()
         elif char in actions:
             actions[char]()
+        elif event.is_printable and char.isalpha():
+            self.to_command(char)        # LOAD typed at the menu: L is no menu key, the line takes it
         else:
             return False
         return True
