@@ -41,13 +41,19 @@ def command_names() -> list[str]:
     return [line.split()[0] for line in lines if line.strip() and not line.startswith(";")]
 
 
-async def open_valmode(app, pilot) -> ValModeScreen:  # type: ignore[no-untyped-def]
-    """From MAIN: V shows the VAL-II menu, V opens the command line."""
+async def open_valmenu(app, pilot) -> ValModeScreen:  # type: ignore[no-untyped-def]
+    """From MAIN: V shows the VAL-II menu."""
     await pilot.pause()
     await pilot.press("v")
     await pilot.pause()
     screen = app.screen
     assert isinstance(screen, ValModeScreen) and screen.mode == Mode.MENU
+    return screen
+
+
+async def open_valmode(app, pilot) -> ValModeScreen:  # type: ignore[no-untyped-def]
+    """From MAIN: V shows the VAL-II menu, V opens the command line."""
+    screen = await open_valmenu(app, pilot)
     await pilot.press("v")
     await pilot.pause()
     assert screen.mode == Mode.COMMAND
@@ -244,11 +250,8 @@ async def test_escape_at_every_prompt_leads_to_the_menu_then_main(tmp_path: Path
 async def test_the_menu_pages_at_80x24_and_the_model_at_both_sizes(tmp_path: Path) -> None:
     app = make_app(tmp_path)
     async with app.run_test(size=(80, 24)) as pilot:
-        await pilot.pause()
-        await pilot.press("v")
-        await pilot.pause()
-        screen = app.screen
-        assert isinstance(screen, ValModeScreen) and screen.has_class("narrow")
+        screen = await open_valmenu(app, pilot)
+        assert screen.has_class("narrow")
         await pilot.press("7")  # not a key of the menu: said so, the menu stays
         assert screen.keys_text.startswith("7 IS NOT A KEY HERE (? HELP)") and screen.mode == Mode.MENU
         assert "NOFLIP       - POSITIVE JOINT 5 ANGLES" not in screen_text(app)  # below the fold
@@ -311,11 +314,7 @@ async def test_a_command_typed_at_the_menu_opens_the_line_with_it(tmp_path: Path
     the L typed, and O, A, D (D: DEFINE at the menu) go into the line."""
     app = make_app(tmp_path)
     async with app.run_test(size=(80, 24)) as pilot:
-        await pilot.pause()
-        await pilot.press("v")
-        await pilot.pause()
-        screen = app.screen
-        assert isinstance(screen, ValModeScreen) and screen.mode == Mode.MENU
+        screen = await open_valmenu(app, pilot)
         for key in "LOAD PROCESS":
             await pilot.press("space" if key == " " else key)
             await pilot.pause(0.02)
