@@ -19,11 +19,10 @@ collision for fcl either, but treat it as the tolerance band it is.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Any, Sequence
 
 import fcl
-from dataclasses import dataclass
-
 import numpy as np
 
 from valterm.core.cell.polyhedron import Polyhedron
@@ -241,7 +240,8 @@ class FrameExact:
     """python-fcl fed by link frames: link objects built once in their own frames and moved by
     ``setTransform``; the free parts built once into one AABB tree that never updates; the
     links in a second tree, collided against it (fcl's broad phase picks the nearby pairs).
-    Carried parts each against the parts' tree; link-link pairs pair by pair."""
+    Carried parts in a tree of their own, kept in the hand's frame, collided against the parts'
+    tree; link-link pairs pair by pair."""
 
     def __init__(self) -> None:
         self._links: list[fcl.CollisionObject] = []
