@@ -54,6 +54,14 @@ async def test_start_screen_iges_transfer_errors_are_messages(tmp_path: Path) ->
         assert "CONTINUE THE PART TRANSFER" in text
         await pilot.press("N")
         assert isinstance(app.screen, StartScreen)
+        # a CAD file named as a CAD system names it: the answer says where files are read from
+        await pilot.press("I", *"solidworks-chassis-wireframe.igs", "enter")
+        await pilot.pause()
+        said = [line for line, _ in app.screen.messages.lines]
+        assert any("IS NOT A VALID NAME" in line for line in said), said
+        assert (f"CAD FILES ARE READ FROM THE WORKSPACE {app.session_workspace().root} UNDER A NAME OF "
+                "AT MOST 9 LETTERS OR DIGITS (E.G. CHASSIS.IGS); valterm import FILE --out NAME.SET "
+                "READS ANY PATH") in said
 
 
 @sync

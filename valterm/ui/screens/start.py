@@ -15,6 +15,7 @@ from textual.binding import Binding
 
 from valterm.core.cad.convert import add_parts, import_cad, native_units
 from valterm.core.errors import ValtermError
+from valterm.core.files.errors import shown_name
 from valterm.core.workspace import check_name
 from valterm.ui.errors import Refusal, problem_text
 from valterm.ui.screens.base import MenuScreen
@@ -134,10 +135,19 @@ class StartScreen(MenuScreen):
             t.done.append(what)
         except Exception as error:
             self.say(problem_text(error), "error")
+            if what == "cad_file":                  # where the file must be, and the way round it
+                self.say(self._where_cad_files())     # info: the command and the path as typed
             self.ask_key("DO YOU WANT TO CONTINUE THE PART TRANSFER (Y/N) ?:",
                          lambda key: self._transfer(t) if key == "Y" else self.say("PART TRANSFER ENDED"))
             return
         self._transfer(t)
+
+    def _where_cad_files(self) -> str:
+        """CAD files are read from the workspace under a short name (one read path, issue 16):
+        say where it is, and that ``valterm import`` reads a file from anywhere."""
+        root = shown_name(str(self.app.session_workspace().root), 80)
+        return (f"CAD FILES ARE READ FROM THE WORKSPACE {root} UNDER A NAME OF AT MOST 9 LETTERS "
+                "OR DIGITS (E.G. CHASSIS.IGS); valterm import FILE --out NAME.SET READS ANY PATH")
 
     @staticmethod
     def _file_units(path: object) -> str:
