@@ -125,7 +125,8 @@ class ValModeScreen(Screen[None]):
     ValModeScreen #val-menu-scroll {{ height: 1fr; border: round $primary; }}
     ValModeScreen #val-menu {{ padding: 0 1; }}
     ValModeScreen #val-middle {{ height: 1fr; }}
-    ValModeScreen #val-log {{ width: 1fr; height: 1fr; border: round $secondary; padding: 0 1; }}
+    ValModeScreen #val-log {{ width: 1fr; height: 1fr; border: round $secondary; padding: 0 1;
+                             scrollbar-visibility: hidden; }}
     ValModeScreen .hidden {{ display: none; }}
     ValModeScreen #val-keys {{ height: auto; padding: 0 1; color: $accent; }}
     ValModeScreen #val-where {{ height: 4; padding: 0 1; }}
