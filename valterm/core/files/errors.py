@@ -7,15 +7,11 @@ from pathlib import Path
 from valterm.core.errors import ValtermError
 
 
-class FileFormatError(ValtermError):
-    """A file that cannot be read as what it should be.
+class FileProblem(ValtermError):
+    """A file the program could not use, named as a message shows it: ``NAME.SET:12: reason``
+    (``NAME.SET: reason`` when ``line`` is 0, the whole file)."""
 
-    ``line`` is 1-based; 0 means the whole file (empty, too large, unreadable).
-    ``str()`` is ``NAME.SET:12: reason`` (``NAME.SET: reason`` for line 0), the form
-    compilers use, so the message can be shown as it is.
-    """
-
-    def __init__(self, path: str | Path, line: int, reason: str) -> None:
+    def __init__(self, path: str | Path, reason: str, line: int = 0) -> None:
         self.path = Path(path)
         self.line = int(line)
         self.reason = reason
@@ -31,11 +27,23 @@ class FileFormatError(ValtermError):
         return f"{self.name}: {self.reason}"
 
 
+class FileFormatError(FileProblem):
+    """A file that cannot be read as what it should be.
+
+    ``line`` is 1-based; 0 means the whole file (empty, too large, unreadable).
+    ``str()`` is ``NAME.SET:12: reason`` (``NAME.SET: reason`` for line 0), the form
+    compilers use, so the message can be shown as it is.
+    """
+
+    def __init__(self, path: str | Path, line: int, reason: str) -> None:
+        super().__init__(path, reason, line)
+
+
 class BadName(ValtermError, ValueError):
     """A name (typed or read) that is not a VAL-II name; ``str()`` says why."""
 
 
-class FileWriteError(ValtermError, OSError):
+class FileWriteError(FileProblem, OSError):
     """A file the program will not or cannot write: ``NAME.SET: reason``.
 
     Raised for a target that is a symbolic link (never written through), a folder or a
@@ -44,16 +52,7 @@ class FileWriteError(ValtermError, OSError):
     """
 
     def __init__(self, path: str | Path, reason: str) -> None:
-        self.path = Path(path)
-        self.reason = reason
-        super().__init__(str(self))
-
-    @property
-    def name(self) -> str:
-        return shown_name(self.path.name or str(self.path))
-
-    def __str__(self) -> str:
-        return f"{self.name}: {self.reason}"
+        super().__init__(path, reason)
 
 
 # Names echoed in messages are cut to this many characters: a 10 000-character name typed
