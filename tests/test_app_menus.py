@@ -153,3 +153,32 @@ async def test_editor_and_val_keys_open_their_screens_or_say_so(tmp_path: Path) 
             assert "EDIT MODE IS NOT AVAILABLE YET" in screen_text(app)
         else:
             assert type(app.screen).__name__ == "EditorScreen"
+
+
+@sync
+async def test_generate_asks_before_replacing_polygon_files(tmp_path: Path) -> None:
+    """G writes NAME.OBJ and NAME.GLB; when either is there (a mesh read with U_GII may have
+    that name) it asks first: N and ESC keep the files, Y replaces them."""
+    app = make_app(tmp_path)
+    async with app.run_test(size=(80, 24)) as pilot:
+        await pilot.pause()
+        root = app.session.workspace.root
+        await pilot.press("G")
+        await pilot.pause()
+        obj, glb = root / "PROCESS.OBJ", root / "PROCESS.GLB"
+        assert obj.is_file() and glb.is_file()
+        obj.write_text("# the user's own mesh\n")
+        glb.unlink()
+        for answer in ("N", "escape"):
+            await pilot.press("G")
+            await pilot.pause()
+            said = [line for line, _ in app.screen.messages.lines]
+            assert "PROCESS.OBJ EXISTS: REPLACE (Y/N) ?" in screen_text(app), said
+            await pilot.press(answer)
+            await pilot.pause()
+            assert "POLYGON FILES KEPT" in [line for line, _ in app.screen.messages.lines]
+            assert obj.read_text() == "# the user's own mesh\n" and not glb.exists()
+        await pilot.press("G", "Y")
+        await pilot.pause()
+        assert obj.read_text().startswith("# ") and "the user's own mesh" not in obj.read_text()
+        assert glb.is_file()

@@ -2,9 +2,12 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 from textual.binding import Binding
 
 from valterm.core.cad.export import export_scene
+from valterm.core.errors import ValtermError
 from valterm.ui.errors import problem_text
 from valterm.ui.hardcopy import write_hardcopy
 from valterm.ui.screens.base import MenuScreen
@@ -116,12 +119,30 @@ class MainMenuScreen(MenuScreen):
         self.say(f"HARDCOPY WRITTEN: {svg.name} AND {txt.name}")
 
     def action_generate(self) -> None:
+        """G_GENERATE: the cell and the robot as NAME.OBJ and NAME.GLB, asking first when either
+        is there (a U_GII mesh read into this setup may have that very name)."""
         session = self.app.session
         name = session.setup_name or "CELL"
+        try:
+            paths = [session.workspace.path(name, ext) for ext in ("OBJ", "GLB")]
+        except ValtermError as error:
+            self.say(problem_text(error), "error")
+            return
+        there = [path.name for path in paths if path.exists()]
+        if not there:
+            self._generate(paths)
+            return
+        self.ask_key(f"{' AND '.join(there)} {'EXISTS' if len(there) == 1 else 'EXIST'}: REPLACE (Y/N) ?",
+                     lambda key: self._generate(paths) if key == "Y" else self._kept(), cancel=self._kept)
+
+    def _kept(self) -> None:
+        self.say("POLYGON FILES KEPT")
+
+    def _generate(self, paths: list[Path]) -> None:
+        session = self.app.session
         written = []
         try:
-            for ext in ("OBJ", "GLB"):
-                path = session.workspace.root / f"{name}.{ext}"
+            for path in paths:
                 export_scene(session.simulator.cell, session.simulator.robot_polyhedra(), path)
                 written.append(path.name)
         except ImportError as error:
