@@ -288,7 +288,7 @@ async def test_the_menu_pages_at_80x24_and_the_model_at_both_sizes(tmp_path: Pat
         await pilot.press("v")
         await pilot.pause()
         screen = app.screen
-        assert isinstance(screen, ValModeScreen) and not screen.has_class("narrow") and 160 >= WIDE
+        assert isinstance(screen, ValModeScreen) and not screen.has_class("narrow") and WIDE <= 160
         assert screen.query_one("#val-model").size.width >= 80
         text = screen_text(app)
         assert "NOFLIP       - POSITIVE JOINT 5 ANGLES" in text
@@ -320,3 +320,24 @@ async def test_a_command_typed_at_the_menu_opens_the_line_with_it(tmp_path: Path
             await pilot.pause(0.02)
         assert screen.mode == Mode.COMMAND
         assert screen.query_one("#val-line").value == "LOAD PROCESS"
+
+
+@sync
+async def test_shift_up_and_down_read_the_transcript_back(tmp_path: Path) -> None:
+    """A keyboard-only user reads back what scrolled away: SHIFT+UP a page back, SHIFT+DOWN on."""
+    app = make_app(tmp_path)
+    async with app.run_test(size=(80, 24)) as pilot:
+        screen = await open_valmode(app, pilot)
+        for _ in range(6):                        # more lines than the log shows
+            await pilot.press(*"WHERE", "enter")
+            await pilot.pause()
+        log = screen.query_one("#val-log")
+        end = log.scroll_y
+        assert end == log.max_scroll_y > 0
+        await pilot.press("shift+up")
+        await pilot.pause()
+        assert log.scroll_y == max(0, end - (log.scrollable_content_region.height - 1))
+        await pilot.press("shift+down")
+        await pilot.pause()
+        assert log.scroll_y == end
+        assert screen.query_one("#val-line").value == ""      # nothing typed into the line

@@ -12,6 +12,7 @@ The keyboard (issue 17): keys go either to the open command line or to the menu,
   actions of Fig. C-13 are F-keys there (F2 wipe, F3 model, F4 define, F6 the VAL-II menu, F10 the I/O panel,
   F9 return to MAIN; the legend shows them; F1 is help, F5/F7/F8 the debugger's); the
   thesis's letters work on the VAL-II menu, one ESC away. C ("continue") is simply the open line.
+  SHIFT+UP / SHIFT+DOWN page the transcript back and on.
 - Keys typed while a command plays, or before the line has focus, go into the line (type
   ahead); RETURN typed while a command plays runs the line when it has ended.
 - ESC cancels the innermost prompt (D's questions, the .LOC file name, POINT, A/R/E, a
@@ -147,6 +148,12 @@ class ValModeScreen(Screen[None]):
         Binding("f7", "paused_command('XSTEP')", "Xstep", show=False, id="valmode.xstep"),
         Binding("f8", "paused_command('SSTEP')", "Sstep", show=False, id="valmode.sstep"),
         Binding("f10", "io_panel", "I/O panel", show=False, id="valmode.io"),  # screens/signals.py
+        # the transcript read back from the keyboard (PGUP/PGDN zoom the view; terminals keep
+        # SHIFT+PGUP and CTRL+PGUP for themselves)
+        Binding("shift+up", "transcript(-1)", "Back a page in the transcript", show=False,
+                id="valmode.transcript_back"),
+        Binding("shift+down", "transcript(1)", "On a page in the transcript", show=False,
+                id="valmode.transcript_on"),
     ]
 
     def __init__(self, session: Session | None = None, *, show_menu: bool = True) -> None:
@@ -358,6 +365,13 @@ class ValModeScreen(Screen[None]):
         else:
             return False
         return True
+
+    def action_transcript(self, direction: int) -> None:
+        """SHIFT+UP / SHIFT+DOWN: the transcript a page back or on (the next line written
+        scrolls it to the end again)."""
+        log = self.query_one("#val-log", RichLog)
+        page = max(1, log.scrollable_content_region.height - 1)
+        log.scroll_to(y=log.scroll_y + direction * page, animate=False)
 
     def action_wipe(self) -> None:
         """W_WIPE: the log cleared, the line open."""
