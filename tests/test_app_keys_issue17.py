@@ -341,3 +341,18 @@ def test_long_listing_lines_wrap_not_cut(tmp_path: Path) -> None:
             assert all(len(row) <= 80 for row in sim.rows())
 
     run(body())
+
+
+def test_a_refused_answer_s_message_goes_when_the_next_answer_is_taken(tmp_path: Path) -> None:
+    """MANIPULATION: 99 is no part number (said); 3 is taken and says nothing itself, so the
+    refusal must not stay on screen beside part 3's coordinates."""
+    async def body() -> None:
+        async with Simulation(tmp_path, size=(80, 24)) as sim:
+            await sim.press("M")
+            await sim.type("99", enter=True)
+            assert sim.messages() == ["99 IS NOT A PART NUMBER (1-14)"]
+            await sim.type("3", enter=True)
+            assert "PART NO. 3" in sim.text()
+            assert sim.messages() == []
+
+    run(body())

@@ -232,6 +232,7 @@ class MenuScreen(Screen):
         if then is None:
             return
         self._close_prompt()
+        self.messages.clear()   # what was said about the last answer goes, even if this one says nothing
         then(event.value.strip())
 
     def on_key(self, event: events.Key) -> None:

@@ -1,7 +1,8 @@
 """The message lines under a menu: warnings, collision messages, listings (a few at a time).
 
 Messages replace rather than pile up: the first message after a key press (``new_turn``)
-clears the old ones, so "MOTION REFUSED" goes as soon as the next thing happens. At most
+clears the old ones, so "MOTION REFUSED" goes as soon as the next thing happens, and a typed
+answer that is taken clears them even when it says nothing (``MenuScreen.on_input_submitted``). At most
 ``max_lines`` lines are kept on screen; long lines wrap. A warning already shown since the
 last key press is not repeated (a collision pair found again at every step of a motion).
 """
