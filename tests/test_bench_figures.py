@@ -30,3 +30,41 @@ def test_the_goals_table_says_what_was_not_measured() -> None:
     assert "| `app_program_fps_160x50` | 12.0 | >= 30 | **no** |" in table
     assert "| `app_move_fps_160x50` | not measured |" in table
     assert "app_program_bytes_per_frame_160x50" in GOALS
+
+
+def _fake_run(monkeypatch: pytest.MonkeyPatch, met: bool) -> None:
+    """``valterm bench`` on canned figures (the real run takes half a minute)."""
+    import valterm.bench.suite as suite
+
+    entries = {"machine": "test", "ik_single_us": 5.0 if met else 9.0, "collision_thesis_us_5parts": 30.0,
+               "collision_thesis_us_300parts": 90.0,
+               "goals": {"ik_single_us": {"goal": "<= 8", "met": met}}}
+    monkeypatch.setattr(suite, "run_all", lambda app=True: entries)
+
+
+@pytest.mark.parametrize("met, status", [(True, 0), (False, 1)])
+def test_bench_exits_1_when_a_measured_goal_is_missed(monkeypatch: pytest.MonkeyPatch,
+                                                      capsys: pytest.CaptureFixture[str],
+                                                      met: bool, status: int) -> None:
+    from valterm.cli import main
+
+    _fake_run(monkeypatch, met)
+    assert main(["bench", "--no-app"]) == status
+    out, err = capsys.readouterr()
+    assert "ik_single_us" in out
+    assert ("1 goal(s) not met: ik_single_us" in err) == (not met)
+
+
+def test_bench_svg_goes_through_the_safe_write_path(monkeypatch: pytest.MonkeyPatch, tmp_path,
+                                                    capsys: pytest.CaptureFixture[str]) -> None:
+    from valterm.cli import main
+
+    _fake_run(monkeypatch, True)
+    outside = tmp_path / "outside.svg"
+    outside.write_text("keep")
+    (tmp_path / "curve.svg").symlink_to(outside)
+    assert main(["bench", "--no-app", "--svg", str(tmp_path / "curve.svg")]) == 1
+    assert "curve.svg: is a symbolic link" in capsys.readouterr().err
+    assert outside.read_text() == "keep"
+    assert main(["bench", "--no-app", "--svg", str(tmp_path / "new.svg")]) == 0
+    assert (tmp_path / "new.svg").read_text().startswith("<svg")

@@ -4,7 +4,11 @@ from __future__ import annotations
 
 import argparse
 import json
-import sys
+from typing import Any
+
+from valterm.commands import fail
+from valterm.core.errors import ValtermError
+from valterm.core.files.atomic import write_text_atomic
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -25,20 +29,24 @@ def run(args: argparse.Namespace) -> int:
 
         series = scaling_series(entries)
         if not series:
-            print(f"valterm bench: no collision figures to plot into {args.svg}", file=sys.stderr)
-            return 1
+            return fail(f"no collision figures to plot into {args.svg}")
         try:
-            with open(args.svg, "w", encoding="utf-8") as out:
-                out.write(scaling_svg(series, "Collision check per motion pose: the PUMA among n parts"))
-        except OSError as error:
-            print(f"valterm bench: cannot write {args.svg}: {error.strerror}", file=sys.stderr)
-            return 1
+            write_text_atomic(args.svg, scaling_svg(series, "Collision check per motion pose: the PUMA among n parts"))
+        except ValtermError as error:                    # a link, a folder, a full disk: named
+            return fail(f"cannot write the scaling curve: {error}")
     if args.json:
         print(json.dumps(entries, indent=2))
-        return 0
-    if args.md:
+    elif args.md:
         print(markdown(entries))
-        return 0
+    else:
+        _print_figures(entries)
+    unmet = [key for key, goal in entries.get("goals", {}).items() if goal["met"] is False]
+    if unmet:                                             # measured and missed: a failed check
+        return fail(f"{len(unmet)} goal(s) not met: {', '.join(unmet)}")
+    return 0
+
+
+def _print_figures(entries: dict[str, Any]) -> None:
     goals = entries.get("goals", {})
     for key, value in entries.items():
         if key in ("goals", "missing", "machine"):
@@ -48,4 +56,3 @@ def run(args: argparse.Namespace) -> int:
         print(f"{key:32} {value:>14,.2f}{mark}")
     for line in entries.get("missing", []):
         print(f"not measured: {line}")
-    return 0
