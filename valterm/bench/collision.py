@@ -170,13 +170,13 @@ def bench_collision_per_pose(n_parts: int = 30, rounds: int = 5) -> dict[str, fl
     }
 
 
-def carried_boxes(count: int) -> list[np.ndarray]:
+def carried_boxes(count: int) -> list[Polyhedron]:
     """``count`` boxes held in the clamp, stacked along its approach axis, in the flange frame:
     a part and what rests on it, carried as GRASP carries them."""
     boxes = []
     for i in range(count):
         lo = np.array([-20.0, -30.0, 145.0 + 45.0 * i])      # between the open fingers, then beyond
-        boxes.append(Polyhedron.box(lo, lo + np.array([40.0, 60.0, 40.0])).vertices)
+        boxes.append(Polyhedron.box(lo, lo + np.array([40.0, 60.0, 40.0]), f"C{i + 1}"))
     return boxes
 
 
@@ -196,8 +196,7 @@ def bench_puma_step(n_parts: int = 30, rounds: int = 5, steps: int = 60, carried
         sim.joints = [float(v) for v in pose]
         f = sim.model.link_frames(sim.joints, sim.base)
         flange = f[-1]
-        boxes = [Polyhedron(local @ flange[:3, :3].T + flange[:3, 3], f"C{i + 1}")
-                 for i, local in enumerate(carried_boxes(carried))]
+        boxes = [box.transformed(flange[:3, :3], flange[:3, 3]) for box in carried_boxes(carried)]
         frames.append(f)
         polys.append(sim.robot_polyhedra())
         objects.append([*parts, *boxes])

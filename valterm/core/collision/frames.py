@@ -26,8 +26,8 @@ from typing import TYPE_CHECKING, Collection, Literal, Sequence
 import numpy as np
 
 from valterm.core.cell.polyhedron import Polyhedron
-from valterm.core.collision.thesis import (Layout, Scene, check_pairs, face_planes, largest_of_xyz, layout,
-                                           margin)
+from valterm.core.collision.thesis import (Layout, Scene, check_pairs, face_planes, figures, largest_of_xyz,
+                                           layout, margin)
 from valterm.core.collision.world import CollisionWorld, Finding, _Pairs
 
 if TYPE_CHECKING:
@@ -182,13 +182,7 @@ class RobotScene:
         nl = len(self._link_ks)
         now = np.concatenate([objects[i - nl].vertices for i in at.tolist()])
         s.vertices[self._held_rows] = now
-        centres = np.add.reduceat(now, starts, axis=0) / sizes[:, None]
-        d = now - np.repeat(centres, sizes, axis=0)
-        s.centres[at] = centres
-        s.radii[at] = np.sqrt(np.maximum.reduceat(np.einsum("ij,ij->i", d, d), starts))
-        lo, hi = np.minimum.reduceat(now, starts, axis=0), np.maximum.reduceat(now, starts, axis=0)
-        s.mid[at] = (lo + hi) * 0.5
-        s.half[at] = (hi - lo) * 0.5
+        s.centres[at], s.radii[at], s.mid[at], s.half[at] = figures(now, starts, sizes)
 
     def _move_planes(self) -> None:
         """The links' face planes at the frames of the last ``_update`` (turned normals, moved offsets)."""

@@ -116,12 +116,7 @@ class Scene:
             z = np.zeros((0, 3))
             return cls(lay, z, z, np.zeros(0), z, z)
         v = np.concatenate([p.vertices for p in polys])
-        centres = np.add.reduceat(v, lay.starts, axis=0) / lay.counts[:, None]
-        d = v - np.repeat(centres, lay.counts, axis=0)
-        radii = np.sqrt(np.maximum.reduceat(np.einsum("ij,ij->i", d, d), lay.starts))
-        lo = np.minimum.reduceat(v, lay.starts, axis=0)
-        hi = np.maximum.reduceat(v, lay.starts, axis=0)
-        return cls(lay, v, centres, radii, (lo + hi) * 0.5, (hi - lo) * 0.5)
+        return cls(lay, v, *figures(v, lay.starts, lay.counts))
 
     @property
     def lo(self) -> np.ndarray:
@@ -132,6 +127,18 @@ class Scene:
     def hi(self) -> np.ndarray:
         hi: np.ndarray = self.mid + self.half
         return hi
+
+
+def figures(v: np.ndarray, starts: np.ndarray, counts: np.ndarray
+            ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Centres, circumscribed radii, box middles and box half-sizes of polyhedra whose vertices
+    are stacked in ``v``, each starting at ``starts`` with ``counts`` vertices."""
+    centres = np.add.reduceat(v, starts, axis=0) / counts[:, None]
+    d = v - np.repeat(centres, counts, axis=0)
+    radii = np.sqrt(np.maximum.reduceat(np.einsum("ij,ij->i", d, d), starts))
+    lo = np.minimum.reduceat(v, starts, axis=0)
+    hi = np.maximum.reduceat(v, starts, axis=0)
+    return centres, radii, (lo + hi) * 0.5, (hi - lo) * 0.5
 
 
 # cross products as one matmul: (a outer b) flattened to 9, times the Levi-Civita symbol
