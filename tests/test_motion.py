@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from valterm.core.kinematics import Config, fk, fk_batch, indicators, oat_to_rotation
+from valterm.core.kinematics import Config, fk, fk_batch, ik, indicators, oat_to_rotation
 from valterm.core.motion import (
     MotionRefused,
     approach_point,
@@ -85,15 +85,25 @@ def test_straight_line_through_the_waist_axis_is_refused() -> None:
     goal = here.xyz * np.array([-1.0, -1.0, 1.0])
     with pytest.raises(MotionRefused) as caught:
         straight_path(START, goal, here.rotation, indicators(START), 25.4)
-    assert caught.value.step >= 1
+    assert "out of reach" in str(caught.value) or "singularity" in str(caught.value)
 
 
-def test_straight_line_out_of_reach_names_the_step() -> None:
+def test_straight_line_to_a_goal_out_of_reach_is_refused_before_any_step() -> None:
     here = fk(START)
     with pytest.raises(MotionRefused) as caught:
         straight_path(START, here.xyz + [0, 0, 2000], here.rotation, indicators(START), 25.4)
     assert "out of reach" in str(caught.value)
-    assert caught.value.step > 1
+    assert caught.value.step == 0  # the goal itself: no path was built
+
+
+def test_a_straight_line_refused_on_the_way_names_the_step() -> None:
+    # both ends reachable pointing down; on the way across the base JT5 passes its stop
+    down = oat_to_rotation(0.0, 90.0, 0.0)
+    start = ik([300.0, 0.0, 300.0], down, Config())
+    with pytest.raises(MotionRefused) as caught:
+        straight_path(start, np.array([-300.0, 0.0, 300.0]), down, Config(), 25.4)
+    assert caught.value.step >= 1 and caught.value.joint == 5
+    assert f"at step {caught.value.step} of the line" in str(caught.value)
 
 
 def test_appro_offsets_back_along_tool_z() -> None:

@@ -7,8 +7,18 @@ import math
 import numpy as np
 import pytest
 
-from valterm.core.kinematics import Config, IKError, fk, ik, indicators, indicators_batch, robot_geometry
+from valterm.core.kinematics import (
+    Config,
+    IKError,
+    canonical_joints,
+    fk,
+    ik,
+    indicators,
+    indicators_batch,
+    robot_geometry,
+)
 from valterm.core.motion import MotionRefused, STRAIGHT_INCREMENT, straight_path
+from valterm.core.rules import CONTROLLER, RULES_1985
 from valterm.core.simulator import Simulator
 
 
@@ -33,19 +43,27 @@ def test_away_from_a_tie_the_indicators_are_unchanged() -> None:
     assert indicators([156.36, 8.18, 159.13, -179.90, -13.68, 1.27]) == Config(-1, 1, 1)
 
 
-def _line_to_joints(start: list[float], goal: list[float], config: Config) -> np.ndarray:
+def _line_to_joints(start: list[float], goal: list[float], config: Config, rules: str = RULES_1985) -> np.ndarray:
     pose = fk(goal)
-    return straight_path(start, pose.xyz, pose.rotation, config, STRAIGHT_INCREMENT)
+    return straight_path(start, pose.xyz, pose.rotation, config, STRAIGHT_INCREMENT, rules=rules)
 
 
-def test_a_line_whose_wrist_reaches_its_stop_is_refused_not_turned_a_whole_turn() -> None:
-    start = [10.0, -60.0, 150.0, 250.0, 30.0, 0.0]
+def test_under_the_controller_rules_a_line_whose_wrist_reaches_its_stop_is_refused() -> None:
+    start = [10.0, -60.0, 150.0, 250.0, 30.0, 0.0]  # wound: a real PUMA's JT4 at 250
     goal = [10.0, -60.0, 150.0, 290.0 - 360.0, 30.0, 0.0]  # the same wrist pose as JT4 = 290
     config = indicators(start)
     with pytest.raises(MotionRefused) as refused:
-        _line_to_joints(start, goal, config)
+        _line_to_joints(start, goal, config, CONTROLLER)
     assert refused.value.joint == 4 and refused.value.step >= 1
     assert "joint 4 beyond its stop" in str(refused.value) and "266" in str(refused.value)
+
+
+def test_under_the_1985_rules_the_same_line_goes_its_angles_a_function_of_the_pose() -> None:
+    # SPEC §3a: JT4 290 is JT4 -70 (one pose, one set of angles): the line is not refused
+    start = [10.0, -60.0, 150.0, 250.0, 30.0, 0.0]
+    goal = [10.0, -60.0, 150.0, 290.0 - 360.0, 30.0, 0.0]
+    path = _line_to_joints(start, goal, indicators(start))
+    assert canonical_joints(path[-1]) == pytest.approx(goal, abs=1e-6)
 
 
 def test_a_line_within_the_stops_turns_the_wrist_smoothly() -> None:
@@ -96,7 +114,7 @@ def test_autoconfig_tries_the_other_configurations_nearest_first() -> None:
         list(sim.move(target))
     sim.autoconfig = True
     events = list(sim.move(target))
-    [message] = [e for e in events if isinstance(e, Message)]
+    [message] = [e for e in events if isinstance(e, Message) and e.text.startswith("AUTOCONFIG")]
     assert message.text == f"AUTOCONFIG: USING {sim.config}"
     assert sim.config.elbow == 1 and isinstance(events[-1], Motion)
     assert np.allclose(fk(sim.joints).xyz, pose.xyz, atol=1e-6)

@@ -35,6 +35,7 @@ from valterm.commands import (
 )
 from valterm.core.crashlog import report_crash
 from valterm.core.errors import ValtermError
+from valterm.core.rules import RULES
 from valterm.core.workspace import ENV_VAR
 
 # Each module registers its subcommand(s); the order is the order of --help.
@@ -84,6 +85,9 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"valterm {version()}")
     parser.add_argument("--setup", metavar="NAME", help="the app: read NAME.SET and go straight to the MAIN MENU")
     parser.add_argument("--ascii", action="store_true", help="the app: draw the model in ASCII, not braille")
+    parser.add_argument("--rules", choices=RULES, default=None,
+                        help="the joint-state rules: 1985 (the thesis's, default) or controller (a real PUMA's); "
+                             "docs/MOTION.md")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=Parser)
     for command in COMMANDS:
         command.register(sub)

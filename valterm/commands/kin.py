@@ -33,7 +33,7 @@ from valterm.core.kinematics import (
     ik,
     indicators,
     oat_to_rotation,
-    wrap180,
+    readout_joints,
 )
 
 # Larger numbers are no pose at all (mm or degrees); they would only overflow.
@@ -148,7 +148,7 @@ def _table(xyz: Sequence[float], oat: Sequence[float], config: Config, joints: S
     head = row.format(clamp, "XW", "YW", "ZW", "O", "A", "T")
     values = row.format(arm, *(f"{v:.2f}" for v in (*xyz, *oat)))
     head2 = row.format(elbow, "JT1", "JT2", "JT3", "JT4", "JT5", "JT6")
-    values2 = row.format(wrist, *(f"{wrap180(v):.2f}" for v in joints))
+    values2 = row.format(wrist, *(f"{v:.2f}" for v in readout_joints(joints)))
     return "\n".join((head, values, head2, values2))
 
 
@@ -159,7 +159,7 @@ def run_fk(args: argparse.Namespace) -> int:
         xyz = [round(v, 6) for v in _finite([float(v) for v in pose.xyz])]
         oat = [round(v, 6) for v in _finite(pose.oat)]
         config = indicators(joints)
-        shown = [round(wrap180(j), 6) for j in joints]
+        shown = [round(j, 6) for j in readout_joints(joints)]  # inside the stops where it can be
         if args.json:
             print(json.dumps({"xyz": xyz, "oat": oat, "config": config.as_dict(), "joints": shown}))
         else:
@@ -193,7 +193,7 @@ def run_ik(args: argparse.Namespace) -> int:
             beyond = stop.joint
             _warn(args, f"joint {beyond} beyond its stop ({stop.angle:.2f} deg): "
                         "the geometric solution is shown; the robot cannot take this pose", line)
-        shown = [round(wrap180(j), 6) for j in joints]
+        shown = [round(j, 6) for j in readout_joints(joints)]  # JT3 215.04, not -144.96
         if args.json:
             result: dict[str, object] = {"joints": shown, "config": config.as_dict()}
             if beyond:

@@ -29,6 +29,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     # SUPPRESS: given before the subcommand (valterm --setup X monitor), the value stays
     parser.add_argument("--setup", metavar="NAME", default=argparse.SUPPRESS, help="read NAME.SET (and NAME.LOC)")
     parser.add_argument("--loc", metavar="FILE", action="append", help="a location file (may repeat)")
+    parser.add_argument("--rules", choices=("1985", "controller"), default=argparse.SUPPRESS,
+                        help="the joint-state rules (default 1985; RULES at the prompt shows or sets them)")
     parser.set_defaults(func=run)
 
 
@@ -45,7 +47,11 @@ def _session(args: argparse.Namespace) -> Any:
     workspace = session.workspace
     loc_names = args.loc or ([session.setup_name] if setup and workspace.exists(session.setup_name, "LOC") else [])
     for name in loc_names:
-        session.simulator.locations.update(read_locations(_find(name, "LOC", workspace)))
+        points = read_locations(_find(name, "LOC", workspace))
+        session.simulator.locations.update(points)
+        session.simulator.mark_locations_stored(points)
+    if getattr(args, "rules", None):
+        session.simulator.set_rules(args.rules)
     return session
 
 

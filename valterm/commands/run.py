@@ -13,7 +13,9 @@ updates CHECK.DAT, so variables are kept across sessions). DELAY is not waited.
 
 A V+ file (``.v2``/``.pg``, ``.PROGRAM`` blocks) runs its first program; every program of
 the file can be CALLed, and they are v+ (``--dialect v+`` makes .DAT programs v+ too).
-``--config LEFTY,BELOW`` sets the user's indicators first; ``--inputs FILE`` scripts the
+``--rules 1985|controller`` picks the joint-state rules (SPEC §3a, docs/MOTION.md; by default
+the dialect's: 1985 for .DAT programs, controller for v+); ``--config LEFTY,BELOW`` sets the
+user's indicators first; ``--inputs FILE`` scripts the
 input signals ("TIME SIGNAL VALUE" lines); precision points (``POINT #SAFE, j1..j6``) in the
 location files are read too. Signal changes are in the transcript (``SIGNAL 1 ON``) and JSON.
 
@@ -45,6 +47,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--collisions", action="store_true", help="check collisions at every motion step")
     parser.add_argument("--dialect", choices=("1985", "v+"), default=None,
                         help="the language of .DAT programs (default 1985; a .v2/.pg file is always v+)")
+    parser.add_argument("--rules", choices=("1985", "controller"), default=argparse.SUPPRESS,
+                        help="the joint-state rules (default: 1985 for the 1985 dialect, controller for v+; "
+                             "docs/MOTION.md)")
     parser.add_argument("--config", metavar="LEFTY,ABOVE,NOFLIP",
                         help="the user's configuration indicators at the start (default RIGHTY,ABOVE,NOFLIP)")
     parser.add_argument("--inputs", metavar="FILE",
@@ -99,6 +104,7 @@ def run(args: argparse.Namespace) -> int:
     from valterm.core.files.errors import FileFormatError
     from valterm.core.files.locations import read_locations
     from valterm.core.files.setup import read_setup
+    from valterm.core.rules import rules_of_dialect
     from valterm.core.simulator import Simulator
     from valterm.core.text.transcript import event_lines
     from valterm.core.val.interpreter import Interpreter
@@ -123,6 +129,8 @@ def run(args: argparse.Namespace) -> int:
     except (FileFormatError, WorkspaceError, FileNotFoundError, OSError) as error:
         return fail(error, FAILURE)
     sim.collision_checks = bool(args.collisions)
+    dialect = "v+" if "v+" in (args.dialect, main.dialect) else "1985"
+    sim.set_rules(getattr(args, "rules", None) or rules_of_dialect(dialect))  # SPEC §3a
     load_called = workspace.program_loader(program_path.resolve().parent)
 
     def load_program(name: str):  # type: ignore[no-untyped-def]

@@ -199,7 +199,15 @@ class Status(Event):
     loops_done: int
     loops_left: int
     cycle_time_s: float = 0.0  # the real robot's time since the last EXECUTE (core/cycletime.py)
+    rules: str = "1985"  # the joint-state rules in force (core/rules.py, SPEC §3a)
     event = "status"
+
+    @property
+    def rules_text(self) -> str:
+        """Which rules the verdicts follow: the thesis's or the real controller's."""
+        if self.rules == "controller":
+            return "RULES CONTROLLER (A REAL PUMA: JOINTS WIND, THE ARM KEEPS ITS CONFIGURATION)"
+        return "RULES 1985 (THE THESIS: ANGLES A FUNCTION OF THE POSE, INDICATORS CHECKED)"
 
     @property
     def text(self) -> str:

@@ -240,6 +240,43 @@ def fit_to_stops(
     return fitted
 
 
+def canonical_angle(angle: float, low: float, high: float) -> float | None:
+    """The 1985 rules' angle (SPEC §3a): the 360-degree equivalent of ``angle`` inside
+    [low, high], the one in (-180, 180] where two are; None when no equivalent is inside."""
+    wrapped = wrap180(angle)
+    tol = 1e-9
+    if low - tol <= wrapped <= high + tol:
+        return min(max(wrapped, low), high)
+    for shifted in (wrapped + 360.0, wrapped - 360.0):
+        if low - tol <= shifted <= high + tol:
+            return min(max(shifted, low), high)
+    return None
+
+
+def canonical_joints(joints: Sequence[float], geometry: RobotGeometry | None = None) -> list[float]:
+    """Each joint as the 1985 rules show it (``canonical_angle``); BeyondStop for the first
+    joint with no equivalent inside its stops (named by the angle as it would be shown)."""
+    geometry = geometry or robot_geometry()
+    shown = []
+    for index, (angle, (low, high)) in enumerate(zip(joints, geometry.stops)):
+        canonical = canonical_angle(float(angle), low, high)
+        if canonical is None:
+            raise BeyondStop(index + 1, wrap180(float(angle)), (low, high))
+        shown.append(canonical)
+    return shown
+
+
+def readout_joints(joints: Sequence[float], geometry: RobotGeometry | None = None) -> list[float]:
+    """Angles as a readout prints them: inside the stops where an equivalent is (JT3 215.04,
+    not -144.96), else the geometric angle wrapped to (-180, 180] (``kin ik`` flags those)."""
+    geometry = geometry or robot_geometry()
+    shown = []
+    for angle, (low, high) in zip(joints, geometry.stops):
+        canonical = canonical_angle(float(angle), low, high)
+        shown.append(wrap180(float(angle)) if canonical is None else canonical)
+    return shown
+
+
 # ---------------------------------------------------------------------------
 # Orientation: O, A, T
 # ---------------------------------------------------------------------------
@@ -771,14 +808,25 @@ def fit_to_stops_batch(joints: np.ndarray, geometry: RobotGeometry | None = None
 
 
 class Location(NamedTuple):
-    """A location as WHERE shows it and a .LOC file holds it: XW YW ZW (mm) and O A T (deg)."""
+    """A location as WHERE shows it and a .LOC file holds it: XW YW ZW (mm) and O A T (deg).
+
+    A location taught by HERE or the pendant also keeps the arm's configuration and its joint
+    angles (§6.1.1); SET copies both (§6.1.4); a location typed or read without them has None.
+    """
 
     xyz: tuple[float, float, float]
     oat: tuple[float, float, float]
+    config: Config | None = None
+    joints: tuple[float, ...] | None = None
 
     @property
     def rotation(self) -> np.ndarray:
         return oat_to_rotation(*self.oat)
+
+    def shifted(self, dx: float, dy: float, dz: float) -> "Location":
+        """The location moved along the world axes: its configuration stays, its joints do not."""
+        x, y, z = self.xyz
+        return Location((x + dx, y + dy, z + dz), self.oat, self.config)
 
     @classmethod
     def from_pose(cls, pose: Pose) -> "Location":

@@ -19,12 +19,16 @@ from valterm.core.kinematics import (
     Config,
     IKError,
     RobotGeometry,
+    canonical_angle,
+    fit_to_stops,
     fk,
     ik,
     ik_batch,
     indicators,
     robot_geometry,
+    wrap180,
 )
+from valterm.core.rules import CONTROLLER, RULES_1985
 
 JOINT_INCREMENT = 12.0      # degrees per step at SPEED 100 (§2.6)
 STRAIGHT_INCREMENT = 25.4   # millimetres per step at SPEED 100
@@ -135,6 +139,7 @@ def straight_path(
     config: Config,
     increment: float,
     geometry: RobotGeometry | None = None,
+    rules: str = RULES_1985,
 ) -> np.ndarray:
     """The poses of a straight-line motion of the TCS origin (§2.4.2, SPEC §3).
 
@@ -143,38 +148,27 @@ def straight_path(
     shortest rotation. The goal is solved with the user's indicators; each intermediate
     step with the user's ARM and ELBOW and the wrist solution nearest the previous step.
     Raises MotionRefused (reason, joint, step) if any step is out of reach, beyond a stop,
-    or would need ARM or ELBOW to change.
+    or would need ARM or ELBOW to change. The goal is solved before any step is built, so an
+    absurd goal is refused at once (two reachable points lie at most the arm's span apart).
+    ``rules``: under the 1985 rules a step is within the stops when a 360-degree equivalent
+    is; under the controller's the angle itself must be (joints wind).
     """
     geometry = geometry or robot_geometry()
     current = [float(v) for v in start]
     here = fk(current, geometry=geometry)
-    now = indicators(current, geometry)
-    for kind, have, want in (("ARM", now.arm, config.arm), ("ELBOW", now.elbow, config.elbow)):
-        if have != want:
-            words = {"ARM": ("RIGHTY", "LEFTY"), "ELBOW": ("ABOVE", "BELOW")}[kind]
-            raise MotionRefused(
-                f"straight line would change {kind} from {words[have < 0]} to {words[want < 0]}"
-            )
+    _refuse_config_change(indicators(current, geometry), config)
     goal_xyz = np.asarray(goal_xyz, dtype=float)
     goal_rotation = np.asarray(goal_rotation, dtype=float)
-    delta = goal_xyz - here.xyz
-    largest = float(np.abs(delta).max())
-    turn = float(np.degrees(np.arccos(np.clip((np.trace(here.rotation.T @ goal_rotation) - 1) / 2, -1, 1))))
-    steps = max(1, math.ceil(largest / increment - 1e-9))
-    # a pure reorientation still takes steps: the joint increment per step, scaled by SPEED
-    # as the straight increment is
-    turn_increment = JOINT_INCREMENT * increment / STRAIGHT_INCREMENT
-    steps = max(steps, math.ceil(turn / turn_increment - 1e-9))
-    fractions = np.arange(1, steps + 1) / steps
-    positions = here.xyz + fractions[:, None] * delta
-    same_orientation = np.allclose(here.rotation, goal_rotation, atol=1e-12)
-    rotations = (np.broadcast_to(here.rotation, (steps, 3, 3)) if same_orientation
-                 else _slerp(here.rotation, goal_rotation, fractions))
-    # goal: the user's indicators, all three
     try:
         goal_joints = ik(goal_xyz, goal_rotation, config, None, geometry, enforce_stops=False)
     except IKError as error:
-        raise _refusal(error, steps) from None
+        raise _refusal(error, 0) from None
+    steps = _line_steps(here.xyz, here.rotation, goal_xyz, goal_rotation, increment)
+    fractions = np.arange(1, steps + 1) / steps
+    positions = here.xyz + fractions[:, None] * (goal_xyz - here.xyz)
+    same_orientation = np.allclose(here.rotation, goal_rotation, atol=1e-12)
+    rotations = (np.broadcast_to(here.rotation, (steps, 3, 3)) if same_orientation
+                 else _slerp(here.rotation, goal_rotation, fractions))
     # intermediate steps: both wrist solutions at once, then the nearest to the previous step
     solutions = []
     statuses = []
@@ -184,16 +178,46 @@ def straight_path(
         statuses.append(status)
     path = np.empty((steps, 6))
     previous = np.array(current)
+    wound = rules == CONTROLLER
     for i in range(steps):
         if i == steps - 1:
             best = _nearest_equivalent(np.array(goal_joints), previous)
-            _refuse_wrist_change(best, previous, geometry, i + 1)
+            _refuse_wrist_change(best, previous, current, geometry, i + 1)
         else:
             best = _nearest_wrist(solutions, statuses, i, previous)
-        _refuse_jumps(best, previous, geometry, i + 1)
+        _refuse_jumps(best, previous, geometry, i + 1, wound)
         path[i] = best
         previous = best
     return path
+
+
+def _refuse_config_change(now: Config, wanted: Config) -> None:
+    """A straight line keeps ARM and ELBOW: refuse one that starts in the other configuration."""
+    for kind, have, want in (("ARM", now.arm, wanted.arm), ("ELBOW", now.elbow, wanted.elbow)):
+        if have != want:
+            words = {"ARM": ("RIGHTY", "LEFTY"), "ELBOW": ("ABOVE", "BELOW")}[kind]
+            raise MotionRefused(
+                f"straight line would change {kind} from {words[have < 0]} to {words[want < 0]}"
+            )
+
+
+# The most steps a line may take: the arm's span at the smallest increment, with room to spare.
+MAX_LINE_STEPS = 10_000
+
+
+def _line_steps(start_xyz: np.ndarray, start_rotation: np.ndarray, goal_xyz: np.ndarray,
+                goal_rotation: np.ndarray, increment: float) -> int:
+    """How many steps a line takes: its length over the increment, and its turn over the joint
+    increment scaled alike (a pure reorientation still takes steps)."""
+    largest = float(np.abs(goal_xyz - start_xyz).max())
+    cos = np.clip((np.trace(start_rotation.T @ goal_rotation) - 1) / 2, -1, 1)
+    turn = float(np.degrees(np.arccos(cos)))
+    steps = max(1, math.ceil(largest / increment - 1e-9))
+    turn_increment = JOINT_INCREMENT * increment / STRAIGHT_INCREMENT
+    steps = max(steps, math.ceil(turn / turn_increment - 1e-9))
+    if steps > MAX_LINE_STEPS:  # both ends reachable: only a BASE far away could make this
+        raise MotionRefused(f"the line is too long ({largest:.0f} mm): at most {MAX_LINE_STEPS} steps")
+    return steps
 
 
 def _nearest_wrist(solutions: list[np.ndarray], statuses: list[np.ndarray], i: int,
@@ -206,27 +230,45 @@ def _nearest_wrist(solutions: list[np.ndarray], statuses: list[np.ndarray], i: i
     return min(options, key=lambda o: float(np.abs(o[3:] - previous[3:]).sum()))
 
 
-def _refuse_wrist_change(goal: np.ndarray, previous: np.ndarray, geometry: RobotGeometry, step: int) -> None:
+def _refuse_wrist_change(goal: np.ndarray, previous: np.ndarray, start: Sequence[float],
+                         geometry: RobotGeometry, step: int) -> None:
     """The goal is solved with the user's WRIST; the steps before it tracked the nearest wrist.
 
-    When the two differ the last step would twirl the wrist: refuse, as for ARM and ELBOW.
+    When the two differ the last step would twirl the wrist: refuse, as for ARM and ELBOW, and
+    say why: a line along which JT5 passed 0 went through the wrist singularity.
     """
     have, want = indicators(list(previous), geometry).wrist, indicators(list(goal), geometry).wrist
     if have != want and float(np.abs(goal[3:] - previous[3:]).max()) > WRIST_JUMP:
         words = ("NOFLIP", "FLIP")
+        if (previous[4] > 0) != (float(start[4]) > 0):
+            raise MotionRefused(f"the line passes the wrist singularity (JT5 = 0): it would end "
+                                f"{words[have < 0]}, the indicators ask {words[want < 0]}", 5, step)
         raise MotionRefused(f"straight line would change WRIST from {words[have < 0]} to {words[want < 0]}", 0, step)
 
 
-def _refuse_jumps(best: np.ndarray, previous: np.ndarray, geometry: RobotGeometry, step: int) -> None:
+def beyond_stop_message(joint: int, angle: float, low: float, high: float) -> str:
+    """One wording for a joint beyond its stop: the angle as WHERE would show it, and the stop."""
+    shown = f"{angle:.2f}" if abs(angle) < 1e6 else f"{angle:.6g}"  # no 300-digit angles
+    return f"joint {joint} beyond its stop ({shown} deg, stop {low:g}..{high:g})"
+
+
+def _refuse_jumps(best: np.ndarray, previous: np.ndarray, geometry: RobotGeometry, step: int,
+                  wound: bool = False) -> None:
     """A step beyond a stop, or one that jumps (a configuration change or a wrist twirl)."""
     for joint, (angle, (low, high)) in enumerate(zip(best, geometry.stops), start=1):
-        # no refitting to another 360-degree equivalent: that would be a jump of ~360 degrees
-        if not low - 1e-9 <= angle <= high + 1e-9:
-            raise MotionRefused(f"joint {joint} beyond its stop ({angle:.2f} deg, stop {low:g}..{high:g})", joint, step)
-    if float(np.abs(best[:3] - previous[:3]).max()) > CONFIG_JUMP:
-        raise MotionRefused("straight line would change ARM or ELBOW (the arm passes a singularity)", 0, step)
-    if float(np.abs(best[3:] - previous[3:]).max()) > WRIST_JUMP:
-        raise MotionRefused("the wrist would turn too far in one step (wrist singularity)", 0, step)
+        # the controller's joints wind: the angle itself must be inside (no jump of 360 degrees);
+        # under the 1985 rules the angle is a function of the pose: an equivalent inside will do
+        inside = low - 1e-9 <= angle <= high + 1e-9 if wound else canonical_angle(angle, low, high) is not None
+        if not inside:
+            shown = angle if wound else wrap180(angle)
+            raise MotionRefused(beyond_stop_message(joint, shown, low, high), joint, step)
+    jumps = np.abs(best - previous)
+    if float(jumps[:3].max()) > CONFIG_JUMP:
+        if jumps[0] >= max(jumps[1], jumps[2]):
+            raise MotionRefused("the line passes the shoulder singularity (the wrist crosses joint 1's axis)", 1, step)
+        raise MotionRefused("the line passes the elbow singularity (the arm straight, JT3 = 90)", 3, step)
+    if float(jumps[3:].max()) > WRIST_JUMP:
+        raise MotionRefused("the line passes the wrist singularity (JT5 = 0)", 5, step)
 
 
 def _nearest_equivalent(angles: np.ndarray, near: np.ndarray) -> np.ndarray:
@@ -261,12 +303,31 @@ def check_joint_goal(goal: Sequence[float], geometry: RobotGeometry | None = Non
     """Refuse a relative joint move (DRIVE, pendant joints) whose goal is beyond a stop.
 
     The joint turns through every angle on its way, so the goal itself must lie within the
-    stops: no 360-degree equivalent helps here.
+    stops: no 360-degree equivalent helps here. The goal is checked before any path is built,
+    so an absurd turn is refused at once.
     """
     geometry = geometry or robot_geometry()
     for joint, (angle, (low, high)) in enumerate(zip(goal, geometry.stops), start=1):
+        if not math.isfinite(angle):
+            raise MotionRefused(f"joint {joint}: the angle is not a finite number", joint)
         if not low - 1e-9 <= angle <= high + 1e-9:
-            raise MotionRefused(f"joint {joint} beyond its stop ({angle:.2f} deg, stop {low:g}..{high:g})", joint)
+            raise MotionRefused(beyond_stop_message(joint, angle, low, high), joint)
+
+
+def fit_precision_point(goal: Sequence[float], current: Sequence[float],
+                        geometry: RobotGeometry | None = None) -> list[float]:
+    """A precision point's joints as the robot takes them: each the 360-degree equivalent inside
+    its stops nearest the current angle (an angle copied from WHERE or ``kin ik`` is never
+    refused; JT3 -144.96 is JT3 215.04). MotionRefused when a joint has no equivalent inside."""
+    geometry = geometry or robot_geometry()
+    values = [float(v) for v in goal]
+    for joint, angle in enumerate(values, start=1):
+        if not math.isfinite(angle):
+            raise MotionRefused(f"joint {joint}: the angle is not a finite number", joint)
+    try:
+        return fit_to_stops(values, current, geometry)
+    except BeyondStop as error:
+        raise MotionRefused(str(error), error.joint) from None
 
 
 # ---------------------------------------------------------------------------
@@ -278,6 +339,7 @@ def pendant_straight(
     displacement: np.ndarray,
     increment: float,
     geometry: RobotGeometry | None = None,
+    rules: str = RULES_1985,
 ) -> np.ndarray:
     """A WORLD or TOOL step: the TCS origin moves by ``displacement`` keeping its orientation.
 
@@ -289,7 +351,7 @@ def pendant_straight(
     config = indicators(current, geometry)
     goal = here.xyz + np.asarray(displacement, dtype=float)
     length = float(np.abs(displacement).max())
-    path = straight_path(current, goal, here.rotation, config, max(length, 1e-9), geometry)
+    path = straight_path(current, goal, here.rotation, config, max(length, 1e-9), geometry, rules)
     for step, joints in enumerate(path, start=1):
         if indicators(joints, geometry) != config:
             raise MotionRefused("the move would change the configuration indicators", 0, step)
@@ -313,7 +375,20 @@ def tool_displacement(current: Sequence[float], axis: int, step: float,
 
 
 __all__ = [
-    "PENDANT_INCREMENT", "PENDANT_STEP", "MotionRefused", "approach_point", "check_joint_goal",
-    "clamp_speed", "joint_goal", "joint_increment", "joint_path", "pendant_straight",
-    "straight_increment", "straight_path", "tool_displacement", "world_displacement",
+    "PENDANT_INCREMENT",
+    "PENDANT_STEP",
+    "MotionRefused",
+    "approach_point",
+    "beyond_stop_message",
+    "check_joint_goal",
+    "clamp_speed",
+    "fit_precision_point",
+    "joint_goal",
+    "joint_increment",
+    "joint_path",
+    "pendant_straight",
+    "straight_increment",
+    "straight_path",
+    "tool_displacement",
+    "world_displacement",
 ]

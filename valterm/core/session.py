@@ -52,11 +52,15 @@ class Session:
         """Read NAME.LOC into the simulator's locations; returns how many."""
         locations = read_locations(self.workspace.path(name, "LOC"))
         self.simulator.locations.update(locations)
+        self.simulator.mark_locations_stored(locations)
         return len(locations)
 
-    def define_location(self, name: str, location: Location) -> None:
-        """D_DEFINE or POINT in VAL-II mode: the location is known from now on."""
+    def define_location(self, name: str, location: Location, stored: bool = False) -> None:
+        """D_DEFINE or POINT in VAL-II mode: the location is known from now on (``stored``:
+        as a .LOC file holds it, so leaving loses nothing)."""
         self.simulator.locations[name] = location
+        if stored:
+            self.simulator.mark_locations_stored([name])
 
     def toggle_collision_checks(self) -> bool:
         """S at KEYBOARD: collision checks on or off; returns the new state."""

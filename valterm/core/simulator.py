@@ -25,7 +25,15 @@ from valterm.core.collision.world import Finding, Party
 from valterm.core.cycletime import joint_motion_seconds, straight_motion_seconds
 from valterm.core.errors import ValtermError
 from valterm.core.events import Collision, Event, Grasp, Hand, Message, Motion, PoseEvent, Release, Where
-from valterm.core.kinematics import Config, Location, fk, indicator_kind, indicators, rotation_to_oat, wrap180
+from valterm.core.kinematics import (
+    Config,
+    Location,
+    canonical_joints,
+    fk,
+    indicator_kind,
+    indicators,
+    rotation_to_oat,
+)
 from valterm.core.motion import (
     PENDANT_INCREMENT,
     PENDANT_STEP,
@@ -33,6 +41,7 @@ from valterm.core.motion import (
     approach_point,
     check_joint_goal,
     clamp_speed,
+    fit_precision_point,
     joint_goal,
     joint_increment,
     joint_path,
@@ -41,6 +50,7 @@ from valterm.core.motion import (
     straight_path,
 )
 from valterm.core.robot import RobotModel, load_model
+from valterm.core.rules import CONTROLLER, RULES_1985, check_rules
 
 GRASP_MESSAGE = "IT IS POSSIBLE TO GRASP THIS PART"
 
@@ -54,6 +64,16 @@ def _rounded(values: Iterable[float]) -> tuple[float, float, float]:
     """Three coordinates rounded to 6 places, as the events carry them."""
     x, y, z = (round(float(v), 6) for v in values)
     return x, y, z
+
+
+def _changes(before: Config, after: Config) -> str:
+    """``LEFTY TO RIGHTY, ABOVE TO BELOW``: the indicators that differ."""
+    return ", ".join(f"{a} TO {b}" for a, b in zip(before.words, after.words) if a != b)
+
+
+def _words_to_type(have: Config, want: Config) -> str:
+    """The configuration commands that turn ``have`` into ``want`` (``LEFTY`` or ``LEFTY, BELOW``)."""
+    return ", ".join(b for a, b in zip(have.words, want.words) if a != b)
 
 
 class UndefinedLocation(ValtermError, KeyError):
@@ -74,12 +94,18 @@ class Simulator:
         self.cell = cell if cell is not None else WorkCell()
         self.joints: list[float] = list(self.geometry.ready)
         self.config = Config(1, 1, 1)  # the user's indicators: RIGHTY ABOVE NOFLIP
+        # the joint-state rules (SPEC §3a, core/rules.py): the thesis's or the real controller's
+        self.rules = RULES_1985
+        # controller rules: the indicators asked for since the last motion (kind -> +1/-1)
+        self._asked: dict[str, int] = {}
         self.speed = 100.0
         self.clamp_closed = False
         self.gap = self.model.open_gap
         self.carried: int | None = None
         self._carried_local: np.ndarray | None = None
         self.locations: dict[str, Location] = {}
+        # the locations as last read from or written to a .LOC file (what STOREL clears)
+        self.stored_locations: dict[str, Location] = {}
         self.base = np.eye(4)
         self._home_base = self.base
         self.base_offsets = (0.0, 0.0, 0.0, 0.0)
@@ -106,20 +132,41 @@ class Simulator:
         return Where(
             xyz=_rounded(xyz),
             oat=_rounded(rotation_to_oat(rotation)),
-            joints=tuple(round(wrap180(j), 6) for j in self.joints),
+            joints=tuple(round(j, 6) for j in self.joints),
             config=indicators(self.joints, self.geometry).as_dict(),
             clamp="CLOSED" if self.clamp_closed else "OPENED",
         )
 
     def here_location(self) -> Location:
+        """Where the tool is, with the arm's configuration and joint angles (what HERE keeps)."""
         xyz, rotation = self.tool_pose()
         x, y, z = (float(v) for v in xyz)
-        return Location((x, y, z), rotation_to_oat(rotation))
+        return Location((x, y, z), rotation_to_oat(rotation), indicators(self.joints, self.geometry),
+                        tuple(self.joints))
+
+    def unsaved_locations(self) -> list[str]:
+        """Names of the locations defined or changed since the last .LOC read or STOREL."""
+        return sorted(name for name, location in self.locations.items()
+                      if self.stored_locations.get(name) != location)
+
+    def mark_locations_stored(self, names: Iterable[str] | None = None) -> None:
+        """The locations (all, or those named) are now as a .LOC file holds them."""
+        for name in self.locations if names is None else names:
+            if name in self.locations:
+                self.stored_locations[name] = self.locations[name]
 
     # -- settings ------------------------------------------------------------
     def set_speed(self, percent: float) -> float:
         self.speed = clamp_speed(percent)
         return self.speed
+
+    def set_rules(self, name: str) -> str:
+        """The joint-state rules: ``1985`` or ``controller`` (RefusedValue otherwise)."""
+        self.rules = check_rules(name)
+        self._asked.clear()
+        if self.rules == RULES_1985:
+            self.joints = self._settled(self.joints)
+        return self.rules
 
     def set_indicator(self, word: str) -> None:
         """LEFTY, RIGHTY, ABOVE, BELOW, FLIP or NOFLIP (any unique prefix)."""
@@ -131,6 +178,7 @@ class Simulator:
             parsed.elbow if kind == "elbow" else elbow,
             parsed.wrist if kind == "wrist" else wrist,
         )
+        self._asked[kind] = getattr(parsed, kind)
 
     def set_base(self, dx: float | None = None, dy: float | None = None, dz: float | None = None,
                  rz: float | None = None) -> Iterator[Event]:
@@ -157,41 +205,42 @@ class Simulator:
         return location
 
     def set_location(self, name: str, source: str) -> Location:
-        location = self.location(source)
+        location = self.location(source)  # its configuration and joints go with it (§6.1.4)
         self.locations[name.upper()] = location
         return location
 
     def shift(self, name: str, dx: float, dy: float, dz: float) -> Location:
-        location = self.location(name)
-        x, y, z = location.xyz
-        shifted = Location((x + dx, y + dy, z + dz), location.oat)
+        shifted = self.location(name).shifted(dx, dy, dz)
         self.locations[name.upper()] = shifted
         return shifted
 
-    def _resolve(self, target: str | Location) -> tuple[np.ndarray, np.ndarray]:
-        """A location in the robot's own frame (undoing BASE)."""
+    def _resolve(self, target: str | Location) -> tuple[np.ndarray, np.ndarray, Location]:
+        """A location in the robot's own frame (undoing BASE), and the location itself."""
         location = self.location(target) if isinstance(target, str) else target
         inv = self.base[:3, :3].T
         xyz = inv @ (np.asarray(location.xyz, dtype=float) - self.base[:3, 3])
-        return xyz, inv @ location.rotation
+        return xyz, inv @ location.rotation, location
 
     # -- motions ---------------------------------------------------------------
     def move(self, target: str | Location, straight: bool = False) -> Iterator[Event]:
-        xyz, rotation = self._resolve(target)
-        yield from self._go(xyz, rotation, straight)
+        xyz, rotation, location = self._resolve(target)
+        config = yield from self._config_for(target, location)
+        yield from self._go(xyz, rotation, straight, config)
 
     def appro(self, target: str | Location, distance: float, straight: bool = False) -> Iterator[Event]:
-        xyz, rotation = self._resolve(target)
-        yield from self._go(approach_point(xyz, rotation, distance), rotation, straight)
+        xyz, rotation, location = self._resolve(target)
+        config = yield from self._config_for(target, location)
+        yield from self._go(approach_point(xyz, rotation, distance), rotation, straight, config)
 
     def depart(self, distance: float, straight: bool = False) -> Iterator[Event]:
         here = fk(self.joints, 1, self.geometry)
-        yield from self._go(approach_point(here.xyz, here.rotation, distance), here.rotation, straight)
+        yield from self._go(approach_point(here.xyz, here.rotation, distance), here.rotation, straight,
+                            self._config_for_here())
 
     def draw(self, dx: float, dy: float, dz: float) -> Iterator[Event]:
         here = fk(self.joints, 1, self.geometry)
         offset = self.base[:3, :3].T @ np.array([dx, dy, dz], dtype=float)
-        yield from self._go(here.xyz + offset, here.rotation, True)
+        yield from self._go(here.xyz + offset, here.rotation, True, self._config_for_here())
 
     def drive(self, joint: int, degrees: float, speed: float = 100.0) -> Iterator[Event]:
         if not 1 <= joint <= 6:
@@ -203,15 +252,60 @@ class Simulator:
         yield from self._play(joint_path(self.joints, goal, increment), "joint")
 
     def move_joints(self, goal: Sequence[float]) -> Iterator[Event]:
-        """A joint-coordinated motion to six joint angles (a V+ precision point, #name)."""
-        goal = [float(v) for v in goal]
-        check_joint_goal(goal, self.geometry)
-        yield from self._play(joint_path(self.joints, goal, joint_increment(self.speed)), "joint")
+        """A joint-coordinated motion to six joint angles (a V+ precision point, #name): each
+        joint to its equivalent inside the stops nearest where it is."""
+        fitted = fit_precision_point(goal, self.joints, self.geometry)
+        yield from self._play(joint_path(self.joints, fitted, joint_increment(self.speed)), "joint")
 
     def ready(self) -> Iterator[Event]:
-        """READY: the arm straight up; the user's indicators become RIGHTY ABOVE NOFLIP (§6.2.6)."""
+        """READY: the arm straight up; the user's indicators become RIGHTY ABOVE NOFLIP (§6.2.6),
+        and a change of them is said."""
+        if self.config != Config(1, 1, 1):
+            changes = _changes(self.config, Config(1, 1, 1))
+            yield Message(f"READY: CONFIGURATION INDICATORS {changes}", "warning")
         self.config = Config(1, 1, 1)
+        self._asked.clear()
         yield from self._play(joint_path(self.joints, self.geometry.ready, joint_increment(self.speed)), "joint")
+
+    # -- configurations (SPEC §3a) -------------------------------------------------
+    def _config_for(self, target: str | Location, location: Location) -> Generator[Event, None, Config]:
+        """The configuration a motion to ``location`` is solved in.
+
+        1985 rules: the user's indicators; a location that keeps a configuration other than
+        theirs is refused naming both (§6.2.1), or with AUTOCONFIG ON taken and announced.
+        Controller rules: what was asked since the last motion, else the location's own
+        configuration, else the arm's present one (a real PUMA keeps its configuration).
+        """
+        stored = location.config
+        if self.rules == CONTROLLER:
+            return self._asked_over(stored or indicators(self.joints, self.geometry))
+        if stored is None or stored == self.config:
+            return self.config
+        name = target.upper() if isinstance(target, str) else "THE LOCATION"
+        if not self.autoconfig:
+            raise MotionRefused(f"location {name} is {stored} but the indicators are {self.config}"
+                                f" (type {_words_to_type(self.config, stored)} or teach it again)")
+        self.config = stored
+        yield Message(f"AUTOCONFIG: USING {stored} (THE CONFIGURATION OF {name})", "warning")
+        return stored
+
+    def _config_for_here(self) -> Config:
+        """DEPART, DRAW, ALIGN: the user's indicators (1985), the arm's own (controller)."""
+        if self.rules == CONTROLLER:
+            return self._asked_over(indicators(self.joints, self.geometry))
+        return self.config
+
+    def _asked_over(self, config: Config) -> Config:
+        arm, elbow, wrist = config
+        asked = self._asked
+        return Config(asked.get("arm", arm), asked.get("elbow", elbow), asked.get("wrist", wrist))
+
+    def _settled(self, joints: Sequence[float]) -> list[float]:
+        """The joint state after a pose: the 1985 rules' angles, or the controller's wound ones."""
+        values = [float(v) for v in joints]
+        if self.rules == CONTROLLER:
+            return values
+        return canonical_joints(values, self.geometry)
 
     def align(self) -> Iterator[Event]:
         """Turn the tool so its Z axis lies along the nearest world axis (joint-coordinated)."""
@@ -225,40 +319,42 @@ class Simulator:
             o = np.roll(axis, 1)
         o /= np.linalg.norm(o)
         rotation = np.column_stack([np.cross(o, axis), o, axis])
-        yield from self._go(here.xyz, rotation, False)
+        yield from self._go(here.xyz, rotation, False, self._config_for_here())
 
-    def _go(self, xyz: np.ndarray, rotation: np.ndarray, straight: bool) -> Iterator[Event]:
+    def _go(self, xyz: np.ndarray, rotation: np.ndarray, straight: bool, config: Config) -> Iterator[Event]:
         if straight:
-            path = straight_path(self.joints, xyz, rotation, self.config, straight_increment(self.speed), self.geometry)
+            path = straight_path(self.joints, xyz, rotation, config, straight_increment(self.speed),
+                                 self.geometry, self.rules)
             yield from self._play(path, "straight")
         else:
-            goal = yield from self._joint_goal(xyz, rotation)
+            goal = yield from self._joint_goal(xyz, rotation, config)
             yield from self._play(joint_path(self.joints, goal, joint_increment(self.speed)), "joint")
 
-    def _joint_goal(self, xyz: np.ndarray, rotation: np.ndarray) -> Generator[Event, None, list[float]]:
+    def _joint_goal(self, xyz: np.ndarray, rotation: np.ndarray, config: Config) -> Generator[Event, None, list[float]]:
         """The goal in the user's configuration; with AUTOCONFIG ON, else the nearest other one.
 
         Automatic configuration change is the thesis's future work (§8.1): the configuration
         used becomes the user's, and is announced.
         """
         try:
-            return joint_goal(xyz, rotation, self.config, self.joints, self.geometry)
+            return joint_goal(xyz, rotation, config, self.joints, self.geometry)
         except MotionRefused:
             if not self.autoconfig:
                 raise
-            found = self._other_configurations(xyz, rotation)
+            found = self._other_configurations(xyz, rotation, config)
             if not found:
                 raise
-        _distance, config, goal = min(found, key=lambda option: option[0])
-        self.config = config
-        yield Message(f"AUTOCONFIG: USING {config}", "warning")
+        _distance, other, goal = min(found, key=lambda option: option[0])
+        self.config = other
+        yield Message(f"AUTOCONFIG: USING {other}", "warning")
         return goal
 
-    def _other_configurations(self, xyz: np.ndarray, rotation: np.ndarray) -> list[tuple[float, Config, list[float]]]:
+    def _other_configurations(self, xyz: np.ndarray, rotation: np.ndarray,
+                              tried: Config) -> list[tuple[float, Config, list[float]]]:
         found = []
         for arm, elbow, wrist in itertools.product((1, -1), repeat=3):
             config = Config(arm, elbow, wrist)
-            if config == self.config:
+            if config == tried:
                 continue
             try:
                 goal = joint_goal(xyz, rotation, config, self.joints, self.geometry)
@@ -268,13 +364,18 @@ class Simulator:
         return found
 
     def _play(self, path: np.ndarray, kind: str) -> Iterator[Event]:
-        """Show every pose of a computed path; the path was checked before the first pose."""
+        """Show every pose of a computed path; the path was checked before the first pose.
+
+        The joint state after each pose follows the rules (``_settled``); a motion that leaves
+        the arm in another configuration says so (never a silent flip)."""
         steps = len(path)
         seconds = self._motion_seconds(path, kind)
-        goal = tuple(float(v) for v in path[-1]) if steps else ()
+        before = indicators(self.joints, self.geometry)
+        goal = tuple(self._settled(path[-1])) if steps else ()
+        self._asked.clear()
         for index, pose in enumerate(path, start=1):
             previous = self.joints
-            self.joints = [float(v) for v in pose]
+            self.joints = self._settled(pose)
             self._follow_clamp()
             yield PoseEvent(tuple(self.joints), index, steps, round(seconds, 6), goal)
             if self.collision_checks:
@@ -283,7 +384,10 @@ class Simulator:
                     if self.stop_on_collision and isinstance(finding, Collision):
                         # the robot stops where the collision was found (off by default, as in 1985)
                         raise MotionRefused(f"stopped on collision: {finding.text}", 0, index)
-        yield Motion(kind, steps, tuple(round(wrap180(j), 6) for j in self.joints), round(seconds, 6))
+        after = indicators(self.joints, self.geometry)
+        if after != before:
+            yield Message(f"ARM CONFIGURATION CHANGED: {_changes(before, after)}", "warning")
+        yield Motion(kind, steps, tuple(round(j, 6) for j in self.joints), round(seconds, 6))
 
     def _motion_seconds(self, path: np.ndarray, kind: str) -> float:
         """The real robot's time for this path (the cycle-time estimate)."""
@@ -308,13 +412,13 @@ class Simulator:
     def pendant_world(self, axis: int) -> Iterator[Event]:
         step = PENDANT_STEP * self.pendant_increment / PENDANT_INCREMENT
         displacement = self.base[:3, :3].T @ np.eye(3)[axis] * step
-        path = pendant_straight(self.joints, displacement, self.pendant_increment, self.geometry)
+        path = pendant_straight(self.joints, displacement, self.pendant_increment, self.geometry, self.rules)
         yield from self._play(path, "straight")
 
     def pendant_tool(self, axis: int) -> Iterator[Event]:
         step = PENDANT_STEP * self.pendant_increment / PENDANT_INCREMENT
         displacement = fk(self.joints, 1, self.geometry).rotation[:, axis] * step
-        path = pendant_straight(self.joints, displacement, self.pendant_increment, self.geometry)
+        path = pendant_straight(self.joints, displacement, self.pendant_increment, self.geometry, self.rules)
         yield from self._play(path, "straight")
 
     def change_pendant_increment(self, key: str) -> float:
@@ -443,7 +547,9 @@ class Simulator:
         if n <= 1:
             return []
         here = self.joints
-        q0, q1 = np.asarray(previous, dtype=float), np.asarray(here, dtype=float)
+        q0 = np.asarray(previous, dtype=float)
+        # the way the joints turned: under the 1985 rules 179 -> -179 is a turn of 2 degrees
+        q1 = q0 + (np.asarray(here, dtype=float) - q0 + 180.0) % 360.0 - 180.0
         found: list[Finding] = []
         try:
             for step in range(1, n):

@@ -289,9 +289,10 @@ class Workspace:
     def read_locations(self, name: str) -> dict[str, Location]:
         return locations.read_locations(self.path(name, "LOC"))
 
-    def write_locations(self, name: str, points: dict[str, Location]) -> Path:
+    def write_locations(self, name: str, points: dict[str, Location],
+                        precision: dict[str, tuple[float, ...]] | None = None) -> Path:
         path = self.path(name, "LOC")
-        locations.write_locations(path, points)
+        locations.write_locations(path, points, precision)
         return path
 
     # -- programs ----------------------------------------------------------------

@@ -68,8 +68,10 @@ class ValtermApp(ViewActions, App[int]):
         clock: Callable[[], float] = time.monotonic,
         motion_rate: float = DEFAULT_RATE,
         session: Session | None = None,  # a ready Session (tests)
+        rules: str | None = None,  # the joint-state rules (core/rules.py); None: the dialect's
     ) -> None:
         super().__init__()
+        self.rules = rules
         self.workspace_root = workspace
         self.initial_setup = setup
         self.session: Session | None = session
@@ -81,8 +83,6 @@ class ValtermApp(ViewActions, App[int]):
         self.trace = Trace()  # the clamp's path over the last motions (F5 shows or hides it)
         self.show_trace = True
         self.follow_clamp = False  # F4: the view follows the clamp
-        # the arm's configuration the screens last showed: a change is said (section 6.5)
-        self.arm_shown: tuple[str, str, str] | None = None
         self.player = Player(self, clock=clock, rate=motion_rate)
         self.setup_modified = False  # the cell moved since the set-up file was read or saved
         self._workspace: Workspace | None = None  # the workspace before any session (start screen)
@@ -135,6 +135,8 @@ class ValtermApp(ViewActions, App[int]):
         """A fresh session on ``setup`` (raises the core's errors for the caller to show)."""
         root = self.workspace_root if self.session is None else self.session.workspace.root
         session = Session(workspace_root=root, setup=setup)
+        if self.rules is not None:
+            session.simulator.set_rules(self.rules)
         self.session = session
         self.setup_modified = False
         self.view_transform = ViewTransform()
@@ -215,8 +217,9 @@ class ValtermApp(ViewActions, App[int]):
         self.player.skip_to_end()
 
 
-def run(workspace: str | Path | None = None, setup: str | None = None, ascii: bool = False) -> int:
-    app = ValtermApp(workspace, setup, ascii=ascii)
+def run(workspace: str | Path | None = None, setup: str | None = None, ascii: bool = False,
+        rules: str | None = None) -> int:
+    app = ValtermApp(workspace, setup, ascii=ascii, rules=rules)
     result = app.run()
     return exit_status(app, result)
 

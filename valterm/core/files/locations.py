@@ -8,6 +8,11 @@ V+ programs (issue 14) add two kinds of line: a dotted name of up to 15 characte
 (``POINT pick.1, ...``), and a precision point, six joint angles in degrees
 (``POINT #SAFE, 0, -90, 90, 0, 0, 0``). ``read_locations`` returns the locations only;
 ``read_location_file`` returns the precision points too.
+
+A location taught by HERE or the pendant keeps its configuration and joint angles (SPEC §3a):
+its line may end with the three configuration words and the six angles,
+``POINT P2, 400.00, 0.00, 0.00, 90.00, 90.00, 0.00, LEFTY ABOVE NOFLIP, 10.00, ...`` (STOREL
+writes them; files without them are read as before).
 """
 
 from __future__ import annotations
@@ -26,7 +31,8 @@ from valterm.core.files._text import (
 from valterm.core.files.atomic import write_text_atomic
 from valterm.core.files.errors import BadName, FileFormatError, shown_name
 from valterm.core.files.limits import MAX_LOCATIONS
-from valterm.core.kinematics import Location
+from valterm.core.errors import ValtermError
+from valterm.core.kinematics import Config, Location
 
 # A location name: a letter then up to 8 letters or digits (§7.3: "up to 9 characters").
 LOCATION_NAME = re.compile(r"[A-Z][A-Z0-9]{0,8}")
@@ -101,40 +107,65 @@ def parse_locations(text: str, name: str | Path,
         except ValueError as error:
             raise FileFormatError(where, number, str(error)) from None
         values = fields[1:]
-        what = "JT1..JT6" if point.startswith("#") else "X, Y, Z, O, A, T"
-        if len(values) != 6:
-            raise FileFormatError(
-                where, number, f"POINT {point}: expected 6 numbers ({what}), found {len(values)}"
-            )
         if point.startswith("#"):
+            if len(values) != 6:
+                raise FileFormatError(where, number, f"POINT {point}: expected 6 numbers (JT1..JT6), found {len(values)}")
             angles = tuple(parse_number(v, where, number, f"POINT {point} JT{i}") for i, v in enumerate(values, 1))
             if points is not None:
                 points[point] = angles
             continue
-        numbers = [parse_number(v, where, number, f"POINT {point} {axis}") for v, axis in zip(values, _FIELDS)]
         if point not in found and len(found) >= MAX_LOCATIONS:
             raise FileFormatError(where, number, f"more than {MAX_LOCATIONS} locations in one file")
-        found[point] = Location(
-            (numbers[0], numbers[1], numbers[2]), (numbers[3], numbers[4], numbers[5])
-        )
+        found[point] = _location(point, values, where, number)
     return found
 
 
-def format_locations(locations: dict[str, Location]) -> str:
-    """Location-file text, one ``POINT`` line per location, in the order given."""
+def _location(point: str, values: list[str], where: Path, number: int) -> Location:
+    """X Y Z O A T, then optionally the configuration (three words) and the six joint angles."""
+    if len(values) not in (6, 9, 15):
+        raise FileFormatError(
+            where, number, f"POINT {point}: expected 6 numbers (X, Y, Z, O, A, T), "
+            f"optionally then 3 configuration words and 6 joint angles; found {len(values)} fields"
+        )
+    numbers = [parse_number(v, where, number, f"POINT {point} {axis}") for v, axis in zip(values, _FIELDS)]
+    config = _config(point, values[6:9], where, number) if len(values) > 6 else None
+    joints = tuple(parse_number(v, where, number, f"POINT {point} JT{i}")
+                   for i, v in enumerate(values[9:], 1)) if len(values) == 15 else None
+    return Location((numbers[0], numbers[1], numbers[2]), (numbers[3], numbers[4], numbers[5]), config, joints)
+
+
+def _config(point: str, words: list[str], where: Path, number: int) -> Config:
+    """The three configuration words of a POINT line (three words, none twice: each indicator once)."""
+    try:
+        return Config.parse(" ".join(words))
+    except ValtermError as error:
+        raise FileFormatError(where, number, f"POINT {point}: {error} (e.g. LEFTY ABOVE NOFLIP)") from None
+
+
+def format_locations(locations: dict[str, Location],
+                     points: dict[str, tuple[float, ...]] | None = None) -> str:
+    """Location-file text, one ``POINT`` line per location (with its configuration and joints
+    when it keeps them), in the order given; then the precision points (#name) if any."""
     lines = []
     for name, location in locations.items():
         point = _file_name(name)
         numbers = ", ".join(format_number(v) for v in (*location.xyz, *location.oat))
+        if location.config is not None:
+            numbers += ", " + " ".join(location.config.words)
+            if location.joints is not None:
+                numbers += ", " + ", ".join(format_number(v) for v in location.joints)
         lines.append(f"POINT {point}, {numbers}")
+    for name, angles in (points or {}).items():
+        lines.append(f"POINT {_file_name(name)}, " + ", ".join(format_number(v) for v in angles))
     if not lines:
         lines.append("; NO LOCATIONS")  # an empty file reads as damaged, so say it is empty
     return "\n".join(lines) + "\n"
 
 
-def write_locations(path: str | Path, locations: dict[str, Location]) -> None:
-    """Write the locations atomically."""
-    write_text_atomic(path, format_locations(locations))
+def write_locations(path: str | Path, locations: dict[str, Location],
+                    points: dict[str, tuple[float, ...]] | None = None) -> None:
+    """Write the locations (and precision points) atomically."""
+    write_text_atomic(path, format_locations(locations, points))
 
 
 def _shorten(text: str, limit: int = 40) -> str:

@@ -110,7 +110,7 @@ def event_lines(event: Event) -> list[str]:
     if isinstance(event, Where):
         return where_lines(event)
     if isinstance(event, Status):
-        return [event.text, event.cycle_text]
+        return [event.text, event.rules_text, event.cycle_text]
     if isinstance(event, Signal):
         return [event.text]
     if isinstance(event, Breakpoint):  # before Pause: it is one

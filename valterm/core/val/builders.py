@@ -310,10 +310,8 @@ def location_of(c: Build, loc: LocArg) -> Callable[[], str | Location]:
     increments = tuple(getter(e, 0.0) for e in loc.shift)
 
     def shifted() -> Location:
-        base = c.sim.location(loc.name)
         dx, dy, dz = (float(v or 0.0) for v in numbers(increments, c.variables))
-        x, y, z = base.xyz
-        return Location((x + dx, y + dy, z + dz), base.oat)
+        return c.sim.location(loc.name).shifted(dx, dy, dz)
     return shifted
 
 

@@ -22,6 +22,7 @@ language. ``machine`` holds the V+ controller's state (signals, strings, precisi
 from __future__ import annotations
 
 from collections.abc import Callable, Generator, Iterator, Mapping
+from pathlib import Path
 from typing import Protocol
 
 from valterm.core.cycletime import CycleClock
@@ -54,6 +55,7 @@ from valterm.core.val.builders import (
 from valterm.core.val.compiler import Analysis, analyse, step_text
 from valterm.core.val.debugger import DEBUG_COMMANDS, Debugger
 from valterm.core.val.expr import MAX_NUMBER
+from valterm.core.val.locstore import StoreLocations, rules, storel
 from valterm.core.val.machine import Machine
 from valterm.core.val.ops import (
     Action,
@@ -116,7 +118,8 @@ class Interpreter:
                  keep_variables: Callable[[dict[str, float]], object] | None = None,
                  builders: Mapping[str, Builder] | None = None,
                  monitor: Mapping[str, MonitorCommand] | None = None,
-                 dialect: str = "1985") -> None:
+                 dialect: str = "1985",
+                 store_locations: StoreLocations | None = None) -> None:
         self.sim = sim
         # "1985" (COMMAND.DAT, the thesis) or "v+": the dialect of programs that do not say
         # (a program read from a V+ file is v+ whatever this says)
@@ -132,6 +135,7 @@ class Interpreter:
         # CHECK.DAT is written when a program or a typed command ends (section 6.7), not per
         # assignment: a 100 000-pass loop must not write a file 100 000 times
         self.keep_variables = keep_variables
+        self.store_locations = store_locations  # STOREL: NAME.LOC in the workspace
         self.load_program = load_program
         # a VariableStore, so that reading an undeclared name is UndefinedVariable
         self.variables: dict[str, float] = (variables if isinstance(variables, VariableStore)
@@ -159,7 +163,8 @@ class Interpreter:
         ends, so they are kept for the next session (section 6.7).
         """
         variables = VariableStore(workspace.read_variables())
-        return cls(sim, workspace.read_program, variables, keep_variables=workspace.write_variables)
+        return cls(sim, workspace.read_program, variables, keep_variables=workspace.write_variables,
+                   store_locations=workspace.write_locations)
 
     # -- state the app asks about ---------------------------------------------
     @property
@@ -196,7 +201,7 @@ class Interpreter:
     def status(self) -> Status:
         left = max(0, self.loops_total - self.loops_done) if self._running else 0
         return Status(float(self.sim.speed), self.program, self.loops_done, left,
-                      round(self.cycle_seconds, 3))
+                      round(self.cycle_seconds, 3), str(getattr(self.sim, "rules", "1985")))
 
     def pause(self, event: Pause) -> Iterator[Event]:
         """Yield `event` with the program paused: the app stops pulling; pulling again goes on."""
@@ -488,6 +493,7 @@ class _Workspace(Protocol):  # what for_workspace reads from a Workspace
     def read_variables(self) -> dict[str, float]: ...
     def read_program(self, name: str) -> Program: ...
     def write_variables(self, values: dict[str, float]) -> object: ...
+    def write_locations(self, name: str, points: dict, precision: dict) -> Path: ...  # type: ignore[type-arg]
 
 
 # -- the commands only typed at the prompt ---------------------------------------------
@@ -527,6 +533,7 @@ MONITOR_COMMANDS: dict[str, MonitorCommand] = {
     "EXECUTE": _execute, "HELP": _help, **DEBUG_COMMANDS,  # PROCEED is the debugger's
     **{name: _monitor_event for name in ("LISTP", "LISTF", "LISTL", "EDIT", "POINT")},
     "STOP": _stop_typed, "HALT": _stop_typed, "STATUS": _status_typed,
+    "STOREL": storel, "RULES": rules,
 }
 
 

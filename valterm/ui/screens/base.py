@@ -27,7 +27,7 @@ from valterm.ui.widgets.cell_view import CellView
 from valterm.ui.widgets.menu_text import MenuText
 from valterm.ui.widgets.message_log import MessageLog
 from valterm.ui.widgets.prompt import Prompt, type_ahead
-from valterm.ui.widgets.status import StatusLine, arm_configuration
+from valterm.ui.widgets.status import StatusLine
 
 WIDE = 100  # columns from which the model is shown beside the menu
 
@@ -129,15 +129,9 @@ class MenuScreen(Screen):
         self.update_status()
 
     def update_status(self) -> None:
-        """The status line again, and a word when the arm changed configuration (§6.5)."""
+        """The status line again (a change of the arm's configuration is the core's message,
+        ARM CONFIGURATION CHANGED, said after the motion that made it)."""
         self.query_one("#status", StatusLine).refresh()
-        if self.app.session is None:
-            return
-        arm = arm_configuration(self.app.simulator)
-        before, self.app.arm_shown = self.app.arm_shown, arm
-        if before is not None and before != arm:
-            changed = [f"{a} TO {b}" for a, b in zip(before, arm) if a != b]
-            self.say("ARM CONFIGURATION CHANGED: " + ", ".join(changed), "warning")
 
     def update_readout(self) -> None:
         """Subclasses keep their readout current here."""

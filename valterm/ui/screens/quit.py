@@ -10,13 +10,20 @@ from textual.widgets import Static
 
 
 def unsaved_work(app: App) -> list[str]:  # type: ignore[type-arg]
-    """What leaving now would lose: a moved set-up, programs with unsaved edits."""
+    """What leaving now would lose: a moved set-up, taught locations no .LOC file holds,
+    programs with unsaved edits."""
     from valterm.ui.screens.editor import EditorScreen
 
     lost = []
     session = getattr(app, "session", None)
     if session is not None and getattr(app, "setup_modified", False):
         lost.append(f"THE MOVED PARTS OF {session.setup_name or 'THE'}.SET")
+    if session is not None:
+        names = session.simulator.unsaved_locations()
+        if names:
+            shown = ", ".join(names[:8]) + (f" AND {len(names) - 8} MORE" if len(names) > 8 else "")
+            lost.append(f"{len(names)} LOCATION{'S' if len(names) != 1 else ''} ({shown}): "
+                        "STOREL NAME SAVES THEM")
     for screen in app.screen_stack:
         editor = getattr(screen, "editor", None)
         if isinstance(screen, EditorScreen) and editor is not None and editor.dirty:

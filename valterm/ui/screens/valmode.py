@@ -329,8 +329,11 @@ class ValModeScreen(Screen[None]):
         """A key of the menu or of a one-key question (the line closed): True if it is one."""
         if self.mode == Mode.MENU:
             return self._menu_key(char, event)
-        if self.mode == Mode.DEFINE and char in ("D", "P", "R"):
-            if char == "D":
+        if self.mode == Mode.DEFINE and char in ("D", "P", "S", "R"):
+            if char == "S":  # the locations to a .LOC file: STOREL on the line, the name to type
+                self.to_command("STOREL ")
+                self._keys("TYPE THE .LOC FILE NAME, RETURN (STOREL NAME WRITES NAME.LOC)   ESC: MENU")
+            elif char == "D":
                 self._open_line(Mode.DEFINE_FILE, "LOCATION FILE NAME:", "", "e.g. PROCESS.LOC")
                 self._keys("TYPE THE .LOC FILE NAME, RETURN   ESC: MENU")
             elif char == "P":
@@ -597,7 +600,7 @@ class ValModeScreen(Screen[None]):
     def _define_answer(self, key: str) -> None:
         name, location = self._defining.pop(0)
         if key in ("A", "E"):
-            self.session.define_location(name, location)
+            self.session.define_location(name, location, stored=True)  # as its file holds it
             self._defined.append(name)
             self.log_line(f"{name} ACCEPTED")
         else:

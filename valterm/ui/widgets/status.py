@@ -38,6 +38,8 @@ def status_fields(app) -> list[tuple[str, str]]:  # type: ignore[no-untyped-def]
     arm = arm_configuration(sim)
     fields.append((f"CONFIG {' '.join(user)}", "CFG " + "".join(_short(w) for w in user)))
     fields.append((f"ARM {' '.join(arm)}", "ARM " + "".join(_short(w) for w in arm)))
+    rules = "CONTROLLER" if getattr(sim, "rules", "1985") == "controller" else "1985"
+    fields.append((f"RULES {rules}", f"R {rules[:4]}"))
     fields.append((HELP_HINT, "? HELP"))
     return fields
 
