@@ -33,6 +33,8 @@ TYPED = {
     # the debugger's monitor commands (issue 13)
     "BPT": "BPT T1, 1", "XSTEP": "XSTEP", "SSTEP": "SSTEP", "WATCH": "WATCH X", "TRACE": "TRACE OFF",
     "AUTOCONFIG": "AUTOCONFIG OFF",
+    # the robot's state (issue 22)
+    "STOREL": "STOREL T1", "RULES": "RULES 1985",
 }
 
 

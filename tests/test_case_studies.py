@@ -117,25 +117,39 @@ def test_stop_on_collision_stops_the_motion_where_it_collides() -> None:
     assert sim.where().xyz[2] > -295.0
 
 
-def test_conv1_calls_conv2_and_its_wrist_reaches_the_stop(tmp_path: Path) -> None:
-    """CONV1 types COL and ROW, calls CONV2, and there the real PUMA's wrist would hit its stop.
+def test_conv1_with_conv2_runs_to_its_end_under_the_1985_rules(tmp_path: Path) -> None:
+    """The thesis's second example completes (§6.1.2: the angles are a function of the pose).
 
-    CONV1's MOVES L rolls JT4 from 5 to -232 degrees; CONV2's APPRO F then takes the
-    equivalent of JT4 nearest the arm (-217, not 143) and its MOVES B would roll JT4 on past
-    -266 at the line's 10th step. The 1985 simulator jumped a whole turn there (issue 13);
-    the program stops with the joint, its angle and its stop named (SPEC §3).
+    CONV1's MOVES L leaves JT4 at 153.47 (WHERE's angle, the one the stop check uses), so CONV2's
+    MOVES B starts there and stays inside the stops (issue 22: it used to start from a hidden
+    -206.53 and stop at -268.34).
     """
     result = run(tmp_path, "CONV1.DAT", "--cell", "CONV.SET", "--loc", "CONV.LOC", "--json")
-    assert result.returncode == 1, result.stderr
+    assert result.returncode == 0, result.stdout[-2000:]
     ev = events(result)
     typed = [e["text"] for e in ev if e["event"] == "type"]
-    assert typed == ["COL = 2", "ROW = 3", "COL = 3"]
-    programs = {e["program"] for e in ev if e["event"] == "step"}
-    assert programs == {"CONV1", "CONV2"}
+    assert typed == ["COL = 2", "ROW = 3", "COL = 3", "ROW = 3", "COL = 3"]
+    assert not [e for e in ev if e["event"] == "error"]
+    assert {e["program"] for e in ev if e["event"] == "step"} == {"CONV1", "CONV2"}
+    assert ev[-1]["where"]["config"]["arm"] == "RIGHTY"  # CONV1 ends RIGHTY at A
+    # one joint state: every pose's angles are inside the stops as printed
+    stops = [(-160, 160), (-225, 45), (-45, 225), (-180, 180), (-100, 100), (-180, 180)]
+    for pose in (e["joints"] for e in ev if e["event"] == "pose"):
+        assert all(lo - 1e-6 <= j <= hi + 1e-6 for j, (lo, hi) in zip(pose, stops)), pose
+
+
+def test_conv1_under_the_controller_rules_stops_where_the_real_wrist_meets_its_stop(tmp_path: Path) -> None:
+    """A real PUMA's joints wind: MOVES L rolls JT4 to -206.53 and WHERE shows that; CONV2's
+    MOVES B would roll it on past -266 at the line's 10th step (the angle named is WHERE's)."""
+    result = run(tmp_path, "CONV1.DAT", "--cell", "CONV.SET", "--loc", "CONV.LOC", "--json",
+                 "--rules", "controller")
+    assert result.returncode == 1, result.stderr
+    ev = events(result)
     [error] = [e for e in ev if e["event"] == "error"]
     assert (error["program"], error["step"]) == ("CONV2", 8)
-    assert "joint 4 beyond its stop" in error["message"] and "-266" in error["message"]
+    assert "joint 4 beyond its stop (-268.34 deg" in error["message"] and "-266" in error["message"]
     assert "step 10 of the line" in error["message"]
+    assert ev[-1]["where"]["joints"][3] == pytest.approx(-206.53, abs=0.01)  # shown as it is
 
 
 def test_run_time_error_exits_1_with_program_and_step(tmp_path: Path) -> None:

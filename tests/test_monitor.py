@@ -68,8 +68,9 @@ def test_the_monitor_prints_the_same_transcript_as_run(
     transcript = after(out, "EXECUTE PROCESS")
     assert transcript == ran[:len(transcript)]
     # STATUS keeps its line and adds the cycle time: the whole run's (it has ended), as `run` ends with
-    speed, cycle = after(out, "STATUS")
+    speed, rules, cycle = after(out, "STATUS")
     assert speed == "SPEED 100  PROGRAM PROCESS  LOOPS COMPLETED 1  REMAINING 0"
+    assert rules.startswith("RULES 1985 (THE THESIS")  # the rules the verdicts followed (SPEC §3a)
     assert cycle == f"CYCLE TIME {events[-1]['cycle_time_s']:.2f} S (ESTIMATE FOR THE REAL PUMA)"
     assert events[-1]["cycle_time_s"] > 2.0  # two DELAY 1 and the motions
 

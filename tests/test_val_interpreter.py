@@ -488,8 +488,8 @@ def test_process_runs_on_the_real_simulator() -> None:
 def test_cli_run_transcript(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     from valterm.cli import main
 
-    # CONV2's MOVES B stops at JT4's stop (tests/test_case_studies.py): exit 1, transcript whole
-    assert main(["--workspace", str(tmp_path / "ws"), "run", "CONV1", "--cell", "CONV", "--loc", "CONV"]) == 1
+    # CONV1 calls CONV2 and runs to its end (tests/test_case_studies.py): exit 0, transcript whole
+    assert main(["--workspace", str(tmp_path / "ws"), "run", "CONV1", "--cell", "CONV", "--loc", "CONV"]) == 0
     out = capsys.readouterr().out
     assert "CONV1      19  IF COL.EQ.2, THEN" in out
     assert "CONV2       2  OPENI 100" in out

@@ -252,8 +252,9 @@ def test_export_program_round_trips_and_runs_the_same(capsys: pytest.CaptureFixt
     ends = []
     for program in ("CONV1", str(tmp_path / "conv.v2")):  # both stop where CONV1's wrist meets its stop
         capsys.readouterr()
+        # the same rules for both (a V+ file's default is the controller's): the real wrist's stop
         assert main(["--workspace", str(tmp_path), "run", program, "--cell", "CONV.SET", "--loc", "CONV.LOC",
-                     "--json"]) == 1
+                     "--json", "--rules", "controller"]) == 1
         lines = [json.loads(line) for line in capsys.readouterr().out.splitlines()]
         ends.append(([e for e in lines if e["event"] == "error"], lines[-1]["where"]))
     assert ends[0] == ends[1] and ends[0][0]

@@ -20,6 +20,7 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
+from valterm.core.errors import ValtermError
 from valterm.core.files._text import (
     check_line_lengths,
     format_number,
@@ -31,7 +32,6 @@ from valterm.core.files._text import (
 from valterm.core.files.atomic import write_text_atomic
 from valterm.core.files.errors import BadName, FileFormatError, shown_name
 from valterm.core.files.limits import MAX_LOCATIONS
-from valterm.core.errors import ValtermError
 from valterm.core.kinematics import Config, Location
 
 # A location name: a letter then up to 8 letters or digits (§7.3: "up to 9 characters").
@@ -109,7 +109,8 @@ def parse_locations(text: str, name: str | Path,
         values = fields[1:]
         if point.startswith("#"):
             if len(values) != 6:
-                raise FileFormatError(where, number, f"POINT {point}: expected 6 numbers (JT1..JT6), found {len(values)}")
+                raise FileFormatError(where, number,
+                                      f"POINT {point}: expected 6 numbers (JT1..JT6), found {len(values)}")
             angles = tuple(parse_number(v, where, number, f"POINT {point} JT{i}") for i, v in enumerate(values, 1))
             if points is not None:
                 points[point] = angles
