@@ -39,6 +39,8 @@ MIN_SPEED, MAX_SPEED = 10.0, 100.0
 CONFIG_JUMP = 45.0
 # A step-to-step turn this large in JT4..JT6 is a wrist twirl, not a smooth line.
 WRIST_JUMP = 90.0
+# Within this of JT5 = 0 a line is at the wrist singularity: JT4 and JT6 swing as they please.
+NEAR_WRIST = 10.0
 
 
 class MotionRefused(ValtermError):
@@ -240,7 +242,7 @@ def _refuse_wrist_change(goal: np.ndarray, previous: np.ndarray, start: Sequence
     have, want = indicators(list(previous), geometry).wrist, indicators(list(goal), geometry).wrist
     if have != want and float(np.abs(goal[3:] - previous[3:]).max()) > WRIST_JUMP:
         words = ("NOFLIP", "FLIP")
-        if (previous[4] > 0) != (float(start[4]) > 0):
+        if (previous[4] > 0) != (float(start[4]) > 0) or min(abs(previous[4]), abs(float(start[4]))) < NEAR_WRIST:
             raise MotionRefused(f"the line passes the wrist singularity (JT5 = 0): it would end "
                                 f"{words[have < 0]}, the indicators ask {words[want < 0]}", 5, step)
         raise MotionRefused(f"straight line would change WRIST from {words[have < 0]} to {words[want < 0]}", 0, step)
