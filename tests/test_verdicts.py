@@ -6,7 +6,6 @@ from __future__ import annotations
 import tracemalloc
 from pathlib import Path
 
-import numpy as np
 import pytest
 
 from valterm.core.errors import ValtermError
