@@ -33,6 +33,7 @@ from valterm.commands import (
     say,
     serve,
 )
+from valterm.commands.limits import add_limit_flags
 from valterm.core.crashlog import report_crash
 from valterm.core.errors import ValtermError
 from valterm.core.workspace import ENV_VAR
@@ -84,6 +85,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"valterm {version()}")
     parser.add_argument("--setup", metavar="NAME", help="the app: read NAME.SET and go straight to the MAIN MENU")
     parser.add_argument("--ascii", action="store_true", help="the app: draw the model in ASCII, not braille")
+    add_limit_flags(parser, top=True)  # the app's programs' limits (run, monitor, grade take them too)
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=Parser)
     for command in COMMANDS:
         command.register(sub)

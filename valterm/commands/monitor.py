@@ -23,12 +23,15 @@ import signal
 import sys
 from typing import Any, TextIO
 
+from valterm.commands.limits import add_limit_flags, limits_from
+
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     parser = subparsers.add_parser("monitor", help="the VAL-II prompt as a line-mode program (stdin in, transcript out)")
     # SUPPRESS: given before the subcommand (valterm --setup X monitor), the value stays
     parser.add_argument("--setup", metavar="NAME", default=argparse.SUPPRESS, help="read NAME.SET (and NAME.LOC)")
     parser.add_argument("--loc", metavar="FILE", action="append", help="a location file (may repeat)")
+    add_limit_flags(parser)
     parser.set_defaults(func=run)
 
 
@@ -38,7 +41,7 @@ def _session(args: argparse.Namespace) -> Any:
     from valterm.core.files.locations import read_locations
     from valterm.core.session import Session
 
-    session = Session(getattr(args, "workspace", None), setup=None)
+    session = Session(getattr(args, "workspace", None), setup=None, limits=limits_from(args))
     setup = getattr(args, "setup", None)
     if setup:
         session.load_setup(setup)

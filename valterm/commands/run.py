@@ -32,6 +32,7 @@ from typing import Any
 
 from valterm.core.errors import RefusedValue
 from valterm.commands import FAILURE, OK, USAGE, fail
+from valterm.commands.limits import add_limit_flags, limits_from
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -49,6 +50,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         help="the user's configuration indicators at the start (default RIGHTY,ABOVE,NOFLIP)")
     parser.add_argument("--inputs", metavar="FILE",
                         help='input signals scripted as "TIME SIGNAL VALUE" lines (V+ SIG, WAIT)')
+    add_limit_flags(parser)
     parser.set_defaults(func=run)
 
 
@@ -131,7 +133,7 @@ def run(args: argparse.Namespace) -> int:
         return load_called(name)  # through the workspace's checks (no links outside)
 
     interpreter = Interpreter(sim, load_program, variables, keep_variables=workspace.write_variables,
-                              dialect=args.dialect or "1985")
+                              dialect=args.dialect or "1985", limits=limits_from(args))
     try:
         _vplus_setup(args, sim, interpreter, loc_paths)
     except (FileFormatError, OSError) as error:  # a bad --inputs file
@@ -178,7 +180,7 @@ def _write_end(args: argparse.Namespace, sim: Any, interpreter: Any, out: Any) -
     panel = interpreter.machine.signals
     end = End(where=where.to_json(), variables=dict(interpreter.variables),
               cycle_time_s=round(interpreter.cycle_seconds, 3),  # the interpreter's clock
-              signals_on=tuple(panel.outputs_on() + panel.inputs_on()))
+              signals_on=tuple(panel.outputs_on() + panel.inputs_on()), parts=final_parts(sim))
     if args.json:
         out.write(json.dumps(end.to_json()) + "\n")
     else:
@@ -190,6 +192,14 @@ def _write_end(args: argparse.Namespace, sim: Any, interpreter: Any, out: Any) -
             out.write(f"SIGNALS ON {' '.join(str(n) for n in end.signals_on)}\n")
         out.write(f"CYCLE TIME {interpreter.cycle_seconds:.2f} S (ESTIMATE FOR THE REAL PUMA)\n")
     out.flush()
+
+
+def final_parts(sim: Any) -> tuple[dict[str, Any], ...]:
+    """Every part of the cell at the end: its number, reference point (world mm) and whether
+    the clamp holds it (``run --json``'s end event, ``valterm grade``)."""
+    return tuple({"part": number, "position": [round(float(v), 3) for v in part.reference],
+                  "held": sim.carried == number}
+                 for number, part in enumerate(sim.cell.objects, start=1))
 
 
 def _in_workspace(workspace: Any, name: str, ext: str) -> bool:

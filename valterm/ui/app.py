@@ -27,6 +27,7 @@ from valterm.core.render.clock import DEFAULT_RATE
 from valterm.core.render.overlays import Overlays, Trace, cell_points, clamp_point, picture_scene
 from valterm.core.render.raster import Scene, ViewTransform
 from valterm.core.session import Session
+from valterm.core.val.limits import RunLimits
 from valterm.core.workspace import Workspace
 from valterm.ui.errors import error_text
 from valterm.ui.messages import SceneChanged
@@ -68,8 +69,10 @@ class ValtermApp(ViewActions, App[int]):
         clock: Callable[[], float] = time.monotonic,
         motion_rate: float = DEFAULT_RATE,
         session: Session | None = None,  # a ready Session (tests)
+        limits: RunLimits | None = None,  # every program's limits (valterm.core.val.limits)
     ) -> None:
         super().__init__()
+        self.limits = limits
         self.workspace_root = workspace
         self.initial_setup = setup
         self.session: Session | None = session
@@ -134,7 +137,7 @@ class ValtermApp(ViewActions, App[int]):
     def open_session(self, setup: str | None) -> Session:
         """A fresh session on ``setup`` (raises the core's errors for the caller to show)."""
         root = self.workspace_root if self.session is None else self.session.workspace.root
-        session = Session(workspace_root=root, setup=setup)
+        session = Session(workspace_root=root, setup=setup, limits=self.limits)
         self.session = session
         self.setup_modified = False
         self.view_transform = ViewTransform()
@@ -215,8 +218,9 @@ class ValtermApp(ViewActions, App[int]):
         self.player.skip_to_end()
 
 
-def run(workspace: str | Path | None = None, setup: str | None = None, ascii: bool = False) -> int:
-    app = ValtermApp(workspace, setup, ascii=ascii)
+def run(workspace: str | Path | None = None, setup: str | None = None, ascii: bool = False,
+        limits: RunLimits | None = None) -> int:
+    app = ValtermApp(workspace, setup, ascii=ascii, limits=limits)
     result = app.run()
     return exit_status(app, result)
 

@@ -381,9 +381,10 @@ class Interpreter:
                 pc = op.next
             elif isinstance(op, Action):
                 pc = yield from self._act(op)
+                self._spend(counted - budget)  # the lines it printed are counted: look now
                 if pc < 0:
-                    self._spend(counted - budget)
                     return False
+                budget = counted = self._budget()
             else:
                 pc = yield from self._control(op, run)
                 if run.failed or run.ended:
