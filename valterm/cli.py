@@ -26,6 +26,7 @@ from valterm.commands import (
     demo,
     export,
     exportprogram,
+    grade,
     kin,
     monitor,
     render,
@@ -39,7 +40,7 @@ from valterm.core.errors import ValtermError
 from valterm.core.workspace import ENV_VAR
 
 # Each module registers its subcommand(s); the order is the order of --help.
-COMMANDS = (kin, cell, cad, export, exportprogram, check, run, monitor, render, bench, app, demo, serve)
+COMMANDS = (kin, cell, cad, export, exportprogram, check, run, monitor, grade, render, bench, app, demo, serve)
 
 EPILOG = (
     f"The workspace (programs, setup and location files) is --workspace DIR, else ${ENV_VAR}, "

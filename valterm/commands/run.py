@@ -174,13 +174,14 @@ def run(args: argparse.Namespace) -> int:
 def _write_end(args: argparse.Namespace, sim: Any, interpreter: Any, out: Any) -> None:
     """The end of a run: the final WHERE, the variables, the signals on and the cycle time."""
     from valterm.core.events import End
+    from valterm.core.grading import part_positions
     from valterm.core.text.transcript import where_lines
 
     where = sim.where()
     panel = interpreter.machine.signals
     end = End(where=where.to_json(), variables=dict(interpreter.variables),
               cycle_time_s=round(interpreter.cycle_seconds, 3),  # the interpreter's clock
-              signals_on=tuple(panel.outputs_on() + panel.inputs_on()), parts=final_parts(sim))
+              signals_on=tuple(panel.outputs_on() + panel.inputs_on()), parts=part_positions(sim))
     if args.json:
         out.write(json.dumps(end.to_json()) + "\n")
     else:
@@ -192,14 +193,6 @@ def _write_end(args: argparse.Namespace, sim: Any, interpreter: Any, out: Any) -
             out.write(f"SIGNALS ON {' '.join(str(n) for n in end.signals_on)}\n")
         out.write(f"CYCLE TIME {interpreter.cycle_seconds:.2f} S (ESTIMATE FOR THE REAL PUMA)\n")
     out.flush()
-
-
-def final_parts(sim: Any) -> tuple[dict[str, Any], ...]:
-    """Every part of the cell at the end: its number, reference point (world mm) and whether
-    the clamp holds it (``run --json``'s end event, ``valterm grade``)."""
-    return tuple({"part": number, "position": [round(float(v), 3) for v in part.reference],
-                  "held": sim.carried == number}
-                 for number, part in enumerate(sim.cell.objects, start=1))
 
 
 def _in_workspace(workspace: Any, name: str, ext: str) -> bool:

@@ -422,6 +422,9 @@ def _draw(c: Build, st: Statement) -> Op:
     return c.action(run)
 
 
+CLOSED_ON_AIR = "NOTHING BETWEEN THE FINGERS, THE CLAMP CLOSED ON AIR"
+
+
 def _hand(c: Build, st: Statement) -> Op:
     # The % argument is decoded (and its variables checked); the simulated clamp is fully
     # open or closed on the part, as in the thesis (section 6.3).
@@ -439,7 +442,7 @@ def _hand(c: Build, st: Statement) -> Op:
             yield event
         if closing and closed and not grasped:  # a grader (and a student) must see the miss
             where = f"{c.step.program} STEP {c.step.step}: " if c.step.program else ""
-            yield Message(f"{where}{st.command}: NOTHING BETWEEN THE FINGERS, THE CLAMP CLOSED ON AIR", "warning")
+            yield Message(f"{where}{st.command}: {CLOSED_ON_AIR}", "warning")
         return c.next
     return c.action(run)
 
