@@ -122,3 +122,34 @@ def test_the_flags_go_before_or_after_the_subcommand_and_the_app_reads_them(argv
 def test_a_bad_limit_is_a_usage_error(flag: str, value: str, capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["run", "X", flag, value]) == 2
     assert flag in capsys.readouterr().err
+
+
+def test_the_app_stops_a_runaway_at_its_limit_and_the_prompt_answers(tmp_path: Path) -> None:
+    import asyncio
+    import math
+
+    from valterm.core.workspace import Workspace
+    from valterm.ui.app import ValtermApp
+    from valterm.ui.screens.valmode import ValModeScreen
+
+    workspace = Workspace.open(tmp_path / "ws")
+    (workspace.root / "LOOP.DAT").write_text("".join(f"{line}\n" for line in RUNAWAY))
+
+    async def body() -> None:
+        # the limits as `valterm --max-steps 30` gives them to the app: every session it opens has them
+        app = ValtermApp(workspace.root, "PROCESS", motion_rate=math.inf, limits=RunLimits(steps=30))
+        async with app.run_test(size=(120, 40)) as pilot:
+            screen = ValModeScreen()
+            await app.push_screen(screen)
+            await pilot.pause()
+            await pilot.press("n", "v", *"EXEC LOOP", "enter")
+            for _ in range(100):
+                if screen.mode == "command":
+                    break
+                await pilot.pause(0.02)
+            assert screen.mode == "command"
+            assert sum(1 for line in screen.transcript if line.startswith("LOOP ")) == 30
+            assert "*** LOOP STEP 1: RUN LIMIT REACHED: 30 STEPS (raise it with --max-steps)" in screen.transcript
+            assert not screen.interpreter.running
+
+    asyncio.run(body())
