@@ -12,7 +12,10 @@ and DELAY is not waited.
 file (a path, or a name in the workspace; may repeat).  CHECK.DAT's variables are read and
 written back, as in the app.
 
-Exit at the end of the input: 0, or 1 if any command or program reported an error;
+Each EXECUTE stops at the run limits (docs/LIMITS.md; ``--max-steps``, ``--max-seconds``,
+``--max-lines``) with a message naming the limit; the prompt goes on.
+
+Exit at the end of the input: 0, or 1 if any command or program reported an error (a limit too);
 2: a bad setup or location file.
 """
 

@@ -17,7 +17,14 @@ the file can be CALLed, and they are v+ (``--dialect v+`` makes .DAT programs v+
 input signals ("TIME SIGNAL VALUE" lines); precision points (``POINT #SAFE, j1..j6``) in the
 location files are read too. Signal changes are in the transcript (``SIGNAL 1 ON``) and JSON.
 
-Exit 0: the program ended normally; 1: a run-time error, or a bad or missing input file
+``--json``'s last event, ``end``, also lists every part of the cell with its final position
+(its reference point, world mm) and whether the clamp holds it; collision findings and
+grasps carry the program, step and clamp position where they happened.
+
+The run stops at its limits (docs/LIMITS.md): ``--max-steps``, ``--max-seconds`` (robot
+time), ``--max-lines`` (transcript lines), with a message naming the limit reached.
+
+Exit 0: the program ended normally; 1: a run-time error, a limit reached, or a bad or missing input file
 (``valterm: FILE:LINE: reason`` on stderr); 130: aborted with CTRL-C (after the current step).
 """
 
