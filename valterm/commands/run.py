@@ -78,18 +78,6 @@ def _vplus_setup(args: argparse.Namespace, sim: Any, interpreter: Any, loc_paths
         interpreter.machine.precision.update(read_location_file(path)[1])
 
 
-def _program_file(path: Path) -> tuple[Any, dict[str, Any]]:
-    """The main program and every program of its file (a V+ file holds several)."""
-    from valterm.core.files.programs import read_program
-    from valterm.core.files.vplus import EXTENSIONS, read_vplus
-
-    if path.suffix.upper() in EXTENSIONS:
-        programs = [block.program for block in read_vplus(path)]
-        return programs[0], {p.name: p for p in programs}
-    main = read_program(path)
-    return main, {main.name: main}
-
-
 def _find(argument: str, ext: str, workspace: Any) -> Path:
     """A path as given if it exists, else NAME.EXT in the workspace."""
     given = Path(argument).expanduser()
@@ -108,6 +96,7 @@ def run(args: argparse.Namespace) -> int:
     from valterm.core.files.errors import FileFormatError
     from valterm.core.files.locations import read_locations
     from valterm.core.files.setup import read_setup
+    from valterm.core.files.vplus import read_program_file
     from valterm.core.simulator import Simulator
     from valterm.core.text.transcript import event_lines
     from valterm.core.val.interpreter import Interpreter
@@ -117,7 +106,7 @@ def run(args: argparse.Namespace) -> int:
     try:
         workspace = Workspace.open(getattr(args, "workspace", None))
         program_path = _find(args.program, "DAT", workspace)
-        main, in_file = _program_file(program_path)
+        main, in_file = read_program_file(program_path)
         cell_name = args.cell or (main.name if _in_workspace(workspace, main.name, "SET") else None)
         cell = read_setup(_find(cell_name, "SET", workspace)) if cell_name else None
         sim = Simulator(cell)

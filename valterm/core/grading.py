@@ -27,10 +27,10 @@ from valterm.core.errors import ValtermError
 from valterm.core.events import Collision, Error, Event, Grasp, Json, LimitReached, Message, Near
 from valterm.core.files.errors import FileFormatError
 from valterm.core.files.locations import read_locations
-from valterm.core.files.programs import Program, read_program
+from valterm.core.files.programs import Program
 from valterm.core.files.setup import read_setup
 from valterm.core.files.vplus import EXTENSIONS as VPLUS_EXTENSIONS
-from valterm.core.files.vplus import read_vplus
+from valterm.core.files.vplus import read_program_file
 from valterm.core.simulator import Simulator
 from valterm.core.text.transcript import event_lines
 from valterm.core.val.builders import CLOSED_ON_AIR
@@ -248,7 +248,7 @@ def grade(task: Task, submission: str | Path, limits: RunLimits | None = None) -
     try:
         path = main_program(submission, task)
         verdict.program = path.name
-        main, in_file = _read_programs(path)
+        main, in_file = read_program_file(path)
     except (FileFormatError, OSError, ValtermError) as error:
         verdict.failures.append(Failure("file", str(error)))
         verdict.seconds = time.perf_counter() - started
@@ -258,14 +258,6 @@ def grade(task: Task, submission: str | Path, limits: RunLimits | None = None) -
         _run(verdict, task, path, main, in_file, limits or RunLimits())
     verdict.seconds = time.perf_counter() - started
     return verdict
-
-
-def _read_programs(path: Path) -> tuple[Program, dict[str, Program]]:
-    if path.suffix.upper() in VPLUS_EXTENSIONS:
-        programs = [block.program for block in read_vplus(path)]
-        return programs[0], {p.name: p for p in programs}
-    main = read_program(path)
-    return main, {main.name: main}
 
 
 def _syntax(verdict: Verdict, main: Program, task: Task) -> None:
