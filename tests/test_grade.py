@@ -142,6 +142,7 @@ def test_a_folder_submission_calls_its_own_subprograms(tmp_path: Path, capsys: p
     (BASE + "[[part]]\nnumber = 99\nposition = [1, 2, 3]\n", "the task names part 99; the cell has 14"),
     ('cell = "NOSUCH"\n', "T.toml: NOSUCH: no such SET file"),
     ("cell = [\n", "T.toml: not a TOML file"),
+    (BASE + 'dialect = "basic"\n', "T.toml: dialect: 'basic' is not a dialect: use 1985 or v+"),
 ])
 def test_a_wrong_task_file_is_one_message_and_exit_1(tmp_path: Path, text: str, reason: str,
                                                       capsys: pytest.CaptureFixture[str]) -> None:

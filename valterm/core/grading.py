@@ -35,7 +35,7 @@ from valterm.core.simulator import Simulator
 from valterm.core.text.transcript import event_lines
 from valterm.core.val.builders import CLOSED_ON_AIR
 from valterm.core.val.checker import check_program
-from valterm.core.val.interpreter import Interpreter
+from valterm.core.val.interpreter import Interpreter, check_dialect
 from valterm.core.val.limits import RunLimits
 from valterm.core.workspace import Workspace
 
@@ -141,7 +141,7 @@ def read_task(path: str | Path) -> Task:
         cycle_time=None if "cycle_time" not in data else _number(data["cycle_time"], path, "cycle_time"),
         collisions=_flag(data.get("collisions", False), path, "collisions"),
         loops=int(_number(data.get("loops", 1), path, "loops")),
-        dialect=_text(data.get("dialect", "1985"), path, "dialect"),
+        dialect=_dialect(_text(data.get("dialect", "1985"), path, "dialect"), path),
         parts=tuple(_part(entry, path) for entry in _list(data.get("part", []), path, "part")),
     )
 
@@ -163,6 +163,13 @@ def _part(entry: object, path: Path) -> ExpectedPart:
     tolerance = _number(entry.get("tolerance", 5.0), path, f"{where} tolerance")
     held = entry.get("held")
     return ExpectedPart(number, (x, y, z), tolerance, None if held is None else _flag(held, path, f"{where} held"))
+
+
+def _dialect(name: str, path: Path) -> str:
+    try:
+        return check_dialect(name)
+    except ValtermError as error:
+        raise TaskError(path, 0, f"dialect: {error}") from None
 
 
 def _text(value: object, path: Path, key: str) -> str:
