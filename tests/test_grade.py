@@ -186,3 +186,14 @@ def test_closing_on_air_is_said_typed_too_and_a_grasp_is_not(tmp_path: Path, mon
     out = capsys.readouterr().out.splitlines()
     assert out[out.index(". CLOSEI") + 1] == "CLOSEI: NOTHING BETWEEN THE FINGERS, THE CLAMP CLOSED ON AIR"
     assert out[-1] == "IT IS POSSIBLE TO GRASP THIS PART"  # the second CLOSEI, at A, grasps part 1
+
+
+def test_a_vplus_submission_reaches_the_precision_points_of_the_tasks_location_file(tmp_path: Path) -> None:
+    from valterm.core import resources
+
+    shutil.copy(resources.data_path("programs", "vplus", "STATIONS.LOC"), tmp_path / "STATIONS.LOC")
+    task = read_task(write_task(tmp_path, 'cell = "PROCESS"\nlocations = ["STATIONS"]\ncollisions = true\n'
+                                          "[[part]]\nnumber = 1\nposition = [-174.6, 576.4, -279.6]\ntolerance = 1\n"))
+    verdict = grade(task, resources.data_path("programs", "vplus", "precision.v2"))
+    assert verdict.failures == [] and verdict.program == "precision.v2"
+    assert verdict.parts[0]["held"] is False

@@ -26,7 +26,7 @@ from valterm.core import resources
 from valterm.core.errors import ValtermError
 from valterm.core.events import Collision, Error, Event, Grasp, Json, LimitReached, Message, Near
 from valterm.core.files.errors import FileFormatError
-from valterm.core.files.locations import read_locations
+from valterm.core.files.locations import read_location_file, read_locations
 from valterm.core.files.programs import Program
 from valterm.core.files.setup import read_setup
 from valterm.core.files.vplus import EXTENSIONS as VPLUS_EXTENSIONS
@@ -277,8 +277,11 @@ def _syntax(verdict: Verdict, main: Program, task: Task) -> None:
 def _run(verdict: Verdict, task: Task, path: Path, main: Program, in_file: dict[str, Program],
          limits: RunLimits) -> None:
     sim = Simulator(read_setup(task.cell))  # check_task has read them once already
+    precision: dict[str, tuple[float, ...]] = {}
     for location_file in task.locations:
-        sim.locations.update(read_locations(location_file))
+        locations, points = read_location_file(location_file)
+        sim.locations.update(locations)
+        precision.update(points)  # V+ precision points (#NAME), as run reads them
     sim.collision_checks = True
     # the submission's folder is its workspace: CALLed programs come from there, nothing is written
     load_called = Workspace(path.parent).program_loader(path.parent)
@@ -287,6 +290,7 @@ def _run(verdict: Verdict, task: Task, path: Path, main: Program, in_file: dict[
         return in_file[name] if name in in_file else load_called(name)
 
     interpreter = Interpreter(sim, load_program, {}, dialect=task.dialect, limits=limits)
+    interpreter.machine.precision.update(precision)
     _observe(verdict, task, interpreter.execute(main.name, task.loops))
     verdict.cycle_time = interpreter.cycle_seconds
     verdict.parts = part_positions(sim)
