@@ -120,6 +120,12 @@ def check_commands(valterm: Path, folder: Path, env: dict[str, str]) -> None:
                     + "f 1 2 4 3\nf 5 7 8 6\nf 1 5 6 2\nf 3 4 8 7\nf 1 3 7 5\nf 2 6 8 4\n")
     run("import", "--workspace", ws, "import", str(cube), "--out", "CUBE", out="CUBE.SET written")
     run("cell show of the import", "--workspace", ws, "cell", "show", "CUBE", out="CUBE.SET: 1 object")
+    # grading against the bundled PROCESS cell: a student who leaves part 1 where it is passes
+    (folder / "TASK.toml").write_text('cell = "PROCESS"\nlocations = ["PROCESS"]\n'
+                                      '[[part]]\nnumber = 1\nposition = [440, -50, -320]\n')
+    (folder / "STAY.DAT").write_text("    READY\n")
+    run("grade", "grade", "TASK.toml", "STAY.DAT", "--junit", "grades.xml", out="1 PASSED")
+    check((folder / "grades.xml").is_file(), "grade --junit writes its file in the current folder")
     logs = sorted((Path(env["XDG_STATE_HOME"]) / "valterm").glob("*.log"))
     check(not logs, "no crash logs", "\n".join(str(p) for p in logs))
 

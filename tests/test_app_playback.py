@@ -15,6 +15,7 @@ from valterm.core.errors import ValtermError
 from valterm.core.events import Event, Message, TypeOut
 from valterm.core.session import Session
 from valterm.core.text.transcript import event_lines
+from valterm.core.val.limits import NO_LIMITS
 from valterm.ui.app import ValtermApp
 from valterm.ui.playback import TRANSCRIPT_LINES
 from valterm.ui.screens.keyboard import KeyboardScreen
@@ -62,7 +63,9 @@ def session_with(tmp_path: Path, programs: dict[str, str]) -> Session:
 async def test_a_runaway_program_keeps_the_screen_alive_and_ctrl_c_stops_it(tmp_path: Path, program: str) -> None:
     """EXECUTE of a loop with no motion and no DELAY: ticks go on, the screen shows the
     steps, CTRL-C is seen at the next tick, and the command line answers afterwards."""
-    app = Host(session_with(tmp_path, {"SPIN": program}), motion_rate=10.0, clock=FakeClock())
+    session = session_with(tmp_path, {"SPIN": program})
+    session.limits = NO_LIMITS  # it runs until CTRL-C (the app's run limits: tests/test_run_limits.py)
+    app = Host(session, motion_rate=10.0, clock=FakeClock())
     async with app.run_test(size=(120, 40)) as pilot:
         screen = await valmode(app, pilot)
         await typed(pilot, "EXEC SPIN")

@@ -27,6 +27,7 @@ from valterm.core.kinematics import Location
 from valterm.core.motion import MotionRefused
 from valterm.core.simulator import UndefinedLocation
 from valterm.core.val.interpreter import FOREVER_LOOPS, MAX_CALL_DEPTH, Interpreter, program_from_lines
+from valterm.core.val.limits import RunLimits
 
 REPO = Path(__file__).resolve().parent.parent / "valterm" / "data"  # the bundled data
 PROGRAMS = REPO / "programs"
@@ -328,6 +329,7 @@ def test_execute_negative_loops_runs_1000_passes() -> None:
 def test_arithmetic_loop_of_100000_passes() -> None:
     interpreter = make({"MAIN": ["    I=0", "    S=0", "    WHILE I .LT. 100000 DO", "    I=I+1",
                                  "    S=S+I", "    END"]})
+    interpreter.limits = RunLimits(lines=0)  # 400 000 scrolled steps: past the default 100 000 lines
     count = 0
     for event in interpreter.execute("MAIN"):
         count += 1

@@ -26,6 +26,7 @@ from valterm.commands import (
     demo,
     export,
     exportprogram,
+    grade,
     kin,
     monitor,
     render,
@@ -33,13 +34,14 @@ from valterm.commands import (
     say,
     serve,
 )
+from valterm.commands.limits import add_limit_flags
 from valterm.core.crashlog import report_crash
 from valterm.core.errors import ValtermError
 from valterm.core.rules import RULES
 from valterm.core.workspace import ENV_VAR
 
 # Each module registers its subcommand(s); the order is the order of --help.
-COMMANDS = (kin, cell, cad, export, exportprogram, check, run, monitor, render, bench, app, demo, serve)
+COMMANDS = (kin, cell, cad, export, exportprogram, check, run, monitor, grade, render, bench, app, demo, serve)
 
 EPILOG = (
     f"The workspace (programs, setup and location files) is --workspace DIR, else ${ENV_VAR}, "
@@ -88,6 +90,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--rules", choices=RULES, default=None,
                         help="the joint-state rules: 1985 (the thesis's, default) or controller (a real PUMA's); "
                              "docs/MOTION.md")
+    add_limit_flags(parser, top=True)  # the app's programs' limits (run, monitor, grade take them too)
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=Parser)
     for command in COMMANDS:
         command.register(sub)

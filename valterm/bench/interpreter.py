@@ -5,6 +5,7 @@ from __future__ import annotations
 import time
 
 from valterm.core.val.interpreter import Interpreter, program_from_lines
+from valterm.core.val.limits import NO_LIMITS
 
 # A simple arithmetic loop: 3 statements a pass (WHILE, assignment, END), no motion.
 LOOP = [
@@ -29,7 +30,7 @@ def bench_interpreter(passes: int = 100_000, repeat: int = 3) -> float:
     program = program_from_lines("BENCH", LOOP)
     best = 0.0
     for _ in range(repeat):
-        interpreter = Interpreter(_NoRobot(), lambda name: program, {"N": float(passes)})
+        interpreter = Interpreter(_NoRobot(), lambda name: program, {"N": float(passes)}, limits=NO_LIMITS)
         start = time.perf_counter()
         count = sum(1 for event in interpreter.execute("BENCH") if event.event == "step")
         elapsed = time.perf_counter() - start

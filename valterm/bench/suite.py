@@ -28,6 +28,7 @@ GOALS: dict[str, tuple[str, float]] = {
     "fk_batch_poses_per_s": (">=", 3_000_000.0),
     "fk_single_us": ("<=", 5.0),
     "interpreter_statements_per_s": (">=", 500_000.0),
+    "grade_s_per_student": ("<=", 2.0),  # issue 24: the whole `valterm grade` command
     "app_start_to_main_menu_s": ("<=", 1.0),
     "app_move_fps_160x50": (">=", 30.0),
     "app_move_bytes_per_frame_160x50": ("<=", 10_240.0),
@@ -128,6 +129,7 @@ def run_all(app: bool = True) -> dict[str, Any]:
     if "rtb_ikine_a_us" in entries:
         entries["ik_vs_rtb_x"] = entries["rtb_ikine_a_us"] / entries["ik_single_us"]
     _optional(entries, "interpreter", _interpreter_entries)
+    _optional(entries, "grade", _grade_entries)
     _optional(entries, "collision", _collision_entries)
     _optional(entries, "raster", _raster_entries)
     _optional(entries, "drawille (the bench extra: pip install 'valterm[bench]')", _drawille_entries)
@@ -161,6 +163,12 @@ def _interpreter_entries() -> dict[str, float]:
     from valterm.bench.interpreter import bench_interpreter
 
     return {"interpreter_statements_per_s": float(bench_interpreter())}
+
+
+def _grade_entries() -> dict[str, float]:
+    from valterm.bench.grading import bench_grade
+
+    return {"grade_s_per_student": bench_grade()}
 
 
 def _collision_entries() -> dict[str, float]:

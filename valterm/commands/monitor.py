@@ -12,7 +12,10 @@ and DELAY is not waited.
 file (a path, or a name in the workspace; may repeat).  CHECK.DAT's variables are read and
 written back, as in the app.
 
-Exit at the end of the input: 0, or 1 if any command or program reported an error;
+Each EXECUTE stops at the run limits (docs/LIMITS.md; ``--max-steps``, ``--max-seconds``,
+``--max-lines``) with a message naming the limit; the prompt goes on.
+
+Exit at the end of the input: 0, or 1 if any command or program reported an error (a limit too);
 2: a bad setup or location file.
 """
 
@@ -23,6 +26,8 @@ import signal
 import sys
 from typing import Any, TextIO
 
+from valterm.commands.limits import add_limit_flags, limits_from
+
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     parser = subparsers.add_parser("monitor", help="the VAL-II prompt as a line-mode program (stdin in, transcript out)")
@@ -31,6 +36,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--loc", metavar="FILE", action="append", help="a location file (may repeat)")
     parser.add_argument("--rules", choices=("1985", "controller"), default=argparse.SUPPRESS,
                         help="the joint-state rules (default 1985; RULES at the prompt shows or sets them)")
+    add_limit_flags(parser)
     parser.set_defaults(func=run)
 
 
@@ -40,7 +46,7 @@ def _session(args: argparse.Namespace) -> Any:
     from valterm.core.files.locations import read_locations
     from valterm.core.session import Session
 
-    session = Session(getattr(args, "workspace", None), setup=None)
+    session = Session(getattr(args, "workspace", None), setup=None, limits=limits_from(args))
     setup = getattr(args, "setup", None)
     if setup:
         session.load_setup(setup)

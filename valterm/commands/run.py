@@ -19,7 +19,14 @@ user's indicators first; ``--inputs FILE`` scripts the
 input signals ("TIME SIGNAL VALUE" lines); precision points (``POINT #SAFE, j1..j6``) in the
 location files are read too. Signal changes are in the transcript (``SIGNAL 1 ON``) and JSON.
 
-Exit 0: the program ended normally; 1: a run-time error, or a bad or missing input file
+``--json``'s last event, ``end``, also lists every part of the cell with its final position
+(its reference point, world mm) and whether the clamp holds it; collision findings and
+grasps carry the program, step and clamp position where they happened.
+
+The run stops at its limits (docs/LIMITS.md): ``--max-steps``, ``--max-seconds`` (robot
+time), ``--max-lines`` (transcript lines), with a message naming the limit reached.
+
+Exit 0: the program ended normally; 1: a run-time error, a limit reached, or a bad or missing input file
 (``valterm: FILE:LINE: reason`` on stderr); 130: aborted with CTRL-C (after the current step).
 """
 
@@ -34,6 +41,7 @@ from typing import Any
 
 from valterm.core.errors import RefusedValue
 from valterm.commands import FAILURE, OK, USAGE, fail
+from valterm.commands.limits import add_limit_flags, limits_from
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -54,6 +62,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         help="the user's configuration indicators at the start (default RIGHTY,ABOVE,NOFLIP)")
     parser.add_argument("--inputs", metavar="FILE",
                         help='input signals scripted as "TIME SIGNAL VALUE" lines (V+ SIG, WAIT)')
+    add_limit_flags(parser)
     parser.set_defaults(func=run)
 
 
@@ -72,18 +81,6 @@ def _vplus_setup(args: argparse.Namespace, sim: Any, interpreter: Any, loc_paths
         interpreter.machine.inputs = read_inputs(args.inputs)
     for path in loc_paths:
         interpreter.machine.precision.update(read_location_file(path)[1])
-
-
-def _program_file(path: Path) -> tuple[Any, dict[str, Any]]:
-    """The main program and every program of its file (a V+ file holds several)."""
-    from valterm.core.files.programs import read_program
-    from valterm.core.files.vplus import EXTENSIONS, read_vplus
-
-    if path.suffix.upper() in EXTENSIONS:
-        programs = [block.program for block in read_vplus(path)]
-        return programs[0], {p.name: p for p in programs}
-    main = read_program(path)
-    return main, {main.name: main}
 
 
 def _find(argument: str, ext: str, workspace: Any) -> Path:
@@ -105,6 +102,7 @@ def run(args: argparse.Namespace) -> int:
     from valterm.core.files.locations import read_locations
     from valterm.core.files.setup import read_setup
     from valterm.core.rules import rules_of_dialect
+    from valterm.core.files.vplus import read_program_file
     from valterm.core.simulator import Simulator
     from valterm.core.text.transcript import event_lines
     from valterm.core.val.interpreter import Interpreter
@@ -114,7 +112,7 @@ def run(args: argparse.Namespace) -> int:
     try:
         workspace = Workspace.open(getattr(args, "workspace", None))
         program_path = _find(args.program, "DAT", workspace)
-        main, in_file = _program_file(program_path)
+        main, in_file = read_program_file(program_path)
         cell_name = args.cell or (main.name if _in_workspace(workspace, main.name, "SET") else None)
         cell = read_setup(_find(cell_name, "SET", workspace)) if cell_name else None
         sim = Simulator(cell)
@@ -139,7 +137,7 @@ def run(args: argparse.Namespace) -> int:
         return load_called(name)  # through the workspace's checks (no links outside)
 
     interpreter = Interpreter(sim, load_program, variables, keep_variables=workspace.write_variables,
-                              dialect=args.dialect or "1985")
+                              dialect=args.dialect or "1985", limits=limits_from(args))
     try:
         _vplus_setup(args, sim, interpreter, loc_paths)
     except (FileFormatError, OSError) as error:  # a bad --inputs file
@@ -180,13 +178,14 @@ def run(args: argparse.Namespace) -> int:
 def _write_end(args: argparse.Namespace, sim: Any, interpreter: Any, out: Any) -> None:
     """The end of a run: the final WHERE, the variables, the signals on and the cycle time."""
     from valterm.core.events import End
+    from valterm.core.grading import part_positions
     from valterm.core.text.transcript import where_lines
 
     where = sim.where()
     panel = interpreter.machine.signals
     end = End(where=where.to_json(), variables=dict(interpreter.variables),
               cycle_time_s=round(interpreter.cycle_seconds, 3),  # the interpreter's clock
-              signals_on=tuple(panel.outputs_on() + panel.inputs_on()))
+              signals_on=tuple(panel.outputs_on() + panel.inputs_on()), parts=part_positions(sim))
     if args.json:
         out.write(json.dumps(end.to_json()) + "\n")
     else:

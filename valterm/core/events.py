@@ -73,8 +73,27 @@ class Motion(Event):
     event = "motion"
 
 
+@dataclass(frozen=True, kw_only=True)
+class Located(Event):
+    """Where a program was when something happened to the clamp: the program and step
+    (filled in by the interpreter; "" and 0 for a typed command or the pendant) and the
+    clamp's position (the tool point, world mm; () when not known)."""
+
+    program: str = ""
+    step: int = 0
+    clamp: tuple[float, ...] = ()
+
+    @property
+    def located(self) -> str:
+        """` (PICK STEP 5, CLAMP AT 465.00 -45.00 -245.00)`, or "" when not in a program."""
+        if not self.program:
+            return ""
+        at = " ".join(f"{v:.2f}" for v in self.clamp)
+        return f" ({self.program} STEP {self.step}, CLAMP AT {at})" if at else f" ({self.program} STEP {self.step})"
+
+
 @dataclass(frozen=True)
-class Grasp(Event):
+class Grasp(Located):
     part: int
     event = "grasp"
 
@@ -96,7 +115,7 @@ class Hand(Event):
 
 
 @dataclass(frozen=True)
-class Contact(Event):
+class Contact(Located):
     """A finding of the collision check about two parties (a link or a part each)."""
 
     a: str
@@ -136,6 +155,16 @@ class Error(Event):
 
 
 @dataclass(frozen=True)
+class LimitReached(Error):
+    """The run stopped at one of its limits (``valterm.core.val.limits``): ``limit`` is
+    steps, seconds or lines, ``flag`` the command-line option that changes it."""
+
+    limit: str = "steps"
+    flag: str = ""
+    event = "limit"
+
+
+@dataclass(frozen=True)
 class Where(Event):
     """The WHERE readout (Fig. 2-8)."""
 
@@ -165,6 +194,9 @@ class End(Event):
     variables: dict[str, float]
     cycle_time_s: float = 0.0  # the real robot's time for the whole run
     signals_on: tuple[int, ...] = ()  # the I/O panel's signals on at the end (V+)
+    # every part of the cell at the end: {"part": n, "position": [x, y, z], "held": bool}
+    # (position: the part's reference point, its first vertex, as the setup file gives it)
+    parts: tuple[dict[str, Json], ...] = ()
     event = "end"
 
 

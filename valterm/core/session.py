@@ -15,6 +15,7 @@ from valterm.core.files.setup import read_setup, write_setup
 from valterm.core.kinematics import Location
 from valterm.core.simulator import Simulator
 from valterm.core.val.interpreter import Interpreter
+from valterm.core.val.limits import RunLimits
 from valterm.core.workspace import Workspace
 
 DEFAULT_SETUP = "PROCESS"
@@ -23,8 +24,10 @@ DEFAULT_SETUP = "PROCESS"
 class Session:
     """What a VAL-II SIMULATOR session holds: the workspace, the cell, the robot, the programs."""
 
-    def __init__(self, workspace_root: str | Path | None = None, setup: str | None = DEFAULT_SETUP) -> None:
+    def __init__(self, workspace_root: str | Path | None = None, setup: str | None = DEFAULT_SETUP,
+                 limits: RunLimits | None = None) -> None:
         self.workspace = Workspace.open(workspace_root)
+        self.limits = limits or RunLimits()  # every EXECUTE's (valterm.core.val.limits)
         self.setup_name = ""
         self.simulator = Simulator()
         self._interpreter: Interpreter | None = None
@@ -73,6 +76,7 @@ class Session:
         """The VAL-II interpreter bound to this session's simulator and workspace (made once)."""
         if self._interpreter is None:
             self._interpreter = Interpreter.for_workspace(self.simulator, self.workspace)
+            self._interpreter.limits = self.limits
             self._interpreter.machine.keyboard = self._keyboard
         return self._interpreter
 

@@ -27,6 +27,7 @@ from valterm.core.render.clock import DEFAULT_RATE
 from valterm.core.render.overlays import Overlays, Trace, cell_points, clamp_point, picture_scene
 from valterm.core.render.raster import Scene, ViewTransform
 from valterm.core.session import Session
+from valterm.core.val.limits import RunLimits
 from valterm.core.workspace import Workspace
 from valterm.ui.errors import error_text
 from valterm.ui.messages import SceneChanged
@@ -69,9 +70,11 @@ class ValtermApp(ViewActions, App[int]):
         motion_rate: float = DEFAULT_RATE,
         session: Session | None = None,  # a ready Session (tests)
         rules: str | None = None,  # the joint-state rules (core/rules.py); None: the dialect's
+        limits: RunLimits | None = None,  # every program's limits (valterm.core.val.limits)
     ) -> None:
         super().__init__()
         self.rules = rules
+        self.limits = limits
         self.workspace_root = workspace
         self.initial_setup = setup
         self.session: Session | None = session
@@ -134,7 +137,7 @@ class ValtermApp(ViewActions, App[int]):
     def open_session(self, setup: str | None) -> Session:
         """A fresh session on ``setup`` (raises the core's errors for the caller to show)."""
         root = self.workspace_root if self.session is None else self.session.workspace.root
-        session = Session(workspace_root=root, setup=setup)
+        session = Session(workspace_root=root, setup=setup, limits=self.limits)
         if self.rules is not None:
             session.simulator.set_rules(self.rules)
         self.session = session
@@ -218,8 +221,8 @@ class ValtermApp(ViewActions, App[int]):
 
 
 def run(workspace: str | Path | None = None, setup: str | None = None, ascii: bool = False,
-        rules: str | None = None) -> int:
-    app = ValtermApp(workspace, setup, ascii=ascii, rules=rules)
+        rules: str | None = None, limits: RunLimits | None = None) -> int:
+    app = ValtermApp(workspace, setup, ascii=ascii, rules=rules, limits=limits)
     result = app.run()
     return exit_status(app, result)
 

@@ -26,7 +26,7 @@ from pathlib import Path
 
 from valterm.core.files._text import numbered_lines, read_text
 from valterm.core.files.errors import FileFormatError
-from valterm.core.files.programs import MAX_LINE, Program, ProgramLine, split_label
+from valterm.core.files.programs import MAX_LINE, Program, ProgramLine, read_program, split_label
 
 EXTENSIONS = (".V2", ".PG")
 MAX_NAME = 15  # V+ program names: a letter, then letters, digits, '.' and '_'
@@ -128,6 +128,16 @@ def _refuse_duplicates(found: list[VplusProgram], where: Path) -> None:
 
 def read_vplus(path: str | Path) -> list[VplusProgram]:
     return parse_vplus(read_text(path, "V+ program"), path)
+
+
+def read_program_file(path: str | Path) -> tuple[Program, dict[str, Program]]:
+    """The main program of a program file and every program it holds, by name: a V+ file
+    (``.v2``/``.pg``) holds several, the first is the main one; a ``.DAT`` file holds one."""
+    if Path(path).suffix.upper() in EXTENSIONS:
+        programs = [block.program for block in read_vplus(path)]
+        return programs[0], {p.name: p for p in programs}
+    main = read_program(path)
+    return main, {main.name: main}
 
 
 def format_vplus(blocks: list[VplusProgram]) -> str:

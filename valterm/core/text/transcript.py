@@ -16,6 +16,7 @@ from valterm.core.events import (
     Error,
     Event,
     Help,
+    LimitReached,
     Message,
     Monitor,
     Near,
@@ -61,16 +62,21 @@ def step_line(step: Step) -> str:
 
 
 def error_line(error: Error) -> str:
-    """A run-time error located by program and step, upper case as on the VS11."""
-    return f"*** {error.where}{error.message}".upper()
+    """A run-time error located by program and step, upper case as on the VS11; a run limit
+    also names the option that changes it (as typed: lower case)."""
+    line = f"*** {error.where}{error.message}".upper()
+    if isinstance(error, LimitReached) and error.flag:
+        return f"{line} (raise it with {error.flag})"
+    return line
 
 
 def finding_line(event: Contact) -> str:
-    """A collision check's finding (Fig. C-12): the core's own text when it has one."""
+    """A collision check's finding (Fig. C-12): the core's own text when it has one; in a
+    program, where it was found (program, step, the clamp's position)."""
     if event.text:
-        return event.text
+        return event.text + event.located
     verb = "IS NEAR" if isinstance(event, Near) else "COLLIDES WITH"
-    return f"{event.a} {verb} {event.b}".upper()
+    return f"{event.a} {verb} {event.b}".upper() + event.located
 
 
 def breakpoint_line(event: Breakpoint) -> str:

@@ -11,7 +11,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 from valterm.core.errors import ValtermError
-from valterm.core.events import Delay, Error, Message, Status, Step, TypeOut
+from valterm.core.events import Delay, Error, Grasp, Hand, Message, Status, Step, TypeOut
 from valterm.core.kinematics import CONFIG_WORDS, Location
 from valterm.core.val.compiler import Analysis
 from valterm.core.val.expr import Expr, Values, compile_expr
@@ -420,16 +420,27 @@ def _draw(c: Build, st: Statement) -> Op:
     return c.action(run)
 
 
+CLOSED_ON_AIR = "NOTHING BETWEEN THE FINGERS, THE CLAMP CLOSED ON AIR"
+
+
 def _hand(c: Build, st: Statement) -> Op:
     # The % argument is decoded (and its variables checked); the simulated clamp is fully
     # open or closed on the part, as in the thesis (section 6.3).
-    action = c.sim.open if st.command.startswith("OPEN") else c.sim.close
+    closing = st.command.startswith("CLOSE")
+    action = c.sim.close if closing else c.sim.open
     immediate = st.command.endswith("I")
     amount = getter(st.args[0])
 
     def run() -> Events:
         numbers((amount,), c.variables)
-        yield from action(immediate=immediate)
+        grasped = closed = False
+        for event in action(immediate=immediate):
+            grasped = grasped or isinstance(event, Grasp)
+            closed = closed or (isinstance(event, Hand) and event.closed)
+            yield event
+        if closing and closed and not grasped:  # a grader (and a student) must see the miss
+            where = f"{c.step.program} STEP {c.step.step}: " if c.step.program else ""
+            yield Message(f"{where}{st.command}: {CLOSED_ON_AIR}", "warning")
         return c.next
     return c.action(run)
 

@@ -22,18 +22,23 @@ language. ``machine`` holds the V+ controller's state (signals, strings, precisi
 from __future__ import annotations
 
 from collections.abc import Callable, Generator, Iterator, Mapping
+from dataclasses import replace
 from pathlib import Path
 from typing import Protocol
 
 from valterm.core.cycletime import CycleClock
 from valterm.core.errors import RefusedValue, ValtermError
 from valterm.core.events import (
+    Contact,
     Error,
     Event,
     Help,
+    LimitReached,
+    Located,
     Message,
     Monitor,
     Pause,
+    PoseEvent,
     Status,
     Step,
     TypeOut,
@@ -55,6 +60,7 @@ from valterm.core.val.builders import (
 from valterm.core.val.compiler import Analysis, analyse, step_text
 from valterm.core.val.debugger import DEBUG_COMMANDS, Debugger
 from valterm.core.val.expr import MAX_NUMBER
+from valterm.core.val.limits import RunLimits
 from valterm.core.val.locstore import StoreLocations, rules, storel
 from valterm.core.val.machine import Machine
 from valterm.core.val.ops import (
@@ -118,9 +124,13 @@ class Interpreter:
                  keep_variables: Callable[[dict[str, float]], object] | None = None,
                  builders: Mapping[str, Builder] | None = None,
                  monitor: Mapping[str, MonitorCommand] | None = None,
-                 dialect: str = "1985",
+                 dialect: str = "1985", limits: RunLimits | None = None,
                  store_locations: StoreLocations | None = None) -> None:
         self.sim = sim
+        # how far one EXECUTE may go (steps, robot seconds, lines): a runaway ends by itself
+        self.limits = limits or RunLimits()
+        self._steps_left = self._lines_left = 0.0  # counted down during an EXECUTE
+        self._limit_hit = ""  # the limit that stopped the run ("" when none)
         # "1985" (COMMAND.DAT, the thesis) or "v+": the dialect of programs that do not say
         # (a program read from a V+ file is v+ whatever this says)
         self.dialect = check_dialect(dialect)
@@ -291,6 +301,8 @@ class Interpreter:
             start = found
         self.program, self.loops_total, self.loops_done = name, total, 0
         self._running, self._paused, self._abort = True, False, False
+        self._steps_left, self._lines_left = self.limits.allowed("steps"), self.limits.allowed("lines")
+        self._limit_hit = ""
         self._cycle_start, self._cycle_end = self.clock.seconds, None
         try:
             while self.loops_done < total:
@@ -326,23 +338,33 @@ class Interpreter:
         prog, pc, V = main, start, self.variables
         code, size = prog.code, len(prog.code)
         low, high = -MAX_NUMBER, MAX_NUMBER  # a number past these is refused, never inf or NaN
+        # steps until the limits are looked at again (a local: the loop stays fast)
+        budget = counted = self._budget()
         while True:
             if pc >= size:
                 pc = run.leave()  # the end of a subroutine returns like RETURN
                 if run.ended:
+                    self._spend(counted - budget)
                     return True
                 prog = run.program
                 code, size = prog.code, len(prog.code)
                 continue
+            budget -= 1
+            if budget < 0:
+                self._spend(counted)
+                counted = self._budget()
+                budget = counted - 1  # this step is the first of the new count
             if self._abort:
-                yield Error(prog.name, prog.step_number(pc), "ABORTED")
+                self._spend(counted - budget - 1)
+                yield self._stopped(prog.name, prog.step_number(pc))
                 return False
             op = code[pc]
             hook = self.hook  # read each step: a breakpoint may be set while the program is paused
             if hook is not None:
                 yield from hook(prog, op)
                 if self._abort:  # CTRL-C while the hook held the program paused
-                    yield Error(prog.name, op.step.step, "ABORTED")
+                    self._spend(counted - budget - 1)
+                    yield self._stopped(prog.name, op.step.step)
                     return False
             yield op.step
             if isinstance(op, Assign):
@@ -364,16 +386,46 @@ class Interpreter:
                 pc = op.next
             elif isinstance(op, Action):
                 pc = yield from self._act(op)
+                self._spend(counted - budget)  # the lines it printed are counted: look now
                 if pc < 0:
                     return False
+                budget = counted = self._budget()
             else:
                 pc = yield from self._control(op, run)
-                if run.failed:
-                    return False
-                if run.ended:
-                    return True
+                if run.failed or run.ended:
+                    self._spend(counted - budget)
+                    return not run.failed
                 prog = run.program
                 code, size = prog.code, len(prog.code)
+
+    # -- the run's limits (valterm.core.val.limits) ----------------------------------
+    SYNC = 1024  # steps between two looks at the limits: a local countdown in between
+
+    def _budget(self) -> int:
+        """Steps the loop may run before it looks at the limits again (then: the limit hit)."""
+        left = min(self._steps_left, self._lines_left)
+        if left <= 0:
+            self._limit("steps" if self._steps_left <= 0 else "lines")
+            return self.SYNC
+        return int(min(left, self.SYNC))
+
+    def _spend(self, steps: int) -> None:
+        """``steps`` were run: each is a step and a scrolled line of the transcript."""
+        self._steps_left -= steps
+        self._lines_left -= steps
+
+    def _limit(self, limit: str) -> None:
+        """The run stops at its next step, saying ``limit`` ended it."""
+        if not self._limit_hit:
+            self._limit_hit = limit
+        self._abort = True
+
+    def _stopped(self, program: str, step: int) -> Error:
+        """Why the run stops here: a limit it reached, else CTRL-C."""
+        if self._limit_hit:
+            limit = self._limit_hit
+            return LimitReached(program, step, self.limits.message(limit), limit, self.limits.flag(limit))
+        return Error(program, step, "ABORTED")
 
     @staticmethod
     def _failed(op: Op, reason: str) -> Generator[Event, None, int]:
@@ -385,7 +437,7 @@ class Interpreter:
         """An op that yields events (the cycle clock sees them); -1 when its error stops the program."""
         program, number = op.step.program, op.step.step
         try:
-            return (yield from self._timed(op.run()))
+            return (yield from self._timed(op.run(), op.step))
         except UndefinedVariable as error:
             yield Error(program, number, error.message)
         except ZeroDivisionError:
@@ -405,22 +457,39 @@ class Interpreter:
             return -1
         return op.error
 
-    def _timed(self, events: Generator[Event, None, int]) -> Generator[Event, None, int]:
-        """An op's events passed on, each one's time added to the one clock; returns its pc."""
+    def _timed(self, events: Generator[Event, None, int], step: Step | None = None) -> Generator[Event, None, int]:
+        """An op's events passed on, each one's time added to the one clock; returns its pc.
+
+        The collision check's findings and grasps are located at ``step`` with the clamp's
+        position; lines of output and the robot's time count against the run's limits."""
         observe = self.clock.observe
         while True:
             try:
                 event = next(events)
             except StopIteration as done:
+                if self._running and self.clock.seconds - self._cycle_start > self.limits.allowed("seconds"):
+                    self._limit("seconds")
                 return int(done.value)
             observe(event)
+            if not isinstance(event, PoseEvent):  # the many poses go straight through
+                event = self._counted(event, step)
             yield event
+
+    def _counted(self, event: Event, step: Step | None) -> Event:
+        """``event`` located at ``step`` (a finding, a grasp); its lines counted while running."""
+        if isinstance(event, Located) and step is not None and step.program:
+            event = replace(event, program=step.program, step=step.step, clamp=self.sim.where().xyz)
+        if self._running and isinstance(event, (TypeOut, Message, Contact)):
+            self._lines_left -= event.text.count("\n") + 1
+            if self._lines_left < 0:
+                self._limit("lines")
+        return event
 
     def _control(self, op: Op, run: Run) -> Generator[Event, None, int]:
         if not isinstance(op, Control):
             raise TypeError(f"{type(op).__name__} is not an op the run loop knows")
         try:
-            return (yield from self._timed(op.control(run, self.compile)))
+            return (yield from self._timed(op.control(run, self.compile), op.step))
         except RunStop as stop:
             yield Error(stop.program, stop.step, stop.message)
             run.failed = True

@@ -1,0 +1,125 @@
+"""``valterm grade TASK.toml SUBMISSION... [--jobs N] [--json FILE] [--junit FILE]``
+
+Grades students' programs against a task file the instructor writes (docs/GRADING.md): the
+cell, the location files, where parts must end up (with a tolerance), the cycle time
+allowed, whether collisions are allowed. Each SUBMISSION is a program file, or a folder of
+submissions: every program file in it is one student, every folder in it one student (its
+program, and the programs it CALLs, in that folder). Submissions run in parallel, one
+process each (``--jobs``, default: the number of CPUs), each on its own fresh cell and
+variables; nothing is written to any workspace.
+
+The terminal shows one row a student (PASS, or FAIL with the first failure named and
+located); ``--json FILE`` and ``--junit FILE`` write every failure and finding (``-`` for
+standard output). The run limits (``--max-steps``, ``--max-seconds``, ``--max-lines``)
+apply to each program.
+
+Exit 0: every submission passed; 1: one failed, or the task file is wrong; 2: usage.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import sys
+import time
+from concurrent.futures import ProcessPoolExecutor
+from functools import partial
+from pathlib import Path
+from typing import Any
+
+from valterm.commands import FAILURE, OK, USAGE, fail
+from valterm.commands.limits import add_limit_flags, limits_from
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    parser = subparsers.add_parser("grade", help="grade students' programs against a task file (table, JSON, JUnit XML)")
+    parser.add_argument("task", metavar="TASK.toml", help="the task file (docs/GRADING.md)")
+    parser.add_argument("submissions", metavar="SUBMISSION", nargs="+",
+                        help="a program file, or a folder of submissions (files or folders, one a student)")
+    parser.add_argument("--jobs", type=int, default=0, metavar="N",
+                        help="programs graded at once, one process each (default: the number of CPUs)")
+    parser.add_argument("--json", metavar="FILE", help="write the results as JSON (- for standard output)")
+    parser.add_argument("--junit", metavar="FILE", help="write the results as JUnit XML (- for standard output)")
+    add_limit_flags(parser)
+    parser.set_defaults(func=run)
+
+
+def submissions(arguments: list[str]) -> list[Path]:
+    """Each argument's submissions: a file is one; a folder holds one a program file or folder."""
+    from valterm.core.files.errors import FileFormatError
+    from valterm.core.grading import PROGRAM_EXTENSIONS
+
+    found: list[Path] = []
+    for argument in arguments:
+        path = Path(argument).expanduser()
+        if path.is_file():
+            found.append(path)
+        elif path.is_dir():
+            found += sorted(p for p in path.iterdir() if p.is_dir() and not p.name.startswith(".")
+                            or p.is_file() and p.suffix.upper() in PROGRAM_EXTENSIONS)
+        else:
+            raise FileFormatError(path, 0, "no such program file or folder")
+    return found
+
+
+def run(args: argparse.Namespace) -> int:
+    from valterm.core.errors import ValtermError
+    from valterm.core.grading import check_task, read_task
+
+    if args.jobs < 0:
+        return fail("grade: --jobs must be 0 (one per CPU) or more", USAGE)
+    if "-" == args.json == args.junit:
+        return fail("grade: --json and --junit cannot both go to standard output", USAGE)
+    try:
+        task = read_task(args.task)
+        check_task(task)
+        found = submissions(args.submissions)
+    except (ValtermError, OSError) as error:
+        return fail(error, FAILURE)
+    if not found:
+        return fail("grade: no program files or folders to grade", FAILURE)
+    started = time.perf_counter()
+    verdicts = _grade_all(task, found, limits_from(args), args.jobs or os.cpu_count() or 1)
+    elapsed = time.perf_counter() - started
+    try:
+        _report(args, task, verdicts, elapsed)
+    except (ValtermError, OSError) as error:
+        return fail(error, FAILURE)
+    return OK if all(v.passed for v in verdicts) else FAILURE
+
+
+def _grade_all(task: Any, found: list[Path], limits: Any, jobs: int) -> list[Any]:
+    """Every submission's verdict, in the order given; in parallel processes when there are several."""
+    from valterm.core.grading import grade
+
+    one = partial(grade, task, limits=limits)
+    jobs = min(jobs, len(found))
+    if jobs <= 1:
+        return [one(path) for path in found]
+    with ProcessPoolExecutor(max_workers=jobs) as pool:
+        return list(pool.map(one, found))
+
+
+def _report(args: argparse.Namespace, task: Any, verdicts: list[Any], elapsed: float) -> None:
+    from valterm.core.files.atomic import write_text_atomic
+    from valterm.core.grading import junit_xml, table_lines
+
+    outputs = []
+    if args.json:
+        document = {"task": task.name, "passed": sum(v.passed for v in verdicts), "failed": sum(not v.passed for v in verdicts),
+                    "seconds": round(elapsed, 3), "results": [v.to_json() for v in verdicts]}
+        outputs.append((args.json, json.dumps(document, indent=2) + "\n"))
+    if args.junit:
+        outputs.append((args.junit, junit_xml(task, verdicts)))
+    for target, text in outputs:
+        if target != "-":
+            write_text_atomic(Path(target).expanduser(), text)
+    if any(target == "-" for target, _ in outputs):  # the machine's text alone on standard output
+        sys.stdout.write(next(text for target, text in outputs if target == "-"))
+        return
+    passed = sum(v.passed for v in verdicts)
+    lines = table_lines(verdicts)
+    lines.append(f"{task.name}: {len(verdicts)} GRADED, {passed} PASSED, {len(verdicts) - passed} FAILED "
+                 f"IN {elapsed:.2f} S ({elapsed / len(verdicts):.2f} S A STUDENT)")
+    sys.stdout.write("\n".join(lines) + "\n")
