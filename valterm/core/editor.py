@@ -11,6 +11,11 @@ Nothing typed is lost: each accepted change is written at once to a journal file
 program (``NAME.~DAT``, which LISTF does not list); a later open of the same program
 recovers it. Saving (or discarding) removes the journal.
 
+Two sessions on one workspace: a save checks that NAME.DAT is still what this editor read;
+when another session saved it meanwhile, ``save()`` raises FileChanged (nothing written) and
+the UI asks: ``save(overwrite=True)``, ``reload()`` (take the other session's program) or
+``save_as(NAME)``.
+
 No UI import here: the Textual editor screen and the tests drive this class.
 """
 
@@ -19,16 +24,18 @@ from __future__ import annotations
 import os
 import re
 from collections.abc import Callable
+from dataclasses import replace
 from pathlib import Path
 
 from valterm.core.errors import ValtermError
-from valterm.core.files.atomic import write_text_atomic
+from valterm.core.files.atomic import text_stamp, write_text_atomic
 from valterm.core.files.errors import FileFormatError
 from valterm.core.files.programs import (
     LABEL_COLUMNS,
     MAX_LINE,
     Program,
     ProgramLine,
+    format_program,
     format_step,
     parse_program,
     split_label,
@@ -106,12 +113,14 @@ class ProgramEditor:
         self.new = False
         self.recovered = False
         self.dirty = False  # changes not yet saved to NAME.DAT
+        self.stamp = ""  # NAME.DAT as read ("" none): a save checks it is still so
         self.program = self._open()
 
     # -- opening (§5.1) ----------------------------------------------------------
     def _open_vplus(self, program: Program, source: Path) -> None:
         self.name, self.path, self.journal_path = program.name, source, source  # no journal is kept
         self.new = self.recovered = self.dirty = False
+        self.stamp = ""
         self.program = program
         self.read_only = (f"{program.name} IS A V+ PROGRAM OF {source.name}: SHOWN HERE, NOT CHANGED "
                           f"(EDIT {source.name} ITSELF)")
@@ -120,6 +129,7 @@ class ProgramEditor:
     def _open(self) -> Program:
         listed = self.name in self.workspace.programs_directory()
         program: Program | None = None
+        self.stamp = self.workspace.stamp(self.name, "DAT")  # before reading: a change meanwhile asks
         if self.path.is_file():
             try:
                 program = self.workspace.read_program(self.name)
@@ -229,16 +239,48 @@ class ProgramEditor:
         return removed
 
     # -- saving and leaving --------------------------------------------------------
-    def save(self) -> Path:
-        """S: write NAME.DAT atomically, list it in DATFILER.DAT, drop the journal."""
+    def save(self, overwrite: bool = False) -> Path:
+        """S: write NAME.DAT atomically, list it in DATFILER.DAT, drop the journal.
+
+        FileChanged (nothing written) when NAME.DAT changed on disk since this editor read or
+        saved it, unless ``overwrite``."""
         if self.read_only:
             raise EditorError(self.read_only)
-        path = self.workspace.write_program(self.program, self.name)
+        path = self.workspace.write_program(self.program, self.name, None if overwrite else self.stamp)
+        self.stamp = text_stamp(format_program(self.program))
         self.path = path
         self.new = False
         self.dirty = False
         self._drop_journal()
         return path
+
+    def reload(self) -> Program:
+        """Take NAME.DAT as it is on disk now (another session's save): this editor's unsaved
+        changes and its journal go."""
+        if self.read_only:
+            raise EditorError(self.read_only)
+        self.stamp = self.workspace.stamp(self.name, "DAT")
+        self.program = self.workspace.read_program(self.name) if self.path.is_file() else Program(self.name)
+        self.new = not self.path.is_file()
+        self.dirty = False
+        self._drop_journal()
+        return self.program
+
+    def save_as(self, name: str) -> Path:
+        """Save the program under a new name (one no file has) and go on editing that one;
+        the program it was opened as stays as the other session saved it."""
+        if self.read_only:
+            raise EditorError(self.read_only)
+        stem = self.workspace._program_name(program_name(name))  # WorkspaceError for a bad name
+        if self.workspace.path(stem, "DAT").exists() or self.workspace.vplus_source(stem) is not None:
+            raise EditorError(f"{stem}.DAT EXISTS: GIVE A NEW NAME")
+        self._drop_journal()
+        self.name = stem
+        self.path = self.workspace.path(stem, "DAT")
+        self.journal_path = self.workspace.path(stem, JOURNAL_EXT)
+        self.program = replace(self.program, name=stem, steps=list(self.program.steps))
+        self.stamp = ""  # no file yet: a file made meanwhile is a change too
+        return self.save()
 
     def discard(self) -> None:
         """Leave without saving: the journal goes, NAME.DAT stays as it was."""
