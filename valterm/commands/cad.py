@@ -60,6 +60,11 @@ def _set_name(argument: str) -> str:
     return stem if dot and ext.upper() == "SET" else argument
 
 
+def _progress(text: str) -> None:
+    """A large mesh: what the import is doing, on stderr (stdout keeps the summary)."""
+    print(f"import: {text} ...", file=sys.stderr, flush=True)
+
+
 def run_import(args: argparse.Namespace) -> int:
     from valterm.core.files.setup import write_setup
     from valterm.core.workspace import Workspace
@@ -77,7 +82,7 @@ def run_import(args: argparse.Namespace) -> int:
         if args.out and out.exists() and not args.force:
             return fail(f"import: {out.name} exists in the workspace; use --force to replace it", FAILURE)
         cell = import_cad(source, units=args.units, system=args.system, name=out.stem, parts=args.parts,
-                          around=setup.objects if setup is not None else ())
+                          around=setup.objects if setup is not None else (), progress=_progress)
         if setup is not None:
             cell = add_parts(setup, cell)
         write_setup(out, cell)
