@@ -73,7 +73,6 @@ def test_overwrite_reload_and_save_as_answers(root: Path) -> None:
         c.save()
     c.reload()
     assert texts(c.program) == ["TYPE A2", "TYPE A", *original] and not c.dirty
-    assert not c.journal_path.exists()
     # overwrite: the user chose to replace the other session's save
     c.insert(1, " TYPE C")
     a.insert(1, " TYPE A3")
@@ -99,6 +98,23 @@ def test_a_program_made_by_another_session_meanwhile_is_a_change(root: Path) -> 
         b.save()
     with pytest.raises(FileChanged):
         b.wrong_key("Q")  # a wrong key saves (§5.2): it asks too
+
+
+def test_the_journal_is_the_first_editors_alone(root: Path) -> None:
+    a = ProgramEditor(Workspace(root), "CONV2")
+    a.insert(1, " TYPE A")  # unsaved, in A's journal
+    b = ProgramEditor(Workspace(root), "CONV2")
+    assert not b.recovered and "TYPE A" not in texts(b.program)  # A's unsaved step is A's
+    assert any("OPEN IN ANOTHER SESSION" in m for m in b.messages)
+    b.insert(1, " TYPE B")
+    b.save()  # B's save neither removes nor rewrites A's journal
+    assert a.journal_path.is_file() and "TYPE A" in a.journal_path.read_text()
+    assert "TYPE B" not in a.journal_path.read_text()
+    a.close()  # A's app ends mid-edit: the next open recovers A's step
+    c = ProgramEditor(Workspace(root), "CONV2")
+    assert c.recovered and texts(c.program)[0] == "TYPE A"
+    with pytest.raises(FileChanged):  # A's changes were made before B's save: it asks
+        c.save()
 
 
 def test_a_checked_save_waits_for_the_folder_lock_file(root: Path) -> None:

@@ -11,7 +11,10 @@ Nothing typed is lost: each accepted change is written at once to a journal file
 program (``NAME.~DAT``, which LISTF does not list); a later open of the same program
 recovers it. Saving (or discarding) removes the journal.
 
-Two sessions on one workspace: a save checks that NAME.DAT is still what this editor read;
+Two sessions on one workspace: the journal is the first editor's (it holds the lock file
+``.NAME.~DAT.lock`` while it is open); a second editor of the same program neither recovers
+nor removes it, and keeps its own changes unjournalled until it saves. A save checks that
+NAME.DAT is still what this editor read;
 when another session saved it meanwhile, ``save()`` raises FileChanged (nothing written) and
 the UI asks: ``save(overwrite=True)``, ``reload()`` (take the other session's program) or
 ``save_as(NAME)``.
@@ -28,7 +31,7 @@ from dataclasses import replace
 from pathlib import Path
 
 from valterm.core.errors import ValtermError
-from valterm.core.files.atomic import text_stamp, write_text_atomic
+from valterm.core.files.atomic import claim, release, text_stamp, write_text_atomic
 from valterm.core.files.errors import FileFormatError
 from valterm.core.files.programs import (
     LABEL_COLUMNS,
@@ -45,6 +48,7 @@ from valterm.core.workspace import Workspace
 
 JOURNAL_EXT = "~DAT"
 JOURNAL_HEAD = "; VALTERM JOURNAL OF "
+JOURNAL_BASE = " CHANGING "  # then the stamp of NAME.DAT the changes were made to
 
 # Fig. 5-1 / Fig. C-8, as the thesis prints it.
 EDITOR_MENU = (
@@ -114,6 +118,8 @@ class ProgramEditor:
         self.recovered = False
         self.dirty = False  # changes not yet saved to NAME.DAT
         self.stamp = ""  # NAME.DAT as read ("" none): a save checks it is still so
+        self._journal_lock: int | None = self._claim_journal()
+        self._journal_base: str | None = None
         self.program = self._open()
 
     # -- opening (§5.1) ----------------------------------------------------------
@@ -121,6 +127,7 @@ class ProgramEditor:
         self.name, self.path, self.journal_path = program.name, source, source  # no journal is kept
         self.new = self.recovered = self.dirty = False
         self.stamp = ""
+        self._journal_lock = -1
         self.program = program
         self.read_only = (f"{program.name} IS A V+ PROGRAM OF {source.name}: SHOWN HERE, NOT CHANGED "
                           f"(EDIT {source.name} ITSELF)")
@@ -142,8 +149,14 @@ class ProgramEditor:
         if not listed:
             # §5.1: a new program's name is added to the list and DATFILER.DAT updated
             self.workspace.add_program(self.name)
+        if self._journal_lock is None:
+            self.messages.append(f"{self.name}.DAT IS OPEN IN ANOTHER SESSION: ITS UNSAVED CHANGES STAY ITS OWN; "
+                                 "YOURS ARE KEPT WHEN YOU SAVE")
+            return program
         recovered = self._read_journal()
         if recovered is not None:
+            # the journal's changes were made to NAME.DAT as it was then: a save asks if it changed since
+            self.stamp = self._journal_base if self._journal_base is not None else self.stamp
             self.recovered = True
             self.dirty = True
             self.messages.append(f"RECOVERED UNSAVED EDITS OF {self.name}.DAT ({len(recovered.steps)} STEPS)")
@@ -160,6 +173,8 @@ class ProgramEditor:
         lines = text.splitlines()
         if not lines or not lines[0].startswith(JOURNAL_HEAD):
             return None
+        _, at, base = lines[0].partition(JOURNAL_BASE)
+        self._journal_base = base.strip() if at else None
         body = "\n".join(lines[1:])
         if not body.strip():
             return Program(self.name)
@@ -168,10 +183,25 @@ class ProgramEditor:
         except FileFormatError:
             return None
 
+    def _claim_journal(self) -> int | None:
+        """The journal's lock file: the descriptor that holds it, None when another session does."""
+        return claim(self.workspace.root / f".{self.journal_path.name}.lock")
+
+    def close(self) -> None:
+        """The editor is left: another session may take the journal over."""
+        release(self._journal_lock)
+        self._journal_lock = -1 if self.read_only else None
+
+    def __del__(self) -> None:  # an editor dropped without close() lets the journal go too
+        release(getattr(self, "_journal_lock", None))
+
     def _write_journal(self) -> None:
         """Every accepted change reaches the disk at once (closing the app mid-edit loses nothing)."""
         self.dirty = True
-        text = JOURNAL_HEAD + self.name + "\n" + "".join(format_step(s) + "\n" for s in self.program.steps)
+        if self._journal_lock is None:
+            return  # another session's journal: not overwritten
+        head = JOURNAL_HEAD + self.name + JOURNAL_BASE + self.stamp  # the file the changes were made to
+        text = head + "\n" + "".join(format_step(s) + "\n" for s in self.program.steps)
         write_text_atomic(self.journal_path, text)
 
     # -- the listing ----------------------------------------------------------------
@@ -275,9 +305,11 @@ class ProgramEditor:
         if self.workspace.path(stem, "DAT").exists() or self.workspace.vplus_source(stem) is not None:
             raise EditorError(f"{stem}.DAT EXISTS: GIVE A NEW NAME")
         self._drop_journal()
+        release(self._journal_lock)
         self.name = stem
         self.path = self.workspace.path(stem, "DAT")
         self.journal_path = self.workspace.path(stem, JOURNAL_EXT)
+        self._journal_lock = self._claim_journal()
         self.program = replace(self.program, name=stem, steps=list(self.program.steps))
         self.stamp = ""  # no file yet: a file made meanwhile is a change too
         return self.save()
@@ -298,7 +330,7 @@ class ProgramEditor:
         return f"{said}; {self.save().name} SAVED"
 
     def _drop_journal(self) -> None:
-        if self.read_only:
+        if self.read_only or self._journal_lock is None:
             return
         try:
             os.unlink(self.journal_path)

@@ -116,6 +116,33 @@ def folder_lock(folder: str | Path) -> Iterator[None]:
             os.close(fd)  # closing releases the lock
 
 
+def claim(path: str | Path) -> int | None:
+    """Hold ``path`` (a lock file, created if missing) for as long as this session wants it:
+    the open descriptor, or None when another session holds it now. Close the descriptor
+    (:func:`release`) to let it go; a session that ends lets it go too. Windows: always held."""
+    if sys.platform == "win32":
+        return -1
+    try:
+        fd = os.open(path, os.O_RDWR | os.O_CREAT | getattr(os, "O_NOFOLLOW", 0), 0o666)
+    except OSError:
+        return -1  # no lock file can be made (a read-only folder): nothing to share it with
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except OSError:
+        os.close(fd)
+        return None
+    return fd
+
+
+def release(fd: int | None) -> None:
+    """Let go of what :func:`claim` returned."""
+    if fd is not None and fd >= 0:
+        try:
+            os.close(fd)
+        except OSError:
+            pass
+
+
 def _write(target: Path, data: bytes) -> None:
     mode = check_writable(target)
     temp = target.with_name(f".{target.name}.{secrets.token_hex(_RANDOM_CHARS // 2)}{TEMP_SUFFIX}")

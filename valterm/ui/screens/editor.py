@@ -385,8 +385,15 @@ class EditorScreen(Screen[None]):
             raise EditorError(f"{typed.strip() or 'NOTHING'} IS NOT A STEP NUMBER")
         return int(text)
 
+    def on_unmount(self) -> None:
+        """The app ends with the editor open: the journal stays for the next open to recover."""
+        if self.editor is not None:
+            self.editor.close()
+
     def close(self) -> None:
         """Dismiss this screen if it is still the one on top: keys typed ahead reach a screen's
         queue before it closes, and a second close must not close the screen below."""
         if self.app.screen is self:
+            if self.editor is not None:
+                self.editor.close()  # another session may now take its journal over
             self.dismiss(None)
