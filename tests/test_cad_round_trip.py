@@ -124,19 +124,10 @@ def test_distinct_rows_once_each_and_minus_zero_is_zero() -> None:
 def test_a_two_million_triangle_stl_imports(tmp_path: Path) -> None:
     """The size the issue measured (50 s and 2.9 GB with trimesh): read by numpy, envelope of
     the distinct vertices. Its time and memory are `valterm bench`'s, not a test's."""
-    n = 1000  # a torus of n x n quads: 2 000 000 triangles
-    u, v = np.meshgrid(np.linspace(0, 2 * np.pi, n, endpoint=False), np.linspace(0, 2 * np.pi, n, endpoint=False),
-                       indexing="ij")
-    grid = np.stack([(80 + 25 * np.cos(v)) * np.cos(u), (80 + 25 * np.cos(v)) * np.sin(u), 25 * np.sin(v)], -1)
-    i = np.arange(n)
-    j = (i + 1) % n
-    a, b, c, d = grid[i][:, i], grid[j][:, i], grid[j][:, j], grid[i][:, j]
-    triangles = np.concatenate([np.stack([a, b, c], 2).reshape(-1, 3, 3), np.stack([a, c, d], 2).reshape(-1, 3, 3)])
-    record = np.zeros(len(triangles), mesh_module._STL_RECORD)
-    record["vertices"] = triangles
+    from valterm.bench.cad import torus_stl
+
     path = tmp_path / "torus.stl"
-    path.write_bytes(b"torus".ljust(80) + np.uint32(len(record)).tobytes() + record.tobytes())
-    assert len(triangles) == 2_000_000
+    assert torus_stl(path) == 2_000_000
     cell = import_cad(path)
     assert np.allclose(extents(cell), [210, 210, 50], atol=0.5)
 
