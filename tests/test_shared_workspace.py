@@ -249,3 +249,33 @@ def test_two_concurrent_runs_keep_every_variable(root: Path, tmp_path: Path) -> 
         assert proc.returncode == 0, err
     kept = Workspace(root).read_variables()
     assert kept == {f"R{k}V{j}": 30000.0 for k in range(2) for j in range(3)}
+
+
+def test_import_into_a_setup_another_session_saved_meanwhile_is_refused(
+        root: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]) -> None:
+    import trimesh
+
+    import valterm.commands.cad as cad
+    from valterm.cli import main as cli
+
+    part = tmp_path / "part.stl"
+    trimesh.creation.box(extents=(30, 30, 30)).export(part)
+    real = cad.import_cad
+
+    def other_session_saves_first(*args, **kwargs):  # type: ignore[no-untyped-def]
+        other = Session(root, setup="CONV")
+        other.simulator.cell.objects[0] = other.simulator.cell.objects[0].translated(np.array([0, 0, 7.0]))
+        other.save_setup()
+        return real(*args, **kwargs)
+
+    original = read_setup(root / "CONV.SET")
+    monkeypatch.setattr(cad, "import_cad", other_session_saves_first)
+    assert cli(["--workspace", str(root), "import", str(part), "--into", "CONV"]) == 1
+    assert "CONV.SET: changed on disk since this session read it" in capsys.readouterr().err
+    kept = read_setup(root / "CONV.SET")  # the other session's save, not overwritten
+    assert len(kept.objects) == len(original.objects)
+    assert np.allclose(kept.objects[0].vertices, original.objects[0].vertices + [0, 0, 7.0], atol=0.01)
+    monkeypatch.setattr(cad, "import_cad", real)
+    before = len(read_setup(root / "CONV.SET").objects)
+    assert cli(["--workspace", str(root), "import", str(part), "--into", "CONV"]) == 0
+    assert len(read_setup(root / "CONV.SET").objects) == before + 1

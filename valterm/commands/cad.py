@@ -74,6 +74,8 @@ def run_import(args: argparse.Namespace) -> int:
     root = getattr(args, "workspace", None)
     try:
         workspace = Workspace.open(root)
+        # --into: the setup as read; written back only if no other session saved it meanwhile
+        stamp = workspace.stamp(_set_name(args.into), "SET") if args.into else None
         setup = workspace.read_setup(_set_name(args.into)) if args.into else None
         out = workspace.path(_set_name(args.out or args.into), "SET")
         source = _source(args.file, root)
@@ -85,7 +87,8 @@ def run_import(args: argparse.Namespace) -> int:
                           around=setup.objects if setup is not None else (), progress=_progress)
         if setup is not None:
             cell = add_parts(setup, cell)
-        write_setup(out, cell)
+        same = args.into and out == workspace.path(_set_name(args.into), "SET")
+        write_setup(out, cell, stamp if same else None)
     except (ValtermError, OSError) as error:
         return fail(error_message(error), FAILURE)
     for warning in cell.warnings:
