@@ -47,7 +47,6 @@ _STL_HEADER = 84
 _STL_VERTEX = re.compile(rb"^[ \t]*vertex\b([^\n]*)", re.MULTILINE)
 # an OBJ vertex line with fewer than three numbers (trimesh would fail on it without saying where)
 _OBJ_SHORT_VERTEX = re.compile(rb"^v[ \t]+[^ \t\r\n]+(?:[ \t]+[^ \t\r\n]+)?[ \t]*\r?$", re.MULTILINE)
-_OBJ_FACE = re.compile(rb"^f[ \t]", re.MULTILINE)
 
 
 def read_mesh_parts(path: str | Path, progress: Progress | None = None) -> list[Part]:
@@ -178,8 +177,8 @@ def _looks_ascii(data: bytes) -> bool:
 
 
 def _read_ascii_stl(path: Path, data: bytes, progress: Progress | None) -> np.ndarray:
+    _check_count(path, data.count(b"vertex") // 3, progress)  # before any list is made of them
     found = _STL_VERTEX.findall(data)
-    _check_count(path, len(found) // 3, progress)
     if not found:
         raise CadImportError(path, None, "an ASCII STL with no 'vertex' lines: no mesh geometry")
     fields = b" ".join(found).split()
@@ -223,7 +222,7 @@ def _check_obj(path: Path, data: bytes) -> None:
         line = data.count(b"\n", 0, short.start()) + 1
         raise CadImportError(path, line, f"a vertex needs three numbers (x y z), not "
                                          f"{short.group(0).decode(errors='replace').strip()[:40]!r}")
-    faces = len(_OBJ_FACE.findall(data))
+    faces = data.count(b"\nf ") + data.count(b"\nf\t") + data.startswith((b"f ", b"f\t"))
     if faces > MAX_TRIANGLES:
         raise CadImportError(path, None, f"{faces:,} faces: more than the import limit of "
                                          f"{MAX_TRIANGLES:,} triangles; simplify the mesh in the CAD program first")
