@@ -67,6 +67,17 @@ def test_gltf_import_export_reimport_is_unchanged(tmp_path: Path, make, size) ->
     assert np.abs(sorted_vertices(third)[0] - sorted_vertices(first)[0]).max() < 0.01
 
 
+def test_screen_axes_take_a_gltfs_numbers_as_written(tmp_path: Path) -> None:
+    path = gltf_block(tmp_path / "part.glb")  # glTF extents x 100, y 60, z 40 mm
+    stl = tmp_path / "part.stl"
+    trimesh.creation.box(extents=(100, 60, 40)).export(stl)  # the same numbers, in mm
+    from_gltf = import_cad(path, system="S", place_at=(0, 0, 0))
+    from_stl = import_cad(stl, system="S", place_at=(0, 0, 0))
+    # X_s = Y_w, Y_s = Z_w + 26, Z_s = X_w: world extents (z, x, y) of the file's numbers
+    assert np.allclose(extents(from_gltf), [40, 100, 60], atol=0.01)
+    assert np.allclose(extents(from_gltf), extents(from_stl), atol=0.01)
+
+
 def test_a_metre_stl_read_as_millimetres_warns_with_the_fix(tmp_path: Path) -> None:
     path = tmp_path / "link.stl"
     trimesh.creation.box(extents=(0.3, 0.1, 0.1)).export(path)  # a robot link in metres

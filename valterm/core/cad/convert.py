@@ -10,8 +10,9 @@ specified coordinate axes". Here:
   carry no units and are taken as millimetres. A part implausibly small (under 2 mm: a file
   in metres read as millimetres) or large (over 20 m) is kept, with a warning that names
   the units to give instead;
-* the numbers are coordinates in the chosen system: ``W`` world as is, ``S`` screen axes
-  (X_s = Y_w, Y_s = Z_w + 26, Z_s = X_w), so a model drawn Y-up stands upright;
+* the numbers are coordinates in the chosen system: ``W`` world as is (a glTF's Y up turned to
+  Z up), ``S`` screen axes (X_s = Y_w, Y_s = Z_w + 26, Z_s = X_w), so a model drawn Y-up
+  stands upright (a glTF's numbers taken as written);
 * all parts move together (their arrangement kept) onto a free spot of a table in front of
   the robot, clear of it and of the objects ``around`` them (``valterm.core.cad.placement``);
   or, when ``place_at`` is given, so the minimum corner of their joint box sits there (in the
@@ -28,10 +29,11 @@ from pathlib import Path
 
 import numpy as np
 
+from valterm.core.cad.axes import world_to_gltf
 from valterm.core.cad.errors import CadImportError, DegeneratePart
 from valterm.core.cad.hull import MIN_DEPTH_MM, extruded_hull
 from valterm.core.cad.iges import Part, read_iges
-from valterm.core.cad.mesh import MESH_EXTENSIONS, METRE_EXTENSIONS, read_mesh_parts
+from valterm.core.cad.mesh import MESH_EXTENSIONS, METRE_EXTENSIONS, Y_UP_EXTENSIONS, read_mesh_parts
 from valterm.core.cad.placement import place_on_table
 from valterm.core.cell.polyhedron import Polyhedron
 from valterm.core.cell.workcell import WorkCell
@@ -144,7 +146,8 @@ def import_cad(path: str | Path, units: str | None = None, system: str = "W", na
     for part in found:
         pts = part.points * rescale
         if system == "S":
-            pts = scs_to_world(pts)
+            # S says the file's own numbers are screen axes: a glTF's are taken as written
+            pts = scs_to_world(world_to_gltf(pts) if path.suffix.lower() in Y_UP_EXTENSIONS else pts)
         try:
             poly, notes = extruded_hull(pts, part.name, min_depth)
         except DegeneratePart as exc:
