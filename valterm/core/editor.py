@@ -193,7 +193,10 @@ class ProgramEditor:
         self._journal_lock = -1 if self.read_only else None
 
     def __del__(self) -> None:  # an editor dropped without close() lets the journal go too
-        release(getattr(self, "_journal_lock", None))
+        try:
+            release(getattr(self, "_journal_lock", None))
+        except (TypeError, AttributeError):  # at interpreter exit the module may be gone already
+            pass
 
     def _write_journal(self) -> None:
         """Every accepted change reaches the disk at once (closing the app mid-edit loses nothing)."""
