@@ -12,6 +12,8 @@ import numpy as np
 import pytest
 import trimesh
 
+from app_helpers import sync
+
 from valterm.cli import main as cli
 from valterm.core.cad import CadImportError, export_scene, import_cad
 from valterm.core.cad import mesh as mesh_module
@@ -198,3 +200,24 @@ def test_gltf_refusals_speak_to_the_user_not_to_a_programmer(tmp_path: Path, cha
     assert cli(["--workspace", str(tmp_path / "ws"), "import", str(path), "--out", "T"]) == 1
     err = capsys.readouterr().err
     assert said in err and "=" not in err and "`" not in err
+
+
+@sync
+async def test_the_app_says_it_is_reading_a_large_mesh_before_it_does(tmp_path: Path,
+                                                                       monkeypatch: pytest.MonkeyPatch) -> None:
+    from app_helpers import make_app, screen_text
+
+    from valterm.core.workspace import Workspace
+
+    Workspace.open(tmp_path)
+    trimesh.creation.icosphere(subdivisions=3, radius=50).export(tmp_path / "BALL.STL")
+    monkeypatch.setattr(mesh_module, "LARGE_BYTES", 1000)  # "large" for the test
+    app = make_app(tmp_path, start=True)
+    async with app.run_test(size=(160, 50)) as pilot:
+        await pilot.press("U", *"BALL.STL", "enter", *"BALL", "enter", "1", "enter", "enter", "enter")
+        await pilot.pause()
+        text = screen_text(app)
+        assert "READING BALL.STL (0 MB): THIS TAKES A FEW SECONDS" in text
+        await pilot.pause()
+        assert "BALL.SET HAS SUCCESSFULLY BEEN WRITTEN" in screen_text(app)
+    assert (tmp_path / "BALL.SET").is_file()
