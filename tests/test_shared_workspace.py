@@ -279,3 +279,13 @@ def test_import_into_a_setup_another_session_saved_meanwhile_is_refused(
     before = len(read_setup(root / "CONV.SET").objects)
     assert cli(["--workspace", str(root), "import", str(part), "--into", "CONV"]) == 0
     assert len(read_setup(root / "CONV.SET").objects) == before + 1
+
+
+def test_datfiler_additions_and_removals_keep_the_other_sessions_names(root: Path) -> None:
+    from valterm.core.files.datfiler import add_program_name, read_datfiler, remove_program_name
+
+    path = root / "DATFILER.DAT"
+    before = read_datfiler(path)
+    assert add_program_name(path, "NEWA") and add_program_name(path, "NEWB")
+    assert remove_program_name(path, "NEWA") and not remove_program_name(path, "NEWA")
+    assert read_datfiler(path) == [*before, "NEWB"]

@@ -68,3 +68,15 @@ def add_program_name(path: str | Path, name: str) -> bool:
             return False
         write_datfiler(path, [*names, upper])
     return True
+
+
+def remove_program_name(path: str | Path, name: str) -> bool:
+    """Take ``name`` off the directory (a new program left unsaved); False when it was not listed."""
+    path = Path(path)
+    with folder_lock(path.parent):  # another session's addition meanwhile stays listed
+        names = read_datfiler(path) if path.exists() else []
+        upper = name.upper().removesuffix(".DAT")
+        if upper not in names:
+            return False
+        write_datfiler(path, [n for n in names if n != upper])
+    return True

@@ -307,15 +307,12 @@ class EditorScreen(Screen[None]):
 
     def _unlist_if_never_saved(self) -> None:
         """A program opened new and never saved leaves DATFILER.DAT (LISTF shows no ghosts)."""
-        from valterm.core.files.datfiler import read_datfiler, write_datfiler
+        from valterm.core.files.datfiler import remove_program_name
 
         editor = self.editor
         if editor is None or not editor.new or editor.path.exists():
             return
-        path = self.workspace.path("DATFILER", "DAT")
-        names = read_datfiler(path) if path.exists() else []
-        if editor.name in names:
-            write_datfiler(path, [n for n in names if n != editor.name])
+        remove_program_name(self.workspace.path("DATFILER", "DAT"), editor.name)
 
     def action_help(self) -> None:
         from valterm.ui.screens.help import HelpScreen
