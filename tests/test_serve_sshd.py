@@ -58,7 +58,10 @@ def server(tmp_path: Path) -> Iterator[dict[str, object]]:
     fake = tmp_path / "valterm"  # the simulator's stand-in: says it started and with what
     fake.write_text(f'#!/bin/sh\necho "SIMULATOR STARTED $*"\ntouch {started}\n')
     fake.chmod(0o755)
-    match = [line.replace("/usr/local/bin/valterm-login", str(WRAPPER)) for line in recipe_block("Match Group valterm")]
+    # ForceCommand runs through the login shell: `env` points the wrapper at the stand-in
+    # (works on any OpenSSH; the server-side SetEnv needs 8.7)
+    wrapper = f"env VALTERM={fake} VALTERM_NOTE_SECONDS=2 {WRAPPER}"
+    match = [line.replace("/usr/local/bin/valterm-login", wrapper) for line in recipe_block("Match Group valterm")]
     match[0] = f"Match User {user}"
     port = free_port()
     config = tmp_path / "sshd_config"
@@ -66,7 +69,6 @@ def server(tmp_path: Path) -> Iterator[dict[str, object]]:
         f"Port {port}", "ListenAddress 127.0.0.1", f"HostKey {tmp_path / 'host'}", f"PidFile {tmp_path / 'pid'}",
         f"AuthorizedKeysFile {tmp_path / 'authorized_keys'}", "StrictModes no", "UsePAM no",
         "PasswordAuthentication no", "KbdInteractiveAuthentication no",
-        f"SetEnv VALTERM={fake} VALTERM_NOTE_SECONDS=2",
         *match, ""]))
     if os.geteuid() == 0:
         os.makedirs("/run/sshd", mode=0o755, exist_ok=True)  # the privilege-separation folder
