@@ -68,7 +68,7 @@ def server(tmp_path: Path) -> Iterator[dict[str, object]]:
     config.write_text("\n".join([
         f"Port {port}", "ListenAddress 127.0.0.1", f"HostKey {tmp_path / 'host'}", f"PidFile {tmp_path / 'pid'}",
         f"AuthorizedKeysFile {tmp_path / 'authorized_keys'}", "StrictModes no", "UsePAM no",
-        "PasswordAuthentication no", "KbdInteractiveAuthentication no",
+        "PasswordAuthentication no",
         *match, ""]))
     if os.geteuid() == 0:
         os.makedirs("/run/sshd", mode=0o755, exist_ok=True)  # the privilege-separation folder
