@@ -8,6 +8,8 @@
 # - exec: the simulator is the session's process, so when the client leaves, the hangup sshd
 #   sends on closing the terminal ends it (ClientAliveInterval catches links that just die).
 # - Each login user has a workspace of their own, $HOME/valterm, private to them (umask 077).
+# - A command given to ssh (ssh -t HOST CMD) is ignored, and said so before the simulator's
+#   screen covers the terminal (VALTERM_NOTE_SECONDS, default 3, to read it).
 
 VALTERM="${VALTERM:-/opt/valterm/venv/bin/valterm}"
 
@@ -15,12 +17,17 @@ if [ ! -t 0 ] || [ ! -t 1 ]; then
     echo "valterm: this login runs the VAL-II SIMULATOR and needs a terminal: connect with 'ssh -t USER@HOST' (no -T, no command)." >&2
     exit 1
 fi
-if [ -n "$SSH_ORIGINAL_COMMAND" ]; then
-    echo "valterm: this login runs only the VAL-II SIMULATOR; the command '$SSH_ORIGINAL_COMMAND' is ignored." >&2
-fi
 if [ ! -x "$VALTERM" ]; then
     echo "valterm: $VALTERM is missing or not executable for $(id -un): ask the administrator (the venv must be readable by login users)." >&2
     exit 1
+fi
+
+if [ -n "$SSH_ORIGINAL_COMMAND" ]; then
+    # said before the simulator starts, and left a moment to be read: the simulator's screen
+    # covers the terminal at once (the note was seen only after it ended)
+    echo "valterm: this login runs only the VAL-II SIMULATOR; the command '$SSH_ORIGINAL_COMMAND' is ignored." >&2
+    echo "valterm: starting the simulator in ${VALTERM_NOTE_SECONDS:-3} seconds ..." >&2
+    sleep "${VALTERM_NOTE_SECONDS:-3}"
 fi
 
 umask 077

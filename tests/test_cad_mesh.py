@@ -28,7 +28,8 @@ def test_single_box_every_format(tmp_path, ext):
     # a glTF is in metres by its specification; MM says these numbers are millimetres
     cell = import_cad(path, units="MM" if ext == "glb" else None, place_at=(0, 0, 0))
     assert len(cell.objects) == 1
-    assert np.allclose(extents(cell), [40, 30, 20])
+    # a glTF's Y up is the world's Z up
+    assert np.allclose(extents(cell), [40, 20, 30] if ext == "glb" else [40, 30, 20])
     assert np.allclose(cell.objects[0].vertices.min(axis=0), 0)
     assert cell.units == "MM" and cell.name == "BLOCK"
 

@@ -50,9 +50,10 @@ def test_glb_is_read_in_metres(tmp_path):
     path = tmp_path / "box.glb"
     trimesh.creation.box(extents=(0.2, 0.1, 0.05)).export(path)
     assert native_units(path) == "M"
-    assert np.allclose(size(import_cad(path)), [200, 100, 50])
+    # glTF's Y up is the world's Z up: (x, y, z) glTF -> (x, -z, y) world
+    assert np.allclose(size(import_cad(path)), [200, 50, 100])
     # MM says the numbers are millimetres after all
-    assert np.allclose(size(import_cad(path, units="MM", min_depth=0.01)), [0.2, 0.1, 0.05])
+    assert np.allclose(size(import_cad(path, units="MM", min_depth=0.01)), [0.2, 0.05, 0.1])
 
 
 def test_stl_is_millimetres_unless_told_metres(tmp_path):
@@ -207,12 +208,14 @@ def test_import_into_a_missing_setup_writes_nothing(tmp_path, capsys):
 
 # --------------------------------------------------------------------------- valterm export
 
-def test_export_glb_is_metres_y_up_with_part_names(tmp_path, capsys):
+def test_export_glb_is_metres_y_up_with_part_names(tmp_path, capsys, monkeypatch):
     ws = tmp_path / "ws"
     assert cli(["--workspace", str(ws), "import", str(sample("occt-box-100mm.iges")), "--into", "PROCESS"]) == 0
+    monkeypatch.chdir(tmp_path)  # a relative --out is relative to the current folder
     assert cli(["--workspace", str(ws), "export", "PROCESS.SET", "--out", "P.glb"]) == 0
     assert "metres, Y up" in capsys.readouterr().out
-    scene = trimesh.load(ws / "P.glb", force="scene")
+    assert not (ws / "P.glb").exists()
+    scene = trimesh.load(tmp_path / "P.glb", force="scene")
     cell = read_setup(ws / "PROCESS.SET")
     assert "OCCT-BOX-100MM" in scene.geometry and "PART 8" in scene.geometry and "BASE" in scene.geometry
     box = cell.objects[-1].vertices
@@ -226,14 +229,16 @@ def test_export_glb_is_metres_y_up_with_part_names(tmp_path, capsys):
     assert scene.bounds[1][1] < 1.1 and scene.bounds[0][1] > -0.7   # nothing in millimetres
 
 
-def test_export_obj_and_stl_keep_millimetres_and_say_so(tmp_path, capsys):
+def test_export_obj_and_stl_keep_millimetres_and_say_so(tmp_path, capsys, monkeypatch):
     ws = tmp_path / "ws"
+    (tmp_path / "here").mkdir()
+    monkeypatch.chdir(tmp_path / "here")
     assert cli(["--workspace", str(ws), "export", "PROCESS", "--out", "P.OBJ", "--loc", "PROCESS", "--at", "A"]) == 0
     said = capsys.readouterr().out
     assert "millimetres, Z up" in said and "location A" in said
-    text = (ws / "P.OBJ").read_text()
+    text = (tmp_path / "here" / "P.OBJ").read_text()
     assert text.startswith("# valterm export: world millimetres, Z up")
-    loaded = trimesh.load(ws / "P.OBJ", force="scene", split_objects=True)
+    loaded = trimesh.load(tmp_path / "here" / "P.OBJ", force="scene", split_objects=True)
     assert "cell/PART 8" in loaded.geometry
     out = tmp_path / "elsewhere" / "p.stl"
     assert cli(["--workspace", str(ws), "export", "PROCESS", "--out", str(out), "--pose", "0,-90,90,0,0,0"]) == 0
@@ -249,8 +254,9 @@ def test_export_obj_and_stl_keep_millimetres_and_say_so(tmp_path, capsys):
     (["--loc", "PROCESS", "--at", "NOWHERE"], 1, "no location NOWHERE"),
     (["--loc", "NOSUCH", "--at", "A"], 1, "no such location file"),
 ])
-def test_export_errors(tmp_path, capsys, argv, status, reason):
+def test_export_errors(tmp_path, capsys, monkeypatch, argv, status, reason):
     ws = tmp_path / "ws"
+    monkeypatch.chdir(tmp_path)
     out = [] if "--out" in argv else ["--out", "P.glb"]
     if status == 2:
         with pytest.raises(SystemExit) as caught:
@@ -259,9 +265,10 @@ def test_export_errors(tmp_path, capsys, argv, status, reason):
     else:
         assert cli(["--workspace", str(ws), "export", "PROCESS", *out, *argv]) == 1
     assert reason in capsys.readouterr().err
-    assert not list(ws.glob("P.*"))
+    assert not list(ws.glob("P.*")) and not list(tmp_path.glob("P.*"))
 
 
-def test_export_of_a_missing_setup_fails(tmp_path, capsys):
+def test_export_of_a_missing_setup_fails(tmp_path, capsys, monkeypatch):
+    monkeypatch.chdir(tmp_path)
     assert cli(["--workspace", str(tmp_path / "ws"), "export", "NOSUCH.SET", "--out", "N.glb"]) == 1
     assert "no such setup file" in capsys.readouterr().err

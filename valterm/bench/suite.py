@@ -34,6 +34,8 @@ GOALS: dict[str, tuple[str, float]] = {
     "app_move_bytes_per_frame_160x50": ("<=", 10_240.0),
     "app_program_fps_160x50": (">=", 30.0),
     "app_program_bytes_per_frame_160x50": ("<=", 10_240.0),
+    "cad_import_2m_triangles_s": ("<", 10.0),
+    "cad_import_2m_triangles_mb": ("<", 1024.0),
 }
 
 # the peer measured in the same run, shown beside a goal's figure in ``--md``
@@ -132,6 +134,7 @@ def run_all(app: bool = True) -> dict[str, Any]:
     _optional(entries, "grade", _grade_entries)
     _optional(entries, "collision", _collision_entries)
     _optional(entries, "raster", _raster_entries)
+    _optional(entries, "CAD import", _cad_entries)
     _optional(entries, "drawille (the bench extra: pip install 'valterm[bench]')", _drawille_entries)
     if app:
         _optional(entries, "app", _app_entries)
@@ -195,6 +198,12 @@ def _collision_entries() -> dict[str, float]:
     entries["collision_step_links"] = step["links"]
     entries["collision_step_moving_bodies"] = step["links"] + step["carried"]
     return entries
+
+
+def _cad_entries() -> dict[str, float]:
+    from valterm.bench.cad import bench_stl_import
+
+    return bench_stl_import()
 
 
 def _raster_entries() -> dict[str, float]:

@@ -60,6 +60,11 @@ def _set_name(argument: str) -> str:
     return stem if dot and ext.upper() == "SET" else argument
 
 
+def _progress(text: str) -> None:
+    """A large mesh: what the import is doing, on stderr (stdout keeps the summary)."""
+    print(f"import: {text} ...", file=sys.stderr, flush=True)
+
+
 def run_import(args: argparse.Namespace) -> int:
     from valterm.core.files.setup import write_setup
     from valterm.core.workspace import Workspace
@@ -69,6 +74,8 @@ def run_import(args: argparse.Namespace) -> int:
     root = getattr(args, "workspace", None)
     try:
         workspace = Workspace.open(root)
+        # --into: the setup as read; written back only if no other session saved it meanwhile
+        stamp = workspace.stamp(_set_name(args.into), "SET") if args.into else None
         setup = workspace.read_setup(_set_name(args.into)) if args.into else None
         out = workspace.path(_set_name(args.out or args.into), "SET")
         source = _source(args.file, root)
@@ -77,10 +84,11 @@ def run_import(args: argparse.Namespace) -> int:
         if args.out and out.exists() and not args.force:
             return fail(f"import: {out.name} exists in the workspace; use --force to replace it", FAILURE)
         cell = import_cad(source, units=args.units, system=args.system, name=out.stem, parts=args.parts,
-                          around=setup.objects if setup is not None else ())
+                          around=setup.objects if setup is not None else (), progress=_progress)
         if setup is not None:
             cell = add_parts(setup, cell)
-        write_setup(out, cell)
+        same = args.into and out == workspace.path(_set_name(args.into), "SET")
+        write_setup(out, cell, stamp if same else None)
     except (ValtermError, OSError) as error:
         return fail(error_message(error), FAILURE)
     for warning in cell.warnings:

@@ -5,7 +5,8 @@ joint angles of ``--pose J1,..,J6`` (degrees), or at location NAME of a location
 (``--loc FILE --at NAME``; the first of the user's configurations that reaches it, RIGHTY
 ABOVE NOFLIP first, as the simulator starts). ``--no-robot`` writes the cell alone.
 GLB is in metres with Y up as glTF requires; OBJ and STL keep the world's millimetres, Z up
-(the command says which). A bare FILE name is written into the workspace, a path where it says.
+(the command says which). FILE is a path: a relative one is relative to the current folder,
+as for any command (main menu G in the app writes into the workspace).
 Exit status 0 written, 1 failed (no such setup file or location, out of reach, cannot
 write), 2 usage (a malformed --pose, an unknown format); the reason goes to stderr and
 nothing is half-written.
@@ -70,9 +71,9 @@ def _joints_at(location: object) -> tuple[list[float], str]:
     raise RefusedValue(f"the robot cannot reach it in any configuration ({reason})")
 
 
-def _out_path(argument: str, root: Path) -> Path:
-    given = Path(argument).expanduser()
-    return given if any(sep in argument for sep in ("/", "\\")) else root / given.name
+def _out_path(argument: str) -> Path:
+    """--out as the shell means it: relative to the current folder."""
+    return Path(argument).expanduser().absolute()
 
 
 def run_export(args: argparse.Namespace) -> int:
@@ -105,7 +106,7 @@ def run_export(args: argparse.Namespace) -> int:
             joints, config = _joints_at(points[name])
             said = f"location {name} ({config})"
         robot = [] if args.no_robot else model.place(joints)
-        out = export_scene(cell, robot, _out_path(args.out, workspace.root))
+        out = export_scene(cell, robot, _out_path(args.out))
     except ValtermError as error:
         print(f"valterm export: {error}", file=sys.stderr)
         return 1

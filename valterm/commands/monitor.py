@@ -61,6 +61,21 @@ def _session(args: argparse.Namespace) -> Any:
     return session
 
 
+def _ready(stdin: TextIO) -> bool:
+    """More input can be read at once (a pipe with lines waiting); False when reading would wait,
+    and for a stream that is no file (a test's StringIO: kept at the end)."""
+    import select
+
+    try:
+        fd = stdin.fileno()
+    except (OSError, ValueError):
+        return True
+    try:
+        return bool(select.select([fd], [], [], 0)[0])
+    except (OSError, ValueError):
+        return False
+
+
 def run(args: argparse.Namespace, stdin: TextIO | None = None, stdout: TextIO | None = None) -> int:
     from valterm.core.errors import ValtermError
     from valterm.core.monitor import LineMonitor
@@ -94,6 +109,8 @@ def run(args: argparse.Namespace, stdin: TextIO | None = None, stdout: TextIO | 
         while True:
             on_sigint.pressed = False  # type: ignore[attr-defined]
             try:
+                if not _ready(stdin):  # the end of a batch of lines: CHECK.DAT is written once
+                    monitor.keep()
                 if interactive:
                     out.write(". ")
                     out.flush()

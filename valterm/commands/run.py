@@ -120,10 +120,7 @@ def run(args: argparse.Namespace) -> int:
         loc_paths = [_find(name, "LOC", workspace) for name in loc_names]
         for path in loc_paths:
             sim.locations.update(read_locations(path))
-        variables = VariableStore()
-        check = workspace.path("CHECK", "DAT")
-        if check.is_file():
-            variables.load(check)
+        variables = VariableStore(workspace.read_variables())  # read: a merge writes only this run's changes
     except (FileFormatError, WorkspaceError, FileNotFoundError, OSError) as error:
         return fail(error, FAILURE)
     sim.collision_checks = bool(args.collisions)
@@ -136,7 +133,7 @@ def run(args: argparse.Namespace) -> int:
             return in_file[name]
         return load_called(name)  # through the workspace's checks (no links outside)
 
-    interpreter = Interpreter(sim, load_program, variables, keep_variables=workspace.write_variables,
+    interpreter = Interpreter(sim, load_program, variables, keep_variables=workspace.merge_variables,
                               dialect=args.dialect or "1985", limits=limits_from(args))
     try:
         _vplus_setup(args, sim, interpreter, loc_paths)

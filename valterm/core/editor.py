@@ -11,6 +11,14 @@ Nothing typed is lost: each accepted change is written at once to a journal file
 program (``NAME.~DAT``, which LISTF does not list); a later open of the same program
 recovers it. Saving (or discarding) removes the journal.
 
+Two sessions on one workspace: the journal is the first editor's (it holds the lock file
+``.NAME.~DAT.lock`` while it is open); a second editor of the same program neither recovers
+nor removes it, and keeps its own changes unjournalled until it saves. A save checks that
+NAME.DAT is still what this editor read;
+when another session saved it meanwhile, ``save()`` raises FileChanged (nothing written) and
+the UI asks: ``save(overwrite=True)``, ``reload()`` (take the other session's program) or
+``save_as(NAME)``.
+
 No UI import here: the Textual editor screen and the tests drive this class.
 """
 
@@ -19,16 +27,18 @@ from __future__ import annotations
 import os
 import re
 from collections.abc import Callable
+from dataclasses import replace
 from pathlib import Path
 
 from valterm.core.errors import ValtermError
-from valterm.core.files.atomic import write_text_atomic
+from valterm.core.files.atomic import claim, release, text_stamp, write_text_atomic
 from valterm.core.files.errors import FileFormatError
 from valterm.core.files.programs import (
     LABEL_COLUMNS,
     MAX_LINE,
     Program,
     ProgramLine,
+    format_program,
     format_step,
     parse_program,
     split_label,
@@ -38,6 +48,7 @@ from valterm.core.workspace import Workspace
 
 JOURNAL_EXT = "~DAT"
 JOURNAL_HEAD = "; VALTERM JOURNAL OF "
+JOURNAL_BASE = " CHANGING "  # then the stamp of NAME.DAT the changes were made to
 
 # Fig. 5-1 / Fig. C-8, as the thesis prints it.
 EDITOR_MENU = (
@@ -106,12 +117,17 @@ class ProgramEditor:
         self.new = False
         self.recovered = False
         self.dirty = False  # changes not yet saved to NAME.DAT
+        self.stamp = ""  # NAME.DAT as read ("" none): a save checks it is still so
+        self._journal_lock: int | None = self._claim_journal()
+        self._journal_base: str | None = None
         self.program = self._open()
 
     # -- opening (§5.1) ----------------------------------------------------------
     def _open_vplus(self, program: Program, source: Path) -> None:
         self.name, self.path, self.journal_path = program.name, source, source  # no journal is kept
         self.new = self.recovered = self.dirty = False
+        self.stamp = ""
+        self._journal_lock = -1
         self.program = program
         self.read_only = (f"{program.name} IS A V+ PROGRAM OF {source.name}: SHOWN HERE, NOT CHANGED "
                           f"(EDIT {source.name} ITSELF)")
@@ -120,6 +136,7 @@ class ProgramEditor:
     def _open(self) -> Program:
         listed = self.name in self.workspace.programs_directory()
         program: Program | None = None
+        self.stamp = self.workspace.stamp(self.name, "DAT")  # before reading: a change meanwhile asks
         if self.path.is_file():
             try:
                 program = self.workspace.read_program(self.name)
@@ -132,8 +149,14 @@ class ProgramEditor:
         if not listed:
             # §5.1: a new program's name is added to the list and DATFILER.DAT updated
             self.workspace.add_program(self.name)
+        if self._journal_lock is None:
+            self.messages.append(f"{self.name}.DAT IS OPEN IN ANOTHER SESSION: ITS UNSAVED CHANGES STAY ITS OWN; "
+                                 "YOURS ARE KEPT WHEN YOU SAVE")
+            return program
         recovered = self._read_journal()
         if recovered is not None:
+            # the journal's changes were made to NAME.DAT as it was then: a save asks if it changed since
+            self.stamp = self._journal_base if self._journal_base is not None else self.stamp
             self.recovered = True
             self.dirty = True
             self.messages.append(f"RECOVERED UNSAVED EDITS OF {self.name}.DAT ({len(recovered.steps)} STEPS)")
@@ -150,6 +173,8 @@ class ProgramEditor:
         lines = text.splitlines()
         if not lines or not lines[0].startswith(JOURNAL_HEAD):
             return None
+        _, at, base = lines[0].partition(JOURNAL_BASE)
+        self._journal_base = base.strip() if at else None
         body = "\n".join(lines[1:])
         if not body.strip():
             return Program(self.name)
@@ -158,10 +183,28 @@ class ProgramEditor:
         except FileFormatError:
             return None
 
+    def _claim_journal(self) -> int | None:
+        """The journal's lock file: the descriptor that holds it, None when another session does."""
+        return claim(self.workspace.root / f".{self.journal_path.name}.lock")
+
+    def close(self) -> None:
+        """The editor is left: another session may take the journal over."""
+        release(self._journal_lock)
+        self._journal_lock = -1 if self.read_only else None
+
+    def __del__(self) -> None:  # an editor dropped without close() lets the journal go too
+        try:
+            release(getattr(self, "_journal_lock", None))
+        except (TypeError, AttributeError):  # at interpreter exit the module may be gone already
+            pass
+
     def _write_journal(self) -> None:
         """Every accepted change reaches the disk at once (closing the app mid-edit loses nothing)."""
         self.dirty = True
-        text = JOURNAL_HEAD + self.name + "\n" + "".join(format_step(s) + "\n" for s in self.program.steps)
+        if self._journal_lock is None:
+            return  # another session's journal: not overwritten
+        head = JOURNAL_HEAD + self.name + JOURNAL_BASE + self.stamp  # the file the changes were made to
+        text = head + "\n" + "".join(format_step(s) + "\n" for s in self.program.steps)
         write_text_atomic(self.journal_path, text)
 
     # -- the listing ----------------------------------------------------------------
@@ -229,16 +272,50 @@ class ProgramEditor:
         return removed
 
     # -- saving and leaving --------------------------------------------------------
-    def save(self) -> Path:
-        """S: write NAME.DAT atomically, list it in DATFILER.DAT, drop the journal."""
+    def save(self, overwrite: bool = False) -> Path:
+        """S: write NAME.DAT atomically, list it in DATFILER.DAT, drop the journal.
+
+        FileChanged (nothing written) when NAME.DAT changed on disk since this editor read or
+        saved it, unless ``overwrite``."""
         if self.read_only:
             raise EditorError(self.read_only)
-        path = self.workspace.write_program(self.program, self.name)
+        path = self.workspace.write_program(self.program, self.name, None if overwrite else self.stamp)
+        self.stamp = text_stamp(format_program(self.program))
         self.path = path
         self.new = False
         self.dirty = False
         self._drop_journal()
         return path
+
+    def reload(self) -> Program:
+        """Take NAME.DAT as it is on disk now (another session's save): this editor's unsaved
+        changes and its journal go."""
+        if self.read_only:
+            raise EditorError(self.read_only)
+        self.stamp = self.workspace.stamp(self.name, "DAT")
+        self.program = self.workspace.read_program(self.name) if self.path.is_file() else Program(self.name)
+        self.new = not self.path.is_file()
+        self.dirty = False
+        self._drop_journal()
+        return self.program
+
+    def save_as(self, name: str) -> Path:
+        """Save the program under a new name (one no file has) and go on editing that one;
+        the program it was opened as stays as the other session saved it."""
+        if self.read_only:
+            raise EditorError(self.read_only)
+        stem = self.workspace._program_name(program_name(name))  # WorkspaceError for a bad name
+        if self.workspace.path(stem, "DAT").exists() or self.workspace.vplus_source(stem) is not None:
+            raise EditorError(f"{stem}.DAT EXISTS: GIVE A NEW NAME")
+        self._drop_journal()
+        release(self._journal_lock)
+        self.name = stem
+        self.path = self.workspace.path(stem, "DAT")
+        self.journal_path = self.workspace.path(stem, JOURNAL_EXT)
+        self._journal_lock = self._claim_journal()
+        self.program = replace(self.program, name=stem, steps=list(self.program.steps))
+        self.stamp = ""  # no file yet: a file made meanwhile is a change too
+        return self.save()
 
     def discard(self) -> None:
         """Leave without saving: the journal goes, NAME.DAT stays as it was."""
@@ -256,7 +333,7 @@ class ProgramEditor:
         return f"{said}; {self.save().name} SAVED"
 
     def _drop_journal(self) -> None:
-        if self.read_only:
+        if self.read_only or self._journal_lock is None:
             return
         try:
             os.unlink(self.journal_path)

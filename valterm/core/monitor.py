@@ -5,6 +5,9 @@ PAUSE / PROCEED, the debugger's BPT, XSTEP, SSTEP, WATCH, TRACE) but writes each
 the lines of the one transcript renderer (``valterm.core.text.transcript``).  Motions are not
 paced and DELAY is not waited: the robot's time is the cycle time STATUS shows.
 ``valterm monitor`` reads standard input into it; nothing here reads a terminal.
+
+CHECK.DAT is written once per batch of lines (``keep()``: when the input waits, and at its
+end), not after every typed assignment: 20 000 piped ``ROW=...`` lines write it once.
 """
 
 from __future__ import annotations
@@ -36,6 +39,15 @@ class LineMonitor:
         self.failed = False
         self._run: Events | None = None  # the events of a paused program
         self._pulling: Events | None = None  # the events being pulled now
+        self.interpreter.keep_batched = True
+
+    def keep(self) -> None:
+        """The end of a batch of lines: CHECK.DAT gets the variables changed since the last one."""
+        if self.interpreter.unkept:
+            try:
+                self.interpreter.keep()
+            except (OSError, ValtermError) as error:  # a full disk, a damaged CHECK.DAT: say so, go on
+                self.show(Error("", 0, f"VARIABLES NOT KEPT: {error}"))
 
     @property
     def paused(self) -> bool:
@@ -70,9 +82,11 @@ class LineMonitor:
             self._pull(run)
 
     def end(self) -> int:
-        """The end of the input: a paused program is aborted; 0, or 1 if anything failed."""
+        """The end of the input: a paused program is aborted, the variables kept; 0, or 1 if
+        anything failed."""
         if self._run is not None:
             self.abort()
+        self.keep()
         return 1 if self.failed else 0
 
     def interrupted(self) -> None:

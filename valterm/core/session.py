@@ -10,8 +10,9 @@ from pathlib import Path
 
 from valterm.core.cell.workcell import WorkCell
 from valterm.core.events import Event, Signal
+from valterm.core.files.atomic import text_stamp
 from valterm.core.files.locations import read_locations
-from valterm.core.files.setup import read_setup, write_setup
+from valterm.core.files.setup import format_setup, read_setup, write_setup
 from valterm.core.kinematics import Location
 from valterm.core.simulator import Simulator
 from valterm.core.val.interpreter import Interpreter
@@ -29,6 +30,7 @@ class Session:
         self.workspace = Workspace.open(workspace_root)
         self.limits = limits or RunLimits()  # every EXECUTE's (valterm.core.val.limits)
         self.setup_name = ""
+        self.setup_stamp = ""  # NAME.SET as read: saving it again checks no other session saved it since
         self.simulator = Simulator()
         self._interpreter: Interpreter | None = None
         self._keyboard = False  # the app's keyboard sets inputs (take_inputs_from_keyboard)
@@ -39,16 +41,23 @@ class Session:
     def load_setup(self, name: str) -> WorkCell:
         """Read NAME.SET from the workspace into the simulator (FileFormatError if malformed)."""
         path = self.workspace.path(name, "SET")
+        stamp = self.workspace.stamp(name, "SET")  # before reading: a change meanwhile asks
         cell = read_setup(path)
         self.simulator.cell = cell
         self.simulator.carried = None
         self.setup_name = path.stem
+        self.setup_stamp = stamp
         return cell
 
-    def save_setup(self, name: str | None = None) -> Path:
+    def save_setup(self, name: str | None = None, overwrite: bool = False) -> Path:
+        """Write the cell as NAME.SET (default: the setup loaded). Saved again under its own
+        name, FileChanged (nothing written) when another session saved it since it was read,
+        unless ``overwrite``; the UI asks (overwrite / reload / save as)."""
         path = self.workspace.path(name or self.setup_name, "SET")
-        write_setup(path, self.simulator.cell)
+        same = path.stem.upper() == self.setup_name.upper() and bool(self.setup_name)
+        write_setup(path, self.simulator.cell, self.setup_stamp if same and not overwrite else None)
         self.setup_name = path.stem
+        self.setup_stamp = text_stamp(format_setup(self.simulator.cell))
         return path
 
     def load_locations(self, name: str) -> int:

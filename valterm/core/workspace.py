@@ -12,6 +12,10 @@ finished first use. Until it exists every open seeds again, restoring a bundled 
 is missing, empty or cut short (a strict prefix of the bundled one); afterwards only an
 empty bundled file is restored. A file the user changed is never touched. Each open also
 removes the temporaries of writes that were killed.
+
+Several sessions may share a workspace. A save given the stamp its session read the file
+with (:meth:`Workspace.stamp`) raises FileChanged instead of overwriting another session's
+save; CHECK.DAT is merged per variable under the folder's lock (:meth:`Workspace.merge_variables`).
 """
 
 from __future__ import annotations
@@ -26,7 +30,7 @@ from valterm.core import resources
 from valterm.core.cell.workcell import WorkCell
 from valterm.core.errors import ValtermError
 from valterm.core.files import datfiler, locations, programs, setup, variables, vplus
-from valterm.core.files.atomic import remove_stale_temporaries, write_bytes_atomic
+from valterm.core.files.atomic import file_stamp, folder_lock, remove_stale_temporaries, write_bytes_atomic
 from valterm.core.files.datfiler import DATFILER
 from valterm.core.files.errors import shown_name
 from valterm.core.files.programs import Program
@@ -152,6 +156,9 @@ class Workspace:
 
     def __init__(self, root: str | Path) -> None:
         self.root = Path(root).expanduser()
+        # CHECK.DAT's values as this session last read or wrote them: a merge writes only the
+        # variables the session changed since, and keeps the others' as they are on disk
+        self._variables_seen: dict[str, float] = {}
 
     @classmethod
     def open(cls, root: str | Path | None = None) -> Workspace:
@@ -183,6 +190,10 @@ class Workspace:
 
     def exists(self, name: str, ext: str) -> bool:
         return self.path(name, ext).is_file()
+
+    def stamp(self, name: str, ext: str) -> str:
+        """The stamp of NAME.EXT as it is now ("" when there is none), for a later checked save."""
+        return file_stamp(self.path(name, ext))
 
     # -- first use -----------------------------------------------------------
     def seed(self) -> list[str]:
@@ -280,9 +291,10 @@ class Workspace:
     def read_setup(self, name: str) -> WorkCell:
         return setup.read_setup(self.path(name, "SET"))
 
-    def write_setup(self, name: str, cell: WorkCell) -> Path:
+    def write_setup(self, name: str, cell: WorkCell, expected: str | None = None) -> Path:
+        """Write NAME.SET; with ``expected`` (its stamp when read) FileChanged if it changed since."""
         path = self.path(name, "SET")
-        setup.write_setup(path, cell)
+        setup.write_setup(path, cell, expected)
         return path
 
     # -- location files ----------------------------------------------------------
@@ -356,11 +368,13 @@ class Workspace:
                 raise WorkspaceError(f"PROGRAM {name} IS NOT DEFINED; {path.name} CANNOT BE READ: {error}") from None
         raise WorkspaceError(f"PROGRAM {name} IS NOT DEFINED (NO .V2 OR .PG FILE OF THE WORKSPACE HAS IT)")
 
-    def write_program(self, program: Program, name: str | None = None) -> Path:
-        """Save a program and list it in DATFILER.DAT (§5.1: a new program's name is added)."""
+    def write_program(self, program: Program, name: str | None = None, expected: str | None = None) -> Path:
+        """Save a program and list it in DATFILER.DAT (§5.1: a new program's name is added).
+
+        With ``expected`` (its stamp when read) FileChanged, nothing written, if it changed since."""
         stem = self._program_name(name or program.name)
         path = self.path(stem, "DAT")
-        programs.write_program(path, program)
+        programs.write_program(path, program, expected)
         self.add_program(stem)
         return path
 
@@ -383,9 +397,27 @@ class Workspace:
     # -- variables (CHECK.DAT) ---------------------------------------------------
     def read_variables(self) -> dict[str, float]:
         path = self.path("CHECK", "DAT")
-        return variables.read_variables(path) if path.exists() else {}
+        values = variables.read_variables(path) if path.exists() else {}
+        self._variables_seen = dict(values)
+        return values
 
     def write_variables(self, values: dict[str, float]) -> Path:
+        """Keep ``values`` in CHECK.DAT, merged with what other sessions wrote (see merge_variables)."""
+        self.merge_variables(values)
+        return self.path("CHECK", "DAT")
+
+    def merge_variables(self, values: dict[str, float]) -> dict[str, float]:
+        """Write the variables of ``values`` this session set or changed since it last read or
+        wrote CHECK.DAT, over the file as it is now, under the folder's lock: two sessions (two
+        ``run`` at once) each keep their own variables and every other one. Returns the merged
+        variables (what CHECK.DAT now holds)."""
         path = self.path("CHECK", "DAT")
-        variables.write_variables(path, values)
-        return path
+        with folder_lock(self.root):
+            merged = variables.read_variables(path) if path.exists() else {}
+            seen = self._variables_seen
+            changed = {name: value for name, value in values.items()
+                       if name not in merged or seen.get(name) != value}
+            merged.update(changed)
+            variables.write_variables(path, merged)
+        self._variables_seen = dict(merged)
+        return merged

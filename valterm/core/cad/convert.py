@@ -5,10 +5,14 @@ The thesis's IGES path asked for the setup-file name, the number of workpieces, 
 specified coordinate axes". Here:
 
 * the file's numbers are read in its own units unless ``units`` says they are ``MM``, ``IN``
-  or ``M``: an IGES file by its header's units flag; a glTF/GLB in metres (its specification
-  says so); STL/OBJ/PLY/OFF carry no units and are taken as millimetres;
-* the numbers are coordinates in the chosen system: ``W`` world as is, ``S`` screen axes
-  (X_s = Y_w, Y_s = Z_w + 26, Z_s = X_w), so a model drawn Y-up stands upright;
+  or ``M``: an IGES file by its header's units flag; a glTF/GLB in metres with Y up (its
+  specification says so; turned to the world's Z up as export turns it back); STL/OBJ/PLY/OFF
+  carry no units and are taken as millimetres. A part implausibly small (under 2 mm: a file
+  in metres read as millimetres) or large (over 20 m) is kept, with a warning that names
+  the units to give instead;
+* the numbers are coordinates in the chosen system: ``W`` world as is (a glTF's Y up turned to
+  Z up), ``S`` screen axes (X_s = Y_w, Y_s = Z_w + 26, Z_s = X_w), so a model drawn Y-up
+  stands upright (a glTF's numbers taken as written);
 * all parts move together (their arrangement kept) onto a free spot of a table in front of
   the robot, clear of it and of the objects ``around`` them (``valterm.core.cad.placement``);
   or, when ``place_at`` is given, so the minimum corner of their joint box sits there (in the
@@ -20,15 +24,16 @@ specified coordinate axes". Here:
 from __future__ import annotations
 
 import re
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
 
 import numpy as np
 
+from valterm.core.cad.axes import world_to_gltf
 from valterm.core.cad.errors import CadImportError, DegeneratePart
 from valterm.core.cad.hull import MIN_DEPTH_MM, extruded_hull
 from valterm.core.cad.iges import Part, read_iges
-from valterm.core.cad.mesh import MESH_EXTENSIONS, METRE_EXTENSIONS, read_mesh_parts
+from valterm.core.cad.mesh import MESH_EXTENSIONS, METRE_EXTENSIONS, Y_UP_EXTENSIONS, read_mesh_parts
 from valterm.core.cad.placement import place_on_table
 from valterm.core.cell.polyhedron import Polyhedron
 from valterm.core.cell.workcell import WorkCell
@@ -50,7 +55,8 @@ def setup_name(path: str | Path) -> str:
     return name or "CAD"
 
 
-def read_parts(path: str | Path, parts: int | None = None) -> tuple[list[Part], float, str, list[str]]:
+def read_parts(path: str | Path, parts: int | None = None,
+               progress: Callable[[str], None] | None = None) -> tuple[list[Part], float, str, list[str]]:
     """Parts (points in mm by the file's units), mm per file unit, the file's units and warnings.
 
     The units are MM, IN or M: what the file says (IGES header; glTF/GLB metres) or MM."""
@@ -60,7 +66,7 @@ def read_parts(path: str | Path, parts: int | None = None) -> tuple[list[Part], 
         model = read_iges(path)
         return model.parts(parts), model.mm_per_unit, file_units(model.mm_per_unit), model.warnings
     if ext in MESH_EXTENSIONS:
-        found = read_mesh_parts(path)
+        found = read_mesh_parts(path, progress)
         if parts is not None and parts != len(found):
             if parts != 1:
                 raise CadImportError(path, None, f"asked for {parts} workpieces; the file holds {len(found)} meshes")
@@ -70,6 +76,33 @@ def read_parts(path: str | Path, parts: int | None = None) -> tuple[list[Part], 
         return found, 1.0, "MM", []
     known = ", ".join(IGES_EXTENSIONS + MESH_EXTENSIONS)
     raise CadImportError(path, None, f"unknown CAD file type {ext or '(none)'}; use one of {known}")
+
+
+# a part smaller than this (mm) or larger is taken for a file read in the wrong units
+PLAUSIBLE_MM = (2.0, 20_000.0)
+
+
+def unit_warnings(found: Sequence[Part], rescale: float, units: str) -> list[str]:
+    """One warning when the parts, read as ``units``, are implausibly small or large for a
+    robot's work cell, naming the units that would give them a plausible size."""
+    if not found:
+        return []
+    points = np.concatenate([p.points for p in found]) * rescale
+    size = float(np.ptp(points, axis=0).max()) if len(points) else 0.0
+    low, high = PLAUSIBLE_MM
+    if size <= 0 or low <= size <= high:
+        return []
+    mm_per_given = UNITS_MM.get(units, 1.0)
+    sizes = {u: size / mm_per_given * mm for u, mm in UNITS_MM.items() if u != units}
+    fixes = sorted((u for u, s in sizes.items() if low <= s <= high), key=lambda u: abs(np.log(sizes[u] / 300.0)))
+    fix = (f"if its numbers are {_UNIT_WORDS[fixes[0]]}, import it again with units {fixes[0]} "
+           f"(valterm import --units {fixes[0]}; the app asks the units)") if fixes else "check the file's units"
+    said = "small" if size < low else "large"
+    return [f"the parts are {size:.4g} mm across, implausibly {said} for a work cell read as "
+            f"{_UNIT_WORDS.get(units, units)}: {fix}"]
+
+
+_UNIT_WORDS = {"MM": "millimetres", "IN": "inches", "M": "metres"}
 
 
 def file_units(mm_per_unit: float) -> str:
@@ -88,10 +121,12 @@ def native_units(path: str | Path) -> str:
 
 def import_cad(path: str | Path, units: str | None = None, system: str = "W", name: str | None = None,
                place_at: Sequence[float] | None = None, parts: int | None = None,
-               min_depth: float = MIN_DEPTH_MM, around: Sequence[Polyhedron] = ()) -> WorkCell:
+               min_depth: float = MIN_DEPTH_MM, around: Sequence[Polyhedron] = (),
+               progress: Callable[[str], None] | None = None) -> WorkCell:
     """Read an IGES or mesh file into a WorkCell of extruded convex polyhedra (world mm).
 
     ``around``: the objects already in the setup the parts join (they land clear of them).
+    ``progress``: told what is being done while a large mesh is read.
     Raises ``CadImportError`` (``file:line: reason``) for anything it cannot use.
     """
     path = Path(path)
@@ -102,15 +137,17 @@ def import_cad(path: str | Path, units: str | None = None, system: str = "W", na
         raise CadImportError(path, None, f"units {units!r} are not MM, IN or M")
     if parts is not None and parts < 1:
         raise CadImportError(path, None, f"number of workpieces {parts} must be at least 1")
-    found, mm_per_unit, units_of_file, warnings = read_parts(path, parts)
+    found, mm_per_unit, units_of_file, warnings = read_parts(path, parts, progress)
     warnings = list(warnings)
     rescale = UNITS_MM[units.upper()] / mm_per_unit if units is not None else 1.0
+    warnings.extend(unit_warnings(found, rescale, (units or units_of_file).upper()))
 
     objects = []
     for part in found:
         pts = part.points * rescale
         if system == "S":
-            pts = scs_to_world(pts)
+            # S says the file's own numbers are screen axes: a glTF's are taken as written
+            pts = scs_to_world(world_to_gltf(pts) if path.suffix.lower() in Y_UP_EXTENSIONS else pts)
         try:
             poly, notes = extruded_hull(pts, part.name, min_depth)
         except DegeneratePart as exc:

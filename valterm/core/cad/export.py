@@ -4,7 +4,8 @@ Each polyhedron becomes a closed triangle mesh named by its own name (an importe
 IGES label or mesh name, ``PART n`` otherwise; robot links by the model's link names), made
 unique within the file with ``-2``, ``-3``...
 
-* GLB follows glTF: metres, Y up (world X, Y, Z -> glTF X, Z, -Y), the names on both node
+* GLB follows glTF: metres, Y up (world X, Y, Z -> glTF X, Z, -Y, ``valterm.core.cad.axes``;
+  import turns it back), the names on both node
   and mesh; the robot's links hang under a ``robot`` node and the parts under a ``cell`` node.
 * OBJ keeps world millimetres, Z up, and says so in its first comment line; it has no
   hierarchy, so the names carry it (``o robot/BASE``, ``o cell/CHASSIS``); read it back with
@@ -19,6 +20,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from valterm.core.cad.axes import Z_UP_TO_Y_UP  # the one convention, import's too
 from valterm.core.cad.errors import CadExportError
 from valterm.core.cell.polyhedron import Polyhedron
 from valterm.core.cell.workcell import WorkCell
@@ -30,8 +32,6 @@ if TYPE_CHECKING:  # trimesh is imported where it is used: it is slow to import
 EXPORT_EXTENSIONS = (".glb", ".obj", ".stl")
 # what each format's numbers are, for the user (the CLI prints it)
 EXPORT_UNITS = {".glb": "metres, Y up (glTF)", ".obj": "millimetres, Z up", ".stl": "millimetres, Z up"}
-# world (Z up) -> glTF (Y up): X stays, Y_gltf = Z_w, Z_gltf = -Y_w; then mm -> m
-Z_UP_TO_Y_UP = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, -1.0, 0.0]])
 OBJ_HEADER = "# valterm export: world millimetres, Z up (the VAL-II SIMULATOR's world frame)\n"
 
 

@@ -31,7 +31,9 @@ def _prefilter(pts: np.ndarray) -> np.ndarray:
         return pts
     ang = np.linspace(0.0, 2 * np.pi, 16, endpoint=False)
     dirs = np.stack([np.cos(ang), np.sin(ang)], 1)
-    idx = np.argmax(pts @ dirs.T, axis=0)
+    x, y = np.ascontiguousarray(pts[:, 0]), np.ascontiguousarray(pts[:, 1])
+    # one direction at a time: contiguous passes, no (n, 16) matrix (a mesh may have millions of points)
+    idx = np.array([int(np.argmax(x * c + y * s)) for c, s in dirs])
     idx = idx[np.concatenate([[True], np.diff(idx) != 0])]
     if len(idx) > 1 and idx[0] == idx[-1]:
         idx = idx[:-1]
@@ -40,8 +42,9 @@ def _prefilter(pts: np.ndarray) -> np.ndarray:
         return pts
     nxt = np.roll(poly, -1, axis=0)
     # cross > 0 for every edge -> strictly inside the (counter-clockwise) extreme polygon
-    cross = _cross2(poly[None, :, :], nxt[None, :, :], pts[:, None, :])
-    inside = np.all(cross > 0, axis=1)
+    inside = np.ones(len(pts), dtype=bool)
+    for (ox, oy), (ax, ay) in zip(poly, nxt):
+        inside &= (ax - ox) * (y - oy) - (ay - oy) * (x - ox) > 0
     outside: np.ndarray = pts[~inside]
     return outside
 
@@ -49,7 +52,9 @@ def _prefilter(pts: np.ndarray) -> np.ndarray:
 def convex_hull_2d(points: np.ndarray) -> np.ndarray:
     """Counter-clockwise convex hull of (n, 2) points, no repeats (quickhull, vectorised per edge)."""
     pts = _prefilter(np.asarray(points, dtype=float))
-    pts = np.unique(pts, axis=0)  # after the prefilter: few points left to sort
+    # after the prefilter; as complex numbers: a plain numeric sort (x, then y), not row-by-row
+    unique = np.unique(pts[:, 0] + 1j * pts[:, 1])
+    pts = np.stack([unique.real, unique.imag], 1)
     if len(pts) < 3:
         return pts
     scale = float(np.ptp(pts, axis=0).max()) or 1.0

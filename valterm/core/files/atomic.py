@@ -14,18 +14,27 @@ editor's journal, hardcopies, exports, the files seeded into a new workspace) go
 
 A kill between creating the temporary and the rename leaves a stray temporary;
 :func:`remove_stale_temporaries` (called when a workspace opens) clears them.
+
+Two sessions may share one workspace (a classroom's shared storage). A save given the
+``expected`` stamp of the file as its session read it (:func:`file_stamp`) is checked and
+written under the folder's lock (:func:`folder_lock`, an ``fcntl`` lock on ``.valterm.lock``):
+when the file changed on disk since, :class:`FileChanged` is raised and nothing is written,
+so the UI can ask (overwrite / reload / save as) instead of losing the other session's work.
 """
 
 from __future__ import annotations
 
+import hashlib
 import os
 import re
 import secrets
 import stat
 import sys
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 
-from valterm.core.files.errors import FileWriteError
+from valterm.core.files.errors import FileChanged, FileWriteError
 
 # POSIX: a temporary being written is locked, so a second session never removes it.
 # Windows has no flock: there temporaries are not locked.
@@ -38,21 +47,103 @@ _RANDOM_CHARS = 16  # hex digits of the temporary's random part
 # `.NAME.<8-32 random characters>.tmp`: ours, and those of older versions (tempfile.mkstemp).
 _TEMPORARY = re.compile(r"\..+\.[A-Za-z0-9_]{8,32}\.tmp")
 
+# the lock file of a workspace folder: saves that check a stamp, and CHECK.DAT's merges, hold it
+LOCK_NAME = ".valterm.lock"
+
 _CREATE = os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_NOFOLLOW", 0) | getattr(os, "O_BINARY", 0)
 
 
-def write_text_atomic(path: str | Path, text: str, encoding: str = "utf-8") -> None:
+def write_text_atomic(path: str | Path, text: str, encoding: str = "utf-8", expected: str | None = None) -> None:
     """Write ``text`` to ``path`` atomically (see the module docstring)."""
-    write_bytes_atomic(path, text.encode(encoding, errors="strict"))
+    write_bytes_atomic(path, text.encode(encoding, errors="strict"), expected)
 
 
-def write_bytes_atomic(path: str | Path, data: bytes) -> None:
+def write_bytes_atomic(path: str | Path, data: bytes, expected: str | None = None) -> None:
     """Write ``data`` to ``path`` through an exclusive temporary in the same folder, then rename.
 
     Raises FileWriteError (a ValtermError naming the file) when the target is a link or not a
-    regular file, or when the disk refuses (full, read-only, no permission).
+    regular file, or when the disk refuses (full, read-only, no permission). With ``expected``
+    (the file's :func:`file_stamp` when it was read; "" for a file that did not exist) the
+    file is compared and written under the folder's lock, and FileChanged is raised, nothing
+    written, when it differs now: another session saved it meanwhile.
     """
+    if expected is None:
+        _write(Path(path), data)
+        return
     target = Path(path)
+    with folder_lock(target.parent):
+        if file_stamp(target) != expected:
+            raise FileChanged(target)
+        _write(target, data)
+
+
+def file_stamp(path: str | Path) -> str:
+    """What a save compares: the SHA-256 of the file's bytes ("" when there is no file).
+
+    The content, not the time: two saves within one clock tick, or a copy that keeps the
+    time, are still told apart."""
+    try:
+        with open(path, "rb") as handle:
+            return hashlib.sha256(handle.read()).hexdigest()
+    except FileNotFoundError:
+        return ""
+    except OSError as error:
+        raise FileWriteError(path, f"cannot read the file to compare it: {error.strerror or error}") from None
+
+
+def text_stamp(text: str, encoding: str = "utf-8") -> str:
+    """The :func:`file_stamp` a file holding ``text`` has (what a session just wrote)."""
+    return hashlib.sha256(text.encode(encoding)).hexdigest()
+
+
+@contextmanager
+def folder_lock(folder: str | Path) -> Iterator[None]:
+    """Hold the folder's lock file (``.valterm.lock``, exclusive ``fcntl.flock``) while the body
+    runs: another session's checked save or CHECK.DAT merge waits for it. A folder where no
+    lock file can be made (read-only) is not locked: the write itself then says why it fails."""
+    fd = -1
+    if sys.platform != "win32":  # Windows has no flock: the check still runs, without the lock
+        try:
+            fd = os.open(Path(folder) / LOCK_NAME, os.O_RDWR | os.O_CREAT | getattr(os, "O_NOFOLLOW", 0), 0o666)
+        except OSError:
+            fd = -1
+    try:
+        if fd >= 0:
+            fcntl.flock(fd, fcntl.LOCK_EX)
+        yield
+    finally:
+        if fd >= 0:
+            os.close(fd)  # closing releases the lock
+
+
+def claim(path: str | Path) -> int | None:
+    """Hold ``path`` (a lock file, created if missing) for as long as this session wants it:
+    the open descriptor, or None when another session holds it now. Close the descriptor
+    (:func:`release`) to let it go; a session that ends lets it go too. Windows: always held."""
+    if sys.platform == "win32":
+        return -1
+    try:
+        fd = os.open(path, os.O_RDWR | os.O_CREAT | getattr(os, "O_NOFOLLOW", 0), 0o666)
+    except OSError:
+        return -1  # no lock file can be made (a read-only folder): nothing to share it with
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except OSError:
+        os.close(fd)
+        return None
+    return fd
+
+
+def release(fd: int | None) -> None:
+    """Let go of what :func:`claim` returned."""
+    if fd is not None and fd >= 0:
+        try:
+            os.close(fd)
+        except OSError:
+            pass
+
+
+def _write(target: Path, data: bytes) -> None:
     mode = check_writable(target)
     temp = target.with_name(f".{target.name}.{secrets.token_hex(_RANDOM_CHARS // 2)}{TEMP_SUFFIX}")
     try:

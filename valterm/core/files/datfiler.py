@@ -10,7 +10,7 @@ import re
 from pathlib import Path
 
 from valterm.core.files._text import check_line_lengths, numbered_lines, read_text
-from valterm.core.files.atomic import write_text_atomic
+from valterm.core.files.atomic import folder_lock, write_text_atomic
 from valterm.core.files.errors import FileFormatError, shown_name
 
 DATFILER = "DATFILER.DAT"
@@ -61,9 +61,22 @@ def write_datfiler(path: str | Path, names: list[str]) -> None:
 def add_program_name(path: str | Path, name: str) -> bool:
     """Add ``name`` to the directory (created if missing); False when it was already listed."""
     path = Path(path)
-    names = read_datfiler(path) if path.exists() else []
-    upper = name.upper().removesuffix(".DAT")
-    if upper in names:
-        return False
-    write_datfiler(path, [*names, upper])
+    with folder_lock(path.parent):  # two sessions adding programs at once both stay listed
+        names = read_datfiler(path) if path.exists() else []
+        upper = name.upper().removesuffix(".DAT")
+        if upper in names:
+            return False
+        write_datfiler(path, [*names, upper])
+    return True
+
+
+def remove_program_name(path: str | Path, name: str) -> bool:
+    """Take ``name`` off the directory (a new program left unsaved); False when it was not listed."""
+    path = Path(path)
+    with folder_lock(path.parent):  # another session's addition meanwhile stays listed
+        names = read_datfiler(path) if path.exists() else []
+        upper = name.upper().removesuffix(".DAT")
+        if upper not in names:
+            return False
+        write_datfiler(path, [n for n in names if n != upper])
     return True

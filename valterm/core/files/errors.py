@@ -55,6 +55,14 @@ class FileWriteError(FileProblem, OSError):
         super().__init__(path, reason)
 
 
+class FileChanged(FileProblem):
+    """A save refused because the file changed on disk since this session read it (another
+    session saved it): nothing was written. The UI asks: overwrite, reload or save as."""
+
+    def __init__(self, path: str | Path) -> None:
+        super().__init__(path, "changed on disk since this session read it (another session saved it)")
+
+
 # Names echoed in messages are cut to this many characters: a 10 000-character name typed
 # or planted in a file is shown as its start, not as a screenful.
 SHOWN_NAME = 40

@@ -138,8 +138,9 @@ def format_program(program: Program) -> str:
     return "\n".join(format_step(step) for step in steps) + "\n"
 
 
-def write_program(path: str | Path, program: Program) -> None:
-    """Write the program atomically (FileWriteError for one of more than MAX_STEPS steps)."""
+def write_program(path: str | Path, program: Program, expected: str | None = None) -> None:
+    """Write the program atomically (FileWriteError for one of more than MAX_STEPS steps;
+    FileChanged when ``expected``, the stamp it was read with, no longer matches the file)."""
     if len(program.steps) > MAX_STEPS:
         raise FileWriteError(path, f"{len(program.steps)} steps are too many for one program (at most {MAX_STEPS})")
-    write_text_atomic(path, format_program(program))
+    write_text_atomic(path, format_program(program), expected=expected)

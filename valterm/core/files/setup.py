@@ -299,12 +299,13 @@ def _format_point(point: np.ndarray, decimals: int) -> str:
     return " ".join(f"{round(float(value), decimals) + 0.0:>10.{decimals}f}" for value in point)
 
 
-def write_setup(path: str | Path, cell: WorkCell) -> None:
-    """Write ``cell`` atomically (FileWriteError for a cell no setup file can hold)."""
+def write_setup(path: str | Path, cell: WorkCell, expected: str | None = None) -> None:
+    """Write ``cell`` atomically (FileWriteError for a cell no setup file can hold; FileChanged
+    when ``expected``, the stamp it was read with, no longer matches the file)."""
     if len(cell.objects) > MAX_PARTS:
         raise FileWriteError(path, f"{len(cell.objects)} objects are too many for a setup file (at most {MAX_PARTS})")
     largest = max((len(p.vertices) for p in cell.objects), default=0)
     if largest > MAX_VERTICES:
         raise FileWriteError(path,
                              f"an object of {largest} vertices is too large for a setup file (at most {MAX_VERTICES})")
-    write_text_atomic(path, format_setup(cell))
+    write_text_atomic(path, format_setup(cell), expected=expected)

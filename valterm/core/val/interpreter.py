@@ -146,6 +146,10 @@ class Interpreter:
         # assignment: a 100 000-pass loop must not write a file 100 000 times
         self.keep_variables = keep_variables
         self.store_locations = store_locations  # STOREL: NAME.LOC in the workspace
+        # batched (valterm monitor): a typed command only marks the variables to keep; keep()
+        # writes them once per batch of input lines
+        self.keep_batched = False
+        self._unkept = False
         self.load_program = load_program
         # a VariableStore, so that reading an undeclared name is UndefinedVariable
         self.variables: dict[str, float] = (variables if isinstance(variables, VariableStore)
@@ -173,7 +177,7 @@ class Interpreter:
         ends, so they are kept for the next session (section 6.7).
         """
         variables = VariableStore(workspace.read_variables())
-        return cls(sim, workspace.read_program, variables, keep_variables=workspace.write_variables,
+        return cls(sim, workspace.read_program, variables, keep_variables=workspace.merge_variables,
                    store_locations=workspace.write_locations)
 
     # -- state the app asks about ---------------------------------------------
@@ -323,11 +327,26 @@ class Interpreter:
             self._keep()
 
     def _keep(self) -> None:
+        if self.keep_batched:
+            self._unkept = True
+            return
+        self.keep()
+
+    def keep(self) -> None:
+        """Write the variables to CHECK.DAT now (what a program's or a typed command's end does)."""
+        self._unkept = False
         if self.keep_variables is not None:
             # CHECK.DAT keeps the 1985 kind of variable: V+ array elements and long names stay out
             local = {name for compiled in self._cache.values() for name in compiled.analysis.autos}
             kept = {k: v for k, v in self.variables.items() if VARIABLE_NAME.fullmatch(k) and k not in local}
-            self.keep_variables(kept)
+            merged = self.keep_variables(kept)
+            if isinstance(merged, dict):  # another session's variables and values, now shared
+                self.variables.update({k: v for k, v in merged.items() if k not in local})
+
+    @property
+    def unkept(self) -> bool:
+        """Batched: a command changed what CHECK.DAT should hold since the last keep()."""
+        return self._unkept
 
     def _pass(self, main: CompiledProgram, start: int = 0) -> Ran:
         """One execution pass from op `start`; returns True when it ends normally (STOP, end, RETURN).
@@ -561,7 +580,7 @@ class Interpreter:
 class _Workspace(Protocol):  # what for_workspace reads from a Workspace
     def read_variables(self) -> dict[str, float]: ...
     def read_program(self, name: str) -> Program: ...
-    def write_variables(self, values: dict[str, float]) -> object: ...
+    def merge_variables(self, values: dict[str, float]) -> dict[str, float]: ...
     def write_locations(self, name: str, points: dict, precision: dict) -> Path: ...  # type: ignore[type-arg]
 
 

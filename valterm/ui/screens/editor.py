@@ -10,9 +10,14 @@ next ``S. n>`` prompt, so a program typed line after line never has a line taken
 keys; ESC (or RETURN on an empty line) closes the line and returns to the editor menu. ESC
 at the menu is E_XIT. A new program never saved is taken off DATFILER.DAT when the editor
 is left.
+
+A save that finds NAME.DAT changed on disk (another session saved it) asks, in the one
+question screen (valterm.ui.screens.changed): overwrite, reload or save as.
 """
 
 from __future__ import annotations
+
+from collections.abc import Callable
 
 from textual.app import ComposeResult
 from textual.binding import Binding
@@ -23,6 +28,7 @@ from textual.widgets import Input, Static
 
 from valterm.core.editor import EDITOR_MENU, EditorError, ProgramEditor
 from valterm.core.errors import ValtermError
+from valterm.core.files.errors import FileChanged
 from valterm.core.files.programs import LABEL_COLUMNS
 from valterm.ui import keymap
 from valterm.ui.widgets.prompt import type_ahead
@@ -204,7 +210,10 @@ class EditorScreen(Screen[None]):
         elif char == " " or char.isdigit():
             self._next_line(char)  # the label columns of the next step
         elif self.editor is not None:
-            self.say(self.editor.wrong_key(char or event.key), keymap.HELP_HINT)
+            try:
+                self.say(self.editor.wrong_key(char or event.key), keymap.HELP_HINT)
+            except FileChanged:  # §5.2 saves at once: another session saved it meanwhile
+                self.ask_changed()
             self._refresh_listing()
 
     def check_action(self, action: str, parameters: tuple[object, ...]) -> bool | None:
@@ -232,8 +241,47 @@ class EditorScreen(Screen[None]):
         except EditorError as error:  # a V+ program of a .V2 file is shown, not saved
             self.say(f"REJECTED: {error}")
             return
+        except FileChanged:
+            self.ask_changed()
+            return
         self.say(f"{path.name} SAVED ({len(self.editor.steps)} STEPS)")
         self._refresh_listing()
+
+    def ask_changed(self, then: Callable[[], None] | None = None) -> None:
+        """NAME.DAT changed on disk since it was read: overwrite, reload or save as (``then``
+        runs after a save or a reload, e.g. leaving the editor)."""
+        from valterm.ui.screens.changed import FileChangedScreen
+
+        editor = self.editor
+        assert editor is not None
+        self.say(f"{editor.name}.DAT CHANGED ON DISK: NOT SAVED")
+
+        def answered(answer: tuple[str, str] | None) -> None:
+            if answer is None:
+                self.say(f"{editor.name}.DAT NOT SAVED: YOUR CHANGES ARE KEPT HERE (S SAVES AGAIN)")
+                return
+            what, name = answer
+            try:
+                if what == "overwrite":
+                    said = f"{editor.save(overwrite=True).name} SAVED OVER THE OTHER SESSION'S"
+                elif what == "reload":
+                    editor.reload()
+                    said = f"{editor.name}.DAT RELOADED AS THE OTHER SESSION SAVED IT"
+                else:
+                    said = f"{editor.save_as(name).name} SAVED; NOW EDITING {editor.name}"
+            except FileChanged:
+                self.ask_changed(then)
+                return
+            except ValtermError as error:  # a bad or used name: say so, ask again
+                self.ask_changed(then)
+                self.say(f"REJECTED: {error}")
+                return
+            self.say(said)
+            self._refresh_listing()
+            if then is not None:
+                then()
+
+        self.app.push_screen(FileChangedScreen(f"{editor.name}.DAT", "program"), answered)
 
     def action_exit(self) -> None:
         if self.editor is not None and self.editor.dirty:
@@ -246,7 +294,12 @@ class EditorScreen(Screen[None]):
     def _leave(self, save: bool) -> None:
         assert self.editor is not None
         if save:
-            self.editor.save()
+            try:
+                self.editor.save()
+            except FileChanged:
+                self._menu()
+                self.ask_changed(then=self.close)
+                return
         else:
             self.editor.discard()
             self._unlist_if_never_saved()
@@ -254,15 +307,12 @@ class EditorScreen(Screen[None]):
 
     def _unlist_if_never_saved(self) -> None:
         """A program opened new and never saved leaves DATFILER.DAT (LISTF shows no ghosts)."""
-        from valterm.core.files.datfiler import read_datfiler, write_datfiler
+        from valterm.core.files.datfiler import remove_program_name
 
         editor = self.editor
         if editor is None or not editor.new or editor.path.exists():
             return
-        path = self.workspace.path("DATFILER", "DAT")
-        names = read_datfiler(path) if path.exists() else []
-        if editor.name in names:
-            write_datfiler(path, [n for n in names if n != editor.name])
+        remove_program_name(self.workspace.path("DATFILER", "DAT"), editor.name)
 
     def action_help(self) -> None:
         from valterm.ui.screens.help import HelpScreen
@@ -332,8 +382,15 @@ class EditorScreen(Screen[None]):
             raise EditorError(f"{typed.strip() or 'NOTHING'} IS NOT A STEP NUMBER")
         return int(text)
 
+    def on_unmount(self) -> None:
+        """The app ends with the editor open: the journal stays for the next open to recover."""
+        if self.editor is not None:
+            self.editor.close()
+
     def close(self) -> None:
         """Dismiss this screen if it is still the one on top: keys typed ahead reach a screen's
         queue before it closes, and a second close must not close the screen below."""
         if self.app.screen is self:
+            if self.editor is not None:
+                self.editor.close()  # another session may now take its journal over
             self.dismiss(None)

@@ -3,7 +3,9 @@
 The part number first, then I_NCREMENTS (typed translations and rotations about the screen
 axes), K_EYBOARD (5 mm a key along the screen axes) or R_ETURN. The Fig. 4-2 readout shows
 the part's reference corner in world and screen coordinates after every change. S_TOP ends:
-another part, or save the setup under the same or a new name.
+another part, or save the setup under the same or a new name. Saved under its own name
+when another session saved it meanwhile, the one question asks (valterm.ui.screens.changed):
+overwrite, reload or save as.
 
 Screen axes (SPEC §1): X_s = Y_w, Y_s = Z_w + 26, Z_s = X_w; so U/D move along Z_w, R/L
 along Y_w and F/B along X_w.
@@ -14,6 +16,8 @@ from __future__ import annotations
 from textual.app import ComposeResult
 from textual.binding import Binding
 
+from valterm.core.errors import ValtermError
+from valterm.core.files.errors import FileChanged
 from valterm.ui.errors import Refusal, problem_text
 from valterm.ui.screens.base import MenuScreen
 from valterm.ui.widgets.menus import MANIPULATION_CHOICE, MANIPULATION_MENU
@@ -244,13 +248,65 @@ class ManipulationScreen(MenuScreen):
         name = self.app.session.setup_name
         self.ask_line(f"ENTER SET-UP FILE NAME (RETURN: SAME NAME {name}):", self._save, cancel=self._back)
 
-    def _save(self, name: str) -> None:
+    def _save(self, name: str, overwrite: bool = False) -> None:
         try:
-            path = self.app.session.save_setup(name or None)
+            path = self.app.session.save_setup(name or None, overwrite=overwrite)
+        except FileChanged:
+            self._ask_changed()
+            return
         except Exception as error:
             self.say(problem_text(error), "error")
             self._ask_name()
             return
+        self._saved(path)
+
+    def _ask_changed(self) -> None:
+        """NAME.SET changed on disk since it was read: overwrite, reload or save as."""
+        from valterm.ui.screens.changed import FileChangedScreen
+
+        session = self.app.session
+        self.say(f"{session.setup_name}.SET CHANGED ON DISK: NOT SAVED", "warning")
+
+        def answered(answer: tuple[str, str] | None) -> None:
+            if answer is None:
+                self.say(f"{session.setup_name}.SET NOT SAVED: THE MOVED PARTS STAY (NOT SAVED)", "warning")
+                self._back()
+            elif answer[0] == "overwrite":
+                self._save("", overwrite=True)
+            elif answer[0] == "reload":
+                self._reload()
+            elif self._taken(answer[1]):
+                self._ask_changed()
+            else:
+                self._save(answer[1])
+
+        self.app.push_screen(FileChangedScreen(f"{session.setup_name}.SET", "set-up file"), answered)
+
+    def _taken(self, name: str) -> bool:
+        """Save as: a bad name or one a setup file has is refused (said) and asked again."""
+        try:
+            taken = self.app.session.workspace.exists(name, "SET")
+        except ValtermError as error:
+            self.say(problem_text(error), "error")
+            return True
+        if taken:
+            self.say(f"{name.upper().removesuffix('.SET')}.SET EXISTS: GIVE A NEW NAME", "error")
+        return taken
+
+    def _reload(self) -> None:
+        try:
+            self.app.session.load_setup(self.app.session.setup_name)
+        except (ValtermError, OSError) as error:
+            self.say(problem_text(error), "error")
+            self._back()
+            return
+        self.modified = False
+        self.app.setup_modified = False
+        self.app.changed()
+        self.say(f"{self.app.session.setup_name}.SET RELOADED AS THE OTHER SESSION SAVED IT")
+        self._back()
+
+    def _saved(self, path) -> None:  # type: ignore[no-untyped-def]
         self.modified = False
         self.app.setup_modified = False
         self.app.notify(f"{path.name} SAVED", timeout=3)

@@ -10,6 +10,7 @@ offers the file's own units (the IGES header; metres for glTF/GLB).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from pathlib import Path
 
 from textual.binding import Binding
 
@@ -103,7 +104,21 @@ class StartScreen(MenuScreen):
         elif "system" not in t.done:
             self.ask_line("ENTER COORDINATE AXES SYSTEM (W/S):", lambda a: self._answer(t, "system", a), "W")
         else:
+            self._convert_large_after_saying(t)
+
+    def _convert_large_after_saying(self, t: Transfer) -> None:
+        """A large mesh takes seconds to read: say so on screen first, then convert."""
+        from valterm.core.cad import mesh
+
+        try:
+            size = Path(t.cad_file).stat().st_size
+        except OSError:
+            size = 0
+        if size < mesh.LARGE_BYTES:
             self._convert(t)
+            return
+        self.say(f"READING {Path(t.cad_file).name.upper()} ({size / 1e6:.0f} MB): THIS TAKES A FEW SECONDS ...")
+        self.call_after_refresh(self._convert, t)
 
     def _answer(self, t: Transfer, what: str, answer: str) -> None:
         answer = answer.strip().upper()

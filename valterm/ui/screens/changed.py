@@ -1,0 +1,83 @@
+"""The one question when a save finds its file changed on disk (another session saved it).
+
+The core raises FileChanged and writes nothing; this screen asks what to do:
+O overwrite the other session's save, R reload (take it, dropping this session's changes),
+A save as another name (typed here), ESC nothing now (the changes stay, unsaved).
+The editor's and MANIPULATION's saves both use it; the answer is ("overwrite", ""),
+("reload", ""), ("save as", NAME) or None.
+"""
+
+from __future__ import annotations
+
+from textual import events
+from textual.app import ComposeResult
+from textual.containers import Vertical
+from textual.screen import ModalScreen
+from textual.widgets import Input, Static
+
+Answer = tuple[str, str] | None
+
+QUESTION = "O OVERWRITE IT   R RELOAD IT (YOUR CHANGES GO)   A SAVE AS ANOTHER NAME   ESC NOT NOW"
+
+
+class FileChangedScreen(ModalScreen[Answer]):
+    """NAME CHANGED ON DISK: overwrite, reload or save as."""
+
+    DEFAULT_CSS = """
+    FileChangedScreen { align: center middle; }
+    FileChangedScreen > Vertical { width: 80; max-width: 100%; height: auto; border: heavy $warning;
+                                   padding: 0 1; background: $surface; }
+    FileChangedScreen Static { width: 100%; height: auto; }
+    FileChangedScreen Input { display: none; }
+    FileChangedScreen Input.asking { display: block; }
+    """
+    AUTO_FOCUS = ""
+
+    def __init__(self, file_name: str, kind: str = "file") -> None:
+        super().__init__()
+        self.file_name = file_name
+        self.kind = kind
+
+    def compose(self) -> ComposeResult:
+        with Vertical():
+            yield Static(f"{self.file_name} CHANGED ON DISK SINCE YOU READ IT: ANOTHER SESSION SAVED IT.\n"
+                         f"SAVING NOW WOULD LOSE ITS CHANGES.", id="changed-what")
+            yield Static(QUESTION, id="changed-question")
+            yield Input(placeholder=f"NEW {self.kind.upper()} NAME, RETURN TO SAVE", id="changed-name")
+
+    @property
+    def question(self) -> str:
+        return str(self.query_one("#changed-question", Static).content)
+
+    def on_key(self, event: events.Key) -> None:
+        name = self.query_one("#changed-name", Input)
+        if name.has_class("asking"):
+            if event.key == "escape":
+                event.stop()
+                name.remove_class("asking")
+                self.query_one("#changed-question", Static).update(QUESTION)
+            return  # the name field takes the keys
+        event.stop()
+        event.prevent_default()
+        char = (event.character or "").upper()
+        if char == "O":
+            self.close(("overwrite", ""))
+        elif char == "R":
+            self.close(("reload", ""))
+        elif char == "A":
+            name.add_class("asking")
+            name.focus()
+            self.query_one("#changed-question", Static).update(f"SAVE AS: TYPE A NEW {self.kind.upper()} NAME "
+                                                               "(ESC: BACK TO THE QUESTION)")
+        elif event.key == "escape":
+            self.close(None)
+
+    def on_input_submitted(self, event: Input.Submitted) -> None:
+        event.stop()
+        if event.value.strip():
+            self.close(("save as", event.value.strip()))
+
+    def close(self, answer: Answer) -> None:
+        """Dismiss this screen if it is still the one on top (keys typed ahead)."""
+        if self.app.screen is self:
+            self.dismiss(answer)
