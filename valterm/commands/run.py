@@ -81,6 +81,33 @@ def _program_file(path: Path) -> tuple[Any, dict[str, Any]]:
     return main, {main.name: main}
 
 
+def _locate(argument: str, workspace: Any) -> tuple[Path, Any, dict[str, Any]]:
+    """The program file, its main program and the file's programs: a path, NAME.DAT, or a
+    program of one of the workspace's V+ files (any name LISTF lists; EXECUTE finds the same)."""
+    try:
+        path = _find(argument, "DAT", workspace)
+    except FileNotFoundError:
+        found = _workspace_vplus(argument, workspace)
+        if found is None:
+            raise
+        program, path = found
+        _first, in_file = _program_file(path)
+        return path, in_file.get(program.name, program), in_file
+    main, in_file = _program_file(path)
+    return path, main, in_file
+
+
+def _workspace_vplus(argument: str, workspace: Any) -> Any:
+    from valterm.core.errors import ValtermError
+
+    if any(sep in argument for sep in ("/", "\\")):
+        return None
+    try:
+        return workspace.vplus_source(argument)
+    except (ValtermError, ValueError):
+        return None
+
+
 def _find(argument: str, ext: str, workspace: Any) -> Path:
     """A path as given if it exists, else NAME.EXT in the workspace."""
     given = Path(argument).expanduser()
@@ -107,8 +134,7 @@ def run(args: argparse.Namespace) -> int:
 
     try:
         workspace = Workspace.open(getattr(args, "workspace", None))
-        program_path = _find(args.program, "DAT", workspace)
-        main, in_file = _program_file(program_path)
+        program_path, main, in_file = _locate(args.program, workspace)
         cell_name = args.cell or (main.name if _in_workspace(workspace, main.name, "SET") else None)
         cell = read_setup(_find(cell_name, "SET", workspace)) if cell_name else None
         sim = Simulator(cell)
@@ -161,7 +187,7 @@ def run(args: argparse.Namespace) -> int:
                 out.write(line + "\n")
             if isinstance(event, Pause):
                 out.write("(headless: PROCEED)\n")
-        _write_end(args, sim, interpreter, out)
+        _write_end(args, sim, interpreter, out, main)
     finally:
         signal.signal(signal.SIGINT, previous)
     if aborted:
@@ -169,12 +195,16 @@ def run(args: argparse.Namespace) -> int:
     return FAILURE if errors else OK
 
 
-def _write_end(args: argparse.Namespace, sim: Any, interpreter: Any, out: Any) -> None:
+def _write_end(args: argparse.Namespace, sim: Any, interpreter: Any, out: Any, main: Any) -> None:
     """The end of a run: the final WHERE, the variables, the signals on and the cycle time."""
     from valterm.core.events import End
     from valterm.core.text.transcript import where_lines
 
     where = sim.where()
+    if "v+" in (main.dialect, interpreter.dialect):
+        from valterm.core.val.vplus import vplus_where
+
+        where = vplus_where(where)  # a V+ program's readout: X Y Z yaw pitch roll
     panel = interpreter.machine.signals
     end = End(where=where.to_json(), variables=dict(interpreter.variables),
               cycle_time_s=round(interpreter.cycle_seconds, 3),  # the interpreter's clock

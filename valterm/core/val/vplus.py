@@ -26,16 +26,16 @@ from __future__ import annotations
 
 import re
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import TypeVar
 
 import numpy as np
 
 from valterm.core.errors import ValtermError
-from valterm.core.events import Delay, Error, Message, TypeOut
+from valterm.core.events import Delay, Error, Message, TypeOut, Where
 from valterm.core.files.commandfile import CommandSpec, default_commands
 from valterm.core.kinematics import CONFIG_WORDS, Location
-from valterm.core.transform import Transform
+from valterm.core.transform import Transform, convert_orientation
 from valterm.core.val import builders as b85
 from valterm.core.val.builders import Build, Builder
 from valterm.core.val.compiler import Analysis
@@ -1018,6 +1018,18 @@ def _switch(c: Build, st: Statement) -> Op:
     return c.action(run)
 
 
+def vplus_where(where: Where) -> Where:
+    """A WHERE readout in V+'s convention: the same pose, yaw pitch roll instead of O A T."""
+    return replace(where, ypr=convert_orientation(where.oat, "OAT", "YPR"))
+
+
+def _where(c: Build, st: Statement) -> Op:
+    def run() -> Events:
+        yield vplus_where(c.sim.where())
+        return c.next
+    return c.action(run)
+
+
 def _status(c: Build, st: Statement) -> Op:
     machine = _machine(c)
 
@@ -1045,7 +1057,7 @@ VPLUS_BUILDERS: dict[str, Builder] = {
     "SPEED": _speed, "PARAMETER": _parameter, "HERE": _here, "DECOMPOSE": _decompose, "TOOL": _tool,
     "TYPE": _type, "SIGNAL": _signal, "WAIT": _wait, "WAIT.EVENT": _wait_event,
     "REACT": _react, "REACTI": _react, "IGNORE": _react, "TIMER": _timer,
-    "ENABLE": _switch, "DISABLE": _switch, "STATUS": _status,
+    "ENABLE": _switch, "DISABLE": _switch, "STATUS": _status, "WHERE": _where,
 }
 """The v+ instruction set: the 1985 builders where the meaning is the same, V+ ones otherwise."""
 
