@@ -92,7 +92,8 @@ def _homogeneous(rotation: np.ndarray, xyz: tuple[float, float, float] | np.ndar
 
 def ypr_to_rotation(yaw: float, pitch: float, roll: float) -> np.ndarray:
     """V+'s orientation: RZ(yaw) RY(pitch) RZ(roll), degrees (Z-Y-Z Euler angles)."""
-    return rz(yaw).rotation @ ry(pitch).rotation @ rz(roll).rotation
+    rotation: np.ndarray = rz(yaw).rotation @ ry(pitch).rotation @ rz(roll).rotation
+    return rotation
 
 
 def rotation_to_ypr(rotation: np.ndarray) -> Angles:

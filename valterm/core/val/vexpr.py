@@ -539,7 +539,8 @@ def output_list(text: str, machine: Machine | None) -> list[tuple[str, Callable[
 def render_output(items: list[tuple[str, Callable[[Values], object] | None, str]], V: Values) -> str:
     from valterm.core.val.typeout import format_number
 
-    parts = []
+    parts: list[str] = []
+    after_number = False
     for literal, fn, fmt in items:
         if fn is None:
             parts.append(literal)
@@ -548,7 +549,11 @@ def render_output(items: list[tuple[str, Callable[[Values], object] | None, str]
         else:
             value = fn(V)
             assert isinstance(value, (int, float))
-            parts.append(format_number(float(value), fmt))
+            text = format_number(float(value), fmt)
+            if after_number and not text.startswith(" "):
+                text = " " + text  # V+ never runs two numbers together
+            parts.append(text)
+        after_number = fn is not None and literal != "S"
     return "".join(parts)
 
 

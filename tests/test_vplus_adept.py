@@ -1,0 +1,140 @@
+"""V+ as Adept defines it (issue 23): transformations in X Y Z yaw pitch roll through the
+interpreter and `valterm run`, TYPE's number formats, and `run NAME` for workspace V+ programs.
+Expected values are computed by hand from the V+ definitions (R = RZ(yaw) RY(pitch) RZ(roll))."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from valterm.cli import main
+from valterm.core.events import Event, TypeOut, Where
+from valterm.core.files.vplus import parse_vplus
+from valterm.core.kinematics import Location
+from valterm.core.simulator import Simulator
+from valterm.core.text.transcript import where_lines
+from valterm.core.val.interpreter import Interpreter
+
+
+def vplus(text: str, sim: Simulator | None = None) -> tuple[Interpreter, list[Event]]:
+    programs = {b.program.name: b.program for b in parse_vplus(text, "T.v2")}
+    interpreter = Interpreter(sim or Simulator(None), lambda name: programs[name], {})
+    return interpreter, list(interpreter.execute(next(iter(programs))))
+
+
+def body(*lines: str) -> str:
+    return ".PROGRAM t()\n" + "\n".join(f"    {line}" for line in lines) + "\n.END\n"
+
+
+def typed(events: list[Event]) -> list[str]:
+    return [e.text for e in events if isinstance(e, TypeOut)]
+
+
+def decomposed(expression: str, sim: Simulator | None = None) -> list[float]:
+    _, events = vplus(body(f"DECOMPOSE v[1] = {expression}",
+                           "TYPE /F12.4, v[1], v[2], v[3], v[4], v[5], v[6]"), sim)
+    lines = typed(events)
+    assert len(lines) == 1, events
+    return [float(v) for v in lines[0].split()]
+
+
+TABLE = [  # the issue's table
+    ("TRANS(0,0,0,0,0,0):TRANS(0,0,50)", (0, 0, 50, 0, 0, 0)),
+    ("TRANS(100,200,300,30,40,50):TRANS(0,0,50)", (127.83, 216.07, 338.30, 30, 40, 50)),
+    ("INVERSE(TRANS(100,200,300,30,40,50))", (-62.31, -117.41, -349.76, 130, 40, 150)),
+    ("NULL", (0, 0, 0, 0, 0, 0)),
+    ("TRANS(100,200,300,30,40,50):INVERSE(TRANS(100,200,300,30,40,50))", (0, 0, 0, 0, 0, 0)),
+]
+MORE = [  # a dozen more, from the V+ definitions
+    ("TRANS(300,200,100,0,180,0):TRANS(0,0,100)", (300, 200, 0, 0, 180, 0)),
+    ("TRANS(0,0,0,90,0,0):TRANS(10,0,0)", (0, 10, 0, 90, 0, 0)),
+    ("TRANS(0,0,0,0,90,0):TRANS(0,0,10)", (10, 0, 0, 0, 90, 0)),
+    ("TRANS(0,0,0,0,90,90):TRANS(10,0,0)", (0, 10, 0, 0, 90, 90)),
+    ("RX(90):TRANS(0,10,0)", (0, 0, 10, -90, 90, 90)),
+    ("RZ(45)", (0, 0, 0, 45, 0, 0)),
+    ("INVERSE(TRANS(10,0,0,90,0,0))", (0, 10, 0, -90, 0, 0)),
+    ("SHIFT(TRANS(1,2,3,10,20,30) BY 10,0,-5)", (11, 2, -2, 10, 20, 30)),
+    ("TRANS(0,0,0,10,-20,30)", (0, 0, 0, -170, 20, -150)),
+    ("TRANS(5,6,7,0,180,45)", (5, 6, 7, -45, 180, 0)),
+    ("TRANS(5,6,7,-45,180,0)", (5, 6, 7, -45, 180, 0)),
+    ("FRAME(TRANS(0,0,0), TRANS(0,10,0), TRANS(-5,0,0), TRANS(1,2,3))", (1, 2, 3, 90, 0, 0)),
+    ("TRANS(1,2,3,30,40,50):TRANS(4,5,6,-60,70,-80):INVERSE(TRANS(4,5,6,-60,70,-80))", (1, 2, 3, 30, 40, 50)),
+]
+
+
+@pytest.mark.parametrize(("expression", "expected"), TABLE + MORE)
+def test_decompose_in_the_interpreter(expression: str, expected: tuple[float, ...]) -> None:
+    assert np.allclose(decomposed(expression), expected, atol=0.01)
+
+
+def test_yaw_pitch_roll_round_trip_through_a_stored_location() -> None:
+    # SET stores the pose (the simulator keeps O A T); DECOMPOSE gives back the same six numbers
+    for angles in ((30, 40, 50), (-120, 135, 170), (0, 180, 0), (90, 90, -90)):
+        _, events = vplus(body(f"SET p = TRANS(400, -100, 250, {angles[0]}, {angles[1]}, {angles[2]})",
+                               "DECOMPOSE v[1] = p", "TYPE /F10.3, v[4], v[5], v[6]"))
+        assert np.allclose([float(v) for v in typed(events)[0].split()], angles, atol=0.01)
+
+
+def test_distance_and_dx_dy_dz() -> None:
+    _, events = vplus(body("SET b = TRANS(100,200,300,30,40,50)", "SET c = b:TRANS(0,0,50)",
+                           "TYPE /F9.2, DISTANCE(b, c), DX(c), DY(c), DZ(c)"))
+    assert [float(v) for v in typed(events)[0].split()] == pytest.approx([50, 127.83, 216.07, 338.30], abs=0.01)
+
+
+def test_a_workspace_location_is_the_same_pose_in_both_dialects() -> None:
+    sim = Simulator(None)
+    sim.locations["DOWN"] = Location((400.0, 0.0, 0.0), (90.0, 90.0, 0.0))  # the thesis's tool down
+    assert np.allclose(decomposed("down", sim), (400, 0, 0, 0, 180, 0), atol=0.01)
+    # 50 mm along the tool's Z of a tool pointing down is 50 mm lower
+    assert np.allclose(decomposed("down:TRANS(0,0,50)", sim)[:3], (400, 0, -50), atol=0.01)
+
+
+def test_here_and_where_in_yaw_pitch_roll() -> None:
+    _, events = vplus(body("DECOMPOSE v[1] = HERE", "TYPE /F8.2, v[4], v[5], v[6]", "WHERE"))
+    assert typed(events)[0].split() == ["0.00", "0.00", "0.00"]  # READY: the tool straight up
+    where = next(e for e in events if isinstance(e, Where))
+    assert where.ypr == (0.0, 0.0, 0.0) and where.oat == (90.0, -90.0, 0.0)
+    head, values = where_lines(where)[:2]
+    assert head.split() == ["OPENED", "X", "Y", "Z", "YAW", "PITCH", "ROLL"]
+    assert values.split()[1:] == ["0.00", "158.75", "990.60", "0.00", "0.00", "0.00"]
+
+
+def test_valterm_run_gives_the_table(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+    lines = [f"DECOMPOSE v[1] = {expression}" + "\n    TYPE /F10.2, v[1], v[2], v[3], v[4], v[5], v[6]"
+             for expression, _ in TABLE]
+    program = tmp_path / "table.v2"
+    program.write_text(body(*lines))
+    assert main(["--workspace", str(tmp_path / "ws"), "run", str(program), "--json"]) == 0
+    events = [json.loads(line) for line in capsys.readouterr().out.splitlines()]
+    outputs = [[float(v) for v in e["text"].split()] for e in events if e["event"] == "type"]
+    assert len(outputs) == len(TABLE)
+    for got, (_, expected) in zip(outputs, TABLE):
+        assert np.allclose(got, expected, atol=0.01)
+    end = events[-1]
+    assert end["event"] == "end" and end["where"]["ypr"] == [0.0, 0.0, 0.0]
+
+
+# -- TYPE -------------------------------------------------------------------------------------
+
+def test_type_separates_numbers_and_types_rounding_noise_as_zero() -> None:
+    _, events = vplus(body("TYPE 100, 200, 300, 0, COS(90), -5",
+                           'TYPE "T", 0, " X=", 2.5', "TYPE /F6.2, -COS(90), 1, /D, 3, 4",
+                           "TYPE 1/3"))
+    assert typed(events) == ["100 200 300 0 0 -5", "T0 X=2.5", "  0.00  1.00 3 4", "0.333333"]
+
+
+# -- run NAME ---------------------------------------------------------------------------------
+
+def test_run_finds_a_program_of_a_workspace_vplus_file(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+    workspace = tmp_path / "ws"
+    assert main(["--workspace", str(workspace), "run", "nothing.here"]) == 1  # seeds the workspace
+    (workspace / "CELLJOB.V2").write_text(body('TYPE "MAIN"') + ".PROGRAM pick.part()\n    TYPE \"PICKED\"\n.END\n")
+    capsys.readouterr()
+    assert main(["--workspace", str(workspace), "run", "pick.part"]) == 0
+    assert "PICKED" in capsys.readouterr().out
+    assert main(["--workspace", str(workspace), "run", "t"]) == 0
+    assert "MAIN" in capsys.readouterr().out
+    assert main(["--workspace", str(workspace), "run", "no.such"]) == 1
