@@ -138,3 +138,62 @@ def test_run_finds_a_program_of_a_workspace_vplus_file(capsys: pytest.CaptureFix
     assert main(["--workspace", str(workspace), "run", "t"]) == 0
     assert "MAIN" in capsys.readouterr().out
     assert main(["--workspace", str(workspace), "run", "no.such"]) == 1
+
+
+# -- one clock: waits take simulated time ------------------------------------------------------
+
+BLINK = """.PROGRAM blink()
+    ; output 1 on for 0.5 s, off for 0.25 s, three times; then output 2 blinks with DELAY
+    AUTO i, n
+    FOR i = 1 TO 3
+        SIGNAL 1
+        TIMER 1 = 0
+        WAIT TIMER(1) > 0.5
+        SIGNAL -1
+        TIMER 1 = 0
+        WAIT TIMER(1) >= 0.25
+    END
+    n = 0
+    WHILE n < 2 DO
+        SIGNAL 2
+        DELAY 1
+        SIGNAL -2
+        WAIT.EVENT , 0.5
+        n = n+1
+    END
+.END
+"""
+
+
+def test_a_blink_program_runs_its_whole_length(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+    program = tmp_path / "blink.v2"
+    program.write_text(BLINK)
+    assert main(["--workspace", str(tmp_path / "ws"), "run", str(program), "--json"]) == 0
+    events = [json.loads(line) for line in capsys.readouterr().out.splitlines()]
+    signals = [(e["number"], e["on"], e["time"]) for e in events if e["event"] == "signal"]
+    assert signals == [
+        (1, True, 0.0), (1, False, 0.5), (1, True, 0.75), (1, False, 1.25), (1, True, 1.5), (1, False, 2.0),
+        (2, True, 2.25), (2, False, 3.25), (2, True, 3.75), (2, False, 4.75)]
+    assert events[-1]["cycle_time_s"] == pytest.approx(5.25, abs=1e-3)
+
+
+def test_a_wait_ends_at_an_input_or_a_timer_whichever_comes_first() -> None:
+    from valterm.core.signals import parse_inputs
+
+    text = body("TIMER 1 = 0", "WAIT SIG(1001) OR TIMER(1) > 5", "TYPE /F6.2, TIMER(1)",
+                "WAIT SIG(1002) OR TIMER(1) > 5", "TYPE /F6.2, TIMER(1)",
+                "WAIT TIMER(1) > 3600+10")
+    programs = {b.program.name: b.program for b in parse_vplus(text, "T.v2")}
+    interpreter = Interpreter(Simulator(None), lambda name: programs[name], {})
+    interpreter.machine.inputs = parse_inputs("2.0 1001 1\n9.0 1002 1\n", "in.txt")
+    events = list(interpreter.execute("T"))
+    assert typed(events) == ["  2.00", "  5.00"]
+    errors = [e.message for e in events if e.event == "error"]
+    assert errors == ["WAIT TIMER(1) > 3600+10: STILL FALSE AFTER 3600 S"]
+
+
+def test_a_wait_nothing_can_end_stops_at_once() -> None:
+    interpreter, events = vplus(body("TIMER 1 = 0", "WAIT TIMER(1) < 0"))
+    assert [e.message for e in events if e.event == "error"] == [
+        "WAIT TIMER(1) < 0: IT NEVER BECOMES TRUE (NO MORE INPUTS ARE SCRIPTED)"]
+    assert interpreter.cycle_seconds == 0.0  # looking ahead took no time

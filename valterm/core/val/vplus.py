@@ -903,6 +903,8 @@ def _signal(c: Build, st: Statement) -> Op:
 
 
 def _wait(c: Build, st: Statement) -> Op:
+    """WAIT cond: simulated time passes until cond is true (a TIMER reaches a value, a
+    scripted input changes); with neither possible the program stops and says so."""
     if st.args[0] is None:
         return c.jump(c.next)
     condition = _condition(c, st.args[0])
@@ -917,18 +919,46 @@ def _wait(c: Build, st: Statement) -> Op:
                 yield Delay(WAIT_POLL)  # the app waits in real time: the user may set an input
                 yield from machine.apply_inputs()
                 started = machine.time  # no time limit: the user ends it (an input, or CTRL-C)
-            elif coming is None and machine.keyboard:
+                continue
+            if coming is None and machine.keyboard:
                 return c.next  # CTRL-C: the run stops after this step
-            elif coming is None:
+            limit = started + WAIT_LIMIT
+            until = limit if coming is None else min(coming, limit)
+            when = first_true(machine, lambda: condition(c.variables), until)
+            if when is not None:  # the clock makes it true before any input changes
+                yield from machine.wait(when - machine.time)
+            elif coming is None and first_true(machine, lambda: condition(c.variables), 1e9, 1e9) is None:
                 raise ProgramError(f"WAIT {text}: IT NEVER BECOMES TRUE (NO MORE INPUTS ARE SCRIPTED)")
-            elif machine.time - started > WAIT_LIMIT:
+            elif coming is None or coming > limit:
                 raise ProgramError(f"WAIT {text}: STILL FALSE AFTER {WAIT_LIMIT:g} S")
             else:
-                yield from machine.wait(max(WAIT_POLL, coming - machine.time))
+                yield from machine.wait(coming - machine.time)  # the input changes now
             if machine.pending:  # a REACT program runs first, then this WAIT looks again
                 return c.op_index[c.index]
         return c.next
     return _reacting(c, run)
+
+
+def first_true(machine: Machine, condition: Callable[[], bool], until: float,
+               poll: float = WAIT_POLL) -> float | None:
+    """The first time (to a microsecond) up to ``until`` at which ``condition`` holds, the
+    inputs as they are now; None if it never does. The controller looks at a WAIT's
+    condition continually: polls ``poll`` apart find it, halving the last one pins it."""
+    clock, now = machine.clock, machine.clock.seconds
+    try:
+        low = now
+        while low < until:
+            high = min(low + poll, until)
+            clock.seconds = high
+            if condition():
+                while high - low > 1e-6:
+                    clock.seconds = middle = (low + high) / 2
+                    low, high = (low, middle) if condition() else (middle, high)
+                return high
+            low = high
+        return None
+    finally:
+        clock.seconds = now
 
 
 def _wait_event(c: Build, st: Statement) -> Op:
