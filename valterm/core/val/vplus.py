@@ -911,9 +911,12 @@ def _wait(c: Build, st: Statement) -> Op:
     machine = _machine(c)
     text = st.args[0]
 
+    def holds() -> bool:
+        return bool(condition(c.variables))
+
     def run() -> Events:
         started = machine.time
-        while not condition(c.variables):
+        while not holds():
             coming = machine.next_input_time()
             if coming is None and machine.waits_for_keyboard():
                 yield Delay(WAIT_POLL)  # the app waits in real time: the user may set an input
@@ -924,10 +927,10 @@ def _wait(c: Build, st: Statement) -> Op:
                 return c.next  # CTRL-C: the run stops after this step
             limit = started + WAIT_LIMIT
             until = limit if coming is None else min(coming, limit)
-            when = first_true(machine, lambda: condition(c.variables), until)
+            when = first_true(machine, holds, until)
             if when is not None:  # the clock makes it true before any input changes
                 yield from machine.wait(when - machine.time)
-            elif coming is None and first_true(machine, lambda: condition(c.variables), 1e9, 1e9) is None:
+            elif coming is None and first_true(machine, holds, 1e9, 1e9) is None:
                 raise ProgramError(f"WAIT {text}: IT NEVER BECOMES TRUE (NO MORE INPUTS ARE SCRIPTED)")
             elif coming is None or coming > limit:
                 raise ProgramError(f"WAIT {text}: STILL FALSE AFTER {WAIT_LIMIT:g} S")
