@@ -197,3 +197,46 @@ def test_a_wait_nothing_can_end_stops_at_once() -> None:
     assert [e.message for e in events if e.event == "error"] == [
         "WAIT TIMER(1) < 0: IT NEVER BECOMES TRUE (NO MORE INPUTS ARE SCRIPTED)"]
     assert interpreter.cycle_seconds == 0.0  # looking ahead took no time
+
+
+# -- statements and functions real programs use -------------------------------------------------
+
+def test_exit_and_next_leave_or_continue_loops() -> None:
+    _, events = vplus(body(
+        "FOR i = 1 TO 10", "  IF i == 2 THEN", "    NEXT", "  END", "  FOR j = 1 TO 10",
+        "    IF j > 2 THEN", "      EXIT", "    END", "    IF i == 4 THEN", "      EXIT 2", "    END",
+        "    TYPE i, j", "  END", "END",
+        "n = 0", "WHILE n < 5 DO", "  n = n+1", "  IF n == 3 THEN", "    NEXT", "  END", '  TYPE "W", n', "END",
+        "DO", "  n = n-1", "  IF n == 2 THEN", "    EXIT", "  END", "UNTIL n < 0", 'TYPE "N", n'))
+    assert typed(events) == ["1 1", "1 2", "3 1", "3 2", "W1", "W2", "W4", "W5", "N2"]
+
+
+def test_exit_outside_a_loop_is_reported_by_check(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+    program = tmp_path / "bad.v2"
+    program.write_text(body("FOR i = 1 TO 2", "  EXIT 2", "END", "EXIT"))
+    assert main(["--workspace", str(tmp_path / "ws"), "check", str(program)]) == 1
+    out = capsys.readouterr().out
+    assert "EXIT 2: NOT INSIDE 2 NESTED LOOPS" in out and "EXIT 1: NOT INSIDE A LOOP" in out
+
+
+def test_string_functions_bmask_and_last() -> None:
+    _, events = vplus(body(
+        '$s = "HELLO WORLD"',
+        'TYPE LEN($s), " ", $LEFT($s, 5), "|", $MID($s, 7, 3), "|", $MID($s, 7), "|", $MID($s, 20, 2), "|"',
+        "TYPE BMASK(1), BMASK(3), BMASK(1, 3), BMASK(1, 2, 3, 4)",
+        "a[1] = 3", "a[7] = 2", "SET p[4] = TRANS(1, 2, 3)", '$n[2] = "X"',
+        "TYPE LAST(a[]), LAST(b[]), LAST(p[]), LAST($n[])",
+        'TYPE VAL("12.5X"), ASC("A"), LEN("")',
+        'IF LEN($s) > 3 AND $LEFT($s, 1) == "H" AND $s <> "X" THEN', '  TYPE "OK"', "END"))
+    assert typed(events) == ["11 HELLO|WOR|WORLD||", "1 4 5 15", "7 -1 4 2", "12.5 65 0", "OK"]
+
+
+def test_precision_points_from_joint_angles() -> None:
+    sim = Simulator(None)
+    interpreter, events = vplus(body(
+        "SET #p = #PPOINT(30, -90, 90, 0, 0, 0)", "MOVE #p", "DECOMPOSE j[1] = #p", "TYPE j[1], j[2], j[3]",
+        "#q = #PPOINT(10)", "DECOMPOSE j[1] = #PPOINT(1, 2, 3)", "TYPE j[1], j[2], j[3], j[4]",
+        "SET a = #PPOINT(0, -90, 90, 0, 0, 0)", "DECOMPOSE j[1] = a", "TYPE /F8.2, j[1], j[2], j[3], j[5]"), sim)
+    assert typed(events) == ["30 -90 90", "1 2 3 0", "    0.00  158.75  990.60    0.00"]
+    assert sim.joints[0] == pytest.approx(30.0)
+    assert interpreter.machine.precision["#Q"] == (10.0, 0.0, 0.0, 0.0, 0.0, 0.0)

@@ -65,6 +65,7 @@ from valterm.core.val.vexpr import (
     array_key,
     compile_location,
     compile_number,
+    compile_precision,
     compile_string,
     output_list,
     render_output,
@@ -100,7 +101,7 @@ _MOTIONS = ("MOVE", "MOVES", "MOVET", "MOVEST")
 COMMANDS = (*_NO_ARGS, *_TEXT_ARGS, *_ONE_VALUE, *_HAND, *_MOTIONS, "APPRO", "APPROS", "DRIVE", "DRAW",
             "FOR", "CASE", "VALUE", "WHILE", "UNTIL", "IF", "GOTO", "CALL", "AUTO", "LOCAL", "GLOBAL",
             "SPEED", "PARAMETER", "HERE", "SET", "DECOMPOSE", "TOOL", "TYPE", "SIGNAL", "WAIT",
-            "WAIT.EVENT", "REACT", "REACTI", "IGNORE", "TIMER", "ENABLE", "DISABLE", "BASE")
+            "WAIT.EVENT", "REACT", "REACTI", "IGNORE", "TIMER", "ENABLE", "DISABLE", "BASE", "EXIT", "NEXT")
 
 
 def _spec(name: str) -> CommandSpec:
@@ -200,6 +201,11 @@ def _structure(upper: str, original: str) -> Statement | None:
         raise ValSyntaxError("IF: EXPECTED IF <condition> THEN (OR IF <condition> GOTO <label>)")
     if upper.startswith("UNTIL"):
         return Statement("UNTIL", (_check("N", upper[5:]),), original)
+    if match := re.fullmatch(r"(EXIT|NEXT)(?:\s+(\d+))?", upper):
+        count = int(match.group(2) or 1)
+        if count < 1:
+            raise ValSyntaxError(f"{match.group(1)}: THE LOOP COUNT IS 1 OR MORE")
+        return Statement(match.group(1), (count,), original)
     if match := re.fullmatch(r"GOTO\s+(\d+)", upper):
         return Statement("GOTO", (int(match.group(1)),), original)
     if match := _CALL.match(upper):
@@ -234,7 +240,11 @@ def _assignment(upper: str, original: str) -> Statement | None:
     if target.startswith("$"):
         return Statement(ASSIGN, ("S", target, indexes, _check("S", value)), original)
     if target.startswith("#"):
-        raise ValSyntaxError(f"{target}: A PRECISION POINT IS SET WITH HERE {target} (OR POINT IN A .LOC FILE)")
+        try:
+            compile_precision(value)
+        except ExprError as error:
+            raise ValSyntaxError(f"{target}: {error}") from None
+        return Statement(ASSIGN, ("P", target, indexes, value.strip()), original)
     kind = "L" if is_set else _value_kind(value)
     if kind == "L":
         _check("L", value)
@@ -388,6 +398,14 @@ def _assign(c: Build, st: Statement) -> Op:
             return c.next
             yield
         return c.action(run_s)
+    if kind == "P":  # SET #p = #PPOINT(...) or #q
+        value_p = compile_precision(value_text, machine)
+
+        def run_p() -> Events:
+            machine.precision[key(c.variables)] = value_p(c.variables)
+            return c.next
+            yield
+        return c.action(run_p)
     if kind == "L":
         value_l = _loc(c, value_text)
 
@@ -502,6 +520,23 @@ def _while(c: Build, st: Statement) -> Op:
 
 def _until(c: Build, st: Statement) -> Op:
     return _branch(c, st.args[0], c.next, c.after(c.partner()))
+
+
+def _exit_or_next(c: Build, st: Statement) -> Op:
+    """EXIT n: past the end of the n-th enclosing loop; NEXT n: that loop's next pass (FOR:
+    its END steps the variable; WHILE: the condition again; DO: its UNTIL)."""
+    assert c.analysis is not None
+    loops, count = c.analysis.loops.get(c.index, []), st.args[0]
+    if count > len(loops):
+        return b85.failed(c, f"{st.command} {count}: NOT INSIDE {count} LOOP(S)")
+    opener = loops[count - 1]
+    closer = c.analysis.partner.get(opener)
+    if closer is None:
+        return b85.failed(c, f"{st.command}: ITS LOOP IS NOT CLOSED")
+    if st.command == "EXIT":
+        return c.jump(c.after(closer))
+    kind = c.analysis.statements[opener]
+    return c.jump(c.op_index[opener if kind is not None and kind.command == "WHILE" else closer])
 
 
 def _nothing(c: Build, st: Statement) -> Op:
@@ -702,10 +737,20 @@ class Joints:
 def _target(c: Build, text: str) -> Callable[[], Location | Joints]:
     """A motion's target: a precision point's joints, or the location the 1985 tool must reach."""
     machine = _machine(c)
-    if text.startswith("#") and re.fullmatch(rf"#{_N}", text):
-        return lambda: Joints(machine.point(text))
+    if text.startswith("#"):
+        joints = _precision(c, text)
+        if joints is not None:
+            return lambda: Joints(joints(c.variables))
     where = _loc(c, text)
     return lambda: machine.through_tool(where(c.variables)).location()
+
+
+def _precision(c: Build, text: str) -> Callable[[Values], tuple[float, ...]] | None:
+    """A precision point's joints (#name, #PPOINT(...)); None for a compound like #p:TRANS(...)."""
+    try:
+        return compile_precision(text, _machine(c))
+    except ExprError:
+        return None
 
 
 def _go(c: Build, target: Location | Joints, straight: bool) -> Events:
@@ -850,12 +895,11 @@ def _decompose(c: Build, st: Statement) -> Op:
     """DECOMPOSE a[i] = loc: X Y Z O A T; of a precision point #p: its six joint angles."""
     name, start_text, location_text = st.args
     start, where = _num(c, start_text), _loc(c, location_text)
-    machine = _machine(c)
-    point = location_text if re.fullmatch(rf"#{_N}", location_text) else None
+    point = _precision(c, location_text) if location_text.startswith("#") else None
 
     def run() -> Events:
         first = int(start(c.variables))
-        values = machine.point(point) if point is not None else where(c.variables).decompose()
+        values = point(c.variables) if point is not None else where(c.variables).decompose()
         for offset, value in enumerate(values):
             c.variables[array_key(name, [first + offset])] = round(value, 9)
         return c.next
@@ -1082,7 +1126,7 @@ def signal_line(machine: Machine) -> str:
 VPLUS_BUILDERS: dict[str, Builder] = {
     **b85.BUILDERS,
     ASSIGN: _assign, "FOR": _for, "END": _end, "CASE": _case, "VALUE": _value_or_any, "ANY": _value_or_any,
-    "IF": _if, "WHILE": _while, "UNTIL": _until, "CALL": _call,
+    "IF": _if, "WHILE": _while, "UNTIL": _until, "CALL": _call, "EXIT": _exit_or_next, "NEXT": _exit_or_next,
     "AUTO": _nothing, "GLOBAL": _nothing, "BREAK": _nothing,
     "MOVE": _move, "MOVES": _move, "MOVET": _move, "MOVEST": _move, "APPRO": _appro, "APPROS": _appro,
     "DEPART": _depart, "DEPARTS": _depart, **{word: _hand for word in _HAND}, "DELAY": _delay,
