@@ -240,3 +240,61 @@ def test_precision_points_from_joint_angles() -> None:
     assert typed(events) == ["30 -90 90", "1 2 3 0", "    0.00  158.75  990.60    0.00"]
     assert sim.joints[0] == pytest.approx(30.0)
     assert interpreter.machine.precision["#Q"] == (10.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+
+
+# -- V+ files: data sections, 8-bit comments, one problem does not refuse the file ------------
+
+STORED = b""".REALS
+count  2
+.END
+; a comment in latin-1: caf\xe9
+.PROGRAM main(x y, 1bad)
+    TYPE $ENCODE(/L, 5)
+    FOO BAR
+.END
+.PROGRAM good()
+    TYPE count, " ", $title, " ", LAST(slot[])
+    DECOMPOSE v[1] = pick.1
+    TYPE /F8.2, v[1], v[2], v[3], v[4], v[5], v[6]
+    DECOMPOSE j[1] = #safe
+    TYPE j[1], j[2], j[3]
+.END
+.LOCATIONS
+pick.1      465.00  -45.00  -245.00  10.00  170.00  20.00
+slot[3]     0 0 0 0 180 0
+#safe       0.00  -90.00  90.00  0.00  0.00  0.00
+broken      1 2 3
+.END
+.STRINGS
+$title      "Caf\xe9 report"
+.END
+"""
+
+
+def test_check_reports_each_problem_and_goes_on(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+    program = tmp_path / "stored.v2"
+    program.write_bytes(STORED)
+    assert main(["--workspace", str(tmp_path / "ws"), "check", str(program)]) == 1
+    lines = capsys.readouterr().out.splitlines()
+    assert "stored.v2:5: .PROGRAM MAIN: 'X Y' is not a parameter name" in lines
+    assert "stored.v2:6: MAIN step 1: TYPE: $ENCODE: /L IS NOT A FORMAT (/Fw.d /Ew.d /Iw /Hw /D /Xn /Cn /S)" in lines
+    assert "stored.v2:7: MAIN step 2: FOO IS NOT A V+ INSTRUCTION THE SIMULATOR KNOWS" in lines
+    assert any(line.startswith("stored.v2:20: .LOCATIONS: BROKEN needs X Y Z yaw pitch roll") for line in lines)
+    assert any(line.startswith("GOOD: 5 steps, no errors") for line in lines)  # checked after MAIN
+
+
+def test_data_sections_are_loaded_by_run(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+    from valterm.core.files.vplus import read_vplus_file
+
+    program = tmp_path / "stored.v2"
+    program.write_bytes(STORED.replace(b".PROGRAM good()", b".PROGRAM agood()").replace(
+        b".PROGRAM main(x y, 1bad)\n    TYPE $ENCODE(/L, 5)\n    FOO BAR\n.END\n", b""))
+    data = read_vplus_file(program).data
+    assert data.reals == {"COUNT": 2.0} and data.strings == {"$TITLE": "Caf\u00e9 report"}
+    assert data.precision == {"#SAFE": (0.0, -90.0, 90.0, 0.0, 0.0, 0.0)}
+    assert main(["--workspace", str(tmp_path / "ws"), "run", str(program)]) == 0
+    captured = capsys.readouterr()
+    assert "2 Caf\u00e9 report 3" in captured.out
+    assert "  465.00  -45.00 -245.00   10.00  170.00   20.00" in captured.out
+    assert "0 -90 90" in captured.out
+    assert "BROKEN needs X Y Z yaw pitch roll" in captured.err  # said, and the run went on

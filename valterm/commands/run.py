@@ -81,6 +81,25 @@ def _program_file(path: Path) -> tuple[Any, dict[str, Any]]:
     return main, {main.name: main}
 
 
+def _vplus_data(path: Path, sim: Any, interpreter: Any) -> None:
+    """A V+ file's .LOCATIONS, .REALS and .STRINGS (as the controller's LOAD would); its
+    problems (a bad data line or header) are said on stderr and the run goes on."""
+    from valterm.core.files.vplus import EXTENSIONS, read_vplus_file
+
+    if path.suffix.upper() not in EXTENSIONS:
+        return
+    found = read_vplus_file(path)
+    data = found.data
+    for name, location in data.locations.items():
+        sim.locations.setdefault(name, location)  # --loc files say otherwise: they win
+    interpreter.machine.precision.update(data.precision)
+    interpreter.machine.strings.update(data.strings)
+    for name, value in data.reals.items():
+        interpreter.variables[name] = value
+    for problem in [*data.problems, *(b.problem for b in found.blocks if b.problem)]:
+        print(f"valterm: warning: {problem}", file=sys.stderr)
+
+
 def _locate(argument: str, workspace: Any) -> tuple[Path, Any, dict[str, Any]]:
     """The program file, its main program and the file's programs: a path, NAME.DAT, or a
     program of one of the workspace's V+ files (any name LISTF lists; EXECUTE finds the same)."""
@@ -159,6 +178,7 @@ def run(args: argparse.Namespace) -> int:
     interpreter = Interpreter(sim, load_program, variables, keep_variables=workspace.write_variables,
                               dialect=args.dialect or "1985")
     try:
+        _vplus_data(program_path, sim, interpreter)
         _vplus_setup(args, sim, interpreter, loc_paths)
     except (FileFormatError, OSError) as error:  # a bad --inputs file
         return fail(error, FAILURE)

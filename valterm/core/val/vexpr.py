@@ -557,7 +557,10 @@ class _Compiler:
                 raise ExprError("missing ')' after $ENCODE(")
             inner = self.tokens.text[start:self.tokens.items[end_index][2]]
             self.tokens.pos = end_index + 1
-            items = output_list(inner, self.machine)
+            try:
+                items = output_list(inner, self.machine)
+            except ValueError as error:  # a bad format: the error names $ENCODE, not TYPE
+                raise ExprError(str(error).replace("TYPE:", "$ENCODE:", 1)) from None
             del format_number
             return lambda V: render_output(items, V)
         if name in ("$MID", "$LEFT"):

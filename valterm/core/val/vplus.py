@@ -117,7 +117,7 @@ def _check(kind: str, text: str) -> str:
             compile_location(text)
         else:
             compile_string(text)
-    except (ExprError, MachineError) as error:
+    except (ExprError, ValtermError, ValueError) as error:
         raise ValSyntaxError(str(error)) from None
     return text.strip()
 
@@ -162,8 +162,18 @@ def parse_vplus(text: str) -> Statement:
         return Statement("", (), "")
     try:
         return _decode(upper, original)
-    except ExprError as error:
-        raise ValSyntaxError(str(error)) from None
+    except (ExprError, ValSyntaxError, ValtermError, ValueError) as error:
+        raise ValSyntaxError(_named(upper, str(error))) from None
+
+
+def _named(upper: str, message: str) -> str:
+    """A step's error says which statement it is about (``SET: ...``, ``TYPE: ...``)."""
+    match = _ASSIGN.match(upper)
+    word = "SET" if match is not None and match.group(2) not in ("TIMER", "PARAMETER") else upper.split()[0]
+    word = word.split("(")[0]
+    if message.upper().startswith((word + ":", word + " ")) or not re.fullmatch(rf"[$#]?{_N}", word):
+        return message
+    return f"{word}: {message}"
 
 
 def _decode(upper: str, original: str) -> Statement:
