@@ -298,3 +298,25 @@ def test_data_sections_are_loaded_by_run(capsys: pytest.CaptureFixture[str], tmp
     assert "  465.00  -45.00 -245.00   10.00  170.00   20.00" in captured.out
     assert "0 -90 90" in captured.out
     assert "BROKEN needs X Y Z yaw pitch roll" in captured.err  # said, and the run went on
+
+
+def test_export_program_writes_data_sections_that_read_back(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+    from valterm.core.files.vplus import read_vplus_file
+    from valterm.core.transform import Transform
+    from valterm.core.workspace import Workspace
+
+    workspace = tmp_path / "ws"
+    loc = tmp_path / "CELL.LOC"
+    loc.write_text("POINT A, 465., -45., -245., 89., 91., 0.\nPOINT #SAFE, -25.08, -68.28, 205.27, -0.59, 43.92, -23.65\n")
+    Workspace.open(workspace).write_variables({"COUNT": 3.0})
+    (workspace / "P1.DAT").write_text("    MOVE A\n")
+    out = tmp_path / "out.v2"
+    assert main(["--workspace", str(workspace), "export-program", "P1", "--out", str(out),
+                 "--loc", str(loc), "--with-variables"]) == 0
+    text = out.read_text()
+    assert ".LOCATIONS" in text and ".REALS" in text
+    data = read_vplus_file(out).data
+    original = Transform.of(Location((465.0, -45.0, -245.0), (89.0, 91.0, 0.0))).matrix
+    assert np.allclose(Transform.of(data.locations["A"]).matrix, original, atol=1e-4)
+    assert data.precision["#SAFE"] == pytest.approx((-25.08, -68.28, 205.27, -0.59, 43.92, -23.65))
+    assert data.reals["COUNT"] == 3.0

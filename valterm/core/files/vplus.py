@@ -220,8 +220,31 @@ def read_vplus_file(path: str | Path) -> VplusFile:
     return parse_vplus_file(read_text(path, "V+ program", eight_bit=True), path)
 
 
-def format_vplus(blocks: list[VplusProgram]) -> str:
-    """The file text: each program as ``.PROGRAM name(args)``, its steps indented, ``.END``."""
+def format_data(data: VplusData) -> list[str]:
+    """The data sections as STORE writes them: locations in X Y Z yaw pitch roll."""
+    out: list[str] = []
+    if data.locations or data.precision:
+        out.append(".LOCATIONS")
+        for name, location in data.locations.items():
+            angles = convert_orientation(location.oat, "OAT", "YPR")
+            out.append(f"{name.lower():<15} " + " ".join(f"{v:10.3f}" for v in (*location.xyz, *angles)))
+        for name, joints in data.precision.items():
+            out.append(f"{name.lower():<15} " + " ".join(f"{v:10.3f}" for v in joints))
+        out += [".END", ""]
+    if data.reals:
+        out.append(".REALS")
+        out += [f"{name.lower():<15} {value:.9g}" for name, value in data.reals.items()]
+        out += [".END", ""]
+    if data.strings:
+        out.append(".STRINGS")
+        out += [f'{name.lower():<15} "{text}"' for name, text in data.strings.items()]
+        out += [".END", ""]
+    return out
+
+
+def format_vplus(blocks: list[VplusProgram], data: VplusData | None = None) -> str:
+    """The file text: each program as ``.PROGRAM name(args)``, its steps indented, ``.END``;
+    then the data sections, if any."""
     out: list[str] = []
     for block in blocks:
         arguments = ", ".join(p.lower() for p in block.parameters)
@@ -233,4 +256,6 @@ def format_vplus(blocks: list[VplusProgram]) -> str:
             out.append(f"    {label}{step.text}".rstrip() if step.text or label else "")
         out.append(".END")
         out.append("")
+    if data is not None:
+        out += format_data(data)
     return "\n".join(out)
