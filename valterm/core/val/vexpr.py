@@ -3,13 +3,15 @@
 Numeric expressions extend the 1985 ones (``expr``) with dotted names (``z.pick``), array
 elements (``a[i]``, ``t[i,j]``: the variable ``A[3]``), TRUE/FALSE/ON/OFF (-1 and 0),
 ``MOD BAND BOR BXOR XOR ^``, and the functions SIN COS TAN ATAN2 SQRT ABS INT MOD SIGN
-MAX MIN, SIG(n...), TIMER(n), DISTANCE(a, b), DX DY DZ(a), PARAMETER(name), SWITCH(name).
+MAX MIN BMASK, SIG(n...), TIMER(n), DISTANCE(a, b), DX DY DZ(a), PARAMETER(name),
+SWITCH(name), LAST(a[]), LEN VAL ASC($s), and string comparisons (``$a == "X"``).
 
 A location expression is a compound ``a:b:c`` of named locations, ``#points``, and the
-functions TRANS(x,y,z,o,a,t), RX RY RZ(deg), INVERSE(l), FRAME(l1,l2,l3,l4),
-SHIFT(l BY dx,dy,dz), HERE, NULL; each evaluates to a ``Transform``.
+functions TRANS(x,y,z,yaw,pitch,roll), RX RY RZ(deg), INVERSE(l), FRAME(l1,l2,l3,l4),
+SHIFT(l BY dx,dy,dz), #PPOINT(j1..j6), HERE, NULL; each evaluates to a ``Transform``.
 
-A string expression joins ``"text"``, ``$name`` and $ENCODE(list) with ``+``.
+A string expression joins ``"text"``, ``$name``, $ENCODE(list), $CHR(n), $LEFT($s, n) and
+$MID($s, first, n) with ``+``. ``compile_precision`` reads ``#name`` / ``#PPOINT(...)``.
 
 ``compile_number(text, machine)`` / ``compile_location`` / ``compile_string`` compile once;
 with ``machine=None`` they only check the text (the syntax checker), and a closure that
