@@ -320,3 +320,20 @@ def test_export_program_writes_data_sections_that_read_back(capsys: pytest.Captu
     assert np.allclose(Transform.of(data.locations["A"]).matrix, original, atol=1e-4)
     assert data.precision["#SAFE"] == pytest.approx((-25.08, -68.28, 205.27, -0.59, 43.92, -23.65))
     assert data.reals["COUNT"] == 3.0
+
+
+def test_each_bad_step_is_named_and_the_rest_is_checked(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+    program = tmp_path / "errs.v2"
+    program.write_text(body("x = 1 +", "SET a = TRANS(1,2", '$s = $LEFT("A")', "TYPE /Q, 3", "MOVE",
+                            "DO", "  EXIT 3", "UNTIL TRUE", "TYPE 1") + ".PROGRAM later()\n    TYPE 2\n.END\n")
+    assert main(["--workspace", str(tmp_path / "ws"), "check", str(program)]) == 1
+    lines = capsys.readouterr().out.splitlines()
+    assert lines[:6] == [
+        "errs.v2:2: T step 1: ASSIGNMENT TO X: expression ends too soon: '1 +'",
+        "errs.v2:3: T step 2: SET: expected ')', found the end in 'TRANS(1,2'",
+        "errs.v2:4: T step 3: ASSIGNMENT TO $S: $LEFT takes a string and a count: $LEFT($s, n)",
+        "errs.v2:5: T step 4: TYPE: /Q IS NOT A FORMAT (/Fw.d /Ew.d /Iw /Hw /D /Xn /Cn /S)",
+        "errs.v2:6: T step 5: MOVE: EXPECTED MOVE <location>",
+        "errs.v2:8: T step 7: EXIT 3: NOT INSIDE 3 NESTED LOOPS (FOR, WHILE or DO)"]
+    assert lines[6].startswith("T: 9 steps, 6 error(s)")
+    assert lines[7].startswith("LATER: 1 steps, no errors")

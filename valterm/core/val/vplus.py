@@ -169,9 +169,13 @@ def parse_vplus(text: str) -> Statement:
 def _named(upper: str, message: str) -> str:
     """A step's error says which statement it is about (``SET: ...``, ``TYPE: ...``)."""
     match = _ASSIGN.match(upper)
-    word = "SET" if match is not None and match.group(2) not in ("TIMER", "PARAMETER") else upper.split()[0]
-    word = word.split("(")[0]
-    if message.upper().startswith((word + ":", word + " ")) or not re.fullmatch(rf"[$#]?{_N}", word):
+    if match is not None and match.group(2) not in ("TIMER", "PARAMETER", "DECOMPOSE"):
+        word = "SET" if match.group(1) else f"ASSIGNMENT TO {match.group(2)}"
+    else:
+        word = upper.split()[0].split("(")[0]
+        if not re.fullmatch(rf"[$#]?{_N}", word):
+            return message
+    if message.upper().startswith((word + ":", word + " ")):
         return message
     return f"{word}: {message}"
 
