@@ -337,3 +337,55 @@ def test_each_bad_step_is_named_and_the_rest_is_checked(capsys: pytest.CaptureFi
         "errs.v2:8: T step 7: EXIT 3: NOT INSIDE 3 NESTED LOOPS (FOR, WHILE or DO)"]
     assert lines[6].startswith("T: 9 steps, 6 error(s)")
     assert lines[7].startswith("LATER: 1 steps, no errors")
+
+
+# -- the same in the app ---------------------------------------------------------------------
+
+APP_PROGRAM = """.PROGRAM table()
+    DECOMPOSE v[1] = TRANS(100,200,300,30,40,50):TRANS(0,0,50)
+    TYPE /F8.2, v[1], v[2], v[3], v[4], v[5], v[6]
+    DECOMPOSE v[1] = INVERSE(TRANS(100,200,300,30,40,50))
+    TYPE /F8.2, v[1], v[2], v[3], v[4], v[5], v[6]
+    TYPE 1, 2, COS(90)
+    TIMER 1 = 0
+    SIGNAL 1
+    WAIT TIMER(1) > 0.5
+    SIGNAL -1
+    TYPE /F6.3, TIMER(1)
+    WHERE
+.END
+"""
+
+
+def test_the_app_shows_the_same_values(tmp_path: Path) -> None:
+    import asyncio
+    import math
+
+    from valterm.core.session import Session
+    from valterm.ui.app import ValtermApp
+    from valterm.ui.screens.valmode import ValModeScreen
+
+    class Host(ValtermApp):
+        def on_mount(self) -> None:
+            pass
+
+    async def run() -> None:
+        app = Host(session=Session(tmp_path / "ws"), motion_rate=math.inf)
+        async with app.run_test(size=(140, 45)) as pilot:
+            (app.session.workspace.root / "TABLE.V2").write_text(APP_PROGRAM)
+            screen = ValModeScreen(show_menu=False)
+            await app.push_screen(screen)
+            await pilot.pause()
+            await pilot.press(*"EXECUTE table", "enter")
+            for _ in range(100):
+                await pilot.pause(0.05)
+                if any("COMPLETED" in line for line in screen.transcript):
+                    break
+            text = list(screen.transcript)
+            assert "  127.83  216.07  338.30   30.00   40.00   50.00" in text, "\n".join(text)
+            assert "  -62.31 -117.41 -349.76  130.00   40.00  150.00" in text
+            assert "1 2 0" in text and " 0.500" in text
+            assert any(line.split()[:3] == ["X", "Y", "Z"] for line in text) or any(
+                line.split()[1:4] == ["X", "Y", "Z"] for line in text), text
+
+    asyncio.run(run())

@@ -977,7 +977,9 @@ def _wait(c: Build, st: Statement) -> Op:
         while not holds():
             coming = machine.next_input_time()
             if coming is None and machine.waits_for_keyboard():
-                yield Delay(WAIT_POLL)  # the app waits in real time: the user may set an input
+                # the app waits in real time (the user may set an input), a TIMER to the microsecond
+                when = first_true(machine, holds, machine.time + WAIT_POLL)
+                yield Delay(WAIT_POLL if when is None else when - machine.time)
                 yield from machine.apply_inputs()
                 started = machine.time  # no time limit: the user ends it (an input, or CTRL-C)
                 continue
