@@ -389,3 +389,19 @@ def test_the_app_shows_the_same_values(tmp_path: Path) -> None:
                 line.split()[1:4] == ["X", "Y", "Z"] for line in text), text
 
     asyncio.run(run())
+
+
+def test_execute_in_the_workspace_loads_the_file_s_data_once(tmp_path: Path) -> None:
+    from valterm.core.session import Session
+
+    session = Session(tmp_path / "ws")
+    (session.workspace.root / "STORED.V2").write_text(
+        ".PROGRAM counter()\n    count = count+1\n    TYPE count, \" \", $title\n"
+        "    DECOMPOSE v[1] = spot\n    TYPE /F7.1, v[1], v[5]\n.END\n"
+        ".REALS\ncount 10\n.END\n.STRINGS\n$title \"RUN\"\n.END\n"
+        ".LOCATIONS\nspot 400 0 100 0 180 0\n.END\n")
+    first = [e.text for e in session.command("EXECUTE counter") if isinstance(e, TypeOut)]
+    second = [e.text for e in session.command("EXECUTE counter") if isinstance(e, TypeOut)]
+    assert first == ["11 RUN", "  400.0  180.0"]
+    assert second[0] == "12 RUN"  # loaded once, as LOAD would: the count goes on
+    assert session.simulator.locations["SPOT"].xyz == (400.0, 0.0, 100.0)

@@ -90,12 +90,8 @@ def _vplus_data(path: Path, sim: Any, interpreter: Any) -> None:
         return
     found = read_vplus_file(path)
     data = found.data
-    for name, location in data.locations.items():
-        sim.locations.setdefault(name, location)  # --loc files say otherwise: they win
-    interpreter.machine.precision.update(data.precision)
-    interpreter.machine.strings.update(data.strings)
-    for name, value in data.reals.items():
-        interpreter.variables[name] = value
+    interpreter.machine.load_data(data, interpreter.variables)  # --loc files' locations win
+    interpreter.data_loaded.add(str(path.resolve()))
     for problem in [*data.problems, *(b.problem for b in found.blocks if b.problem)]:
         print(f"valterm: warning: {problem}", file=sys.stderr)
 
