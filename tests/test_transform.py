@@ -86,27 +86,29 @@ def test_the_issue_s_table() -> None:
     # compound: a 100 mm tool offset of a tool pointing down lands 100 mm lower
     (lambda: trans(300, 200, 100, 0, 180, 0) @ translation(0, 0, 100), (300, 200, 0, 0, 180, 0)),
     # yaw turns the tool's X: a 10 mm step along it after yaw 90 is along world Y
-    (lambda: trans(0, 0, 0, 90, 0, 0) @ translation(10, 0, 0), (0, 10, 0, 90, 0, 0)),
+    (lambda: trans(0, 0, 0, 90, 0, 0) @ translation(10, 0, 0), (0, 10, 0, 0, 0, 90)),
     # pitch 90 tips the tool's Z onto world X
     (lambda: trans(0, 0, 0, 0, 90, 0) @ translation(0, 0, 10), (10, 0, 0, 0, 90, 0)),
     # roll turns about the tool's own Z after yaw and pitch
     (lambda: trans(0, 0, 0, 0, 90, 90) @ translation(10, 0, 0), (0, 10, 0, 0, 90, 90)),
     # RX/RY/RZ are rotations with no translation
-    (lambda: rz(45), (0, 0, 0, 45, 0, 0)),
+    (lambda: rz(45), (0, 0, 0, 0, 0, 45)),
     (lambda: ry(30), (0, 0, 0, 0, 30, 0)),
     (lambda: rx(90) @ translation(0, 10, 0), (0, 0, 10, -90, 90, 90)),
     # inverse of a pure yaw with an offset
-    (lambda: inverse(trans(10, 0, 0, 90, 0, 0)), (0, 10, 0, -90, 0, 0)),
+    (lambda: inverse(trans(10, 0, 0, 90, 0, 0)), (0, 10, 0, 0, 0, -90)),
     (lambda: inverse(trans(100, 200, 300, 30, 40, 50)), (-62.31, -117.41, -349.76, 130, 40, 150)),
     # SHIFT moves along the world axes and keeps the orientation
     (lambda: shift(trans(1, 2, 3, 10, 20, 30), 10, 0, -5), (11, 2, -2, 10, 20, 30)),
     # a negative pitch is reported with pitch in [0, 180]: yaw and roll turn by 180
     (lambda: trans(0, 0, 0, 10, -20, 30), (0, 0, 0, -170, 20, -150)),
-    # pitch 180: only yaw - roll is defined; roll is reported 0
-    (lambda: trans(5, 6, 7, 0, 180, 45), (5, 6, 7, -45, 180, 0)),
+    # pitch 180: only yaw - roll is defined; yaw is reported 0, roll carries the turn
+    (lambda: trans(5, 6, 7, 0, 180, 45), (5, 6, 7, 0, 180, 45)),
+    (lambda: trans(5, 6, 7, -45, 180, 0), (5, 6, 7, 0, 180, 45)),
+    (lambda: rz(30) @ rz(40), (0, 0, 0, 0, 0, 70)),
     # FRAME: X towards the second point, Y towards the third, origin at the fourth
     (lambda: frame(translation(0, 0, 0), translation(0, 10, 0), translation(-5, 0, 0), translation(1, 2, 3)),
-     (1, 2, 3, 90, 0, 0)),
+     (1, 2, 3, 0, 0, 90)),
 ])
 def test_vplus_cases(built: object, expected: tuple[float, ...]) -> None:
     assert callable(built)

@@ -26,8 +26,8 @@ V+ semantics (the thesis names FRAME and INVERSE as future work, §8.2):
 
 Reporting rules for yaw pitch roll (the same angles as WHERE shows in V+): pitch in
 [0, 180], yaw and roll in (-180, 180]; with pitch 0 or 180 only yaw +- roll is defined,
-and roll is reported as 0 (yaw carries the whole turn), as the thesis reports T = 0 at
-A = +-90.
+and yaw is reported as 0 (roll carries the whole turn): ``TRANS(x, y, z, 0, 180, r)``, the
+usual tool-down location, reads back as written.
 """
 
 from __future__ import annotations
@@ -102,10 +102,9 @@ def rotation_to_ypr(rotation: np.ndarray) -> Angles:
     sin_pitch = math.hypot(r[0, 2], r[1, 2])
     pitch = math.degrees(math.atan2(sin_pitch, r[2, 2]))
     if sin_pitch < GIMBAL_EPS:  # the tool's Z along +-world Z: only yaw +- roll is defined
-        yaw = math.degrees(math.atan2(r[1, 0], r[0, 0]))
-        if r[2, 2] < 0:  # RZ(y) RY(180): the first column is (-cos y, -sin y, 0)
-            yaw = math.degrees(math.atan2(-r[1, 0], -r[0, 0]))
-        return (_tidy(wrap180(yaw)), _tidy(pitch), 0.0)
+        # yaw 0: RY(0 or 180) RZ(roll) has (sin roll, cos roll) in its second row either way
+        roll = math.degrees(math.atan2(r[1, 0], r[1, 1]))
+        return (0.0, _tidy(pitch), _tidy(wrap180(roll)))
     yaw = math.degrees(math.atan2(r[1, 2], r[0, 2]))
     roll = math.degrees(math.atan2(r[2, 1], -r[2, 0]))
     return (_tidy(wrap180(yaw)), _tidy(pitch), _tidy(wrap180(roll)))
