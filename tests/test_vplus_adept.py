@@ -405,3 +405,11 @@ def test_execute_in_the_workspace_loads_the_file_s_data_once(tmp_path: Path) -> 
     assert first == ["11 RUN", "  400.0  180.0"]
     assert second[0] == "12 RUN"  # loaded once, as LOAD would: the count goes on
     assert session.simulator.locations["SPOT"].xyz == (400.0, 0.0, 100.0)
+
+
+def test_motion_tuning_statements_are_accepted_and_change_nothing() -> None:
+    _, events = vplus(body("ACCEL 50, 80", "ACCEL 100 ALWAYS", "DURATION 0.5", "COARSE", "FINE 50 ALWAYS",
+                           "NONULL", "NULL ALWAYS", "SINGLE", "MULTIPLE", 'TYPE /B, "DONE"'))
+    assert typed(events) == ["DONE"] and not [e for e in events if e.event == "error"]
+    _, events = vplus(body("ACCEL 1, 2, 3"))
+    assert "ACCEL: EXPECTED ACCEL {<value>} {ALWAYS}" in [e.message for e in events if e.event == "error"][0]

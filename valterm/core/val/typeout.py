@@ -8,8 +8,8 @@ the values after it are written:
 
 - ``/Fw.d`` fixed point, ``/Ew.d`` exponent, ``/Iw`` whole number, ``/Hw`` hexadecimal,
   ``/D`` back to the default (w is the width, right-aligned);
-- ``/Xn`` n blanks, ``/Cn`` n line breaks, ``/S`` no line break at the end (ignored: the
-  transcript is line based).
+- ``/Xn`` n blanks, ``/Cn`` n line breaks, ``/S`` no line break at the end, ``/Un`` n lines
+  up, ``/Bn`` n beeps (the last three ignored: the transcript is line based and silent).
 
 In the v+ dialect (``vexpr.render_output``) two values typed one after the other in the
 default format are separated by a blank (``TYPE a, b`` types ``1 2``, never ``12``).
@@ -23,7 +23,7 @@ from dataclasses import dataclass
 
 from valterm.core.errors import ValtermError
 
-_FORMAT = re.compile(r"^/([FEIHDXCSU])(\d*)(?:\.(\d+))?$", re.IGNORECASE)
+_FORMAT = re.compile(r"^/([FEIHDXCSUB])(\d*)(?:\.(\d+))?$", re.IGNORECASE)
 
 
 class TypeListError(ValtermError, ValueError):

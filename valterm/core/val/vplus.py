@@ -98,10 +98,13 @@ _TEXT_ARGS = ("STOP", "HALT", "PAUSE")
 _ONE_VALUE = ("DELAY", "DEPART", "DEPARTS")
 _HAND = ("OPEN", "OPENI", "CLOSE", "CLOSEI", "RELAX", "RELAXI")
 _MOTIONS = ("MOVE", "MOVES", "MOVET", "MOVEST")
+# How the real arm accelerates and settles: the simulated motion is the same (accepted, no effect)
+_TUNING = ("ACCEL", "DURATION", "COARSE", "FINE", "NONULL", "NULL", "SINGLE", "MULTIPLE")
 COMMANDS = (*_NO_ARGS, *_TEXT_ARGS, *_ONE_VALUE, *_HAND, *_MOTIONS, "APPRO", "APPROS", "DRIVE", "DRAW",
             "FOR", "CASE", "VALUE", "WHILE", "UNTIL", "IF", "GOTO", "CALL", "AUTO", "LOCAL", "GLOBAL",
             "SPEED", "PARAMETER", "HERE", "SET", "DECOMPOSE", "TOOL", "TYPE", "SIGNAL", "WAIT",
-            "WAIT.EVENT", "REACT", "REACTI", "IGNORE", "TIMER", "ENABLE", "DISABLE", "BASE", "EXIT", "NEXT")
+            "WAIT.EVENT", "REACT", "REACTI", "IGNORE", "TIMER", "ENABLE", "DISABLE", "BASE", "EXIT", "NEXT",
+            *_TUNING)
 
 
 def _spec(name: str) -> CommandSpec:
@@ -321,6 +324,10 @@ def _with_arguments(word: str, rest: str, parts: list[str], original: str) -> St
         return Statement(word, values, original)
     if word in ("AUTO", "LOCAL", "GLOBAL"):
         return Statement("AUTO" if word != "GLOBAL" else "GLOBAL", (_declared(word, rest),), original)
+    if word in _TUNING:
+        values = [p for p in split_top(re.sub(r"\bALWAYS\s*$", "", rest).strip()) if p]
+        _count(word, values, 0, 2 if word in ("ACCEL", "FINE", "COARSE") else 1, "{<value>} {ALWAYS}")
+        return Statement(word, tuple(_check("N", v) for v in values), original)
     if word == "SPEED":
         always = bool(re.search(r"\s(ALWAYS|MONITOR)\s*$", rest))
         value = re.sub(r"(\s+(ALWAYS|MONITOR))+\s*$", "", rest)
@@ -1143,7 +1150,7 @@ VPLUS_BUILDERS: dict[str, Builder] = {
     **b85.BUILDERS,
     ASSIGN: _assign, "FOR": _for, "END": _end, "CASE": _case, "VALUE": _value_or_any, "ANY": _value_or_any,
     "IF": _if, "WHILE": _while, "UNTIL": _until, "CALL": _call, "EXIT": _exit_or_next, "NEXT": _exit_or_next,
-    "AUTO": _nothing, "GLOBAL": _nothing, "BREAK": _nothing,
+    "AUTO": _nothing, "GLOBAL": _nothing, "BREAK": _nothing, **{word: _nothing for word in _TUNING},
     "MOVE": _move, "MOVES": _move, "MOVET": _move, "MOVEST": _move, "APPRO": _appro, "APPROS": _appro,
     "DEPART": _depart, "DEPARTS": _depart, **{word: _hand for word in _HAND}, "DELAY": _delay,
     "DRIVE": _with_numbers, "DRAW": _with_numbers, "BASE": _with_numbers,
