@@ -325,9 +325,9 @@ def _with_arguments(word: str, rest: str, parts: list[str], original: str) -> St
     if word in ("AUTO", "LOCAL", "GLOBAL"):
         return Statement("AUTO" if word != "GLOBAL" else "GLOBAL", (_declared(word, rest),), original)
     if word in _TUNING:
-        values = [p for p in split_top(re.sub(r"\bALWAYS\s*$", "", rest).strip()) if p]
-        _count(word, values, 0, 2 if word in ("ACCEL", "FINE", "COARSE") else 1, "{<value>} {ALWAYS}")
-        return Statement(word, tuple(_check("N", v) for v in values), original)
+        tuning = [p for p in split_top(re.sub(r"\bALWAYS\s*$", "", rest).strip()) if p]
+        _count(word, tuning, 0, 2 if word in ("ACCEL", "FINE", "COARSE") else 1, "{<value>} {ALWAYS}")
+        return Statement(word, tuple(_check("N", v) for v in tuning), original)
     if word == "SPEED":
         always = bool(re.search(r"\s(ALWAYS|MONITOR)\s*$", rest))
         value = re.sub(r"(\s+(ALWAYS|MONITOR))+\s*$", "", rest)
