@@ -413,3 +413,13 @@ def test_motion_tuning_statements_are_accepted_and_change_nothing() -> None:
     assert typed(events) == ["DONE"] and not [e for e in events if e.event == "error"]
     _, events = vplus(body("ACCEL 1, 2, 3"))
     assert "ACCEL: EXPECTED ACCEL {<value>} {ALWAYS}" in [e.message for e in events if e.event == "error"][0]
+
+
+def test_check_finds_a_program_of_a_workspace_vplus_file(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+    workspace = tmp_path / "ws"
+    assert main(["--workspace", str(workspace), "run", "nothing.here"]) == 1  # seeds the workspace
+    (workspace / "CELLJOB.V2").write_text(body('TYPE "MAIN"') + ".PROGRAM pick.part()\n    EXIT\n.END\n")
+    capsys.readouterr()
+    assert main(["--workspace", str(workspace), "check", "pick.part"]) == 1
+    assert "CELLJOB.V2:5: PICK.PART step 1: EXIT 1: NOT INSIDE A LOOP" in capsys.readouterr().out
+    assert main(["--workspace", str(workspace), "check", "no.such"]) == 1

@@ -51,10 +51,23 @@ def find_program(argument: str, workspace_root: str | None) -> tuple[Path, Calla
     if given.is_file():
         return given, Workspace(given.resolve().parent).program_test()  # CALLs: the same folder
     looks_like_path = any(sep in argument for sep in ("/", "\\")) or given.suffix.upper() not in ("", ".DAT")
-    if looks_like_path:
+    if looks_like_path and not _dotted(argument):
         raise FileNotFoundError(f"{argument}: no such program file")
     workspace = Workspace.open(workspace_root)
-    return workspace.path(argument, "DAT"), workspace.program_test()
+    path = workspace.path(argument, "DAT") if not _dotted(argument) else None
+    if path is None or not path.is_file():
+        found = workspace.vplus_source(argument)  # a program of a workspace V+ file: check the file
+        if found is not None:
+            return found[1], workspace.program_test()
+    if path is None:  # a dotted name that is no program of the workspace: perhaps a file
+        raise FileNotFoundError(f"{argument}: no such program file (and no V+ file of the workspace has it)")
+    return path, workspace.program_test()
+
+
+def _dotted(name: str) -> bool:
+    from valterm.core.files.vplus import is_dotted_name
+
+    return is_dotted_name(name)
 
 
 def run(args: argparse.Namespace) -> int:
