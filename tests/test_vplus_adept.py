@@ -423,3 +423,13 @@ def test_check_finds_a_program_of_a_workspace_vplus_file(capsys: pytest.CaptureF
     assert main(["--workspace", str(workspace), "check", "pick.part"]) == 1
     assert "CELLJOB.V2:5: PICK.PART step 1: EXIT 1: NOT INSIDE A LOOP" in capsys.readouterr().out
     assert main(["--workspace", str(workspace), "check", "no.such"]) == 1
+
+
+def test_location_arrays() -> None:
+    sim = Simulator(None)
+    _, events = vplus(body("FOR i = 1 TO 3", "  SET p[i] = TRANS(400+i*10, 0, 100, 0, 180, 0)", "END",
+                           "MOVE p[2]", "DECOMPOSE v[1] = p[i-1]", "TYPE v[1]", "HERE q[1]",
+                           "TYPE LAST(p[]), DX(q[1])"), sim)
+    assert typed(events) == ["430", "3 420"]
+    assert np.allclose(sim.where().xyz, (420, 0, 100), atol=0.01)
+    assert np.allclose(sim.locations["Q[1]"].xyz, (420, 0, 100), atol=0.01)

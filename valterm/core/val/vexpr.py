@@ -314,12 +314,17 @@ class _Compiler:
         index = self.tokens.pos + 1
         return index < len(self.tokens.items) and self.tokens.items[index][1] == value
 
-    def element(self, name: str) -> Node:
+    def indexes(self) -> list[Fn]:
+        """``[i]`` or ``[i, j]`` after an array's name."""
         self.tokens.expect("[")
-        indexes = [self.sum().closure()]
+        found = [self.sum().closure()]
         while self.tokens.take(","):
-            indexes.append(self.sum().closure())
+            found.append(self.sum().closure())
         self.tokens.expect("]")
+        return found
+
+    def element(self, name: str) -> Node:
+        indexes = self.indexes()
 
         def read(V: Values) -> float:
             return V[array_key(name, [i(V) for i in indexes])]
@@ -448,6 +453,9 @@ class _Compiler:
         if after is not None and after[1] == "(":
             return self.location_call(value)
         get = self.get_machine(f"location {value}")
+        if after is not None and after[1] == "[" and not value.startswith("#"):  # loc[i]: an array element
+            indexes = self.indexes()
+            return lambda V: get().location(array_key(value, [i(V) for i in indexes]))
         if value == "HERE":
             return lambda V: _here(get())
         if value == "NULL":

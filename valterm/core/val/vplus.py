@@ -335,7 +335,11 @@ def _with_arguments(word: str, rest: str, parts: list[str], original: str) -> St
     if word in ("HERE", "TOOL"):
         _count(word, parts, 1, 1, "<location>")
         target = parts[0]
-        if word == "HERE" and not re.fullmatch(rf"#?{_N}", target):
+        element = re.fullmatch(rf"({_N})\s*\[(.+)\]", target)
+        if word == "HERE" and element is not None:
+            for index in split_top(element.group(2)):
+                _check("N", index)
+        elif word == "HERE" and not re.fullmatch(rf"#?{_N}", target):
             raise ValSyntaxError(f"HERE: {target} IS NOT A LOCATION NAME")
         return Statement(word, (target if word == "HERE" else _check("L", target),), original)
     if word == "TYPE":
@@ -894,10 +898,19 @@ def _parameter(c: Build, st: Statement) -> Op:
 
 
 def _here(c: Build, st: Statement) -> Op:
+    """HERE name, HERE loc[i] (an array element), HERE #point (the joints)."""
     name = st.args[0]
     machine = _machine(c)
+    element = re.fullmatch(rf"({_N})\s*\[(.+)\]", name)
+    indexes = [_num(c, i) for i in split_top(element.group(2))] if element is not None else []
 
     def run() -> Events:
+        if element is not None:
+            from valterm.core.val.vexpr import compile_location as here
+
+            key = array_key(element.group(1), [i(c.variables) for i in indexes])
+            _store_location(c, key, here("HERE", machine)(c.variables))
+            return c.next
         if name.startswith("#"):
             joints = getattr(c.sim, "joints", None)
             if joints is None:
