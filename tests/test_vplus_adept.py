@@ -433,3 +433,11 @@ def test_location_arrays() -> None:
     assert typed(events) == ["430", "3 420"]
     assert np.allclose(sim.where().xyz, (420, 0, 100), atol=0.01)
     assert np.allclose(sim.locations["Q[1]"].xyz, (420, 0, 100), atol=0.01)
+
+
+def test_bits_sets_and_reads_signals_as_a_number() -> None:
+    interpreter, events = vplus(body("BITS 1, 4 = 5", "TYPE BITS(1, 4), SIG(1), SIG(2), SIG(3)", "BITS 3 = 0",
+                                     "TYPE BITS(1, 4)", "BITS 1001, 2 = 3"))
+    assert typed(events) == ["5 -1 0 -1", "1"]
+    assert interpreter.machine.signals.outputs_on() == [1]
+    assert "1001 IS AN INPUT" in [e.message for e in events if e.event == "error"][0]

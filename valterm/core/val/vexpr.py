@@ -114,6 +114,12 @@ def _last(values: Mapping[str, object], name: str) -> float:
     return float(max(indexes)) if indexes else -1.0
 
 
+def _bits(machine: Machine, first: int, count: int) -> float:
+    if not 1 <= count <= 32:
+        raise MachineError(f"BITS: {count} SIGNALS (1 TO 32)")
+    return float(sum(1 << offset for offset in range(count) if machine.signals.sig(first + offset)))
+
+
 def _val(text: str) -> float:
     """VAL($s): the number the string starts with (0 when none)."""
     match = re.match(r"\s*[-+]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][-+]?\d+)?", text)
@@ -356,6 +362,12 @@ class _Compiler:
             self.tokens.expect(")")
             return self.setting(name, token[1])
         args = [a.closure() for a in self.arguments()]
+        if name == "BITS":  # BITS(first {, count}): those signals as a number, the first the lowest bit
+            get_bits = self.get_machine("BITS()")
+            if not 1 <= len(args) <= 2:
+                raise ExprError("BITS takes the first signal and a count: BITS(first, count)")
+            first, count = args[0], args[1] if len(args) == 2 else (lambda V: 1.0)
+            return Opaque("BITS(...)", lambda V: _bits(get_bits(), int(first(V)), int(count(V))))
         if name in ("SIG", "TIMER"):
             get = self.get_machine(f"{name}()")
             if not args or (name == "TIMER" and len(args) != 1):

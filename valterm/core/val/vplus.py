@@ -90,6 +90,7 @@ _WORD = re.compile(rf"^({_N})\s*(.*)$", re.DOTALL)
 _DECOMPOSE = re.compile(rf"^DECOMPOSE\s+({_N})\s*\[\s*(.*?)\s*\]\s*=\s*(.+)$", re.DOTALL)
 _TIMER = re.compile(r"^TIMER\s+(.+?)\s*=\s*(.+)$", re.DOTALL)
 _PARAMETER = re.compile(rf"^PARAMETER\s+({_N})\s*=\s*(.+)$", re.DOTALL)
+_BITS = re.compile(r"^BITS\s+(.+?)\s*=\s*(.+)$", re.DOTALL)
 _DECLARE_TYPES = ("REAL", "DOUBLE", "LOC", "PRECISION", "TRANS")
 
 _NO_ARGS = ("ELSE", "END", "DO", "RETURN", "BREAK", "READY", "ALIGN", "WHERE", "STATUS", "ANY",
@@ -104,6 +105,7 @@ COMMANDS = (*_NO_ARGS, *_TEXT_ARGS, *_ONE_VALUE, *_HAND, *_MOTIONS, "APPRO", "AP
             "FOR", "CASE", "VALUE", "WHILE", "UNTIL", "IF", "GOTO", "CALL", "AUTO", "LOCAL", "GLOBAL",
             "SPEED", "PARAMETER", "HERE", "SET", "DECOMPOSE", "TOOL", "TYPE", "SIGNAL", "WAIT",
             "WAIT.EVENT", "REACT", "REACTI", "IGNORE", "TIMER", "ENABLE", "DISABLE", "BASE", "EXIT", "NEXT",
+            "BITS",
             *_TUNING)
 
 
@@ -251,7 +253,7 @@ def _assignment(upper: str, original: str) -> Statement | None:
     value = original[match.start(5):]  # quoted text keeps its case
     if not value.strip():
         raise ValSyntaxError(f"{target}= needs a value")
-    if target in ("TIMER", "PARAMETER", "DECOMPOSE"):
+    if target in ("TIMER", "PARAMETER", "DECOMPOSE", "BITS"):
         return None
     indexes = tuple(_check("N", i) for i in split_top(index)) if index is not None else ()
     if target.startswith("$"):
@@ -269,6 +271,10 @@ def _assignment(upper: str, original: str) -> Statement | None:
 
 
 def _command(upper: str, original: str) -> Statement | None:
+    if match := _BITS.match(upper):  # BITS first, count = value
+        signals = split_top(match.group(1))
+        _count("BITS", signals, 1, 2, "<first signal>{, <count>} = <value>")
+        return Statement("BITS", (*(_check("N", t) for t in signals), _check("N", match.group(2))), original)
     for special in (_DECOMPOSE, _TIMER, _PARAMETER):
         if match := special.match(upper):
             groups = match.groups()
@@ -980,6 +986,27 @@ def _signal(c: Build, st: Statement) -> Op:
     return _reacting(c, run)
 
 
+def _bits(c: Build, st: Statement) -> Op:
+    """BITS first, count = value: signals first .. first+count-1 set to value's bits (the
+    lowest bit to the first signal)."""
+    first, value = _num(c, st.args[0]), _num(c, st.args[-1])
+    count = _num(c, st.args[1]) if len(st.args) == 3 else (lambda V: 1.0)
+    machine = _machine(c)
+
+    def run() -> Events:
+        start, bits, number = int(first(c.variables)), int(value(c.variables)), int(count(c.variables))
+        if not 1 <= number <= 32:
+            raise ProgramError(f"BITS: {number} SIGNALS (1 TO 32)")
+        for offset in range(number):
+            signal = start + offset
+            try:
+                yield machine.set_signal(signal if bits >> offset & 1 else -signal)
+            except ValtermError as error:
+                raise ProgramError(str(error).upper()) from None
+        return c.next
+    return _reacting(c, run)
+
+
 def _wait(c: Build, st: Statement) -> Op:
     """WAIT cond: simulated time passes until cond is true (a TIMER reaches a value, a
     scripted input changes); with neither possible the program stops and says so."""
@@ -1168,7 +1195,7 @@ VPLUS_BUILDERS: dict[str, Builder] = {
     "DEPART": _depart, "DEPARTS": _depart, **{word: _hand for word in _HAND}, "DELAY": _delay,
     "DRIVE": _with_numbers, "DRAW": _with_numbers, "BASE": _with_numbers,
     "SPEED": _speed, "PARAMETER": _parameter, "HERE": _here, "DECOMPOSE": _decompose, "TOOL": _tool,
-    "TYPE": _type, "SIGNAL": _signal, "WAIT": _wait, "WAIT.EVENT": _wait_event,
+    "TYPE": _type, "SIGNAL": _signal, "BITS": _bits, "WAIT": _wait, "WAIT.EVENT": _wait_event,
     "REACT": _react, "REACTI": _react, "IGNORE": _react, "TIMER": _timer,
     "ENABLE": _switch, "DISABLE": _switch, "STATUS": _status, "WHERE": _where,
 }
