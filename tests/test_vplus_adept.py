@@ -102,16 +102,16 @@ def test_here_and_where_in_yaw_pitch_roll() -> None:
     assert values.split()[1:] == ["0.00", "158.75", "990.60", "0.00", "0.00", "0.00"]
 
 
-def test_valterm_run_gives_the_table(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+def test_valterm_run_gives_the_table_and_the_other_cases(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
     lines = [f"DECOMPOSE v[1] = {expression}" + "\n    TYPE /F10.2, v[1], v[2], v[3], v[4], v[5], v[6]"
-             for expression, _ in TABLE]
+             for expression, _ in TABLE + MORE]
     program = tmp_path / "table.v2"
     program.write_text(body(*lines))
     assert main(["--workspace", str(tmp_path / "ws"), "run", str(program), "--json"]) == 0
     events = [json.loads(line) for line in capsys.readouterr().out.splitlines()]
     outputs = [[float(v) for v in e["text"].split()] for e in events if e["event"] == "type"]
-    assert len(outputs) == len(TABLE)
-    for got, (_, expected) in zip(outputs, TABLE):
+    assert len(outputs) == len(TABLE + MORE)
+    for got, (_, expected) in zip(outputs, TABLE + MORE):
         assert np.allclose(got, expected, atol=0.01)
     end = events[-1]
     assert end["event"] == "end" and end["where"]["ypr"] == [0.0, 0.0, 0.0]
