@@ -709,8 +709,8 @@ def render_output(items: list[tuple[str, Callable[[Values], object] | None, str]
             value = fn(V)
             assert isinstance(value, (int, float))
             text = format_number(float(value), fmt)
-            if after_number and not text.startswith(" "):
-                text = " " + text  # V+ never runs two numbers together
+            if after_number and fmt == "D" and not text.startswith(" "):
+                text = " " + text  # V+'s default format never runs two numbers together
             parts.append(text)
         after_number = fn is not None and literal != "S"
     return "".join(parts)
