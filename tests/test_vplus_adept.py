@@ -122,8 +122,8 @@ def test_valterm_run_gives_the_table_and_the_other_cases(capsys: pytest.CaptureF
 def test_type_separates_numbers_and_types_rounding_noise_as_zero() -> None:
     _, events = vplus(body("TYPE 100, 200, 300, 0, COS(90), -5",
                            'TYPE "T", 0, " X=", 2.5', "TYPE /F6.2, -COS(90), 1, /D, 3, 4",
-                           "TYPE 1/3"))
-    assert typed(events) == ["100 200 300 0 0 -5", "T0 X=2.5", "  0.00  1.00 3 4", "0.333333"]
+                           "TYPE 1/3", "TYPE /I1, 1, 2"))
+    assert typed(events) == ["100 200 300 0 0 -5", "T0 X=2.5", "  0.00  1.00 3 4", "0.333333", "12"]
 
 
 # -- run NAME ---------------------------------------------------------------------------------
