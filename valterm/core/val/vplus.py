@@ -932,7 +932,7 @@ def _here(c: Build, st: Statement) -> Op:
 
 
 def _decompose(c: Build, st: Statement) -> Op:
-    """DECOMPOSE a[i] = loc: X Y Z O A T; of a precision point #p: its six joint angles."""
+    """DECOMPOSE a[i] = loc: X Y Z yaw pitch roll; of a precision point (#p, #PPOINT): its joints."""
     name, start_text, location_text = st.args
     start, where = _num(c, start_text), _loc(c, location_text)
     point = _precision(c, location_text) if location_text.startswith("#") else None
