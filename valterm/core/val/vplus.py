@@ -19,7 +19,10 @@ V+ semantics (Adept V+ Language Reference) where the thesis is silent:
 - ``SPEED n`` stays in force (as in the 1985 dialect), ``ALWAYS`` is accepted;
 - ``MOVET loc, hand`` / ``MOVEST``: the motion, then the hand opened (hand not 0) or closed;
 - ``REACT``/``REACTI n, prog``: when signal n changes to the wanted state during a motion,
-  WAIT, DELAY or SIGNAL step, prog is CALLed after that step (once; ``IGNORE`` disarms).
+  WAIT, DELAY or SIGNAL step, prog is CALLed after that step (once; ``IGNORE`` disarms);
+- locations are X Y Z yaw pitch roll (``core/transform.py``): TRANS, DECOMPOSE, WHERE;
+- ``WAIT cond`` lets simulated time pass until cond holds (``first_true``);
+- ``EXIT n`` / ``NEXT n`` leave or continue the n-th enclosing FOR, WHILE or DO loop.
 """
 
 from __future__ import annotations
