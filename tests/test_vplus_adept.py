@@ -441,3 +441,23 @@ def test_bits_sets_and_reads_signals_as_a_number() -> None:
     assert typed(events) == ["5 -1 0 -1", "1"]
     assert interpreter.machine.signals.outputs_on() == [1]
     assert "1001 IS AN INPUT" in [e.message for e in events if e.event == "error"][0]
+
+
+def test_a_loc_file_in_yaw_pitch_roll_is_the_same_poses(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+    from valterm.core.files.locations import format_locations, parse_locations
+    from valterm.core.transform import Transform
+
+    thesis = {"A": Location((465.0, -45.0, -245.0), (89.0, 91.0, 0.0)),
+              "DOWN": Location((400.0, 0.0, 100.0), (90.0, 90.0, 0.0))}
+    text = format_locations(thesis, "YPR")
+    assert text.splitlines()[0] == "; ANGLES YAW PITCH ROLL"
+    assert "POINT DOWN, 400.00, 0.00, 100.00, 0.00, 180.00, 0.00" in text
+    back = parse_locations(text, "V.LOC")
+    for name, location in thesis.items():
+        assert np.allclose(Transform.of(back[name]).matrix, Transform.of(location).matrix, atol=1e-4)
+    # a V+ program reads such a file with --loc and gets the pose as written
+    (tmp_path / "V.LOC").write_text("; ANGLES YAW PITCH ROLL\nPOINT spot, 400, 0, 100, 0, 180, 30\n")
+    program = tmp_path / "p.v2"
+    program.write_text(body("DECOMPOSE v[1] = spot", "TYPE /F8.2, v[1], v[2], v[3], v[4], v[5], v[6]"))
+    assert main(["--workspace", str(tmp_path / "ws"), "run", str(program), "--loc", str(tmp_path / "V.LOC")]) == 0
+    assert "  400.00    0.00  100.00    0.00  180.00   30.00" in capsys.readouterr().out

@@ -8,6 +8,10 @@ V+ programs (issue 14) add two kinds of line: a dotted name of up to 15 characte
 (``POINT pick.1, ...``), and a precision point, six joint angles in degrees
 (``POINT #SAFE, 0, -90, 90, 0, 0, 0``). ``read_locations`` returns the locations only;
 ``read_location_file`` returns the precision points too.
+
+A file whose comment line says ``; ANGLES YAW PITCH ROLL`` holds V+'s angles (issue 23:
+Z-Y-Z yaw, pitch, roll, ``core/transform.py``) instead of O A T; it is read as the same
+poses (every Location keeps O A T) and ``format_locations(..., YPR)`` writes one.
 """
 
 from __future__ import annotations
@@ -27,6 +31,7 @@ from valterm.core.files.atomic import write_text_atomic
 from valterm.core.files.errors import BadName, FileFormatError, shown_name
 from valterm.core.files.limits import MAX_LOCATIONS
 from valterm.core.kinematics import Location
+from valterm.core.transform import convert_orientation
 
 # A location name: a letter then up to 8 letters or digits (§7.3: "up to 9 characters").
 LOCATION_NAME = re.compile(r"[A-Z][A-Z0-9]{0,8}")
@@ -39,6 +44,8 @@ MAX_VPLUS_NAME = 15
 _POINT = re.compile(r"POINT(?![A-Z0-9])[\s,]*(.*)", re.IGNORECASE)
 
 _FIELDS = ("X", "Y", "Z", "O", "A", "T")
+VPLUS_ANGLES = "; ANGLES YAW PITCH ROLL"  # the comment line of a file in V+'s convention
+_VPLUS_ANGLES = re.compile(r"^\s*;\s*ANGLES\s+YAW\s+PITCH\s+ROLL\s*$", re.IGNORECASE | re.MULTILINE)
 
 
 def check_location_name(name: str) -> str:
@@ -117,15 +124,20 @@ def parse_locations(text: str, name: str | Path,
         found[point] = Location(
             (numbers[0], numbers[1], numbers[2]), (numbers[3], numbers[4], numbers[5])
         )
+    if _VPLUS_ANGLES.search(text):  # yaw pitch roll: the same poses, kept as O A T
+        found = {name: location._replace(oat=convert_orientation(location.oat, "YPR", "OAT"))
+                 for name, location in found.items()}
     return found
 
 
-def format_locations(locations: dict[str, Location]) -> str:
-    """Location-file text, one ``POINT`` line per location, in the order given."""
-    lines = []
+def format_locations(locations: dict[str, Location], convention: str = "OAT") -> str:
+    """Location-file text, one ``POINT`` line per location, in the order given; ``convention``
+    "YPR" writes V+'s yaw pitch roll (the file says so on its first line)."""
+    lines = [VPLUS_ANGLES] if convention == "YPR" else []
     for name, location in locations.items():
         point = _file_name(name)
-        numbers = ", ".join(format_number(v) for v in (*location.xyz, *location.oat))
+        angles = convert_orientation(location.oat, "OAT", "YPR") if convention == "YPR" else location.oat
+        numbers = ", ".join(format_number(v) for v in (*location.xyz, *angles))
         lines.append(f"POINT {point}, {numbers}")
     if not lines:
         lines.append("; NO LOCATIONS")  # an empty file reads as damaged, so say it is empty
