@@ -461,3 +461,17 @@ def test_a_loc_file_in_yaw_pitch_roll_is_the_same_poses(capsys: pytest.CaptureFi
     program.write_text(body("DECOMPOSE v[1] = spot", "TYPE /F8.2, v[1], v[2], v[3], v[4], v[5], v[6]"))
     assert main(["--workspace", str(tmp_path / "ws"), "run", str(program), "--loc", str(tmp_path / "V.LOC")]) == 0
     assert "  400.00    0.00  100.00    0.00  180.00   30.00" in capsys.readouterr().out
+
+
+def test_the_bundled_blink_program_runs_its_whole_length(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+    from valterm.core import resources
+
+    blink = resources.data_path("programs", "vplus") / "blink.v2"
+    assert main(["--workspace", str(tmp_path / "ws"), "run", str(blink), "--json"]) == 0
+    events = [json.loads(line) for line in capsys.readouterr().out.splitlines()]
+    output_1 = [(e["on"], e["time"]) for e in events if e["event"] == "signal" and e["number"] == 1]
+    assert output_1 == [(True, 0.0), (False, 0.5), (True, 0.75), (False, 1.25), (True, 1.5), (False, 2.0)]
+    output_2 = [(e["on"], e["time"]) for e in events if e["event"] == "signal" and e["number"] == 2]
+    assert output_2 == [(True, 2.25), (False, 3.25)]
+    assert [e["text"] for e in events if e["event"] == "type"][1] == "LAST COUNT 14 MASK 14 BLINKS 3"
+    assert events[-1]["cycle_time_s"] == pytest.approx(7.25)
