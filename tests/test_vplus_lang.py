@@ -177,7 +177,7 @@ def test_precision_points_are_joint_angles() -> None:
 def test_signals_set_outputs_and_refuse_inputs() -> None:
     _, events = vplus(body("SIGNAL 1, 2, -1", "TYPE SIG(2), SIG(-1), SIG(1, 2)", "STATUS", "SIGNAL 1001"))
     assert [(e.number, e.on) for e in events if isinstance(e, Signal)] == [(1, True), (2, True), (1, False)]
-    assert typed(events)[:2] == ["-1-10", "SIGNALS ON: OUTPUTS 2  INPUTS NONE"]
+    assert typed(events)[:2] == ["-1 -1 0", "SIGNALS ON: OUTPUTS 2  INPUTS NONE"]  # V+ separates numbers
     assert "1001 IS AN INPUT" in errors(events)[0].message
 
 

@@ -4,7 +4,10 @@ Each program NAME.DAT of the workspace (or a .DAT path) is written as a ``.PROGR
 ... ``.END`` block, its steps as they are (labels kept), in the order given, so V+ tools
 and ``valterm check``/``run`` read them back. A bare FILE goes into the workspace, a path
 where it says; the file is written atomically (nothing half-written). ``--with-calls``
-adds the programs the named ones CALL (found in the workspace), once each.
+adds the programs the named ones CALL (found in the workspace), once each. ``--loc X.LOC``
+(may repeat) writes those locations and precision points into a ``.LOCATIONS`` section (in
+V+'s X Y Z yaw pitch roll), ``--with-variables`` the workspace's variables (CHECK.DAT) into
+``.REALS``, as the controller's STORE keeps them beside the programs.
 
 Where V+ programs live: the workspace's own programs are NAME.DAT files whose names are
 1-9 letters or digits (the thesis's DATFILER.DAT lists them). V+ programs keep their
@@ -28,6 +31,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("names", nargs="+", metavar="NAME", help="a program of the workspace, or a .DAT path")
     parser.add_argument("--out", required=True, metavar="FILE.v2", help="the V+ file to write (.v2 or .pg)")
     parser.add_argument("--with-calls", action="store_true", help="add the programs they CALL")
+    parser.add_argument("--loc", action="append", metavar="X.LOC",
+                        help="write these locations as a .LOCATIONS section (may repeat)")
+    parser.add_argument("--with-variables", action="store_true",
+                        help="write the workspace's variables (CHECK.DAT) as a .REALS section")
     parser.set_defaults(func=run)
 
 
@@ -47,12 +54,30 @@ def run(args: argparse.Namespace) -> int:
         if not any(sep in args.out for sep in ("/", "\\")):
             out = workspace.root / out.name
         blocks = [VplusProgram(program, list(program.parameters)) for program in programs]
-        write_text_atomic(out, format_vplus(blocks))
+        write_text_atomic(out, format_vplus(blocks, _data(args, workspace)))
     except (ValtermError, OSError) as error:
         print(error, file=sys.stderr)
         return 1
     print(f"{out}: {len(blocks)} program(s) written ({', '.join(p.name for p in programs)})")
     return 0
+
+
+def _data(args: argparse.Namespace, workspace: object) -> object:
+    """The data sections asked for: --loc files' locations and points, --with-variables."""
+    from valterm.core.files.locations import read_location_file
+    from valterm.core.files.vplus import VplusData
+
+    data = VplusData()
+    for name in args.loc or []:
+        path = Path(name).expanduser()
+        if not path.is_file():
+            path = workspace.path(Path(name).stem, "LOC")  # type: ignore[attr-defined]
+        locations, points = read_location_file(path)
+        data.locations.update(locations)
+        data.precision.update(points)
+    if args.with_variables:
+        data.reals.update(workspace.read_variables())  # type: ignore[attr-defined]
+    return data
 
 
 def _collect(names: list[str], workspace: object, with_calls: bool) -> list:  # type: ignore[type-arg]

@@ -83,6 +83,50 @@ def _vplus_setup(args: argparse.Namespace, sim: Any, interpreter: Any, loc_paths
         interpreter.machine.precision.update(read_location_file(path)[1])
 
 
+def _vplus_data(path: Path, sim: Any, interpreter: Any) -> None:
+    """A V+ file's .LOCATIONS, .REALS and .STRINGS (as the controller's LOAD would); its
+    problems (a bad data line or header) are said on stderr and the run goes on."""
+    from valterm.core.files.vplus import EXTENSIONS, read_vplus_file
+
+    if path.suffix.upper() not in EXTENSIONS:
+        return
+    found = read_vplus_file(path)
+    data = found.data
+    interpreter.machine.load_data(data, interpreter.variables)  # --loc files' locations win
+    interpreter.data_loaded.add(str(path.resolve()))
+    for problem in [*data.problems, *(b.problem for b in found.blocks if b.problem)]:
+        print(f"valterm: warning: {problem}", file=sys.stderr)
+
+
+def _locate(argument: str, workspace: Any) -> tuple[Path, Any, dict[str, Any]]:
+    """The program file, its main program and the file's programs: a path, NAME.DAT, or a
+    program of one of the workspace's V+ files (any name LISTF lists; EXECUTE finds the same)."""
+    from valterm.core.files.vplus import read_program_file
+
+    try:
+        path = _find(argument, "DAT", workspace)
+    except FileNotFoundError:
+        found = _workspace_vplus(argument, workspace)
+        if found is None:
+            raise
+        program, path = found
+        _first, in_file = read_program_file(path)
+        return path, in_file.get(program.name, program), in_file
+    main, in_file = read_program_file(path)
+    return path, main, in_file
+
+
+def _workspace_vplus(argument: str, workspace: Any) -> Any:
+    from valterm.core.errors import ValtermError
+
+    if any(sep in argument for sep in ("/", "\\")):
+        return None
+    try:
+        return workspace.vplus_source(argument)
+    except (ValtermError, ValueError):
+        return None
+
+
 def _find(argument: str, ext: str, workspace: Any) -> Path:
     """A path as given if it exists, else NAME.EXT in the workspace."""
     given = Path(argument).expanduser()
@@ -102,7 +146,6 @@ def run(args: argparse.Namespace) -> int:
     from valterm.core.files.locations import read_locations
     from valterm.core.files.setup import read_setup
     from valterm.core.rules import rules_of_dialect
-    from valterm.core.files.vplus import read_program_file
     from valterm.core.simulator import Simulator
     from valterm.core.text.transcript import event_lines
     from valterm.core.val.interpreter import Interpreter
@@ -111,8 +154,7 @@ def run(args: argparse.Namespace) -> int:
 
     try:
         workspace = Workspace.open(getattr(args, "workspace", None))
-        program_path = _find(args.program, "DAT", workspace)
-        main, in_file = read_program_file(program_path)
+        program_path, main, in_file = _locate(args.program, workspace)
         cell_name = args.cell or (main.name if _in_workspace(workspace, main.name, "SET") else None)
         cell = read_setup(_find(cell_name, "SET", workspace)) if cell_name else None
         sim = Simulator(cell)
@@ -136,6 +178,7 @@ def run(args: argparse.Namespace) -> int:
     interpreter = Interpreter(sim, load_program, variables, keep_variables=workspace.merge_variables,
                               dialect=args.dialect or "1985", limits=limits_from(args))
     try:
+        _vplus_data(program_path, sim, interpreter)
         _vplus_setup(args, sim, interpreter, loc_paths)
     except (FileFormatError, OSError) as error:  # a bad --inputs file
         return fail(error, FAILURE)
@@ -164,7 +207,7 @@ def run(args: argparse.Namespace) -> int:
                 out.write(line + "\n")
             if isinstance(event, Pause):
                 out.write("(headless: PROCEED)\n")
-        _write_end(args, sim, interpreter, out)
+        _write_end(args, sim, interpreter, out, main)
     finally:
         signal.signal(signal.SIGINT, previous)
     if aborted:
@@ -172,13 +215,17 @@ def run(args: argparse.Namespace) -> int:
     return FAILURE if errors else OK
 
 
-def _write_end(args: argparse.Namespace, sim: Any, interpreter: Any, out: Any) -> None:
+def _write_end(args: argparse.Namespace, sim: Any, interpreter: Any, out: Any, main: Any) -> None:
     """The end of a run: the final WHERE, the variables, the signals on and the cycle time."""
     from valterm.core.events import End
     from valterm.core.grading import part_positions
     from valterm.core.text.transcript import where_lines
 
     where = sim.where()
+    if "v+" in (main.dialect, interpreter.dialect):
+        from valterm.core.val.vplus import vplus_where
+
+        where = vplus_where(where)  # a V+ program's readout: X Y Z yaw pitch roll
     panel = interpreter.machine.signals
     end = End(where=where.to_json(), variables=dict(interpreter.variables),
               cycle_time_s=round(interpreter.cycle_seconds, 3),  # the interpreter's clock

@@ -173,7 +173,14 @@ class Where(Event):
     joints: tuple[float, ...]
     config: dict[str, str] = field(default_factory=dict)
     clamp: str = "OPENED"
+    ypr: tuple[float, float, float] | None = None  # V+'s yaw pitch roll: the readout shows these
     event = "where"
+
+    def to_json(self) -> dict[str, Json]:
+        data = super().to_json()
+        if self.ypr is None:
+            del data["ypr"]  # a 1985 readout is as it was
+        return data
 
 
 @dataclass(frozen=True)

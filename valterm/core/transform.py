@@ -1,20 +1,33 @@
 """Transformations: a location as a 4x4 homogeneous matrix, and the V+ functions on them.
 
-The thesis's locations are XW YW ZW O A T (SPEC §2); V+ adds arithmetic on them (the thesis
-names FRAME and INVERSE as future work, §8.2). Every operation here composes 4x4 matrices
-and reads back with the same O/A/T rules as WHERE, so a transformation built from a .LOC
-location round-trips exactly.
+The matrix is the tool's pose in the world: the rotation's columns are the tool's n, o, a
+axes (a, the approach, is the tool's Z) and the last column its position. Both dialects
+mean the same pose by a location; they write its orientation differently:
 
-V+ semantics followed where the thesis is silent:
+- the thesis (1985 dialect, WHERE, .LOC files): X Y Z and O A T (SPEC §2,
+  ``kinematics.oat_to_rotation``; O A T (0, 0, 0) has the tool along -X of the world);
+- V+ (Adept V+ reference: TRANS, DECOMPOSE, WHERE): X Y Z and yaw, pitch, roll, Z-Y-Z
+  Euler angles: R = RZ(yaw) RY(pitch) RZ(roll), so (0, 0, 0), the null transformation,
+  has the tool's Z along the world's Z, and pitch 180 points the tool straight down.
+
+``convert_orientation`` is the one conversion between the two; ``Transform.location()``
+gives the Location (O A T) the simulator stores, so a workspace location used by both
+dialects is the same pose.
+
+V+ semantics (the thesis names FRAME and INVERSE as future work, §8.2):
 - ``a:b`` (compound): b expressed in a's frame, ``a @ b``;
 - ``INVERSE(a)``: the inverse transformation;
-- ``RX(d) RY(d) RZ(d)``: pure rotations about the world axes, no translation;
+- ``RX(d) RY(d) RZ(d)``: pure rotations about the axes, no translation;
 - ``SHIFT(a BY dx, dy, dz)``: a translated along the world axes;
-- ``TRANS(x, y, z)`` without angles and ``NULL``: a pure translation (identity rotation);
-  with angles, the location of those six components in the thesis's O A T;
+- ``TRANS(x, y, z, yaw, pitch, roll)`` (omitted = 0) and ``NULL`` (all 0, the identity);
 - ``FRAME(l1, l2, l3, l4)``: X axis from l1 towards l2, the XY plane through l3, origin at l4;
-- ``DECOMPOSE``: the six components X Y Z O A T;
+- ``DECOMPOSE``: the six components X Y Z yaw pitch roll;
 - ``DISTANCE(a, b)``, ``DX/DY/DZ(a)``.
+
+Reporting rules for yaw pitch roll (the same angles as WHERE shows in V+): pitch in
+[0, 180], yaw and roll in (-180, 180]; with pitch 0 or 180 only yaw +- roll is defined,
+and yaw is reported as 0 (roll carries the whole turn): ``TRANS(x, y, z, 0, 180, r)``, the
+usual tool-down location, reads back as written.
 """
 
 from __future__ import annotations
@@ -25,7 +38,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from valterm.core.errors import ValtermError
-from valterm.core.kinematics import Location, oat_to_rotation, rotation_to_oat
+from valterm.core.kinematics import GIMBAL_EPS, Location, oat_to_rotation, rotation_to_oat, wrap180
+
+Angles = tuple[float, float, float]
+CONVENTIONS = ("OAT", "YPR")  # the thesis's O A T; V+'s yaw pitch roll
 
 
 class TransformError(ValtermError):
@@ -56,9 +72,8 @@ class Transform:
         return Location(self.xyz, rotation_to_oat(self.rotation))
 
     def decompose(self) -> tuple[float, float, float, float, float, float]:
-        """DECOMPOSE: the six components X Y Z O A T."""
-        location = self.location()
-        return (*location.xyz, *location.oat)
+        """DECOMPOSE: the six components X Y Z yaw pitch roll (V+)."""
+        return (*self.xyz, *rotation_to_ypr(self.rotation))
 
     def __matmul__(self, other: Transform) -> Transform:
         """``a:b``: b expressed in a's frame."""
@@ -75,18 +90,52 @@ def _homogeneous(rotation: np.ndarray, xyz: tuple[float, float, float] | np.ndar
     return matrix
 
 
+def ypr_to_rotation(yaw: float, pitch: float, roll: float) -> np.ndarray:
+    """V+'s orientation: RZ(yaw) RY(pitch) RZ(roll), degrees (Z-Y-Z Euler angles)."""
+    rotation: np.ndarray = rz(yaw).rotation @ ry(pitch).rotation @ rz(roll).rotation
+    return rotation
+
+
+def rotation_to_ypr(rotation: np.ndarray) -> Angles:
+    """Yaw, pitch, roll (degrees) of a rotation, with the reporting rules above."""
+    r = np.asarray(rotation, dtype=float)
+    sin_pitch = math.hypot(r[0, 2], r[1, 2])
+    pitch = math.degrees(math.atan2(sin_pitch, r[2, 2]))
+    if sin_pitch < GIMBAL_EPS:  # the tool's Z along +-world Z: only yaw +- roll is defined
+        # yaw 0: RY(0 or 180) RZ(roll) has (sin roll, cos roll) in its second row either way
+        roll = math.degrees(math.atan2(r[1, 0], r[1, 1]))
+        return (0.0, _tidy(pitch), _tidy(wrap180(roll)))
+    yaw = math.degrees(math.atan2(r[1, 2], r[0, 2]))
+    roll = math.degrees(math.atan2(r[2, 1], -r[2, 0]))
+    return (_tidy(wrap180(yaw)), _tidy(pitch), _tidy(wrap180(roll)))
+
+
+def _tidy(angle: float) -> float:
+    """-0.0 and rounding noise next to 0 read as 0 (a readout never shows -0.00)."""
+    return 0.0 if abs(angle) < 1e-9 else angle
+
+
+def convert_orientation(angles: Angles, source: str, target: str) -> Angles:
+    """The one conversion between the thesis's O A T and V+'s yaw pitch roll (degrees).
+
+    ``source`` and ``target`` are "OAT" or "YPR"; the pose is the same, only its three
+    angles change (each side read back with its own reporting rules).
+    """
+    for convention in (source, target):
+        if convention not in CONVENTIONS:
+            raise TransformError(f"{convention!r} is not an orientation convention (OAT or YPR)")
+    rotation = oat_to_rotation(*angles) if source == "OAT" else ypr_to_rotation(*angles)
+    return rotation_to_oat(rotation) if target == "OAT" else rotation_to_ypr(rotation)
+
+
 def trans(x: float = 0.0, y: float = 0.0, z: float = 0.0,
-          o: float = 0.0, a: float = 0.0, t: float = 0.0) -> Transform:
-    """TRANS(x, y, z, o, a, t): a location from its six components (omitted = 0)."""
-    return Transform(_homogeneous(oat_to_rotation(o, a, t), (x, y, z)))
+          yaw: float = 0.0, pitch: float = 0.0, roll: float = 0.0) -> Transform:
+    """TRANS(x, y, z, yaw, pitch, roll): a location from its six V+ components (omitted = 0)."""
+    return Transform(_homogeneous(ypr_to_rotation(yaw, pitch, roll), (x, y, z)))
 
 
 def translation(x: float = 0.0, y: float = 0.0, z: float = 0.0) -> Transform:
-    """TRANS(x, y, z) with no angles, and NULL: a pure translation (V+'s null rotation).
-
-    The thesis's O A T (0, 0, 0) is not the identity rotation (its tool points along -X_w),
-    so an offset in a compound (``frame:TRANS(80, 0, 0):grip``) must not go through it.
-    """
+    """TRANS(x, y, z) and NULL: a pure translation (V+'s null rotation, the identity)."""
     return Transform(_homogeneous(np.eye(3), (x, y, z)))
 
 

@@ -332,6 +332,14 @@ class Workspace:
                 return None  # a bad name: the caller's own check says why
         return self.vplus_programs().get(upper)
 
+    def vplus_data(self, name: str) -> tuple[str, vplus.VplusData] | None:
+        """(the file, its data sections) of the V+ file holding program ``name``; None when
+        no V+ file of the workspace holds it."""
+        found = self.vplus_source(name)
+        if found is None:
+            return None
+        return str(found[1].resolve()), vplus.read_vplus_file(found[1]).data
+
     def vplus_files(self) -> list[Path]:
         """NAME.V2 / NAME.PG files whose NAME is a workspace name, in name order; a file that
         links outside the workspace is left out (WorkspaceError when it is read by name)."""

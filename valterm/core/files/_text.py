@@ -25,8 +25,11 @@ def read_parsed(path: str | Path, what: str, parse: Callable[[str, Path], Parsed
     return parse(read_text(path, what), path)
 
 
-def read_text(path: str | Path, what: str, limit: int = MAX_FILE_BYTES) -> str:
-    """The file's text, or a FileFormatError saying why it is not a readable ``what`` file."""
+def read_text(path: str | Path, what: str, limit: int = MAX_FILE_BYTES, eight_bit: bool = False) -> str:
+    """The file's text, or a FileFormatError saying why it is not a readable ``what`` file.
+
+    ``eight_bit``: bytes that are not UTF-8 are read as latin-1 (V+ files written on a
+    controller or an old PC carry comments in some 8-bit code page)."""
     path = Path(path)
     try:
         size = path.stat().st_size
@@ -45,14 +48,19 @@ def read_text(path: str | Path, what: str, limit: int = MAX_FILE_BYTES) -> str:
         raise FileFormatError(path, 0, f"cannot read the {what} file: {error.strerror or error}") from None
     if len(data) > limit:
         raise FileFormatError(path, 0, f"too large for a {what} file (limit {_size(limit)})")
-    return decode_text(data, path, what)
+    return decode_text(data, path, what, eight_bit)
 
 
-def decode_text(data: bytes, path: str | Path, what: str) -> str:
-    """Bytes to text: UTF-8 (plain ASCII in practice), no binary junk."""
+def decode_text(data: bytes, path: str | Path, what: str, eight_bit: bool = False) -> str:
+    """Bytes to text: UTF-8 (plain ASCII in practice), no binary junk; ``eight_bit``:
+    latin-1 when the bytes are not UTF-8."""
     try:
         text = data.decode("utf-8-sig")
     except UnicodeDecodeError as error:
+        if eight_bit:
+            text = data.decode("latin-1")
+            check_text(text, path, what)
+            return text
         line = data.count(b"\n", 0, error.start) + 1
         raise FileFormatError(path, line,
                               f"not a text {what} file (undecodable byte 0x{data[error.start]:02X})") from None

@@ -13,6 +13,9 @@ A location taught by HERE or the pendant keeps its configuration and joint angle
 its line may end with the three configuration words and the six angles,
 ``POINT P2, 400.00, 0.00, 0.00, 90.00, 90.00, 0.00, LEFTY ABOVE NOFLIP, 10.00, ...`` (STOREL
 writes them; files without them are read as before).
+A file whose comment line says ``; ANGLES YAW PITCH ROLL`` holds V+'s angles (issue 23:
+Z-Y-Z yaw, pitch, roll, ``core/transform.py``) instead of O A T; it is read as the same
+poses (every Location keeps O A T) and ``format_locations(..., YPR)`` writes one.
 """
 
 from __future__ import annotations
@@ -33,6 +36,7 @@ from valterm.core.files.atomic import write_text_atomic
 from valterm.core.files.errors import BadName, FileFormatError, shown_name
 from valterm.core.files.limits import MAX_LOCATIONS
 from valterm.core.kinematics import Config, Location
+from valterm.core.transform import convert_orientation
 
 # A location name: a letter then up to 8 letters or digits (§7.3: "up to 9 characters").
 LOCATION_NAME = re.compile(r"[A-Z][A-Z0-9]{0,8}")
@@ -45,6 +49,8 @@ MAX_VPLUS_NAME = 15
 _POINT = re.compile(r"POINT(?![A-Z0-9])[\s,]*(.*)", re.IGNORECASE)
 
 _FIELDS = ("X", "Y", "Z", "O", "A", "T")
+VPLUS_ANGLES = "; ANGLES YAW PITCH ROLL"  # the comment line of a file in V+'s convention
+_VPLUS_ANGLES = re.compile(r"^\s*;\s*ANGLES\s+YAW\s+PITCH\s+ROLL\s*$", re.IGNORECASE | re.MULTILINE)
 
 
 def check_location_name(name: str) -> str:
@@ -118,6 +124,9 @@ def parse_locations(text: str, name: str | Path,
         if point not in found and len(found) >= MAX_LOCATIONS:
             raise FileFormatError(where, number, f"more than {MAX_LOCATIONS} locations in one file")
         found[point] = _location(point, values, where, number)
+    if _VPLUS_ANGLES.search(text):  # yaw pitch roll: the same poses, kept as O A T
+        found = {name: location._replace(oat=convert_orientation(location.oat, "YPR", "OAT"))
+                 for name, location in found.items()}
     return found
 
 
@@ -144,20 +153,22 @@ def _config(point: str, words: list[str], where: Path, number: int) -> Config:
 
 
 def format_locations(locations: dict[str, Location],
-                     points: dict[str, tuple[float, ...]] | None = None) -> str:
+                     points: dict[str, tuple[float, ...]] | None = None, convention: str = "OAT") -> str:
     """Location-file text, one ``POINT`` line per location (with its configuration and joints
-    when it keeps them), in the order given; then the precision points (#name) if any."""
-    lines = []
+    when it keeps them), in the order given; then the precision points (#name) if any.
+    ``convention`` "YPR" writes V+'s yaw pitch roll (the file says so on its first line)."""
+    lines = [VPLUS_ANGLES] if convention == "YPR" else []
     for name, location in locations.items():
         point = _file_name(name)
-        numbers = ", ".join(format_number(v) for v in (*location.xyz, *location.oat))
+        angles = convert_orientation(location.oat, "OAT", "YPR") if convention == "YPR" else location.oat
+        numbers = ", ".join(format_number(v) for v in (*location.xyz, *angles))
         if location.config is not None:
             numbers += ", " + " ".join(location.config.words)
             if location.joints is not None:
                 numbers += ", " + ", ".join(format_number(v) for v in location.joints)
         lines.append(f"POINT {point}, {numbers}")
-    for name, angles in (points or {}).items():
-        lines.append(f"POINT {_file_name(name)}, " + ", ".join(format_number(v) for v in angles))
+    for name, joints in (points or {}).items():
+        lines.append(f"POINT {_file_name(name)}, " + ", ".join(format_number(v) for v in joints))
     if not lines:
         lines.append("; NO LOCATIONS")  # an empty file reads as damaged, so say it is empty
     return "\n".join(lines) + "\n"

@@ -46,11 +46,15 @@ def number(value: float) -> str:
 
 
 def where_lines(where: Where) -> list[str]:
-    """The WHERE readout of Fig. 2-8: clamp, XW YW ZW O A T, the indicators, JT 1 .. JT 6."""
+    """The WHERE readout of Fig. 2-8: clamp, XW YW ZW O A T, the indicators, JT 1 .. JT 6
+    (a V+ readout: X Y Z yaw pitch roll)."""
     config = where.config
+    heads, angles = ("XW", "YW", "ZW", "O", "A", "T"), where.oat
+    if where.ypr is not None:
+        heads, angles = ("X", "Y", "Z", "YAW", "PITCH", "ROLL"), where.ypr
     return [
-        _row(where.clamp, ("XW", "YW", "ZW", "O", "A", "T")),
-        _row(config.get("arm", ""), [number(v) for v in (*where.xyz, *where.oat)]),
+        _row(where.clamp, heads),
+        _row(config.get("arm", ""), [number(v) for v in (*where.xyz, *angles)]),
         _row(config.get("elbow", ""), [f"JT {i}" for i in range(1, 7)]),
         _row(config.get("wrist", ""), [number(v) for v in where.joints]),
     ]

@@ -75,6 +75,7 @@ class Analysis(Diagnosed):
     cases: dict[int, list[int]] = field(default_factory=dict)  # V+ CASE -> its VALUE/ANY steps
     case_of: dict[int, int] = field(default_factory=dict)  # V+ VALUE/ANY -> its CASE
     autos: list[str] = field(default_factory=list)  # V+ AUTO/LOCAL names (saved across a CALL)
+    loops: dict[int, list[int]] = field(default_factory=dict)  # V+ EXIT/NEXT -> its loops, innermost first
     dialect: str = "1985"
     diagnostics: list[Diagnostic] = field(default_factory=list)
     fatal: list[Diagnostic] = field(default_factory=list)  # structure errors: the program cannot run
@@ -201,6 +202,13 @@ def _structure(statement: Statement, index: int, stack: list[tuple[str, int]], r
     command = statement.command
     if command in ("FOR", "CASE", "VALUE", "ANY", "AUTO"):
         _vplus_structure(statement, index, stack, result, report)
+    elif command in ("EXIT", "NEXT"):
+        loops = [opener for kind, opener in reversed(stack) if kind in ("FOR", "WHILE", "DO")]
+        count = statement.args[0]
+        if count > len(loops):
+            what = "A LOOP" if count == 1 else f"{count} NESTED LOOPS"
+            report(index, f"{command} {count}: NOT INSIDE {what} (FOR, WHILE or DO)")
+        result.loops[index] = loops
     elif command == "CALL":
         result.calls.append((index, statement.args[0]))
     elif command == "IF" and "THEN" in statement.keywords:

@@ -46,6 +46,7 @@ from valterm.core.events import (
 from valterm.core.files.commandfile import CommandTable, default_commands
 from valterm.core.files.programs import Program, ProgramLine, split_label
 from valterm.core.files.variables import VARIABLE_NAME
+from valterm.core.files.vplus import VplusData
 from valterm.core.motion import MotionRefused
 from valterm.core.val.builders import (
     BUILDERS,
@@ -151,6 +152,10 @@ class Interpreter:
         self.keep_batched = False
         self._unkept = False
         self.load_program = load_program
+        # the data sections (.LOCATIONS, .REALS, .STRINGS) of the V+ file holding a program,
+        # loaded the first time one of its programs is compiled (as the controller's LOAD)
+        self.load_data: Callable[[str], tuple[str, VplusData] | None] | None = None
+        self.data_loaded: set[str] = set()
         # a VariableStore, so that reading an undeclared name is UndefinedVariable
         self.variables: dict[str, float] = (variables if isinstance(variables, VariableStore)
                                             else VariableStore(variables or {}))
@@ -177,8 +182,10 @@ class Interpreter:
         ends, so they are kept for the next session (section 6.7).
         """
         variables = VariableStore(workspace.read_variables())
-        return cls(sim, workspace.read_program, variables, keep_variables=workspace.merge_variables,
-                   store_locations=workspace.write_locations)
+        interpreter = cls(sim, workspace.read_program, variables, keep_variables=workspace.merge_variables,
+                          store_locations=workspace.write_locations)
+        interpreter.load_data = workspace.vplus_data
+        return interpreter
 
     # -- state the app asks about ---------------------------------------------
     @property
@@ -237,9 +244,21 @@ class Interpreter:
             program = self.load_program(name)
         except (OSError, ValtermError) as error:  # a missing or damaged file ends the run with its reason
             raise RunStop(str(error) or f"PROGRAM {name} DOES NOT EXIST", name) from None
+        if program.dialect == VPLUS and self.load_data is not None:
+            self._load_data_of(name)
         compiled = self.compile_program(program)
         self._cache[name] = compiled
         return compiled
+
+    def _load_data_of(self, name: str) -> None:
+        assert self.load_data is not None
+        try:
+            found = self.load_data(name)
+        except (OSError, ValtermError):
+            return  # the program itself was read: a file that cannot be read again has no data
+        if found is not None and found[0] not in self.data_loaded:
+            self.data_loaded.add(found[0])
+            self.machine.load_data(found[1], self.variables)
 
     def compile_program(self, program: Program) -> CompiledProgram:
         vplus = VPLUS in (program.dialect, self.dialect)
@@ -582,6 +601,7 @@ class _Workspace(Protocol):  # what for_workspace reads from a Workspace
     def read_program(self, name: str) -> Program: ...
     def merge_variables(self, values: dict[str, float]) -> dict[str, float]: ...
     def write_locations(self, name: str, points: dict, precision: dict) -> Path: ...  # type: ignore[type-arg]
+    def vplus_data(self, name: str) -> tuple[str, VplusData] | None: ...
 
 
 # -- the commands only typed at the prompt ---------------------------------------------

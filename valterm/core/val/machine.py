@@ -21,6 +21,7 @@ import numpy as np
 
 from valterm.core.cycletime import CycleClock
 from valterm.core.events import Event, Signal
+from valterm.core.files.vplus import VplusData
 from valterm.core.kinematics import Location, fk, rotation_to_oat
 from valterm.core.signals import InputChange, SignalPanel
 from valterm.core.transform import Transform, inverse
@@ -58,6 +59,16 @@ class Machine:
     @property
     def time(self) -> float:
         return self.clock.seconds
+
+    def load_data(self, data: VplusData, variables: dict[str, float]) -> None:
+        """A V+ file's data sections, as the controller's LOAD defines them: its locations
+        (a location already defined, e.g. by a .LOC file, is kept), precision points,
+        strings and reals."""
+        for name, location in data.locations.items():
+            self.sim.locations.setdefault(name, location)
+        self.precision.update(data.precision)
+        self.strings.update(data.strings)
+        variables.update(data.reals)
 
     def observe(self, events: Iterator[Event]) -> Iterator[Event]:
         """Pass events on (the interpreter times them), then apply the inputs now due."""

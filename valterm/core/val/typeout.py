@@ -8,8 +8,11 @@ the values after it are written:
 
 - ``/Fw.d`` fixed point, ``/Ew.d`` exponent, ``/Iw`` whole number, ``/Hw`` hexadecimal,
   ``/D`` back to the default (w is the width, right-aligned);
-- ``/Xn`` n blanks, ``/Cn`` n line breaks, ``/S`` no line break at the end (ignored: the
-  transcript is line based).
+- ``/Xn`` n blanks, ``/Cn`` n line breaks, ``/S`` no line break at the end, ``/Un`` n lines
+  up, ``/Bn`` n beeps (the last three ignored: the transcript is line based and silent).
+
+In the v+ dialect (``vexpr.render_output``) two values typed one after the other in the
+default format are separated by a blank (``TYPE a, b`` types ``1 2``, never ``12``).
 """
 
 from __future__ import annotations
@@ -20,7 +23,7 @@ from dataclasses import dataclass
 
 from valterm.core.errors import ValtermError
 
-_FORMAT = re.compile(r"^/([FEIHDXCSU])(\d*)(?:\.(\d+))?$", re.IGNORECASE)
+_FORMAT = re.compile(r"^/([FEIHDXCSUB])(\d*)(?:\.(\d+))?$", re.IGNORECASE)
 
 
 class TypeListError(ValtermError, ValueError):
@@ -103,9 +106,18 @@ def parse_items(text: str, compile_value: Callable[[str], object]) -> list[Item]
     return items
 
 
+TINY = 5e-10  # below this a value is rounding noise (COS(90) = 6.1e-17) and is typed as 0
+
+
 def format_number(value: float, fmt: str = "D") -> str:
-    """A value as TYPE writes it in format ``fmt`` (D: the shortest form, as TYPE COL=)."""
+    """A value as TYPE writes it in format ``fmt`` (D: the shortest form, as TYPE COL=).
+
+    As V+ does, rounding noise is typed as 0 (never 6.12323e-17), and a fixed-point
+    value that rounds to zero is never typed with a minus sign.
+    """
     value = float(value)
+    if abs(value) < TINY:
+        value = 0.0
     if fmt == "D":
         if value.is_integer() and abs(value) < 1e15:
             return str(int(value))
@@ -115,6 +127,8 @@ def format_number(value: float, fmt: str = "D") -> str:
     kind, width, digits = match.group(1), int(match.group(2) or 0), match.group(3)
     if kind == "F":
         text = f"{value:.{int(digits or 2)}f}"
+        if text.startswith("-") and not text.strip("-0."):
+            text = text[1:]  # -0.00 is 0.00
     elif kind == "E":
         text = f"{value:.{int(digits or 2)}E}"
     elif kind == "I":

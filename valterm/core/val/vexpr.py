@@ -3,13 +3,15 @@
 Numeric expressions extend the 1985 ones (``expr``) with dotted names (``z.pick``), array
 elements (``a[i]``, ``t[i,j]``: the variable ``A[3]``), TRUE/FALSE/ON/OFF (-1 and 0),
 ``MOD BAND BOR BXOR XOR ^``, and the functions SIN COS TAN ATAN2 SQRT ABS INT MOD SIGN
-MAX MIN, SIG(n...), TIMER(n), DISTANCE(a, b), DX DY DZ(a), PARAMETER(name), SWITCH(name).
+MAX MIN BMASK, SIG(n...), TIMER(n), DISTANCE(a, b), DX DY DZ(a), PARAMETER(name),
+SWITCH(name), LAST(a[]), LEN VAL ASC($s), and string comparisons (``$a == "X"``).
 
 A location expression is a compound ``a:b:c`` of named locations, ``#points``, and the
-functions TRANS(x,y,z,o,a,t), RX RY RZ(deg), INVERSE(l), FRAME(l1,l2,l3,l4),
-SHIFT(l BY dx,dy,dz), HERE, NULL; each evaluates to a ``Transform``.
+functions TRANS(x,y,z,yaw,pitch,roll), RX RY RZ(deg), INVERSE(l), FRAME(l1,l2,l3,l4),
+SHIFT(l BY dx,dy,dz), #PPOINT(j1..j6), HERE, NULL; each evaluates to a ``Transform``.
 
-A string expression joins ``"text"``, ``$name`` and $ENCODE(list) with ``+``.
+A string expression joins ``"text"``, ``$name``, $ENCODE(list), $CHR(n), $LEFT($s, n) and
+$MID($s, first, n) with ``+``. ``compile_precision`` reads ``#name`` / ``#PPOINT(...)``.
 
 ``compile_number(text, machine)`` / ``compile_location`` / ``compile_string`` compile once;
 with ``machine=None`` they only check the text (the syntax checker), and a closure that
@@ -20,7 +22,7 @@ from __future__ import annotations
 
 import math
 import re
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 
 from valterm.core.transform import (
     Transform,
@@ -89,8 +91,45 @@ _MATH: dict[str, tuple[int, int, Callable[..., float]]] = {  # name: (min args, 
     "SIGN": (1, 1, lambda v: (v > 0) - (v < 0)),
     "MAX": (1, 99, max),
     "MIN": (1, 99, min),
+    "BMASK": (1, 32, lambda *bits: _bmask(*bits)),
 }
 _LOC_FUNCTIONS = ("DISTANCE", "DX", "DY", "DZ")
+_STRING_NUMBERS = ("LEN", "VAL", "ASC")
+
+
+def _bmask(*bits: float) -> float:
+    """BMASK(bit, ...): a value with those bits set (bit 1 is the lowest)."""
+    mask = 0
+    for bit in bits:
+        if bit != int(bit) or not 1 <= bit <= 32:
+            raise ExprError(f"BMASK: BIT {bit:g} IS NOT 1 TO 32")
+        mask |= 1 << (int(bit) - 1)
+    return float(mask)
+
+
+def _last(values: Mapping[str, object], name: str) -> float:
+    prefix = name + "["
+    found = [key[len(prefix):-1] for key in values if key.startswith(prefix) and key.endswith("]")]
+    indexes = [int(k) for k in found if k.lstrip("-").isdigit()]
+    return float(max(indexes)) if indexes else -1.0
+
+
+def _bits(machine: Machine, first: int, count: int) -> float:
+    if not 1 <= count <= 32:
+        raise MachineError(f"BITS: {count} SIGNALS (1 TO 32)")
+    return float(sum(1 << offset for offset in range(count) if machine.signals.sig(first + offset)))
+
+
+def _val(text: str) -> float:
+    """VAL($s): the number the string starts with (0 when none)."""
+    match = re.match(r"\s*[-+]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][-+]?\d+)?", text)
+    return float(match.group(0)) if match else 0.0
+
+
+def _asc(text: str, index: float) -> float:
+    """ASC($s, i): the code of the i-th character (1 is the first); -1 past the end."""
+    position = int(index) - 1
+    return float(ord(text[position])) if 0 <= position < len(text) else -1.0
 _MACHINE_FUNCTIONS = ("SIG", "TIMER", "PARAMETER", "SWITCH")
 
 
@@ -183,12 +222,26 @@ class _Compiler:
         return self.relation()
 
     def relation(self) -> Node:
+        token = self.tokens.peek()
+        if token is not None and (token[0] == "string" or token[1].startswith("$")):
+            return self.string_relation()
         left = self.sum()
         op = self.tokens.take(*_RELATIONS)
         if op is None:
             return left
         compare = Binary(_RELATIONS[op], left, self.sum()).closure()
         return Opaque(f"({self.src(left)} {op} ...)", lambda V: _truth(bool(compare(V))))
+
+    def string_relation(self) -> Node:
+        """$a == "TEXT", $a <> $b, $a < $b: strings compared character by character."""
+        left = self.string()
+        op = self.tokens.take(*_RELATIONS)
+        if op is None:
+            raise ExprError(f"a string is not a number: compare it ($a == \"TEXT\") in {self.text!r}")
+        right = self.string()
+        how = {"==": str.__eq__, "!=": str.__ne__, "<": str.__lt__, "<=": str.__le__,
+               ">": str.__gt__, ">=": str.__ge__}[_RELATIONS[op]]
+        return Opaque(f"(string {op} string)", lambda V: _truth(bool(how(left(V), right(V)))))
 
     def sum(self) -> Node:
         left = self.term()
@@ -267,12 +320,17 @@ class _Compiler:
         index = self.tokens.pos + 1
         return index < len(self.tokens.items) and self.tokens.items[index][1] == value
 
-    def element(self, name: str) -> Node:
+    def indexes(self) -> list[Fn]:
+        """``[i]`` or ``[i, j]`` after an array's name."""
         self.tokens.expect("[")
-        indexes = [self.sum().closure()]
+        found = [self.sum().closure()]
         while self.tokens.take(","):
-            indexes.append(self.sum().closure())
+            found.append(self.sum().closure())
         self.tokens.expect("]")
+        return found
+
+    def element(self, name: str) -> Node:
+        indexes = self.indexes()
 
         def read(V: Values) -> float:
             return V[array_key(name, [i(V) for i in indexes])]
@@ -291,6 +349,10 @@ class _Compiler:
     def function(self, name: str) -> Node:
         if name in _LOC_FUNCTIONS:
             return self.location_function(name)
+        if name == "LAST":
+            return self.last()
+        if name in _STRING_NUMBERS:
+            return self.string_number(name)
         if name in ("PARAMETER", "SWITCH"):
             self.tokens.expect("(")
             token = self.tokens.peek()
@@ -300,6 +362,12 @@ class _Compiler:
             self.tokens.expect(")")
             return self.setting(name, token[1])
         args = [a.closure() for a in self.arguments()]
+        if name == "BITS":  # BITS(first {, count}): those signals as a number, the first the lowest bit
+            get_bits = self.get_machine("BITS()")
+            if not 1 <= len(args) <= 2:
+                raise ExprError("BITS takes the first signal and a count: BITS(first, count)")
+            first, count = args[0], args[1] if len(args) == 2 else (lambda V: 1.0)
+            return Opaque("BITS(...)", lambda V: _bits(get_bits(), int(first(V)), int(count(V))))
         if name in ("SIG", "TIMER"):
             get = self.get_machine(f"{name}()")
             if not args or (name == "TIMER" and len(args) != 1):
@@ -314,6 +382,37 @@ class _Compiler:
         if not low <= len(args) <= high:
             raise ExprError(f"{name} takes {low}{'' if low == high else ' or more'} argument(s)")
         return Opaque(f"{name}(...)", lambda V: float(how(*(a(V) for a in args))))
+
+    def last(self) -> Node:
+        """LAST(a[]): the highest index of array a that has a value (-1: none); also $a[], loc[]."""
+        self.tokens.expect("(")
+        token = self.tokens.peek()
+        if token is None or token[0] != "name" or token[1].startswith("#"):
+            raise ExprError("LAST needs an array: LAST(name[])")
+        self.tokens.pos += 1
+        self.tokens.expect("[")
+        self.tokens.expect("]")
+        self.tokens.expect(")")
+        name = token[1]
+        if name.startswith("$"):
+            get = self.get_machine(f"LAST({name}[])")
+            return Opaque(f"LAST({name}[])", lambda V: _last(get().strings, name))
+        if self.machine is None:
+            return Opaque(f"LAST({name}[])", lambda V: _last(V, name))
+        sim = self.machine.sim
+        return Opaque(f"LAST({name}[])", lambda V: max(_last(V, name), _last(sim.locations, name)))
+
+    def string_number(self, name: str) -> Node:
+        """LEN($s), VAL($s), ASC($s {, i}): numbers of a string."""
+        self.tokens.expect("(")
+        text = self.string()
+        index = self.sum().closure() if self.tokens.take(",") else None
+        self.tokens.expect(")")
+        if name == "LEN":
+            return Opaque("LEN(...)", lambda V: float(len(text(V))))
+        if name == "VAL":
+            return Opaque("VAL(...)", lambda V: _val(text(V)))
+        return Opaque("ASC(...)", lambda V: _asc(text(V), index(V) if index is not None else 1.0))
 
     def setting(self, kind: str, name: str) -> Node:
         get = self.get_machine(f"{kind}({name})")
@@ -366,6 +465,9 @@ class _Compiler:
         if after is not None and after[1] == "(":
             return self.location_call(value)
         get = self.get_machine(f"location {value}")
+        if after is not None and after[1] == "[" and not value.startswith("#"):  # loc[i]: an array element
+            indexes = self.indexes()
+            return lambda V: get().location(array_key(value, [i(V) for i in indexes]))
         if value == "HERE":
             return lambda V: _here(get())
         if value == "NULL":
@@ -374,7 +476,27 @@ class _Compiler:
             raise ExprError(f"location name {value} is longer than {MAX_VNAME} characters")
         return lambda V: get().location(value)
 
+    def precision(self) -> Callable[[Values], tuple[float, ...]]:
+        """A precision point: #name, or #PPOINT(j1, ..., j6) (omitted angles are 0)."""
+        token = self.tokens.peek()
+        if token is None or token[0] != "name" or not token[1].startswith("#"):
+            raise ExprError("expected a precision point (#name or #PPOINT(j1, ..., j6))")
+        self.tokens.pos += 1
+        name = token[1]
+        if name == "#PPOINT":
+            args = [a.closure() for a in self.arguments()]
+            if not 1 <= len(args) <= 6:
+                raise ExprError("#PPOINT takes one to six joint angles")
+            return lambda V: tuple([*(float(a(V)) for a in args), *[0.0] * (6 - len(args))])
+        get = self.get_machine(f"precision point {name}")
+        return lambda V: get().point(name)
+
     def location_call(self, name: str) -> LocFn:
+        if name == "#PPOINT":
+            self.tokens.pos -= 1
+            joints = self.precision()
+            get = self.get_machine("#PPOINT")
+            return lambda V: Transform.of(get().pose_location(joints(V)))
         if name in ("INVERSE",):
             self.tokens.expect("(")
             inner = self.location()
@@ -457,13 +579,42 @@ class _Compiler:
                 raise ExprError("missing ')' after $ENCODE(")
             inner = self.tokens.text[start:self.tokens.items[end_index][2]]
             self.tokens.pos = end_index + 1
-            items = output_list(inner, self.machine)
+            try:
+                items = output_list(inner, self.machine)
+            except ValueError as error:  # a bad format: the error names $ENCODE, not TYPE
+                raise ExprError(str(error).replace("TYPE:", "$ENCODE:", 1)) from None
             del format_number
             return lambda V: render_output(items, V)
+        if name in ("$MID", "$LEFT"):
+            return self.substring(name)
         args = [a.closure() for a in self.arguments()]
         if name == "$CHR" and len(args) == 1:
             return lambda V: chr(int(args[0](V)))
         raise ExprError(f"{name} is not a V+ string function the simulator knows")
+
+    def substring(self, name: str) -> StrFn:
+        """$LEFT($s, n): the first n characters; $MID($s, first {, n}): n from the first-th (1-based)."""
+        self.tokens.expect("(")
+        text = self.string()
+        numbers = []
+        while self.tokens.take(","):
+            numbers.append(self.sum().closure())
+        self.tokens.expect(")")
+        if name == "$LEFT":
+            if len(numbers) != 1:
+                raise ExprError("$LEFT takes a string and a count: $LEFT($s, n)")
+            count = numbers[0]
+            return lambda V: text(V)[:max(0, int(count(V)))]
+        if len(numbers) not in (1, 2):
+            raise ExprError("$MID takes a string, the first character and a count: $MID($s, first, n)")
+        first = numbers[0]
+        length = numbers[1] if len(numbers) == 2 else None
+
+        def mid(V: Values) -> str:
+            start = max(0, int(first(V)) - 1)
+            whole = text(V)
+            return whole[start:] if length is None else whole[start:start + max(0, int(length(V)))]
+        return mid
 
 
 def _here(machine: Machine) -> Transform:
@@ -495,6 +646,14 @@ def compile_number(text: str, machine: Machine | None = None) -> Expr:
 def compile_location(text: str, machine: Machine | None = None) -> LocFn:
     compiler = _Compiler(text, machine)
     fn = compiler.location()
+    _finish(compiler)
+    return fn
+
+
+def compile_precision(text: str, machine: Machine | None = None) -> Callable[[Values], tuple[float, ...]]:
+    """``#name`` or ``#PPOINT(j1, ..., j6)``: six joint angles (degrees)."""
+    compiler = _Compiler(text, machine)
+    fn = compiler.precision()
     _finish(compiler)
     return fn
 
@@ -539,7 +698,8 @@ def output_list(text: str, machine: Machine | None) -> list[tuple[str, Callable[
 def render_output(items: list[tuple[str, Callable[[Values], object] | None, str]], V: Values) -> str:
     from valterm.core.val.typeout import format_number
 
-    parts = []
+    parts: list[str] = []
+    after_number = False
     for literal, fn, fmt in items:
         if fn is None:
             parts.append(literal)
@@ -548,7 +708,11 @@ def render_output(items: list[tuple[str, Callable[[Values], object] | None, str]
         else:
             value = fn(V)
             assert isinstance(value, (int, float))
-            parts.append(format_number(float(value), fmt))
+            text = format_number(float(value), fmt)
+            if after_number and fmt == "D" and not text.startswith(" "):
+                text = " " + text  # V+'s default format never runs two numbers together
+            parts.append(text)
+        after_number = fn is not None and literal != "S"
     return "".join(parts)
 
 
@@ -557,6 +721,6 @@ def is_name(text: str) -> bool:
 
 
 __all__ = [
-    "NAME", "Not", "array_key", "compile_location", "compile_number", "compile_string",
+    "NAME", "Not", "array_key", "compile_location", "compile_number", "compile_precision", "compile_string",
     "is_name", "is_string_expression", "output_list", "render_output",
 ]

@@ -19,23 +19,26 @@ V+ semantics (Adept V+ Language Reference) where the thesis is silent:
 - ``SPEED n`` stays in force (as in the 1985 dialect), ``ALWAYS`` is accepted;
 - ``MOVET loc, hand`` / ``MOVEST``: the motion, then the hand opened (hand not 0) or closed;
 - ``REACT``/``REACTI n, prog``: when signal n changes to the wanted state during a motion,
-  WAIT, DELAY or SIGNAL step, prog is CALLed after that step (once; ``IGNORE`` disarms).
+  WAIT, DELAY or SIGNAL step, prog is CALLed after that step (once; ``IGNORE`` disarms);
+- locations are X Y Z yaw pitch roll (``core/transform.py``): TRANS, DECOMPOSE, WHERE;
+- ``WAIT cond`` lets simulated time pass until cond holds (``first_true``);
+- ``EXIT n`` / ``NEXT n`` leave or continue the n-th enclosing FOR, WHILE or DO loop.
 """
 
 from __future__ import annotations
 
 import re
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import TypeVar
 
 import numpy as np
 
 from valterm.core.errors import ValtermError
-from valterm.core.events import Delay, Error, Message, TypeOut
+from valterm.core.events import Delay, Error, Message, TypeOut, Where
 from valterm.core.files.commandfile import CommandSpec, default_commands
 from valterm.core.kinematics import CONFIG_WORDS, Location
-from valterm.core.transform import Transform
+from valterm.core.transform import Transform, convert_orientation
 from valterm.core.val import builders as b85
 from valterm.core.val.builders import Build, Builder
 from valterm.core.val.compiler import Analysis
@@ -65,6 +68,7 @@ from valterm.core.val.vexpr import (
     array_key,
     compile_location,
     compile_number,
+    compile_precision,
     compile_string,
     output_list,
     render_output,
@@ -89,6 +93,7 @@ _WORD = re.compile(rf"^({_N})\s*(.*)$", re.DOTALL)
 _DECOMPOSE = re.compile(rf"^DECOMPOSE\s+({_N})\s*\[\s*(.*?)\s*\]\s*=\s*(.+)$", re.DOTALL)
 _TIMER = re.compile(r"^TIMER\s+(.+?)\s*=\s*(.+)$", re.DOTALL)
 _PARAMETER = re.compile(rf"^PARAMETER\s+({_N})\s*=\s*(.+)$", re.DOTALL)
+_BITS = re.compile(r"^BITS\s+(.+?)\s*=\s*(.+)$", re.DOTALL)
 _DECLARE_TYPES = ("REAL", "DOUBLE", "LOC", "PRECISION", "TRANS")
 
 _NO_ARGS = ("ELSE", "END", "DO", "RETURN", "BREAK", "READY", "ALIGN", "WHERE", "STATUS", "ANY",
@@ -97,10 +102,14 @@ _TEXT_ARGS = ("STOP", "HALT", "PAUSE")
 _ONE_VALUE = ("DELAY", "DEPART", "DEPARTS")
 _HAND = ("OPEN", "OPENI", "CLOSE", "CLOSEI", "RELAX", "RELAXI")
 _MOTIONS = ("MOVE", "MOVES", "MOVET", "MOVEST")
+# How the real arm accelerates and settles: the simulated motion is the same (accepted, no effect)
+_TUNING = ("ACCEL", "DURATION", "COARSE", "FINE", "NONULL", "NULL", "SINGLE", "MULTIPLE")
 COMMANDS = (*_NO_ARGS, *_TEXT_ARGS, *_ONE_VALUE, *_HAND, *_MOTIONS, "APPRO", "APPROS", "DRIVE", "DRAW",
             "FOR", "CASE", "VALUE", "WHILE", "UNTIL", "IF", "GOTO", "CALL", "AUTO", "LOCAL", "GLOBAL",
             "SPEED", "PARAMETER", "HERE", "SET", "DECOMPOSE", "TOOL", "TYPE", "SIGNAL", "WAIT",
-            "WAIT.EVENT", "REACT", "REACTI", "IGNORE", "TIMER", "ENABLE", "DISABLE", "BASE")
+            "WAIT.EVENT", "REACT", "REACTI", "IGNORE", "TIMER", "ENABLE", "DISABLE", "BASE", "EXIT", "NEXT",
+            "BITS",
+            *_TUNING)
 
 
 def _spec(name: str) -> CommandSpec:
@@ -116,7 +125,7 @@ def _check(kind: str, text: str) -> str:
             compile_location(text)
         else:
             compile_string(text)
-    except (ExprError, MachineError) as error:
+    except (ExprError, ValtermError, ValueError) as error:
         raise ValSyntaxError(str(error)) from None
     return text.strip()
 
@@ -161,8 +170,22 @@ def parse_vplus(text: str) -> Statement:
         return Statement("", (), "")
     try:
         return _decode(upper, original)
-    except ExprError as error:
-        raise ValSyntaxError(str(error)) from None
+    except (ExprError, ValSyntaxError, ValtermError, ValueError) as error:
+        raise ValSyntaxError(_named(upper, str(error))) from None
+
+
+def _named(upper: str, message: str) -> str:
+    """A step's error says which statement it is about (``SET: ...``, ``TYPE: ...``)."""
+    match = _ASSIGN.match(upper)
+    if match is not None and match.group(2) not in ("TIMER", "PARAMETER", "DECOMPOSE"):
+        word = "SET" if match.group(1) else f"ASSIGNMENT TO {match.group(2)}"
+    else:
+        word = upper.split()[0].split("(")[0]
+        if not re.fullmatch(rf"[$#]?{_N}", word):
+            return message
+    if message.upper().startswith((word + ":", word + " ")):
+        return message
+    return f"{word}: {message}"
 
 
 def _decode(upper: str, original: str) -> Statement:
@@ -200,6 +223,11 @@ def _structure(upper: str, original: str) -> Statement | None:
         raise ValSyntaxError("IF: EXPECTED IF <condition> THEN (OR IF <condition> GOTO <label>)")
     if upper.startswith("UNTIL"):
         return Statement("UNTIL", (_check("N", upper[5:]),), original)
+    if match := re.fullmatch(r"(EXIT|NEXT)(?:\s+(\d+))?", upper):
+        count = int(match.group(2) or 1)
+        if count < 1:
+            raise ValSyntaxError(f"{match.group(1)}: THE LOOP COUNT IS 1 OR MORE")
+        return Statement(match.group(1), (count,), original)
     if match := re.fullmatch(r"GOTO\s+(\d+)", upper):
         return Statement("GOTO", (int(match.group(1)),), original)
     if match := _CALL.match(upper):
@@ -228,13 +256,17 @@ def _assignment(upper: str, original: str) -> Statement | None:
     value = original[match.start(5):]  # quoted text keeps its case
     if not value.strip():
         raise ValSyntaxError(f"{target}= needs a value")
-    if target in ("TIMER", "PARAMETER", "DECOMPOSE"):
+    if target in ("TIMER", "PARAMETER", "DECOMPOSE", "BITS"):
         return None
     indexes = tuple(_check("N", i) for i in split_top(index)) if index is not None else ()
     if target.startswith("$"):
         return Statement(ASSIGN, ("S", target, indexes, _check("S", value)), original)
     if target.startswith("#"):
-        raise ValSyntaxError(f"{target}: A PRECISION POINT IS SET WITH HERE {target} (OR POINT IN A .LOC FILE)")
+        try:
+            compile_precision(value)
+        except ExprError as error:
+            raise ValSyntaxError(f"{target}: {error}") from None
+        return Statement(ASSIGN, ("P", target, indexes, value.strip()), original)
     kind = "L" if is_set else _value_kind(value)
     if kind == "L":
         _check("L", value)
@@ -242,6 +274,10 @@ def _assignment(upper: str, original: str) -> Statement | None:
 
 
 def _command(upper: str, original: str) -> Statement | None:
+    if match := _BITS.match(upper):  # BITS first, count = value
+        signals = split_top(match.group(1))
+        _count("BITS", signals, 1, 2, "<first signal>{, <count>} = <value>")
+        return Statement("BITS", (*(_check("N", t) for t in signals), _check("N", match.group(2))), original)
     for special in (_DECOMPOSE, _TIMER, _PARAMETER):
         if match := special.match(upper):
             groups = match.groups()
@@ -297,6 +333,10 @@ def _with_arguments(word: str, rest: str, parts: list[str], original: str) -> St
         return Statement(word, values, original)
     if word in ("AUTO", "LOCAL", "GLOBAL"):
         return Statement("AUTO" if word != "GLOBAL" else "GLOBAL", (_declared(word, rest),), original)
+    if word in _TUNING:
+        tuning = [p for p in split_top(re.sub(r"\bALWAYS\s*$", "", rest).strip()) if p]
+        _count(word, tuning, 0, 2 if word in ("ACCEL", "FINE", "COARSE") else 1, "{<value>} {ALWAYS}")
+        return Statement(word, tuple(_check("N", v) for v in tuning), original)
     if word == "SPEED":
         always = bool(re.search(r"\s(ALWAYS|MONITOR)\s*$", rest))
         value = re.sub(r"(\s+(ALWAYS|MONITOR))+\s*$", "", rest)
@@ -304,7 +344,11 @@ def _with_arguments(word: str, rest: str, parts: list[str], original: str) -> St
     if word in ("HERE", "TOOL"):
         _count(word, parts, 1, 1, "<location>")
         target = parts[0]
-        if word == "HERE" and not re.fullmatch(rf"#?{_N}", target):
+        element = re.fullmatch(rf"({_N})\s*\[(.+)\]", target)
+        if word == "HERE" and element is not None:
+            for index in split_top(element.group(2)):
+                _check("N", index)
+        elif word == "HERE" and not re.fullmatch(rf"#?{_N}", target):
             raise ValSyntaxError(f"HERE: {target} IS NOT A LOCATION NAME")
         return Statement(word, (target if word == "HERE" else _check("L", target),), original)
     if word == "TYPE":
@@ -388,6 +432,14 @@ def _assign(c: Build, st: Statement) -> Op:
             return c.next
             yield
         return c.action(run_s)
+    if kind == "P":  # SET #p = #PPOINT(...) or #q
+        value_p = compile_precision(value_text, machine)
+
+        def run_p() -> Events:
+            machine.precision[key(c.variables)] = value_p(c.variables)
+            return c.next
+            yield
+        return c.action(run_p)
     if kind == "L":
         value_l = _loc(c, value_text)
 
@@ -502,6 +554,23 @@ def _while(c: Build, st: Statement) -> Op:
 
 def _until(c: Build, st: Statement) -> Op:
     return _branch(c, st.args[0], c.next, c.after(c.partner()))
+
+
+def _exit_or_next(c: Build, st: Statement) -> Op:
+    """EXIT n: past the end of the n-th enclosing loop; NEXT n: that loop's next pass (FOR:
+    its END steps the variable; WHILE: the condition again; DO: its UNTIL)."""
+    assert c.analysis is not None
+    loops, count = c.analysis.loops.get(c.index, []), st.args[0]
+    if count > len(loops):
+        return b85.failed(c, f"{st.command} {count}: NOT INSIDE {count} LOOP(S)")
+    opener = loops[count - 1]
+    closer = c.analysis.partner.get(opener)
+    if closer is None:
+        return b85.failed(c, f"{st.command}: ITS LOOP IS NOT CLOSED")
+    if st.command == "EXIT":
+        return c.jump(c.after(closer))
+    kind = c.analysis.statements[opener]
+    return c.jump(c.op_index[opener if kind is not None and kind.command == "WHILE" else closer])
 
 
 def _nothing(c: Build, st: Statement) -> Op:
@@ -702,10 +771,20 @@ class Joints:
 def _target(c: Build, text: str) -> Callable[[], Location | Joints]:
     """A motion's target: a precision point's joints, or the location the 1985 tool must reach."""
     machine = _machine(c)
-    if text.startswith("#") and re.fullmatch(rf"#{_N}", text):
-        return lambda: Joints(machine.point(text))
+    if text.startswith("#"):
+        joints = _precision(c, text)
+        if joints is not None:
+            return lambda: Joints(joints(c.variables))
     where = _loc(c, text)
     return lambda: machine.through_tool(where(c.variables)).location()
+
+
+def _precision(c: Build, text: str) -> Callable[[Values], tuple[float, ...]] | None:
+    """A precision point's joints (#name, #PPOINT(...)); None for a compound like #p:TRANS(...)."""
+    try:
+        return compile_precision(text, _machine(c))
+    except ExprError:
+        return None
 
 
 def _go(c: Build, target: Location | Joints, straight: bool) -> Events:
@@ -828,10 +907,19 @@ def _parameter(c: Build, st: Statement) -> Op:
 
 
 def _here(c: Build, st: Statement) -> Op:
+    """HERE name, HERE loc[i] (an array element), HERE #point (the joints)."""
     name = st.args[0]
     machine = _machine(c)
+    element = re.fullmatch(rf"({_N})\s*\[(.+)\]", name)
+    indexes = [_num(c, i) for i in split_top(element.group(2))] if element is not None else []
 
     def run() -> Events:
+        if element is not None:
+            from valterm.core.val.vexpr import compile_location as here
+
+            key = array_key(element.group(1), [i(c.variables) for i in indexes])
+            _store_location(c, key, here("HERE", machine)(c.variables))
+            return c.next
         if name.startswith("#"):
             joints = getattr(c.sim, "joints", None)
             if joints is None:
@@ -847,15 +935,14 @@ def _here(c: Build, st: Statement) -> Op:
 
 
 def _decompose(c: Build, st: Statement) -> Op:
-    """DECOMPOSE a[i] = loc: X Y Z O A T; of a precision point #p: its six joint angles."""
+    """DECOMPOSE a[i] = loc: X Y Z yaw pitch roll; of a precision point (#p, #PPOINT): its joints."""
     name, start_text, location_text = st.args
     start, where = _num(c, start_text), _loc(c, location_text)
-    machine = _machine(c)
-    point = location_text if re.fullmatch(rf"#{_N}", location_text) else None
+    point = _precision(c, location_text) if location_text.startswith("#") else None
 
     def run() -> Events:
         first = int(start(c.variables))
-        values = machine.point(point) if point is not None else where(c.variables).decompose()
+        values = point(c.variables) if point is not None else where(c.variables).decompose()
         for offset, value in enumerate(values):
             c.variables[array_key(name, [first + offset])] = round(value, 9)
         return c.next
@@ -902,33 +989,89 @@ def _signal(c: Build, st: Statement) -> Op:
     return _reacting(c, run)
 
 
+def _bits(c: Build, st: Statement) -> Op:
+    """BITS first, count = value: signals first .. first+count-1 set to value's bits (the
+    lowest bit to the first signal)."""
+    first, value = _num(c, st.args[0]), _num(c, st.args[-1])
+    count = _num(c, st.args[1]) if len(st.args) == 3 else (lambda V: 1.0)
+    machine = _machine(c)
+
+    def run() -> Events:
+        start, bits, number = int(first(c.variables)), int(value(c.variables)), int(count(c.variables))
+        if not 1 <= number <= 32:
+            raise ProgramError(f"BITS: {number} SIGNALS (1 TO 32)")
+        for offset in range(number):
+            signal = start + offset
+            try:
+                yield machine.set_signal(signal if bits >> offset & 1 else -signal)
+            except ValtermError as error:
+                raise ProgramError(str(error).upper()) from None
+        return c.next
+    return _reacting(c, run)
+
+
 def _wait(c: Build, st: Statement) -> Op:
+    """WAIT cond: simulated time passes until cond is true (a TIMER reaches a value, a
+    scripted input changes); with neither possible the program stops and says so."""
     if st.args[0] is None:
         return c.jump(c.next)
     condition = _condition(c, st.args[0])
     machine = _machine(c)
     text = st.args[0]
 
+    def holds() -> bool:
+        return bool(condition(c.variables))
+
     def run() -> Events:
         started = machine.time
-        while not condition(c.variables):
+        while not holds():
             coming = machine.next_input_time()
             if coming is None and machine.waits_for_keyboard():
-                yield Delay(WAIT_POLL)  # the app waits in real time: the user may set an input
+                # the app waits in real time (the user may set an input), a TIMER to the microsecond
+                when = first_true(machine, holds, machine.time + WAIT_POLL)
+                yield Delay(WAIT_POLL if when is None else when - machine.time)
                 yield from machine.apply_inputs()
                 started = machine.time  # no time limit: the user ends it (an input, or CTRL-C)
-            elif coming is None and machine.keyboard:
+                continue
+            if coming is None and machine.keyboard:
                 return c.next  # CTRL-C: the run stops after this step
-            elif coming is None:
+            limit = started + WAIT_LIMIT
+            until = limit if coming is None else min(coming, limit)
+            when = first_true(machine, holds, until)
+            if when is not None:  # the clock makes it true before any input changes
+                yield from machine.wait(when - machine.time)
+            elif coming is None and first_true(machine, holds, 1e9, 1e9) is None:
                 raise ProgramError(f"WAIT {text}: IT NEVER BECOMES TRUE (NO MORE INPUTS ARE SCRIPTED)")
-            elif machine.time - started > WAIT_LIMIT:
+            elif coming is None or coming > limit:
                 raise ProgramError(f"WAIT {text}: STILL FALSE AFTER {WAIT_LIMIT:g} S")
             else:
-                yield from machine.wait(max(WAIT_POLL, coming - machine.time))
+                yield from machine.wait(coming - machine.time)  # the input changes now
             if machine.pending:  # a REACT program runs first, then this WAIT looks again
                 return c.op_index[c.index]
         return c.next
     return _reacting(c, run)
+
+
+def first_true(machine: Machine, condition: Callable[[], bool], until: float,
+               poll: float = WAIT_POLL) -> float | None:
+    """The first time (to a microsecond) up to ``until`` at which ``condition`` holds, the
+    inputs as they are now; None if it never does. The controller looks at a WAIT's
+    condition continually: polls ``poll`` apart find it, halving the last one pins it."""
+    clock, now = machine.clock, machine.clock.seconds
+    try:
+        low = now
+        while low < until:
+            high = min(low + poll, until)
+            clock.seconds = high
+            if condition():
+                while high - low > 1e-6:
+                    clock.seconds = middle = (low + high) / 2
+                    low, high = (low, middle) if condition() else (middle, high)
+                return high
+            low = high
+        return None
+    finally:
+        clock.seconds = now
 
 
 def _wait_event(c: Build, st: Statement) -> Op:
@@ -1018,6 +1161,18 @@ def _switch(c: Build, st: Statement) -> Op:
     return c.action(run)
 
 
+def vplus_where(where: Where) -> Where:
+    """A WHERE readout in V+'s convention: the same pose, yaw pitch roll instead of O A T."""
+    return replace(where, ypr=convert_orientation(where.oat, "OAT", "YPR"))
+
+
+def _where(c: Build, st: Statement) -> Op:
+    def run() -> Events:
+        yield vplus_where(c.sim.where())
+        return c.next
+    return c.action(run)
+
+
 def _status(c: Build, st: Statement) -> Op:
     machine = _machine(c)
 
@@ -1037,15 +1192,15 @@ def signal_line(machine: Machine) -> str:
 VPLUS_BUILDERS: dict[str, Builder] = {
     **b85.BUILDERS,
     ASSIGN: _assign, "FOR": _for, "END": _end, "CASE": _case, "VALUE": _value_or_any, "ANY": _value_or_any,
-    "IF": _if, "WHILE": _while, "UNTIL": _until, "CALL": _call,
-    "AUTO": _nothing, "GLOBAL": _nothing, "BREAK": _nothing,
+    "IF": _if, "WHILE": _while, "UNTIL": _until, "CALL": _call, "EXIT": _exit_or_next, "NEXT": _exit_or_next,
+    "AUTO": _nothing, "GLOBAL": _nothing, "BREAK": _nothing, **{word: _nothing for word in _TUNING},
     "MOVE": _move, "MOVES": _move, "MOVET": _move, "MOVEST": _move, "APPRO": _appro, "APPROS": _appro,
     "DEPART": _depart, "DEPARTS": _depart, **{word: _hand for word in _HAND}, "DELAY": _delay,
     "DRIVE": _with_numbers, "DRAW": _with_numbers, "BASE": _with_numbers,
     "SPEED": _speed, "PARAMETER": _parameter, "HERE": _here, "DECOMPOSE": _decompose, "TOOL": _tool,
-    "TYPE": _type, "SIGNAL": _signal, "WAIT": _wait, "WAIT.EVENT": _wait_event,
+    "TYPE": _type, "SIGNAL": _signal, "BITS": _bits, "WAIT": _wait, "WAIT.EVENT": _wait_event,
     "REACT": _react, "REACTI": _react, "IGNORE": _react, "TIMER": _timer,
-    "ENABLE": _switch, "DISABLE": _switch, "STATUS": _status,
+    "ENABLE": _switch, "DISABLE": _switch, "STATUS": _status, "WHERE": _where,
 }
 """The v+ instruction set: the 1985 builders where the meaning is the same, V+ ones otherwise."""
 
