@@ -242,7 +242,7 @@ def test_two_concurrent_runs_keep_every_variable(root: Path, tmp_path: Path) -> 
         program = "".join(RUN_PROGRAM.format(name=n, label=10 + j) for j, n in enumerate(names))
         path = tmp_path / f"RUN{k}.DAT"
         path.write_text(program)
-        procs.append(subprocess.Popen([sys.executable, "-m", "valterm", "run", str(path)], env=env,
+        procs.append(subprocess.Popen([sys.executable, "-m", "valterm", "run", str(path), "--max-lines", "0"], env=env,
                                       stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True))
     for proc in procs:
         out, err = proc.communicate(timeout=120)

@@ -449,7 +449,7 @@ def test_a_loc_file_in_yaw_pitch_roll_is_the_same_poses(capsys: pytest.CaptureFi
 
     thesis = {"A": Location((465.0, -45.0, -245.0), (89.0, 91.0, 0.0)),
               "DOWN": Location((400.0, 0.0, 100.0), (90.0, 90.0, 0.0))}
-    text = format_locations(thesis, "YPR")
+    text = format_locations(thesis, convention="YPR")
     assert text.splitlines()[0] == "; ANGLES YAW PITCH ROLL"
     assert "POINT DOWN, 400.00, 0.00, 100.00, 0.00, 180.00, 0.00" in text
     back = parse_locations(text, "V.LOC")
