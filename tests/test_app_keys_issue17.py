@@ -216,7 +216,7 @@ def test_a_command_typed_at_the_keyboard_menu_without_v_is_taken_whole(tmp_path:
             await sim.press("K")
             await sim.type("HERE P1", enter=True, pace=0.05)
             assert type(sim.screen).__name__ == "KeyboardScreen"     # not MAIN, not the editor
-            assert sim.messages() == ["    HERE P1", "LOCATION P1 TAUGHT HERE (0.00, 158.75, 990.60)"]
+            assert sim.messages() == ["    HERE P1", "LOCATION P1 TAUGHT HERE (0.00, 158.75, 990.60) RIGHTY ABOVE NOFLIP"]
             assert "P1" in sim.simulator.locations
             await sim.type("DRIVE 1,10,1", pace=0.05)
             assert sim.prompt() == "VAL-II COMMAND:"

@@ -304,5 +304,7 @@ def _confirm_here(simulator, text: str, events_):  # type: ignore[no-untyped-def
     words = text.upper().replace(",", " ").split()
     yield from events_
     if len(words) == 2 and words[0] == "HERE" and words[1] in simulator.locations:
-        xyz = ", ".join(f"{v:.2f}" for v in simulator.locations[words[1]].xyz)
-        yield Message(f"LOCATION {words[1]} TAUGHT HERE ({xyz})")
+        taught = simulator.locations[words[1]]
+        xyz = ", ".join(f"{v:.2f}" for v in taught.xyz)
+        config = f" {' '.join(taught.config.words)}" if taught.config is not None else ""
+        yield Message(f"LOCATION {words[1]} TAUGHT HERE ({xyz}){config}")
