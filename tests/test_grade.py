@@ -197,3 +197,15 @@ def test_a_vplus_submission_reaches_the_precision_points_of_the_tasks_location_f
     verdict = grade(task, resources.data_path("programs", "vplus", "precision.v2"))
     assert verdict.failures == [] and verdict.program == "precision.v2"
     assert verdict.parts[0]["held"] is False
+
+
+def test_a_task_names_its_rules_and_a_bad_name_is_refused(tmp_path: Path) -> None:
+    from valterm.core.grading import TaskError, read_task
+
+    good = tmp_path / "T.toml"
+    good.write_text('cell = "PROCESS"\nrules = "controller"\n')
+    assert read_task(good).rules == "controller"
+    bad = tmp_path / "B.toml"
+    bad.write_text('cell = "PROCESS"\nrules = "sideways"\n')
+    with pytest.raises(TaskError, match="rules"):
+        read_task(bad)

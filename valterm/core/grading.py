@@ -31,6 +31,7 @@ from valterm.core.files.programs import Program
 from valterm.core.files.setup import read_setup
 from valterm.core.files.vplus import EXTENSIONS as VPLUS_EXTENSIONS
 from valterm.core.files.vplus import read_program_file
+from valterm.core.rules import check_rules, rules_of_dialect
 from valterm.core.simulator import Simulator
 from valterm.core.text.transcript import event_lines
 from valterm.core.val.builders import CLOSED_ON_AIR
@@ -44,7 +45,8 @@ PROGRAM_EXTENSIONS = (".DAT", *VPLUS_EXTENSIONS)
 # The kinds of failure, in the order a verdict names its first one.
 KINDS = ("file", "syntax", "error", "limit", "collision", "part", "cycle-time")
 
-_TASK_KEYS = {"name", "cell", "locations", "program", "cycle_time", "collisions", "loops", "dialect", "part"}
+_TASK_KEYS = {"name", "cell", "locations", "program", "cycle_time", "collisions", "loops", "dialect", "rules",
+              "part"}
 _PART_KEYS = {"number", "position", "tolerance", "held"}
 MAX_TASK_BYTES = 64 * 1024
 
@@ -71,6 +73,7 @@ class Task:
     collisions: bool = False  # allowed?
     loops: int = 1
     dialect: str = "1985"
+    rules: str = ""  # the joint-state rules (docs/MOTION.md); "": the dialect's
     parts: tuple[ExpectedPart, ...] = ()
 
 
@@ -142,6 +145,7 @@ def read_task(path: str | Path) -> Task:
         collisions=_flag(data.get("collisions", False), path, "collisions"),
         loops=int(_number(data.get("loops", 1), path, "loops")),
         dialect=_dialect(_text(data.get("dialect", "1985"), path, "dialect"), path),
+        rules=_rules(_text(data.get("rules", ""), path, "rules"), path),
         parts=tuple(_part(entry, path) for entry in _list(data.get("part", []), path, "part")),
     )
 
@@ -163,6 +167,15 @@ def _part(entry: object, path: Path) -> ExpectedPart:
     tolerance = _number(entry.get("tolerance", 5.0), path, f"{where} tolerance")
     held = entry.get("held")
     return ExpectedPart(number, (x, y, z), tolerance, None if held is None else _flag(held, path, f"{where} held"))
+
+
+def _rules(name: str, path: Path) -> str:
+    if not name:
+        return ""
+    try:
+        return check_rules(name)
+    except ValtermError as error:
+        raise TaskError(path, 0, f"rules: {error}") from None
 
 
 def _dialect(name: str, path: Path) -> str:
@@ -283,6 +296,8 @@ def _run(verdict: Verdict, task: Task, path: Path, main: Program, in_file: dict[
         sim.locations.update(locations)
         precision.update(points)  # V+ precision points (#NAME), as run reads them
     sim.collision_checks = True
+    vplus = "v+" in (task.dialect, main.dialect)
+    sim.set_rules(task.rules or rules_of_dialect("v+" if vplus else "1985"))  # as run does
     # the submission's folder is its workspace: CALLed programs come from there, nothing is written
     load_called = Workspace(path.parent).program_loader(path.parent)
 
