@@ -20,6 +20,7 @@ from valterm.core.events import Event, Help, Message, Pause
 from valterm.ui import keymap
 from valterm.ui.errors import problem_text
 from valterm.ui.messages import SceneChanged
+from valterm.ui.screens.guard import Guarded
 from valterm.ui.screens.help import HelpScreen
 from valterm.ui.view.keys import VIEW_KEYS
 from valterm.ui.view.model_view import ModelView
@@ -32,7 +33,7 @@ from valterm.ui.widgets.status import StatusLine, arm_configuration
 WIDE = 100  # columns from which the model is shown beside the menu
 
 
-class MenuScreen(Screen):
+class MenuScreen(Guarded, Screen):
     """A menu of the thesis with the model; subclasses set MENU and their bindings."""
 
     AUTO_FOCUS = ""  # nothing focused: "" disables auto focus (None would inherit the app's)
@@ -76,11 +77,19 @@ class MenuScreen(Screen):
         self._sync_view_options()
         self._layout(self.app.size.width)
         self.redraw()
+        self._say_unsaid()
 
     def on_screen_resume(self) -> None:
         self.model_view.set_view(self.app.view_transform)
         self._sync_view_options()
         self.redraw()
+        self._say_unsaid()
+
+    def _say_unsaid(self) -> None:
+        """What was said while no screen could show it (the last one left mid-motion)."""
+        unsaid, self.app.unsaid = self.app.unsaid, []
+        for text, level in unsaid:
+            self.say_here(text, level)
 
     def on_resize(self, event: events.Resize) -> None:
         self._layout(event.size.width)
@@ -124,8 +133,11 @@ class MenuScreen(Screen):
 
     # -- drawing -----------------------------------------------------------------------
     def redraw(self) -> None:
+        if not self.is_attached:
+            return  # left while a motion was drawn: the screen on top draws it
         self.model_view.update_scene(self.app.scene(self.part_axes))
-        self.update_readout()
+        if self.app.session is not None:  # none while the demo starts a fresh round
+            self.update_readout()
         self.update_status()
 
     def update_status(self) -> None:
@@ -174,6 +186,13 @@ class MenuScreen(Screen):
         self.redraw()
 
     def say(self, text: str, level: str = "info") -> None:
+        """A message: on this screen while it is shown, else through the app on the one on top."""
+        if self.is_attached and self.is_mounted:
+            self.say_here(text, level)
+        else:
+            self.app.say(text, level)
+
+    def say_here(self, text: str, level: str = "info") -> None:
         self.messages.say(text, level)
         self.query_one("#status", StatusLine).refresh()
 

@@ -25,6 +25,7 @@ from valterm.core.editor import EDITOR_MENU, EditorError, ProgramEditor
 from valterm.core.errors import ValtermError
 from valterm.core.files.programs import LABEL_COLUMNS
 from valterm.ui import keymap
+from valterm.ui.screens.guard import Guarded
 from valterm.ui.widgets.prompt import type_ahead
 from valterm.ui.widgets.status import StatusLine
 
@@ -49,7 +50,7 @@ class StepInput(Input):
 TEXT_MODES = frozenset({"name", "line", "delete", "insert", "insert-line"})
 
 
-class EditorScreen(Screen[None]):
+class EditorScreen(Guarded, Screen[None]):
     """The Editor of VAL-II SIMULATOR (EVS)."""
 
     AUTO_FOCUS = None

@@ -57,6 +57,7 @@ from valterm.core.text.transcript import where_lines
 from valterm.ui.errors import Refusal, problem_text
 from valterm.ui.playback import TRANSCRIPT_LINES, Player, Transcript, show_at_once
 from valterm.ui.screens.editor import EditorScreen, StepInput
+from valterm.ui.screens.guard import Guarded
 from valterm.ui.screens.help import HelpScreen
 from valterm.ui.screens.signals import SignalsScreen
 from valterm.ui.view.model_view import ModelView
@@ -113,7 +114,7 @@ def wrap_menu(text: str, width: int) -> str:
     return "\n".join(rows)
 
 
-class ValModeScreen(Screen[None]):
+class ValModeScreen(Guarded, Screen[None]):
     """VAL-II mode."""
 
     AUTO_FOCUS = None

@@ -1,0 +1,158 @@
+"""Issue 27: the key sequences that ended the app, and the keys it dropped, as Pilot tests.
+
+Each presses the issue's keys with the motion clock stepped by hand (0.3 s a key, as a
+person types) and reads the screen back."""
+
+from __future__ import annotations
+
+import asyncio
+import math
+from pathlib import Path
+
+import pytest
+from app_helpers import FakeClock, screen_text, sync
+
+from valterm.core.events import Message
+from valterm.ui.app import ValtermApp
+
+KEY_GAP = 0.3  # seconds between keys, as in the issue
+
+
+async def press_slowly(pilot, clock: FakeClock, *keys: str) -> None:  # type: ignore[no-untyped-def]
+    """Press ``keys`` 0.3 s apart on the motion clock (the app works between them)."""
+    for key in keys:
+        await pilot.press(key)
+        clock.advance(KEY_GAP)
+        await pilot.pause(0.01)
+
+
+async def settle(pilot, app: ValtermApp, clock: FakeClock, rounds: int = 400) -> None:  # type: ignore[no-untyped-def]
+    """Let what moves finish on the stepped clock."""
+    for _ in range(rounds):
+        if not app.moving and not getattr(app, "keys_waiting", 0):
+            await pilot.pause(0.02)
+            return
+        clock.advance(0.5)
+        await pilot.pause(0.01)
+    raise AssertionError("the motion never ended")
+
+
+@sync
+async def test_pendant_jog_then_return_before_the_drawing_ends(tmp_path: Path) -> None:
+    """--setup DEMO3, P I I I 3 R: the move says ARM CONFIGURATION CHANGED after R left."""
+    clock = FakeClock()
+    app = ValtermApp(tmp_path, "DEMO3", clock=clock, motion_rate=10.0)
+    async with app.run_test(size=(80, 24)) as pilot:
+        await pilot.pause()
+        await press_slowly(pilot, clock, "p", "i", "i", "i", "3", "r")
+        await settle(pilot, app, clock)
+        assert app.is_running and app.crash is None and not app.survived
+        assert type(app.screen).__name__ == "MainMenuScreen"  # R waited for the drawing, then left
+        assert "ARM LAN" in screen_text(app)  # joint 3 moved 8 increments: the elbow went below
+
+
+@sync
+async def test_a_screen_gone_mid_motion_hands_its_messages_to_the_screen_on_top(tmp_path: Path) -> None:
+    """The pendant closed by other means than a key while its move is drawn: the player's
+    lines and the configuration change reach MAIN, nothing asks the closed pendant."""
+    clock = FakeClock()
+    app = ValtermApp(tmp_path, "DEMO3", clock=clock, motion_rate=10.0)
+    async with app.run_test(size=(80, 24)) as pilot:
+        await pilot.pause()
+        await press_slowly(pilot, clock, "p", "i", "i", "i")
+        pendant = app.screen
+
+        def move_then_say():  # type: ignore[no-untyped-def]
+            yield from app.simulator.pendant_joint(3)
+            yield Message("SAID AFTER THE MOVE")
+
+        app.run_events(move_then_say(), pendant)
+        clock.advance(KEY_GAP)
+        await pilot.pause(0.01)
+        assert app.moving
+        await app.pop_screen()
+        await settle(pilot, app, clock)
+        assert app.is_running and app.crash is None and not app.survived
+        assert "SAID AFTER THE MOVE" in screen_text(app) and "MAIN MENU" in screen_text(app)
+
+
+@sync
+async def test_kiosk_idle_reset_over_help_on_the_pendant() -> None:
+    """valterm demo --kiosk, at MAIN: x, Esc, Esc, p, ?, then nothing: the idle reset
+    closes HELP and the pendant with no session left, and the demo starts again."""
+    from test_demo import HELD, until
+
+    from valterm.core.files.demokeys import parse_demo
+    from valterm.ui.demo import DemoApp
+
+    app = DemoApp(parse_demo(HELD), speed=10, idle=600, kiosk=True, motion_rate=math.inf)
+    async with app.run_test(size=(80, 24)) as pilot:
+        await until(pilot, lambda: app.axes and not app.moving
+                    and type(app.screen).__name__ == "MainMenuScreen", "the short script played")
+        await pilot.press("x", "escape", "escape", "p", "question_mark")
+        await until(pilot, lambda: type(app.screen).__name__ == "HelpScreen", "HELP over the pendant")
+        app.idle = 0.2
+        await until(pilot, lambda: app.rounds == 2, "the idle reset")
+        await until(pilot, lambda: app.session is not None, "the second round reads PROCESS")
+        await asyncio.sleep(0.2)
+        assert app.is_running and app.return_code is None and app.crash is None and not app.survived
+
+
+@sync
+async def test_table_c1_define_answers_typed_while_the_robot_moves_all_count(tmp_path: Path) -> None:
+    """V, D, D, PROCESS.LOC, then Table C-1's A, A,A,A,A, E at 0.3 s/key while the robot moves
+    to each location: all six are defined (three were, when answers overwrote each other)."""
+    clock = FakeClock()
+    app = ValtermApp(tmp_path, "PROCESS", clock=clock, motion_rate=10.0)
+    async with app.run_test(size=(160, 50)) as pilot:
+        await pilot.pause()
+        await press_slowly(pilot, clock, "v", "d", "d")
+        await pilot.press(*"PROCESS.LOC", "enter")
+        await press_slowly(pilot, clock, "a", "a", "a", "a", "a", "e")
+        await settle(pilot, app, clock)
+        assert set("ABCDEF") <= set(app.session.simulator.locations)
+        assert app.is_running and not app.survived
+        assert "LOCATIONS DEFINED: A, B, C, D, E, F" in "\n".join(app.screen.transcript)
+
+
+@sync
+async def test_editor_refuses_a_too_deep_line_and_keeps_the_program(tmp_path: Path) -> None:
+    """EDITOR, X = 124 '(' 1 124 ')': refused with the limit named; the app and the edits stay."""
+    app = ValtermApp(tmp_path, "PROCESS", motion_rate=math.inf)
+    async with app.run_test(size=(160, 50)) as pilot:
+        await pilot.pause()
+        await pilot.press("e", *"DEEP", "enter")
+        await pilot.pause()
+        await pilot.press("c", *"TYPE 1", "enter")
+        deep = "X = " + "(" * 124 + "1" + ")" * 124
+        app.screen.query_one("#editor-line").value = deep
+        await pilot.press("enter")
+        await pilot.pause()
+        assert app.is_running and app.crash is None and not app.survived
+        assert "NESTED DEEPER THAN 32" in screen_text(app).upper()
+        assert "TYPE 1" in app.screen.listing
+
+
+@sync
+async def test_a_bug_in_a_screen_leaves_the_app_running_with_the_log_named(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    from valterm.ui.screens.pendant import PendantScreen
+
+    monkeypatch.setenv("XDG_STATE_HOME", str(tmp_path / "state"))
+
+    def broken(self: PendantScreen) -> None:
+        raise RuntimeError("a bug in O")
+
+    monkeypatch.setattr(PendantScreen, "action_open", broken)
+    app = ValtermApp(tmp_path / "ws", "PROCESS", motion_rate=math.inf)
+    async with app.run_test(size=(160, 50)) as pilot:
+        await pilot.pause()
+        await pilot.press("p", "o")
+        await pilot.pause()
+        assert app.is_running and app.crash is None
+        shown = " ".join(screen_text(app).split())
+        assert "INTERNAL ERROR (RUNTIMEERROR: A BUG IN O)" in shown
+        assert list((tmp_path / "state" / "valterm").glob("crash-*.log"))
+        await pilot.press("c", "r")  # the pendant still takes keys
+        await pilot.pause()
+        assert type(app.screen).__name__ == "MainMenuScreen"
