@@ -156,3 +156,56 @@ async def test_a_bug_in_a_screen_leaves_the_app_running_with_the_log_named(
         await pilot.press("c", "r")  # the pendant still takes keys
         await pilot.pause()
         assert type(app.screen).__name__ == "MainMenuScreen"
+
+
+@sync
+async def test_one_meaning_per_key_view_keys_help_and_the_wrong_key_answer(tmp_path: Path) -> None:
+    """F2-F8 mean the same on MAIN, PENDANT and VAL-II mode's line; ? and F1 open HELP on the
+    VAL-II menu and F1 on its line; a wrong key gets the one answer everywhere."""
+    from valterm.ui.screens.help import HelpScreen
+    from valterm.ui.screens.valmode import Mode
+
+    app = ValtermApp(tmp_path, "PROCESS", motion_rate=math.inf)
+    async with app.run_test(size=(80, 24)) as pilot:
+        await pilot.pause()
+        await pilot.press("7")
+        assert "'7' IS NOT A KEY OF THIS MENU; ? OR F1: HELP" in screen_text(app)
+        for keys, screen_name in ((("p",), "PendantScreen"), (("r", "v", "v"), "ValModeScreen")):
+            await pilot.press(*keys)
+            await pilot.pause()
+            screen = app.screen
+            assert type(screen).__name__ == screen_name
+            factor = app.player.factor
+            await pilot.press("f7")  # faster, as on MAIN
+            assert app.player.factor == factor / 2
+            await pilot.press("f6")
+            assert app.player.factor == factor
+            model = "model-only" if screen_name == "ValModeScreen" else "-model"
+            shown = screen.has_class(model)
+            await pilot.press("f8")  # the model alone / the text again (80 columns: one or the other)
+            assert screen.has_class(model) != shown
+            if not shown:
+                await pilot.press("f2")  # the next preset view, as on MAIN
+                said = screen_text(app) + "\n".join(getattr(screen, "transcript", []))
+                assert "VIEW: " in said, said
+            await pilot.press("f8")
+            assert screen.has_class(model) == shown
+        assert screen.mode == Mode.COMMAND
+        await pilot.press("question_mark")  # in the line: text
+        assert screen.query_one("#val-line").value == "?"
+        await pilot.press("f1")  # on the line: HELP
+        await pilot.pause()
+        assert isinstance(app.screen, HelpScreen)
+        while isinstance(app.screen, HelpScreen):
+            await pilot.press("escape")
+            await pilot.pause()
+        assert app.screen is screen
+        if screen.mode != Mode.MENU:
+            await pilot.press("escape")  # the VAL-II menu
+        await pilot.pause()
+        assert screen.mode == Mode.MENU
+        await pilot.press("7")
+        assert screen.keys_text.startswith("'7' IS NOT A KEY OF THIS MENU; ? OR F1: HELP")
+        await pilot.press("question_mark")
+        await pilot.pause()
+        assert isinstance(app.screen, HelpScreen)

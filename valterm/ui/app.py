@@ -91,7 +91,8 @@ class ValtermApp(Guarded, ViewActions, App[int]):
         self._workspace: Workspace | None = None  # the workspace before any session (start screen)
         self.crash: BaseException | None = None  # the bug that ended the app, if one did
         self.crash_log: Path | None = None
-        self.key_queue = KeyQueue(self, lambda: self.player.drawing)  # keys typed while a motion is drawn or a screen changes
+        # keys typed while a motion is drawn or a screen changes wait here
+        self.key_queue = KeyQueue(self, lambda: self.player.drawing)
         self.unsaid: list[tuple[str, str]] = []  # messages no screen could show yet (the next one does)
         self.survived: list[str] = []  # the bugs the app lived through (their lines, tests)
 
@@ -234,7 +235,7 @@ class ValtermApp(Guarded, ViewActions, App[int]):
         target = audience if audience is not None else self.screen
         stop = self.session.abort_program if self.session is not None else None
         if self.session is not None:
-            self.session.take_inputs_from_keyboard()  # the I/O panel (F6 in VAL-II mode) sets inputs
+            self.session.take_inputs_from_keyboard()  # the I/O panel (F10 in VAL-II mode) sets inputs
         self.player.play(events, Relay(self, target), stop)  # type: ignore[arg-type]
 
     def action_abort(self) -> None:

@@ -1,6 +1,6 @@
 """The I/O panel (issue 14): the controller's numbered outputs and inputs, shown live.
 
-Reached from VAL-II mode by F6, also while a program runs (the program goes on beneath).
+Reached from VAL-II mode by F10, also while a program runs (the program goes on beneath).
 Outputs 1-24 and inputs 1001-1024 are drawn as lamps (``*`` on, ``.`` off); any other
 signal that is on is listed. The user sets inputs from the keyboard: ``1001`` ENTER
 toggles input 1001, ``1001 ON`` / ``1001 OFF`` set it; a program's ``WAIT SIG(1001)``
