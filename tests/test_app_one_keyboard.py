@@ -209,3 +209,92 @@ async def test_one_meaning_per_key_view_keys_help_and_the_wrong_key_answer(tmp_p
         await pilot.press("question_mark")
         await pilot.pause()
         assert isinstance(app.screen, HelpScreen)
+
+
+# -- item 5: traps and clutter --------------------------------------------------------------
+@sync
+async def test_a_refusal_goes_with_the_next_good_move_and_lists_are_short(tmp_path: Path) -> None:
+    app = ValtermApp(tmp_path, "PROCESS", motion_rate=math.inf)
+    async with app.run_test(size=(160, 50)) as pilot:
+        await pilot.pause()
+        await pilot.press("p", "w", "x")  # refused at READY
+        await pilot.pause()
+        assert "MOTION REFUSED" in screen_text(app)
+        await pilot.press("1")  # a good move that says nothing
+        await pilot.pause()
+        assert "MOTION REFUSED" not in screen_text(app)
+        # the one-line POINT of HELP POINT, then LISTL, both from the pendant's V line
+        await pilot.press("v", *"POINT X1, 400, 100, 300.123456789, 0, 90, 0", "enter")
+        await pilot.pause()
+        assert "POINT X1 DEFINED" in screen_text(app)
+        assert app.session.simulator.locations["X1"].xyz[2] == pytest.approx(300.123456789)
+        await pilot.press("v", *"LISTL", "enter")
+        await pilot.pause()
+        assert "LOCATIONS: X1" in screen_text(app) and "LOCATION FILES: CONV  PROCESS" in screen_text(app)
+        await pilot.press("r", "v", "v", *"LISTL", "enter")  # VAL-II mode: two decimals, as WHERE
+        await pilot.pause()
+        assert "POINT X1, 400.00, 100.00, 300.12, 0.00, 90.00, 0.00" in app.screen.transcript
+
+
+@sync
+async def test_escape_at_the_save_question_keeps_manipulation_and_asks_again(tmp_path: Path) -> None:
+    app = ValtermApp(tmp_path, "PROCESS", motion_rate=math.inf)
+    async with app.run_test(size=(80, 24)) as pilot:
+        await pilot.pause()
+        await pilot.press("m", "2", "enter", "k", "u", "s", "n")
+        assert "SAVE THE NEW SET-UP FILE" in screen_text(app)
+        await pilot.press("escape")
+        assert type(app.screen).__name__ == "ManipulationScreen" and "NOT SAVED" in screen_text(app)
+        await pilot.press("r")  # asks again
+        assert "SAVE THE NEW SET-UP FILE" in screen_text(app)
+        await pilot.press("y", *"MOVED", "enter")
+        await pilot.pause()
+        assert (tmp_path / "MOVED.SET").exists() and not app.setup_modified
+
+
+@sync
+async def test_kiosk_main_menu_does_not_offer_s_to_exit() -> None:
+    from test_demo import HELD, until
+
+    from valterm.core.files.demokeys import parse_demo
+    from valterm.ui.demo import DemoApp
+
+    app = DemoApp(parse_demo(HELD), speed=10, idle=600, kiosk=True, motion_rate=math.inf)
+    async with app.run_test(size=(80, 24)) as pilot:
+        await until(pilot, lambda: app.axes and not app.moving
+                    and type(app.screen).__name__ == "MainMenuScreen", "the short script played")
+        await pilot.press("x", "escape")
+        await pilot.pause()
+        assert "THIS IS THE MAIN MENU: ? OR F1 FOR HELP" in screen_text(app)
+        assert "S TO EXIT" not in screen_text(app)
+
+
+@sync
+async def test_at_80x24_the_robot_is_on_screen_while_a_program_moves_it(tmp_path: Path) -> None:
+    from valterm.ui.screens.valmode import Mode
+
+    clock = FakeClock()
+    app = ValtermApp(tmp_path, "PROCESS", clock=clock, motion_rate=10.0)
+    (tmp_path / "JOG.DAT").write_text("    DRIVE 1,-60,50\n    TYPE \"DONE\"\n")
+    async with app.run_test(size=(80, 24)) as pilot:
+        await pilot.pause()
+        await pilot.press("v", "v", *"EXEC JOG", "enter")
+        clock.advance(0.3)
+        await pilot.pause(0.05)
+        screen = app.screen
+        assert screen.mode == Mode.RUNNING and app.moving
+        assert screen.model_only  # the robot, not the transcript, while it moves
+        await settle(pilot, app, clock)
+        assert not screen.model_only and screen.mode == Mode.COMMAND  # the text again after
+        assert "DONE" in screen.transcript
+
+
+@sync
+async def test_the_editor_at_80x24_gives_the_listing_the_width(tmp_path: Path) -> None:
+    app = ValtermApp(tmp_path, "PROCESS", motion_rate=math.inf)
+    async with app.run_test(size=(80, 24)) as pilot:
+        await pilot.pause()
+        await pilot.press("e", *"PROCESS", "enter")
+        await pilot.pause()
+        assert "26.     TYPE PROCESS THE SECOND PART" in screen_text(app)  # one row, not three
+        assert "C CONTINUE  I INSERT  D DELETE  S SAVE  E EXIT" in screen_text(app)

@@ -16,12 +16,16 @@ from textual.containers import Horizontal, Vertical
 from textual.screen import Screen
 from textual.widgets import Input
 
-from valterm.core.events import Event, Help, Message, Pause
+from valterm.core.errors import ValtermError
+from valterm.core.events import Event, Help, Message, Monitor, Pause
+from valterm.core.monitor import listing_lines
 from valterm.ui import keymap
 from valterm.ui.errors import problem_text
 from valterm.ui.messages import SceneChanged
+from valterm.ui.screens.editor import EditorScreen
 from valterm.ui.screens.guard import Guarded
 from valterm.ui.screens.help import HelpScreen
+from valterm.ui.screens.points import define_point
 from valterm.ui.view.keys import VIEW_KEYS
 from valterm.ui.view.model_view import ModelView
 from valterm.ui.widgets.cell_view import CellView
@@ -166,13 +170,40 @@ class MenuScreen(Guarded, Screen):
         if isinstance(event, Help):
             self.app.push_screen(HelpScreen(event.topic))
             return True
+        if isinstance(event, Monitor):
+            self._monitor(event.command, event.argument.strip())
+            return True
         return False
+
+    def _monitor(self, command: str, argument: str) -> None:
+        """LISTF, LISTL, LISTP, POINT and EDIT typed at a menu's V line (VAL-II mode's own
+        transcript shows whole listings; three message lines show their gist here)."""
+        session = self.app.session
+        try:
+            if command == "LISTL":
+                files = listing_lines(session, command, argument)[0]
+                names = " ".join(session.simulator.locations) or "NONE"
+                self.show_lines([files, f"LOCATIONS: {names} (WHERE EACH IS: LISTL IN VAL-II MODE)"])
+            elif (lines := listing_lines(session, command, argument)) is not None:
+                self.show_lines(lines)
+            elif command == "EDIT":
+                self.app.push_screen(EditorScreen(session.workspace, argument))
+            elif command == "POINT" and "," in argument:
+                name = define_point(session, argument)
+                self.say(f"POINT {name} DEFINED")
+            else:
+                self.say(f"{command} {argument}: TYPE NAME, X, Y, Z, O, A, T (POINT A, 465, -45, -245, 89, 91, 0)",
+                         "warning")
+        except (OSError, ValtermError) as error:  # a missing file, a refused value: said
+            self.say(problem_text(error) if isinstance(error, ValtermError) else str(error).upper(), "error")
 
     def paused(self, pause: Pause) -> None:
         """A menu has no PROCEED line: the program goes on (VAL-II mode waits)."""
         self.app.player.resume()
 
     def played(self, aborted: bool) -> None:
+        if self.is_attached:
+            self.messages.end_turn()
         self.redraw()
         if aborted:
             self.say("*** ABORTED ***", "warning")
@@ -259,6 +290,11 @@ class MenuScreen(Guarded, Screen):
         self.messages.new_turn()
         if not self.asking:
             self._menu_key(event)
+            return
+        if event.key == "f1":  # help in every state; ? stays text in a typed line
+            event.stop()
+            event.prevent_default()
+            self.action_help()
             return
         if event.key == keymap.CANCEL_KEY:
             event.stop()

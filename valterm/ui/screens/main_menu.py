@@ -52,7 +52,8 @@ class MainMenuScreen(MenuScreen):
             self.say(f"SETUP FILE {session.setup_name}.SET WITH {len(session.simulator.cell.objects)} PARTS{state}")
 
     def escape_menu(self) -> None:
-        self.say("THIS IS THE MAIN MENU: S TO EXIT, ? OR F1 FOR HELP")
+        leave = "" if getattr(self.app, "kiosk", False) else "S TO EXIT, "  # the museum's S is off
+        self.say(f"THIS IS THE MAIN MENU: {leave}? OR F1 FOR HELP")
 
     def _unsaved_then(self, what: str, then) -> None:  # type: ignore[no-untyped-def]
         """B, I and S throw the moved layout away: ask first when it is not saved."""

@@ -51,17 +51,18 @@ from textual.widgets import RichLog, Static
 
 from valterm.core.errors import ValtermError
 from valterm.core.events import Error, Event, Help, Monitor, Pause
-from valterm.core.files.locations import check_location_name, format_locations
+from valterm.core.files.locations import format_locations
 from valterm.core.kinematics import Location
 from valterm.core.monitor import listing_lines
 from valterm.core.session import Session
 from valterm.core.text.transcript import where_lines
 from valterm.ui import keymap
-from valterm.ui.errors import Refusal, problem_text
+from valterm.ui.errors import problem_text
 from valterm.ui.playback import TRANSCRIPT_LINES, Player, Transcript, show_at_once
 from valterm.ui.screens.editor import EditorScreen, StepInput
 from valterm.ui.screens.guard import Guarded
 from valterm.ui.screens.help import HelpScreen
+from valterm.ui.screens.points import define_point
 from valterm.ui.screens.signals import SignalsScreen
 from valterm.ui.view.model_view import ModelView
 from valterm.ui.widgets.debugpanel import PAUSED_KEYS, DebugPanel
@@ -175,6 +176,7 @@ class ValModeScreen(Guarded, Screen[None]):
         self._legend = ""  # the keys line of the mode (shown again after a wrong key)
         self._to_menu = False  # ESC aborted what played: the VAL-II menu when it has ended
         self._pause: Pause | None = None  # what the paused program stopped at (the debugger's panel)
+        self._model_for_motion = False  # the model was brought up by a motion (80x24)
         self.transcript = Transcript()  # the last lines the log showed (tests, the demo)
 
     # -- layout ---------------------------------------------------------------------
@@ -428,7 +430,7 @@ class ValModeScreen(Guarded, Screen[None]):
 
     def action_escape(self) -> None:
         """ESC: cancel the innermost prompt and show the VAL-II menu; on the menu, MAIN."""
-        if self.model_only:
+        if self.model_only and not self._model_for_motion:  # a motion's model: ESC aborts it
             self.remove_class("model-only")
         elif self.mode == Mode.MENU:
             self.dismiss(None)
@@ -510,7 +512,17 @@ class ValModeScreen(Guarded, Screen[None]):
         self._keys(RUNNING_KEYS)
 
     def show_scene(self) -> None:
+        if self.has_class("narrow") and not self.model_only and self.mode == Mode.RUNNING:
+            self.add_class("model-only")  # 80x24: the robot is on screen whenever it moves
+            self._model_for_motion = True
+            self.query_one(ModelView).call_after_refresh(self._fit)
         self.redraw()
+
+    def _text_after_motion(self) -> None:
+        """The text again once what moved the robot has ended or paused (80x24)."""
+        if self._model_for_motion:
+            self._model_for_motion = False
+            self.remove_class("model-only")
 
     def show_lines(self, lines: list[str]) -> None:
         if not lines:
@@ -529,6 +541,7 @@ class ValModeScreen(Guarded, Screen[None]):
         return False
 
     def paused(self, pause: Pause) -> None:
+        self._text_after_motion()
         self._keys(f"PAUSED: TYPE COMMANDS, ESC TO ABORT  {PAUSED_KEYS}")
         self._open_line(Mode.PAUSED, "PAUSED .", self._typed())
         self._pause = pause
@@ -541,6 +554,7 @@ class ValModeScreen(Guarded, Screen[None]):
         self.query_one(DebugPanel).show_pause(pause.program, pause.step, listing, debugger.watched())
 
     def played(self, aborted: bool) -> None:
+        self._text_after_motion()
         self._pause = None
         self.query_one(DebugPanel).hide()
         self.redraw()
@@ -566,6 +580,8 @@ class ValModeScreen(Guarded, Screen[None]):
                 self.show_lines(lines)
             elif command == "EDIT":
                 self.app.push_screen(EditorScreen(workspace, argument))
+            elif command == "POINT" and "," in argument:  # the one-line form: defined now
+                self._after_run = lambda: self._define_point(argument)
             elif command == "POINT":
                 self._after_run = lambda: self._open_line(Mode.POINT, "POINT", f"{argument}, " if argument else "",
                                                           "NAME, X, Y, Z, O, A, T")
@@ -632,28 +648,15 @@ class ValModeScreen(Guarded, Screen[None]):
 
     def _define_point(self, typed: str) -> None:
         """POINT typed in by hand: NAME, X, Y, Z, O, A, T."""
-        parts = [p for p in typed.replace(",", " ").split()]
         try:
-            if len(parts) != 7:
-                raise Refusal("TYPE: NAME, X, Y, Z, O, A, T (SIX NUMBERS)")
-            name = check_location_name(parts[0])
-            numbers = [_number(p) for p in parts[1:]]
+            name = define_point(self.session, typed)
         except ValtermError as error:
             self.log_line(f"*** {problem_text(error)}")
             self._open_line(Mode.POINT, "POINT", typed, "NAME, X, Y, Z, O, A, T")
             return
-        x, y, z, o, a, t = numbers
-        self.session.define_location(name, Location((x, y, z), (o, a, t)))
         self.log_line(f"POINT {name} DEFINED")
         self.to_command()
 
 
 # the keys of ValModeScreen's bindings (on_key leaves them to the bindings)
 BOUND = frozenset({"ctrl+c"} | {key for binding in ValModeScreen.BINDINGS for key in binding.key.split(",")})
-
-
-def _number(text: str) -> float:
-    try:
-        return float(text)
-    except ValueError:  # float()'s refusal of a word
-        raise Refusal(f"{text} IS NOT A NUMBER") from None

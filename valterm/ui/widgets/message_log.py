@@ -36,6 +36,15 @@ class MessageLog(Static):
         """A key was pressed: the next message replaces what is shown."""
         self._fresh = True
 
+    def end_turn(self) -> None:
+        """A motion or a command ended having said nothing: the last key's refusals go (an old
+        MOTION REFUSED must not stand beside a move that was made); warnings such as a
+        collision that goes on stay, as they are said once."""
+        if self._fresh:
+            self.lines = [(line, level) for line, level in self.lines
+                          if level != "error" and not line.startswith(("MOTION REFUSED", "***"))]
+            self._show()
+
     def say(self, line: str, level: str = "info") -> None:
         if self._fresh:
             self.lines = []
