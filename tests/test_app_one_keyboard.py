@@ -298,3 +298,72 @@ async def test_the_editor_at_80x24_gives_the_listing_the_width(tmp_path: Path) -
         await pilot.pause()
         assert "26.     TYPE PROCESS THE SECOND PART" in screen_text(app)  # one row, not three
         assert "C CONTINUE  I INSERT  D DELETE  S SAVE  E EXIT" in screen_text(app)
+
+
+# -- the keymap file and the generated key table -------------------------------------------
+def test_keyboard_doc_lists_the_bindings_as_they_are() -> None:
+    from valterm.ui.bindings import KEYBOARD_DOC, binding_ids, current_doc
+
+    text = KEYBOARD_DOC.read_text(encoding="utf-8")
+    assert current_doc(text) == text, "run: python -m valterm.ui.bindings"
+    assert {"main.pendant", "view.model", "valmode.define", "pendant.joint3"} <= binding_ids()
+
+
+def test_a_bad_keymap_file_is_named_with_its_line(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    from valterm.core.files.errors import FileProblem
+    from valterm.ui.bindings import load_user_keymap
+
+    keymap = tmp_path / "keymap.toml"
+    monkeypatch.setenv("VALTERM_KEYMAP", str(keymap))
+    keymap.write_text('# mine\n"main.pendant" = "j"\n"main.nothing" = "x"\n')
+    with pytest.raises(FileProblem, match=r"keymap.toml:3: main.nothing is no binding id"):
+        load_user_keymap()
+    keymap.write_text('"main.pendant" = \n')
+    with pytest.raises(FileProblem, match=r"keymap.toml:1: not a keymap"):
+        load_user_keymap()
+    keymap.write_text('[keymap]\n"main.pendant" = "j, J"\n')
+    assert load_user_keymap() == {"main.pendant": "j,J"}
+
+
+@sync
+async def test_a_keymap_file_rebinding_one_key_is_honoured_on_every_screen(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """view.model on F12 instead of F8: MAIN, PENDANT, KEYBOARD, MANIPULATION and VAL-II mode
+    all take it, F8 no longer; main.pendant on J."""
+    keymap = tmp_path / "keymap.toml"
+    keymap.write_text('"view.model" = "f12"\n"main.pendant" = "j"\n')
+    monkeypatch.setenv("VALTERM_KEYMAP", str(keymap))
+    app = ValtermApp(tmp_path / "ws", "PROCESS", motion_rate=math.inf)
+    async with app.run_test(size=(80, 24)) as pilot:
+        await pilot.pause()
+        for enter, leave, name in ((("j",), ("r",), "PendantScreen"), (("k",), ("r",), "KeyboardScreen"),
+                                   ((), (), "MainMenuScreen"), (("v", "v"), ("escape", "escape"), "ValModeScreen")):
+            await pilot.press(*enter)
+            await pilot.pause()
+            screen = app.screen
+            assert type(screen).__name__ == name
+            model = "model-only" if name == "ValModeScreen" else "-model"
+            shown = screen.has_class(model)
+            await pilot.press("f8")
+            assert screen.has_class(model) == shown  # F8 is no longer the model key
+            await pilot.press("f12")
+            assert screen.has_class(model) != shown, name
+            await pilot.press("f12")
+            await pilot.press(*leave)
+            await pilot.pause()
+        assert type(app.screen).__name__ == "MainMenuScreen"
+        await pilot.press("p")  # P is no longer PENDANT
+        assert type(app.screen).__name__ == "MainMenuScreen"
+
+
+@sync
+async def test_a_bad_keymap_is_said_and_the_default_keys_stay(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    keymap = tmp_path / "keymap.toml"
+    keymap.write_text('"main.nothing" = "j"\n')
+    monkeypatch.setenv("VALTERM_KEYMAP", str(keymap))
+    app = ValtermApp(tmp_path / "ws", "PROCESS", motion_rate=math.inf)
+    async with app.run_test(size=(160, 50)) as pilot:
+        await pilot.pause()
+        assert "KEYMAP: KEYMAP.TOML:1: MAIN.NOTHING IS NO BINDING ID" in screen_text(app)
+        await pilot.press("p")
+        assert type(app.screen).__name__ == "PendantScreen"

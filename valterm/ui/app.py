@@ -18,7 +18,6 @@ from typing import Any
 from textual import events
 from textual._styles_cache import StylesCache
 from textual.app import App
-from textual.binding import Binding
 
 from valterm.core.crashlog import EXIT_BUG, crash_line, write_crash_log
 from valterm.core.errors import ValtermError
@@ -29,6 +28,7 @@ from valterm.core.render.overlays import Overlays, Trace, cell_points, clamp_poi
 from valterm.core.render.raster import Scene, ViewTransform
 from valterm.core.session import Session
 from valterm.core.workspace import Workspace
+from valterm.ui.bindings import APP_BINDINGS, load_user_keymap
 from valterm.ui.errors import bug_text, error_text
 from valterm.ui.keyqueue import KeyQueue
 from valterm.ui.messages import SceneChanged
@@ -36,7 +36,7 @@ from valterm.ui.playback import Audience, Player
 from valterm.ui.screens.guard import Guarded
 from valterm.ui.screens.main_menu import MainMenuScreen
 from valterm.ui.screens.start import StartScreen
-from valterm.ui.view.keys import VIEW_BINDINGS, ViewActions
+from valterm.ui.view.keys import ViewActions
 
 RELEASE_EVERY = 10.0  # seconds between clearings of Textual's leaking style cache
 
@@ -57,10 +57,7 @@ class ValtermApp(Guarded, ViewActions, App[int]):
     TITLE = "VAL-II SIMULATOR"
     ENABLE_COMMAND_PALETTE = False
     AUTO_FOCUS = None  # menus take single keys: nothing is focused unless a question asks
-    BINDINGS = [
-        Binding("ctrl+c", "abort", "Abort", priority=True, show=False, id="app.abort"),
-        *VIEW_BINDINGS,  # arrows, + -, F2-F7 (valterm.ui.view.keys)
-    ]
+    BINDINGS = APP_BINDINGS  # CTRL-C and the view keys; every binding by id: ui/bindings.py
 
     def __init__(
         self,
@@ -144,6 +141,10 @@ class ValtermApp(Guarded, ViewActions, App[int]):
 
     def on_mount(self) -> None:
         self.set_interval(RELEASE_EVERY, release_styles_caches, name="release-styles-caches")
+        try:
+            self.set_keymap(load_user_keymap())  # the user's rebindings, on every screen
+        except ValtermError as error:  # a bad keymap file: said, the default keys kept
+            self.say(f"KEYMAP: {error_text(error)}", "error")
         if self.session is not None:
             self.fit_view()
             self.push_screen(MainMenuScreen())

@@ -81,13 +81,12 @@ class MenuScreen(Guarded, Screen):
         self._sync_view_options()
         self._layout(self.app.size.width)
         self.redraw()
-        self._say_unsaid()
 
     def on_screen_resume(self) -> None:
         self.model_view.set_view(self.app.view_transform)
         self._sync_view_options()
         self.redraw()
-        self._say_unsaid()
+        self.call_later(self._say_unsaid)  # after the screen's own first words (also when first shown)
 
     def _say_unsaid(self) -> None:
         """What was said while no screen could show it (the last one left mid-motion)."""

@@ -36,13 +36,9 @@ class MainMenuScreen(MenuScreen):
         Binding("question_mark", "help", "Help", id="main.help"),
     ]
 
-    def on_mount(self) -> None:
-        super().on_mount()
-        self._say_setup()
-
     def on_screen_resume(self) -> None:
         super().on_screen_resume()
-        self._say_setup()  # a save-as in MANIPULATION renamed the set-up
+        self._say_setup()  # first shown, or a save-as in MANIPULATION renamed the set-up
 
     def _say_setup(self) -> None:
         session = self.app.session

@@ -313,7 +313,9 @@ class ValModeScreen(Guarded, Screen[None]):
 
     # -- keys ----------------------------------------------------------------------------
     def on_key(self, event: Key) -> None:
-        if event.key in BOUND or (event.key.startswith("f") and event.key[1:].isdigit()):
+        bound = self.active_bindings.get(event.key)  # as the keymap file has them
+        if (event.key == "ctrl+c" or (bound is not None and bound.node is self)
+                or (event.key.startswith("f") and event.key[1:].isdigit())):
             return  # the app's CTRL-C, this screen's bindings, the view's F-keys
         if self.model_only and event.key != "escape":
             self.remove_class("model-only")  # any key brings the text back (and still counts)
@@ -656,7 +658,3 @@ class ValModeScreen(Guarded, Screen[None]):
             return
         self.log_line(f"POINT {name} DEFINED")
         self.to_command()
-
-
-# the keys of ValModeScreen's bindings (on_key leaves them to the bindings)
-BOUND = frozenset({"ctrl+c"} | {key for binding in ValModeScreen.BINDINGS for key in binding.key.split(",")})

@@ -70,3 +70,6 @@ class MessageLog(Static):
                 text.append("\n")
             text.append(line, style="bold yellow" if level == "warning" else ("bold red" if level == "error" else ""))
         self.update(text)
+        # said while the screen is being shown (mount, resume), the new height would be lost:
+        # the lines are laid out again once that refresh is done (no message is cut)
+        self.call_after_refresh(self.refresh, layout=True)
