@@ -37,7 +37,12 @@ def test_manipulation_keyboard_stop_escape_is_no_dead_end(tmp_path: Path) -> Non
             assert "MOVE ANOTHER PART" in sim.prompt()
             await sim.press("escape", "escape")
             assert "SAVE THE NEW SET-UP FILE" in sim.prompt()
-            await sim.press("escape")  # not now: the moved layout stays, marked NOT SAVED
+            await sim.press("escape")  # not now: the question goes, MANIPULATION stays (issue 27)
+            assert sim.prompt() == "ENTER COMMAND# (I, K OR R):"
+            assert "NOT SAVED" in sim.text()
+            await sim.press("R")  # R asks again: MAIN has no save key
+            assert "SAVE THE NEW SET-UP FILE" in sim.prompt()
+            await sim.press("N")  # N leaves; the moved layout stays in the session, NOT SAVED
             assert isinstance(sim.screen, MainMenuScreen)
             assert "NOT SAVED" in sim.text()
 

@@ -186,13 +186,13 @@ async def test_escape_at_every_prompt_leads_to_the_menu_then_main(tmp_path: Path
         await pilot.press(*"MOVE A")  # a half-typed line
         await escape_to_menu(pilot, screen)
         assert screen.query_one("#val-line").value == ""
-        await pilot.press("f4")  # D_DEFINE: data file or point?
+        await pilot.press("ctrl+t")  # D_DEFINE: data file or point?
         assert screen.mode == Mode.DEFINE
         await escape_to_menu(pilot, screen)
-        await pilot.press("f4", "d")  # the .LOC file name
+        await pilot.press("ctrl+t", "d")  # the .LOC file name
         assert screen.mode == Mode.DEFINE_FILE
         await escape_to_menu(pilot, screen)
-        await pilot.press("f4", "p")  # a POINT typed in
+        await pilot.press("ctrl+t", "p")  # a POINT typed in
         assert screen.mode == Mode.POINT
         await escape_to_menu(pilot, screen)
         await type_slowly(pilot, "POINT Q")  # POINT as a command opens the same line
@@ -200,7 +200,7 @@ async def test_escape_at_every_prompt_leads_to_the_menu_then_main(tmp_path: Path
         await escape_to_menu(pilot, screen)
         # A / R / E for a location (typed while the robot moves there), ESC while it moves
         await type_slowly(pilot, "LEFTY")  # A is out of reach RIGHTY
-        await pilot.press("f4", "d")
+        await pilot.press("ctrl+t", "d")
         await type_slowly(pilot, "PROCESS.LOC")
         assert screen.mode == Mode.RUNNING  # moving to A
         await pilot.press("a")  # answered ahead
@@ -223,7 +223,7 @@ async def test_escape_at_every_prompt_leads_to_the_menu_then_main(tmp_path: Path
         await escape_to_menu(pilot, screen)
         assert not screen.interpreter.running
         # the model alone: ESC brings the text back, then the menu
-        await pilot.press("f3")
+        await pilot.press("f8")
         assert screen.model_only
         await pilot.press("escape")
         assert not screen.model_only and screen.mode == Mode.COMMAND
@@ -235,9 +235,9 @@ async def test_escape_at_every_prompt_leads_to_the_menu_then_main(tmp_path: Path
         await pilot.pause()
         assert isinstance(app.screen, MainMenuScreen)
         screen = await open_valmode(app, pilot)
-        await pilot.press(*"DEP", "f6")  # F6: the VAL-II menu from the line, F6 again: its other page
+        await pilot.press(*"DEP", "ctrl+n")  # CTRL-N: the VAL-II menu from the line, again: its other page
         assert screen.mode == Mode.MENU and screen.page == 1
-        await pilot.press("f6")
+        await pilot.press("ctrl+n")
         assert screen.page == 2 and "VAL-II MENU CONTINUED" in screen.menu_text
         await pilot.press("v", *"DEP", "f9")  # F9: MAIN from the line
         await pilot.pause()
@@ -255,7 +255,7 @@ async def test_the_menu_pages_at_80x24_and_the_model_at_both_sizes(tmp_path: Pat
         screen = await open_valmenu(app, pilot)
         assert screen.has_class("narrow")
         await pilot.press("7")  # not a key of the menu: said so, the menu stays
-        assert screen.keys_text.startswith("7 IS NOT A KEY HERE (? HELP)") and screen.mode == Mode.MENU
+        assert screen.keys_text.startswith("'7' IS NOT A KEY OF THIS MENU; ? OR F1: HELP") and screen.mode == Mode.MENU
         assert "NOFLIP       - POSITIVE JOINT 5 ANGLES" not in screen_text(app)  # below the fold
         seen = ""
         for _ in range(4):  # paged through: every line of page 1 can be read

@@ -61,11 +61,11 @@ def test_editor_then_define_execute_abort_and_rerun(tmp_path: Path) -> None:
             await pilot.press("v")
             assert screen.mode == "command"
             await typed(pilot, "LE")
-            assert screen.mode == "command" and "F4 D_DEFINE" in screen.keys_text  # the line stays open
+            assert screen.mode == "command" and "^T D_DEFINE" in screen.keys_text  # the line stays open
             await pilot.press("a", "b", "enter")
             assert screen.simulator.config.elbow == 1
-            # F4 (D_DEFINE), D: locations from PROCESS.LOC one at a time: A accept, R reject, E accept and end
-            await pilot.press("f4", "d")
+            # CTRL-T (D_DEFINE), D: locations from PROCESS.LOC one at a time: A accept, R reject, E accept and end
+            await pilot.press("ctrl+t", "d")
             assert screen.mode == "define-file"
             await typed(pilot, "PROCESS.LOC")
             assert screen.mode == "define-each"
@@ -77,7 +77,7 @@ def test_editor_then_define_execute_abort_and_rerun(tmp_path: Path) -> None:
             assert set(screen.simulator.locations) == {"A", "C", "D"}
             assert "B REJECTED" in screen.transcript
             # B by hand
-            await pilot.press("f4", "p")
+            await pilot.press("ctrl+t", "p")
             await typed(pilot, "B, 465, 120, -245, 90, 90, 0")
             assert "B" in screen.simulator.locations
             await typed(pilot, "EXEC PICK,1")
@@ -104,7 +104,7 @@ def test_editor_then_define_execute_abort_and_rerun(tmp_path: Path) -> None:
             app.player.rate = math.inf
             await typed(pilot, "EXEC PICK,1")
             assert "PROGRAM PICK COMPLETED: 1 LOOP" in screen.transcript
-            await pilot.press("f2")
+            await pilot.press("ctrl+l")
             assert screen.mode == "command"
             await typed(pilot, "WHERE")
             assert any(line.startswith(("OPENED", "CLOSED")) for line in screen.transcript)

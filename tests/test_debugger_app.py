@@ -1,5 +1,5 @@
 """The debugger in the app's VAL-II mode (Pilot): the paused step highlighted beside the
-transcript, the watched variables, F7 XSTEP and F5 PROCEED from the legend."""
+transcript, the watched variables, CTRL-O XSTEP and CTRL-P PROCEED from the legend."""
 
 from __future__ import annotations
 
@@ -55,10 +55,10 @@ def test_a_breakpoint_shows_the_listing_xstep_and_proceed_keys_and_the_watched_v
             assert "PROCESS     8  MOVE A" not in screen.transcript
             assert panel.display and panel.border_title == "PROCESS STEP 8"
             assert highlighted(panel) == [">   8      MOVE A"]
-            assert "F5 PROCEED" in screen.keys_text and "F7 XSTEP" in screen.keys_text
+            assert "^P PROCEED" in screen.keys_text and "^O XSTEP" in screen.keys_text
             assert "MOVE A" in screen_text(app) and "CLOSEI 50" in screen_text(app)  # beside the log
 
-            await pilot.press("f7")  # XSTEP: exactly step 8
+            await pilot.press("ctrl+o")  # XSTEP: exactly step 8
             assert screen.mode == "paused"
             assert list(screen.transcript)[-2:] == ["PROCESS     8  MOVE A",
                                                     "XSTEP: PAUSED BEFORE PROCESS STEP 9: CLOSEI 50"]
@@ -69,7 +69,7 @@ def test_a_breakpoint_shows_the_listing_xstep_and_proceed_keys_and_the_watched_v
             await typed(pilot, "N=7")
             assert "N = 7" in panel.text
 
-            await pilot.press("f5")  # PROCEED
+            await pilot.press("ctrl+p")  # PROCEED
             assert screen.mode == "command"  # the command line stays open (issue 17)
             assert "WATCH N: UNDEFINED -> 7 (TYPED)" in screen.transcript
             assert screen.transcript[-1] == "PROGRAM PROCESS COMPLETED: 1 LOOP"

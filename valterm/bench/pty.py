@@ -7,7 +7,7 @@ app's drawing rate, not the motion's step rate), it counts the frames and bytes 
 
 - while a joint move typed at the KEYBOARD mode's V prompt plays (``app_move_*``);
 - while the thesis's PROCESS program runs in VAL-II mode, its locations read from
-  PROCESS.LOC with F4 D as a person defines them (``app_program_*``).
+  PROCESS.LOC with CTRL-T D as a person defines them (``app_program_*``).
 
 Frames are write bursts separated by quiet gaps (Textual writes a frame in one go); the
 rate counts only the time a motion was drawing (a DELAY or a TYPE line is not a frame gap).
@@ -137,9 +137,9 @@ def _play_drive(fd: int, command: str) -> list[tuple[float, int]]:
 
 
 def _play_program(fd: int) -> list[tuple[float, int]]:
-    """VAL-II mode: PROCESS.LOC's locations accepted one by one (F4 D), then EXECUTE PROCESS."""
+    """VAL-II mode: PROCESS.LOC's locations accepted one by one (CTRL-T D), then EXECUTE PROCESS."""
     _keys(fd, "VV")
-    os.write(fd, b"\x1bOS")  # F4: D_DEFINE
+    os.write(fd, b"\x14")  # CTRL-T: D_DEFINE
     _drain(fd, 0.3)
     _keys(fd, "D")
     _line(fd, "PROCESS.LOC")

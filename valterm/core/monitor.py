@@ -16,7 +16,6 @@ from collections.abc import Callable, Generator
 
 from valterm.core.errors import ValtermError
 from valterm.core.events import Error, Event, Monitor, Pause
-from valterm.core.files.locations import format_locations
 from valterm.core.session import Session
 from valterm.core.text.transcript import event_lines
 from valterm.core.val.interpreter import Interpreter
@@ -146,9 +145,8 @@ def listing_lines(session: Session, command: str, argument: str) -> list[str] | 
         return ["PROGRAMS: " + "  ".join(workspace.list_programs())]
     if command == "LISTL":
         lines = ["LOCATION FILES: " + "  ".join(workspace.list_locations())]
-        locations = session.simulator.locations
-        if locations:
-            lines += format_locations(dict(locations)).rstrip().splitlines()
+        for name, location in session.simulator.locations.items():  # two decimals, as WHERE shows them
+            lines.append(f"POINT {name}, " + ", ".join(f"{v + 0.0:.2f}" for v in (*location.xyz, *location.oat)))
         return lines
     if command == "LISTP":
         program = workspace.read_program(argument)

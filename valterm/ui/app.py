@@ -15,13 +15,13 @@ from collections.abc import Callable, Iterable
 from pathlib import Path
 from typing import Any
 
+from textual import events
 from textual._styles_cache import StylesCache
 from textual.app import App
-from textual.binding import Binding
 
 from valterm.core.crashlog import EXIT_BUG, crash_line, write_crash_log
 from valterm.core.errors import ValtermError
-from valterm.core.events import Event
+from valterm.core.events import Event, Pause
 from valterm.core.render import views
 from valterm.core.render.clock import DEFAULT_RATE
 from valterm.core.render.overlays import Overlays, Trace, cell_points, clamp_point, picture_scene
@@ -29,12 +29,15 @@ from valterm.core.render.raster import Scene, ViewTransform
 from valterm.core.session import Session
 from valterm.core.val.limits import RunLimits
 from valterm.core.workspace import Workspace
-from valterm.ui.errors import error_text
+from valterm.ui.bindings import APP_BINDINGS, load_user_keymap
+from valterm.ui.errors import bug_text, error_text
+from valterm.ui.keyqueue import KeyQueue
 from valterm.ui.messages import SceneChanged
 from valterm.ui.playback import Audience, Player
+from valterm.ui.screens.guard import Guarded
 from valterm.ui.screens.main_menu import MainMenuScreen
 from valterm.ui.screens.start import StartScreen
-from valterm.ui.view.keys import VIEW_BINDINGS, ViewActions
+from valterm.ui.view.keys import ViewActions
 
 RELEASE_EVERY = 10.0  # seconds between clearings of Textual's leaking style cache
 
@@ -48,17 +51,14 @@ def release_styles_caches() -> None:
         clear()
 
 
-class ValtermApp(ViewActions, App[int]):
+class ValtermApp(Guarded, ViewActions, App[int]):
     """The whole simulator; ``setup`` skips the start screen (tests and ``--setup``)."""
 
     CSS_PATH = Path(__file__).with_name("app.tcss")  # absolute: subclasses (demo, tests) live elsewhere
     TITLE = "VAL-II SIMULATOR"
     ENABLE_COMMAND_PALETTE = False
     AUTO_FOCUS = None  # menus take single keys: nothing is focused unless a question asks
-    BINDINGS = [
-        Binding("ctrl+c", "abort", "Abort", priority=True, show=False, id="app.abort"),
-        *VIEW_BINDINGS,  # arrows, + -, F2-F7 (valterm.ui.view.keys)
-    ]
+    BINDINGS = APP_BINDINGS  # CTRL-C and the view keys; every binding by id: ui/bindings.py
 
     def __init__(
         self,
@@ -91,6 +91,10 @@ class ValtermApp(ViewActions, App[int]):
         self._workspace: Workspace | None = None  # the workspace before any session (start screen)
         self.crash: BaseException | None = None  # the bug that ended the app, if one did
         self.crash_log: Path | None = None
+        # keys typed while a motion is drawn or a screen changes wait here
+        self.key_queue = KeyQueue(self, lambda: self.player.drawing)
+        self.unsaid: list[tuple[str, str]] = []  # messages no screen could show yet (the next one does)
+        self.survived: list[str] = []  # the bugs the app lived through (their lines, tests)
 
     def _handle_exception(self, error: Exception) -> None:
         # A bug: its traceback goes to a log file and the terminal gets one line naming it
@@ -106,9 +110,44 @@ class ValtermApp(ViewActions, App[int]):
             print(crash_line(self.crash, self.crash_log), file=sys.stderr)
         return result
 
-    # -- starting ------------------------------------------------------------------
+    # -- keys: none dropped (ui.keyqueue) --------------------------------------------
+    @property
+    def keys_waiting(self) -> int:
+        """Keys typed while the app was busy, not yet handed on."""
+        return len(self.key_queue)
+
+    async def on_event(self, event: events.Event) -> None:
+        if isinstance(event, events.Key) and not event.is_forwarded:
+            if self.key_queue.take(event):
+                return  # handed on, in order, when the motion or the screen change is over
+            await super().on_event(event)
+            self.key_queue.handing_on(self.focused or self.screen)
+            return
+        await super().on_event(event)
+
+    # -- messages: to whatever screen is on top ---------------------------------------
+    def say(self, text: str, level: str = "info") -> None:
+        """A message for the user, on the screen on top (kept for the next screen while the
+        one on top cannot show it: being mounted, or a help page without message lines)."""
+        say_here = getattr(self.screen, "say_here", None) if self.screen_stack else None
+        if say_here is not None and self.screen.is_mounted:
+            say_here(text, level)
+        else:
+            self.unsaid = [*self.unsaid, (text, level)][-20:]
+
+    def survive(self, error: Exception) -> None:
+        """A bug escaped a screen: logged with its traceback, said in one line, and the app
+        goes on (the session, an unsaved set-up and the editor's journal are untouched)."""
+        line = bug_text(error)
+        self.survived.append(line)
+        self.say(line, "error")
+
     def on_mount(self) -> None:
         self.set_interval(RELEASE_EVERY, release_styles_caches, name="release-styles-caches")
+        try:
+            self.set_keymap(load_user_keymap())  # the user's rebindings, on every screen
+        except ValtermError as error:  # a bad keymap file: said, the default keys kept
+            self.say(f"KEYMAP: {error_text(error)}", "error")
         if self.session is not None:
             self.fit_view()
             self.push_screen(MainMenuScreen())
@@ -202,8 +241,8 @@ class ValtermApp(ViewActions, App[int]):
         target = audience if audience is not None else self.screen
         stop = self.session.abort_program if self.session is not None else None
         if self.session is not None:
-            self.session.take_inputs_from_keyboard()  # the I/O panel (F6 in VAL-II mode) sets inputs
-        self.player.play(events, target, stop)  # type: ignore[arg-type]
+            self.session.take_inputs_from_keyboard()  # the I/O panel (F10 in VAL-II mode) sets inputs
+        self.player.play(events, Relay(self, target), stop)  # type: ignore[arg-type]
 
     def action_abort(self) -> None:
         """CTRL-C: abort the running program or motion (§6.4.10)."""
@@ -218,6 +257,62 @@ class ValtermApp(ViewActions, App[int]):
     def skip_motion(self) -> None:
         """Show the end of what is playing now (tests; an impatient user)."""
         self.player.skip_to_end()
+
+
+class Relay:
+    """The audience of one stream: the screen that started it while it is on top; once that
+    screen is covered or gone, its lines go to the screen on top and what it would redraw is
+    that screen's (nothing looks up a widget of a screen that is gone). A bug in a screen's
+    drawing is survived, not the end of the app."""
+
+    def __init__(self, app: ValtermApp, screen: Audience) -> None:
+        self.app = app
+        self.screen = screen
+
+    def _here(self) -> bool:
+        """The screen that started the stream still has its widgets (covered is fine)."""
+        return bool(getattr(self.screen, "is_attached", True))
+
+    def _top(self) -> Audience | None:
+        top = self.app.screen if self.app.screen_stack else None
+        return top if top is not None and top.is_mounted and hasattr(top, "show_scene") else None  # type: ignore[return-value]
+
+    def _guard(self, call: Callable[[], object]) -> None:
+        try:
+            call()
+        except Exception as error:
+            self.app.survive(error)
+
+    def show_scene(self) -> None:
+        top = self.screen if self._here() else self._top()
+        if top is not None:
+            self._guard(top.show_scene)
+
+    def show_lines(self, lines: list[str]) -> None:
+        if self._here():
+            self._guard(lambda: self.screen.show_lines(lines))
+            return
+        for line in lines[-3:]:
+            self.app.say(line, "error" if line.startswith("***") else "info")
+
+    def take_event(self, event: Event) -> bool:
+        if not self._here():
+            return False
+        taken = [False]
+        self._guard(lambda: taken.__setitem__(0, self.screen.take_event(event)))
+        return taken[0]
+
+    def paused(self, pause: Pause) -> None:
+        if self._here():
+            self._guard(lambda: self.screen.paused(pause))
+        else:
+            self.app.player.resume()  # no one to type PROCEED where it paused
+
+    def played(self, aborted: bool) -> None:
+        if self._here():
+            self._guard(lambda: self.screen.played(aborted))
+        elif (top := self._top()) is not None:
+            self._guard(top.show_scene)
 
 
 def run(workspace: str | Path | None = None, setup: str | None = None, ascii: bool = False,

@@ -155,7 +155,7 @@ class DemoApp(ValtermApp):
     async def _settle(self) -> None:
         """Let a motion or a running program finish before the next key."""
         limit = time.monotonic() + SETTLE_LIMIT
-        while self.moving and time.monotonic() < limit:
+        while (self.moving or self.keys_waiting) and time.monotonic() < limit:
             await asyncio.sleep(0.05)
 
     async def _play(self) -> None:

@@ -127,6 +127,11 @@ class Player:
     def paused(self) -> bool:
         return self._paused
 
+    @property
+    def drawing(self) -> bool:
+        """A motion is being drawn pose by pose (keys typed now wait: ``ui.keyqueue``)."""
+        return self._motion is not None and not self._paused
+
     # -- control ---------------------------------------------------------------------
     def play(self, events: Iterable[Event], audience: Audience,
              stop: Callable[[], bool] | None = None) -> None:

@@ -254,6 +254,34 @@ def _tokens(text: str) -> list[tuple[str, str]]:
 
 Token = TypeVar("Token", bound=tuple[Any, ...])  # (kind, value, ...) as a tokenizer gives it
 
+#: The deepest nesting of brackets and signs an expression may have: the parsers recurse
+#: once a level (about eight calls), so a deeper one is refused before Python's own limit.
+MAX_NESTING = 32
+_OPENING, _CLOSING, _SIGNS = frozenset("(["), frozenset(")]"), frozenset({"+", "-", "NOT"})
+
+
+def _refuse_deep_nesting(text: str, items: list[Any]) -> None:
+    """ExprError when brackets and prefix signs (``-(-(...))``, ``NOT NOT``) nest deeper than
+    MAX_NESTING."""
+    depth = signs = 0
+    operand_before = False
+    for token in items:
+        value = token[1] if token[0] == "op" else None
+        if value in _OPENING:
+            depth, signs, operand_before = depth + signs + 1, 0, False
+        elif value in _CLOSING:
+            depth, operand_before = depth - 1, True
+        elif value in _SIGNS and not operand_before:
+            signs += 1
+        elif value is not None:
+            operand_before = False
+        else:
+            signs, operand_before = 0, True
+        if depth + signs > MAX_NESTING:
+            shown = text.strip() if len(text.strip()) <= 40 else text.strip()[:40] + "..."
+            raise ExprError(f"expression nested deeper than {MAX_NESTING} levels "
+                            f"(brackets and signs) in {shown!r}")
+
 
 class TokenCursor(Generic[Token]):
     """The one cursor over an expression's tokens (the 1985 and the V+ parsers both read
@@ -263,6 +291,7 @@ class TokenCursor(Generic[Token]):
         self.text = text
         self.items = items
         self.pos = 0
+        _refuse_deep_nesting(text, items)
 
     def peek(self) -> Token | None:
         return self.items[self.pos] if self.pos < len(self.items) else None

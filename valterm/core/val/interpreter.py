@@ -622,7 +622,10 @@ def _help(interpreter: Interpreter, st: Statement) -> Iterator[Event]:
 
 
 def _monitor_event(interpreter: Interpreter, st: Statement) -> Iterator[Event]:
-    yield Monitor(st.command, (st.args[0] or "") if st.args else "")
+    """The app's commands; POINT NAME, X, Y, Z, O, A, T (HELP POINT's one-line form) passes
+    all seven items."""
+    items = [str(getattr(arg, "text", arg) or "") for arg in st.args]
+    yield Monitor(st.command, ", ".join(items) if len(items) > 1 else (items[0] if items else ""))
 
 
 def _status_typed(interpreter: Interpreter, st: Statement) -> Iterator[Event]:

@@ -16,11 +16,16 @@ from textual.containers import Horizontal, Vertical
 from textual.screen import Screen
 from textual.widgets import Input
 
-from valterm.core.events import Event, Help, Message, Pause
+from valterm.core.errors import ValtermError
+from valterm.core.events import Event, Help, Message, Monitor, Pause
+from valterm.core.monitor import listing_lines
 from valterm.ui import keymap
 from valterm.ui.errors import problem_text
 from valterm.ui.messages import SceneChanged
+from valterm.ui.screens.editor import EditorScreen
+from valterm.ui.screens.guard import Guarded
 from valterm.ui.screens.help import HelpScreen
+from valterm.ui.screens.points import define_point
 from valterm.ui.view.keys import VIEW_KEYS
 from valterm.ui.view.model_view import ModelView
 from valterm.ui.widgets.cell_view import CellView
@@ -32,7 +37,7 @@ from valterm.ui.widgets.status import StatusLine
 WIDE = 100  # columns from which the model is shown beside the menu
 
 
-class MenuScreen(Screen):
+class MenuScreen(Guarded, Screen):
     """A menu of the thesis with the model; subclasses set MENU and their bindings."""
 
     AUTO_FOCUS = ""  # nothing focused: "" disables auto focus (None would inherit the app's)
@@ -81,6 +86,13 @@ class MenuScreen(Screen):
         self.model_view.set_view(self.app.view_transform)
         self._sync_view_options()
         self.redraw()
+        self.call_later(self._say_unsaid)  # after the screen's own first words (also when first shown)
+
+    def _say_unsaid(self) -> None:
+        """What was said while no screen could show it (the last one left mid-motion)."""
+        unsaid, self.app.unsaid = self.app.unsaid, []
+        for text, level in unsaid:
+            self.say_here(text, level)
 
     def on_resize(self, event: events.Resize) -> None:
         self._layout(event.size.width)
@@ -124,8 +136,11 @@ class MenuScreen(Screen):
 
     # -- drawing -----------------------------------------------------------------------
     def redraw(self) -> None:
+        if not self.is_attached:
+            return  # left while a motion was drawn: the screen on top draws it
         self.model_view.update_scene(self.app.scene(self.part_axes))
-        self.update_readout()
+        if self.app.session is not None:  # none while the demo starts a fresh round
+            self.update_readout()
         self.update_status()
 
     def update_status(self) -> None:
@@ -148,13 +163,40 @@ class MenuScreen(Screen):
         if isinstance(event, Help):
             self.app.push_screen(HelpScreen(event.topic))
             return True
+        if isinstance(event, Monitor):
+            self._monitor(event.command, event.argument.strip())
+            return True
         return False
+
+    def _monitor(self, command: str, argument: str) -> None:
+        """LISTF, LISTL, LISTP, POINT and EDIT typed at a menu's V line (VAL-II mode's own
+        transcript shows whole listings; three message lines show their gist here)."""
+        session = self.app.session
+        try:
+            if command == "LISTL":
+                files = listing_lines(session, command, argument)[0]
+                names = " ".join(session.simulator.locations) or "NONE"
+                self.show_lines([files, f"LOCATIONS: {names} (WHERE EACH IS: LISTL IN VAL-II MODE)"])
+            elif (lines := listing_lines(session, command, argument)) is not None:
+                self.show_lines(lines)
+            elif command == "EDIT":
+                self.app.push_screen(EditorScreen(session.workspace, argument))
+            elif command == "POINT" and "," in argument:
+                name = define_point(session, argument)
+                self.say(f"POINT {name} DEFINED")
+            else:
+                self.say(f"{command} {argument}: TYPE NAME, X, Y, Z, O, A, T (POINT A, 465, -45, -245, 89, 91, 0)",
+                         "warning")
+        except (OSError, ValtermError) as error:  # a missing file, a refused value: said
+            self.say(problem_text(error) if isinstance(error, ValtermError) else str(error).upper(), "error")
 
     def paused(self, pause: Pause) -> None:
         """A menu has no PROCEED line: the program goes on (VAL-II mode waits)."""
         self.app.player.resume()
 
     def played(self, aborted: bool) -> None:
+        if self.is_attached:
+            self.messages.end_turn()
         self.redraw()
         if aborted:
             self.say("*** ABORTED ***", "warning")
@@ -168,6 +210,13 @@ class MenuScreen(Screen):
         self.redraw()
 
     def say(self, text: str, level: str = "info") -> None:
+        """A message: on this screen while it is shown, else through the app on the one on top."""
+        if self.is_attached and self.is_mounted:
+            self.say_here(text, level)
+        else:
+            self.app.say(text, level)
+
+    def say_here(self, text: str, level: str = "info") -> None:
         self.messages.say(text, level)
         self.query_one("#status", StatusLine).refresh()
 
@@ -234,6 +283,11 @@ class MenuScreen(Screen):
         self.messages.new_turn()
         if not self.asking:
             self._menu_key(event)
+            return
+        if event.key == "f1":  # help in every state; ? stays text in a typed line
+            event.stop()
+            event.prevent_default()
+            self.action_help()
             return
         if event.key == keymap.CANCEL_KEY:
             event.stop()

@@ -22,7 +22,7 @@ from collections.abc import Callable
 from textual.app import ComposeResult
 from textual.binding import Binding
 from textual.containers import Horizontal, Vertical, VerticalScroll
-from textual.events import Key
+from textual.events import Key, Resize
 from textual.screen import Screen
 from textual.widgets import Input, Static
 
@@ -31,10 +31,12 @@ from valterm.core.errors import ValtermError
 from valterm.core.files.errors import FileChanged
 from valterm.core.files.programs import LABEL_COLUMNS
 from valterm.ui import keymap
+from valterm.ui.screens.guard import Guarded
 from valterm.ui.widgets.prompt import type_ahead
 from valterm.ui.widgets.status import StatusLine
 
 MENU_KEYS = {"c": "create", "i": "insert", "d": "delete", "s": "save", "e": "exit"}
+NARROW = 120  # columns below which the menu box is left out (80x24: the listing needs them)
 RULER = "LBL STATEMENT (COLUMNS 1-4: STEP LABEL, TAB: TO COLUMN 5)"
 
 
@@ -55,7 +57,7 @@ class StepInput(Input):
 TEXT_MODES = frozenset({"name", "line", "delete", "insert", "insert-line"})
 
 
-class EditorScreen(Screen[None]):
+class EditorScreen(Guarded, Screen[None]):
     """The Editor of VAL-II SIMULATOR (EVS)."""
 
     AUTO_FOCUS = None
@@ -70,6 +72,7 @@ class EditorScreen(Screen[None]):
     EditorScreen #editor-prompt { width: auto; min-width: 8; padding: 1 1 0 1; }
     EditorScreen #editor-line { width: 1fr; }
     EditorScreen #editor-prompt-row.hidden { display: none; }
+    EditorScreen.-narrow #editor-menu { display: none; }
     """
     # Shown in the footer; the keys themselves are read in on_key (a wrong key must be seen).
     BINDINGS = [
@@ -103,7 +106,16 @@ class EditorScreen(Screen[None]):
             yield StepInput(id="editor-line", placeholder="TEST.DAT")
         yield StatusLine(id="status")
 
+    def on_resize(self, event: Resize) -> None:
+        self._fit_width(event.size.width)
+
+    def _fit_width(self, width: int) -> None:
+        """Narrower than NARROW columns the menu box goes (the key line under the listing
+        says the keys): the listing gets the width, no step wraps mid-command."""
+        self.set_class(width < NARROW, "-narrow")
+
     def on_mount(self) -> None:
+        self._fit_width(self.app.size.width)
         if self.first_name:
             self.open_program(self.first_name)
         else:
@@ -179,6 +191,11 @@ class EditorScreen(Screen[None]):
 
     # -- single keys in the menu ---------------------------------------------------------
     def on_key(self, event: Key) -> None:
+        if event.key == "f1":  # help in every state; ? stays text in the step line
+            event.stop()
+            event.prevent_default()
+            self.action_help()
+            return
         if self.mode in TEXT_MODES and type_ahead(event, self.query_one("#editor-line", StepInput)):
             return
         if self.mode == "save?":

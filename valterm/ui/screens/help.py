@@ -15,6 +15,7 @@ from textual.screen import Screen
 from textual.widgets import Input, Static
 
 from valterm.core.files.helpfile import HelpTopics, NoHelpTopic, default_help
+from valterm.ui.screens.guard import Guarded
 from valterm.ui.widgets.status import StatusLine
 
 ASK_TOPIC = "DO YOU NEED MORE INFORMATION ON A SPECIFIC TOPIC (Y/N) ?"
@@ -22,7 +23,7 @@ ASK_MENU = "DO YOU WANT THE HELP MENU DISPLAYED AGAIN (Y/N) ?"
 ENTER_TOPIC = "ENTER THE TOPIC FOR WHICH HELP IS NEEDED:"
 
 
-class HelpScreen(Screen[None]):
+class HelpScreen(Guarded, Screen[None]):
     """HELP, reachable from every mode; Esc (or N to the first question) returns."""
 
     AUTO_FOCUS = None

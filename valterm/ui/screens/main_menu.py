@@ -36,13 +36,9 @@ class MainMenuScreen(MenuScreen):
         Binding("question_mark", "help", "Help", id="main.help"),
     ]
 
-    def on_mount(self) -> None:
-        super().on_mount()
-        self._say_setup()
-
     def on_screen_resume(self) -> None:
         super().on_screen_resume()
-        self._say_setup()  # a save-as in MANIPULATION renamed the set-up
+        self._say_setup()  # first shown, or a save-as in MANIPULATION renamed the set-up
 
     def _say_setup(self) -> None:
         session = self.app.session
@@ -52,7 +48,8 @@ class MainMenuScreen(MenuScreen):
             self.say(f"SETUP FILE {session.setup_name}.SET WITH {len(session.simulator.cell.objects)} PARTS{state}")
 
     def escape_menu(self) -> None:
-        self.say("THIS IS THE MAIN MENU: S TO EXIT, ? OR F1 FOR HELP")
+        leave = "" if getattr(self.app, "kiosk", False) else "S TO EXIT, "  # the museum's S is off
+        self.say(f"THIS IS THE MAIN MENU: {leave}? OR F1 FOR HELP")
 
     def _unsaved_then(self, what: str, then) -> None:  # type: ignore[no-untyped-def]
         """B, I and S throw the moved layout away: ask first when it is not saved."""

@@ -240,13 +240,18 @@ class ManipulationScreen(MenuScreen):
         if not self.modified:
             self._back()
             return
-        # ESC here keeps the moved layout in the session (NOT SAVED on the status line)
+        # ESC cancels the question, not the work: back to this screen's menu, where R or ESC
+        # asks again (MAIN has no save key; N leaves with the layout NOT SAVED in the session)
         self.ask_key("DO YOU WANT TO SAVE THE NEW SET-UP FILE (Y/N) ?:",
-                     lambda k: self._ask_name() if k == "Y" else self._back(), cancel=self._back)
+                     lambda k: self._ask_name() if k == "Y" else self._back(), cancel=self._not_saved)
+
+    def _not_saved(self) -> None:
+        self.say("THE NEW SET-UP IS NOT SAVED: ESC ASKS AGAIN (Y SAVES IT, N LEAVES IT UNSAVED)", "warning")
+        self.prompt_cancelled()
 
     def _ask_name(self) -> None:
         name = self.app.session.setup_name
-        self.ask_line(f"ENTER SET-UP FILE NAME (RETURN: SAME NAME {name}):", self._save, cancel=self._back)
+        self.ask_line(f"ENTER SET-UP FILE NAME (RETURN: SAME NAME {name}):", self._save, cancel=self._end)
 
     def _save(self, name: str, overwrite: bool = False) -> None:
         try:

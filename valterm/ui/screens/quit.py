@@ -8,6 +8,8 @@ from textual.containers import Vertical
 from textual.screen import ModalScreen
 from textual.widgets import Static
 
+from valterm.ui.screens.guard import Guarded
+
 
 def unsaved_work(app: App) -> list[str]:  # type: ignore[type-arg]
     """What leaving now would lose: a moved set-up, taught locations no .LOC file holds,
@@ -41,7 +43,7 @@ def confirm_quit(app: App) -> None:  # type: ignore[type-arg]
     app.push_screen(QuitScreen(lost))
 
 
-class QuitScreen(ModalScreen[None]):
+class QuitScreen(Guarded, ModalScreen[None]):
     """The one question before leaving with unsaved work."""
 
     DEFAULT_CSS = """

@@ -1,6 +1,6 @@
 """The I/O panel (issue 14): the controller's numbered outputs and inputs, shown live.
 
-Reached from VAL-II mode by F6, also while a program runs (the program goes on beneath).
+Reached from VAL-II mode by F10, also while a program runs (the program goes on beneath).
 Outputs 1-24 and inputs 1001-1024 are drawn as lamps (``*`` on, ``.`` off); any other
 signal that is on is listed. The user sets inputs from the keyboard: ``1001`` ENTER
 toggles input 1001, ``1001 ON`` / ``1001 OFF`` set it; a program's ``WAIT SIG(1001)``
@@ -21,6 +21,7 @@ from textual.widgets import Input, Static
 from valterm.core.errors import RefusedValue, ValtermError
 from valterm.core.session import Session
 from valterm.core.signals import INPUTS, INTERNAL, OUTPUTS, SignalPanel
+from valterm.ui.screens.guard import Guarded
 
 SHOWN = 24  # lamps drawn per kind: two rows of 12 (the panel fits an 80 x 24 terminal)
 ROW = 12
@@ -70,7 +71,7 @@ def parse_input_command(typed: str, panel: SignalPanel) -> tuple[int, bool]:
     return number, words[1] in ("ON", "1")
 
 
-class SignalsScreen(ModalScreen[None]):
+class SignalsScreen(Guarded, ModalScreen[None]):
     """The I/O panel over VAL-II mode."""
 
     DEFAULT_CSS = """

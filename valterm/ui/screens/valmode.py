@@ -9,9 +9,11 @@ The keyboard (issue 17): keys go either to the open command line or to the menu,
   the menu is taken whole).
 - The command line stays open between commands, as on the real terminal: every printable
   key is text, so READY, WHERE, MOVE, DEPART, CLOSEI are typed as themselves. The THEN PRESS
-  actions of Fig. C-13 are F-keys there (F2 wipe, F3 model, F4 define, F6 the VAL-II menu, F10 the I/O panel,
-  F9 return to MAIN; the legend shows them; F1 is help, F5/F7/F8 the debugger's); the
-  thesis's letters work on the VAL-II menu, one ESC away. C ("continue") is simply the open line.
+  actions of Fig. C-13 are keys that mean nothing else anywhere (issue 27): CTRL-L wipe,
+  F8 model (on every screen), CTRL-T define, CTRL-N the VAL-II menu, F9 return to MAIN,
+  F10 the I/O panel; F1 is help; F2-F7, the arrows, + and - are the view keys of every
+  screen. The thesis's letters work on the VAL-II menu, one ESC away. C ("continue") is
+  simply the open line.
   SHIFT+UP / SHIFT+DOWN page the transcript back and on.
 - Keys typed while a command plays, or before the line has focus, go into the line (type
   ahead); RETURN typed while a command plays runs the line when it has ended.
@@ -20,7 +22,7 @@ The keyboard (issue 17): keys go either to the open command line or to the menu,
 - D defines locations: from a .LOC file, one at a time with the robot shown there (A accept,
   R reject, E accept and end; answers typed during the motion count), or P to type a POINT.
 - Narrower than ``WIDE`` columns the text and the model cannot both be readable: the text
-  takes the width and M / F3 toggle the model (the thesis's R-like toggle); any other key
+  takes the width and M / F8 toggle the model (the thesis's R-like toggle); any other key
   brings the text back.
 
 A running program is played by the app's one player (``valterm.ui.playback``): its steps
@@ -30,7 +32,7 @@ app's key) aborts after the step being simulated, and the program can be run aga
 
 The debugger (BPT, XSTEP, SSTEP, WATCH, TRACE: typed commands) pauses a program the same
 way; while it is paused a panel beside the transcript lists the steps around it, that step
-highlighted, and the watched variables; F5 PROCEED, F7 XSTEP, F8 SSTEP.
+highlighted, and the watched variables; CTRL-P PROCEED, CTRL-O XSTEP, CTRL-S SSTEP.
 """
 
 from __future__ import annotations
@@ -49,15 +51,18 @@ from textual.widgets import RichLog, Static
 
 from valterm.core.errors import ValtermError
 from valterm.core.events import Error, Event, Help, Monitor, Pause
-from valterm.core.files.locations import check_location_name, format_locations
+from valterm.core.files.locations import format_locations
 from valterm.core.kinematics import Location
 from valterm.core.monitor import listing_lines
 from valterm.core.session import Session
 from valterm.core.text.transcript import where_lines
-from valterm.ui.errors import Refusal, problem_text
+from valterm.ui import keymap
+from valterm.ui.errors import problem_text
 from valterm.ui.playback import TRANSCRIPT_LINES, Player, Transcript, show_at_once
 from valterm.ui.screens.editor import EditorScreen, StepInput
+from valterm.ui.screens.guard import Guarded
 from valterm.ui.screens.help import HelpScreen
+from valterm.ui.screens.points import define_point
 from valterm.ui.screens.signals import SignalsScreen
 from valterm.ui.view.model_view import ModelView
 from valterm.ui.widgets.debugpanel import PAUSED_KEYS, DebugPanel
@@ -93,8 +98,8 @@ WIDE = LEFT_WIDTH + 40  # narrower than this, the model is toggled instead (80x2
 MENU_FRAME = 6  # the menu's border, padding and scroll bar, in columns
 
 # the key legend under the log, one per mode (F-keys work wherever the line is open)
-LINE_KEYS = "F2 W_WIPE  F3 M_MODEL  F4 D_DEFINE  F6 MENU  F9 R_RETURN  F10 I/O  ESC: MENU"
-MENU_KEYS = "N PAGE  V LINE  W WIPE  M MODEL  D DEFINE  R/ESC RETURN  PGUP/PGDN SCROLL  F10 I/O"
+LINE_KEYS = "^L W_WIPE  F8 M_MODEL  ^T D_DEFINE  ^N MENU  F9 R_RETURN  F10 I/O  F1 HELP  ESC: MENU"
+MENU_KEYS = "N PAGE  V LINE  W WIPE  M MODEL  D DEFINE  R/ESC RETURN  PGUP/PGDN SCROLL  F10 I/O  ? HELP"
 RUNNING_KEYS = "RUNNING   CTRL-C OR ESC: ABORT   F10: I/O PANEL   (KEYS TYPED NOW GO TO THE LINE)"
 DEFINE_KEYS = f"{DEFINE_HOW}  ESC: MENU"
 
@@ -113,7 +118,7 @@ def wrap_menu(text: str, width: int) -> str:
     return "\n".join(rows)
 
 
-class ValModeScreen(Screen[None]):
+class ValModeScreen(Guarded, Screen[None]):
     """VAL-II mode."""
 
     AUTO_FOCUS = None
@@ -138,15 +143,16 @@ class ValModeScreen(Screen[None]):
     """
     BINDINGS = [
         Binding("escape", "escape", "Back", id="valmode.escape"),
-        Binding("f2", "wipe", "Wipe", id="valmode.wipe"),
-        Binding("f3", "model", "Model", id="valmode.model"),
-        Binding("f4", "define", "Define", id="valmode.define"),
-        Binding("f6", "menu", "Menu", id="valmode.menu"),
+        # none of these is a view key (F2-F7, arrows, + -) or a key of the focused line
+        Binding("ctrl+l", "wipe", "Wipe", id="valmode.wipe"),
+        Binding("ctrl+t", "define", "Define", id="valmode.define"),
+        Binding("ctrl+n", "menu", "Menu", id="valmode.menu"),
         Binding("f9", "leave", "Return", id="valmode.leave"),
-        # while a program is paused (the line has the focus: function keys pass it)
-        Binding("f5", "paused_command('PROCEED')", "Proceed", show=False, id="valmode.proceed"),
-        Binding("f7", "paused_command('XSTEP')", "Xstep", show=False, id="valmode.xstep"),
-        Binding("f8", "paused_command('SSTEP')", "Sstep", show=False, id="valmode.sstep"),
+        Binding("f1", "help", "Help", id="valmode.help"),
+        # while a program is paused (the line has the focus: these keys pass it)
+        Binding("ctrl+p", "paused_command('PROCEED')", "Proceed", show=False, id="valmode.proceed"),
+        Binding("ctrl+o", "paused_command('XSTEP')", "Xstep", show=False, id="valmode.xstep"),
+        Binding("ctrl+s", "paused_command('SSTEP')", "Sstep", show=False, id="valmode.sstep"),
         Binding("f10", "io_panel", "I/O panel", show=False, id="valmode.io"),  # screens/signals.py
         # the transcript read back from the keyboard (PGUP/PGDN zoom the view; terminals keep
         # SHIFT+PGUP and CTRL+PGUP for themselves)
@@ -170,6 +176,7 @@ class ValModeScreen(Screen[None]):
         self._legend = ""  # the keys line of the mode (shown again after a wrong key)
         self._to_menu = False  # ESC aborted what played: the VAL-II menu when it has ended
         self._pause: Pause | None = None  # what the paused program stopped at (the debugger's panel)
+        self._model_for_motion = False  # the model was brought up by a motion (80x24)
         self.transcript = Transcript()  # the last lines the log showed (tests, the demo)
 
     # -- layout ---------------------------------------------------------------------
@@ -306,8 +313,10 @@ class ValModeScreen(Screen[None]):
 
     # -- keys ----------------------------------------------------------------------------
     def on_key(self, event: Key) -> None:
-        if event.key == "ctrl+c" or (event.key.startswith("f") and event.key[1:].isdigit()):
-            return  # the app's CTRL-C, the F-keys' bindings
+        bound = self.active_bindings.get(event.key)  # as the keymap file has them
+        if (event.key == "ctrl+c" or (bound is not None and bound.node is self)
+                or (event.key.startswith("f") and event.key[1:].isdigit())):
+            return  # the app's CTRL-C, this screen's bindings, the view's F-keys
         if self.model_only and event.key != "escape":
             self.remove_class("model-only")  # any key brings the text back (and still counts)
         field = self.query_one("#val-line", StepInput)
@@ -319,11 +328,16 @@ class ValModeScreen(Screen[None]):
         if event.key == "escape":
             return
         char = (event.character or "").upper()
-        if self._single_key(char, event):
+        if keymap.is_help(event):
+            event.stop()
+            self.action_help()
+        elif self._single_key(char, event):
             event.stop()
             event.prevent_default()
-        elif event.is_printable and char != "?":  # "?" is left to the app's help
-            self._keys(f"{char} IS NOT A KEY HERE (? HELP)   {self._legend}")
+        elif not keymap.is_silent(event):
+            legend = self._legend
+            self._keys(f"{keymap.unknown_key(event)}   {legend}")
+            self._legend = legend
 
     def _single_key(self, char: str, event: Key) -> bool:
         """A key of the menu or of a one-key question (the line closed): True if it is one."""
@@ -369,6 +383,14 @@ class ValModeScreen(Screen[None]):
             return False
         return True
 
+    def action_help(self) -> None:
+        """? (at the menu and its questions) and F1 (everywhere): this screen's keys, then HELP."""
+        self.app.push_screen(HelpScreen(screen="VAL-II MODE", keys=keymap.legend(self)))
+
+    def toggle_model(self) -> None:
+        """F8, the model key of every screen."""
+        self.action_model()
+
     def action_transcript(self, direction: int) -> None:
         """SHIFT+UP / SHIFT+DOWN: the transcript a page back or on (the next line written
         scrolls it to the end again)."""
@@ -413,7 +435,7 @@ class ValModeScreen(Screen[None]):
 
     def action_escape(self) -> None:
         """ESC: cancel the innermost prompt and show the VAL-II menu; on the menu, MAIN."""
-        if self.model_only:
+        if self.model_only and not self._model_for_motion:  # a motion's model: ESC aborts it
             self.remove_class("model-only")
         elif self.mode == Mode.MENU:
             self.dismiss(None)
@@ -495,7 +517,17 @@ class ValModeScreen(Screen[None]):
         self._keys(RUNNING_KEYS)
 
     def show_scene(self) -> None:
+        if self.has_class("narrow") and not self.model_only and self.mode == Mode.RUNNING:
+            self.add_class("model-only")  # 80x24: the robot is on screen whenever it moves
+            self._model_for_motion = True
+            self.query_one(ModelView).call_after_refresh(self._fit)
         self.redraw()
+
+    def _text_after_motion(self) -> None:
+        """The text again once what moved the robot has ended or paused (80x24)."""
+        if self._model_for_motion:
+            self._model_for_motion = False
+            self.remove_class("model-only")
 
     def show_lines(self, lines: list[str]) -> None:
         if not lines:
@@ -514,6 +546,7 @@ class ValModeScreen(Screen[None]):
         return False
 
     def paused(self, pause: Pause) -> None:
+        self._text_after_motion()
         self._keys(f"PAUSED: TYPE COMMANDS, ESC TO ABORT  {PAUSED_KEYS}")
         self._open_line(Mode.PAUSED, "PAUSED .", self._typed())
         self._pause = pause
@@ -526,6 +559,7 @@ class ValModeScreen(Screen[None]):
         self.query_one(DebugPanel).show_pause(pause.program, pause.step, listing, debugger.watched())
 
     def played(self, aborted: bool) -> None:
+        self._text_after_motion()
         self._pause = None
         self.query_one(DebugPanel).hide()
         self.redraw()
@@ -551,6 +585,8 @@ class ValModeScreen(Screen[None]):
                 self.show_lines(lines)
             elif command == "EDIT":
                 self.app.push_screen(EditorScreen(workspace, argument))
+            elif command == "POINT" and "," in argument:  # the one-line form: defined now
+                self._after_run = lambda: self._define_point(argument)
             elif command == "POINT":
                 self._after_run = lambda: self._open_line(Mode.POINT, "POINT", f"{argument}, " if argument else "",
                                                           "NAME, X, Y, Z, O, A, T")
@@ -617,24 +653,11 @@ class ValModeScreen(Screen[None]):
 
     def _define_point(self, typed: str) -> None:
         """POINT typed in by hand: NAME, X, Y, Z, O, A, T."""
-        parts = [p for p in typed.replace(",", " ").split()]
         try:
-            if len(parts) != 7:
-                raise Refusal("TYPE: NAME, X, Y, Z, O, A, T (SIX NUMBERS)")
-            name = check_location_name(parts[0])
-            numbers = [_number(p) for p in parts[1:]]
+            name = define_point(self.session, typed)
         except ValtermError as error:
             self.log_line(f"*** {problem_text(error)}")
             self._open_line(Mode.POINT, "POINT", typed, "NAME, X, Y, Z, O, A, T")
             return
-        x, y, z, o, a, t = numbers
-        self.session.define_location(name, Location((x, y, z), (o, a, t)))
         self.log_line(f"POINT {name} DEFINED")
         self.to_command()
-
-
-def _number(text: str) -> float:
-    try:
-        return float(text)
-    except ValueError:  # float()'s refusal of a word
-        raise Refusal(f"{text} IS NOT A NUMBER") from None

@@ -4,7 +4,8 @@ screen that asks a typed answer keeps its keys (the focused input takes them fir
 
 Arrows orbit, + / - (or PAGE UP / PAGE DOWN) zoom, F2 cycles the iso / side / front / top
 views, F3 frames the whole cell, F4 follows the clamp, F5 shows or hides the tool-path
-trace, F6 / F7 (or < / >) make the playback slower / faster (HELP topic VIEW). KEYBOARD's ORIENT takes the
+trace, F6 / F7 (or < / >) make the playback slower / faster, F8 shows the model alone or the
+menu again (HELP topic VIEW). KEYBOARD's ORIENT takes the
 arrows and + / - itself while it is on (the screen stops those keys), as the thesis has it.
 The view never changes world data.
 """
@@ -30,6 +31,7 @@ VIEW_BINDINGS = [
     Binding("f5", "toggle_trace", "Tool path", show=False, id="view.trace"),
     Binding("f6,less_than_sign", "pace(1)", "Slower", show=False, id="view.slower"),
     Binding("f7,greater_than_sign", "pace(-1)", "Faster", show=False, id="view.faster"),
+    Binding("f8", "toggle_model", "The model alone / the menu again", show=False, id="view.model"),
 ]
 
 # every key bound above (VAL-II mode lets them through to the app)
@@ -48,7 +50,13 @@ class ViewActions:
         """View keys count only where a model is shown (else the key goes on as usual)."""
         if action in {"orbit", "zoom", "next_view", "frame_all", "follow_clamp", "toggle_trace"}:
             return bool(self._model_views()) and getattr(self, "session", None) is not None
+        if action == "toggle_model":
+            return callable(getattr(self.screen, "toggle_model", None))  # type: ignore[attr-defined]
         return True
+
+    def action_toggle_model(self) -> None:
+        """F8: the model alone, or the menu (the text) again, on every screen with a model."""
+        self.screen.toggle_model()  # type: ignore[attr-defined]
 
     def _redraw_views(self) -> None:
         for view in self._model_views():

@@ -15,7 +15,7 @@ from textual.widgets import Static
 
 from valterm.core.text.transcript import watched_value
 
-PAUSED_KEYS = "F5 PROCEED  F7 XSTEP  F8 SSTEP  CTRL-C ABORT"
+PAUSED_KEYS = "^P PROCEED  ^O XSTEP  ^S SSTEP  CTRL-C ABORT"
 
 
 class DebugPanel(Static):

@@ -36,6 +36,15 @@ class MessageLog(Static):
         """A key was pressed: the next message replaces what is shown."""
         self._fresh = True
 
+    def end_turn(self) -> None:
+        """A motion or a command ended having said nothing: the last key's refusals go (an old
+        MOTION REFUSED must not stand beside a move that was made); warnings such as a
+        collision that goes on stay, as they are said once."""
+        if self._fresh:
+            self.lines = [(line, level) for line, level in self.lines
+                          if level != "error" and not line.startswith(("MOTION REFUSED", "***"))]
+            self._show()
+
     def say(self, line: str, level: str = "info") -> None:
         if self._fresh:
             self.lines = []
@@ -61,3 +70,6 @@ class MessageLog(Static):
                 text.append("\n")
             text.append(line, style="bold yellow" if level == "warning" else ("bold red" if level == "error" else ""))
         self.update(text)
+        # said while the screen is being shown (mount, resume), the new height would be lost:
+        # the lines are laid out again once that refresh is done (no message is cut)
+        self.call_after_refresh(self.refresh, layout=True)

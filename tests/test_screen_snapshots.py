@@ -1,0 +1,43 @@
+"""Snapshots of every screen at 80x24 and 160x50 (issue 27): START, MAIN, KEYBOARD, PENDANT,
+MANIPULATION, VAL-II mode (menu and line), EDITOR, HELP and the I/O panel.
+
+Regenerate with ``pytest tests/test_screen_snapshots.py --snapshot-update`` after a
+deliberate change of a screen. No motion plays and no cursor blinks when the picture is
+taken; the workspace is the test's own (no path of it is shown).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from app_helpers import make_app
+from textual.widgets import Input
+
+SIZES = [(80, 24), (160, 50)]
+SCREENS = {
+    "start": [],
+    "main": [],
+    "keyboard": ["K"],
+    "pendant": ["P"],
+    "manipulation": ["M", "1", "enter"],
+    "valmode-menu": ["V"],
+    "valmode-line": ["V", "V", *"WHERE", "enter"],
+    "editor": ["E", *"TEST", "enter"],
+    "help": ["question_mark"],
+    "io-panel": ["V", "V", "f10"],
+}
+
+
+@pytest.mark.parametrize("size", SIZES, ids=lambda s: f"{s[0]}x{s[1]}")
+@pytest.mark.parametrize("screen", list(SCREENS))
+def test_screen_snapshot(snap_compare, tmp_path: Path, screen: str, size: tuple[int, int]) -> None:  # type: ignore[no-untyped-def]
+    app = make_app(tmp_path / "ws", start=screen == "start")
+
+    async def still(pilot) -> None:  # type: ignore[no-untyped-def]
+        await pilot.pause()
+        for field in app.screen.query(Input):
+            field.cursor_blink = False
+        await pilot.pause()
+
+    assert snap_compare(app, press=SCREENS[screen], terminal_size=size, run_before=still)

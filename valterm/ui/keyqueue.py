@@ -1,0 +1,111 @@
+"""No key is ever dropped (issue 27): keys typed while the app is busy wait here, in order.
+
+The app is busy while a motion is drawn (the player paces poses), while the screen on top
+is still being mounted (a screen change), and until the key handed on last has been
+handled by the node it went to (a key that closes a screen is done before the next key
+picks its screen). A key typed then is queued and handed on, one at a time, once the app
+is free again. CTRL-C never waits: it is how a motion or a program is stopped; nor does
+ESC when no key waits before it (it cancels what moves where a screen says so).
+
+The app calls ``take`` for every key it receives; a key it returns False for is the
+app's to hand on now (``handing_on`` marks the node it went to).
+"""
+
+from __future__ import annotations
+
+import asyncio
+import time
+from collections import deque
+from collections.abc import Callable
+from typing import Any
+
+from textual import events
+from textual.app import App
+from textual.message_pump import MessagePump
+
+IMMEDIATE = frozenset({"ctrl+c"})  # keys that never wait
+CANCEL = "escape"  # waits only behind other keys
+KEPT = 10_000       # keys kept waiting at most (a cat on the keyboard during a long program)
+POLL = 0.01         # seconds between looks at a busy app
+HANDLED_LIMIT = 5.0  # seconds a key may take to be handled before the next goes anyway
+QUEUED = "_valterm_queued"  # set on a key handed on from the queue
+
+
+class KeyQueue:
+    """The keys typed while the app was busy, handed on in order when it is free."""
+
+    def __init__(self, app: App[Any], drawing: Callable[[], bool]) -> None:
+        self.app = app
+        self.drawing = drawing  # a motion is being drawn (the app's player)
+        self.keys: deque[events.Key] = deque(maxlen=KEPT)
+        self._pending: MessagePump | None = None  # the node the last key went to, until handled
+        self._pending_since = 0.0
+        self._draining = False
+
+    def __len__(self) -> int:
+        return len(self.keys)
+
+    @property
+    def busy(self) -> bool:
+        """A motion is drawn, a screen is being mounted, or the last key is not yet handled."""
+        return self.drawing() or self.changing
+
+    @property
+    def changing(self) -> bool:
+        """A screen is being mounted, or the last key handed on is not yet handled."""
+        app = self.app
+        try:
+            screen = app.screen
+        except Exception:  # no screen yet (starting) or any more (closing)
+            return True
+        if not screen.is_mounted:
+            return True
+        pending = self._pending
+        if pending is not None:
+            if pending.is_attached and time.monotonic() - self._pending_since < HANDLED_LIMIT:
+                return True
+            self._pending = None
+        return False
+
+    def take(self, event: events.Key) -> bool:
+        """True when ``event`` waits (the app must not hand it on now)."""
+        if getattr(event, QUEUED, False) or event.key in IMMEDIATE:
+            return False
+        if not self.keys and not (self.changing if event.key == CANCEL else self.busy):
+            return False
+        self.keys.append(event)
+        if not self._draining:
+            self._draining = True
+            self.app.run_worker(self._drain(), name="type-ahead", group="keys", exit_on_error=False)
+        return True
+
+    def handing_on(self, target: MessagePump) -> None:
+        """The app hands a key to ``target``: busy until ``target`` has handled it."""
+        self._pending, self._pending_since = target, time.monotonic()
+
+        def handled() -> None:
+            if self._pending is target:
+                self._pending = None
+
+        if not target.call_later(handled):
+            self._pending = None
+
+    def clear(self) -> None:
+        self.keys.clear()
+
+    async def _drain(self) -> None:
+        try:
+            while self.keys:
+                while self.busy and self.app.is_running:
+                    await asyncio.sleep(POLL)
+                if not self.keys or not self.app.is_running:
+                    break
+                event = self.keys.popleft()
+                again = events.Key(event.key, event.character)
+                again.__dict__.update({k: v for k, v in event.__dict__.items() if k.startswith("_valterm")})
+                setattr(again, QUEUED, True)
+                again.set_sender(self.app)
+                self._pending, self._pending_since = self.app, time.monotonic()  # until the app forwards it
+                self.app.post_message(again)
+        finally:
+            self._draining = False

@@ -1,0 +1,28 @@
+"""Any exception escaping a screen's handler leaves the app running (issue 27 item 4).
+
+Textual ends a node's message loop, and then the app, on the first exception a handler
+raises. A guarded screen hands it to the app's ``survive`` instead: the crash log gets the
+traceback, the screen on top gets the one line naming the log, and the session, the
+unsaved set-up and the editor's journal stay as they were.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from textual.message import Message
+
+
+class Guarded:
+    """Mixed into every screen class before ``Screen``."""
+
+    app: Any
+
+    async def _dispatch_message(self, message: Message) -> None:
+        try:
+            await super()._dispatch_message(message)  # type: ignore[misc]
+        except Exception as error:
+            survive = getattr(self.app, "survive", None)
+            if survive is None:
+                raise
+            survive(error)
