@@ -26,7 +26,7 @@ from typing import TYPE_CHECKING, Collection, Literal, Sequence
 import numpy as np
 
 from valterm.core.cell.polyhedron import Polyhedron
-from valterm.core.collision.thesis import (Layout, Scene, check_pairs, face_planes, figures, largest_of_xyz,
+from valterm.core.collision.thesis import (EPS, Layout, Scene, check_pairs, face_planes, figures, largest_of_xyz,
                                            layout, margin)
 from valterm.core.collision.world import CollisionWorld, Finding, _Pairs
 
@@ -75,9 +75,10 @@ class RobotScene:
         self._parts: tuple[np.ndarray, ...] | None = None   # the part arrays the cache was built from
         self._carried: tuple[int, ...] = ()
         self._thin: dict[int, tuple[np.ndarray, float]] = {}
-        self._placed: list[tuple[np.ndarray, np.ndarray]] = []
+        self._pairs_now: _Pairs | None = None       # the pairs of the last ``check``
+        # the bodies' boxes at the pose ``swept`` last saw: (pose, parts, carried, mid, half)
+        self._ends: tuple[object, object, object, np.ndarray, np.ndarray] | None = None
         self._planes_due: tuple[np.ndarray, np.ndarray] | None = None   # frames whose planes are not set yet
-        self._thin_all: tuple[object, float] | None = None
 
     # -- what is built once ----------------------------------------------------------------
     def set_shapes(self, local: Sequence[np.ndarray]) -> None:
@@ -164,7 +165,6 @@ class RobotScene:
         stacked = _stacked(frames[: self._n_frames])
         placed = self._place(stacked)
         v[: self._nl_rows] = placed
-        self._placed = [(frames, placed), *self._placed[:1]]   # the last two poses, for substeps
         # a link's centre, radius and face planes move with its frame: no pass over its vertices
         s.centres[:nl] = (self._local_centres @ stacked).take(self._centre_pick)
         self._planes_due = (frames, stacked)       # the face planes follow when a fine check asks
@@ -207,13 +207,17 @@ class RobotScene:
         return np.flatnonzero(largest_of_xyz(gap) <= 0.0)
 
     def check(self, frames: np.ndarray, objects: Sequence[Polyhedron], carried: Collection[int] = (),
-              speed: float = 100.0) -> list[Finding]:
-        """One motion step: findings for the links at ``frames`` (links, 4, 4) and the parts."""
+              speed: float = 100.0, only: np.ndarray | None = None) -> list[Finding]:
+        """One motion step: findings for the links at ``frames`` (links, 4, 4) and the parts.
+
+        ``only``: positions among the step's pairs to check, the others known clear (the
+        pairs ``swept`` found at risk between two poses)."""
         held = tuple(sorted(set(carried)))
         if self._parts_changed(objects, held):
             self._rebuild(objects, held)
         world = self.world
         pairs = world.pairs(len(objects), held)
+        self._pairs_now = pairs
         if len(pairs.moving) == 0:
             return []
         movers = self._update(frames)
@@ -224,15 +228,17 @@ class RobotScene:
         grow = margin(speed)
         n_free = len(self._free)
         ruled = len(movers) * n_free                     # rules 1 and 2: movers x free parts
-        if n_free and ruled >= self.broad_phase_from:
+        if only is not None:
+            sel = only
+        elif n_free and ruled >= self.broad_phase_from:
             near = self._candidates(movers, grow)
             sel = np.concatenate([(np.arange(0, ruled, n_free)[:, None] + near).ravel(),
                                   np.arange(ruled, len(pairs.moving))])
-            codes = np.zeros(len(pairs.moving), dtype=np.int8)
-            if len(sel):
-                codes[sel] = check_pairs(self._scene, pairs.moving.take(sel), pairs.stationary.take(sel), grow)
         else:
-            codes = check_pairs(self._scene, pairs.moving, pairs.stationary, grow)
+            return world.findings(pairs, check_pairs(self._scene, pairs.moving, pairs.stationary, grow))
+        codes = np.zeros(len(pairs.moving), dtype=np.int8)
+        if len(sel):
+            codes[sel] = check_pairs(self._scene, pairs.moving.take(sel), pairs.stationary.take(sel), grow)
         return world.findings(pairs, codes)
 
     def _exact_codes(self, frames: np.ndarray, objects: Sequence[Polyhedron], held: tuple[int, ...],
@@ -265,50 +271,107 @@ class RobotScene:
         self._thin[id(p.vertices)] = (p.vertices, w)
         return w
 
-    def _placed_at(self, frames: np.ndarray) -> np.ndarray:
-        for known, placed in self._placed:
-            if known is frames:
-                return placed
-        return self.place(frames)
+    def swept(self, frames: np.ndarray, turned: Sequence[float], objects: Sequence[Polyhedron],
+              since: object = None, now: object = None) -> tuple[np.ndarray, np.ndarray]:
+        """Conservative advancement over the step that ended at ``frames``: the moments between
+        the two poses to check (fractions of the step, none when nothing can be met) and, for
+        each, the pairs to check there (a boolean row over the step's pairs).
 
-    def _thinnest(self, objects: Sequence[Polyhedron]) -> float:
-        """The thinnest free part of the cached set (measured once per set of parts)."""
-        if self._thin_all is None or self._thin_all[0] is not self._parts:
-            held = set(self._carried)
-            widths = [self._width(p) for n, p in enumerate(objects, 1) if n not in held]
-            self._thin_all = (self._parts, min(widths, default=math.inf))
-        return self._thin_all[1]
-
-    def substeps(self, before: np.ndarray, after: np.ndarray, objects: Sequence[Polyhedron],
-                 carried: Collection[int] = ()) -> int:
-        """How many checks the step between link frames ``before`` and ``after`` needs.
-
-        No link vertex may move by more than the width of the thinnest part near its path
-        between two checks, or the step could pass through the part with both poses clear.
-        Call after ``check`` at ``after`` (it uses the parts' boxes cached there).
+        ``turned``: each joint's turn over the step (radians, JT1..JT6). With the joints
+        moving linearly, a point of a body carried by frame k moves at most
+        sum over j <= k of |turn j| x (its distance from joint j's origin), that distance
+        bounded from where it is now and from the chain's fixed lengths. A box holding a body
+        moves no more than its points, and the fine test finds a collision only where the two
+        boxes meet: with the boxes ``g0`` apart at the start and ``g1`` at the end, and ``b``
+        the most both can move, they can meet only from ``g0 / b`` to ``1 - g1 / b`` of the
+        step, and never when ``g0 + g1 > b``. Those pairs are checked at moments no farther
+        apart than the thinnest part among them (for collisions: "near" is said at the poses,
+        as in 1985). ``since`` and ``now`` name the two poses (the boxes at ``since`` are
+        those kept by the last call, when it was given ``now=since``; else ``g0`` is 0).
+        Call after ``check`` at ``frames`` (it uses the figures placed there).
         """
-        a, b = self._placed_at(before), self._placed_at(after)
-        moved = b - a
-        moved *= moved                                   # squared lengths by a matmul: no einsum
-        distance = math.sqrt(float((moved @ _ONES3).max())) if len(moved) else 0.0
-        if distance == 0.0 or self._parts is None or distance <= self._thinnest(objects):
-            return 1
-        held = set(carried)
-        numbers = [n for n in range(1, len(objects) + 1) if n not in held]
-        # the parts whose box meets the box of the path (grown by the step: joint paths bulge)
-        lo = np.minimum(a.min(axis=0), b.min(axis=0)) - distance
-        hi = np.maximum(a.max(axis=0), b.max(axis=0)) + distance
-        s, nl = self._scene, len(self._link_ks)
-        idx = np.asarray(numbers, dtype=np.intp) + nl - 1
-        box_lo, box_hi = s.mid[idx] - s.half[idx], s.mid[idx] + s.half[idx]
-        meet = np.flatnonzero(largest_of_xyz(np.maximum(box_lo - hi, lo - box_hi)) <= 0.0)
-        thin = min((self._width(objects[numbers[i] - 1]) for i in meet.tolist()), default=math.inf)
-        if distance <= thin:
-            return 1
-        return int(math.ceil(distance / max(thin, 1.0)))
+        pairs, s = self._pairs_now, self._scene
+        kept, self._ends = self._ends, None
+        never = np.zeros(0), np.zeros((0, 0), dtype=bool)
+        if pairs is None or self.checker == "exact" or len(pairs.moving) == 0:
+            return never
+        if now is not None:
+            self._ends = (now, self._parts, self._carried, s.mid.copy(), s.half.copy())
+        if not any(turned):
+            return never
+        movers = self._movers
+        bound = np.zeros(len(s.radii))
+        bound[movers] = self._sweep_bounds(frames, np.abs(np.asarray(turned, dtype=float)))
+        n_free = len(self._free)
+        ruled = len(movers) * n_free
+        if n_free and ruled >= self.broad_phase_from:
+            near = self._candidates(movers, float(bound.max()))
+            sel = np.concatenate([(np.arange(0, ruled, n_free)[:, None] + near).ravel(),
+                                  np.arange(ruled, len(pairs.moving))])
+        else:
+            sel = np.arange(len(pairs.moving))
+        m, st = pairs.moving.take(sel), pairs.stationary.take(sel)
+        reach = bound.take(m) + bound.take(st) + 2.0 * EPS
+        after = _box_gaps(s.mid, s.half, m, st)
+        before = np.zeros(len(sel))
+        if since is not None and kept is not None and kept[0] == since and kept[1] is self._parts \
+                and kept[2] == self._carried:
+            before = _box_gaps(kept[3], kept[4], m, st)
+        # link x link pairs set no moments (they are checked where parts are)
+        risky = np.flatnonzero((before + after <= reach) & (sel < ruled))
+        if len(risky) == 0:
+            return never
+        pick = sel.take(risky)
+        widths = np.maximum(self._widths(objects, pairs.stationary.take(pick)), 1.0)
+        steps = int(math.ceil(float((bound.take(m.take(risky)) / widths).max())))
+        if steps <= 1:
+            return never
+        moments = np.arange(1, steps) / steps
+        start = (before - 2.0 * EPS) / reach
+        end = 1.0 - (after - 2.0 * EPS) / reach
+        # every pair that can meet now, link x link ones included, within its window
+        live = (start[None, :] <= moments[:, None]) & (moments[:, None] <= end[None, :])
+        rows = np.zeros((len(moments), len(pairs.moving)), dtype=bool)
+        rows[:, sel] = live & (before + after <= reach)[None, :]
+        used = rows.any(axis=1)
+        return moments[used], rows[used]
+
+    def _sweep_bounds(self, frames: np.ndarray, turned: np.ndarray) -> np.ndarray:
+        """How far any point of each moving body can travel over a step of these joint turns."""
+        s, movers = self._scene, self._movers
+        nl = len(self._link_ks)
+        owner = np.concatenate([self.owners, np.full(len(movers) - nl, self._n_frames - 1)])
+        origins = frames[1: self._n_frames, :3, 3]       # joint j turns about an axis through frame j's origin
+        d = s.centres.take(movers, axis=0)[:, None, :] - origins[None]
+        reach = np.sqrt(np.einsum("mjk,mjk->mj", d, d)) + s.radii.take(movers)[:, None]    # (movers, joints)
+        links = origins[1:] - origins[:-1]
+        chain = np.concatenate([[0.0], np.cumsum(np.sqrt(np.einsum("jk,jk->j", links, links)))])
+        last = np.maximum(owner - 1, 0)
+        # a fixed bound on the distance from joint j: the chain from j to the body's own frame,
+        # then the body's reach from that frame's origin (both kept by the motion)
+        fixed = chain[last][:, None] - chain[None, :] + reach[np.arange(len(movers)), last][:, None]
+        w = turned[None, : len(chain)] * (np.arange(len(chain))[None, :] < owner[:, None])
+        far = w * fixed
+        # the distance from joint j now, grown by how far the joints after j can carry the body
+        later = np.cumsum(far[:, ::-1], axis=1)[:, ::-1] - far
+        travel: np.ndarray = (w * np.minimum(fixed, reach + later)).sum(axis=1)
+        return travel
+
+    def _widths(self, objects: Sequence[Polyhedron], idx: np.ndarray) -> np.ndarray:
+        """The thinnest widths of the scene's parts at indices ``idx``."""
+        nl = len(self._link_ks)
+        parts, back = np.unique(idx, return_inverse=True)
+        widths = np.array([self._width(objects[i - nl]) for i in parts.tolist()])
+        found: np.ndarray = widths[back]
+        return found
 
 
-_ONES3 = np.ones(3)
+
+def _box_gaps(mid: np.ndarray, half: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """How far apart the boxes of bodies a[i] and b[i] are (their largest gap on an axis)."""
+    gap = np.abs(mid.take(a, axis=0) - mid.take(b, axis=0))
+    gap -= half.take(a, axis=0) + half.take(b, axis=0)
+    return largest_of_xyz(gap)
 
 
 def _stacked(frames: np.ndarray) -> np.ndarray:
