@@ -76,8 +76,11 @@ class RobotScene:
         self._carried: tuple[int, ...] = ()
         self._thin: dict[int, tuple[np.ndarray, float]] = {}
         self._pairs_now: _Pairs | None = None       # the pairs of the last ``check``
-        # the bodies' boxes at the pose ``swept`` last saw: (pose, parts, carried, mid, half)
-        self._ends: tuple[object, object, object, np.ndarray, np.ndarray] | None = None
+        self._gaps_now: np.ndarray | None = None     # their box gaps, when it measured every pair
+        self._every: np.ndarray | None = None
+        self._table: tuple[object, np.ndarray, np.ndarray, np.ndarray] | None = None   # _travel_table's
+        # the pose ``swept`` last saw: (pose, parts, carried, box gaps of every pair, or the boxes)
+        self._ends: tuple[object, object, object, np.ndarray | None, np.ndarray, np.ndarray] | None = None
         self._planes_due: tuple[np.ndarray, np.ndarray] | None = None   # frames whose planes are not set yet
 
     # -- what is built once ----------------------------------------------------------------
@@ -234,8 +237,13 @@ class RobotScene:
             near = self._candidates(movers, grow)
             sel = np.concatenate([(np.arange(0, ruled, n_free)[:, None] + near).ravel(),
                                   np.arange(ruled, len(pairs.moving))])
-        else:
-            return world.findings(pairs, check_pairs(self._scene, pairs.moving, pairs.stationary, grow))
+        else:                      # every pair: their box gaps kept for the swept check
+            gaps = np.empty(len(pairs.moving))
+            codes = check_pairs(self._scene, pairs.moving, pairs.stationary, grow, gaps=gaps)
+            self._gaps_now = gaps
+            return world.findings(pairs, codes)
+        if only is None:
+            self._gaps_now = None
         codes = np.zeros(len(pairs.moving), dtype=np.int8)
         if len(sel):
             codes[sel] = check_pairs(self._scene, pairs.moving.take(sel), pairs.stationary.take(sel), grow)
@@ -295,28 +303,40 @@ class RobotScene:
         never = np.zeros(0), np.zeros((0, 0), dtype=bool)
         if pairs is None or self.checker == "exact" or len(pairs.moving) == 0:
             return never
-        if now is not None:
-            self._ends = (now, self._parts, self._carried, s.mid.copy(), s.half.copy())
+        gaps = self._gaps_now
+        if now is not None:           # the boxes themselves only when the gaps were not all measured
+            self._ends = (now, self._parts, self._carried, gaps,
+                          *((s.mid.copy(), s.half.copy()) if gaps is None else (s.mid, s.half)))
         if not any(turned):
             return never
         movers = self._movers
+        turns = np.abs(np.asarray(turned, dtype=float))
         bound = np.zeros(len(s.radii))
-        bound[movers] = self._sweep_bounds(frames, np.abs(np.asarray(turned, dtype=float)))
+        bound[movers] = self._sweep_bounds(frames, turns, tight=False)
         n_free = len(self._free)
         ruled = len(movers) * n_free
-        if n_free and ruled >= self.broad_phase_from:
+        if gaps is not None:
+            sel, m, st, after = self._all_pairs(pairs), pairs.moving, pairs.stationary, gaps
+        else:
             near = self._candidates(movers, float(bound.max()))
             sel = np.concatenate([(np.arange(0, ruled, n_free)[:, None] + near).ravel(),
                                   np.arange(ruled, len(pairs.moving))])
-        else:
-            sel = np.arange(len(pairs.moving))
-        m, st = pairs.moving.take(sel), pairs.stationary.take(sel)
-        reach = bound.take(m) + bound.take(st) + 2.0 * EPS
-        after = _box_gaps(s.mid, s.half, m, st)
+            m, st = pairs.moving.take(sel), pairs.stationary.take(sel)
+            after = _box_gaps(s.mid, s.half, m, st)
         before = np.zeros(len(sel))
         if since is not None and kept is not None and kept[0] == since and kept[1] is self._parts \
                 and kept[2] == self._carried:
-            before = _box_gaps(kept[3], kept[4], m, st)
+            if kept[3] is None:                       # the boxes were kept (copies)
+                before = _box_gaps(kept[4], kept[5], m, st)
+            elif gaps is not None:
+                before = kept[3]
+        reach = bound.take(m) + bound.take(st) + 2.0 * EPS
+        meet = before + after <= reach
+        meet &= sel < ruled
+        if not meet.any():
+            return never                                # the fixed lengths clear every pair at once
+        bound[movers] = self._sweep_bounds(frames, turns)
+        reach = bound.take(m) + bound.take(st) + 2.0 * EPS
         # link x link pairs set no moments (they are checked where parts are)
         risky = np.flatnonzero((before + after <= reach) & (sel < ruled))
         if len(risky) == 0:
@@ -336,26 +356,58 @@ class RobotScene:
         used = rows.any(axis=1)
         return moments[used], rows[used]
 
-    def _sweep_bounds(self, frames: np.ndarray, turned: np.ndarray) -> np.ndarray:
-        """How far any point of each moving body can travel over a step of these joint turns."""
+    def _all_pairs(self, pairs: _Pairs) -> np.ndarray:
+        """0 .. pairs - 1, kept for the set of pairs."""
+        if self._every is None or len(self._every) != len(pairs.moving):
+            self._every = np.arange(len(pairs.moving))
+        return self._every
+
+    def _sweep_bounds(self, frames: np.ndarray, turned: np.ndarray, tight: bool = True) -> np.ndarray:
+        """How far any point of each moving body can travel over a step of these joint turns.
+
+        ``tight``: the distances from the joints' axes taken from where the bodies are now,
+        grown by how far the later joints can carry them over the step (a few more numpy
+        calls; without it the fixed lengths of ``_travel_table``)."""
+        fixed = self._travel_table(frames)
+        if not tight:
+            loose: np.ndarray = fixed @ turned
+            return loose
+        s, movers = self._scene, self._movers
+        d = s.centres.take(movers, axis=0)[:, None, :] - frames[None, 1: self._n_frames, :3, 3]
+        now = np.sqrt(np.einsum("mjk,mjk->mj", d, d)) + s.radii.take(movers)[:, None]    # (movers, joints)
+        far = fixed * turned
+        later = far @ _LATER                           # what the joints after j add
+        travel: np.ndarray = (np.minimum(far, (now + later) * turned)).sum(axis=1)
+        return travel
+
+    def _travel_table(self, frames: np.ndarray) -> np.ndarray:
+        """(movers, joints): how far a point of each moving body can be from each joint's axis.
+
+        Joint j turns about an axis through frame j's origin; a body carried by frame k is
+        no farther from it than the chain from frame j's origin to frame k's, plus the body's
+        farthest point from frame k's origin: lengths no motion changes (kept per set of
+        bodies; a carried part's measured at each call)."""
         s, movers = self._scene, self._movers
         nl = len(self._link_ks)
-        owner = np.concatenate([self.owners, np.full(len(movers) - nl, self._n_frames - 1)])
-        origins = frames[1: self._n_frames, :3, 3]       # joint j turns about an axis through frame j's origin
-        d = s.centres.take(movers, axis=0)[:, None, :] - origins[None]
-        reach = np.sqrt(np.einsum("mjk,mjk->mj", d, d)) + s.radii.take(movers)[:, None]    # (movers, joints)
-        links = origins[1:] - origins[:-1]
-        chain = np.concatenate([[0.0], np.cumsum(np.sqrt(np.einsum("jk,jk->j", links, links)))])
-        last = np.maximum(owner - 1, 0)
-        # a fixed bound on the distance from joint j: the chain from j to the body's own frame,
-        # then the body's reach from that frame's origin (both kept by the motion)
-        fixed = chain[last][:, None] - chain[None, :] + reach[np.arange(len(movers)), last][:, None]
-        w = turned[None, : len(chain)] * (np.arange(len(chain))[None, :] < owner[:, None])
-        far = w * fixed
-        # the distance from joint j now, grown by how far the joints after j can carry the body
-        later = np.cumsum(far[:, ::-1], axis=1)[:, ::-1] - far
-        travel: np.ndarray = (w * np.minimum(fixed, reach + later)).sum(axis=1)
-        return travel
+        origins = frames[1: self._n_frames, :3, 3]
+        table = self._table
+        if table is None or table[0] is not self._parts:
+            links = origins[1:] - origins[:-1]
+            chain = np.concatenate([[0.0], np.cumsum(np.sqrt(np.einsum("jk,jk->j", links, links)))])
+            owner = np.concatenate([self.owners, np.full(len(movers) - nl, self._n_frames - 1)])
+            mask = np.arange(len(chain))[None, :] < owner[:, None]
+            last = np.maximum(owner - 1, 0)
+            starts = np.concatenate([[0], np.cumsum([2 * k for k in self._link_ks])[:-1]]).astype(np.intp)
+            own = np.sqrt(np.maximum.reduceat(np.einsum("ij,ij->i", self._local, self._local), starts))
+            table = self._table = (self._parts, np.where(mask, chain[last][:, None] - chain[None, :], 0.0),
+                                   mask, own)
+        _, chain_part, mask, far = table
+        if len(movers) > nl:         # carried parts: their farthest point from the clamp frame's origin
+            d = s.vertices[self._held_rows] - origins[-1]
+            held = np.sqrt(np.maximum.reduceat(np.einsum("ij,ij->i", d, d), self._held_starts))
+            far = np.concatenate([far, held])
+        reach: np.ndarray = chain_part + far[:, None] * mask
+        return reach
 
     def _widths(self, objects: Sequence[Polyhedron], idx: np.ndarray) -> np.ndarray:
         """The thinnest widths of the scene's parts at indices ``idx``."""
@@ -365,6 +417,10 @@ class RobotScene:
         found: np.ndarray = widths[back]
         return found
 
+
+
+# x @ _LATER sums, for each joint, the columns of the joints after it
+_LATER = np.tril(np.ones((6, 6)), -1)
 
 
 def _box_gaps(mid: np.ndarray, half: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
