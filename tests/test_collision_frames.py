@@ -155,16 +155,16 @@ def test_a_far_part_costs_no_substep_checks():
     sim.collision_checks = True
     scene = sim._collision_scene()
     calls = []
-    check = scene.check
-    scene.check = lambda *a, **k: calls.append(1) or check(*a, **k)  # type: ignore[method-assign]
+    between = scene.collisions_between
+    scene.collisions_between = lambda *a, **k: calls.append(1) or between(*a, **k)  # type: ignore[method-assign]
     poses = sum(type(e).__name__ == "PoseEvent" for e in sim.drive(1, 90.0))
-    assert poses >= 5 and len(calls) == poses
+    assert poses >= 5 and len(calls) == 0
     # the same plate across the fingers' path: substeps, and the finger is found in it
     sim.joints = list(ARM_OUT)
     sim.cell.objects[0] = _plate_across_the_fingers(sim, 45.0, width=2.0)
     calls.clear()
     events = list(sim.drive(1, 90.0))
-    assert len(calls) > poses
+    assert len(calls) > 0
     assert "FINGER COLLIDES WITH 1" in [e.text for e in events if isinstance(e, Collision)]
 
 

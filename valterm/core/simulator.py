@@ -448,9 +448,8 @@ class Simulator:
             for t, row in zip(moments.tolist(), rows):
                 self.joints = [float(v) for v in q0 + (q1 - q0) * t]
                 self._follow_clamp()
-                found += [f for f in scene.check(self.model.link_frames(self.joints, self.base),
-                                                 self.cell.objects, carried, self.speed, only=np.flatnonzero(row))
-                          if f.kind == "collides"]
+                found += scene.collisions_between(self.model.link_frames(self.joints, self.base),
+                                                  self.cell.objects, np.flatnonzero(row), self.speed)
         finally:
             if len(moments):
                 self.joints = here

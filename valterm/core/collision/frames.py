@@ -26,8 +26,8 @@ from typing import TYPE_CHECKING, Collection, Literal, Sequence
 import numpy as np
 
 from valterm.core.cell.polyhedron import Polyhedron
-from valterm.core.collision.thesis import (EPS, Layout, Scene, check_pairs, face_planes, figures, largest_of_xyz,
-                                           layout, margin)
+from valterm.core.collision.thesis import (CLEAR, COLLIDES, EPS, Layout, Scene, check_pairs, face_planes, figures,
+                                           largest_of_xyz, layout, margin)
 from valterm.core.collision.world import CollisionWorld, Finding, _Pairs
 
 if TYPE_CHECKING:
@@ -78,6 +78,7 @@ class RobotScene:
         self._pairs_now: _Pairs | None = None       # the pairs of the last ``check``
         self._gaps_now: np.ndarray | None = None     # their box gaps, when it measured every pair
         self._every: np.ndarray | None = None
+        self._part_widths: tuple[object, np.ndarray] | None = None
         self._table: tuple[object, np.ndarray, np.ndarray, np.ndarray] | None = None   # _travel_table's
         # the pose ``swept`` last saw: (pose, parts, carried, box gaps of every pair, or the boxes)
         self._ends: tuple[object, object, object, np.ndarray | None, np.ndarray, np.ndarray] | None = None
@@ -144,7 +145,7 @@ class RobotScene:
         parts = self._parts
         if parts is None or carried != self._carried or len(parts) != len(objects):
             return True
-        now = [p.vertices for p in objects]
+        now = list(map(_VERTICES, objects))
         for c in carried:              # a carried part moves every pose: not part of the cache
             now[c - 1] = parts[c - 1]
         return not all(map(operator.is_, parts, now))
@@ -210,11 +211,8 @@ class RobotScene:
         return np.flatnonzero(largest_of_xyz(gap) <= 0.0)
 
     def check(self, frames: np.ndarray, objects: Sequence[Polyhedron], carried: Collection[int] = (),
-              speed: float = 100.0, only: np.ndarray | None = None) -> list[Finding]:
-        """One motion step: findings for the links at ``frames`` (links, 4, 4) and the parts.
-
-        ``only``: positions among the step's pairs to check, the others known clear (the
-        pairs ``swept`` found at risk between two poses)."""
+              speed: float = 100.0) -> list[Finding]:
+        """One motion step: findings for the links at ``frames`` (links, 4, 4) and the parts."""
         held = tuple(sorted(set(carried)))
         if self._parts_changed(objects, held):
             self._rebuild(objects, held)
@@ -231,9 +229,7 @@ class RobotScene:
         grow = margin(speed)
         n_free = len(self._free)
         ruled = len(movers) * n_free                     # rules 1 and 2: movers x free parts
-        if only is not None:
-            sel = only
-        elif n_free and ruled >= self.broad_phase_from:
+        if n_free and ruled >= self.broad_phase_from:
             near = self._candidates(movers, grow)
             sel = np.concatenate([(np.arange(0, ruled, n_free)[:, None] + near).ravel(),
                                   np.arange(ruled, len(pairs.moving))])
@@ -242,12 +238,26 @@ class RobotScene:
             codes = check_pairs(self._scene, pairs.moving, pairs.stationary, grow, gaps=gaps)
             self._gaps_now = gaps
             return world.findings(pairs, codes)
-        if only is None:
-            self._gaps_now = None
+        self._gaps_now = None
         codes = np.zeros(len(pairs.moving), dtype=np.int8)
         if len(sel):
             codes[sel] = check_pairs(self._scene, pairs.moving.take(sel), pairs.stationary.take(sel), grow)
         return world.findings(pairs, codes)
+
+    def collisions_between(self, frames: np.ndarray, objects: Sequence[Polyhedron], only: np.ndarray,
+                           speed: float = 100.0) -> list[Finding]:
+        """The collisions of the pairs at positions ``only`` (``swept``'s, at one of its moments)
+        with the links at ``frames``: the parts are those of the last ``check``, a carried one
+        moved with the hand."""
+        pairs = self._pairs_now
+        assert pairs is not None
+        self._update(frames)
+        if self._carried:
+            self._place_carried(objects)
+        codes = np.zeros(len(pairs.moving), dtype=np.int8)
+        codes[only] = check_pairs(self._scene, pairs.moving.take(only), pairs.stationary.take(only), margin(speed))
+        codes[codes != COLLIDES] = CLEAR
+        return self.world.findings(pairs, codes)
 
     def _exact_codes(self, frames: np.ndarray, objects: Sequence[Polyhedron], held: tuple[int, ...],
                      pairs: _Pairs) -> np.ndarray:
@@ -294,7 +304,7 @@ class RobotScene:
         the most both can move, they can meet only from ``g0 / b`` to ``1 - g1 / b`` of the
         step, and never when ``g0 + g1 > b``. Those pairs are checked at moments no farther
         apart than the thinnest part among them (for collisions: "near" is said at the poses,
-        as in 1985). ``since`` and ``now`` name the two poses (the boxes at ``since`` are
+        as in 1985; link x link pairs are not swept, no link being a thin part). ``since`` and ``now`` name the two poses (the boxes at ``since`` are
         those kept by the last call, when it was given ``now=since``; else ``g0`` is 0).
         Call after ``check`` at ``frames`` (it uses the figures placed there).
         """
@@ -332,29 +342,29 @@ class RobotScene:
                 before = kept[3]
         reach = bound.take(m) + bound.take(st) + 2.0 * EPS
         meet = before + after <= reach
-        meet &= sel < ruled
-        if not meet.any():
+        meet &= sel < ruled                  # the parts: links are no thin parts, link x link is not swept
+        cand = np.flatnonzero(meet)
+        if len(cand) == 0:
             return never                                # the fixed lengths clear every pair at once
         bound[movers] = self._sweep_bounds(frames, turns)
-        reach = bound.take(m) + bound.take(st) + 2.0 * EPS
-        # link x link pairs set no moments (they are checked where parts are)
-        risky = np.flatnonzero((before + after <= reach) & (sel < ruled))
-        if len(risky) == 0:
+        moved = bound.take(m.take(cand))                # a free part does not move
+        reach = moved + 2.0 * EPS
+        b0, b1 = before.take(cand), after.take(cand)
+        keep = b0 + b1 <= reach
+        if not keep.any():
             return never
-        pick = sel.take(risky)
-        widths = np.maximum(self._widths(objects, pairs.stationary.take(pick)), 1.0)
-        steps = int(math.ceil(float((bound.take(m.take(risky)) / widths).max())))
+        cand, moved, reach, b0, b1 = cand[keep], moved[keep], reach[keep], b0[keep], b1[keep]
+        widths = np.maximum(self._widths(objects, st.take(cand)), 1.0)
+        steps = int(math.ceil(float((moved / widths).max())))
         if steps <= 1:
             return never
         moments = np.arange(1, steps) / steps
-        start = (before - 2.0 * EPS) / reach
-        end = 1.0 - (after - 2.0 * EPS) / reach
-        # every pair that can meet now, link x link ones included, within its window
-        live = (start[None, :] <= moments[:, None]) & (moments[:, None] <= end[None, :])
-        rows = np.zeros((len(moments), len(pairs.moving)), dtype=bool)
-        rows[:, sel] = live & (before + after <= reach)[None, :]
-        used = rows.any(axis=1)
-        return moments[used], rows[used]
+        # each pair only where its boxes can meet: from b0 / reach to 1 - b1 / reach of the step
+        live = ((b0 - 2.0 * EPS) / reach <= moments[:, None]) & (moments[:, None] <= 1.0 - (b1 - 2.0 * EPS) / reach)
+        used = live.any(axis=1)
+        rows = np.zeros((int(used.sum()), len(pairs.moving)), dtype=bool)
+        rows[:, sel.take(cand)] = live[used]
+        return moments[used], rows
 
     def _all_pairs(self, pairs: _Pairs) -> np.ndarray:
         """0 .. pairs - 1, kept for the set of pairs."""
@@ -412,12 +422,21 @@ class RobotScene:
     def _widths(self, objects: Sequence[Polyhedron], idx: np.ndarray) -> np.ndarray:
         """The thinnest widths of the scene's parts at indices ``idx``."""
         nl = len(self._link_ks)
-        parts, back = np.unique(idx, return_inverse=True)
-        widths = np.array([self._width(objects[i - nl]) for i in parts.tolist()])
-        found: np.ndarray = widths[back]
+        kept = self._part_widths
+        if kept is None or kept[0] is not self._parts:       # measured once per set of parts
+            kept = self._part_widths = (self._parts, np.full(len(self._scene.radii), np.nan))
+        widths = kept[1]
+        found: np.ndarray = widths.take(idx)
+        missing = np.isnan(found)
+        if missing.any():
+            for i in np.unique(idx[missing]).tolist():
+                widths[i] = self._width(objects[i - nl])
+            found = widths.take(idx)
         return found
 
 
+
+_VERTICES = operator.attrgetter("vertices")
 
 # x @ _LATER sums, for each joint, the columns of the joints after it
 _LATER = np.tril(np.ones((6, 6)), -1)
