@@ -7,6 +7,7 @@ world Z axis, so fcl re-places every link each step) and the whole scene is chec
 
 from __future__ import annotations
 
+import math
 import time
 from typing import TYPE_CHECKING, Callable, Collection, Sequence
 
@@ -371,3 +372,39 @@ def _poses(goals: np.ndarray, sim: "Simulator") -> list[list[float]]:
         out += [[float(v) for v in pose] for pose in path]
         here = out[-1]
     return out
+
+
+def bench_dense_check(n_parts: int, moves: int = 100, rounds: int = 3) -> dict[str, float]:
+    """µs per pose on ``dense_cell(n_parts)`` along a program of ``moves`` MOVEs: the pose check
+    alone, the pose check with the step before it swept, and plain python-fcl (link frames
+    included) at the same poses; the best of ``rounds``."""
+    from valterm.core.cell.workcell import WorkCell
+    from valterm.core.simulator import Simulator
+
+    parts = dense_cell(n_parts)
+    sim = Simulator(WorkCell(objects=list(parts)))
+    poses = _poses(move_program(moves), sim)
+    frames = [sim.model.link_frames(q) for q in poses]
+    plain = _fcl_plain(frames, sim.model.shapes(sim.gap), sim.model.frames, parts)
+    link_frames = sim.model.link_frames
+
+    def run(swept: bool) -> None:
+        previous = poses[0]
+        for pose in poses:
+            sim.joints = pose
+            for _ in sim.check_collisions(previous if swept else None):
+                pass
+            previous = pose
+
+    def frames_only() -> None:
+        for pose in poses:
+            link_frames(pose)
+
+    best: dict[str, float] = {}
+    for _ in range(rounds):
+        for name, func in (("pose", lambda: run(False)), ("swept", lambda: run(True)), ("fcl", plain),
+                           ("frames", frames_only)):
+            start = time.perf_counter()
+            func()
+            best[name] = min(best.get(name, math.inf), (time.perf_counter() - start) / len(poses) * 1e6)
+    return {"check_us": best["pose"], "swept_us": best["swept"], "fcl_us": best["fcl"] + best["frames"]}

@@ -21,6 +21,9 @@ GOALS: dict[str, tuple[str, float]] = {
     "collision_step_thesis_us": ("<=", 100.0),
     "collision_step_fcl_us": ("<=", 60.0),
     "collision_scaling_exponent": ("<", 1.0),
+    "collision_run_vs_fcl_x_30parts": ("<=", 2.0),
+    "collision_check_vs_fcl_x_100parts": ("<=", 3.0),
+    "collision_check_vs_fcl_x_300parts": ("<=", 3.0),
     "raster_vs_drawille_x": (">=", 50.0),
     "ik_single_us": ("<=", 8.0),
     "ik_batch_poses_per_s": (">=", 2_000_000.0),
@@ -43,6 +46,9 @@ PEERS = {
     "raster_vs_drawille_x": ("drawille_process_ms_200x60", "drawille, ms per frame"),
     "ik_single_us": ("rtb_ikine_a_us", "Robotics Toolbox ikine_a, µs"),
     "collision_scaling_exponent": ("collision_thesis_us_300parts", "µs per pose at 300 parts"),
+    "collision_run_vs_fcl_x_30parts": ("collision_run_fcl_us_30parts", "python-fcl, µs per pose"),
+    "collision_check_vs_fcl_x_100parts": ("collision_check_fcl_us_100parts", "python-fcl, µs per pose"),
+    "collision_check_vs_fcl_x_300parts": ("collision_check_fcl_us_300parts", "python-fcl, µs per pose"),
 }
 
 ROUNDS = 7
@@ -129,6 +135,7 @@ def run_all(app: bool = True) -> dict[str, Any]:
         entries["ik_vs_rtb_x"] = entries["rtb_ikine_a_us"] / entries["ik_single_us"]
     _optional(entries, "interpreter", _interpreter_entries)
     _optional(entries, "collision", _collision_entries)
+    _optional(entries, "collision on a dense cell", _dense_entries)
     _optional(entries, "raster", _raster_entries)
     _optional(entries, "drawille (the bench extra: pip install 'valterm[bench]')", _drawille_entries)
     if app:
@@ -186,6 +193,25 @@ def _collision_entries() -> dict[str, float]:
     entries["collision_step_fcl_polyhedra_us"] = step["fcl_polyhedra_us"]
     entries["collision_step_links"] = step["links"]
     entries["collision_step_moving_bodies"] = step["links"] + step["carried"]
+    return entries
+
+
+def _dense_entries() -> dict[str, float]:
+    """Issue 25: a 600-MOVE program on a dense 30-part cell as ``run --collisions`` pays it, and
+    the pose check on dense 100- and 300-part cells, each against plain python-fcl."""
+    from valterm.bench.collision import bench_dense_check, bench_dense_run
+
+    run = bench_dense_run(30, 600)
+    entries = {"collision_run_us_30parts": run["us_per_pose"], "collision_run_fcl_us_30parts": run["fcl_us_per_pose"],
+               "collision_run_poses_30parts": run["poses"],
+               "collision_run_vs_fcl_x_30parts": run["us_per_pose"] / run["fcl_us_per_pose"]}
+    for n in (100, 300):
+        found = bench_dense_check(n)
+        entries[f"collision_check_us_{n}parts"] = found["check_us"]
+        entries[f"collision_swept_us_{n}parts"] = found["swept_us"]
+        entries[f"collision_check_fcl_us_{n}parts"] = found["fcl_us"]
+        entries[f"collision_check_vs_fcl_x_{n}parts"] = found["check_us"] / found["fcl_us"]
+        entries[f"collision_swept_vs_fcl_x_{n}parts"] = found["swept_us"] / found["fcl_us"]
     return entries
 
 
