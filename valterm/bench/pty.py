@@ -112,6 +112,48 @@ def _spawn(width: int, height: int, workspace: str) -> tuple[int, int]:
     return pid, fd
 
 
+# the peer of the start time: a bare Textual app that shows one line and waits
+BARE_APP = """
+from textual.app import App
+from textual.widgets import Static
+
+class Bare(App):
+    def compose(self):
+        yield Static("MAIN MENU")
+
+Bare().run()
+"""
+
+
+def _spawn_bare(width: int, height: int) -> tuple[int, int]:
+    pid, fd = pty.fork()
+    if pid == 0:
+        fcntl.ioctl(0, termios.TIOCSWINSZ, struct.pack("HHHH", height, width, 0, 0))
+        env = dict(os.environ, TERM="xterm-256color", COLORTERM="truecolor")
+        os.execve(sys.executable, [sys.executable, "-c", BARE_APP], env)
+    return pid, fd
+
+
+def start_times(width: int = 160, height: int = 50, rounds: int = 5) -> dict[str, float]:
+    """Seconds from start to MAIN MENU on screen, the app and a bare Textual app taken in turn
+    (the median of ``rounds`` each), and their ratio."""
+    workspace = tempfile.mkdtemp(prefix="valterm-bench-")
+    times: dict[str, list[float]] = {"app": [], "bare": []}
+    for _ in range(rounds):
+        for name, spawn in (("app", lambda: _spawn(width, height, workspace)), ("bare", lambda: _spawn_bare(width, height))):
+            start = time.perf_counter()
+            pid, fd = spawn()
+            try:
+                _read_until(fd, b"MAIN MENU", 30.0)
+                times[name].append(time.perf_counter() - start)
+            finally:
+                os.kill(pid, signal.SIGTERM)
+                os.waitpid(pid, 0)
+                os.close(fd)
+    app, bare = sorted(times["app"])[rounds // 2], sorted(times["bare"])[rounds // 2]
+    return {"app_start_median_s": app, "app_start_bare_textual_s": bare, "app_start_vs_bare_x": app / bare}
+
+
 def _keys(fd: int, keys: str, settle: float = 0.3) -> None:
     for key in keys:
         os.write(fd, key.encode())
@@ -160,7 +202,7 @@ def bench_app(width: int = 160, height: int = 50, command: str = "DRIVE 1,-150,2
     try:
         _, startup = _read_until(fd, b"MAIN MENU", 30.0)
         _drain(fd, 0.5)
-        figures = {"app_start_to_main_menu_s": startup}
+        figures = {"app_start_to_main_menu_s": startup, **start_times(width, height)}
         figures.update(frame_figures(_play_drive(fd, command), "app_move", size))
         if program:
             figures.update(frame_figures(_play_program(fd), "app_program", size))

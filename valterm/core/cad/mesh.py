@@ -10,11 +10,14 @@ returned here are the file's own, the caller scales them.
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from valterm.core.cad.errors import CadImportError
-from valterm.core.cad.iges import Part
+
+if TYPE_CHECKING:        # the IGES reader loads when a file is read (issue 25: start time)
+    from valterm.core.cad.iges import Part
 
 MESH_EXTENSIONS = (".stl", ".obj", ".ply", ".off", ".glb", ".gltf")
 METRE_EXTENSIONS = (".glb", ".gltf")
@@ -23,6 +26,8 @@ METRE_EXTENSIONS = (".glb", ".gltf")
 def read_mesh_parts(path: str | Path) -> list[Part]:
     """The parts of a mesh file; raises ``CadImportError`` with the reason on bad input."""
     import trimesh
+
+    from valterm.core.cad.iges import Part
 
     path = Path(path)
     ext = path.suffix.lower()

@@ -304,8 +304,9 @@ class RobotScene:
         the most both can move, they can meet only from ``g0 / b`` to ``1 - g1 / b`` of the
         step, and never when ``g0 + g1 > b``. Those pairs are checked at moments no farther
         apart than the thinnest part among them (for collisions: "near" is said at the poses,
-        as in 1985; link x link pairs are not swept, no link being a thin part). ``since`` and ``now`` name the two poses (the boxes at ``since`` are
-        those kept by the last call, when it was given ``now=since``; else ``g0`` is 0).
+        as in 1985; link x link pairs are not swept, no link being a thin part). ``since`` and
+        ``now`` name the two poses (the boxes at ``since`` are those kept by the last call,
+        when it was given ``now=since``; else ``g0`` is 0).
         Call after ``check`` at ``frames`` (it uses the figures placed there).
         """
         pairs, s = self._pairs_now, self._scene
