@@ -31,6 +31,7 @@ GOALS: dict[str, tuple[str, float]] = {
     "fk_batch_poses_per_s": (">=", 3_000_000.0),
     "fk_single_us": ("<=", 5.0),
     "interpreter_statements_per_s": (">=", 500_000.0),
+    "run_json_statements_per_s": (">=", 500_000.0),
     "app_start_to_main_menu_s": ("<=", 1.0),
     "app_start_vs_bare_x": ("<=", 1.5),
     "app_move_fps_160x50": (">=", 30.0),
@@ -167,9 +168,10 @@ def _met(value: float | None, op: str, goal: float) -> bool | None:
 
 
 def _interpreter_entries() -> dict[str, float]:
-    from valterm.bench.interpreter import bench_interpreter
+    from valterm.bench.interpreter import bench_interpreter, bench_run_json
 
-    return {"interpreter_statements_per_s": float(bench_interpreter())}
+    return {"interpreter_statements_per_s": float(bench_interpreter()),
+            "run_json_statements_per_s": float(bench_run_json())}
 
 
 def _collision_entries() -> dict[str, float]:
