@@ -16,6 +16,7 @@ rate counts only the time a motion was drawing (a DELAY or a TYPE line is not a 
 from __future__ import annotations
 
 import fcntl
+import math
 from itertools import pairwise
 import os
 import pty
@@ -178,8 +179,8 @@ def _play_drive(fd: int, command: str) -> list[tuple[float, int]]:
     return chunks
 
 
-def _play_program(fd: int) -> list[tuple[float, int]]:
-    """VAL-II mode: PROCESS.LOC's locations accepted one by one (F4 D), then EXECUTE PROCESS."""
+def _define_locations(fd: int) -> None:
+    """VAL-II mode: PROCESS.LOC's locations accepted one by one (F4 D), as a person does."""
     _keys(fd, "VV")
     os.write(fd, b"\x1bOS")  # F4: D_DEFINE
     _drain(fd, 0.3)
@@ -190,8 +191,52 @@ def _play_program(fd: int) -> list[tuple[float, int]]:
         os.write(fd, b"A")
     _read_until(fd, b"LOCATIONS DEFINED", 20.0)
     _drain(fd, 0.5)
+
+
+def _play_program(fd: int) -> list[tuple[float, int]]:
+    """VAL-II mode: PROCESS.LOC's locations defined (``_define_locations``), then EXECUTE PROCESS."""
+    _define_locations(fd)
     _line(fd, "EXECUTE PROCESS")
     return _record(fd, 60.0, until=b"COMPLETED")
+
+
+def _rss_mib(pid: int) -> float:
+    with open(f"/proc/{pid}/status", encoding="ascii") as status:
+        for line in status:
+            if line.startswith("VmRSS:"):
+                return int(line.split()[1]) / 1024.0
+    return math.nan
+
+
+def bench_memory(minutes: float = 10.0, every: float = 10.0, width: int = 160,
+                 height: int = 50) -> dict[str, float]:
+    """The app's resident memory while PROCESS loops in VAL-II mode at real pace (x1):
+    sampled every ``every`` s for ``minutes``; the growth over the last two thirds of the
+    span in MiB a minute (least squares), the first and last samples and the samples."""
+    workspace = tempfile.mkdtemp(prefix="valterm-bench-")
+    pid, fd = _spawn(width, height, workspace)
+    samples: list[tuple[float, float]] = []
+    try:
+        _read_until(fd, b"MAIN MENU", 30.0)
+        _drain(fd, 0.5)
+        _define_locations(fd)
+        _line(fd, "EXECUTE PROCESS,-1")
+        start = time.perf_counter()
+        while time.perf_counter() - start < minutes * 60.0:
+            _record(fd, every, quiet_end=math.inf)   # the app's output read as a terminal would
+            samples.append(((time.perf_counter() - start) / 60.0, _rss_mib(pid)))
+    finally:
+        os.kill(pid, signal.SIGTERM)
+        os.waitpid(pid, 0)
+        os.close(fd)
+    tail = samples[len(samples) // 3:]
+    t = [a for a, _ in tail]
+    r = [b for _, b in tail]
+    mean_t, mean_r = sum(t) / len(t), sum(r) / len(r)
+    slope = sum((a - mean_t) * (b - mean_r) for a, b in zip(t, r)) / max(1e-12, sum((a - mean_t) ** 2 for a in t))
+    return {"app_rss_first_mib": samples[0][1], "app_rss_last_mib": samples[-1][1],
+            "app_rss_growth_mib_per_min": slope, "app_rss_minutes": samples[-1][0],
+            "app_rss_samples": float(len(samples))}
 
 
 def bench_app(width: int = 160, height: int = 50, command: str = "DRIVE 1,-150,20",

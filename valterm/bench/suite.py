@@ -26,6 +26,7 @@ GOALS: dict[str, tuple[str, float]] = {
     "collision_check_vs_fcl_x_300parts": ("<=", 3.0),
     "raster_vs_drawille_x": (">=", 50.0),
     "ik_single_us": ("<=", 8.0),
+    "ik_random_vs_rtb_x": (">=", 50.0),
     "ik_batch_poses_per_s": (">=", 2_000_000.0),
     "ik_batch_bytes_per_pose": ("<=", 200.0),
     "fk_batch_poses_per_s": (">=", 3_000_000.0),
@@ -98,6 +99,18 @@ def kinematics_entries() -> dict[str, float]:
         # the public call as the simulator makes it: numpy xyz and rotation, stops fitted
         "ik_single_us": median_of(lambda: ik(pose.xyz, pose.rotation, config, joints), 20_000) * 1e6,
     }
+    # issue 25: one call on random in-range poses (most have JT4 or JT6 beyond +-94 degrees,
+    # where a 360-degree equivalent is within the stops too), from the pose itself as current
+    cases = []
+    for q in rng.uniform(stops[:, 0], stops[:, 1], (400, 6)).tolist():
+        p = fk(q)
+        cases.append((p.xyz, p.rotation, indicators(q), q))
+
+    def random_poses() -> None:
+        for xyz_, rot_, cfg_, q_ in cases:
+            ik(xyz_, rot_, cfg_, q_)
+
+    entries["ik_random_us"] = median_of(random_poses, 20) / len(cases) * 1e6
     for n in (100_000, 1_000_000):
         many = rng.uniform(stops[:, 0], stops[:, 1], (n, 6))
         xyz_many, rot_many = fk_batch(many)
@@ -136,6 +149,7 @@ def run_all(app: bool = True) -> dict[str, Any]:
     _optional(entries, "Robotics Toolbox (pip install roboticstoolbox-python)", _rtb_entries)
     if "rtb_ikine_a_us" in entries:
         entries["ik_vs_rtb_x"] = entries["rtb_ikine_a_us"] / entries["ik_single_us"]
+        entries["ik_random_vs_rtb_x"] = entries["rtb_ikine_a_us"] / entries["ik_random_us"]
     _optional(entries, "interpreter", _interpreter_entries)
     _optional(entries, "collision", _collision_entries)
     _optional(entries, "collision on a dense cell", _dense_entries)
