@@ -216,6 +216,7 @@ def bench_memory(minutes: float = 10.0, every: float = 10.0, width: int = 160,
     workspace = tempfile.mkdtemp(prefix="valterm-bench-")
     pid, fd = _spawn(width, height, workspace)
     samples: list[tuple[float, float]] = []
+    written = 0
     try:
         _read_until(fd, b"MAIN MENU", 30.0)
         _drain(fd, 0.5)
@@ -223,7 +224,8 @@ def bench_memory(minutes: float = 10.0, every: float = 10.0, width: int = 160,
         _line(fd, "EXECUTE PROCESS,-1")
         start = time.perf_counter()
         while time.perf_counter() - start < minutes * 60.0:
-            _record(fd, every, quiet_end=math.inf)   # the app's output read as a terminal would
+            # the app's output read as a terminal would; its bytes show it kept drawing
+            written += sum(n for _, n in _record(fd, every, quiet_end=math.inf))
             samples.append(((time.perf_counter() - start) / 60.0, _rss_mib(pid)))
     finally:
         os.kill(pid, signal.SIGTERM)
@@ -236,7 +238,8 @@ def bench_memory(minutes: float = 10.0, every: float = 10.0, width: int = 160,
     slope = sum((a - mean_t) * (b - mean_r) for a, b in zip(t, r)) / max(1e-12, sum((a - mean_t) ** 2 for a in t))
     return {"app_rss_first_mib": samples[0][1], "app_rss_last_mib": samples[-1][1],
             "app_rss_growth_mib_per_min": slope, "app_rss_minutes": samples[-1][0],
-            "app_rss_samples": float(len(samples))}
+            "app_rss_tail_low_mib": min(r), "app_rss_tail_high_mib": max(r),
+            "app_rss_samples": float(len(samples)), "app_kib_written_per_min": written / 1024.0 / samples[-1][0]}
 
 
 def bench_app(width: int = 160, height: int = 50, command: str = "DRIVE 1,-150,20",

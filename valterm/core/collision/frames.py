@@ -324,14 +324,19 @@ class RobotScene:
         turns = np.abs(np.asarray(turned, dtype=float))
         bound = np.zeros(len(s.radii))
         bound[movers] = self._sweep_bounds(frames, turns, tight=False)
-        n_free = len(self._free)
-        ruled = len(movers) * n_free
+        thinnest = self._thinnest(objects)
+        if float(bound.max()) <= thinnest:
+            return never                  # nothing moves as far as the thinnest part is wide
+        bound[movers] = self._sweep_bounds(frames, turns)
+        if float(bound.max()) <= thinnest:
+            return never
+        # the parts' pairs (rules 1 and 2): links are no thin parts, link x link is not swept
+        ruled = len(movers) * len(self._free)
         if gaps is not None:
-            sel, m, st, after = self._all_pairs(pairs), pairs.moving, pairs.stationary, gaps
+            sel, m, st, after = self._all_pairs(ruled), pairs.moving[:ruled], pairs.stationary[:ruled], gaps[:ruled]
         else:
             near = self._candidates(movers, float(bound.max()))
-            sel = np.concatenate([(np.arange(0, ruled, n_free)[:, None] + near).ravel(),
-                                  np.arange(ruled, len(pairs.moving))])
+            sel = (np.arange(0, ruled, len(self._free))[:, None] + near).ravel()
             m, st = pairs.moving.take(sel), pairs.stationary.take(sel)
             after = _box_gaps(s.mid, s.half, m, st)
         before = np.zeros(len(sel))
@@ -340,21 +345,14 @@ class RobotScene:
             if kept[3] is None:                       # the boxes were kept (copies)
                 before = _box_gaps(kept[4], kept[5], m, st)
             elif gaps is not None:
-                before = kept[3]
-        reach = bound.take(m) + bound.take(st) + 2.0 * EPS
-        meet = before + after <= reach
-        meet &= sel < ruled                  # the parts: links are no thin parts, link x link is not swept
-        cand = np.flatnonzero(meet)
+                before = kept[3][:ruled]
+        moved = bound.take(m)                          # a free part does not move
+        cand = np.flatnonzero(before + after <= moved + 2.0 * EPS)
         if len(cand) == 0:
-            return never                                # the fixed lengths clear every pair at once
-        bound[movers] = self._sweep_bounds(frames, turns)
-        moved = bound.take(m.take(cand))                # a free part does not move
+            return never
+        moved = moved.take(cand)
         reach = moved + 2.0 * EPS
         b0, b1 = before.take(cand), after.take(cand)
-        keep = b0 + b1 <= reach
-        if not keep.any():
-            return never
-        cand, moved, reach, b0, b1 = cand[keep], moved[keep], reach[keep], b0[keep], b1[keep]
         widths = np.maximum(self._widths(objects, st.take(cand)), 1.0)
         steps = int(math.ceil(float((moved / widths).max())))
         if steps <= 1:
@@ -367,10 +365,10 @@ class RobotScene:
         rows[:, sel.take(cand)] = live[used]
         return moments[used], rows
 
-    def _all_pairs(self, pairs: _Pairs) -> np.ndarray:
-        """0 .. pairs - 1, kept for the set of pairs."""
-        if self._every is None or len(self._every) != len(pairs.moving):
-            self._every = np.arange(len(pairs.moving))
+    def _all_pairs(self, count: int) -> np.ndarray:
+        """0 .. count - 1, kept."""
+        if self._every is None or len(self._every) != count:
+            self._every = np.arange(count)
         return self._every
 
     def _sweep_bounds(self, frames: np.ndarray, turned: np.ndarray, tight: bool = True) -> np.ndarray:
@@ -419,6 +417,12 @@ class RobotScene:
             far = np.concatenate([far, held])
         reach: np.ndarray = chain_part + far[:, None] * mask
         return reach
+
+    def _thinnest(self, objects: Sequence[Polyhedron]) -> float:
+        """The thinnest width of the free parts (measured once per set of parts)."""
+        if len(self._free) == 0:
+            return math.inf
+        return float(self._widths(objects, self._free).min())
 
     def _widths(self, objects: Sequence[Polyhedron], idx: np.ndarray) -> np.ndarray:
         """The thinnest widths of the scene's parts at indices ``idx``."""
