@@ -124,19 +124,128 @@ def test_a_step_straddling_a_thin_part_is_reported():
     assert "FINGER COLLIDES WITH 1" in hits, hits
 
 
-def test_no_substeps_when_no_thin_part_is_near_the_path():
+def _swept(sim: Simulator, turn: float) -> tuple[np.ndarray, np.ndarray]:
+    """What ``RobotScene.swept`` says of a JT1 turn of ``turn`` degrees from where the arm is."""
+    scene = sim._collision_scene()
+    after = sim.model.link_frames([sim.joints[0] + turn, *sim.joints[1:]], sim.base)
+    scene.check(after, sim.cell.objects)
+    return scene.swept(after, [np.radians(turn), 0, 0, 0, 0, 0], sim.cell.objects)
+
+
+def test_no_substeps_when_no_part_is_near_the_path():
     sim = Simulator(WorkCell())
     sim.joints = list(ARM_OUT)
     far = Polyhedron.box(np.array([3000.0, 3000, 0]), np.array([3001.0, 3100, 100]))  # thin, far away
     sim.cell.objects.append(far)
-    scene = sim._collision_scene()
-    before = sim.model.link_frames(sim.joints, sim.base)
-    after = sim.model.link_frames([sim.joints[0] + 12.0, *sim.joints[1:]], sim.base)
-    scene.check(after, sim.cell.objects)
-    assert scene.substeps(before, after, sim.cell.objects) == 1
+    moments, rows = _swept(sim, 12.0)
+    assert len(moments) == 0 and rows.size == 0
     sim.cell.objects[0] = _plate_across_the_fingers(sim, 6.0)
-    scene.check(after, sim.cell.objects)
-    assert scene.substeps(before, after, sim.cell.objects) > 10      # ~190 mm past a 3 mm plate
+    moments, rows = _swept(sim, 12.0)
+    assert len(moments) > 10      # ~190 mm past a 3 mm plate
+    pairs = sim._collision_scene().world.pairs(1)
+    parties = {(pairs.a[i], pairs.b[i]) for i in np.flatnonzero(rows.any(axis=0)).tolist()}
+    assert ("FINGER", 1) in parties and ("BASE", 1) not in parties
+
+
+def test_a_far_part_costs_no_substep_checks():
+    """A motion past a thin part out of reach is checked once a pose, as with no part at all."""
+    sim = Simulator(WorkCell())
+    sim.joints = list(ARM_OUT)
+    sim.cell.objects.append(Polyhedron.box(np.array([1500.0, -500, -300]), np.array([1502.0, 500, 300])))
+    sim.collision_checks = True
+    scene = sim._collision_scene()
+    calls = []
+    between = scene.collisions_between
+    scene.collisions_between = lambda *a, **k: calls.append(1) or between(*a, **k)  # type: ignore[method-assign]
+    poses = sum(type(e).__name__ == "PoseEvent" for e in sim.drive(1, 90.0))
+    assert poses >= 5 and len(calls) == 0
+    # the same plate across the fingers' path: substeps, and the finger is found in it
+    sim.joints = list(ARM_OUT)
+    sim.cell.objects[0] = _plate_across_the_fingers(sim, 45.0, width=2.0)
+    calls.clear()
+    events = list(sim.drive(1, 90.0))
+    assert len(calls) > 0
+    assert "FINGER COLLIDES WITH 1" in [e.text for e in events if isinstance(e, Collision)]
+
+
+def test_a_thin_part_straddled_with_a_carried_part_and_every_joint_turning():
+    """Two poses both clear of a thin plate, the step between crossing it with the part the
+    clamp holds: the swept check reports it (all six joints move, the bound is not JT1's)."""
+    sim = Simulator(WorkCell())
+    start = [10.0, -40.0, 120.0, 20.0, 30.0, 10.0]
+    end = [-10.0, -44.0, 126.0, 28.0, 22.0, 40.0]
+    sim.joints = list(start)
+    frame = sim.model.clamp_frame(sim.joints, sim.base)
+    sim.carried = 1
+    sim._carried_local = np.array([[-15.0, -15, 250], [15, -15, 250], [15, 15, 250], [-15, 15, 250],
+                                   [-15, -15, 330], [15, -15, 330], [15, 15, 330], [-15, 15, 330]])
+    sim.cell.objects.append(Polyhedron.box(np.zeros(3), np.ones(3)))     # the carried part
+    sim._follow_clamp()
+    a = sim.cell.objects[0].centre
+    sim.joints = list(end)
+    sim._follow_clamp()
+    b = sim.cell.objects[0].centre
+    # a 2 mm plate across the carried part's path, half way, square to it
+    mid, along = (a + b) / 2, (b - a) / np.linalg.norm(b - a)
+    side = np.cross(along, [0.0, 0.0, 1.0])
+    side /= np.linalg.norm(side)
+    up = np.cross(side, along)
+    corners = [mid + s * 1.0 * along + u * 40 * side + w * 40 * up
+               for s in (-1, 1) for u, w in ((-1, -1), (1, -1), (1, 1), (-1, 1))]
+    sim.cell.objects.append(Polyhedron(np.array(corners)))
+    world = CollisionWorld(sim.model.names)
+    for pose in (start, end):
+        sim.joints = list(pose)
+        sim._follow_clamp()
+        assert not any(f.b == 2 and f.a == 1 for f in _old(sim, world, (1,), 100.0)), pose
+    sim.joints = list(start)
+    sim._follow_clamp()
+    sim.clamp_closed = True
+    sim.collision_checks = True
+    sim._findings = set()
+    found = list(sim.check_collisions())        # the start pose, as the motion before left it
+    sim.joints = list(end)
+    sim._follow_clamp()
+    found = [e.text for e in sim.check_collisions(start) if isinstance(e, Collision)]
+    assert "1 COLLIDES WITH 2" in found, found
+    del frame
+
+
+def test_the_pairs_at_risk_hold_every_pair_met_between_two_poses():
+    """Every pair the check finds colliding anywhere along a step (63 checks between its
+    poses) is among the pairs ``swept`` puts at risk, over random steps in PROCESS's cell."""
+    sim = Simulator(read_setup(resources.data_path("cells", "PROCESS.SET")))
+    scene = sim._collision_scene()
+    stops = robot_geometry().stops_array
+    ready = np.asarray(sim.geometry.ready, dtype=float)
+    rng = np.random.default_rng(25)
+    at_risk = met = 0
+    for n in range(300):
+        q0 = ready + rng.normal(0.0, 45.0, 6) if n % 2 else rng.uniform(stops[:, 0], stops[:, 1])
+        q1 = q0 + rng.normal(0.0, 8.0 if n % 3 else 1.0, 6)
+        speed = float(rng.choice([10.0, 100.0]))
+        scene.check(sim.model.link_frames(q0.tolist()), sim.cell.objects, (), speed)
+        scene.swept(sim.model.link_frames(q0.tolist()), (), sim.cell.objects, now="start")
+        scene.check(sim.model.link_frames(q1.tolist()), sim.cell.objects, (), speed)
+        moments, rows = scene.swept(sim.model.link_frames(q1.tolist()), np.radians(q1 - q0).tolist(),
+                                    sim.cell.objects, since="start")
+        pairs = scene.world.pairs(len(sim.cell.objects))
+        ends = set()
+        for q_end in (q0, q1):
+            ends |= {(f.a, f.b) for f in scene.check(sim.model.link_frames(q_end.tolist()),
+                                                     sim.cell.objects, (), speed) if f.kind == "collides"}
+        fine = np.linspace(0.0, 1.0, 65)[1:-1]
+        for t in fine:
+            q = (q0 + (q1 - q0) * t).tolist()
+            found = {(f.a, f.b) for f in scene.check(sim.model.link_frames(q), sim.cell.objects, (), speed)
+                     if f.kind == "collides"}
+            on_parts = {p for p in found if isinstance(p[1], int)}
+            # a pair met on the way is checked at some moment of the step, or met at a pose already
+            allowed = {(pairs.a[i], pairs.b[i]) for i in np.flatnonzero(rows.any(axis=0)).tolist()}
+            assert on_parts <= ends | allowed, (q0, q1, t, on_parts - ends - allowed)
+            met += bool(on_parts - ends)
+        at_risk += len(moments) > 0
+    assert at_risk > 20 and met > 20, (at_risk, met)   # the test saw collisions between poses
 
 
 def test_exact_from_frames_matches_the_exact_checker_on_polyhedra():
@@ -196,3 +305,35 @@ def test_exact_from_frames_follows_a_carried_part_that_leaves_the_hand():
         found.append({f.b for f in new if f.a == 1 and f.kind == "collides"})
     # dropped onto part n, it meets part n: fcl saw each new place
     assert all(n in hit for n, hit in enumerate(found[1:], start=2)), found
+
+
+def test_the_sweep_bound_holds_the_path_of_every_vertex():
+    """No vertex of a link or of a carried part travels farther over a step (its path, measured
+    at 200 points) than ``_sweep_bounds`` says, and the bound is not loose by more than 3x."""
+    sim = Simulator(read_setup(resources.data_path("cells", "PROCESS.SET")))
+    scene = sim._collision_scene()
+    stops = robot_geometry().stops_array
+    rng = np.random.default_rng(7)
+    ratios = []
+    for n in range(60):
+        q0 = rng.uniform(stops[:, 0], stops[:, 1])
+        q1 = q0 + rng.normal(0.0, 10.0, 6)
+        sim.joints = q0.tolist()
+        sim.carried, sim._carried_local = 1, np.array([[-20.0, -10, 140], [20, -10, 140], [20, 10, 140],
+                                                       [-20, 10, 140], [-20, -10, 300], [20, -10, 300],
+                                                       [20, 10, 300], [-20, 10, 300]])
+        path = []
+        for t in np.linspace(0.0, 1.0, 200):
+            sim.joints = (q0 + (q1 - q0) * t).tolist()
+            sim._follow_clamp()
+            path.append(np.concatenate([scene.place(sim.model.link_frames(sim.joints)),
+                                        sim.cell.objects[0].vertices]))
+        scene.check(sim.model.link_frames(sim.joints), sim.cell.objects, (1,))
+        bound = scene._sweep_bounds(sim.model.link_frames(sim.joints), np.abs(np.radians(q1 - q0)))
+        steps = np.diff(np.array(path), axis=0)
+        travel = np.sqrt((steps ** 2).sum(axis=2)).sum(axis=0)            # per vertex
+        rows = np.repeat(np.arange(len(bound)), [*(2 * k for k in scene._link_ks), 8])
+        most = np.maximum.reduceat(travel, np.flatnonzero(np.diff(np.r_[-1, rows])))
+        assert np.all(most <= bound + 1e-6), (q0, q1, most - bound)
+        ratios += list(bound[most > 1.0] / most[most > 1.0])
+    assert np.median(ratios) < 3.0, np.median(ratios)

@@ -7,8 +7,9 @@ world Z axis, so fcl re-places every link each step) and the whole scene is chec
 
 from __future__ import annotations
 
+import math
 import time
-from typing import TYPE_CHECKING, Collection, Sequence
+from typing import TYPE_CHECKING, Callable, Collection, Sequence
 
 import numpy as np
 
@@ -225,3 +226,185 @@ def bench_puma_step(n_parts: int = 30, rounds: int = 5, steps: int = 60, carried
     return {"thesis_us": float(np.median(runs["thesis"])), "fcl_us": float(np.median(runs["exact"])),
             "fcl_polyhedra_us": float(np.median(runs["fcl_polyhedra"])),
             "links": float(len(sim.model.names)), "carried": float(carried), "parts": float(n_parts)}
+
+
+# -- issue 25: what users pay on a dense cell, against plain python-fcl on the same meshes ---
+
+def dense_cell(n: int, seed: int = 2025) -> list[Polyhedron]:
+    """``n`` parts within the arm's reach: four tables round the robot (tops 300 mm below the
+    shoulder) and ``n - 4`` boxes standing on them, 400 to 1100 mm from the JT1 axis."""
+    rng = np.random.default_rng(seed)
+    out = []
+    for i in range(4):                                   # the tables, one each side of the robot
+        turn = np.radians(90.0 * i)
+        c = np.array([750.0 * np.cos(turn), 750.0 * np.sin(turn), -340.0])
+        half = np.array([250.0, 250.0, 20.0])
+        out.append(Polyhedron.box(c - half, c + half, f"T{i + 1}"))
+    for i in range(max(n - 4, 0)):
+        angle = rng.uniform(-np.pi, np.pi)
+        r = rng.uniform(520.0, 980.0)
+        half = rng.uniform(15.0, 45.0, 3)
+        c = np.array([r * np.cos(angle), r * np.sin(angle), -320.0 + half[2]])
+        out.append(Polyhedron.box(c - half, c + half, str(i + 5)))
+    return out
+
+
+def move_program(moves: int = 600, seed: int = 25) -> np.ndarray:
+    """Joint goals of a program of ``moves`` MOVEs over the tables: the hand 40 to 300 mm above
+    their tops, turning about; (moves + 1, 6), the first the start."""
+    from valterm.core.kinematics import fk_batch, robot_geometry
+
+    rng = np.random.default_rng(seed)
+    stops = robot_geometry().stops_array
+    low = np.maximum(stops[:, 0], [-180, -120, 100, -90, -90, -180])
+    high = np.minimum(stops[:, 1], [180, -40, 200, 90, 90, 180])
+    goals = np.zeros((0, 6))
+    while len(goals) <= moves:
+        q = rng.uniform(low, high, (4096, 6))
+        xyz, _ = fk_batch(q)
+        r, z = np.hypot(xyz[:, 0], xyz[:, 1]), xyz[:, 2]
+        ok = (r > 450) & (r < 1000) & (z > -260) & (z < 0)
+        goals = np.concatenate([goals, q[ok]])
+    return goals[: moves + 1]
+
+
+def _fcl_plain(frames: list[np.ndarray], local: list[np.ndarray], owners: np.ndarray,
+               parts: Sequence[Polyhedron]) -> Callable[[], int]:
+    """Plain python-fcl on the same meshes: link objects built once, moved by their frames each
+    pose, one AABB tree of links collided with one of the parts; the contacts counted."""
+    import fcl
+
+    from valterm.core.collision.exact import convex
+
+    links, centres = [], []
+    for shape in local:
+        poly = Polyhedron(shape)
+        links.append(fcl.CollisionObject(convex(poly, poly.centre)))
+        centres.append(poly.centre)
+    tree = fcl.DynamicAABBTreeCollisionManager()
+    tree.registerObjects(links)
+    tree.setup()
+    objs = [fcl.CollisionObject(convex(p), fcl.Transform(np.eye(3), p.centre)) for p in parts]
+    still = fcl.DynamicAABBTreeCollisionManager()
+    still.registerObjects(objs)
+    still.setup()
+    local_centres = np.array(centres)
+
+    def run() -> int:
+        hits = 0
+        for f in frames:
+            placed = f[owners]
+            rot = placed[:, :3, :3]
+            at = np.einsum("lij,lj->li", rot, local_centres) + placed[:, :3, 3]
+            for obj, r, t in zip(links, rot, at):
+                obj.setRotation(r)
+                obj.setTranslation(t)
+            tree.update()
+            data = fcl.CollisionData(fcl.CollisionRequest(num_max_contacts=1 << 30), fcl.CollisionResult())
+            tree.collide(still, data, fcl.defaultCollisionCallback)
+            hits += len(data.result.contacts)
+        return hits
+
+    return run
+
+
+def bench_dense_run(n_parts: int = 30, moves: int = 600, rounds: int = 3) -> dict[str, float]:
+    """µs per pose of a program of ``moves`` joint MOVEs on ``dense_cell(n_parts)``, as
+    ``run --collisions`` pays it (the simulator's motion with checks on, less the same motion
+    with them off), and plain python-fcl at the same poses (link frames included)."""
+    from valterm.core.cell.workcell import WorkCell
+    from valterm.core.simulator import Simulator
+
+    goals = move_program(moves)
+    parts = dense_cell(n_parts)
+
+    def program(checks: bool) -> tuple[int, int, list[np.ndarray]]:
+        sim = Simulator(WorkCell(objects=list(parts)))
+        sim.joints = [float(v) for v in goals[0]]
+        sim.collision_checks = checks
+        poses = found = 0
+        frames: list[np.ndarray] = []
+        for goal in goals[1:]:
+            for event in sim.move_joints(goal):
+                kind = type(event).__name__
+                if kind == "PoseEvent":
+                    poses += 1
+                    if not checks:
+                        frames.append(sim.model.link_frames(sim.joints, sim.base))
+                elif kind in ("Collision", "Near"):
+                    found += 1
+        return poses, found, frames
+
+    poses, _, frames = program(False)
+    sim = Simulator(WorkCell(objects=list(parts)))
+    plain = _fcl_plain(frames, sim.model.shapes(sim.gap), sim.model.frames, parts)
+    link_frames = sim.model.link_frames
+    base = sim.base
+    joints = [[float(v) for v in f] for f in _poses(goals, sim)]
+
+    def frames_only() -> None:
+        for q in joints:
+            link_frames(q, base)
+
+    times: dict[str, list[float]] = {"on": [], "off": [], "fcl": [], "frames": []}
+    found = program(True)[1]
+    hits = plain()
+    for _ in range(rounds):
+        for name, func in (("on", lambda: program(True)), ("off", lambda: program(False)),
+                           ("fcl", plain), ("frames", frames_only)):
+            start = time.perf_counter()
+            func()
+            times[name].append((time.perf_counter() - start) / poses * 1e6)
+    on, off = float(np.median(times["on"])), float(np.median(times["off"]))
+    fcl_us = float(np.median(times["fcl"])) + float(np.median(times["frames"]))
+    return {"us_per_pose": on - off, "fcl_us_per_pose": fcl_us, "poses": float(poses),
+            "events": float(found), "fcl_contacts": float(hits), "motion_us_per_pose": off}
+
+
+def _poses(goals: np.ndarray, sim: "Simulator") -> list[list[float]]:
+    """Every pose the program's MOVEs pass through (as the simulator plays them)."""
+    from valterm.core.motion import joint_increment, joint_path
+
+    out: list[list[float]] = []
+    here = [float(v) for v in goals[0]]
+    for goal in goals[1:]:
+        path = joint_path(here, [float(v) for v in goal], joint_increment(sim.speed))
+        out += [[float(v) for v in pose] for pose in path]
+        here = out[-1]
+    return out
+
+
+def bench_dense_check(n_parts: int, moves: int = 100, rounds: int = 3) -> dict[str, float]:
+    """µs per pose on ``dense_cell(n_parts)`` along a program of ``moves`` MOVEs: the pose check
+    alone, the pose check with the step before it swept, and plain python-fcl (link frames
+    included) at the same poses; the best of ``rounds``."""
+    from valterm.core.cell.workcell import WorkCell
+    from valterm.core.simulator import Simulator
+
+    parts = dense_cell(n_parts)
+    sim = Simulator(WorkCell(objects=list(parts)))
+    poses = _poses(move_program(moves), sim)
+    frames = [sim.model.link_frames(q) for q in poses]
+    plain = _fcl_plain(frames, sim.model.shapes(sim.gap), sim.model.frames, parts)
+    link_frames = sim.model.link_frames
+
+    def run(swept: bool) -> None:
+        previous = poses[0]
+        for pose in poses:
+            sim.joints = pose
+            for _ in sim.check_collisions(previous if swept else None):
+                pass
+            previous = pose
+
+    def frames_only() -> None:
+        for pose in poses:
+            link_frames(pose)
+
+    best: dict[str, float] = {}
+    for _ in range(rounds):
+        for name, func in (("pose", lambda: run(False)), ("swept", lambda: run(True)), ("fcl", plain),
+                           ("frames", frames_only)):
+            start = time.perf_counter()
+            func()
+            best[name] = min(best.get(name, math.inf), (time.perf_counter() - start) / len(poses) * 1e6)
+    return {"check_us": best["pose"], "swept_us": best["swept"], "fcl_us": best["fcl"] + best["frames"]}

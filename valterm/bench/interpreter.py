@@ -38,5 +38,24 @@ def bench_interpreter(passes: int = 100_000, repeat: int = 3) -> float:
     return best
 
 
+def bench_run_json(passes: int = 50_000, repeat: int = 3) -> float:
+    """Statements per second as ``valterm run --json`` writes them: each event's JSON line
+    written to a text file (the null device), as ``run`` writes to standard output."""
+    import os
+
+    program = program_from_lines("BENCH", LOOP)
+    best = 0.0
+    with open(os.devnull, "w", encoding="utf-8") as out:
+        for _ in range(repeat):
+            interpreter = Interpreter(_NoRobot(), lambda name: program, {"N": float(passes)})
+            count = 0
+            start = time.perf_counter()
+            for event in interpreter.execute("BENCH"):
+                count += event.event == "step"
+                out.write(event.json_line() + "\n")
+            best = max(best, count / (time.perf_counter() - start))
+    return best
+
+
 if __name__ == "__main__":
     print(f"{bench_interpreter():,.0f} statements/s")

@@ -16,6 +16,7 @@ rate counts only the time a motion was drawing (a DELAY or a TYPE line is not a 
 from __future__ import annotations
 
 import fcntl
+import math
 from itertools import pairwise
 import os
 import pty
@@ -112,6 +113,48 @@ def _spawn(width: int, height: int, workspace: str) -> tuple[int, int]:
     return pid, fd
 
 
+# the peer of the start time: a bare Textual app that shows one line and waits
+BARE_APP = """
+from textual.app import App
+from textual.widgets import Static
+
+class Bare(App):
+    def compose(self):
+        yield Static("MAIN MENU")
+
+Bare().run()
+"""
+
+
+def _spawn_bare(width: int, height: int) -> tuple[int, int]:
+    pid, fd = pty.fork()
+    if pid == 0:
+        fcntl.ioctl(0, termios.TIOCSWINSZ, struct.pack("HHHH", height, width, 0, 0))
+        env = dict(os.environ, TERM="xterm-256color", COLORTERM="truecolor")
+        os.execve(sys.executable, [sys.executable, "-c", BARE_APP], env)
+    return pid, fd
+
+
+def start_times(width: int = 160, height: int = 50, rounds: int = 5) -> dict[str, float]:
+    """Seconds from start to MAIN MENU on screen, the app and a bare Textual app taken in turn
+    (the median of ``rounds`` each), and their ratio."""
+    workspace = tempfile.mkdtemp(prefix="valterm-bench-")
+    times: dict[str, list[float]] = {"app": [], "bare": []}
+    for _ in range(rounds):
+        for name, spawn in (("app", lambda: _spawn(width, height, workspace)), ("bare", lambda: _spawn_bare(width, height))):
+            start = time.perf_counter()
+            pid, fd = spawn()
+            try:
+                _read_until(fd, b"MAIN MENU", 30.0)
+                times[name].append(time.perf_counter() - start)
+            finally:
+                os.kill(pid, signal.SIGTERM)
+                os.waitpid(pid, 0)
+                os.close(fd)
+    app, bare = sorted(times["app"])[rounds // 2], sorted(times["bare"])[rounds // 2]
+    return {"app_start_median_s": app, "app_start_bare_textual_s": bare, "app_start_vs_bare_x": app / bare}
+
+
 def _keys(fd: int, keys: str, settle: float = 0.3) -> None:
     for key in keys:
         os.write(fd, key.encode())
@@ -136,8 +179,8 @@ def _play_drive(fd: int, command: str) -> list[tuple[float, int]]:
     return chunks
 
 
-def _play_program(fd: int) -> list[tuple[float, int]]:
-    """VAL-II mode: PROCESS.LOC's locations accepted one by one (CTRL-T D), then EXECUTE PROCESS."""
+def _define_locations(fd: int) -> None:
+    """VAL-II mode: PROCESS.LOC's locations accepted one by one (CTRL-T D), as a person does."""
     _keys(fd, "VV")
     os.write(fd, b"\x14")  # CTRL-T: D_DEFINE
     _drain(fd, 0.3)
@@ -148,8 +191,55 @@ def _play_program(fd: int) -> list[tuple[float, int]]:
         os.write(fd, b"A")
     _read_until(fd, b"LOCATIONS DEFINED", 20.0)
     _drain(fd, 0.5)
+
+
+def _play_program(fd: int) -> list[tuple[float, int]]:
+    """VAL-II mode: PROCESS.LOC's locations defined (``_define_locations``), then EXECUTE PROCESS."""
+    _define_locations(fd)
     _line(fd, "EXECUTE PROCESS")
     return _record(fd, 60.0, until=b"COMPLETED")
+
+
+def _rss_mib(pid: int) -> float:
+    with open(f"/proc/{pid}/status", encoding="ascii") as status:
+        for line in status:
+            if line.startswith("VmRSS:"):
+                return int(line.split()[1]) / 1024.0
+    return math.nan
+
+
+def bench_memory(minutes: float = 10.0, every: float = 10.0, width: int = 160,
+                 height: int = 50) -> dict[str, float]:
+    """The app's resident memory while PROCESS loops in VAL-II mode at real pace (x1):
+    sampled every ``every`` s for ``minutes``; the growth over the last two thirds of the
+    span in MiB a minute (least squares), the first and last samples and the samples."""
+    workspace = tempfile.mkdtemp(prefix="valterm-bench-")
+    pid, fd = _spawn(width, height, workspace)
+    samples: list[tuple[float, float]] = []
+    written = 0
+    try:
+        _read_until(fd, b"MAIN MENU", 30.0)
+        _drain(fd, 0.5)
+        _define_locations(fd)
+        _line(fd, "EXECUTE PROCESS,-1")
+        start = time.perf_counter()
+        while time.perf_counter() - start < minutes * 60.0:
+            # the app's output read as a terminal would; its bytes show it kept drawing
+            written += sum(n for _, n in _record(fd, every, quiet_end=math.inf))
+            samples.append(((time.perf_counter() - start) / 60.0, _rss_mib(pid)))
+    finally:
+        os.kill(pid, signal.SIGTERM)
+        os.waitpid(pid, 0)
+        os.close(fd)
+    tail = samples[len(samples) // 3:]
+    t = [a for a, _ in tail]
+    r = [b for _, b in tail]
+    mean_t, mean_r = sum(t) / len(t), sum(r) / len(r)
+    slope = sum((a - mean_t) * (b - mean_r) for a, b in zip(t, r)) / max(1e-12, sum((a - mean_t) ** 2 for a in t))
+    return {"app_rss_first_mib": samples[0][1], "app_rss_last_mib": samples[-1][1],
+            "app_rss_growth_mib_per_min": slope, "app_rss_minutes": samples[-1][0],
+            "app_rss_tail_low_mib": min(r), "app_rss_tail_high_mib": max(r),
+            "app_rss_samples": float(len(samples)), "app_kib_written_per_min": written / 1024.0 / samples[-1][0]}
 
 
 def bench_app(width: int = 160, height: int = 50, command: str = "DRIVE 1,-150,20",
@@ -160,7 +250,7 @@ def bench_app(width: int = 160, height: int = 50, command: str = "DRIVE 1,-150,2
     try:
         _, startup = _read_until(fd, b"MAIN MENU", 30.0)
         _drain(fd, 0.5)
-        figures = {"app_start_to_main_menu_s": startup}
+        figures = {"app_start_to_main_menu_s": startup, **start_times(width, height)}
         figures.update(frame_figures(_play_drive(fd, command), "app_move", size))
         if program:
             figures.update(frame_figures(_play_program(fd), "app_program", size))

@@ -21,15 +21,21 @@ GOALS: dict[str, tuple[str, float]] = {
     "collision_step_thesis_us": ("<=", 100.0),
     "collision_step_fcl_us": ("<=", 60.0),
     "collision_scaling_exponent": ("<", 1.0),
+    "collision_run_vs_fcl_x_30parts": ("<=", 2.0),
+    "collision_check_vs_fcl_x_100parts": ("<=", 3.0),
+    "collision_check_vs_fcl_x_300parts": ("<=", 3.0),
     "raster_vs_drawille_x": (">=", 50.0),
     "ik_single_us": ("<=", 8.0),
+    "ik_random_vs_rtb_x": (">=", 50.0),
     "ik_batch_poses_per_s": (">=", 2_000_000.0),
     "ik_batch_bytes_per_pose": ("<=", 200.0),
     "fk_batch_poses_per_s": (">=", 3_000_000.0),
     "fk_single_us": ("<=", 5.0),
     "interpreter_statements_per_s": (">=", 500_000.0),
     "grade_s_per_student": ("<=", 2.0),  # issue 24: the whole `valterm grade` command
+    "run_json_statements_per_s": (">=", 500_000.0),
     "app_start_to_main_menu_s": ("<=", 1.0),
+    "app_start_vs_bare_x": ("<=", 1.5),
     "app_move_fps_160x50": (">=", 30.0),
     "app_move_bytes_per_frame_160x50": ("<=", 10_240.0),
     "app_program_fps_160x50": (">=", 30.0),
@@ -45,7 +51,11 @@ PEERS = {
     "collision_step_fcl_us": ("collision_step_fcl_polyhedra_us", "fcl on placed polyhedra (before), µs"),
     "raster_vs_drawille_x": ("drawille_process_ms_200x60", "drawille, ms per frame"),
     "ik_single_us": ("rtb_ikine_a_us", "Robotics Toolbox ikine_a, µs"),
+    "app_start_vs_bare_x": ("app_start_bare_textual_s", "a bare Textual app, s"),
     "collision_scaling_exponent": ("collision_thesis_us_300parts", "µs per pose at 300 parts"),
+    "collision_run_vs_fcl_x_30parts": ("collision_run_fcl_us_30parts", "python-fcl, µs per pose"),
+    "collision_check_vs_fcl_x_100parts": ("collision_check_fcl_us_100parts", "python-fcl, µs per pose"),
+    "collision_check_vs_fcl_x_300parts": ("collision_check_fcl_us_300parts", "python-fcl, µs per pose"),
 }
 
 ROUNDS = 7
@@ -92,6 +102,18 @@ def kinematics_entries() -> dict[str, float]:
         # the public call as the simulator makes it: numpy xyz and rotation, stops fitted
         "ik_single_us": median_of(lambda: ik(pose.xyz, pose.rotation, config, joints), 20_000) * 1e6,
     }
+    # issue 25: one call on random in-range poses (most have JT4 or JT6 beyond +-94 degrees,
+    # where a 360-degree equivalent is within the stops too), from the pose itself as current
+    cases = []
+    for q in rng.uniform(stops[:, 0], stops[:, 1], (400, 6)).tolist():
+        p = fk(q)
+        cases.append((p.xyz, p.rotation, indicators(q), q))
+
+    def random_poses() -> None:
+        for xyz_, rot_, cfg_, q_ in cases:
+            ik(xyz_, rot_, cfg_, q_)
+
+    entries["ik_random_us"] = median_of(random_poses, 20) / len(cases) * 1e6
     for n in (100_000, 1_000_000):
         many = rng.uniform(stops[:, 0], stops[:, 1], (n, 6))
         xyz_many, rot_many = fk_batch(many)
@@ -130,9 +152,11 @@ def run_all(app: bool = True) -> dict[str, Any]:
     _optional(entries, "Robotics Toolbox (pip install roboticstoolbox-python)", _rtb_entries)
     if "rtb_ikine_a_us" in entries:
         entries["ik_vs_rtb_x"] = entries["rtb_ikine_a_us"] / entries["ik_single_us"]
+        entries["ik_random_vs_rtb_x"] = entries["rtb_ikine_a_us"] / entries["ik_random_us"]
     _optional(entries, "interpreter", _interpreter_entries)
     _optional(entries, "grade", _grade_entries)
     _optional(entries, "collision", _collision_entries)
+    _optional(entries, "collision on a dense cell", _dense_entries)
     _optional(entries, "raster", _raster_entries)
     _optional(entries, "CAD import", _cad_entries)
     _optional(entries, "drawille (the bench extra: pip install 'valterm[bench]')", _drawille_entries)
@@ -163,9 +187,10 @@ def _met(value: float | None, op: str, goal: float) -> bool | None:
 
 
 def _interpreter_entries() -> dict[str, float]:
-    from valterm.bench.interpreter import bench_interpreter
+    from valterm.bench.interpreter import bench_interpreter, bench_run_json
 
-    return {"interpreter_statements_per_s": float(bench_interpreter())}
+    return {"interpreter_statements_per_s": float(bench_interpreter()),
+            "run_json_statements_per_s": float(bench_run_json())}
 
 
 def _grade_entries() -> dict[str, float]:
@@ -204,6 +229,25 @@ def _cad_entries() -> dict[str, float]:
     from valterm.bench.cad import bench_stl_import
 
     return bench_stl_import()
+
+
+def _dense_entries() -> dict[str, float]:
+    """Issue 25: a 600-MOVE program on a dense 30-part cell as ``run --collisions`` pays it, and
+    the pose check on dense 100- and 300-part cells, each against plain python-fcl."""
+    from valterm.bench.collision import bench_dense_check, bench_dense_run
+
+    run = bench_dense_run(30, 600)
+    entries = {"collision_run_us_30parts": run["us_per_pose"], "collision_run_fcl_us_30parts": run["fcl_us_per_pose"],
+               "collision_run_poses_30parts": run["poses"],
+               "collision_run_vs_fcl_x_30parts": run["us_per_pose"] / run["fcl_us_per_pose"]}
+    for n in (100, 300):
+        found = bench_dense_check(n)
+        entries[f"collision_check_us_{n}parts"] = found["check_us"]
+        entries[f"collision_swept_us_{n}parts"] = found["swept_us"]
+        entries[f"collision_check_fcl_us_{n}parts"] = found["fcl_us"]
+        entries[f"collision_check_vs_fcl_x_{n}parts"] = found["check_us"] / found["fcl_us"]
+        entries[f"collision_swept_vs_fcl_x_{n}parts"] = found["swept_us"] / found["fcl_us"]
+    return entries
 
 
 def _raster_entries() -> dict[str, float]:

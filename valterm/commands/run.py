@@ -201,7 +201,7 @@ def run(args: argparse.Namespace) -> int:
             if isinstance(event, Error):
                 errors += 1
             if args.json:
-                out.write(json.dumps(event.to_json()) + "\n")
+                out.write(event.json_line() + "\n")
                 continue
             for line in event_lines(event):
                 out.write(line + "\n")

@@ -7,8 +7,10 @@ Textual app, the headless ``valterm run`` and the tests all drive the same code.
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass, field
-from typing import TypeAlias
+import json
+from dataclasses import dataclass, field, fields, is_dataclass
+from functools import lru_cache
+from typing import Any, TypeAlias, cast
 
 # A value json.dumps writes: what ``to_json()`` gives for ``valterm run --json``.
 Json: TypeAlias = "str | int | float | bool | list[Json] | tuple[Json, ...] | dict[str, Json] | None"
@@ -19,7 +21,50 @@ class Event:
     event = "event"
 
     def to_json(self) -> dict[str, Json]:
-        return {"event": self.event, **asdict(self)}
+        """``{"event": kind, field: value, ...}``, as ``dataclasses.asdict`` gives the fields
+        (nested dataclasses, lists, tuples and dicts as plain values) without its deep copy
+        of every value: a ``run --json`` writes one per step (issue 25)."""
+        out: dict[str, Json] = {"event": self.event}
+        for name in _field_names(type(self)):
+            value = getattr(self, name)
+            out[name] = value if type(value) in _SCALARS else _plain(value)
+        return out
+
+    def json_line(self) -> str:
+        """The line ``valterm run --json`` writes for this event (``json.dumps`` of ``to_json``)."""
+        return json.dumps(self.to_json())
+
+
+@lru_cache(maxsize=4096)
+def _step_line(program: str, step: int, text: str) -> str:
+    return json.dumps({"event": "step", "program": program, "step": step, "text": text})
+
+
+_SCALARS = frozenset({str, int, float, bool, type(None)})
+_FIELDS: dict[type, tuple[str, ...]] = {}
+
+
+def _field_names(kind: type) -> tuple[str, ...]:
+    names = _FIELDS.get(kind)
+    if names is None:
+        names = _FIELDS[kind] = tuple(f.name for f in fields(kind))
+    return names
+
+
+def _plain(value: object) -> Json:
+    """A field's value as ``asdict`` gives it (a new list, tuple or dict; a dataclass as a dict)."""
+    if type(value) in _SCALARS:
+        return value  # type: ignore[return-value]
+    if is_dataclass(value) and not isinstance(value, type):
+        return {name: _plain(getattr(value, name)) for name in _field_names(type(value))}
+    if isinstance(value, tuple) and hasattr(value, "_fields"):    # a named tuple, as asdict keeps it
+        kind: Any = type(value)
+        return cast(Json, kind(*[_plain(v) for v in value]))
+    if isinstance(value, (list, tuple)):
+        return type(value)(_plain(v) for v in value)
+    if isinstance(value, dict):
+        return {k: _plain(v) for k, v in value.items()}
+    return value  # type: ignore[return-value]
 
 
 @dataclass(frozen=True)
@@ -30,6 +75,10 @@ class Step(Event):
     step: int
     text: str
     event = "step"
+
+    def json_line(self) -> str:
+        # a loop repeats its steps: each one's line is made once
+        return _step_line(self.program, self.step, self.text)
 
 
 @dataclass(frozen=True)

@@ -13,12 +13,15 @@ end), not after every typed assignment: 20 000 piped ``ROW=...`` lines write it 
 from __future__ import annotations
 
 from collections.abc import Callable, Generator
+from typing import TYPE_CHECKING
 
 from valterm.core.errors import ValtermError
 from valterm.core.events import Error, Event, Monitor, Pause
 from valterm.core.session import Session
 from valterm.core.text.transcript import event_lines
-from valterm.core.val.interpreter import Interpreter
+
+if TYPE_CHECKING:        # the app's VAL-II mode lists programs before it runs one (issue 25: start time)
+    from valterm.core.val.interpreter import Interpreter
 
 __all__ = ["LineMonitor", "listing_lines"]
 

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from valterm.core.cell.workcell import WorkCell
 from valterm.core.events import Event, Signal
@@ -15,9 +16,11 @@ from valterm.core.files.locations import read_locations
 from valterm.core.files.setup import format_setup, read_setup, write_setup
 from valterm.core.kinematics import Location
 from valterm.core.simulator import Simulator
-from valterm.core.val.interpreter import Interpreter
 from valterm.core.val.limits import RunLimits
 from valterm.core.workspace import Workspace
+
+if TYPE_CHECKING:        # the interpreter loads when first asked for (issue 25: start time)
+    from valterm.core.val.interpreter import Interpreter
 
 DEFAULT_SETUP = "PROCESS"
 
@@ -84,6 +87,8 @@ class Session:
     def interpreter(self) -> Interpreter:
         """The VAL-II interpreter bound to this session's simulator and workspace (made once)."""
         if self._interpreter is None:
+            from valterm.core.val.interpreter import Interpreter
+
             self._interpreter = Interpreter.for_workspace(self.simulator, self.workspace)
             self._interpreter.limits = self.limits
             self._interpreter.machine.keyboard = self._keyboard

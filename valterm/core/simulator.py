@@ -116,7 +116,6 @@ class Simulator:
         self._findings: set[tuple[str, Party, Party]] = set()
         self._checker: RobotScene | None = None
         self._checker_gap: float | None = None
-        self._frames_cache: list[tuple[tuple[float, ...], np.ndarray, np.ndarray]] = []
 
     # -- readouts ------------------------------------------------------------
     def robot_polyhedra(self) -> list[Polyhedron]:
@@ -507,29 +506,25 @@ class Simulator:
         return self._checker
 
     def _frames_at(self, joints: Sequence[float]) -> np.ndarray:
-        """Link frames in world coordinates, the last two poses' kept (a step's two ends)."""
-        key = tuple(joints)
-        for known, base, frames in self._frames_cache:
-            if known == key and base is self.base:
-                return frames
+        """Link frames in world coordinates."""
         # the base frame as built (identity, no BASE given): skip a product that changes nothing
-        frames = self.model.link_frames(joints, None if self.base is self._home_base else self.base)
-        self._frames_cache = [(key, self.base, frames), *self._frames_cache[:1]]
-        return frames
+        return self.model.link_frames(joints, None if self.base is self._home_base else self.base)
 
     def check_collisions(self, previous: Sequence[float] | None = None) -> Iterator[Event]:
         """The thesis's coarse and fine checks at this pose; each finding is said as it starts.
 
-        With ``previous`` (the pose before, on the same path) the step between is checked too,
-        at substeps no longer than the thinnest part near the path (issue 13: a thin part
-        straddled by two consecutive poses is reported).
+        With ``previous`` (the pose before, on the same path) the step between is checked too
+        (issue 13: a thin part straddled by two consecutive poses is reported), where a part
+        is near enough to be reached (issue 25).
         """
         scene = self._collision_scene()
         carried = () if self.carried is None else (self.carried,)
         objects = self.cell.objects
         frames = self._frames_at(self.joints)
         findings = scene.check(frames, objects, carried, self.speed)
-        if previous is not None:
+        if previous is None:
+            scene.swept(frames, (), objects, now=self._pose_key(self.joints))   # the boxes a step starts from
+        else:
             findings = self._swept(scene, previous, frames, carried) + findings
         now: set[tuple[str, Party, Party]] = {(f.kind, f.a, f.b) for f in findings}
         said: set[tuple[str, Party, Party]] = set()
@@ -540,25 +535,29 @@ class Simulator:
                 yield finding.event()
         self._findings = now
 
+    def _pose_key(self, joints: Sequence[float]) -> tuple[object, ...]:
+        """What names a pose for the swept check: the joints and the base frame."""
+        return (*joints, self.base.tobytes())
+
     def _swept(self, scene: RobotScene, previous: Sequence[float], frames: np.ndarray,
                carried: tuple[int, ...]) -> list[Finding]:
-        """Findings at the substeps between ``previous`` and the pose now (none if one step will do)."""
-        n = scene.substeps(self._frames_at(previous), frames, self.cell.objects, carried)
-        if n <= 1:
-            return []
+        """Collisions between ``previous`` and the pose now: at the moments ``RobotScene.swept``
+        names, the pairs it finds there at risk (nothing when no part can be reached)."""
         here = self.joints
         q0 = np.asarray(previous, dtype=float)
         # the way the joints turned: under the 1985 rules 179 -> -179 is a turn of 2 degrees
         q1 = q0 + (np.asarray(here, dtype=float) - q0 + 180.0) % 360.0 - 180.0
+        moments, rows = scene.swept(frames, np.radians(q1 - q0).tolist(), self.cell.objects,
+                                    self._pose_key(previous), self._pose_key(here))
         found: list[Finding] = []
         try:
-            for step in range(1, n):
-                self.joints = [float(v) for v in q0 + (q1 - q0) * (step / n)]
+            for t, row in zip(moments.tolist(), rows):
+                self.joints = [float(v) for v in q0 + (q1 - q0) * t]
                 self._follow_clamp()
-                found += scene.check(self.model.link_frames(self.joints, self.base),
-                                     self.cell.objects, carried, self.speed)
+                found += scene.collisions_between(self.model.link_frames(self.joints, self.base),
+                                                  self.cell.objects, np.flatnonzero(row), self.speed)
         finally:
-            self.joints = here
-            self._follow_clamp()
+            if len(moments):
+                self.joints = here
+                self._follow_clamp()
         return found
-

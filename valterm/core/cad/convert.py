@@ -26,17 +26,20 @@ from __future__ import annotations
 import re
 from collections.abc import Callable, Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from valterm.core.cad.axes import world_to_gltf
 from valterm.core.cad.errors import CadImportError, DegeneratePart
 from valterm.core.cad.hull import MIN_DEPTH_MM, extruded_hull
-from valterm.core.cad.iges import Part, read_iges
 from valterm.core.cad.mesh import MESH_EXTENSIONS, METRE_EXTENSIONS, Y_UP_EXTENSIONS, read_mesh_parts
 from valterm.core.cad.placement import place_on_table
 from valterm.core.cell.polyhedron import Polyhedron
 from valterm.core.cell.workcell import WorkCell
+
+if TYPE_CHECKING:
+    from valterm.core.cad.iges import Part
 
 IGES_EXTENSIONS = (".igs", ".iges")
 SCS_HEIGHT = 26.0
@@ -60,6 +63,8 @@ def read_parts(path: str | Path, parts: int | None = None,
     """Parts (points in mm by the file's units), mm per file unit, the file's units and warnings.
 
     The units are MM, IN or M: what the file says (IGES header; glTF/GLB metres) or MM."""
+    from valterm.core.cad.iges import Part, read_iges  # the readers load when a file is read
+
     path = Path(path)
     ext = path.suffix.lower()
     if ext in IGES_EXTENSIONS:
@@ -115,6 +120,8 @@ def native_units(path: str | Path) -> str:
     path = Path(path)
     ext = path.suffix.lower()
     if ext in IGES_EXTENSIONS:
+        from valterm.core.cad.iges import read_iges
+
         return file_units(read_iges(path).mm_per_unit)
     return "M" if ext in METRE_EXTENSIONS else "MM"
 

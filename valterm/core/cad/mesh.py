@@ -25,12 +25,15 @@ import re
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from valterm.core.cad.axes import gltf_to_world
 from valterm.core.cad.errors import CadImportError
-from valterm.core.cad.iges import Part
+
+if TYPE_CHECKING:        # the IGES reader loads when a file is read (issue 25: start time)
+    from valterm.core.cad.iges import Part
 
 MESH_EXTENSIONS = (".stl", ".obj", ".ply", ".off", ".glb", ".gltf")
 METRE_EXTENSIONS = (".glb", ".gltf")
@@ -51,6 +54,9 @@ _OBJ_SHORT_VERTEX = re.compile(rb"^v[ \t]+[^ \t\r\n]+(?:[ \t]+[^ \t\r\n]+)?[ \t]
 
 def read_mesh_parts(path: str | Path, progress: Progress | None = None) -> list[Part]:
     """The parts of a mesh file; raises ``CadImportError`` with the reason on bad input."""
+
+    from valterm.core.cad.iges import Part
+
     path = Path(path)
     ext = path.suffix.lower()
     if ext not in MESH_EXTENSIONS:

@@ -26,8 +26,8 @@ from typing import TYPE_CHECKING, Collection, Literal, Sequence
 import numpy as np
 
 from valterm.core.cell.polyhedron import Polyhedron
-from valterm.core.collision.thesis import (Layout, Scene, check_pairs, face_planes, figures, largest_of_xyz,
-                                           layout, margin)
+from valterm.core.collision.thesis import (CLEAR, COLLIDES, EPS, Layout, Scene, check_pairs, face_planes, figures,
+                                           largest_of_xyz, layout, margin)
 from valterm.core.collision.world import CollisionWorld, Finding, _Pairs
 
 if TYPE_CHECKING:
@@ -75,9 +75,14 @@ class RobotScene:
         self._parts: tuple[np.ndarray, ...] | None = None   # the part arrays the cache was built from
         self._carried: tuple[int, ...] = ()
         self._thin: dict[int, tuple[np.ndarray, float]] = {}
-        self._placed: list[tuple[np.ndarray, np.ndarray]] = []
+        self._pairs_now: _Pairs | None = None       # the pairs of the last ``check``
+        self._gaps_now: np.ndarray | None = None     # their box gaps, when it measured every pair
+        self._every: np.ndarray | None = None
+        self._part_widths: tuple[object, np.ndarray] | None = None
+        self._table: tuple[object, np.ndarray, np.ndarray, np.ndarray] | None = None   # _travel_table's
+        # the pose ``swept`` last saw: (pose, parts, carried, box gaps of every pair, or the boxes)
+        self._ends: tuple[object, object, object, np.ndarray | None, np.ndarray, np.ndarray] | None = None
         self._planes_due: tuple[np.ndarray, np.ndarray] | None = None   # frames whose planes are not set yet
-        self._thin_all: tuple[object, float] | None = None
 
     # -- what is built once ----------------------------------------------------------------
     def set_shapes(self, local: Sequence[np.ndarray]) -> None:
@@ -140,7 +145,7 @@ class RobotScene:
         parts = self._parts
         if parts is None or carried != self._carried or len(parts) != len(objects):
             return True
-        now = [p.vertices for p in objects]
+        now = list(map(_VERTICES, objects))
         for c in carried:              # a carried part moves every pose: not part of the cache
             now[c - 1] = parts[c - 1]
         return not all(map(operator.is_, parts, now))
@@ -164,7 +169,6 @@ class RobotScene:
         stacked = _stacked(frames[: self._n_frames])
         placed = self._place(stacked)
         v[: self._nl_rows] = placed
-        self._placed = [(frames, placed), *self._placed[:1]]   # the last two poses, for substeps
         # a link's centre, radius and face planes move with its frame: no pass over its vertices
         s.centres[:nl] = (self._local_centres @ stacked).take(self._centre_pick)
         self._planes_due = (frames, stacked)       # the face planes follow when a fine check asks
@@ -214,6 +218,7 @@ class RobotScene:
             self._rebuild(objects, held)
         world = self.world
         pairs = world.pairs(len(objects), held)
+        self._pairs_now = pairs
         if len(pairs.moving) == 0:
             return []
         movers = self._update(frames)
@@ -228,12 +233,31 @@ class RobotScene:
             near = self._candidates(movers, grow)
             sel = np.concatenate([(np.arange(0, ruled, n_free)[:, None] + near).ravel(),
                                   np.arange(ruled, len(pairs.moving))])
-            codes = np.zeros(len(pairs.moving), dtype=np.int8)
-            if len(sel):
-                codes[sel] = check_pairs(self._scene, pairs.moving.take(sel), pairs.stationary.take(sel), grow)
-        else:
-            codes = check_pairs(self._scene, pairs.moving, pairs.stationary, grow)
+        else:                      # every pair: their box gaps kept for the swept check
+            gaps = np.empty(len(pairs.moving))
+            codes = check_pairs(self._scene, pairs.moving, pairs.stationary, grow, gaps=gaps)
+            self._gaps_now = gaps
+            return world.findings(pairs, codes)
+        self._gaps_now = None
+        codes = np.zeros(len(pairs.moving), dtype=np.int8)
+        if len(sel):
+            codes[sel] = check_pairs(self._scene, pairs.moving.take(sel), pairs.stationary.take(sel), grow)
         return world.findings(pairs, codes)
+
+    def collisions_between(self, frames: np.ndarray, objects: Sequence[Polyhedron], only: np.ndarray,
+                           speed: float = 100.0) -> list[Finding]:
+        """The collisions of the pairs at positions ``only`` (``swept``'s, at one of its moments)
+        with the links at ``frames``: the parts are those of the last ``check``, a carried one
+        moved with the hand."""
+        pairs = self._pairs_now
+        assert pairs is not None
+        self._update(frames)
+        if self._carried:
+            self._place_carried(objects)
+        codes = np.zeros(len(pairs.moving), dtype=np.int8)
+        codes[only] = check_pairs(self._scene, pairs.moving.take(only), pairs.stationary.take(only), margin(speed))
+        codes[codes != COLLIDES] = CLEAR
+        return self.world.findings(pairs, codes)
 
     def _exact_codes(self, frames: np.ndarray, objects: Sequence[Polyhedron], held: tuple[int, ...],
                      pairs: _Pairs) -> np.ndarray:
@@ -265,50 +289,169 @@ class RobotScene:
         self._thin[id(p.vertices)] = (p.vertices, w)
         return w
 
-    def _placed_at(self, frames: np.ndarray) -> np.ndarray:
-        for known, placed in self._placed:
-            if known is frames:
-                return placed
-        return self.place(frames)
+    def swept(self, frames: np.ndarray, turned: Sequence[float], objects: Sequence[Polyhedron],
+              since: object = None, now: object = None) -> tuple[np.ndarray, np.ndarray]:
+        """Conservative advancement over the step that ended at ``frames``: the moments between
+        the two poses to check (fractions of the step, none when nothing can be met) and, for
+        each, the pairs to check there (a boolean row over the step's pairs).
+
+        ``turned``: each joint's turn over the step (radians, JT1..JT6). With the joints
+        moving linearly, a point of a body carried by frame k moves at most
+        sum over j <= k of |turn j| x (its distance from joint j's origin), that distance
+        bounded from where it is now and from the chain's fixed lengths. A box holding a body
+        moves no more than its points, and the fine test finds a collision only where the two
+        boxes meet: with the boxes ``g0`` apart at the start and ``g1`` at the end, and ``b``
+        the most both can move, they can meet only from ``g0 / b`` to ``1 - g1 / b`` of the
+        step, and never when ``g0 + g1 > b``. Those pairs are checked at moments no farther
+        apart than the thinnest part among them (for collisions: "near" is said at the poses,
+        as in 1985; link x link pairs are not swept, no link being a thin part). ``since`` and
+        ``now`` name the two poses (the boxes at ``since`` are those kept by the last call,
+        when it was given ``now=since``; else ``g0`` is 0).
+        Call after ``check`` at ``frames`` (it uses the figures placed there).
+        """
+        pairs, s = self._pairs_now, self._scene
+        kept, self._ends = self._ends, None
+        never = np.zeros(0), np.zeros((0, 0), dtype=bool)
+        if pairs is None or self.checker == "exact" or len(pairs.moving) == 0:
+            return never
+        gaps = self._gaps_now
+        if now is not None:           # the boxes themselves only when the gaps were not all measured
+            self._ends = (now, self._parts, self._carried, gaps,
+                          *((s.mid.copy(), s.half.copy()) if gaps is None else (s.mid, s.half)))
+        if not any(turned):
+            return never
+        movers = self._movers
+        turns = np.abs(np.asarray(turned, dtype=float))
+        bound = np.zeros(len(s.radii))
+        bound[movers] = self._sweep_bounds(frames, turns, tight=False)
+        thinnest = self._thinnest(objects)
+        if float(bound.max()) <= thinnest:
+            return never                  # nothing moves as far as the thinnest part is wide
+        bound[movers] = self._sweep_bounds(frames, turns)
+        if float(bound.max()) <= thinnest:
+            return never
+        # the parts' pairs (rules 1 and 2): links are no thin parts, link x link is not swept
+        ruled = len(movers) * len(self._free)
+        if gaps is not None:
+            sel, m, st, after = self._all_pairs(ruled), pairs.moving[:ruled], pairs.stationary[:ruled], gaps[:ruled]
+        else:
+            near = self._candidates(movers, float(bound.max()))
+            sel = (np.arange(0, ruled, len(self._free))[:, None] + near).ravel()
+            m, st = pairs.moving.take(sel), pairs.stationary.take(sel)
+            after = _box_gaps(s.mid, s.half, m, st)
+        before = np.zeros(len(sel))
+        if since is not None and kept is not None and kept[0] == since and kept[1] is self._parts \
+                and kept[2] == self._carried:
+            if kept[3] is None:                       # the boxes were kept (copies)
+                before = _box_gaps(kept[4], kept[5], m, st)
+            elif gaps is not None:
+                before = kept[3][:ruled]
+        moved = bound.take(m)                          # a free part does not move
+        cand = np.flatnonzero(before + after <= moved + 2.0 * EPS)
+        if len(cand) == 0:
+            return never
+        moved = moved.take(cand)
+        reach = moved + 2.0 * EPS
+        b0, b1 = before.take(cand), after.take(cand)
+        widths = np.maximum(self._widths(objects, st.take(cand)), 1.0)
+        steps = int(math.ceil(float((moved / widths).max())))
+        if steps <= 1:
+            return never
+        moments = np.arange(1, steps) / steps
+        # each pair only where its boxes can meet: from b0 / reach to 1 - b1 / reach of the step
+        live = ((b0 - 2.0 * EPS) / reach <= moments[:, None]) & (moments[:, None] <= 1.0 - (b1 - 2.0 * EPS) / reach)
+        used = live.any(axis=1)
+        rows = np.zeros((int(used.sum()), len(pairs.moving)), dtype=bool)
+        rows[:, sel.take(cand)] = live[used]
+        return moments[used], rows
+
+    def _all_pairs(self, count: int) -> np.ndarray:
+        """0 .. count - 1, kept."""
+        if self._every is None or len(self._every) != count:
+            self._every = np.arange(count)
+        return self._every
+
+    def _sweep_bounds(self, frames: np.ndarray, turned: np.ndarray, tight: bool = True) -> np.ndarray:
+        """How far any point of each moving body can travel over a step of these joint turns.
+
+        ``tight``: the distances from the joints' axes taken from where the bodies are now,
+        grown by how far the later joints can carry them over the step (a few more numpy
+        calls; without it the fixed lengths of ``_travel_table``)."""
+        fixed = self._travel_table(frames)
+        if not tight:
+            loose: np.ndarray = fixed @ turned
+            return loose
+        s, movers = self._scene, self._movers
+        d = s.centres.take(movers, axis=0)[:, None, :] - frames[None, 1: self._n_frames, :3, 3]
+        now = np.sqrt(np.einsum("mjk,mjk->mj", d, d)) + s.radii.take(movers)[:, None]    # (movers, joints)
+        far = fixed * turned
+        later = far @ _LATER                           # what the joints after j add
+        travel: np.ndarray = (np.minimum(far, (now + later) * turned)).sum(axis=1)
+        return travel
+
+    def _travel_table(self, frames: np.ndarray) -> np.ndarray:
+        """(movers, joints): how far a point of each moving body can be from each joint's axis.
+
+        Joint j turns about an axis through frame j's origin; a body carried by frame k is
+        no farther from it than the chain from frame j's origin to frame k's, plus the body's
+        farthest point from frame k's origin: lengths no motion changes (kept per set of
+        bodies; a carried part's measured at each call)."""
+        s, movers = self._scene, self._movers
+        nl = len(self._link_ks)
+        origins = frames[1: self._n_frames, :3, 3]
+        table = self._table
+        if table is None or table[0] is not self._parts:
+            links = origins[1:] - origins[:-1]
+            chain = np.concatenate([[0.0], np.cumsum(np.sqrt(np.einsum("jk,jk->j", links, links)))])
+            owner = np.concatenate([self.owners, np.full(len(movers) - nl, self._n_frames - 1)])
+            mask = np.arange(len(chain))[None, :] < owner[:, None]
+            last = np.maximum(owner - 1, 0)
+            starts = np.concatenate([[0], np.cumsum([2 * k for k in self._link_ks])[:-1]]).astype(np.intp)
+            own = np.sqrt(np.maximum.reduceat(np.einsum("ij,ij->i", self._local, self._local), starts))
+            table = self._table = (self._parts, np.where(mask, chain[last][:, None] - chain[None, :], 0.0),
+                                   mask, own)
+        _, chain_part, mask, far = table
+        if len(movers) > nl:         # carried parts: their farthest point from the clamp frame's origin
+            d = s.vertices[self._held_rows] - origins[-1]
+            held = np.sqrt(np.maximum.reduceat(np.einsum("ij,ij->i", d, d), self._held_starts))
+            far = np.concatenate([far, held])
+        reach: np.ndarray = chain_part + far[:, None] * mask
+        return reach
 
     def _thinnest(self, objects: Sequence[Polyhedron]) -> float:
-        """The thinnest free part of the cached set (measured once per set of parts)."""
-        if self._thin_all is None or self._thin_all[0] is not self._parts:
-            held = set(self._carried)
-            widths = [self._width(p) for n, p in enumerate(objects, 1) if n not in held]
-            self._thin_all = (self._parts, min(widths, default=math.inf))
-        return self._thin_all[1]
+        """The thinnest width of the free parts (measured once per set of parts)."""
+        if len(self._free) == 0:
+            return math.inf
+        return float(self._widths(objects, self._free).min())
 
-    def substeps(self, before: np.ndarray, after: np.ndarray, objects: Sequence[Polyhedron],
-                 carried: Collection[int] = ()) -> int:
-        """How many checks the step between link frames ``before`` and ``after`` needs.
-
-        No link vertex may move by more than the width of the thinnest part near its path
-        between two checks, or the step could pass through the part with both poses clear.
-        Call after ``check`` at ``after`` (it uses the parts' boxes cached there).
-        """
-        a, b = self._placed_at(before), self._placed_at(after)
-        moved = b - a
-        moved *= moved                                   # squared lengths by a matmul: no einsum
-        distance = math.sqrt(float((moved @ _ONES3).max())) if len(moved) else 0.0
-        if distance == 0.0 or self._parts is None or distance <= self._thinnest(objects):
-            return 1
-        held = set(carried)
-        numbers = [n for n in range(1, len(objects) + 1) if n not in held]
-        # the parts whose box meets the box of the path (grown by the step: joint paths bulge)
-        lo = np.minimum(a.min(axis=0), b.min(axis=0)) - distance
-        hi = np.maximum(a.max(axis=0), b.max(axis=0)) + distance
-        s, nl = self._scene, len(self._link_ks)
-        idx = np.asarray(numbers, dtype=np.intp) + nl - 1
-        box_lo, box_hi = s.mid[idx] - s.half[idx], s.mid[idx] + s.half[idx]
-        meet = np.flatnonzero(largest_of_xyz(np.maximum(box_lo - hi, lo - box_hi)) <= 0.0)
-        thin = min((self._width(objects[numbers[i] - 1]) for i in meet.tolist()), default=math.inf)
-        if distance <= thin:
-            return 1
-        return int(math.ceil(distance / max(thin, 1.0)))
+    def _widths(self, objects: Sequence[Polyhedron], idx: np.ndarray) -> np.ndarray:
+        """The thinnest widths of the scene's parts at indices ``idx``."""
+        nl = len(self._link_ks)
+        kept = self._part_widths
+        if kept is None or kept[0] is not self._parts:       # measured once per set of parts
+            kept = self._part_widths = (self._parts, np.full(len(self._scene.radii), np.nan))
+        widths = kept[1]
+        found: np.ndarray = widths.take(idx)
+        missing = np.isnan(found)
+        if missing.any():
+            for i in np.unique(idx[missing]).tolist():
+                widths[i] = self._width(objects[i - nl])
+            found = widths.take(idx)
+        return found
 
 
-_ONES3 = np.ones(3)
+
+_VERTICES = operator.attrgetter("vertices")
+
+# x @ _LATER sums, for each joint, the columns of the joints after it
+_LATER = np.tril(np.ones((6, 6)), -1)
+
+
+def _box_gaps(mid: np.ndarray, half: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """How far apart the boxes of bodies a[i] and b[i] are (their largest gap on an axis)."""
+    gap = np.abs(mid.take(a, axis=0) - mid.take(b, axis=0))
+    gap -= half.take(a, axis=0) + half.take(b, axis=0)
+    return largest_of_xyz(gap)
 
 
 def _stacked(frames: np.ndarray) -> np.ndarray:

@@ -279,10 +279,11 @@ def _contained(centres: np.ndarray, src: np.ndarray, unit: np.ndarray, off: np.n
 
 
 def check_pairs(scene: Scene, moving: np.ndarray, stationary: np.ndarray, grow: float,
-                fine_only: np.ndarray | None = None) -> np.ndarray:
+                fine_only: np.ndarray | None = None, gaps: np.ndarray | None = None) -> np.ndarray:
     """Kind codes (CLEAR/NEAR/COLLIDES) per pair, the coarse test gating the fine one.
 
     ``fine_only`` marks pairs where only the coarse test is run (never COLLIDES).
+    ``gaps``: filled with how far apart each pair's two boxes are (the swept check's figure).
     """
     moving = np.asarray(moving, dtype=np.intp)
     stationary = np.asarray(stationary, dtype=np.intp)
@@ -297,7 +298,10 @@ def check_pairs(scene: Scene, moving: np.ndarray, stationary: np.ndarray, grow: 
     # worked out for every pair at once, fewer numpy calls than picking the near ones first)
     apart = np.abs(scene.mid.take(moving, axis=0) - mid_s)
     apart -= scene.half.take(moving, axis=0) + half_s
-    near &= largest_of_xyz(apart) <= EPS
+    box_gaps = largest_of_xyz(apart)
+    if gaps is not None:
+        gaps[:] = box_gaps
+    near &= box_gaps <= EPS
     if fine_only is not None:
         near &= ~fine_only
     idx = np.flatnonzero(near)
