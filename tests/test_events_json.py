@@ -8,7 +8,7 @@ from dataclasses import asdict
 
 from valterm.core import resources
 from valterm.core.cell.workcell import WorkCell
-from valterm.core.events import End, Event, Step, TypeOut
+from valterm.core.events import End, Event, Step, TypeOut, Where
 from valterm.core.files.locations import read_locations
 from valterm.core.files.programs import read_program
 from valterm.core.files.setup import read_setup
@@ -17,8 +17,11 @@ from valterm.core.val.interpreter import Interpreter
 
 
 def _same(event: Event) -> None:
-    assert event.to_json() == {"event": event.event, **asdict(event)}
-    assert event.json_line() == json.dumps({"event": event.event, **asdict(event)})
+    expected = {"event": event.event, **asdict(event)}
+    if isinstance(event, Where) and event.ypr is None:
+        del expected["ypr"]  # a 1985 WHERE is written without V+'s angles (issue 23)
+    assert event.to_json() == expected
+    assert event.json_line() == json.dumps(expected)
 
 
 def test_every_event_of_the_process_run_is_written_as_before() -> None:

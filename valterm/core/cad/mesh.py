@@ -54,7 +54,6 @@ _OBJ_SHORT_VERTEX = re.compile(rb"^v[ \t]+[^ \t\r\n]+(?:[ \t]+[^ \t\r\n]+)?[ \t]
 
 def read_mesh_parts(path: str | Path, progress: Progress | None = None) -> list[Part]:
     """The parts of a mesh file; raises ``CadImportError`` with the reason on bad input."""
-
     from valterm.core.cad.iges import Part
 
     path = Path(path)
@@ -85,6 +84,8 @@ def read_mesh_parts(path: str | Path, progress: Progress | None = None) -> list[
 
 def _read_with_trimesh(path: Path, ext: str, progress: Progress | None) -> list[Part]:
     import trimesh
+
+    from valterm.core.cad.iges import Part
 
     try:
         with _quiet_trimesh():
