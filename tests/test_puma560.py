@@ -118,3 +118,43 @@ def test_unreachable_and_refused_input(capsys: pytest.CaptureFixture[str], tmp_p
     with pytest.raises(RobotFileError, match="six entries"):
         load_dh_robot(bad)
     assert not math.isnan(dh_robot("PUMA560").d[0])
+
+
+def test_the_drawn_560_follows_its_own_chain() -> None:
+    from valterm.core.robot import load_robot_model
+
+    model = load_robot_model("PUMA560")
+    assert model.chain is not None and model.geometry.ready == (0.0, 90.0, -90.0, 0.0, 0.0, 0.0)
+    assert model.names == ("PEDESTAL", "TRUNK", "TRUNK", "UPPER ARM", "FOREARM", "FOREARM", "WRIST", "WRIST",
+                           "FLANGE")
+    rng = np.random.default_rng(26)
+    for q in rng.uniform(-90, 90, size=(20, 6)):
+        placed = {p.name: p for p in model.place(q)}
+        tool = model.chain.fk(q)
+        # the flange: a disc 30..56 mm beyond frame 6 along its z, centred on the axis
+        assert np.allclose(placed["FLANGE"].vertices.mean(axis=0), tool[:3, 3] + 43.0 * tool[:3, 2], atol=1e-6)
+        # the upper arm spans the shoulder to the elbow: its middle is halfway along a2
+        elbow = model.chain.link_frames(q)[0, 2]
+        middle = placed["UPPER ARM"].vertices.mean(axis=0)
+        along = (middle - elbow[:3, 3]) @ elbow[:3, 0]
+        assert -300.0 < along < -130.0
+        assert np.allclose(placed["PEDESTAL"].vertices, model.place(np.zeros(6))[0].vertices)
+    # the thesis's robot is still the default model
+    assert load_robot_model().chain is None and load_robot_model().names[0] == "BASE"
+
+
+def test_render_draws_the_560_and_refuses_programs_for_it(tmp_path: Path,
+                                                         capsys: pytest.CaptureFixture[str]) -> None:
+    ws = ["--workspace", str(tmp_path)]
+    assert cli([*ws, "render", "--size", "60x20", "--json"]) == 0
+    thesis = json.loads(capsys.readouterr().out)["lines"]
+    assert cli([*ws, "render", "--robot", "PUMA560", "--size", "60x20", "--json"]) == 0
+    puma560 = json.loads(capsys.readouterr().out)["lines"]
+    assert len(puma560) == 20 and all(len(line) == 60 for line in puma560) and puma560 != thesis
+    # JT3 100 is inside the thesis's robot's stops (-45..225), beyond the 560's (-225..45)
+    assert cli([*ws, "render", "--size", "60x20", "--joints", "0", "0", "100", "0", "0", "0"]) == 0
+    capsys.readouterr()
+    assert cli([*ws, "render", "--robot", "PUMA560", "--joints", "0", "0", "100", "0", "0", "0"]) == 2
+    assert "joint 3" in capsys.readouterr().err.lower()
+    assert cli([*ws, "render", "--robot", "PUMA560", "--trace", "PROCESS"]) == 2
+    assert "--trace and --at move the thesis's robot only" in capsys.readouterr().err
