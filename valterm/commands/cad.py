@@ -1,12 +1,14 @@
 """``valterm import FILE --out NAME.SET | --into NAME.SET``: a CAD file to a setup file (§7.1).
 
-FILE is an IGES file (.igs/.iges) or a polygon mesh (.stl/.obj/.ply/.off/.glb/.gltf): a path,
+FILE is an IGES file (.igs/.iges), a STEP file (.step/.stp: through the optional OpenCASCADE
+binding, ``pip install 'valterm[step]'``; each solid a part named as in the file) or a polygon mesh (.stl/.obj/.ply/.off/.glb/.gltf): a path,
 or a file in the workspace. ``--out`` writes a new setup file NAME.SET into the workspace
 (an existing one only with --force); ``--into`` appends the parts to an existing setup file,
 keeping its objects, their numbers, its units and frame (with --out as well, the combined
 setup goes to --out instead). The parts land on a free spot of a table in front of the robot.
 The options answer the thesis's questions: --parts (the number of workpieces), --units
-(MM/IN/M: what the file's numbers are; default the file's own: the IGES header, metres for
+(MM/IN/M: what the file's numbers are; default the file's own: the IGES header, the STEP
+length unit, metres for
 glTF/GLB, millimetres for other meshes), --system (W/S: the axes they are given in).
 Bad input exits 2 with ``FILE:LINE: reason`` on stderr; nothing is half-written.
 """
@@ -26,16 +28,17 @@ from valterm.core.files.errors import error_message
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     parser = subparsers.add_parser(
-        "import", help="turn an IGES or mesh file into a work-cell setup file (.SET), or add it to one",
-        description="Read an IGES or polygon-mesh file, envelop each part in an extruded convex "
+        "import", help="turn an IGES, STEP or mesh file into a work-cell setup file (.SET), or add it to one",
+        description="Read an IGES, STEP or polygon-mesh file, envelop each part in an extruded convex "
                     "polyhedron, place the parts on a free spot of a table in front of the robot and "
                     "write NAME.SET in the workspace (--out), or append them to an existing one (--into).")
-    parser.add_argument("file", metavar="FILE", help="IGES (.igs .iges) or mesh (.stl .obj .ply .off .glb .gltf)")
+    parser.add_argument("file", metavar="FILE", help="IGES (.igs .iges), STEP (.step .stp; pip install 'valterm[step]') "
+                             "or mesh (.stl .obj .ply .off .glb .gltf)")
     parser.add_argument("--out", metavar="NAME.SET", help="the setup file to write (1-9 of A-Z 0-9)")
     parser.add_argument("--into", metavar="NAME.SET", help="an existing setup file the parts are added to")
     parser.add_argument("--units", type=str.upper, choices=("MM", "IN", "M"),
                         help="the file's numbers are in these units (default: the file's own: the IGES "
-                             "header, M for glTF/GLB, MM for STL/OBJ/PLY/OFF)")
+                             "header, the STEP length unit, M for glTF/GLB, MM for STL/OBJ/PLY/OFF)")
     parser.add_argument("--system", type=str.upper, choices=("W", "S"), default="W",
                         help="the file's coordinates are world (W, default) or screen (S) axes")
     parser.add_argument("--parts", type=int, metavar="N",

@@ -10,6 +10,10 @@ go on, and the status is 1 if any line failed.
 ``kin ik`` prints the geometric solution even when a joint is beyond its stop (the
 thesis's Figs. 2-8a2 and 2-8c show such rows), flagged ``"beyond_stop": n`` in JSON and
 by a warning on standard error; motions still refuse such poses.
+
+``--robot PUMA560`` takes the PUMA 560 of the robotics courses (``robot/PUMA560.toml``, its
+standard DH table, ``valterm.core.dh``) instead of the thesis's robot: joint angles with
+that table's zero (Corke's Robotics Toolbox ``Puma560``), positions of its frame 6 in mm.
 """
 
 from __future__ import annotations
@@ -24,9 +28,11 @@ import numpy as np
 
 from valterm.core.errors import RefusedValue
 from valterm.commands import FAILURE, OK, USAGE, say
+from valterm.core.dh import DHRobot, RobotFileError, dh_robot, robot_names
 from valterm.core.kinematics import (
     BeyondStop,
     Config,
+    HasStops,
     IKError,
     fit_to_stops,
     fk,
@@ -34,7 +40,11 @@ from valterm.core.kinematics import (
     indicators,
     oat_to_rotation,
     readout_joints,
+    robot_geometry,
+    rotation_to_oat,
 )
+
+THESIS_ROBOT = "PUMA"  # --robot's default: the thesis's own model (robot/PUMA.toml)
 
 # Larger numbers are no pose at all (mm or degrees); they would only overflow.
 LIMIT = 1e9
@@ -50,6 +60,7 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     fk_parser.add_argument("--point", type=int, choices=(1, 2, 3), default=1,
                            help="1 TCS origin, 2 LED sensor, 3 clamp tip")
     fk_parser.add_argument("--json", action="store_true", help="one JSON object per result")
+    _robot_option(fk_parser)
     fk_parser.set_defaults(func=run_fk)
 
     ik_parser = kin_sub.add_parser("ik", help="XW YW ZW O A T -> JT1..JT6")
@@ -58,7 +69,19 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     ik_parser.add_argument("--config", default="RIGHTY,ABOVE,NOFLIP",
                            help="configuration indicators, e.g. LEFTY,ABOVE,NOFLIP")
     ik_parser.add_argument("--json", action="store_true", help="one JSON object per result")
+    _robot_option(ik_parser)
     ik_parser.set_defaults(func=run_ik)
+
+
+def _robot_option(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--robot", type=str.upper, default=THESIS_ROBOT, metavar="NAME",
+                        help=f"the robot: {THESIS_ROBOT} (the thesis's, default) or a robot file's name "
+                             f"({', '.join(robot_names())}: standard DH, the Robotics Toolbox's zero)")
+
+
+def _dh(args: argparse.Namespace) -> DHRobot | None:
+    """The DH robot --robot names, None for the thesis's; RobotFileError for an unknown name."""
+    return None if args.robot == THESIS_ROBOT else dh_robot(args.robot)
 
 
 class BadPose(ValueError):
@@ -141,31 +164,70 @@ def _finite(values: Sequence[float]) -> list[float]:
     return list(values)
 
 
-def _table(xyz: Sequence[float], oat: Sequence[float], config: Config, joints: Sequence[float], clamp: str = "OPENED") -> str:
+def _table(xyz: Sequence[float], oat: Sequence[float], config: Config, joints: Sequence[float], clamp: str = "OPENED",
+           stops: HasStops | None = None) -> str:
     """The Fig. 2-8 readout."""
     arm, elbow, wrist = config.words
     row = "{:<7}" + "{:>9}" * 6
     head = row.format(clamp, "XW", "YW", "ZW", "O", "A", "T")
     values = row.format(arm, *(f"{v:.2f}" for v in (*xyz, *oat)))
     head2 = row.format(elbow, "JT1", "JT2", "JT3", "JT4", "JT5", "JT6")
-    values2 = row.format(wrist, *(f"{v:.2f}" for v in readout_joints(joints)))
+    values2 = row.format(wrist, *(f"{v:.2f}" for v in readout_joints(joints, stops)))
     return "\n".join((head, values, head2, values2))
 
 
+def _chosen(args: argparse.Namespace) -> tuple[DHRobot | None, int]:
+    """The robot --robot names and OK, or None and USAGE after saying why."""
+    try:
+        robot = _dh(args)
+    except RobotFileError as error:
+        say(f"kin {args.kin_command}: --robot: {error}")
+        return None, USAGE
+    if robot is not None and getattr(args, "point", 1) != 1:
+        say(f"kin fk: --point {args.point}: the LED sensor and the clamp tip are the thesis's robot's; "
+            f"{robot.name} has its frame 6 only")
+        return None, USAGE
+    return robot, OK
+
+
+def _fk_pose(robot: DHRobot | None, joints: list[float], point: int) -> tuple[list[float], list[float], Config]:
+    """XYZ (mm), O A T (degrees) and the indicators of a joint vector on the chosen robot."""
+    if robot is None:
+        pose = fk(joints, point=point)
+        return [float(v) for v in pose.xyz], list(pose.oat), indicators(joints)
+    tool = robot.fk(joints)
+    return [float(v) for v in tool[:3, 3]], list(rotation_to_oat(tool[:3, :3])), robot.indicators(joints)
+
+
 def run_fk(args: argparse.Namespace) -> int:
+    robot, status = _chosen(args)
+    if status != OK:
+        return status
+    stops = robot or robot_geometry()
+
     def solve(words: list[str], line: int) -> None:
         joints = _numbers(words, 6, "JT1..JT6")
-        pose = fk(joints, point=args.point)
-        xyz = [round(v, 6) for v in _finite([float(v) for v in pose.xyz])]
-        oat = [round(v, 6) for v in _finite(pose.oat)]
-        config = indicators(joints)
-        shown = [round(j, 6) for j in readout_joints(joints)]  # inside the stops where it can be
+        position, orientation, config = _fk_pose(robot, joints, args.point)
+        xyz = [round(v, 6) for v in _finite(position)]
+        oat = [round(v, 6) for v in _finite(orientation)]
+        shown = [round(j, 6) for j in readout_joints(joints, stops)]  # inside the stops where it can be
         if args.json:
-            print(json.dumps({"xyz": xyz, "oat": oat, "config": config.as_dict(), "joints": shown}))
+            print(json.dumps({"xyz": xyz, "oat": oat, "config": config.as_dict(), "joints": shown,
+                              "robot": stops.name}))
         else:
-            print(_table(xyz, oat, config, joints))
+            print(_table(xyz, oat, config, joints, stops=stops))
 
     return _each(args, args.joints, solve)
+
+
+def _ik_joints(robot: DHRobot | None, pose: list[float], config: Config) -> list[float]:
+    """The geometric solution (degrees, wrapped) of X Y Z O A T on the chosen robot."""
+    rotation = oat_to_rotation(*pose[3:])
+    if robot is None:
+        return ik(pose[:3], rotation, config, enforce_stops=False)
+    tool = np.eye(4)
+    tool[:3, :3], tool[:3, 3] = rotation, pose[:3]
+    return robot.ik(tool, config)
 
 
 def run_ik(args: argparse.Namespace) -> int:
@@ -174,6 +236,10 @@ def run_ik(args: argparse.Namespace) -> int:
     except RefusedValue as error:
         say(f"kin ik: --config: {error}")
         return USAGE
+    robot, status = _chosen(args)
+    if status != OK:
+        return status
+    stops = robot or robot_geometry()
 
     def solve(words: list[str], line: int) -> None:
         config = default_config
@@ -185,17 +251,17 @@ def run_ik(args: argparse.Namespace) -> int:
             words = words[:6]
         pose = _numbers(words, 6, "X Y Z O A T")
         # the geometric solution first; the stops only flag it
-        joints = _finite(ik(pose[:3], oat_to_rotation(*pose[3:]), config, enforce_stops=False))
+        joints = _finite(_ik_joints(robot, pose, config))
         beyond = 0
         try:
-            joints = fit_to_stops(joints)
+            joints = fit_to_stops(joints, geometry=stops)
         except BeyondStop as stop:
             beyond = stop.joint
             _warn(args, f"joint {beyond} beyond its stop ({stop.angle:.2f} deg): "
                         "the geometric solution is shown; the robot cannot take this pose", line)
-        shown = [round(j, 6) for j in readout_joints(joints)]  # JT3 215.04, not -144.96
+        shown = [round(j, 6) for j in readout_joints(joints, stops)]  # JT3 215.04, not -144.96
         if args.json:
-            result: dict[str, object] = {"joints": shown, "config": config.as_dict()}
+            result: dict[str, object] = {"joints": shown, "config": config.as_dict(), "robot": stops.name}
             if beyond:
                 result["beyond_stop"] = beyond
             print(json.dumps(result))

@@ -13,7 +13,7 @@ import math
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import NamedTuple, Sequence
+from typing import NamedTuple, Protocol, Sequence
 
 import numpy as np
 
@@ -49,6 +49,7 @@ class RobotGeometry:
     stops: tuple[tuple[float, float], ...]
     ready: tuple[float, ...]
     model_geometry: str = "PUMA.SET"
+    name: str = "PUMA 600"  # as the robot file names it (STATUS, --json)
     stops_array: np.ndarray = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
@@ -83,6 +84,7 @@ def load_robot(path: Path | None = None) -> RobotGeometry:
         stops=stops,
         ready=tuple(float(v) for v in data["ready"]["joints"]),
         model_geometry=str(data.get("model", {}).get("geometry", "PUMA.SET")),
+        name=str(data.get("name", "PUMA 600")),
     )
 
 
@@ -211,10 +213,17 @@ class BeyondStop(IKError):
         super().__init__(f"{self.reason} ({angle:.2f} deg{limits})")
 
 
+class HasStops(Protocol):
+    """A robot's joint stops: the thesis's RobotGeometry, or a DH robot file's (core/dh.py)."""
+
+    @property
+    def stops(self) -> tuple[tuple[float, float], ...]: ...
+
+
 def fit_to_stops(
     joints: Sequence[float],
     current: Sequence[float] | None = None,
-    geometry: RobotGeometry | None = None,
+    geometry: HasStops | None = None,
 ) -> list[float]:
     """The 360-degree equivalent of each joint within its stops nearest the current angle.
 
@@ -266,7 +275,7 @@ def canonical_joints(joints: Sequence[float], geometry: RobotGeometry | None = N
     return shown
 
 
-def readout_joints(joints: Sequence[float], geometry: RobotGeometry | None = None) -> list[float]:
+def readout_joints(joints: Sequence[float], geometry: HasStops | None = None) -> list[float]:
     """Angles as a readout prints them: inside the stops where an equivalent is (JT3 215.04,
     not -144.96), else the geometric angle wrapped to (-180, 180] (``kin ik`` flags those)."""
     geometry = geometry or robot_geometry()

@@ -7,7 +7,7 @@ by its link frame at once (einsum), then split back into polyhedra.
 from __future__ import annotations
 
 import tomllib
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Sequence
 
@@ -15,7 +15,10 @@ import numpy as np
 
 from valterm.core.cell.polyhedron import Polyhedron
 from valterm.core import resources
+from valterm.core.dh import ROBOT_FOLDER, DHRobot, dh_robot
 from valterm.core.kinematics import ROBOT_FILE, RobotGeometry, link_frames, robot_geometry
+
+THESIS_ROBOT = "PUMA"  # the thesis's own model (robot/PUMA.toml), the default robot
 
 
 @dataclass(frozen=True)
@@ -29,6 +32,8 @@ class RobotModel:
     finger_side: np.ndarray    # (links,) -1/+1 for a finger, 0 otherwise
     closed_gap: float
     open_gap: float
+    # a robot file's DH table (core/dh.py): the link frames come from it, not from the thesis's model
+    chain: DHRobot | None = None
 
     @property
     def count(self) -> int:
@@ -60,12 +65,12 @@ class RobotModel:
 
     def link_frames(self, joints: Sequence[float], base: np.ndarray | None = None) -> np.ndarray:
         """The seven (4, 4) link frames in world coordinates at JT1..JT6 (degrees)."""
-        frames = link_frames(joints, self.geometry)
+        frames = link_frames(joints, self.geometry) if self.chain is None else self.chain.link_frames(joints)[0]
         return frames if base is None else base @ frames
 
     def clamp_frame(self, joints: Sequence[float], base: np.ndarray | None = None) -> np.ndarray:
         """The 4x4 clamp frame (R6, origin at the wrist centre) in world coordinates."""
-        frame: np.ndarray = link_frames(joints, self.geometry)[6]
+        frame: np.ndarray = self.link_frames(joints)[6]
         return frame if base is None else base @ frame
 
     def led_segment(self, joints: Sequence[float], gap: float | None = None,
@@ -102,3 +107,19 @@ def load_model(path: Path | None = None, geometry: RobotGeometry | None = None) 
         closed_gap=float(data["closed_gap"]),
         open_gap=float(data["open_gap"]),
     )
+
+
+def load_robot_model(name: str = THESIS_ROBOT) -> RobotModel:
+    """The drawn robot a robot file names: the thesis's (PUMA) or a DH robot file's (PUMA560).
+
+    A DH robot's links are placed by its own chain; its ``geometry`` carries only what the
+    drawing and the readouts take from it (stops, ready pose, name, frame 6 at the flange
+    with no clamp): the thesis's kinematics are never run on it."""
+    if name.upper() == THESIS_ROBOT:
+        return load_model()
+    chain = dh_robot(name.upper())
+    path = resources.data_path(ROBOT_FOLDER, f"{name.upper()}.toml")
+    geometry = RobotGeometry(a2=chain.a[1], d2=chain.d[2], d4=chain.d[3], d6=chain.d[5], led_sensor=0.0,
+                             clamp_tip=0.0, stops=chain.stops, ready=chain.ready, name=chain.name,
+                             model_geometry=str(tomllib.loads(path.read_text(encoding="utf-8"))["model"]["geometry"]))
+    return replace(load_model(path, geometry), chain=chain)

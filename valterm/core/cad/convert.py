@@ -5,7 +5,8 @@ The thesis's IGES path asked for the setup-file name, the number of workpieces, 
 specified coordinate axes". Here:
 
 * the file's numbers are read in its own units unless ``units`` says they are ``MM``, ``IN``
-  or ``M``: an IGES file by its header's units flag; a glTF/GLB in metres with Y up (its
+  or ``M``: an IGES file by its header's units flag; a STEP file by its length unit (read
+  through the optional OpenCASCADE binding, ``valterm.core.cad.step``); a glTF/GLB in metres with Y up (its
   specification says so; turned to the world's Z up as export turns it back); STL/OBJ/PLY/OFF
   carry no units and are taken as millimetres. A part implausibly small (under 2 mm: a file
   in metres read as millimetres) or large (over 20 m) is kept, with a warning that names
@@ -18,7 +19,7 @@ specified coordinate axes". Here:
   or, when ``place_at`` is given, so the minimum corner of their joint box sits there (in the
   chosen system), as the thesis did;
 * each part becomes its extruded convex envelope (``valterm.core.cad.hull``), named as the
-  file names it (IGES entity label, mesh geometry name).
+  file names it (IGES entity label, STEP product, mesh geometry name).
 """
 
 from __future__ import annotations
@@ -35,6 +36,7 @@ from valterm.core.cad.errors import CadImportError, DegeneratePart
 from valterm.core.cad.hull import MIN_DEPTH_MM, extruded_hull
 from valterm.core.cad.mesh import MESH_EXTENSIONS, METRE_EXTENSIONS, Y_UP_EXTENSIONS, read_mesh_parts
 from valterm.core.cad.placement import place_on_table
+from valterm.core.cad.step import STEP_EXTENSIONS, read_step_parts, step_mm_per_unit
 from valterm.core.cell.polyhedron import Polyhedron
 from valterm.core.cell.workcell import WorkCell
 
@@ -70,16 +72,19 @@ def read_parts(path: str | Path, parts: int | None = None,
     if ext in IGES_EXTENSIONS:
         model = read_iges(path)
         return model.parts(parts), model.mm_per_unit, file_units(model.mm_per_unit), model.warnings
-    if ext in MESH_EXTENSIONS:
-        found = read_mesh_parts(path, progress)
+    if ext in MESH_EXTENSIONS + STEP_EXTENSIONS:
+        if ext in STEP_EXTENSIONS:  # in mm already, by the file's own unit
+            found, mm_per_unit = read_step_parts(path, progress)
+        else:
+            found, mm_per_unit = read_mesh_parts(path, progress), 1.0
         if parts is not None and parts != len(found):
             if parts != 1:
                 raise CadImportError(path, None, f"asked for {parts} workpieces; the file holds {len(found)} meshes")
             found = [Part(setup_name(path), np.concatenate([p.points for p in found]), [])]
         if ext in METRE_EXTENSIONS:
             return [Part(p.name, p.points * 1000.0, p.entities) for p in found], 1000.0, "M", []
-        return found, 1.0, "MM", []
-    known = ", ".join(IGES_EXTENSIONS + MESH_EXTENSIONS)
+        return found, mm_per_unit, file_units(mm_per_unit), []
+    known = ", ".join(IGES_EXTENSIONS + STEP_EXTENSIONS + MESH_EXTENSIONS)
     raise CadImportError(path, None, f"unknown CAD file type {ext or '(none)'}; use one of {known}")
 
 
@@ -123,6 +128,8 @@ def native_units(path: str | Path) -> str:
         from valterm.core.cad.iges import read_iges
 
         return file_units(read_iges(path).mm_per_unit)
+    if ext in STEP_EXTENSIONS:
+        return file_units(step_mm_per_unit(path))
     return "M" if ext in METRE_EXTENSIONS else "MM"
 
 
@@ -130,7 +137,7 @@ def import_cad(path: str | Path, units: str | None = None, system: str = "W", na
                place_at: Sequence[float] | None = None, parts: int | None = None,
                min_depth: float = MIN_DEPTH_MM, around: Sequence[Polyhedron] = (),
                progress: Callable[[str], None] | None = None) -> WorkCell:
-    """Read an IGES or mesh file into a WorkCell of extruded convex polyhedra (world mm).
+    """Read an IGES, STEP or mesh file into a WorkCell of extruded convex polyhedra (world mm).
 
     ``around``: the objects already in the setup the parts join (they land clear of them).
     ``progress``: told what is being done while a large mesh is read.
