@@ -383,7 +383,12 @@ class RobotScene:
             return loose
         s, movers = self._scene, self._movers
         d = s.centres.take(movers, axis=0)[:, None, :] - frames[None, 1: self._n_frames, :3, 3]
-        now = np.sqrt(np.einsum("mjk,mjk->mj", d, d)) + s.radii.take(movers)[:, None]    # (movers, joints)
+        # the distance from each joint's axis (a point turns on a circle about it, not about
+        # the frame's origin): the part of d square to the axis
+        axes = frames[_AXIS_FRAMES, :3, _AXIS_COLUMNS]                                   # (joints, 3)
+        along = np.einsum("mjk,jk->mj", d, axes)
+        square = np.maximum(np.einsum("mjk,mjk->mj", d, d) - along * along, 0.0)
+        now = np.sqrt(square) + s.radii.take(movers)[:, None]                             # (movers, joints)
         far = fixed * turned
         later = far @ _LATER                           # what the joints after j add
         travel: np.ndarray = (np.minimum(far, (now + later) * turned)).sum(axis=1)
@@ -442,6 +447,12 @@ class RobotScene:
 
 
 _VERTICES = operator.attrgetter("vertices")
+
+# each joint's axis, a column of its frame's rotation (``kinematics.link_frames``): JT1 turns
+# about z of frame 1, JT2 and JT3 about y of frames 2 and 3, JT4 about z of frame 4, JT5
+# about y of frame 5, JT6 about z of frame 6
+_AXIS_FRAMES = np.arange(1, 7)
+_AXIS_COLUMNS = np.array([2, 1, 1, 2, 1, 2])
 
 # x @ _LATER sums, for each joint, the columns of the joints after it
 _LATER = np.tril(np.ones((6, 6)), -1)
