@@ -79,6 +79,7 @@ class RobotScene:
         self._gaps_now: np.ndarray | None = None     # their box gaps, when it measured every pair
         self._every: np.ndarray | None = None
         self._part_widths: tuple[object, np.ndarray] | None = None
+        self._thinnest_kept: tuple[object, float] | None = None
         self._table: tuple[object, np.ndarray, np.ndarray, np.ndarray] | None = None   # _travel_table's
         # the pose ``swept`` last saw: (pose, parts, carried, box gaps of every pair, or the boxes)
         self._ends: tuple[object, object, object, np.ndarray | None, np.ndarray, np.ndarray] | None = None
@@ -425,9 +426,11 @@ class RobotScene:
 
     def _thinnest(self, objects: Sequence[Polyhedron]) -> float:
         """The thinnest width of the free parts (measured once per set of parts)."""
-        if len(self._free) == 0:
-            return math.inf
-        return float(self._widths(objects, self._free).min())
+        kept = self._thinnest_kept
+        if kept is None or kept[0] is not self._parts:
+            width = float(self._widths(objects, self._free).min()) if len(self._free) else math.inf
+            kept = self._thinnest_kept = (self._parts, width)
+        return kept[1]
 
     def _widths(self, objects: Sequence[Polyhedron], idx: np.ndarray) -> np.ndarray:
         """The thinnest widths of the scene's parts at indices ``idx``."""
