@@ -208,12 +208,46 @@ def _rss_mib(pid: int) -> float:
     return math.nan
 
 
+# a program that loops for ever without changing the cell (PROCESS moves its parts and shifts
+# E each pass, and stops with an error on the second): PROCESS.LOC's locations, no grasp
+LOOPS_DAT = """    ; PROGRAM : LOOPS
+    ; PROCESS'S PATH WITHOUT TAKING THE PARTS OR SHIFTING E
+    READY
+    LEFTY
+    ABOVE
+    APPRO A, -50
+    TYPE AT THE FIRST PART
+    MOVE A
+    DEPARTS 100
+    MOVES E
+    MOVES F
+    DELAY 1
+    DEPARTS 200
+    APPROS C, -50
+    MOVES C
+    DEPARTS 100
+    APPROS B, -50
+    MOVES B
+    TYPE AT THE SECOND PART
+    DEPARTS 100
+    MOVES E
+    DELAY 1
+    APPROS D, -50
+    MOVES D
+    DEPARTS 100
+    READY
+    STOP
+"""
+
+
 def bench_memory(minutes: float = 10.0, every: float = 10.0, width: int = 160,
                  height: int = 50) -> dict[str, float]:
-    """The app's resident memory while PROCESS loops in VAL-II mode at real pace (x1):
+    """The app's resident memory while a program loops in VAL-II mode at real pace (x1):
     sampled every ``every`` s for ``minutes``; the growth over the last two thirds of the
     span in MiB a minute (least squares), the first and last samples and the samples."""
     workspace = tempfile.mkdtemp(prefix="valterm-bench-")
+    with open(os.path.join(workspace, "LOOPS.DAT"), "w", encoding="ascii") as program:
+        program.write(LOOPS_DAT)
     pid, fd = _spawn(width, height, workspace)
     samples: list[tuple[float, float]] = []
     written = 0
@@ -221,7 +255,7 @@ def bench_memory(minutes: float = 10.0, every: float = 10.0, width: int = 160,
         _read_until(fd, b"MAIN MENU", 30.0)
         _drain(fd, 0.5)
         _define_locations(fd)
-        _line(fd, "EXECUTE PROCESS,-1")
+        _line(fd, "EXECUTE LOOPS,-1")
         start = time.perf_counter()
         while time.perf_counter() - start < minutes * 60.0:
             # the app's output read as a terminal would; its bytes show it kept drawing

@@ -79,6 +79,7 @@ class RobotScene:
         self._gaps_now: np.ndarray | None = None     # their box gaps, when it measured every pair
         self._every: np.ndarray | None = None
         self._part_widths: tuple[object, np.ndarray] | None = None
+        self._thinnest_kept: tuple[object, float] | None = None
         self._table: tuple[object, np.ndarray, np.ndarray, np.ndarray] | None = None   # _travel_table's
         # the pose ``swept`` last saw: (pose, parts, carried, box gaps of every pair, or the boxes)
         self._ends: tuple[object, object, object, np.ndarray | None, np.ndarray, np.ndarray] | None = None
@@ -383,7 +384,12 @@ class RobotScene:
             return loose
         s, movers = self._scene, self._movers
         d = s.centres.take(movers, axis=0)[:, None, :] - frames[None, 1: self._n_frames, :3, 3]
-        now = np.sqrt(np.einsum("mjk,mjk->mj", d, d)) + s.radii.take(movers)[:, None]    # (movers, joints)
+        # the distance from each joint's axis (a point turns on a circle about it, not about
+        # the frame's origin): the part of d square to the axis
+        axes = frames[_AXIS_FRAMES, :3, _AXIS_COLUMNS]                                   # (joints, 3)
+        along = np.einsum("mjk,jk->mj", d, axes)
+        square = np.maximum(np.einsum("mjk,mjk->mj", d, d) - along * along, 0.0)
+        now = np.sqrt(square) + s.radii.take(movers)[:, None]                             # (movers, joints)
         far = fixed * turned
         later = far @ _LATER                           # what the joints after j add
         travel: np.ndarray = (np.minimum(far, (now + later) * turned)).sum(axis=1)
@@ -420,9 +426,11 @@ class RobotScene:
 
     def _thinnest(self, objects: Sequence[Polyhedron]) -> float:
         """The thinnest width of the free parts (measured once per set of parts)."""
-        if len(self._free) == 0:
-            return math.inf
-        return float(self._widths(objects, self._free).min())
+        kept = self._thinnest_kept
+        if kept is None or kept[0] is not self._parts:
+            width = float(self._widths(objects, self._free).min()) if len(self._free) else math.inf
+            kept = self._thinnest_kept = (self._parts, width)
+        return kept[1]
 
     def _widths(self, objects: Sequence[Polyhedron], idx: np.ndarray) -> np.ndarray:
         """The thinnest widths of the scene's parts at indices ``idx``."""
@@ -442,6 +450,12 @@ class RobotScene:
 
 
 _VERTICES = operator.attrgetter("vertices")
+
+# each joint's axis, a column of its frame's rotation (``kinematics.link_frames``): JT1 turns
+# about z of frame 1, JT2 and JT3 about y of frames 2 and 3, JT4 about z of frame 4, JT5
+# about y of frame 5, JT6 about z of frame 6
+_AXIS_FRAMES = np.arange(1, 7)
+_AXIS_COLUMNS = np.array([2, 1, 1, 2, 1, 2])
 
 # x @ _LATER sums, for each joint, the columns of the joints after it
 _LATER = np.tril(np.ones((6, 6)), -1)
