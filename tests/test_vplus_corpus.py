@@ -44,3 +44,53 @@ def test_a_case_whose_selector_does_not_decode_is_reported_not_a_crash(
     assert status == 1
     assert any("T step 1: CASE: NOSUCH is not a V+ function" in line for line in lines), lines
     assert any(line.startswith("T: 7 steps, 1 error(s)") for line in lines), lines
+
+
+def test_byte_functions_pack_and_unpack_the_most_significant_byte_first() -> None:
+    assert typed('$s = $LNGB(-2)+$INTB(258)+$FLTB(1.5)',
+                 "TYPE LEN($s), LNGB($s), INTB($s, 5), FLTB($s, 7)",
+                 "TYPE ASC($s, 1), ASC($s, 4), ASC($s, 5), ASC($s, 6), ASC($s, 7)",
+                 "TYPE LNGB($LNGB(123456789)), $LNGB(2.6) == $LNGB(3), DBLB($DBLB(0.1)) == 0.1",
+                 '$t = $CHR(64)+$CHR(73)+$CHR(15)+$CHR(219)', "TYPE /F8.5, FLTB($t)") == [
+        "10 -2 258 1.5",  # 4 + 2 + 4 characters
+        "255 254 1 2 63",  # -2 is FF FF FF FE; 258 is 01 02; 1.5 is 3F C0 00 00
+        "123456789 -1 -1",  # a value is rounded to the nearest integer
+        " 3.14159",  # 40 49 0F DB is single-precision pi
+    ]
+
+
+@pytest.mark.parametrize(("line", "message"), [
+    ("TYPE LNGB(\"ABC\")", "LNGB: NEEDS 4 CHARACTERS FROM CHARACTER 1; THE STRING HAS 3"),
+    ("$s = $INTB(40000)", "$INTB: 40000 IS NOT A 16-BIT INTEGER"),
+])
+def test_byte_functions_refuse_short_strings_and_large_values(line: str, message: str) -> None:
+    from valterm.core.events import Error
+
+    _, events = vplus(body(line))
+    assert any(isinstance(e, Error) and message in e.message for e in events), events
+
+
+def test_string_arrays_concatenated_type_items_and_defined() -> None:
+    assert typed('$a[1] = "ONE"', '$a[2] = "TWO"', "i = 2",
+                 'TYPE "got: "+$a[i]+"!", " ", $a[1]+$a[i], /F5.1, 3',
+                 "TYPE DEFINED(i), DEFINED(zz), DEFINED($a[1]), DEFINED($a[3]), DEFINED($b), DEFINED(k[1])",
+                 "SET p = TRANS(1, 2, 3)", "TYPE DEFINED(p), DEFINED(q)",
+                 'TYPE "x = "+$ENCODE(/F4.1, i)') == [
+        "got: TWO! ONETWO  3.0", "-1 0 -1 0 0 0", "-1 0", "x =  2.0"]
+
+
+def test_a_string_array_element_is_passed_by_reference() -> None:
+    text = body('$in = "ABCD"', "i = 3", "CALL rev($in, $out[i])", "CALL rev($out[3], $back)",
+                'TYPE $out[3], " ", $back, " ", LAST($out[])')
+    text += ".PROGRAM rev($a, $b)\n  AUTO k\n  $b = \"\"\n  FOR k = LEN($a) TO 1 STEP -1\n" \
+            "    $b = $b+$MID($a, k, 1)\n  END\n.END\n"
+    _, events = vplus(text)
+    assert [e.text for e in events if isinstance(e, TypeOut)] == ["DCBA ABCD 3"]
+
+
+def test_accel_takes_a_profile_number_in_parentheses(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+    status, lines = check(tmp_path, capsys, body("ACCEL (1) 100, 50", "ACCEL (2) 80", "ACCEL 50, 50 ALWAYS",
+                                                 "ACCEL (FOO(1)) 100"))
+    assert status == 1
+    assert [line for line in lines if " step " in line] == [
+        "c.v2:5: T step 4: ACCEL: FOO is not a V+ function the simulator knows"], lines

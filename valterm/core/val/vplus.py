@@ -334,6 +334,10 @@ def _with_arguments(word: str, rest: str, parts: list[str], original: str) -> St
     if word in ("AUTO", "LOCAL", "GLOBAL"):
         return Statement("AUTO" if word != "GLOBAL" else "GLOBAL", (_declared(word, rest),), original)
     if word in _TUNING:
+        profile = re.match(r"\s*\(([^()]*)\)\s*(?=[^,\s])", rest) if word == "ACCEL" else None
+        if profile is not None:  # ACCEL (profile) acc, dec: the profile number is checked, not modelled
+            _check("N", profile.group(1))
+            rest = rest[profile.end():]
         tuning = [p for p in split_top(re.sub(r"\bALWAYS\s*$", "", rest).strip()) if p]
         _count(word, tuning, 0, 2 if word in ("ACCEL", "FINE", "COARSE") else 1, "{<value>} {ALWAYS}")
         return Statement(word, tuple(_check("N", v) for v in tuning), original)
@@ -638,7 +642,8 @@ class VCall(Control):
                 assert isinstance(value, Location)
                 L[name] = value
             elif argument.kind == "S":
-                strings[name] = str(value)
+                if value is not None:  # an undefined string passed to be set
+                    strings[name] = str(value)
             else:
                 assert isinstance(value, dict)
                 for index, element in value.items():
@@ -697,14 +702,19 @@ def _argument(c: Build, text: str) -> Callable[[], Argument]:
         return array
     if text.startswith(("$", '"')):
         value = compile_string(text, machine)
+        element = re.fullmatch(rf"(\${_N})\s*\[(.*)\]", text, re.DOTALL)  # $a[i], by reference too
+        indexes = [_num(c, i) for i in element.group(2).split(",")] if element else []
         named = text if re.fullmatch(rf"\${_N}", text) else None
 
         def string() -> Argument:
-            back = None
-            if named is not None:
-                def back(result: object) -> None:
-                    machine.strings[named] = str(result)
-            return Argument("S", lambda: value(V), back)
+            where = array_key(element.group(1), [i(V) for i in indexes]) if element else named
+            if where is None:
+                return Argument("S", lambda: value(V))
+
+            def back(result: object) -> None:
+                machine.strings[where] = str(result)
+            # by reference: a string not yet defined is passed to be set
+            return Argument("S", lambda: machine.strings.get(where), back)
         return string
     plain = text if re.fullmatch(_N, text) else None
     number = _try_number(text, machine)
