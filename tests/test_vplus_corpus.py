@@ -94,3 +94,13 @@ def test_accel_takes_a_profile_number_in_parentheses(capsys: pytest.CaptureFixtu
     assert status == 1
     assert [line for line in lines if " step " in line] == [
         "c.v2:5: T step 4: ACCEL: FOO is not a V+ function the simulator knows"], lines
+
+
+def test_array_elements_are_call_arguments_by_reference() -> None:
+    text = body("AUTO p[3], k[2]", "SET p[1] = TRANS(100, 0, 0)", "SET p[2] = TRANS(0, 50, 0)", "k[1] = 4",
+                "FOR i = 1 TO 2", "  CALL lift(p[i], k[1])", "END",
+                "DECOMPOSE d[1] = p[1]", "DECOMPOSE e[1] = p[2]",
+                "TYPE d[1], d[3], e[2], e[3], k[1]")
+    text += ".PROGRAM lift(loc, n)\n  SET loc = SHIFT(loc BY 0, 0, 10 * n)\n  n = n + 1\n.END\n"
+    _, events = vplus(text)
+    assert [e.text for e in events if isinstance(e, TypeOut)] == ["100 40 50 50 6"]

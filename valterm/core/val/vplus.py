@@ -720,9 +720,14 @@ def _argument(c: Build, text: str) -> Callable[[], Argument]:
     number = _try_number(text, machine)
     location = _try_location(text, machine)
 
+    element = re.fullmatch(rf"({_N})\s*\[(.*)\]", text, re.DOTALL)
+    indexes = [_num(c, i) for i in element.group(2).split(",")] if element else []
+
     def argument() -> Argument:
         if plain is not None:  # by reference: a variable (perhaps not yet defined) or a location
             return _by_reference(plain, V, L)
+        if element is not None:  # a[i], p[i]: an element of a number or location array, likewise
+            return _by_reference(array_key(element.group(1), [i(V) for i in indexes]), V, L)
         if number is not None:
             result = float(number(V))
             return Argument("N", lambda: result)
