@@ -104,3 +104,32 @@ def test_array_elements_are_call_arguments_by_reference() -> None:
     text += ".PROGRAM lift(loc, n)\n  SET loc = SHIFT(loc BY 0, 0, 10 * n)\n  n = n + 1\n.END\n"
     _, events = vplus(text)
     assert [e.text for e in events if isinstance(e, TypeOut)] == ["100 40 50 50 6"]
+
+
+def test_select_robot_1_and_attaching_the_robot_run_other_robots_stop() -> None:
+    from valterm.core.events import Error
+
+    _, events = vplus(body("SELECT ROBOT = 1", "ATTACH ()", "ATTACH", "DETACH (0)", 'TYPE "ok"', "r = 2",
+                           "SELECT ROBOT = r", 'TYPE "never"'))
+    assert [e.text for e in events if isinstance(e, TypeOut)] == ["ok"]
+    assert [e.message for e in events if isinstance(e, Error)] == [
+        "SELECT ROBOT = 2: THE SIMULATOR HAS ONE ROBOT, ROBOT 1"]
+
+
+def test_check_names_device_and_task_statements_as_the_controller_s(
+        capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+    status, lines = check(tmp_path, capsys, body('ATTACH (lun, 4) "TCP"', "x = IOSTAT(lun)", "EXECUTE 2 t()",
+                                                 "IF TASK(1) <> 4 THEN", "END", "DETACH (lun)"))
+    assert status == 1
+    steps = [line.split(": ", 2)[2] for line in lines if " step " in line]
+    assert steps == [
+        "ATTACH IS A V+ STATEMENT FOR THE CONTROLLER'S I/O DEVICES (DISK, NETWORK, SERIAL LINES), "
+        "WHICH THE SIMULATOR DOES NOT HAVE",
+        "ASSIGNMENT TO X: IOSTAT is a V+ function of the I/O devices (disk, network, serial lines), "
+        "which the simulator does not have",
+        "EXECUTE IS A V+ STATEMENT FOR OTHER PROGRAM TASKS OR ROBOTS, WHICH THE SIMULATOR DOES NOT HAVE "
+        "(ONE TASK, ONE ROBOT)",
+        "IF: TASK is a V+ function of program tasks and the robot's state, which the simulator does not have",
+        "DETACH IS A V+ STATEMENT FOR THE CONTROLLER'S I/O DEVICES (DISK, NETWORK, SERIAL LINES), "
+        "WHICH THE SIMULATOR DOES NOT HAVE",
+    ], lines

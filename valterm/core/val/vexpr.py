@@ -96,6 +96,10 @@ _MATH: dict[str, tuple[int, int, Callable[..., float]]] = {  # name: (min args, 
 }
 _LOC_FUNCTIONS = ("DISTANCE", "DX", "DY", "DZ")
 _STRING_NUMBERS = ("LEN", "VAL", "ASC")
+_CONTROLLER_ONLY = {  # V+ functions of what only a real controller has (check names them as such)
+    **dict.fromkeys(("IOSTAT", "GETC", "FEMPTY"), "the I/O devices (disk, network, serial lines)"),
+    **dict.fromkeys(("TASK", "STATE", "ERROR", "PRIORITY", "SELECT"), "program tasks and the robot's state"),
+}
 # INTB LNGB FLTB DBLB($s {, first}): bytes of a string (the first the most significant) as a
 # signed 16- or 32-bit integer or an IEEE single or double; $INTB ... $DBLB(value) the reverse.
 _BYTE_FORMATS = {"INTB": ">h", "LNGB": ">i", "FLTB": ">f", "DBLB": ">d"}
@@ -412,6 +416,9 @@ class _Compiler:
             timer = args[0]
             return Opaque("TIMER(...)", lambda V: get().timer(timer(V)))
         if name not in _MATH:
+            if name in _CONTROLLER_ONLY:
+                raise ExprError(f"{name} is a V+ function of {_CONTROLLER_ONLY[name]}, "
+                                "which the simulator does not have")
             raise ExprError(f"{name} is not a V+ function the simulator knows")
         low, high, how = _MATH[name]
         if not low <= len(args) <= high:

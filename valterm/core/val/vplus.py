@@ -188,13 +188,38 @@ def _named(upper: str, message: str) -> str:
     return f"{word}: {message}"
 
 
+# V+ statements of the controller's devices and tasks, which the simulator does not have:
+# `check` names them as such (a real controller accepts them; a program using them cannot run here).
+_DEVICE_IO = ("ATTACH", "DETACH", "READ", "WRITE", "GETC", "FOPEN", "FOPENR", "FOPENW", "FOPENA", "FOPEND",
+              "FCLOSE", "FCMND", "FEMPTY", "FSEEK", "SETDEVICE")
+_TASKS = ("EXECUTE", "ABORT", "KILL", "CYCLE.END", "PRIME", "SELECT")
+# SELECT ROBOT = n; ATTACH / DETACH of the robot (no logical unit, or unit 0)
+_SELECT_ROBOT = re.compile(r"^SELECT\s+ROBOT\s*=\s*(.+)$", re.DOTALL)
+_ROBOT_ATTACH = re.compile(r"^(ATTACH|DETACH)\s*(?:\(\s*0?\s*\))?\s*$")
+
+
 def _decode(upper: str, original: str) -> Statement:
-    for decoder in (_structure, _assignment, _command):
+    for decoder in (_structure, _assignment, _command, _robot_selection):
         found = decoder(upper, original)
         if found is not None:
             return found
     word = upper.split()[0]
+    if word in _DEVICE_IO:
+        raise ValSyntaxError(f"{word} IS A V+ STATEMENT FOR THE CONTROLLER'S I/O DEVICES (DISK, NETWORK, "
+                             "SERIAL LINES), WHICH THE SIMULATOR DOES NOT HAVE")
+    if word in _TASKS:
+        raise ValSyntaxError(f"{word} IS A V+ STATEMENT FOR OTHER PROGRAM TASKS OR ROBOTS, WHICH THE "
+                             "SIMULATOR DOES NOT HAVE (ONE TASK, ONE ROBOT)")
     raise ValSyntaxError(f"{word} IS NOT A V+ INSTRUCTION THE SIMULATOR KNOWS")
+
+
+def _robot_selection(upper: str, original: str) -> Statement | None:
+    """SELECT ROBOT = n (the simulator's robot is robot 1); ATTACH () / DETACH () of the robot."""
+    if match := _SELECT_ROBOT.match(upper):
+        return Statement("SELECT", (_check("N", match.group(1).strip()),), original)
+    if match := _ROBOT_ATTACH.match(upper):
+        return Statement(match.group(1), (), original)
+    return None
 
 
 def _structure(upper: str, original: str) -> Statement | None:
@@ -885,6 +910,19 @@ def _delay(c: Build, st: Statement) -> Op:
     return _reacting(c, run)
 
 
+def _select(c: Build, st: Statement) -> Op:
+    """SELECT ROBOT = n: the simulator has one robot, robot 1."""
+    robot = _num(c, st.args[0])
+
+    def run() -> Events:
+        number = float(robot(c.variables))
+        if number != 1:
+            raise ProgramError(f"SELECT ROBOT = {number:g}: THE SIMULATOR HAS ONE ROBOT, ROBOT 1")
+        return c.next
+        yield
+    return c.action(run)
+
+
 def _with_numbers(c: Build, st: Statement) -> Op:
     """DRIVE, DRAW, BASE: the 1985 builders on the V+ values."""
     machine = _machine(c)
@@ -1216,6 +1254,7 @@ VPLUS_BUILDERS: dict[str, Builder] = {
     "TYPE": _type, "SIGNAL": _signal, "BITS": _bits, "WAIT": _wait, "WAIT.EVENT": _wait_event,
     "REACT": _react, "REACTI": _react, "IGNORE": _react, "TIMER": _timer,
     "ENABLE": _switch, "DISABLE": _switch, "STATUS": _status, "WHERE": _where,
+    "SELECT": _select, "ATTACH": _nothing, "DETACH": _nothing,
 }
 """The v+ instruction set: the 1985 builders where the meaning is the same, V+ ones otherwise."""
 
