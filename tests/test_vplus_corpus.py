@@ -119,7 +119,8 @@ def test_select_robot_1_and_attaching_the_robot_run_other_robots_stop() -> None:
 def test_check_names_device_and_task_statements_as_the_controller_s(
         capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
     status, lines = check(tmp_path, capsys, body('ATTACH (lun, 4) "TCP"', "x = IOSTAT(lun)", "EXECUTE 2 t()",
-                                                 "IF TASK(1) <> 4 THEN", "END", "DETACH (lun)"))
+                                                 "IF TASK(1) <> 4 THEN", "END", "DETACH (lun)",
+                                                 'TYPE "failed: "+$ERROR(x)'))
     assert status == 1
     steps = [line.split(": ", 2)[2] for line in lines if " step " in line]
     assert steps == [
@@ -132,4 +133,6 @@ def test_check_names_device_and_task_statements_as_the_controller_s(
         "IF: TASK is a V+ function of program tasks and the robot's state, which the simulator does not have",
         "DETACH IS A V+ STATEMENT FOR THE CONTROLLER'S I/O DEVICES (DISK, NETWORK, SERIAL LINES), "
         "WHICH THE SIMULATOR DOES NOT HAVE",
+        "TYPE: $ERROR is a V+ function of the controller's table of error messages, which the simulator "
+        "does not have",
     ], lines

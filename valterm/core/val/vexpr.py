@@ -669,6 +669,9 @@ class _Compiler:
             if len(args) != 1:
                 raise ExprError(f"{name} takes one value: {name}(value)")
             return lambda V: _to_bytes(name, args[0](V))
+        if name == "$ERROR":  # its codes come from the devices and tasks the simulator does not have
+            raise ExprError("$ERROR is a V+ function of the controller's table of error messages, "
+                            "which the simulator does not have")
         raise ExprError(f"{name} is not a V+ string function the simulator knows")
 
     def substring(self, name: str) -> StrFn:
