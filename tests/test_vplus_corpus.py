@@ -136,3 +136,16 @@ def test_check_names_device_and_task_statements_as_the_controller_s(
         "TYPE: $ERROR is a V+ function of the controller's table of error messages, which the simulator "
         "does not have",
     ], lines
+
+
+def test_a_wait_alone_lets_one_major_cycle_pass_so_a_polling_loop_sees_its_input() -> None:
+    from valterm.core.signals import parse_inputs
+
+    text = body("TIMER 1 = 0", "n = 0", "WHILE SIG(-1001) DO", "  WAIT", "  n = n + 1", "END",
+                "TYPE n, TIMER(1)")
+    programs = {b.program.name: b.program for b in parse_vplus(text, "T.v2")}
+    interpreter = Interpreter(Simulator(None), lambda name: programs[name], {})
+    interpreter.machine.inputs = parse_inputs("0.1 1001 1\n", "in.txt")
+    events = list(interpreter.execute("T"))
+    # 16 ms a cycle: the input is seen after the 7th (0.112 s), never in a busy loop
+    assert [e.text for e in events if isinstance(e, TypeOut)] == ["7 0.112"]

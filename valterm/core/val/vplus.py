@@ -78,6 +78,7 @@ T = TypeVar("T")
 DIALECT = "v+"
 MAX_CALL_DEPTH = 20
 WAIT_POLL = 0.1  # seconds between two looks at a WAIT condition (simulated time)
+MAJOR_CYCLE = 0.016  # seconds: V+'s trajectory cycle, the time a WAIT with no condition lets pass
 WAIT_LIMIT = 3600.0  # a WAIT longer than this (simulated) is reported and the program stopped
 
 _N = NAME
@@ -1066,10 +1067,13 @@ def _bits(c: Build, st: Statement) -> Op:
 def _wait(c: Build, st: Statement) -> Op:
     """WAIT cond: simulated time passes until cond is true (a TIMER reaches a value, a
     scripted input changes); with neither possible the program stops and says so."""
-    if st.args[0] is None:
-        return c.jump(c.next)
-    condition = _condition(c, st.args[0])
     machine = _machine(c)
+    if st.args[0] is None:  # WAIT alone: until the next major cycle (a polling loop's pause)
+        def cycle() -> Events:
+            yield from machine.observe(iter([Delay(MAJOR_CYCLE)]))
+            return c.next
+        return _reacting(c, cycle)
+    condition = _condition(c, st.args[0])
     text = st.args[0]
 
     def holds() -> bool:
