@@ -149,3 +149,11 @@ def test_a_wait_alone_lets_one_major_cycle_pass_so_a_polling_loop_sees_its_input
     events = list(interpreter.execute("T"))
     # 16 ms a cycle: the input is seen after the 7th (0.112 s), never in a busy loop
     assert [e.text for e in events if isinstance(e, TypeOut)] == ["7 0.112"]
+
+
+def test_an_expression_of_array_elements_is_still_passed_by_value() -> None:
+    text = body("a[1] = 2", "a[2] = 3", '$s[1] = "X"', '$s[2] = "Y"', "CALL show(a[1]+a[2], $s[1]+$s[2])",
+                'TYPE a[1], a[2], " ", $s[1], $s[2]')
+    text += ".PROGRAM show(n, $t)\n  TYPE n, \" \", $t\n  n = 0\n  $t = \"\"\n.END\n"
+    _, events = vplus(text)
+    assert [e.text for e in events if isinstance(e, TypeOut)] == ["5 XY", "2 3 XY"]

@@ -728,7 +728,7 @@ def _argument(c: Build, text: str) -> Callable[[], Argument]:
         return array
     if text.startswith(("$", '"')):
         value = compile_string(text, machine)
-        element = re.fullmatch(rf"(\${_N})\s*\[(.*)\]", text, re.DOTALL)  # $a[i], by reference too
+        element = re.fullmatch(rf"(\${_N})\s*\[([^\[\]]*)\]", text)  # $a[i], by reference too
         indexes = [_num(c, i) for i in element.group(2).split(",")] if element else []
         named = text if re.fullmatch(rf"\${_N}", text) else None
 
@@ -746,7 +746,7 @@ def _argument(c: Build, text: str) -> Callable[[], Argument]:
     number = _try_number(text, machine)
     location = _try_location(text, machine)
 
-    element = re.fullmatch(rf"({_N})\s*\[(.*)\]", text, re.DOTALL)
+    element = re.fullmatch(rf"({_N})\s*\[([^\[\]]*)\]", text)
     indexes = [_num(c, i) for i in element.group(2).split(",")] if element else []
 
     def argument() -> Argument:
