@@ -130,6 +130,8 @@ def analyse(program: Program, table: CommandTable | None = None, parse: Parse | 
             report(index, str(error), fatal=opening is not None)
             if opening is not None:
                 stack.append((opening, index))
+                if opening == "CASE":  # its VALUEs still belong to it
+                    result.cases[index] = []
             continue
         result.statements.append(statement)
         command = statement.command

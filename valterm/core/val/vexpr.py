@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import math
 import re
+import struct
 from collections.abc import Callable, Mapping, Sequence
 
 from valterm.core.transform import (
@@ -95,6 +96,13 @@ _MATH: dict[str, tuple[int, int, Callable[..., float]]] = {  # name: (min args, 
 }
 _LOC_FUNCTIONS = ("DISTANCE", "DX", "DY", "DZ")
 _STRING_NUMBERS = ("LEN", "VAL", "ASC")
+_CONTROLLER_ONLY = {  # V+ functions of what only a real controller has (check names them as such)
+    **dict.fromkeys(("IOSTAT", "GETC", "FEMPTY"), "the I/O devices (disk, network, serial lines)"),
+    **dict.fromkeys(("TASK", "STATE", "ERROR", "PRIORITY", "SELECT"), "program tasks and the robot's state"),
+}
+# INTB LNGB FLTB DBLB($s {, first}): bytes of a string (the first the most significant) as a
+# signed 16- or 32-bit integer or an IEEE single or double; $INTB ... $DBLB(value) the reverse.
+_BYTE_FORMATS = {"INTB": ">h", "LNGB": ">i", "FLTB": ">f", "DBLB": ">d"}
 
 
 def _bmask(*bits: float) -> float:
@@ -118,6 +126,35 @@ def _bits(machine: Machine, first: int, count: int) -> float:
     if not 1 <= count <= 32:
         raise MachineError(f"BITS: {count} SIGNALS (1 TO 32)")
     return float(sum(1 << offset for offset in range(count) if machine.signals.sig(first + offset)))
+
+
+def _from_bytes(name: str, text: str, first: float) -> float:
+    """INTB/LNGB/FLTB/DBLB: the bytes of ``text`` from character ``first`` (1 is the first)."""
+    layout = _BYTE_FORMATS[name]
+    start = int(first) - 1
+    size = struct.calcsize(layout)
+    if start < 0 or start + size > len(text):
+        raise ExprError(f"{name}: NEEDS {size} CHARACTERS FROM CHARACTER {int(first)}; THE STRING HAS {len(text)}")
+    try:
+        raw = text[start:start + size].encode("latin-1")
+    except UnicodeEncodeError:
+        raise ExprError(f"{name}: THE STRING HOLDS A CHARACTER THAT IS NOT A BYTE") from None
+    return float(struct.unpack(layout, raw)[0])
+
+
+def _to_bytes(name: str, value: float) -> str:
+    """$INTB/$LNGB/$FLTB/$DBLB(value): the value's bytes, the most significant first."""
+    layout = _BYTE_FORMATS[name[1:]]
+    number: float | int = value
+    if layout in (">h", ">i"):
+        number = math.floor(value + 0.5)  # rounded to the nearest integer
+        bits = 16 if layout == ">h" else 32
+        if not -(1 << (bits - 1)) <= number < 1 << (bits - 1):
+            raise ExprError(f"{name}: {value:g} IS NOT A {bits}-BIT INTEGER")
+    try:
+        return struct.pack(layout, number).decode("latin-1")
+    except OverflowError:
+        raise ExprError(f"{name}: {value:g} IS TOO LARGE FOR A SINGLE-PRECISION NUMBER") from None
 
 
 def _val(text: str) -> float:
@@ -351,8 +388,10 @@ class _Compiler:
             return self.location_function(name)
         if name == "LAST":
             return self.last()
-        if name in _STRING_NUMBERS:
+        if name in _STRING_NUMBERS or name in _BYTE_FORMATS:
             return self.string_number(name)
+        if name == "DEFINED":
+            return self.defined()
         if name in ("PARAMETER", "SWITCH"):
             self.tokens.expect("(")
             token = self.tokens.peek()
@@ -377,6 +416,9 @@ class _Compiler:
             timer = args[0]
             return Opaque("TIMER(...)", lambda V: get().timer(timer(V)))
         if name not in _MATH:
+            if name in _CONTROLLER_ONLY:
+                raise ExprError(f"{name} is a V+ function of {_CONTROLLER_ONLY[name]}, "
+                                "which the simulator does not have")
             raise ExprError(f"{name} is not a V+ function the simulator knows")
         low, high, how = _MATH[name]
         if not low <= len(args) <= high:
@@ -408,11 +450,41 @@ class _Compiler:
         text = self.string()
         index = self.sum().closure() if self.tokens.take(",") else None
         self.tokens.expect(")")
+        if name in _BYTE_FORMATS:
+            return Opaque(f"{name}(...)", lambda V: _from_bytes(name, text(V), index(V) if index is not None else 1.0))
         if name == "LEN":
             return Opaque("LEN(...)", lambda V: float(len(text(V))))
         if name == "VAL":
             return Opaque("VAL(...)", lambda V: _val(text(V)))
         return Opaque("ASC(...)", lambda V: _asc(text(V), index(V) if index is not None else 1.0))
+
+    def defined(self) -> Node:
+        """DEFINED(x), DEFINED($s), DEFINED(loc), DEFINED(#p), DEFINED(a[i]): TRUE once it has a value."""
+        self.tokens.expect("(")
+        token = self.tokens.peek()
+        if token is None or token[0] != "name":
+            raise ExprError("DEFINED needs a variable: DEFINED(name)")
+        self.tokens.pos += 1
+        name = token[1]
+        indexes = self.indexes() if self._peek_is("[") else []
+        self.tokens.expect(")")
+
+        def key(V: Values) -> str:
+            return array_key(name, [i(V) for i in indexes]) if indexes else name
+
+        machine = self.machine
+        if name[0] in "$#":
+            get = self.get_machine(f"DEFINED({name})")
+            return Opaque(f"DEFINED({name})", lambda V: _truth(
+                key(V) in (get().strings if name[0] == "$" else get().precision)))
+        if machine is None:
+            return Opaque(f"DEFINED({name})", lambda V: _truth(key(V) in V))
+        sim = machine.sim
+        return Opaque(f"DEFINED({name})", lambda V: _truth(key(V) in V or key(V) in sim.locations))
+
+    def _peek_is(self, value: str) -> bool:
+        token = self.tokens.peek()
+        return token is not None and token[1] == value
 
     def setting(self, kind: str, name: str) -> Node:
         get = self.get_machine(f"{kind}({name})")
@@ -558,6 +630,9 @@ class _Compiler:
             if after is not None and after[1] == "(":
                 return self.string_function(value)
             get = self.get_machine(f"string {value}")
+            if after is not None and after[1] == "[":  # $a[i]: one string of an array
+                indexes = self.indexes()
+                return lambda V: get().string(array_key(value, [i(V) for i in indexes]))
             return lambda V: get().string(value)
         raise ExprError(f"{value!r} is not a string (\"text\" or $name)")
 
@@ -590,6 +665,13 @@ class _Compiler:
         args = [a.closure() for a in self.arguments()]
         if name == "$CHR" and len(args) == 1:
             return lambda V: chr(int(args[0](V)))
+        if name[1:] in _BYTE_FORMATS:
+            if len(args) != 1:
+                raise ExprError(f"{name} takes one value: {name}(value)")
+            return lambda V: _to_bytes(name, args[0](V))
+        if name == "$ERROR":  # its codes come from the devices and tasks the simulator does not have
+            raise ExprError("$ERROR is a V+ function of the controller's table of error messages, "
+                            "which the simulator does not have")
         raise ExprError(f"{name} is not a V+ string function the simulator knows")
 
     def substring(self, name: str) -> StrFn:
@@ -681,11 +763,21 @@ def output_list(text: str, machine: Machine | None) -> list[tuple[str, Callable[
 
     def value(word: str) -> tuple[str, Callable[[Values], object]]:
         if word.startswith("$"):
-            return ("S", compile_string(word, machine))
+            try:
+                return ("S", compile_string(word, machine))
+            except ExprError:
+                if not any(op in word for op in ("=", "<", ">")):
+                    raise
+                # $a == $b: a comparison of strings is a number
         return ("", compile_number(word, machine).function())
 
+    words, joined = _join_concatenations(text)
+
+    def item_value(word: str) -> tuple[str, Callable[[Values], object]]:
+        return ("S", compile_string(joined[word], machine)) if word in joined else value(word)
+
     out: list[tuple[str, Callable[[Values], object] | None, str]] = []
-    for item in parse_items(text, value):
+    for item in parse_items(words, item_value):
         if item.expr is None:
             out.append((item.text, None, item.fmt))
         else:
@@ -693,6 +785,29 @@ def output_list(text: str, machine: Machine | None) -> list[tuple[str, Callable[
             kind, fn = item.expr
             out.append((kind, fn, item.fmt))
     return out
+
+
+def _join_concatenations(text: str) -> tuple[str, dict[str, str]]:
+    """TYPE "x: "+$ENCODE(a): a string expression joined by + is one item (V+ concatenates).
+
+    The output list is rewritten with a placeholder name for each such item, so the
+    items, formats and their order are decoded as before."""
+    from valterm.core.val.typeout import split_items
+
+    groups: list[str] = []
+    for word in split_items(text):
+        glued = word.startswith(("+$", '+"')) or (
+            groups and groups[-1].endswith("+") and word.startswith(("$", '"')))
+        if glued and groups:
+            groups[-1] += word
+        else:
+            groups.append(word)
+    joined: dict[str, str] = {}
+    for index, group in enumerate(groups):
+        if group.startswith(("$", '"')) and len(split_items(group)) > 1:
+            joined[f"$_CAT{index}"] = group
+            groups[index] = f"$_CAT{index}"
+    return ", ".join(groups), joined
 
 
 def render_output(items: list[tuple[str, Callable[[Values], object] | None, str]], V: Values) -> str:

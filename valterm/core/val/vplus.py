@@ -78,6 +78,7 @@ T = TypeVar("T")
 DIALECT = "v+"
 MAX_CALL_DEPTH = 20
 WAIT_POLL = 0.1  # seconds between two looks at a WAIT condition (simulated time)
+MAJOR_CYCLE = 0.016  # seconds: V+'s trajectory cycle, the time a WAIT with no condition lets pass
 WAIT_LIMIT = 3600.0  # a WAIT longer than this (simulated) is reported and the program stopped
 
 _N = NAME
@@ -188,13 +189,38 @@ def _named(upper: str, message: str) -> str:
     return f"{word}: {message}"
 
 
+# V+ statements of the controller's devices and tasks, which the simulator does not have:
+# `check` names them as such (a real controller accepts them; a program using them cannot run here).
+_DEVICE_IO = ("ATTACH", "DETACH", "READ", "WRITE", "GETC", "FOPEN", "FOPENR", "FOPENW", "FOPENA", "FOPEND",
+              "FCLOSE", "FCMND", "FEMPTY", "FSEEK", "SETDEVICE")
+_TASKS = ("EXECUTE", "ABORT", "KILL", "CYCLE.END", "PRIME", "SELECT")
+# SELECT ROBOT = n; ATTACH / DETACH of the robot (no logical unit, or unit 0)
+_SELECT_ROBOT = re.compile(r"^SELECT\s+ROBOT\s*=\s*(.+)$", re.DOTALL)
+_ROBOT_ATTACH = re.compile(r"^(ATTACH|DETACH)\s*(?:\(\s*0?\s*\))?\s*$")
+
+
 def _decode(upper: str, original: str) -> Statement:
-    for decoder in (_structure, _assignment, _command):
+    for decoder in (_structure, _assignment, _command, _robot_selection):
         found = decoder(upper, original)
         if found is not None:
             return found
     word = upper.split()[0]
+    if word in _DEVICE_IO:
+        raise ValSyntaxError(f"{word} IS A V+ STATEMENT FOR THE CONTROLLER'S I/O DEVICES (DISK, NETWORK, "
+                             "SERIAL LINES), WHICH THE SIMULATOR DOES NOT HAVE")
+    if word in _TASKS:
+        raise ValSyntaxError(f"{word} IS A V+ STATEMENT FOR OTHER PROGRAM TASKS OR ROBOTS, WHICH THE "
+                             "SIMULATOR DOES NOT HAVE (ONE TASK, ONE ROBOT)")
     raise ValSyntaxError(f"{word} IS NOT A V+ INSTRUCTION THE SIMULATOR KNOWS")
+
+
+def _robot_selection(upper: str, original: str) -> Statement | None:
+    """SELECT ROBOT = n (the simulator's robot is robot 1); ATTACH () / DETACH () of the robot."""
+    if match := _SELECT_ROBOT.match(upper):
+        return Statement("SELECT", (_check("N", match.group(1).strip()),), original)
+    if match := _ROBOT_ATTACH.match(upper):
+        return Statement(match.group(1), (), original)
+    return None
 
 
 def _structure(upper: str, original: str) -> Statement | None:
@@ -334,6 +360,10 @@ def _with_arguments(word: str, rest: str, parts: list[str], original: str) -> St
     if word in ("AUTO", "LOCAL", "GLOBAL"):
         return Statement("AUTO" if word != "GLOBAL" else "GLOBAL", (_declared(word, rest),), original)
     if word in _TUNING:
+        profile = re.match(r"\s*\(([^()]*)\)\s*(?=[^,\s])", rest) if word == "ACCEL" else None
+        if profile is not None:  # ACCEL (profile) acc, dec: the profile number is checked, not modelled
+            _check("N", profile.group(1))
+            rest = rest[profile.end():]
         tuning = [p for p in split_top(re.sub(r"\bALWAYS\s*$", "", rest).strip()) if p]
         _count(word, tuning, 0, 2 if word in ("ACCEL", "FINE", "COARSE") else 1, "{<value>} {ALWAYS}")
         return Statement(word, tuple(_check("N", v) for v in tuning), original)
@@ -638,7 +668,8 @@ class VCall(Control):
                 assert isinstance(value, Location)
                 L[name] = value
             elif argument.kind == "S":
-                strings[name] = str(value)
+                if value is not None:  # an undefined string passed to be set
+                    strings[name] = str(value)
             else:
                 assert isinstance(value, dict)
                 for index, element in value.items():
@@ -697,22 +728,32 @@ def _argument(c: Build, text: str) -> Callable[[], Argument]:
         return array
     if text.startswith(("$", '"')):
         value = compile_string(text, machine)
+        element = re.fullmatch(rf"(\${_N})\s*\[([^\[\]]*)\]", text)  # $a[i], by reference too
+        indexes = [_num(c, i) for i in element.group(2).split(",")] if element else []
         named = text if re.fullmatch(rf"\${_N}", text) else None
 
         def string() -> Argument:
-            back = None
-            if named is not None:
-                def back(result: object) -> None:
-                    machine.strings[named] = str(result)
-            return Argument("S", lambda: value(V), back)
+            where = array_key(element.group(1), [i(V) for i in indexes]) if element else named
+            if where is None:
+                return Argument("S", lambda: value(V))
+
+            def back(result: object) -> None:
+                machine.strings[where] = str(result)
+            # by reference: a string not yet defined is passed to be set
+            return Argument("S", lambda: machine.strings.get(where), back)
         return string
     plain = text if re.fullmatch(_N, text) else None
     number = _try_number(text, machine)
     location = _try_location(text, machine)
 
+    element = re.fullmatch(rf"({_N})\s*\[([^\[\]]*)\]", text)
+    indexes = [_num(c, i) for i in element.group(2).split(",")] if element else []
+
     def argument() -> Argument:
         if plain is not None:  # by reference: a variable (perhaps not yet defined) or a location
             return _by_reference(plain, V, L)
+        if element is not None:  # a[i], p[i]: an element of a number or location array, likewise
+            return _by_reference(array_key(element.group(1), [i(V) for i in indexes]), V, L)
         if number is not None:
             result = float(number(V))
             return Argument("N", lambda: result)
@@ -870,6 +911,19 @@ def _delay(c: Build, st: Statement) -> Op:
     return _reacting(c, run)
 
 
+def _select(c: Build, st: Statement) -> Op:
+    """SELECT ROBOT = n: the simulator has one robot, robot 1."""
+    robot = _num(c, st.args[0])
+
+    def run() -> Events:
+        number = float(robot(c.variables))
+        if number != 1:
+            raise ProgramError(f"SELECT ROBOT = {number:g}: THE SIMULATOR HAS ONE ROBOT, ROBOT 1")
+        return c.next
+        yield
+    return c.action(run)
+
+
 def _with_numbers(c: Build, st: Statement) -> Op:
     """DRIVE, DRAW, BASE: the 1985 builders on the V+ values."""
     machine = _machine(c)
@@ -1013,10 +1067,13 @@ def _bits(c: Build, st: Statement) -> Op:
 def _wait(c: Build, st: Statement) -> Op:
     """WAIT cond: simulated time passes until cond is true (a TIMER reaches a value, a
     scripted input changes); with neither possible the program stops and says so."""
-    if st.args[0] is None:
-        return c.jump(c.next)
-    condition = _condition(c, st.args[0])
     machine = _machine(c)
+    if st.args[0] is None:  # WAIT alone: until the next major cycle (a polling loop's pause)
+        def cycle() -> Events:
+            yield from machine.observe(iter([Delay(MAJOR_CYCLE)]))
+            return c.next
+        return _reacting(c, cycle)
+    condition = _condition(c, st.args[0])
     text = st.args[0]
 
     def holds() -> bool:
@@ -1201,6 +1258,7 @@ VPLUS_BUILDERS: dict[str, Builder] = {
     "TYPE": _type, "SIGNAL": _signal, "BITS": _bits, "WAIT": _wait, "WAIT.EVENT": _wait_event,
     "REACT": _react, "REACTI": _react, "IGNORE": _react, "TIMER": _timer,
     "ENABLE": _switch, "DISABLE": _switch, "STATUS": _status, "WHERE": _where,
+    "SELECT": _select, "ATTACH": _nothing, "DETACH": _nothing,
 }
 """The v+ instruction set: the 1985 builders where the meaning is the same, V+ ones otherwise."""
 
