@@ -84,6 +84,10 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"valterm {version()}")
     parser.add_argument("--setup", metavar="NAME", help="the app: read NAME.SET and go straight to the MAIN MENU")
     parser.add_argument("--ascii", action="store_true", help="the app: draw the model in ASCII, not braille")
+    parser.add_argument("--keys", choices=("modern", "1985"), default=None,
+                        help="the app's keyboard: modern (default, or $VALTERM_KEYS) or 1985, the thesis's: "
+                             "VAL-II mode and the editor return to their menus after each command, so "
+                             "Tables C-1..C-3 typed as printed replay")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=Parser)
     for command in COMMANDS:
         command.register(sub)

@@ -17,4 +17,5 @@ def run_app(args: argparse.Namespace) -> int:
     """Start the app on the workspace; ``--setup NAME`` goes straight to the MAIN MENU."""
     from valterm.ui.app import run
 
-    return run(getattr(args, "workspace", None), getattr(args, "setup", None), ascii=bool(getattr(args, "ascii", False)))
+    return run(getattr(args, "workspace", None), getattr(args, "setup", None), ascii=bool(getattr(args, "ascii", False)),
+               keys=getattr(args, "keys", None))

@@ -68,6 +68,7 @@ class ValtermApp(Guarded, ViewActions, App[int]):
         clock: Callable[[], float] = time.monotonic,
         motion_rate: float = DEFAULT_RATE,
         session: Session | None = None,  # a ready Session (tests)
+        keys: str | None = None,  # "1985": the thesis's keys (None: $VALTERM_KEYS, else modern)
     ) -> None:
         super().__init__()
         self.workspace_root = workspace
@@ -88,8 +89,11 @@ class ValtermApp(Guarded, ViewActions, App[int]):
         self._workspace: Workspace | None = None  # the workspace before any session (start screen)
         self.crash: BaseException | None = None  # the bug that ended the app, if one did
         self.crash_log: Path | None = None
+        # 1985: VAL-II mode and the editor go back to their menus after each command or
+        # step, and keys typed while anything plays wait for it (the VS11's type-ahead)
+        self.keys_1985 = keyboard_of(keys) == "1985"
         # keys typed while a motion is drawn or a screen changes wait here
-        self.key_queue = KeyQueue(self, lambda: self.player.drawing)
+        self.key_queue = KeyQueue(self, self._busy_playing)
         self.unsaid: list[tuple[str, str]] = []  # messages no screen could show yet (the next one does)
         self.survived: list[str] = []  # the bugs the app lived through (their lines, tests)
 
@@ -108,6 +112,12 @@ class ValtermApp(Guarded, ViewActions, App[int]):
         return result
 
     # -- keys: none dropped (ui.keyqueue) --------------------------------------------
+    def _busy_playing(self) -> bool:
+        """Keys wait while a motion is drawn (1985: while anything plays, PAUSE aside)."""
+        if self.keys_1985:
+            return self.player.playing and not self.player.paused
+        return self.player.drawing
+
     @property
     def keys_waiting(self) -> int:
         """Keys typed while the app was busy, not yet handed on."""
@@ -310,8 +320,22 @@ class Relay:
             self._guard(top.show_scene)
 
 
-def run(workspace: str | Path | None = None, setup: str | None = None, ascii: bool = False) -> int:
-    app = ValtermApp(workspace, setup, ascii=ascii)
+KEYBOARDS = ("modern", "1985")
+KEYS_ENV = "VALTERM_KEYS"
+
+
+def keyboard_of(keys: str | None) -> str:
+    """The keyboard asked for: ``keys``, else $VALTERM_KEYS, else modern (an unknown name
+    is modern: the app must start)."""
+    import os
+
+    chosen = (keys or os.environ.get(KEYS_ENV) or "modern").strip().lower()
+    return chosen if chosen in KEYBOARDS else "modern"
+
+
+def run(workspace: str | Path | None = None, setup: str | None = None, ascii: bool = False,
+        keys: str | None = None) -> int:
+    app = ValtermApp(workspace, setup, ascii=ascii, keys=keys)
     result = app.run()
     return exit_status(app, result)
 

@@ -43,7 +43,8 @@ class KeyQueue:
         self._draining = False
 
     def __len__(self) -> int:
-        return len(self.keys)
+        """Keys not yet handled: those waiting, and the one handed on last until it is."""
+        return len(self.keys) + (1 if self._pending is not None and self.changing else 0)
 
     @property
     def busy(self) -> bool:

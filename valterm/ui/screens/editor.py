@@ -316,7 +316,10 @@ class EditorScreen(Guarded, Screen[None]):
                 number = editor.append(typed)
                 self.say(f"STEP {number} ACCEPTED (ESC OR AN EMPTY LINE: EDITOR MENU)")
                 self._refresh_listing(number)
-                self._next_line("")  # the line stays open: typed lines are never menu keys
+                if getattr(self.app, "keys_1985", False):
+                    self._menu()  # 1985 (Fig. C-8): the menu; a space or a digit starts the next step
+                else:
+                    self._next_line("")  # the line stays open: typed lines are never menu keys
             elif self.mode == "delete":
                 number = self._number(typed)
                 removed = editor.delete(number)
@@ -337,7 +340,10 @@ class EditorScreen(Guarded, Screen[None]):
                 self.say(f"STEP {number} INSERTED (ESC OR AN EMPTY LINE: EDITOR MENU)")
                 self._refresh_listing(number)
                 self.insert_at = number + 1  # the next line goes in after it
-                self._prompt("insert-line", editor.prompt(self.insert_at))
+                if getattr(self.app, "keys_1985", False):
+                    self._menu()  # 1985: one step a time, then the menu
+                else:
+                    self._prompt("insert-line", editor.prompt(self.insert_at))
         except ValtermError as error:
             # rejected: the line stays in the field to be corrected (nothing typed is lost)
             self.say(f"REJECTED: {error}")

@@ -490,7 +490,23 @@ class ValModeScreen(Guarded, Screen[None]):
         if not text.strip():
             return
         self.log_line(f". {text}")
-        self.run_events(self.session.command(text))
+        if self.keys_1985:  # the VAL-II menu after it (Fig. C-13): C continues on the line
+            self.run_events(self.session.command(text), after=self._after_command)
+        else:
+            self.run_events(self.session.command(text))
+
+    @property
+    def keys_1985(self) -> bool:
+        """The thesis's keyboard (``valterm --keys 1985``): the menu after each command."""
+        return bool(getattr(self.app, "keys_1985", False))
+
+    def _after_command(self) -> None:
+        """A command, a POINT or the .LOC file's locations are done: the line again (1985:
+        the VAL-II menu, whose C continues on the line)."""
+        if self.keys_1985:
+            self._show_menu(self.page)
+        else:
+            self.to_command()
 
     # -- playing events (the player's audience) --------------------------------------------
     def run_events(self, events: Iterator[Event], after: Callable[[], None] | None = None) -> None:
@@ -646,7 +662,7 @@ class ValModeScreen(Guarded, Screen[None]):
         names = ", ".join(self._defined) or "NONE"
         self.log_line(f"LOCATIONS DEFINED: {names}")
         self._defined = []
-        self.to_command()
+        self._after_command()
 
     def _define_point(self, typed: str) -> None:
         """POINT typed in by hand: NAME, X, Y, Z, O, A, T."""
@@ -657,4 +673,4 @@ class ValModeScreen(Guarded, Screen[None]):
             self._open_line(Mode.POINT, "POINT", typed, "NAME, X, Y, Z, O, A, T")
             return
         self.log_line(f"POINT {name} DEFINED")
-        self.to_command()
+        self._after_command()
