@@ -406,3 +406,16 @@ async def test_keys_1985_tables_c1_to_c3_typed_as_printed_replay(tmp_path: Path)
         await press_slowly(pilot, clock, "r")
         await settle(pilot, app, clock)
         assert type(app.screen).__name__ == "MainMenuScreen" and not app.survived
+
+
+def test_the_keyboard_is_chosen_by_option_or_setting(monkeypatch: pytest.MonkeyPatch) -> None:
+    from valterm.cli import build_parser
+    from valterm.ui.app import keyboard_of
+
+    monkeypatch.delenv("VALTERM_KEYS", raising=False)
+    assert keyboard_of(None) == "modern" and keyboard_of("1985") == "1985"
+    monkeypatch.setenv("VALTERM_KEYS", "1985")
+    assert keyboard_of(None) == "1985" and keyboard_of("modern") == "modern"
+    monkeypatch.setenv("VALTERM_KEYS", "1984")
+    assert keyboard_of(None) == "modern"  # an unknown setting: the app still starts
+    assert build_parser().parse_args(["--keys", "1985"]).keys == "1985"
