@@ -253,7 +253,7 @@ class ValtermApp(Guarded, ViewActions, App[int]):
         """CTRL-C: abort the running program or motion (§6.4.10)."""
         self.player.abort()
 
-    def action_quit(self) -> None:
+    async def action_quit(self) -> None:
         """CTRL-Q: leave at once, or ask first when there is unsaved work (keymap rule 5)."""
         from valterm.ui.screens.quit import confirm_quit
 
@@ -346,6 +346,6 @@ def exit_status(app: ValtermApp, result: object) -> int:
         return EXIT_BUG
     if app.return_code:
         return app.return_code
-    return int(result or 0)  # type: ignore[call-overload]
+    return int(result) if isinstance(result, int) else 0
 
 

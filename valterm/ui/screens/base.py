@@ -37,7 +37,7 @@ from valterm.ui.widgets.status import StatusLine, arm_configuration
 WIDE = 100  # columns from which the model is shown beside the menu
 
 
-class MenuScreen(Guarded, Screen):
+class MenuScreen(Guarded, Screen[None]):
     """A menu of the thesis with the model; subclasses set MENU and their bindings."""
 
     AUTO_FOCUS = ""  # nothing focused: "" disables auto focus (None would inherit the app's)
@@ -180,7 +180,7 @@ class MenuScreen(Guarded, Screen):
         session = self.app.session
         try:
             if command == "LISTL":
-                files = listing_lines(session, command, argument)[0]
+                files = (listing_lines(session, command, argument) or [""])[0]
                 names = " ".join(session.simulator.locations) or "NONE"
                 self.show_lines([files, f"LOCATIONS: {names} (WHERE EACH IS: LISTL IN VAL-II MODE)"])
             elif (lines := listing_lines(session, command, argument)) is not None:

@@ -118,7 +118,7 @@ class EditorScreen(Guarded, Screen[None]):
     @property
     def workspace(self):  # type: ignore[no-untyped-def]
         if self._workspace is None:
-            self._workspace = self.app.session.workspace  # type: ignore[attr-defined]
+            self._workspace = self.app.session.workspace
         return self._workspace
 
     # -- what the screen shows (tests read these) --------------------------------------

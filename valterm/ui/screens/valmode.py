@@ -203,7 +203,7 @@ class ValModeScreen(Guarded, Screen[None]):
     @property
     def session(self) -> Session:
         if self._session is None:
-            self._session = self.app.session  # type: ignore[attr-defined]
+            self._session = self.app.session
         assert self._session is not None
         return self._session
 
@@ -218,7 +218,7 @@ class ValModeScreen(Guarded, Screen[None]):
     @property
     def player(self) -> Player:
         """The app's one event player."""
-        player: Player = self.app.player  # type: ignore[attr-defined]
+        player: Player = self.app.player
         return player
 
     def on_mount(self) -> None:
@@ -516,7 +516,7 @@ class ValModeScreen(Guarded, Screen[None]):
         self._after_run = after
         self._to_menu = False
         self._show_running(keep_line=after is None)
-        self.app.run_events(events, self)  # type: ignore[attr-defined]
+        self.app.run_events(events, self)
 
     def _show_running(self, keep_line: bool) -> None:
         self._pause = None
