@@ -403,6 +403,8 @@ async def test_keys_1985_tables_c1_to_c3_typed_as_printed_replay(tmp_path: Path)
         screen = app.screen
         assert set("ABCDEF") <= set(app.session.simulator.locations)
         assert "PROGRAM PROCESS COMPLETED: 1 LOOP" in screen.transcript, list(screen.transcript)[-5:]
+        assert screen.keys_text.startswith("THEN PRESS: C CONTINUE")  # Fig. C-13, the transcript in sight
+        assert "PROGRAM PROCESS COMPLETED: 1 LOOP" in screen_text(app)
         await press_slowly(pilot, clock, "r")
         await settle(pilot, app, clock)
         assert type(app.screen).__name__ == "MainMenuScreen" and not app.survived

@@ -102,6 +102,7 @@ LINE_KEYS = "^L W_WIPE  F8 M_MODEL  ^T D_DEFINE  ^N MENU  F9 R_RETURN  F10 I/O  
 MENU_KEYS = "N PAGE  V LINE  W WIPE  M MODEL  D DEFINE  R/ESC RETURN  PGUP/PGDN SCROLL  F10 I/O  ? HELP"
 RUNNING_KEYS = "RUNNING   CTRL-C OR ESC: ABORT   F10: I/O PANEL   (KEYS TYPED NOW GO TO THE LINE)"
 DEFINE_KEYS = f"{DEFINE_HOW}  ESC: MENU"
+THEN_PRESS = "THEN PRESS: C CONTINUE  W WIPE  R RETURN  M MODEL  D DEFINE  N VAL-II MENU  ? HELP"
 
 _MENU_ROW = re.compile(r"^(\S.*?\s+[-:] )")  # "TYPE X=          - " : the description column
 
@@ -503,8 +504,10 @@ class ValModeScreen(Guarded, Screen[None]):
     def _after_command(self) -> None:
         """A command, a POINT or the .LOC file's locations are done: the line again (1985:
         the VAL-II menu, whose C continues on the line)."""
-        if self.keys_1985:
-            self._show_menu(self.page)
+        if self.keys_1985:  # Fig. C-13's THEN PRESS: the transcript stays in sight
+            self.mode = Mode.MENU
+            self._close_line()
+            self._keys(THEN_PRESS)
         else:
             self.to_command()
 
