@@ -14,6 +14,8 @@ is left.
 
 from __future__ import annotations
 
+from enum import StrEnum
+
 from textual.app import ComposeResult
 from textual.binding import Binding
 from textual.containers import Horizontal, Vertical, VerticalScroll
@@ -48,7 +50,20 @@ class StepInput(Input):
 
 
 # modes in which the step field takes the keys (typed ahead before it has focus too)
-TEXT_MODES = frozenset({"name", "line", "delete", "insert", "insert-line"})
+class EditorMode(StrEnum):
+    """The editor's one state value: where its keys go."""
+
+    NAME = "name"  # the EDIT NAME line
+    MENU = "menu"  # C, I, D, S, E
+    LINE = "line"  # the next step
+    DELETE = "delete"  # the step number to delete
+    INSERT = "insert"  # the step number to insert at
+    INSERT_LINE = "insert-line"  # the step inserted
+    SAVE = "save?"  # SAVE THE CHANGES (Y/N) ?
+
+
+TEXT_MODES = frozenset({EditorMode.NAME, EditorMode.LINE, EditorMode.DELETE, EditorMode.INSERT,
+                        EditorMode.INSERT_LINE})
 
 
 class EditorScreen(Guarded, Screen[None]):
@@ -83,7 +98,7 @@ class EditorScreen(Guarded, Screen[None]):
         self._workspace = workspace
         self.first_name = name
         self.editor: ProgramEditor | None = None
-        self.mode = "name"  # name | menu | line | delete | insert | insert-line | save?
+        self.mode = EditorMode.NAME
         self.insert_at = 0
 
     # -- layout ---------------------------------------------------------------------
@@ -139,7 +154,7 @@ class EditorScreen(Guarded, Screen[None]):
         self.query_one("#status", StatusLine).refresh()
 
     def _prompt(self, mode: str, prompt: str, placeholder: str = "", start: str = "") -> None:
-        self.mode = mode
+        self.mode = EditorMode(mode)
         self.query_one("#editor-prompt", Static).update(prompt)
         self.query_one("#editor-prompt-row").remove_class("hidden")
         field = self.query_one("#editor-line", StepInput)
@@ -149,7 +164,7 @@ class EditorScreen(Guarded, Screen[None]):
         field.focus()
 
     def _menu(self) -> None:
-        self.mode = "menu"
+        self.mode = EditorMode.MENU
         self.query_one("#editor-prompt-row").add_class("hidden")
         self.set_focus(None)
 
@@ -254,7 +269,7 @@ class EditorScreen(Guarded, Screen[None]):
 
     def action_exit(self) -> None:
         if self.editor is not None and self.editor.dirty:
-            self.mode = "save?"
+            self.mode = EditorMode.SAVE
             self.say(f"SAVE THE CHANGES TO {self.editor.name}.DAT (Y/N) ?")
             return
         self._unlist_if_never_saved()
