@@ -421,3 +421,20 @@ def test_the_keyboard_is_chosen_by_option_or_setting(monkeypatch: pytest.MonkeyP
     monkeypatch.setenv("VALTERM_KEYS", "1984")
     assert keyboard_of(None) == "modern"  # an unknown setting: the app still starts
     assert build_parser().parse_args(["--keys", "1985"]).keys == "1985"
+
+
+@sync
+async def test_ctrl_c_stops_the_motion_and_drops_the_keys_typed_ahead(tmp_path: Path) -> None:
+    """A jog key held down queues moves; CTRL-C stops the one drawn and the rest with it."""
+    clock = FakeClock()
+    app = ValtermApp(tmp_path, "PROCESS", clock=clock, motion_rate=10.0)
+    async with app.run_test(size=(160, 50)) as pilot:
+        await pilot.pause()
+        await pilot.press("p", "1")
+        assert app.moving
+        await pilot.press("1", "1", "1", "1")
+        assert app.keys_waiting >= 4
+        await pilot.press("ctrl+c")
+        await settle(pilot, app, clock)
+        assert app.keys_waiting == 0
+        assert app.session.simulator.joints[0] < 16.0  # one jog at most, not five
