@@ -367,3 +367,74 @@ async def test_a_bad_keymap_is_said_and_the_default_keys_stay(tmp_path: Path, mo
         assert "KEYMAP: KEYMAP.TOML:1: MAIN.NOTHING IS NO BINDING ID" in screen_text(app)
         await pilot.press("p")
         assert type(app.screen).__name__ == "PendantScreen"
+
+
+# -- the thesis's keys (valterm --keys 1985) -------------------------------------------------
+def table_keys(rows: list[str]) -> list[str]:
+    """A table's INPUT column as keys: quoted text is typed and ended with RETURN (the tables
+    leave it out after "LE", "AB", "EXEC PROCESS,1"), single keys are comma-separated."""
+    keys: list[str] = []
+    for row in rows:
+        if row.startswith('"'):
+            keys += [*row.strip('"'), "enter"]
+        else:
+            keys += ["enter" if key.strip() == "RETURN" else key.strip().lower() for key in row.split(",")]
+    return keys
+
+
+@sync
+async def test_keys_1985_tables_c1_to_c3_typed_as_printed_replay(tmp_path: Path) -> None:
+    """--keys 1985 from MAIN with PROCESS.SET: the EDITOR rows of Tables C-1/C-2, then V, V,
+    "LE", "AB", D,D, "PROCESS.LOC", A, A,A,A,A, E,W, "EXEC PROCESS,1", R at 0.3 s a key: TEST.DAT
+    as the tables write it, all six locations, PROCESS completed, back at MAIN."""
+    clock = FakeClock()
+    app = ValtermApp(tmp_path, "PROCESS", clock=clock, motion_rate=10.0, keys="1985")
+    editor = ["E", '"EDIT TEST.DAT"', "C", '" MOVE A"', '" MOVE B"', '" CLOSEI 50"', '" STOP"',
+              "D,3, RETURN", "I,3,RETURN", '" MOVE E"', "S,E"]
+    valmode = ["V", "V", '"LE"', '"AB"', "D,D", '"PROCESS.LOC"', "A", "A,A,A,A", "E,W", '"EXEC PROCESS,1"', "R"]
+    async with app.run_test(size=(160, 50)) as pilot:
+        await pilot.pause()
+        await press_slowly(pilot, clock, *table_keys(editor))
+        await settle(pilot, app, clock)
+        steps = [line.strip() for line in (tmp_path / "TEST.DAT").read_text().splitlines() if line.strip()]
+        assert steps == ["MOVE A", "MOVE B", "MOVE E", "STOP"], steps
+        await press_slowly(pilot, clock, *table_keys(valmode[:-1]))
+        await settle(pilot, app, clock, rounds=2000)
+        screen = app.screen
+        assert set("ABCDEF") <= set(app.session.simulator.locations)
+        assert "PROGRAM PROCESS COMPLETED: 1 LOOP" in screen.transcript, list(screen.transcript)[-5:]
+        assert screen.keys_text.startswith("THEN PRESS: C CONTINUE")  # Fig. C-13, the transcript in sight
+        assert "PROGRAM PROCESS COMPLETED: 1 LOOP" in screen_text(app)
+        await press_slowly(pilot, clock, "r")
+        await settle(pilot, app, clock)
+        assert type(app.screen).__name__ == "MainMenuScreen" and not app.survived
+
+
+def test_the_keyboard_is_chosen_by_option_or_setting(monkeypatch: pytest.MonkeyPatch) -> None:
+    from valterm.cli import build_parser
+    from valterm.ui.app import keyboard_of
+
+    monkeypatch.delenv("VALTERM_KEYS", raising=False)
+    assert keyboard_of(None) == "modern" and keyboard_of("1985") == "1985"
+    monkeypatch.setenv("VALTERM_KEYS", "1985")
+    assert keyboard_of(None) == "1985" and keyboard_of("modern") == "modern"
+    monkeypatch.setenv("VALTERM_KEYS", "1984")
+    assert keyboard_of(None) == "modern"  # an unknown setting: the app still starts
+    assert build_parser().parse_args(["--keys", "1985"]).keys == "1985"
+
+
+@sync
+async def test_ctrl_c_stops_the_motion_and_drops_the_keys_typed_ahead(tmp_path: Path) -> None:
+    """A jog key held down queues moves; CTRL-C stops the one drawn and the rest with it."""
+    clock = FakeClock()
+    app = ValtermApp(tmp_path, "PROCESS", clock=clock, motion_rate=10.0)
+    async with app.run_test(size=(160, 50)) as pilot:
+        await pilot.pause()
+        await pilot.press("p", "1")
+        assert app.moving
+        await pilot.press("1", "1", "1", "1")
+        assert app.keys_waiting >= 4
+        await pilot.press("ctrl+c")
+        await settle(pilot, app, clock)
+        assert app.keys_waiting == 0
+        assert app.session.simulator.joints[0] < 16.0  # one jog at most, not five

@@ -83,6 +83,8 @@ def test_page_names_only_the_public_url_and_nothing_external(tmp_path: Path) -> 
         assert all(a.startswith((public + "/", "wss://valterm.example.org/")) for a in addresses), addresses
         assert "wss://valterm.example.org/ws" in addresses
         assert "127.0.0.1" not in page and "fonts.googleapis" not in page
+        # keys typed before a click: the served page focuses the terminal's input (issue 27)
+        assert 'querySelector("#terminal textarea")' in page and "focusTerminal, true" in page
         # everything the page loads is served here (an offline kiosk has nothing else)
         for address in addresses:
             if address.startswith(public):

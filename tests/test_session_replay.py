@@ -1,5 +1,5 @@
-"""The example session of App. C, Tables C-1..C-3, replayed key for key (valterm/data/DEMO.KEYS,
-OCR slips corrected there) through the whole app, checking the screens it reaches."""
+"""The example session of App. C, Tables C-1..C-3, replayed key for key with the thesis's keys
+(valterm --keys 1985; valterm/data/DEMO.KEYS, OCR slips corrected there) through the whole app."""
 
 from __future__ import annotations
 
@@ -42,7 +42,7 @@ def test_tables_c1_to_c3_key_for_key(tmp_path: Path) -> None:
     pendant_messages: set[str] = set()
 
     async def body() -> None:
-        app = app_module.ValtermApp(tmp_path / "ws", motion_rate=math.inf)
+        app = app_module.ValtermApp(tmp_path / "ws", motion_rate=math.inf, keys="1985")  # as the demo
         async with app.run_test(size=(140, 48)) as pilot:
             await pilot.pause()
             for item in _table_items():

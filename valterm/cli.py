@@ -91,6 +91,10 @@ def build_parser() -> argparse.ArgumentParser:
                         help="the joint-state rules: 1985 (the thesis's, default) or controller (a real PUMA's); "
                              "docs/MOTION.md")
     add_limit_flags(parser, top=True)  # the app's programs' limits (run, monitor, grade take them too)
+    parser.add_argument("--keys", choices=("modern", "1985"), default=None,
+                        help="the app's keyboard: modern (default, or $VALTERM_KEYS) or 1985, the thesis's: "
+                             "VAL-II mode and the editor return to their menus after each command, so "
+                             "Tables C-1..C-3 typed as printed replay")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=Parser)
     for command in COMMANDS:
         command.register(sub)

@@ -19,4 +19,4 @@ def run_app(args: argparse.Namespace) -> int:
     from valterm.ui.app import run
 
     return run(getattr(args, "workspace", None), getattr(args, "setup", None), ascii=bool(getattr(args, "ascii", False)),
-               rules=getattr(args, "rules", None), limits=limits_from(args))
+               rules=getattr(args, "rules", None), limits=limits_from(args), keys=getattr(args, "keys", None))

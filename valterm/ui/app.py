@@ -71,6 +71,7 @@ class ValtermApp(Guarded, ViewActions, App[int]):
         session: Session | None = None,  # a ready Session (tests)
         rules: str | None = None,  # the joint-state rules (core/rules.py); None: the dialect's
         limits: RunLimits | None = None,  # every program's limits (valterm.core.val.limits)
+        keys: str | None = None,  # "1985": the thesis's keys (None: $VALTERM_KEYS, else modern)
     ) -> None:
         super().__init__()
         self.rules = rules
@@ -91,8 +92,11 @@ class ValtermApp(Guarded, ViewActions, App[int]):
         self._workspace: Workspace | None = None  # the workspace before any session (start screen)
         self.crash: BaseException | None = None  # the bug that ended the app, if one did
         self.crash_log: Path | None = None
+        # 1985: VAL-II mode and the editor go back to their menus after each command or
+        # step, and keys typed while anything plays wait for it (the VS11's type-ahead)
+        self.keys_1985 = keyboard_of(keys) == "1985"
         # keys typed while a motion is drawn or a screen changes wait here
-        self.key_queue = KeyQueue(self, lambda: self.player.drawing)
+        self.key_queue = KeyQueue(self, self._busy_playing)
         self.unsaid: list[tuple[str, str]] = []  # messages no screen could show yet (the next one does)
         self.survived: list[str] = []  # the bugs the app lived through (their lines, tests)
 
@@ -111,6 +115,12 @@ class ValtermApp(Guarded, ViewActions, App[int]):
         return result
 
     # -- keys: none dropped (ui.keyqueue) --------------------------------------------
+    def _busy_playing(self) -> bool:
+        """Keys wait while a motion is drawn (1985: while anything plays, PAUSE aside)."""
+        if self.keys_1985:
+            return self.player.playing and not self.player.paused
+        return self.player.drawing
+
     @property
     def keys_waiting(self) -> int:
         """Keys typed while the app was busy, not yet handed on."""
@@ -248,7 +258,7 @@ class ValtermApp(Guarded, ViewActions, App[int]):
         """CTRL-C: abort the running program or motion (§6.4.10)."""
         self.player.abort()
 
-    def action_quit(self) -> None:
+    async def action_quit(self) -> None:
         """CTRL-Q: leave at once, or ask first when there is unsaved work (keymap rule 5)."""
         from valterm.ui.screens.quit import confirm_quit
 
@@ -315,9 +325,22 @@ class Relay:
             self._guard(top.show_scene)
 
 
+KEYBOARDS = ("modern", "1985")
+KEYS_ENV = "VALTERM_KEYS"
+
+
+def keyboard_of(keys: str | None) -> str:
+    """The keyboard asked for: ``keys``, else $VALTERM_KEYS, else modern (an unknown name
+    is modern: the app must start)."""
+    import os
+
+    chosen = (keys or os.environ.get(KEYS_ENV) or "modern").strip().lower()
+    return chosen if chosen in KEYBOARDS else "modern"
+
+
 def run(workspace: str | Path | None = None, setup: str | None = None, ascii: bool = False,
-        rules: str | None = None, limits: RunLimits | None = None) -> int:
-    app = ValtermApp(workspace, setup, ascii=ascii, rules=rules, limits=limits)
+        rules: str | None = None, limits: RunLimits | None = None, keys: str | None = None) -> int:
+    app = ValtermApp(workspace, setup, ascii=ascii, rules=rules, limits=limits, keys=keys)
     result = app.run()
     return exit_status(app, result)
 
@@ -328,6 +351,6 @@ def exit_status(app: ValtermApp, result: object) -> int:
         return EXIT_BUG
     if app.return_code:
         return app.return_code
-    return int(result or 0)  # type: ignore[call-overload]
+    return int(result) if isinstance(result, int) else 0
 
 

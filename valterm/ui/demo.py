@@ -73,7 +73,8 @@ class DemoApp(ValtermApp):
                  clock: Callable[[], float] = time.monotonic, ascii: bool = False) -> None:
         self._folder = Path(tempfile.mkdtemp(prefix="valterm-demo-"))
         self._previous: Path | None = None
-        super().__init__(self._folder / "ws", ascii=ascii, clock=clock, motion_rate=motion_rate * speed)
+        super().__init__(self._folder / "ws", ascii=ascii, clock=clock, motion_rate=motion_rate * speed,
+                         keys="1985")  # the tables typed as printed (DEMO.KEYS)
         self.items = [item for item in items if not item.replay_only]
         self.speed = speed
         self.idle = idle

@@ -4,8 +4,10 @@ The app is busy while a motion is drawn (the player paces poses), while the scre
 is still being mounted (a screen change), and until the key handed on last has been
 handled by the node it went to (a key that closes a screen is done before the next key
 picks its screen). A key typed then is queued and handed on, one at a time, once the app
-is free again. CTRL-C never waits: it is how a motion or a program is stopped; nor does
-ESC when no key waits before it (it cancels what moves where a screen says so).
+is free again. CTRL-C never waits: it is how a motion or a program is stopped, and it
+drops the keys still waiting (as a terminal drops its type-ahead: a jog key held down must
+not go on moving the arm); nor does ESC wait when no key waits before it (it cancels what
+moves where a screen says so).
 
 The app calls ``take`` for every key it receives; a key it returns False for is the
 app's to hand on now (``handing_on`` marks the node it went to).
@@ -43,7 +45,8 @@ class KeyQueue:
         self._draining = False
 
     def __len__(self) -> int:
-        return len(self.keys)
+        """Keys not yet handled: those waiting, and the one handed on last until it is."""
+        return len(self.keys) + (1 if self._pending is not None and self.changing else 0)
 
     @property
     def busy(self) -> bool:
@@ -69,7 +72,10 @@ class KeyQueue:
 
     def take(self, event: events.Key) -> bool:
         """True when ``event`` waits (the app must not hand it on now)."""
-        if getattr(event, QUEUED, False) or event.key in IMMEDIATE:
+        if getattr(event, QUEUED, False):
+            return False
+        if event.key in IMMEDIATE:
+            self.keys.clear()
             return False
         if not self.keys and not (self.changing if event.key == CANCEL else self.busy):
             return False

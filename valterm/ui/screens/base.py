@@ -7,6 +7,7 @@ key is never swallowed by an input; an input is focused only while a typed answe
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Callable
 
 from textual import events
@@ -37,7 +38,21 @@ from valterm.ui.widgets.status import StatusLine
 WIDE = 100  # columns from which the model is shown beside the menu
 
 
-class MenuScreen(Guarded, Screen):
+@dataclass(frozen=True)
+class Question:
+    """What a screen asks (its one state value besides the menu): a typed line, or a single
+    key among ``keys``; ``then`` takes the answer, ``cancel`` runs on ESC (None: the menu)."""
+
+    then: Callable[[str], None]
+    cancel: Callable[[], None] | None = None
+    keys: str = ""  # the single-key answers; "" for a typed line
+
+    @property
+    def single_key(self) -> bool:
+        return bool(self.keys)
+
+
+class MenuScreen(Guarded, Screen[None]):
     """A menu of the thesis with the model; subclasses set MENU and their bindings."""
 
     AUTO_FOCUS = ""  # nothing focused: "" disables auto focus (None would inherit the app's)
@@ -52,10 +67,7 @@ class MenuScreen(Guarded, Screen):
 
     def __init__(self) -> None:
         super().__init__()
-        self._line_answer: Callable[[str], None] | None = None
-        self._key_answer: Callable[[str], None] | None = None
-        self._keys = ""
-        self._cancel_answer: Callable[[], None] | None = None
+        self.question: Question | None = None  # the screen's state: at its menu, or asking this
         self.part_axes: int | None = None  # a part whose frame is drawn (MANIPULATION)
 
     # -- layout ----------------------------------------------------------------------
@@ -174,7 +186,7 @@ class MenuScreen(Guarded, Screen):
         session = self.app.session
         try:
             if command == "LISTL":
-                files = listing_lines(session, command, argument)[0]
+                files = (listing_lines(session, command, argument) or [""])[0]
                 names = " ".join(session.simulator.locations) or "NONE"
                 self.show_lines([files, f"LOCATIONS: {names} (WHERE EACH IS: LISTL IN VAL-II MODE)"])
             elif (lines := listing_lines(session, command, argument)) is not None:
@@ -244,44 +256,39 @@ class MenuScreen(Guarded, Screen):
     # -- questions --------------------------------------------------------------------
     @property
     def asking(self) -> bool:
-        return self._line_answer is not None or self._key_answer is not None
+        return self.question is not None
 
     def ask_line(self, question: str, then: Callable[[str], None], default: str = "",
                  cancel: Callable[[], None] | None = None, typed: bool = False) -> None:
         """Ask a typed answer (RETURN ends it, ESCAPE cancels); ``typed``: the default is the
         user's first key, kept rather than replaced by what they type next."""
-        self._key_answer = None
-        self._line_answer = then
-        self._cancel_answer = cancel
+        self.question = Question(then, cancel)
         self.query_one(Prompt).open_line(question, default, typed)
 
     def ask_key(self, question: str, then: Callable[[str], None], keys: str = "YN",
                 cancel: Callable[[], None] | None = None) -> None:
         """Ask a single-key answer among ``keys`` (upper case is passed to ``then``)."""
-        self._line_answer = None
-        self._key_answer = then
-        self._keys = keys.upper()
-        self._cancel_answer = cancel
+        self.question = Question(then, cancel, keys.upper())
         self.query_one(Prompt).open_key(question)
 
     def _close_prompt(self) -> None:
-        self._line_answer = self._key_answer = None
-        self._cancel_answer = None
+        self.question = None
         self.query_one(Prompt).close()
 
     def on_input_submitted(self, event: Input.Submitted) -> None:
         event.stop()
-        then = self._line_answer
-        if then is None:
+        question = self.question
+        if question is None or question.single_key:
             return
         self._close_prompt()
         self.messages.clear()   # what was said about the last answer goes, even if this one says nothing
-        then(event.value.strip())
+        question.then(event.value.strip())
 
     def on_key(self, event: events.Key) -> None:
         """The keyboard model (valterm.ui.keymap): a prompt's keys go to it, never to the menu."""
         self.messages.new_turn()
-        if not self.asking:
+        question = self.question
+        if question is None:
             self._menu_key(event)
             return
         if event.key == "f1":  # help in every state; ? stays text in a typed line
@@ -292,11 +299,10 @@ class MenuScreen(Guarded, Screen):
         if event.key == keymap.CANCEL_KEY:
             event.stop()
             event.prevent_default()
-            cancel = self._cancel_answer
             self._close_prompt()
-            (cancel or self.prompt_cancelled)()
+            (question.cancel or self.prompt_cancelled)()
             return
-        if self._key_answer is None:
+        if not question.single_key:
             type_ahead(event, self.query_one(Prompt).query_one("#answer", Input))
             return
         if event.key in VIEW_KEYS:
@@ -304,16 +310,16 @@ class MenuScreen(Guarded, Screen):
         event.stop()
         event.prevent_default()
         char = (event.character or "").upper()
-        if event.key == "enter" and self._keys:
-            char = self._keys[0] if "\n" in self._keys else ""
-        if char and char in self._keys:
-            then = self._key_answer
+        keys = question.keys
+        if event.key == "enter" and keys:
+            char = keys[0] if "\n" in keys else ""
+        if char and char in keys:
             self._close_prompt()
-            then(char)
+            question.then(char)
         elif keymap.is_help(event):
             self.action_help()  # ? is no answer to a question: the screen's help
         elif not keymap.is_silent(event) and event.key != "ctrl+c":
-            self.say(keymap.wrong_answer(event, self._keys), "warning")
+            self.say(keymap.wrong_answer(event, keys), "warning")
 
     def _menu_key(self, event: events.Key) -> None:
         """A key at the menu: ESC returns, ? and F1 help, a key bound nowhere is answered."""

@@ -18,6 +18,7 @@ question screen (valterm.ui.screens.changed): overwrite, reload or save as.
 from __future__ import annotations
 
 from collections.abc import Callable
+from enum import StrEnum
 
 from textual.app import ComposeResult
 from textual.binding import Binding
@@ -54,7 +55,20 @@ class StepInput(Input):
 
 
 # modes in which the step field takes the keys (typed ahead before it has focus too)
-TEXT_MODES = frozenset({"name", "line", "delete", "insert", "insert-line"})
+class EditorMode(StrEnum):
+    """The editor's one state value: where its keys go."""
+
+    NAME = "name"  # the EDIT NAME line
+    MENU = "menu"  # C, I, D, S, E
+    LINE = "line"  # the next step
+    DELETE = "delete"  # the step number to delete
+    INSERT = "insert"  # the step number to insert at
+    INSERT_LINE = "insert-line"  # the step inserted
+    SAVE = "save?"  # SAVE THE CHANGES (Y/N) ?
+
+
+TEXT_MODES = frozenset({EditorMode.NAME, EditorMode.LINE, EditorMode.DELETE, EditorMode.INSERT,
+                        EditorMode.INSERT_LINE})
 
 
 class EditorScreen(Guarded, Screen[None]):
@@ -89,7 +103,7 @@ class EditorScreen(Guarded, Screen[None]):
         self._workspace = workspace
         self.first_name = name
         self.editor: ProgramEditor | None = None
-        self.mode = "name"  # name | menu | line | delete | insert | insert-line | save?
+        self.mode = EditorMode.NAME
         self.insert_at = 0
 
     # -- layout ---------------------------------------------------------------------
@@ -124,7 +138,7 @@ class EditorScreen(Guarded, Screen[None]):
     @property
     def workspace(self):  # type: ignore[no-untyped-def]
         if self._workspace is None:
-            self._workspace = self.app.session.workspace  # type: ignore[attr-defined]
+            self._workspace = self.app.session.workspace
         return self._workspace
 
     # -- what the screen shows (tests read these) --------------------------------------
@@ -145,7 +159,7 @@ class EditorScreen(Guarded, Screen[None]):
         self.query_one("#status", StatusLine).refresh()
 
     def _prompt(self, mode: str, prompt: str, placeholder: str = "", start: str = "") -> None:
-        self.mode = mode
+        self.mode = EditorMode(mode)
         self.query_one("#editor-prompt", Static).update(prompt)
         self.query_one("#editor-prompt-row").remove_class("hidden")
         field = self.query_one("#editor-line", StepInput)
@@ -155,7 +169,7 @@ class EditorScreen(Guarded, Screen[None]):
         field.focus()
 
     def _menu(self) -> None:
-        self.mode = "menu"
+        self.mode = EditorMode.MENU
         self.query_one("#editor-prompt-row").add_class("hidden")
         self.set_focus(None)
 
@@ -302,7 +316,7 @@ class EditorScreen(Guarded, Screen[None]):
 
     def action_exit(self) -> None:
         if self.editor is not None and self.editor.dirty:
-            self.mode = "save?"
+            self.mode = EditorMode.SAVE
             self.say(f"SAVE THE CHANGES TO {self.editor.name}.DAT (Y/N) ?")
             return
         self._unlist_if_never_saved()
@@ -366,7 +380,10 @@ class EditorScreen(Guarded, Screen[None]):
                 number = editor.append(typed)
                 self.say(f"STEP {number} ACCEPTED (ESC OR AN EMPTY LINE: EDITOR MENU)")
                 self._refresh_listing(number)
-                self._next_line("")  # the line stays open: typed lines are never menu keys
+                if getattr(self.app, "keys_1985", False):
+                    self._menu()  # 1985 (Fig. C-8): the menu; a space or a digit starts the next step
+                else:
+                    self._next_line("")  # the line stays open: typed lines are never menu keys
             elif self.mode == "delete":
                 number = self._number(typed)
                 removed = editor.delete(number)
@@ -387,7 +404,10 @@ class EditorScreen(Guarded, Screen[None]):
                 self.say(f"STEP {number} INSERTED (ESC OR AN EMPTY LINE: EDITOR MENU)")
                 self._refresh_listing(number)
                 self.insert_at = number + 1  # the next line goes in after it
-                self._prompt("insert-line", editor.prompt(self.insert_at))
+                if getattr(self.app, "keys_1985", False):
+                    self._menu()  # 1985: one step a time, then the menu
+                else:
+                    self._prompt("insert-line", editor.prompt(self.insert_at))
         except ValtermError as error:
             # rejected: the line stays in the field to be corrected (nothing typed is lost)
             self.say(f"REJECTED: {error}")

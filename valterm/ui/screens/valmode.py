@@ -102,6 +102,7 @@ LINE_KEYS = "^L W_WIPE  F8 M_MODEL  ^T D_DEFINE  ^N MENU  F9 R_RETURN  F10 I/O  
 MENU_KEYS = "N PAGE  V LINE  W WIPE  M MODEL  D DEFINE  R/ESC RETURN  PGUP/PGDN SCROLL  F10 I/O  ? HELP"
 RUNNING_KEYS = "RUNNING   CTRL-C OR ESC: ABORT   F10: I/O PANEL   (KEYS TYPED NOW GO TO THE LINE)"
 DEFINE_KEYS = f"{DEFINE_HOW}  ESC: MENU"
+THEN_PRESS = "THEN PRESS: C CONTINUE  W WIPE  R RETURN  M MODEL  D DEFINE  N VAL-II MENU  ? HELP"
 
 _MENU_ROW = re.compile(r"^(\S.*?\s+[-:] )")  # "TYPE X=          - " : the description column
 
@@ -203,7 +204,7 @@ class ValModeScreen(Guarded, Screen[None]):
     @property
     def session(self) -> Session:
         if self._session is None:
-            self._session = self.app.session  # type: ignore[attr-defined]
+            self._session = self.app.session
         assert self._session is not None
         return self._session
 
@@ -218,7 +219,7 @@ class ValModeScreen(Guarded, Screen[None]):
     @property
     def player(self) -> Player:
         """The app's one event player."""
-        player: Player = self.app.player  # type: ignore[attr-defined]
+        player: Player = self.app.player
         return player
 
     def on_mount(self) -> None:
@@ -493,7 +494,25 @@ class ValModeScreen(Guarded, Screen[None]):
         if not text.strip():
             return
         self.log_line(f". {text}")
-        self.run_events(self.session.command(text))
+        if self.keys_1985:  # the VAL-II menu after it (Fig. C-13): C continues on the line
+            self.run_events(self.session.command(text), after=self._after_command)
+        else:
+            self.run_events(self.session.command(text))
+
+    @property
+    def keys_1985(self) -> bool:
+        """The thesis's keyboard (``valterm --keys 1985``): the menu after each command."""
+        return bool(getattr(self.app, "keys_1985", False))
+
+    def _after_command(self) -> None:
+        """A command, a POINT or the .LOC file's locations are done: the line again (1985:
+        the VAL-II menu, whose C continues on the line)."""
+        if self.keys_1985:  # Fig. C-13's THEN PRESS: the transcript stays in sight
+            self.mode = Mode.MENU
+            self._close_line()
+            self._keys(THEN_PRESS)
+        else:
+            self.to_command()
 
     # -- playing events (the player's audience) --------------------------------------------
     def run_events(self, events: Iterator[Event], after: Callable[[], None] | None = None) -> None:
@@ -503,7 +522,7 @@ class ValModeScreen(Guarded, Screen[None]):
         self._after_run = after
         self._to_menu = False
         self._show_running(keep_line=after is None)
-        self.app.run_events(events, self)  # type: ignore[attr-defined]
+        self.app.run_events(events, self)
 
     def _show_running(self, keep_line: bool) -> None:
         self._pause = None
@@ -649,7 +668,7 @@ class ValModeScreen(Guarded, Screen[None]):
         names = ", ".join(self._defined) or "NONE"
         self.log_line(f"LOCATIONS DEFINED: {names}")
         self._defined = []
-        self.to_command()
+        self._after_command()
 
     def _define_point(self, typed: str) -> None:
         """POINT typed in by hand: NAME, X, Y, Z, O, A, T."""
@@ -660,4 +679,4 @@ class ValModeScreen(Guarded, Screen[None]):
             self._open_line(Mode.POINT, "POINT", typed, "NAME, X, Y, Z, O, A, T")
             return
         self.log_line(f"POINT {name} DEFINED")
-        self.to_command()
+        self._after_command()

@@ -118,7 +118,7 @@ class ModelView(Widget):
         self._styles: dict[int, Style] = {}
         self._frame: Frame | None = None
         self._strips: list[Strip | None] = []
-        self._drawn_key: tuple | None = None
+        self._drawn_key: tuple[object, ...] | None = None
         self._scene_version = 0  # not id(scene): a freed scene's id can come back
         # bookkeeping of the last redraw (for tests and `valterm bench`)
         self.redraws = 0
