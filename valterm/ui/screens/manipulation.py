@@ -290,7 +290,7 @@ class ManipulationScreen(MenuScreen):
     def _taken(self, name: str) -> bool:
         """Save as: a bad name or one a setup file has is refused (said) and asked again."""
         try:
-            taken = self.app.session.workspace.exists(name, "SET")
+            taken = bool(self.app.session.workspace.exists(name, "SET"))
         except ValtermError as error:
             self.say(problem_text(error), "error")
             return True
