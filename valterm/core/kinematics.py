@@ -714,8 +714,8 @@ def _fit_wrapped(degrees: list[float], current: Sequence[float] | None,
         low, high = stops[index]
         low_t, high_t = low - tol, high + tol
         near = angle if current is None else current[index]
-        best = angle if low_t <= angle <= high_t else None
-        for candidate in (angle + 360.0, angle - 360.0):
+        best = None
+        for candidate in (angle - 360.0, angle, angle + 360.0):  # ascending: ties go low, as there
             if low_t <= candidate <= high_t and (best is None or abs(candidate - near) < abs(best - near)):
                 best = candidate
         if best is None:

@@ -15,12 +15,15 @@ from __future__ import annotations
 
 import re
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from valterm.core.cad.errors import CadImportError
-from valterm.core.cad.iges import Part
 from valterm.core.cad.mesh import LARGE_BYTES, Progress, _check_count, _quiet_trimesh, _reason
+
+if TYPE_CHECKING:        # the IGES reader loads when a file is read (issue 25: start time)
+    from valterm.core.cad.iges import Part
 
 STEP_EXTENSIONS = (".step", ".stp")
 EXTRA_HINT = "pip install 'valterm[step]'"
@@ -97,7 +100,7 @@ def read_step_parts(path: str | Path, progress: Progress | None = None) -> tuple
         v = (np.asarray(vertices, dtype=float) @ matrix[:3, :3].T + matrix[:3, 3]) * scale
         if not np.all(np.isfinite(v)):
             raise CadImportError(path, None, f"solid {str(node)[:40]!r} has non-finite coordinates")
-        parts.append(Part(str(node), v, []))
+        parts.append(_part(str(node), v))
     if not parts:
         raise CadImportError(path, None, "no solid in the file (OpenCASCADE found nothing to tessellate)")
     return parts, mm_per_unit
@@ -111,3 +114,9 @@ def _scale_to_mm(path: Path, units: str) -> float:
         return float(trimesh.units.unit_conversion(units, "mm"))
     except (ValueError, KeyError):
         raise CadImportError(path, None, f"the file's units {units!r} are not known") from None
+
+
+def _part(name: str, points: np.ndarray) -> Part:
+    from valterm.core.cad.iges import Part
+
+    return Part(name, points, [])
