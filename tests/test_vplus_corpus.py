@@ -116,13 +116,19 @@ def test_select_robot_1_and_attaching_the_robot_run_other_robots_stop() -> None:
         "SELECT ROBOT = 2: THE SIMULATOR HAS ONE ROBOT, ROBOT 1"]
 
 
-def test_check_names_device_and_task_statements_as_the_controller_s(
+def test_check_names_device_and_task_statements_as_the_controller_s_warnings_not_errors(
         capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+    # real V+ accepts these lines: check warns (no error), a run stops at the first (issue 23)
     status, lines = check(tmp_path, capsys, body('ATTACH (lun, 4) "TCP"', "x = IOSTAT(lun)", "EXECUTE 2 t()",
                                                  "IF TASK(1) <> 4 THEN", "END", "DETACH (lun)",
                                                  'TYPE "failed: "+$ERROR(x)'))
-    assert status == 1
-    steps = [line.split(": ", 2)[2] for line in lines if " step " in line]
+    assert status == 1  # check's exit says something was reported
+    assert any(", 0 error(s), 6 warning(s)" in line for line in lines), lines
+    warned = [line.split(": ", 2)[2] for line in lines if " step " in line]
+    assert all(w.startswith("warning: ") and w.endswith("(a real controller accepts it; a run stops here)")
+               for w in warned), warned
+    steps = [w.removeprefix("warning: ").removesuffix(" (a real controller accepts it; a run stops here)")
+             for w in warned]
     assert steps == [
         "ATTACH IS A V+ STATEMENT FOR THE CONTROLLER'S I/O DEVICES (DISK, NETWORK, SERIAL LINES), "
         "WHICH THE SIMULATOR DOES NOT HAVE",
@@ -157,3 +163,12 @@ def test_an_expression_of_array_elements_is_still_passed_by_value() -> None:
     text += ".PROGRAM show(n, $t)\n  TYPE n, \" \", $t\n  n = 0\n  $t = \"\"\n.END\n"
     _, events = vplus(text)
     assert [e.text for e in events if isinstance(e, TypeOut)] == ["5 XY", "2 3 XY"]
+
+
+def test_a_run_stops_at_the_first_statement_only_a_controller_can_run() -> None:
+    from valterm.core.events import Error
+
+    _, events = vplus(body('TYPE "before"', 'ATTACH (lun, 4) "TCP"', 'TYPE "never"'))
+    assert [e.text for e in events if isinstance(e, TypeOut)] == ["before"]
+    [error] = [e for e in events if isinstance(e, Error)]
+    assert error.step == 2 and "I/O DEVICES" in error.message

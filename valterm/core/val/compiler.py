@@ -17,6 +17,7 @@ from valterm.core.files.commandfile import CommandTable, default_commands
 from valterm.core.files.programs import Program
 from valterm.core.val.expr import compile_expr
 from valterm.core.val.parser import (
+    ControllerOnly,
     Statement,
     ValSyntaxError,
     parse_statement,
@@ -126,8 +127,13 @@ def analyse(program: Program, table: CommandTable | None = None, parse: Parse | 
             result.syntax[index] = str(error)
             opening = _opener_word(step.text, table, parse is not None)
             # A structure's opener that does not decode still opens it (so its END is not
-            # reported as a stray one) and the program cannot run.
-            report(index, str(error), fatal=opening is not None)
+            # reported as a stray one) and the program cannot run. A line real V+ takes that
+            # needs the controller's devices or tasks is a warning: the program stops there.
+            if isinstance(error, ControllerOnly):
+                report(index, f"{error} (a real controller accepts it; a run stops here)", "warning",
+                       fatal=opening is not None)
+            else:
+                report(index, str(error), fatal=opening is not None)
             if opening is not None:
                 stack.append((opening, index))
                 if opening == "CASE":  # its VALUEs still belong to it

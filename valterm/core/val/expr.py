@@ -53,6 +53,11 @@ class ExprError(ValtermError, ValueError):
     """An expression that cannot be compiled; the message says what is wrong."""
 
 
+class ControllerFunction(ExprError):
+    """A V+ function real V+ accepts that needs what only a controller has (its devices, tasks,
+    error table): ``check`` warns of it, a program that reaches it stops there."""
+
+
 class NumberTooLarge(ExprError):
     """A number (written, or a constant expression's value) that is not a finite number."""
 

@@ -51,6 +51,12 @@ class ValSyntaxError(ValtermError, ValueError):
     """A statement the simulator cannot decode; the message is the reason."""
 
 
+class ControllerOnly(ValSyntaxError):
+    """A statement real V+ accepts but the simulator cannot run (the controller's devices,
+    tasks, error table): pass 1 warns of it (no error: the controller would take the line),
+    and a program that reaches the step stops there with the reason."""
+
+
 @dataclass(frozen=True)
 class LocArg:
     """A location argument: a name, or SHIFT(name BY dx,dy,dz) (omitted increments = 0)."""

@@ -39,6 +39,7 @@ from valterm.core.transform import (
 )
 from valterm.core.val.expr import (
     Binary,
+    ControllerFunction,
     Expr,
     ExprError,
     Fn,
@@ -417,8 +418,8 @@ class _Compiler:
             return Opaque("TIMER(...)", lambda V: get().timer(timer(V)))
         if name not in _MATH:
             if name in _CONTROLLER_ONLY:
-                raise ExprError(f"{name} is a V+ function of {_CONTROLLER_ONLY[name]}, "
-                                "which the simulator does not have")
+                raise ControllerFunction(f"{name} is a V+ function of {_CONTROLLER_ONLY[name]}, "
+                                         "which the simulator does not have")
             raise ExprError(f"{name} is not a V+ function the simulator knows")
         low, high, how = _MATH[name]
         if not low <= len(args) <= high:
@@ -670,8 +671,8 @@ class _Compiler:
                 raise ExprError(f"{name} takes one value: {name}(value)")
             return lambda V: _to_bytes(name, args[0](V))
         if name == "$ERROR":  # its codes come from the devices and tasks the simulator does not have
-            raise ExprError("$ERROR is a V+ function of the controller's table of error messages, "
-                            "which the simulator does not have")
+            raise ControllerFunction("$ERROR is a V+ function of the controller's table of error messages, "
+                                     "which the simulator does not have")
         raise ExprError(f"{name} is not a V+ string function the simulator knows")
 
     def substring(self, name: str) -> StrFn:

@@ -42,7 +42,7 @@ from valterm.core.transform import Transform, convert_orientation
 from valterm.core.val import builders as b85
 from valterm.core.val.builders import Build, Builder
 from valterm.core.val.compiler import Analysis
-from valterm.core.val.expr import ExprError, Fn, Values
+from valterm.core.val.expr import ControllerFunction, ExprError, Fn, Values
 from valterm.core.val.machine import Machine, MachineError
 from valterm.core.val.ops import (
     Action,
@@ -59,6 +59,7 @@ from valterm.core.val.ops import (
 from valterm.core.val.parser import (
     ASSIGN,
     MAX_LABEL,
+    ControllerOnly,
     Statement,
     ValSyntaxError,
     strip_comment,
@@ -126,6 +127,8 @@ def _check(kind: str, text: str) -> str:
             compile_location(text)
         else:
             compile_string(text)
+    except ControllerFunction as error:
+        raise ControllerOnly(str(error)) from None
     except (ExprError, ValtermError, ValueError) as error:
         raise ValSyntaxError(str(error)) from None
     return text.strip()
@@ -159,7 +162,8 @@ def _value_kind(text: str) -> str:
         try:
             compile_location(text)
         except (ExprError, MachineError):
-            raise ExprError(str(as_number)) from None  # the reason it is not a number
+            kind = ControllerFunction if isinstance(as_number, ControllerFunction) else ExprError
+            raise kind(str(as_number)) from None  # the reason it is not a number
         return "L"
 
 
@@ -171,6 +175,8 @@ def parse_vplus(text: str) -> Statement:
         return Statement("", (), "")
     try:
         return _decode(upper, original)
+    except (ControllerFunction, ControllerOnly) as error:  # real V+ takes it: a warning in pass 1
+        raise ControllerOnly(_named(upper, str(error))) from None
     except (ExprError, ValSyntaxError, ValtermError, ValueError) as error:
         raise ValSyntaxError(_named(upper, str(error))) from None
 
@@ -206,10 +212,10 @@ def _decode(upper: str, original: str) -> Statement:
             return found
     word = upper.split()[0]
     if word in _DEVICE_IO:
-        raise ValSyntaxError(f"{word} IS A V+ STATEMENT FOR THE CONTROLLER'S I/O DEVICES (DISK, NETWORK, "
+        raise ControllerOnly(f"{word} IS A V+ STATEMENT FOR THE CONTROLLER'S I/O DEVICES (DISK, NETWORK, "
                              "SERIAL LINES), WHICH THE SIMULATOR DOES NOT HAVE")
     if word in _TASKS:
-        raise ValSyntaxError(f"{word} IS A V+ STATEMENT FOR OTHER PROGRAM TASKS OR ROBOTS, WHICH THE "
+        raise ControllerOnly(f"{word} IS A V+ STATEMENT FOR OTHER PROGRAM TASKS OR ROBOTS, WHICH THE "
                              "SIMULATOR DOES NOT HAVE (ONE TASK, ONE ROBOT)")
     raise ValSyntaxError(f"{word} IS NOT A V+ INSTRUCTION THE SIMULATOR KNOWS")
 
@@ -384,6 +390,8 @@ def _with_arguments(word: str, rest: str, parts: list[str], original: str) -> St
     if word == "TYPE":
         try:
             output_list(original[4:], None)
+        except ControllerFunction as error:
+            raise ControllerOnly(str(error)) from None
         except (ExprError, ValtermError, ValueError) as error:
             raise ValSyntaxError(str(error)) from None
         return Statement("TYPE", (original[4:].strip(),), original, None, 1)
