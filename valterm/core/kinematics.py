@@ -253,13 +253,21 @@ def canonical_angle(angle: float, low: float, high: float) -> float | None:
     """The 1985 rules' angle (SPEC §3a): the 360-degree equivalent of ``angle`` inside
     [low, high], the one in (-180, 180] where two are; None when no equivalent is inside."""
     wrapped = wrap180(angle)
-    tol = 1e-9
-    if low - tol <= wrapped <= high + tol:
-        return min(max(wrapped, low), high)
-    for shifted in (wrapped + 360.0, wrapped - 360.0):
-        if low - tol <= shifted <= high + tol:
-            return min(max(shifted, low), high)
-    return None
+    return equivalent_inside(wrapped, low, high, wrapped, 1e-9)
+
+
+def equivalent_inside(angle: float, low: float, high: float, near: float, tol: float) -> float | None:
+    """Of ``angle`` (wrapped to (-180, 180]) and its +-360 equivalents, the one inside
+    [low, high] (``tol`` of slack) nearest ``near``, clamped to the stops; None when none is.
+    Only those three can lie inside stops narrower than 720 degrees; ties go to the lower
+    (fit_to_stops' order)."""
+    best = None
+    for candidate in (angle - 360.0, angle, angle + 360.0):
+        if low - tol <= candidate <= high + tol and (best is None or abs(candidate - near) < abs(best - near)):
+            best = candidate
+    if best is None:
+        return None
+    return low if best < low else high if best > high else best
 
 
 def canonical_joints(joints: Sequence[float], geometry: RobotGeometry | None = None) -> list[float]:
@@ -705,22 +713,17 @@ def _wrap_turn(angle: float) -> float:
 
 def _fit_wrapped(degrees: list[float], current: Sequence[float] | None,
                  stops: Sequence[tuple[float, float]]) -> list[float]:
-    """``fit_to_stops`` for angles already wrapped to (-180, 180]: only the angle and its
-    +-360 equivalents can lie inside stops narrower than 720 degrees, so three candidates
-    are weighed per joint with plain floats (the same result, a few times faster)."""
+    """``fit_to_stops`` for angles already wrapped to (-180, 180]: three candidates a joint
+    with plain floats (``equivalent_inside``; the same result, a few times faster)."""
     fitted = []
-    tol = 3.6e-10  # fit_to_stops' tolerance on the whole-turn count, in degrees
     for index, angle in enumerate(degrees):
         low, high = stops[index]
-        low_t, high_t = low - tol, high + tol
         near = angle if current is None else current[index]
-        best = None
-        for candidate in (angle - 360.0, angle, angle + 360.0):  # ascending: ties go low, as there
-            if low_t <= candidate <= high_t and (best is None or abs(candidate - near) < abs(best - near)):
-                best = candidate
+        # 3.6e-10: fit_to_stops' tolerance on the whole-turn count, in degrees
+        best = equivalent_inside(angle, low, high, near, 3.6e-10)
         if best is None:
             raise BeyondStop(index + 1, angle, (low, high))
-        fitted.append(low if best < low else high if best > high else best)
+        fitted.append(best)
     return fitted
 
 
