@@ -309,11 +309,17 @@ def check_joint_goal(goal: Sequence[float], geometry: RobotGeometry | None = Non
     so an absurd turn is refused at once.
     """
     geometry = geometry or robot_geometry()
+    _refuse_not_finite(goal)
     for joint, (angle, (low, high)) in enumerate(zip(goal, geometry.stops), start=1):
-        if not math.isfinite(angle):
-            raise MotionRefused(f"joint {joint}: the angle is not a finite number", joint)
         if not low - 1e-9 <= angle <= high + 1e-9:
             raise MotionRefused(beyond_stop_message(joint, angle, low, high), joint)
+
+
+def _refuse_not_finite(angles: Sequence[float]) -> None:
+    """A joint goal with an angle that is no finite number is refused, naming the joint."""
+    for joint, angle in enumerate(angles, start=1):
+        if not math.isfinite(angle):
+            raise MotionRefused(f"joint {joint}: the angle is not a finite number", joint)
 
 
 def fit_precision_point(goal: Sequence[float], current: Sequence[float],
@@ -323,9 +329,7 @@ def fit_precision_point(goal: Sequence[float], current: Sequence[float],
     refused; JT3 -144.96 is JT3 215.04). MotionRefused when a joint has no equivalent inside."""
     geometry = geometry or robot_geometry()
     values = [float(v) for v in goal]
-    for joint, angle in enumerate(values, start=1):
-        if not math.isfinite(angle):
-            raise MotionRefused(f"joint {joint}: the angle is not a finite number", joint)
+    _refuse_not_finite(values)
     try:
         return fit_to_stops(values, current, geometry)
     except BeyondStop as error:
