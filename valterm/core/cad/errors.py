@@ -18,6 +18,17 @@ class CadImportError(ValtermError, ValueError):
         super().__init__(f"{where}: {reason}")
 
 
+def read_cad_bytes(path: str | Path) -> bytes:
+    """A CAD file's bytes, or CadImportError saying it is missing or unreadable."""
+    path = Path(path)
+    if not path.is_file():
+        raise CadImportError(path, None, "no such file")
+    try:
+        return path.read_bytes()
+    except OSError as error:
+        raise CadImportError(path, None, f"cannot read the file: {error.strerror or error}") from None
+
+
 class DegeneratePart(ValtermError, ValueError):
     """A part whose points enclose no area (coincident or collinear): the reason is the message."""
 

@@ -30,7 +30,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from valterm.core.cad.axes import gltf_to_world
-from valterm.core.cad.errors import CadImportError
+from valterm.core.cad.errors import CadImportError, read_cad_bytes
 
 if TYPE_CHECKING:        # the IGES reader loads when a file is read (issue 25: start time)
     from valterm.core.cad.iges import Part
@@ -61,12 +61,7 @@ def read_mesh_parts(path: str | Path, progress: Progress | None = None) -> list[
     if ext not in MESH_EXTENSIONS:
         raise CadImportError(path, None,
                              f"unknown mesh file type {ext or '(none)'}; use one of {', '.join(MESH_EXTENSIONS)}")
-    if not path.is_file():
-        raise CadImportError(path, None, "no such file")
-    try:
-        data = path.read_bytes()
-    except OSError as error:
-        raise CadImportError(path, None, f"cannot read the file: {error.strerror or error}") from None
+    data = read_cad_bytes(path)
     if not data:
         raise CadImportError(path, None, "the file is empty")
     if progress is not None and len(data) >= LARGE_BYTES:

@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from valterm.core.cad.errors import CadImportError
+from valterm.core.cad.errors import CadImportError, read_cad_bytes
 from valterm.core.cad.mesh import LARGE_BYTES, Progress, _check_count, _quiet_trimesh, _reason
 
 if TYPE_CHECKING:        # the IGES reader loads when a file is read (issue 25: start time)
@@ -49,10 +49,7 @@ def require_cascadio(path: str | Path) -> None:
 def step_mm_per_unit(path: str | Path, data: bytes | None = None) -> float:
     """Millimetres per length unit the file declares (its first ``LENGTH_UNIT``; mm if none)."""
     if data is None:
-        try:
-            data = Path(path).read_bytes()
-        except OSError as error:
-            raise CadImportError(path, None, f"cannot read the file: {error.strerror or error}") from None
+        data = read_cad_bytes(path)
     found = _LENGTH_UNIT.search(data.upper())
     if found is None:
         return 1.0
@@ -67,12 +64,7 @@ def step_mm_per_unit(path: str | Path, data: bytes | None = None) -> float:
 def read_step_parts(path: str | Path, progress: Progress | None = None) -> tuple[list[Part], float]:
     """The solids of a STEP file as parts in millimetres, and the millimetres per file unit."""
     path = Path(path)
-    if not path.is_file():
-        raise CadImportError(path, None, "no such file")
-    try:
-        data = path.read_bytes()
-    except OSError as error:
-        raise CadImportError(path, None, f"cannot read the file: {error.strerror or error}") from None
+    data = read_cad_bytes(path)
     if not data.lstrip().startswith(b"ISO-10303-21"):
         raise CadImportError(path, 1, "not a STEP file (it does not begin with ISO-10303-21;)")
     require_cascadio(path)
