@@ -13,7 +13,7 @@ import sys
 import time
 from collections.abc import Callable, Iterable
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from textual import events
 from textual._styles_cache import StylesCache
@@ -38,6 +38,9 @@ from valterm.ui.screens.guard import Guarded
 from valterm.ui.screens.main_menu import MainMenuScreen
 from valterm.ui.screens.start import StartScreen
 from valterm.ui.view.keys import ViewActions
+
+if TYPE_CHECKING:
+    from valterm.core.simulator import Simulator
 
 RELEASE_EVERY = 10.0  # seconds between clearings of Textual's leaking style cache
 
@@ -213,9 +216,14 @@ class ValtermApp(Guarded, ViewActions, App[int]):
         return self._workspace
 
     @property
-    def simulator(self):  # type: ignore[no-untyped-def]
-        assert self.session is not None
-        return self.session.simulator
+    def active_session(self) -> Session:
+        """The open session: screens that show a cell are opened only once there is one."""
+        assert self.session is not None, "a cell screen without a session"
+        return self.session
+
+    @property
+    def simulator(self) -> Simulator:
+        return self.active_session.simulator
 
     # -- the picture -----------------------------------------------------------------
     def scene(self, part_axes: int | None = None) -> Scene:
