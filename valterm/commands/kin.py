@@ -28,7 +28,8 @@ import numpy as np
 
 from valterm.core.errors import RefusedValue
 from valterm.commands import FAILURE, OK, USAGE, say
-from valterm.core.dh import DHRobot, RobotFileError, dh_robot, robot_names
+from valterm.commands.robots import add_robot_option, robot_from
+from valterm.core.dh import DHRobot, RobotFileError, dh_robot
 from valterm.core.kinematics import (
     BeyondStop,
     Config,
@@ -44,7 +45,6 @@ from valterm.core.kinematics import (
     rotation_to_oat,
 )
 
-THESIS_ROBOT = "PUMA"  # --robot's default: the thesis's own model (robot/PUMA.toml)
 
 # Larger numbers are no pose at all (mm or degrees); they would only overflow.
 LIMIT = 1e9
@@ -74,14 +74,13 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
 
 
 def _robot_option(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--robot", type=str.upper, default=THESIS_ROBOT, metavar="NAME",
-                        help=f"the robot: {THESIS_ROBOT} (the thesis's, default) or a robot file's name "
-                             f"({', '.join(robot_names())}: standard DH, the Robotics Toolbox's zero)")
+    add_robot_option(parser)
 
 
 def _dh(args: argparse.Namespace) -> DHRobot | None:
     """The DH robot --robot names, None for the thesis's; RobotFileError for an unknown name."""
-    return None if args.robot == THESIS_ROBOT else dh_robot(args.robot)
+    name = robot_from(args)
+    return None if name is None else dh_robot(name)
 
 
 class BadPose(ValueError):

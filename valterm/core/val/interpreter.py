@@ -26,6 +26,7 @@ from dataclasses import replace
 from pathlib import Path
 from typing import Protocol
 
+from valterm.core.arms import arm_in
 from valterm.core.cycletime import CycleClock
 from valterm.core.errors import RefusedValue, ValtermError
 from valterm.core.events import (
@@ -222,7 +223,8 @@ class Interpreter:
     def status(self) -> Status:
         left = max(0, self.loops_total - self.loops_done) if self._running else 0
         return Status(float(self.sim.speed), self.program, self.loops_done, left,
-                      round(self.cycle_seconds, 3), str(getattr(self.sim, "rules", "1985")))
+                      round(self.cycle_seconds, 3), str(getattr(self.sim, "rules", "1985")),
+                      arm_in(self.sim).name, arm_in(self.sim).key)
 
     def pause(self, event: Pause) -> Iterator[Event]:
         """Yield `event` with the program paused: the app stops pulling; pulling again goes on."""
