@@ -175,3 +175,23 @@ async def test_the_apps_status_bar_names_the_560(tmp_path: Path) -> None:
         assert sim.where().joints == (0.0, 90.0, -90.0, 0.0, 0.0, 0.0)
     async with Simulation(tmp_path, setup="PROCESS", size=(200, 24)) as sim:
         assert "ROBOT" not in sim.status() and "RULES 1985" in sim.status()
+
+
+def test_cycle_times_come_from_the_robots_own_file() -> None:
+    from dataclasses import replace
+
+    from valterm.core.cycletime import robot_timing
+    from valterm.core.events import Motion
+
+    sim = Simulator(robot="PUMA560")
+    assert sim.timing == robot_timing("PUMA560") and robot_timing("PUMA560").hand_time == 0.2
+    assert Simulator().timing == robot_timing()
+
+    def seconds(sim: Simulator) -> float:
+        return sum(e.seconds for e in sim.drive(1, 90.0) if isinstance(e, Motion))
+
+    before = seconds(Simulator(robot="PUMA560"))
+    slow = Simulator(robot="PUMA560")
+    slow.timing = replace(slow.timing, joint_speed=tuple(v / 2 for v in slow.timing.joint_speed),
+                          joint_accel=tuple(v / 4 for v in slow.timing.joint_accel))
+    assert seconds(slow) == pytest.approx(2 * before) and before > 1.0

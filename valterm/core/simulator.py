@@ -22,7 +22,7 @@ from valterm.core.cell.polyhedron import Polyhedron
 from valterm.core.cell.workcell import WorkCell
 from valterm.core.collision.frames import RobotScene
 from valterm.core.collision.world import Finding, Party
-from valterm.core.cycletime import joint_motion_seconds, straight_motion_seconds
+from valterm.core.cycletime import joint_motion_seconds, robot_timing, straight_motion_seconds
 from valterm.core.errors import ValtermError
 from valterm.core.events import Collision, Event, Grasp, Hand, Message, Motion, PoseEvent, Release, Where
 from valterm.core.kinematics import Config, Location, indicator_kind, rotation_to_oat
@@ -100,6 +100,8 @@ class Simulator:
         self.geometry = self.model.geometry
         # the robot chosen once (--robot): everything kinematic goes through it (core/arms.py)
         self.arm = self.model.arm
+        # the cycle-time figures of the robot's own file (core/cycletime.py)
+        self.timing = robot_timing(None if self.arm.key == THESIS_ROBOT else self.arm.key)
         self.cell = cell if cell is not None else WorkCell()
         self.joints: list[float] = list(self.arm.ready)
         self.config = Config(1, 1, 1)  # the user's indicators: RIGHTY ABOVE NOFLIP
@@ -424,12 +426,12 @@ class Simulator:
             return 0.0
         start = np.asarray(self.joints, dtype=float)
         if kind != "straight":
-            return joint_motion_seconds(start, path[-1], self.speed)
+            return joint_motion_seconds(start, path[-1], self.speed, self.timing)
         before, after = self.arm.fk(list(start), 1), self.arm.fk(list(path[-1]), 1)
         length = float(np.linalg.norm(after.xyz - before.xyz))
         cos = (np.trace(before.rotation.T @ after.rotation) - 1.0) / 2.0
         turn = math.degrees(math.acos(max(-1.0, min(1.0, float(cos)))))
-        return straight_motion_seconds(length, turn, self.speed)
+        return straight_motion_seconds(length, turn, self.speed, self.timing)
 
     # -- pendant (Chapter 3) ---------------------------------------------------
     def pendant_joint(self, joint: int) -> Iterator[Event]:

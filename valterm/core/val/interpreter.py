@@ -137,7 +137,7 @@ class Interpreter:
         # (a program read from a V+ file is v+ whatever this says)
         self.dialect = check_dialect(dialect)
         # the one clock of the robot's time: STATUS, run's cycle time, V+ TIMER and inputs
-        self.clock = CycleClock()
+        self.clock = CycleClock(getattr(sim, "timing", None))  # the robot's own hand time
         # the clock when the last EXECUTE began and ended (None while it runs): typed
         # motions after it take the robot's time but are not its cycle
         self._cycle_start: float = 0.0
