@@ -195,3 +195,23 @@ def test_cycle_times_come_from_the_robots_own_file() -> None:
     slow.timing = replace(slow.timing, joint_speed=tuple(v / 2 for v in slow.timing.joint_speed),
                           joint_accel=tuple(v / 4 for v in slow.timing.joint_accel))
     assert seconds(slow) == pytest.approx(2 * before) and before > 1.0
+
+
+def test_serve_starts_every_tabs_app_on_the_chosen_robot() -> None:
+    from valterm.cli import build_parser
+    from valterm.commands.serve import app_command
+
+    assert app_command(build_parser().parse_args(["--robot", "PUMA560", "serve"])).endswith("--robot PUMA560")
+    assert "--robot" not in app_command(build_parser().parse_args(["serve"]))
+
+
+def test_the_app_is_started_on_the_robot_the_command_line_names(monkeypatch: pytest.MonkeyPatch) -> None:
+    started: dict[str, object] = {}
+
+    def run(*args: object, **kwargs: object) -> int:
+        started.update(kwargs)
+        return 0
+
+    monkeypatch.setattr("valterm.ui.app.run", run)
+    assert main(["--robot", "puma560"]) == 0 and started["robot"] == "PUMA560"
+    assert main([]) == 0 and started["robot"] is None
