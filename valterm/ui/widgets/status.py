@@ -50,7 +50,8 @@ def status_fields(app) -> list[tuple[str, str]]:  # type: ignore[no-untyped-def]
 
 def arm_configuration(sim) -> tuple[str, str, str]:  # type: ignore[no-untyped-def]
     """The configuration the arm is in now (RIGHTY/LEFTY, ABOVE/BELOW, FLIP/NOFLIP)."""
-    return sim.arm.indicators(sim.joints).words
+    words: tuple[str, str, str] = sim.arm.indicators(sim.joints).words
+    return words
 
 
 def status_text(app, width: int) -> str:  # type: ignore[no-untyped-def]
