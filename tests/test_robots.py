@@ -215,3 +215,23 @@ def test_the_app_is_started_on_the_robot_the_command_line_names(monkeypatch: pyt
     monkeypatch.setattr("valterm.ui.app.run", run)
     assert main(["--robot", "puma560"]) == 0 and started["robot"] == "PUMA560"
     assert main([]) == 0 and started["robot"] is None
+
+
+def test_a_singular_wrist_on_the_560_keeps_jt4() -> None:
+    arm = arm_of("PUMA560")
+    for jt5 in (0.0, 180.0):
+        q = [10.0, 60.0, -100.0, 0.0, jt5, 70.0]
+        pose = arm.fk(q)
+        got = arm.ik(pose.xyz, pose.rotation, arm.indicators(q), [10.0, 60.0, -100.0, 35.0, jt5, 0.0],
+                     enforce_stops=False)
+        assert got[3] == pytest.approx(35.0)
+        again = arm.fk(got)
+        assert np.allclose(again.xyz, pose.xyz, atol=1e-9) and np.allclose(again.rotation, pose.rotation, atol=1e-9)
+    # at a singular wrist (JT5 = 0, JT4 30) a joint move to a pose turned about the tool's axis keeps JT4
+    sim = Simulator(robot="PUMA560")
+    sim.joints = [0.0, 90.0, -90.0, 30.0, 0.0, -30.0]
+    here = sim.arm.fk(sim.joints)
+    turned = sim.arm.fk([0.0, 90.0, -90.0, 0.0, 0.0, 40.0])
+    list(sim.move(Location(tuple(float(v) for v in here.xyz - [0, 0, 671.83]),  # type: ignore[arg-type]
+                           rotation_to_oat(turned.rotation))))
+    assert sim.joints[3] == pytest.approx(30.0) and sim.joints[5] == pytest.approx(10.0)

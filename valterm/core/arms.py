@@ -172,6 +172,8 @@ class DHArm:
         if not np.isfinite(tool).all():
             raise OutOfReach("not a location: a coordinate is not a finite number")
         joints = self.chain.ik(tool, config)
+        if current is not None and abs(math.sin(math.radians(joints[4]))) < WRIST_SINGULAR:
+            joints = _keep_jt4(joints, float(current[3]))
         if not enforce_stops:
             return joints
         return kinematics.fit_to_stops(joints, current, self.chain)
@@ -212,6 +214,18 @@ class DHArm:
     def link_frames(self, joints: Sequence[float]) -> np.ndarray:
         frames: np.ndarray = self.chain.link_frames([float(v) for v in joints])[0]
         return frames
+
+
+WRIST_SINGULAR = 1e-9  # |sin JT5| below this: JT4 and JT6 turn about one axis
+
+
+def _keep_jt4(joints: list[float], jt4: float) -> list[float]:
+    """A singular wrist (JT5 = 0 or 180) keeps JT4 where it is, JT6 takes the rest of the turn
+    (as the thesis's robot does): the same tool frame, no needless twirl of JT4."""
+    turn = kinematics.wrap180(jt4) - joints[3]
+    straight = math.cos(math.radians(joints[4])) > 0  # JT5 = 0: JT4 + JT6 is what counts
+    jt6 = joints[5] - turn if straight else joints[5] + turn
+    return [*joints[:3], kinematics.wrap180(jt4), joints[4], kinematics.wrap180(jt6)]
 
 
 @lru_cache(maxsize=1)
