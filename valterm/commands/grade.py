@@ -107,7 +107,7 @@ def _report(args: argparse.Namespace, task: Any, verdicts: list[Any], elapsed: f
 
     outputs = []
     if args.json:
-        document = {"task": task.name, "passed": sum(v.passed for v in verdicts), "failed": sum(not v.passed for v in verdicts),
+        document = {"task": task.name, "robot": task.robot or "PUMA", "passed": sum(v.passed for v in verdicts), "failed": sum(not v.passed for v in verdicts),
                     "seconds": round(elapsed, 3), "results": [v.to_json() for v in verdicts]}
         outputs.append((args.json, json.dumps(document, indent=2) + "\n"))
     if args.junit:

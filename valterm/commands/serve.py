@@ -18,6 +18,7 @@ import sys
 from typing import Any
 from urllib.parse import urlsplit
 
+from valterm.commands.robots import robot_from
 from valterm.core.errors import RefusedValue
 
 WILDCARD_HOSTS = ("0.0.0.0", "::", "[::]", "")
@@ -63,6 +64,8 @@ def app_command(args: argparse.Namespace) -> str:
         command += ["--setup", args.setup]
     if getattr(args, "ascii", False):
         command.append("--ascii")
+    if robot_from(args):  # valterm --robot PUMA560 serve: every tab's app on the 560
+        command += ["--robot", str(robot_from(args))]
     return shlex.join(command)
 
 

@@ -75,9 +75,11 @@ class ValtermApp(Guarded, ViewActions, App[int]):
         rules: str | None = None,  # the joint-state rules (core/rules.py); None: the dialect's
         limits: RunLimits | None = None,  # every program's limits (valterm.core.val.limits)
         keys: str | None = None,  # "1985": the thesis's keys (None: $VALTERM_KEYS, else modern)
+        robot: str | None = None,  # --robot (core/arms.py); None: the thesis's
     ) -> None:
         super().__init__()
         self.rules = rules
+        self.robot = robot
         self.limits = limits
         self.workspace_root = workspace
         self.initial_setup = setup
@@ -189,7 +191,7 @@ class ValtermApp(Guarded, ViewActions, App[int]):
     def open_session(self, setup: str | None) -> Session:
         """A fresh session on ``setup`` (raises the core's errors for the caller to show)."""
         root = self.workspace_root if self.session is None else self.session.workspace.root
-        session = Session(workspace_root=root, setup=setup, limits=self.limits)
+        session = Session(workspace_root=root, setup=setup, limits=self.limits, robot=self.robot)
         if self.rules is not None:
             session.simulator.set_rules(self.rules)
         self.session = session
@@ -347,8 +349,9 @@ def keyboard_of(keys: str | None) -> str:
 
 
 def run(workspace: str | Path | None = None, setup: str | None = None, ascii: bool = False,
-        rules: str | None = None, limits: RunLimits | None = None, keys: str | None = None) -> int:
-    app = ValtermApp(workspace, setup, ascii=ascii, rules=rules, limits=limits, keys=keys)
+        rules: str | None = None, limits: RunLimits | None = None, keys: str | None = None,
+        robot: str | None = None) -> int:
+    app = ValtermApp(workspace, setup, ascii=ascii, rules=rules, limits=limits, keys=keys, robot=robot)
     result = app.run()
     return exit_status(app, result)
 
