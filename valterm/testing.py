@@ -202,7 +202,8 @@ class Simulation:
         """The message lines shown under the menu."""
         log = self.screen.query("#messages")
         if log:
-            return log.first().text.splitlines()
+            text: str = log.first().text
+            return text.splitlines()
         message = getattr(self.screen, "message", "")
         return str(message).splitlines()
 
@@ -234,7 +235,7 @@ class Simulation:
 
     @property
     def simulator(self) -> Any:
-        return self.app.session.simulator
+        return self.app.simulator
 
     def where(self, point: int = 1) -> Any:
         """The clamp position, orientation, joints and indicators (the core's ``Where``)."""

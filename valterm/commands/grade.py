@@ -32,7 +32,7 @@ from valterm.commands import FAILURE, OK, USAGE, fail
 from valterm.commands.limits import add_limit_flags, limits_from
 
 
-def register(subparsers: argparse._SubParsersAction) -> None:
+def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     parser = subparsers.add_parser("grade", help="grade students' programs against a task file (table, JSON, JUnit XML)")
     parser.add_argument("task", metavar="TASK.toml", help="the task file (docs/GRADING.md)")
     parser.add_argument("submissions", metavar="SUBMISSION", nargs="+",

@@ -45,7 +45,7 @@ from valterm.core.kinematics import (
 LIMIT = 1e9
 
 
-def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     kin = sub.add_parser("kin", help="forward and inverse kinematics of the PUMA")
     kin_sub = kin.add_subparsers(dest="kin_command", metavar="fk|ik", required=True)
 

@@ -30,7 +30,7 @@ from valterm.commands.limits import add_limit_flags, limits_from
 from valterm.commands.robots import add_robot_option, robot_from
 
 
-def register(subparsers: argparse._SubParsersAction) -> None:
+def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     parser = subparsers.add_parser("monitor", help="the VAL-II prompt as a line-mode program (stdin in, transcript out)")
     # SUPPRESS: given before the subcommand (valterm --setup X monitor), the value stays
     parser.add_argument("--setup", metavar="NAME", default=argparse.SUPPRESS, help="read NAME.SET (and NAME.LOC)")

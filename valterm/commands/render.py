@@ -32,7 +32,7 @@ class RenderFailed(Exception):
     """A reason to stop with exit status 1 (the input was fine, the picture cannot be had)."""
 
 
-def register(subparsers: argparse._SubParsersAction) -> None:
+def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     parser = subparsers.add_parser("render", help="draw the robot and the cell as text (or SVG)")
     # dest names of their own: the top-level --setup / --ascii mean the app's
     parser.add_argument("--setup", dest="render_setup", metavar="NAME", help="the setup file (default PROCESS)")

@@ -45,7 +45,7 @@ from valterm.commands.limits import add_limit_flags, limits_from
 from valterm.commands.robots import add_robot_option, robot_from
 
 
-def register(subparsers: argparse._SubParsersAction) -> None:
+def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     parser = subparsers.add_parser("run", help="run a VAL-II program headless and print the transcript")
     parser.add_argument("program", metavar="PROGRAM.DAT", help="a path, or a program name in the workspace")
     parser.add_argument("--cell", metavar="X.SET", help="the work-cell setup file")
@@ -136,7 +136,7 @@ def _find(argument: str, ext: str, workspace: Any) -> Path:
         return given
     if any(sep in argument for sep in ("/", "\\")) or given.suffix.upper() not in ("", f".{ext}"):
         raise FileNotFoundError(f"{argument}: no such file")
-    path = workspace.path(argument, ext)
+    path: Path = workspace.path(argument, ext)
     if not path.is_file():
         raise FileNotFoundError(f"{path.name}: not in the workspace {workspace.root}")
     return path
