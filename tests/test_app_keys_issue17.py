@@ -199,7 +199,7 @@ def test_unknown_keys_are_answered_and_question_mark_helps(tmp_path: Path) -> No
             await sim.press("Q")
             assert "'Q' IS NOT A KEY OF THIS MENU; ? OR F1: HELP" in sim.messages()
             await sim.press("P", "f12")
-            assert "'F12' IS NOT A KEY OF THIS MENU; ? OR F1: HELP" in sim.messages()
+            assert "'F12' IS NOT A KEY OF THIS MENU; V FIRST TO TYPE A VAL-II COMMAND; ? OR F1: HELP" in sim.messages()
             await sim.press("question_mark")
             assert "KEYS OF THE PENDANT MODE SCREEN" in sim.text()
             await sim.press("escape")

@@ -82,6 +82,10 @@ async def test_keyboard_orient_changes_the_view_not_the_world(tmp_path: Path) ->
         await pilot.press("R")
         assert isinstance(app.screen, KeyboardScreen)
         assert "KEYBOARD MENU" in screen_text(app)
+        await pilot.press("O", "q")  # no ORIENT1 key: said; ESC back to the KEYBOARD MENU, not MAIN
+        assert "ORIENT1: + - ARROWS X Y Z H OR R" in screen_text(app)
+        await pilot.press("escape")
+        assert isinstance(app.screen, KeyboardScreen) and "KEYBOARD MENU" in screen_text(app)
 
 
 @sync

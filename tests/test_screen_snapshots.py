@@ -1,5 +1,6 @@
 """Snapshots of every screen at 80x24 and 160x50 (issue 27): START, MAIN, KEYBOARD, PENDANT,
-MANIPULATION, VAL-II mode (menu and line), EDITOR, HELP and the I/O panel.
+MANIPULATION, VAL-II mode (menu and line), EDITOR (and its save question), HELP, the I/O
+panel and the quit question.
 
 Regenerate with ``pytest tests/test_screen_snapshots.py --snapshot-update`` after a
 deliberate change of a screen. No motion plays and no cursor blinks when the picture is
@@ -26,6 +27,8 @@ SCREENS = {
     "editor": ["E", *"TEST", "enter"],
     "help": ["question_mark"],
     "io-panel": ["V", "V", "f10"],
+    "editor-save": ["E", *"TEST", "enter", "C", *" MOVE A", "enter", "escape", "E"],
+    "quit": ["V", "V", *"HERE P1", "enter", "ctrl+q"],
 }
 
 

@@ -1,5 +1,6 @@
 """The UI's import graph: no circle (imports inside functions count), no screen imports the
-app, no screen found by name."""
+app, no screen found by name. Imports under ``if TYPE_CHECKING:`` never run (a screen types
+the app it runs in) and are left out, as tests/test_architecture.py's grimp graph does."""
 
 from __future__ import annotations
 
@@ -16,9 +17,23 @@ def _module(path: Path) -> str:
     return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
 
 
+def _run_time_nodes(tree: ast.AST) -> list[ast.AST]:
+    """Every node but those under ``if TYPE_CHECKING:`` (annotations only: they never run)."""
+    nodes: list[ast.AST] = []
+    todo = [tree]
+    while todo:
+        node = todo.pop()
+        nodes.append(node)
+        if isinstance(node, ast.If) and isinstance(node.test, ast.Name) and node.test.id == "TYPE_CHECKING":
+            todo.extend(node.orelse)
+            continue
+        todo.extend(ast.iter_child_nodes(node))
+    return nodes
+
+
 def _imports(path: Path) -> set[str]:
     found: set[str] = set()
-    for node in ast.walk(ast.parse(path.read_text())):
+    for node in _run_time_nodes(ast.parse(path.read_text())):
         if isinstance(node, ast.ImportFrom) and node.module and node.module.startswith("valterm"):
             found.add(node.module)
             found.update(f"{node.module}.{alias.name}" for alias in node.names)

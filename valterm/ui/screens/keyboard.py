@@ -67,7 +67,19 @@ class KeyboardScreen(MenuScreen):
         Binding("m,M", "model", "Model", id="keyboard.model"),
         Binding("v,V", "val", "VAL-II command", id="keyboard.val"),
         Binding("question_mark", "help", "Help", id="keyboard.help"),
+        # ORIENT1's keys (Fig. 2-3): the view only
+        Binding("plus,equals_sign", "orient_key('zoom_in')", "Scale up", show=False, id="keyboard.orient.zoom_in"),
+        Binding("minus,underscore", "orient_key('zoom_out')", "Scale down", show=False, id="keyboard.orient.zoom_out"),
+        *(Binding(arrow, f"orient_key('{arrow}')", f"Translate {arrow}", show=False, id=f"keyboard.orient.{arrow}")
+          for arrow in ("left", "right", "up", "down")),
+        *(Binding(axis, f"orient_key('{axis}')", f"Rotate about screen {axis.upper()}", show=False,
+                  id=f"keyboard.orient.{axis}") for axis in "xyz"),
+        *(Binding(axis.upper(), f"orient_key('-{axis}')", f"Rotate back about screen {axis.upper()}",
+                  show=False, id=f"keyboard.orient.back_{axis}") for axis in "xyz"),
+        Binding("h,H", "orient_key('home')", "The first view", show=False, id="keyboard.orient.home"),
+        Binding("r,R", "orient_key('menu')", "Back to the KEYBOARD MENU", show=False, id="keyboard.orient.return"),
     ]
+    STATES = {"orient_key": frozenset({"orient"})}  # the menu's own keys work at the menu (MenuScreen)
 
     def __init__(self) -> None:
         super().__init__()
@@ -106,21 +118,34 @@ class KeyboardScreen(MenuScreen):
         self.listing = self.orienting = False
         self.menu.set_text(KEYBOARD_MENU)
 
-    def on_key(self, event: events.Key) -> None:
-        """A listing or O's keys first; otherwise the one key path (KeyedScreen.on_key)."""
+    @property
+    def key_state(self) -> str:
+        """Asking, at the menu, a listing shown, or ORIENT1's keys."""
         if self.asking:
-            return
-        if self.listing:
-            # any key brings the menu back; a menu key also does its work
+            return super().key_state
+        return "orient" if self.orienting else "listing" if self.listing else "menu"
+
+    def on_key(self, event: events.Key) -> None:
+        """A listing: any key brings the menu back (a menu key also does its work); then the
+        one key path (KeyedScreen.on_key)."""
+        if self.key_state == "listing":
             self._restore_menu()
-            if event.key not in self.active_bindings:
+            if not self.bound_here(event.key):
                 event.stop()
                 event.prevent_default()
-            return
+
+    def other_key(self, event: events.Key) -> bool:
+        if self.key_state == "orient":
+            self.say("ORIENT1: + - ARROWS X Y Z H OR R", "warning")
+            return True
+        return super().other_key(event)
+
+    def escape_menu(self) -> None:
+        """ESC: ORIENT1 back to the KEYBOARD MENU; at the menu, MAIN."""
         if self.orienting:
-            event.stop()
-            event.prevent_default()
-            self._orient_key(event)
+            self._restore_menu()
+        else:
+            super().escape_menu()
 
     # -- P, S, F, A ------------------------------------------------------------------
     def action_position(self) -> None:
@@ -151,26 +176,21 @@ class KeyboardScreen(MenuScreen):
         self.menu.set_text(ORIENT_MENU)
         self.say("ORIENT1: THE VIEW ONLY; WORLD DATA ARE NOT CHANGED")
 
-    def _orient_key(self, event: events.Key) -> None:
+    def action_orient_key(self, what: str) -> None:
+        """One of ORIENT1's keys: scale, translate, rotate, home, or back to the menu."""
         view = self.model_view
-        key, char = event.key, event.character or ""
         pan = ORIENT_PAN / max(self.app.view_transform.scale, 1e-6)
-        if char in ("+", "="):
-            view.scale_by(ORIENT_ZOOM)
-        elif char in ("-", "_"):
-            view.scale_by(1 / ORIENT_ZOOM)
-        elif key in ("left", "right", "up", "down"):
-            dx, dy = {"left": (-pan, 0), "right": (pan, 0), "up": (0, pan), "down": (0, -pan)}[key]
-            view.pan_by(dx, dy)
-        elif char.upper() in ("X", "Y", "Z"):
-            view.rotate_by(char.lower(), ORIENT_TURN if char.islower() else -ORIENT_TURN)
-        elif char.upper() == "H":
+        moves = {"left": (-pan, 0), "right": (pan, 0), "up": (0, pan), "down": (0, -pan)}
+        if what in ("zoom_in", "zoom_out"):
+            view.scale_by(ORIENT_ZOOM if what == "zoom_in" else 1 / ORIENT_ZOOM)
+        elif what in moves:
+            view.pan_by(*moves[what])
+        elif what.lstrip("-") in ("x", "y", "z"):
+            view.rotate_by(what.lstrip("-"), -ORIENT_TURN if what.startswith("-") else ORIENT_TURN)
+        elif what == "home":
             view.reset_view()
-        elif char.upper() == "R" or key == "escape":
-            self._restore_menu()
-            return
         else:
-            self.say("ORIENT1: + - ARROWS X Y Z H OR R", "warning")
+            self._restore_menu()
             return
         if self.has_class("-narrow"):
             self.show_model(True)
