@@ -48,7 +48,9 @@ def sh(*argv: str | Path, cwd: Path, env: dict[str, str] | None = None, timeout:
 def bundled_files() -> list[str]:
     """Every file the package must carry besides its modules (paths inside the package)."""
     package = CHECKOUT / "valterm"
-    data = [p for p in (package / "data").rglob("*") if p.is_file() and "__pycache__" not in p.parts]
+    # valterm/data's folders are links to the top level's assets/, cells/ and programs/
+    data = [Path(folder) / name for folder, _, names in os.walk(package / "data", followlinks=True)
+            for name in names if "__pycache__" not in folder]
     styles = list(package.rglob("*.tcss"))
     return sorted(str(p.relative_to(CHECKOUT)) for p in data + styles)
 

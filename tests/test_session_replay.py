@@ -1,5 +1,5 @@
 """The example session of App. C, Tables C-1..C-3, replayed key for key with the thesis's keys
-(valterm --keys 1985; valterm/data/DEMO.KEYS, OCR slips corrected there) through the whole app."""
+(valterm --keys 1985; assets/DEMO.KEYS, OCR slips corrected there) through the whole app."""
 
 from __future__ import annotations
 

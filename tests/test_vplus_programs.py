@@ -1,4 +1,4 @@
-"""The bundled V+ programs (valterm/data/programs/vplus): they pass `check` as V+, and the
+"""The bundled V+ programs (programs/vplus): they pass `check` as V+, and the
 pick-and-place ones put every part where it belongs on the bundled cells."""
 
 from __future__ import annotations

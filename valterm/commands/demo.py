@@ -1,5 +1,5 @@
 """``valterm demo``: the museum demo. The example session of Tables C-1..C-3 and CONV1
-(valterm/data/DEMO.KEYS, read by ``valterm.core.files.demokeys``) played key by key in a loop,
+(assets/DEMO.KEYS, read by ``valterm.core.files.demokeys``) played key by key in a loop,
 with a caption line for the visitor; any key hands over, an idle minute starts it again.
 ``--kiosk`` also turns off the keys that would end it; ``--once`` plays it once and exits.
 """

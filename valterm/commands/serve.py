@@ -1,7 +1,7 @@
 """``valterm serve --web``: the app in a web browser, one simulator process per browser tab
 (textual-serve, the optional ``web`` extra).
 
-The page textual-serve hands out is replaced by valterm/data/web/app_index.html: it asks
+The page textual-serve hands out is replaced by assets/web/app_index.html: it asks
 nothing from the internet (the font and the scripts come from this server) and every address
 in it starts with the public URL, so it works from other machines and behind a TLS proxy
 (``https://`` gives ``wss://`` for the websocket). Without ``--public-url`` the public URL is

@@ -4,7 +4,7 @@ A joint-coordinated motion follows a trapezoidal profile on every joint; the slo
 governs (the controller stretches the others to arrive together). A straight line runs its
 tool path at the tool speed, its turn at the wrist's speed, whichever is slower. SPEED s%
 time-scales a profile by 100/s. The parameters and their source are in the robot data
-file, ``[timing]`` of ``valterm/data/robot/PUMA.toml`` (another robot's, ``--robot PUMA560``:
+file, ``[timing]`` of ``assets/robot/PUMA.toml`` (another robot's, ``--robot PUMA560``:
 its own file's).
 """
 

@@ -1,8 +1,11 @@
 """The one place that finds bundled data: everything under ``valterm/data`` in the package.
 
-The robot model, COMMAND.DAT, HELPER.DAT, DEMO.KEYS, the bundled cells and programs all
-ship inside the package (see ``[tool.setuptools.package-data]``), so an installed wheel
-finds them wherever it is run from. Nothing here is read at import time.
+The data lives at the repository's top level, where users and contributors look for it:
+``assets/`` (the robot files, COMMAND.DAT, HELPER.DAT, DEMO.KEYS, the served page),
+``cells/`` and ``programs/``. ``valterm/data``'s entries are links to them: an editable
+checkout reads through the links, and the build copies what they point at into the sdist
+and the wheel (``[tool.setuptools.package-data]``), so an installed wheel finds the same
+files wherever it is run from. Nothing here is read at import time.
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""The drawn PUMA model: the link polyhedra of valterm/data/robot/PUMA.SET placed at a joint vector.
+"""The drawn PUMA model: the link polyhedra of assets/robot/PUMA.SET placed at a joint vector.
 
 Placing the whole model is one vectorised call: every vertex of every link is transformed
 by its link frame at once (einsum), then split back into polyhedra.

@@ -1,4 +1,4 @@
-"""Demonstration mode (museum use): the app plays valterm/data/DEMO.KEYS, the example session
+"""Demonstration mode (museum use): the app plays assets/DEMO.KEYS, the example session
 of App. C, key by key through the real screens, with a caption line saying in plain words what
 happens and why. It loops forever. Any key pauses it and hands the app to the visitor; after
 ``idle`` seconds without a key the demo starts again from a clean state (a fresh workspace,

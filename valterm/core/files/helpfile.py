@@ -2,7 +2,7 @@
 
 "The user input is checked against individual entries in this list. Whenever the user
 input matches one of the entries in the file, a pointer is set and the corresponding
-information is displayed."  Format: see the header of valterm/data/HELPER.DAT.
+information is displayed."  Format: see the header of assets/HELPER.DAT.
 """
 
 from __future__ import annotations
