@@ -391,10 +391,12 @@ def empty_frame(width: int, height: int) -> Frame:
 
 
 # -- ASCII fallback ----------------------------------------------------------------------
+@lru_cache(maxsize=1)
 def _ascii_table() -> np.ndarray:
     """Braille pattern (0..255) -> the ASCII character closest to its dots' direction.
 
-    Built once (256 patterns): the principal axis of the lit dots picks - / | \\, a blob
+    Built once, when ASCII is first drawn (256 patterns; not at import: the app's start
+    draws braille): the principal axis of the lit dots picks - / | \\, a blob
     gives + or #, a lone dot ' or .
     """
     table = np.full(256, ord(" "), dtype=np.uint32)
@@ -421,9 +423,6 @@ def _ascii_table() -> np.ndarray:
                 ch = "\\" if angle > 0 else "/"
         table[code] = ord(ch)
     return table
-
-
-ASCII_TABLE = _ascii_table()
 
 
 # -- rasterizing -------------------------------------------------------------------------
@@ -583,7 +582,7 @@ def _background(scene: Scene, view: ViewTransform, w: int, h: int, back_faces: b
 
 def _chars(codes: np.ndarray, ascii: bool) -> np.ndarray:
     """Character per braille pattern: the U+2800 block (blank for none), or the ASCII stand-in."""
-    chars: np.ndarray = (ASCII_TABLE if ascii else _BRAILLE_TABLE).take(codes)
+    chars: np.ndarray = (_ascii_table() if ascii else _BRAILLE_TABLE).take(codes)
     return chars
 
 
