@@ -365,10 +365,18 @@ class Frame:
         return str(self.chars[y].astype("<u4").tobytes().decode("utf-32-le"))
 
     def lines(self) -> list[str]:
-        return [self.row_text(y) for y in range(self.height)]
+        return self.text().split("\n") if self.height else []
 
     def text(self) -> str:
-        return "\n".join(self.lines())
+        """The rows joined by newlines: one decode of the whole grid with a newline column
+        (not a decode and a join per row)."""
+        h, w = self.chars.shape
+        if h == 0:
+            return ""
+        grid = np.empty((h, w + 1), dtype="<u4")
+        grid[:, :w] = self.chars
+        grid[:, w] = ord("\n")
+        return str(grid.tobytes()[:-4].decode("utf-32-le"))
 
     def changed_spans(self, previous: "Frame | None") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Rows that differ from ``previous`` and, per row, the changed span [x0, x1)."""
