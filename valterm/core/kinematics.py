@@ -53,13 +53,16 @@ class RobotGeometry:
     model_geometry: str = "PUMA.SET"
     name: str = "PUMA 600"  # as the robot file names it (STATUS, --json)
     stops_array: np.ndarray = field(init=False, repr=False, compare=False)
-    # ik's stop fit per joint: (low - tol, high + tol, low, high), made once (``_fit_turns``)
-    fit_bounds: tuple[tuple[float, float, float, float], ...] = field(init=False, repr=False, compare=False)
+    # ik's stop fit per joint (``_fit_turns``), made once: low - tol, high + tol, low, high,
+    # and whether angle - 360 / angle + 360 can fall inside at all (stops beyond -180 / 180)
+    fit_bounds: tuple[tuple[float, float, float, float, bool, bool], ...] = field(
+        init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "stops_array", np.array(self.stops, dtype=float))
         object.__setattr__(self, "fit_bounds", tuple(
-            (low - _FIT_TOL, high + _FIT_TOL, low, high) for low, high in self.stops))
+            (low - _FIT_TOL, high + _FIT_TOL, low, high, low - _FIT_TOL <= -180.0, high + _FIT_TOL > 180.0)
+            for low, high in self.stops))
 
     def point_offset(self, point: int) -> float:
         """Distance beyond the wrist centre along a of position option 1, 2 or 3 (§3.4)."""
@@ -721,14 +724,14 @@ _DEGREES = 180.0 / math.pi   # math.degrees(v) is exactly v * this
 
 
 def _fit_turns(radians: Sequence[float], current: Sequence[float] | None,
-               bounds: Sequence[tuple[float, float, float, float]]) -> list[float]:
+               bounds: Sequence[tuple[float, float, float, float, bool, bool]]) -> list[float]:
     """``fit_to_stops`` of ``ik_fast``'s angles wrapped to (-180, 180] (``_wrap_turn``), in
     one pass with no call per joint (ik's hot path, issue 25): of the angle and its +-360
     equivalents, the one inside the stops nearest the current angle, ties to the lower
     (``equivalent_inside`` written out), clamped; BeyondStop when none is inside.
     ``bounds`` is ``RobotGeometry.fit_bounds``."""
     fitted = []
-    for joint, (turn, (lo, hi, low, high)) in enumerate(zip(radians, bounds), start=1):
+    for joint, (turn, (lo, hi, low, high, below_may, above_may)) in enumerate(zip(radians, bounds), start=1):
         angle = turn * _DEGREES
         if angle > 180.0:
             angle -= 360.0
@@ -738,13 +741,12 @@ def _fit_turns(radians: Sequence[float], current: Sequence[float] | None,
             angle = wrap180(angle)
         near = angle if current is None else current[joint - 1]
         best = None
-        below = angle - 360.0
-        if lo <= below <= hi:
+        # angle - 360 <= -180 and angle + 360 > 180: each is tried only where the stops reach
+        if below_may and lo <= (below := angle - 360.0) <= hi:
             best = below
         if lo <= angle <= hi and (best is None or abs(angle - near) < abs(best - near)):
             best = angle
-        above = angle + 360.0
-        if lo <= above <= hi and (best is None or abs(above - near) < abs(best - near)):
+        if above_may and lo <= (above := angle + 360.0) <= hi and (best is None or abs(above - near) < abs(best - near)):
             best = above
         if best is None:
             raise BeyondStop(joint, angle, (low, high))
