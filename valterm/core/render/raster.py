@@ -520,18 +520,22 @@ def _dot_samples(pts: np.ndarray, prio: np.ndarray, w: int, h: int) -> tuple[np.
     total = int(n.sum())
     if not total:
         return empty, empty.astype(np.uint8), empty
-    starts = np.cumsum(n) - n
-    t = (np.arange(total) - np.repeat(starts, n)) / np.repeat(np.maximum(n - 1, 1), n)
-    # x + iy: one repeat and one product for both coordinates (a real t times a complex d
-    # gives exactly t * dx and t * dy)
-    xy = np.repeat(a[:, 0] + 1j * a[:, 1], n) + t * np.repeat(d[:, 0] + 1j * d[:, 1], n)
-    x, y = xy.real.astype(np.intp), xy.imag.astype(np.intp)
+    # each segment's first sample, t's divisor, start and direction: six rows repeated to
+    # their samples in one call (contiguous rows: no complex or strided passes per sample)
+    per = np.empty((6, len(n)))
+    per[0] = np.cumsum(n) - n
+    per[1] = np.maximum(n - 1, 1)
+    per[2:4] = a.T
+    per[4:6] = d.T
+    each = np.repeat(per, n, axis=1)
+    t = (np.arange(total, dtype=float) - each[0]) / each[1]    # whole numbers: exact as floats
+    x = (each[2] + t * each[4]).astype(np.intp)
+    y = (each[3] + t * each[5]).astype(np.intp)
     if clipped:      # inside, samples lie between two in-range ends: no clamping needed
         np.clip(x, 0, wd - 1, out=x)
         np.clip(y, 0, hd - 1, out=y)
-    dot = y * wd + x
-    cell_of, lit_of = _dot_tables(w, h)
-    return cell_of.take(dot), lit_of.take(dot), np.repeat(p, n)
+    lit = _dot_tables(w, h)[1].take(y * wd + x)
+    return lit >> 3, lit, np.repeat(p, n)    # a dot's bit index is its cell * 8 + its bit
 
 
 # the number of the bit (0..7) of dot (row, col) at 2 * row + col
