@@ -109,7 +109,7 @@ def test_a_refusal_escaping_a_command_is_one_message_exit_1(monkeypatch: pytest.
     def refuse(*args: object, **kwargs: object) -> None:
         raise WorkspaceError("EVIL3.DAT links outside the workspace; refusing to use it")
 
-    monkeypatch.setattr(kin, "fk", refuse)
+    monkeypatch.setattr(kin, "_fk_pose", refuse)
     assert main(["kin", "fk", "0", "0", "0", "0", "0", "0"]) == 1
     assert capsys.readouterr().err == "valterm: EVIL3.DAT links outside the workspace; refusing to use it\n"
 
@@ -120,7 +120,7 @@ def test_a_bug_is_one_line_naming_a_log_with_the_traceback(tmp_path: Path, monke
         return {}["no such key"]  # type: ignore[return-value]
 
     monkeypatch.setenv("XDG_STATE_HOME", str(tmp_path / "state"))
-    monkeypatch.setattr(kin, "fk", bug)
+    monkeypatch.setattr(kin, "_fk_pose", bug)
     assert main(["kin", "fk", "0", "0", "0", "0", "0", "0"]) == EXIT_BUG == 70
     err = capsys.readouterr().err
     assert len(err.splitlines()) == 1
@@ -141,7 +141,7 @@ def test_a_log_folder_that_cannot_be_written_falls_back_to_the_temporary_folder(
     (tmp_path / "tmp").mkdir()
     import tempfile
     monkeypatch.setattr(tempfile, "tempdir", None)  # re-read TMPDIR
-    monkeypatch.setattr(kin, "fk", lambda *a, **k: 1 / 0)
+    monkeypatch.setattr(kin, "_fk_pose", lambda *a, **k: 1 / 0)
     assert main(["kin", "fk", "0", "0", "0", "0", "0", "0"]) == 70
     err = capsys.readouterr().err
     assert f"the traceback is in {tmp_path / 'tmp' / 'valterm'}" in err

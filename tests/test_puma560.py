@@ -143,7 +143,7 @@ def test_the_drawn_560_follows_its_own_chain() -> None:
     assert load_robot_model().chain is None and load_robot_model().names[0] == "BASE"
 
 
-def test_render_draws_the_560_and_refuses_programs_for_it(tmp_path: Path,
+def test_render_draws_the_560_and_runs_programs_on_it(tmp_path: Path,
                                                          capsys: pytest.CaptureFixture[str]) -> None:
     ws = ["--workspace", str(tmp_path)]
     assert cli([*ws, "render", "--size", "60x20", "--json"]) == 0
@@ -156,5 +156,6 @@ def test_render_draws_the_560_and_refuses_programs_for_it(tmp_path: Path,
     capsys.readouterr()
     assert cli([*ws, "render", "--robot", "PUMA560", "--joints", "0", "0", "100", "0", "0", "0"]) == 2
     assert "joint 3" in capsys.readouterr().err.lower()
-    assert cli([*ws, "render", "--robot", "PUMA560", "--trace", "PROCESS"]) == 2
-    assert "--trace and --at move the thesis's robot only" in capsys.readouterr().err
+    # a traced program moves the 560 itself: PROCESS stops where the 560 cannot follow it
+    assert cli([*ws, "render", "--robot", "PUMA560", "--trace", "PROCESS", "--loc", "PROCESS"]) == 1
+    assert "beyond the puma 560's stops" in capsys.readouterr().err.lower()

@@ -35,6 +35,7 @@ from valterm.commands import (
     serve,
 )
 from valterm.commands.limits import add_limit_flags
+from valterm.commands.robots import add_robot_option
 from valterm.core.crashlog import report_crash
 from valterm.core.errors import ValtermError
 from valterm.core.rules import RULES
@@ -90,6 +91,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--rules", choices=RULES, default=None,
                         help="the joint-state rules: 1985 (the thesis's, default) or controller (a real PUMA's); "
                              "docs/MOTION.md")
+    add_robot_option(parser)  # the app's robot (run, monitor take it too; grade's task files name it)
     add_limit_flags(parser, top=True)  # the app's programs' limits (run, monitor, grade take them too)
     parser.add_argument("--keys", choices=("modern", "1985"), default=None,
                         help="the app's keyboard: modern (default, or $VALTERM_KEYS) or 1985, the thesis's: "

@@ -107,12 +107,12 @@ class Simulation:
 
     def __init__(self, workspace: str | Path, setup: str | None = "PROCESS", *,
                  size: tuple[int, int] = (80, 24), animate: bool = False, rate: float = 10.0,
-                 ascii: bool = False) -> None:
+                 ascii: bool = False, robot: str | None = None) -> None:
         from valterm.ui.app import ValtermApp
 
         self.clock = ScriptClock()
         self.app = ValtermApp(workspace, setup, ascii=ascii, clock=self.clock,
-                              motion_rate=rate if animate else math.inf)
+                              motion_rate=rate if animate else math.inf, robot=robot)
         self.size = size
         self._context: Any = None
         self.pilot: Any = None
@@ -202,7 +202,8 @@ class Simulation:
         """The message lines shown under the menu."""
         log = self.screen.query("#messages")
         if log:
-            return log.first().text.splitlines()
+            text: str = log.first().text
+            return text.splitlines()
         message = getattr(self.screen, "message", "")
         return str(message).splitlines()
 
@@ -234,7 +235,7 @@ class Simulation:
 
     @property
     def simulator(self) -> Any:
-        return self.app.session.simulator
+        return self.app.simulator
 
     def where(self, point: int = 1) -> Any:
         """The clamp position, orientation, joints and indicators (the core's ``Where``)."""

@@ -9,14 +9,16 @@ from __future__ import annotations
 import argparse
 
 
-def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """The app is what ``valterm`` does without a subcommand: nothing to register."""
 
 
 def run_app(args: argparse.Namespace) -> int:
     """Start the app on the workspace; ``--setup NAME`` goes straight to the MAIN MENU."""
     from valterm.commands.limits import limits_from
+    from valterm.commands.robots import robot_from
     from valterm.ui.app import run
 
     return run(getattr(args, "workspace", None), getattr(args, "setup", None), ascii=bool(getattr(args, "ascii", False)),
-               rules=getattr(args, "rules", None), limits=limits_from(args), keys=getattr(args, "keys", None))
+               rules=getattr(args, "rules", None), limits=limits_from(args), keys=getattr(args, "keys", None),
+               robot=robot_from(args))

@@ -11,7 +11,7 @@ from valterm.core.errors import ValtermError
 from valterm.core.files.atomic import write_text_atomic
 
 
-def register(sub: argparse._SubParsersAction) -> None:
+def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     parser = sub.add_parser("bench", help="measure speed against the project's goals")
     parser.add_argument("--json", action="store_true", help="one JSON object")
     parser.add_argument("--md", action="store_true", help="the goals table in Markdown (docs/PERFORMANCE.md)")

@@ -25,7 +25,7 @@ from valterm.core.errors import ValtermError
 from valterm.core.files.errors import error_message
 
 
-def register(subparsers: argparse._SubParsersAction) -> None:
+def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     parser = subparsers.add_parser(
         "import", help="turn an IGES, STEP or mesh file into a work-cell setup file (.SET), or add it to one",
         description="Read an IGES, STEP or polygon-mesh file, envelop each part in an extruded convex "

@@ -19,7 +19,7 @@ from valterm.core.files.setup import read_setup
 from valterm.core.workspace import Workspace, WorkspaceError
 
 
-def register(subparsers: argparse._SubParsersAction) -> None:
+def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     parser = subparsers.add_parser("cell", help="inspect work-cell setup files (.SET)")
     actions = parser.add_subparsers(dest="cell_command", metavar="ACTION")
     show = actions.add_parser("show", help="list a setup file's objects and their world vertices (mm)")
@@ -60,7 +60,7 @@ def show_cell(args: argparse.Namespace) -> int:
     return 0
 
 
-def cell_json(cell: WorkCell) -> dict:
+def cell_json(cell: WorkCell) -> dict[str, object]:
     return {
         "name": cell.name,
         "units": cell.units,

@@ -16,7 +16,7 @@ from valterm.commands import FAILURE, OK, say
 from valterm.core.files.errors import FileFormatError
 
 
-def register(subparsers: argparse._SubParsersAction) -> None:
+def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     parser = subparsers.add_parser("check", help="syntax-check VAL-II programs (.DAT)")
     parser.add_argument("files", nargs="+", metavar="FILE.DAT",
                         help="a path (.DAT, or a V+ file .v2/.pg with .PROGRAM blocks), or a program name in the workspace")

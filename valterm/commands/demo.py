@@ -10,7 +10,7 @@ import argparse
 import sys
 
 
-def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     parser = sub.add_parser("demo", help="replay the thesis's example session in a loop (museum mode)")
     parser.add_argument("--speed", type=float, default=1.0, help="faster (2) or slower (0.5) than the default pace")
     parser.add_argument("--once", action="store_true", help="play the script once, then exit")

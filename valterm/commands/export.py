@@ -22,7 +22,7 @@ from pathlib import Path
 from valterm.core.errors import RefusedValue
 
 
-def register(subparsers: argparse._SubParsersAction) -> None:
+def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     parser = subparsers.add_parser(
         "export", help="write a setup file's cell and the robot as GLB (metres, Y up), OBJ or STL (mm, Z up)",
         description="Export the objects of NAME.SET and the robot (at READY, a pose or a location) "

@@ -23,9 +23,14 @@ from __future__ import annotations
 import argparse
 import sys
 from pathlib import Path
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from valterm.core.files.vplus import VplusData
+    from valterm.core.workspace import Workspace
 
 
-def register(subparsers: argparse._SubParsersAction) -> None:
+def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     parser = subparsers.add_parser(
         "export-program", help="write workspace programs (NAME.DAT) as a V+ file (.v2/.pg, .PROGRAM blocks)")
     parser.add_argument("names", nargs="+", metavar="NAME", help="a program of the workspace, or a .DAT path")
@@ -62,7 +67,7 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def _data(args: argparse.Namespace, workspace: object) -> object:
+def _data(args: argparse.Namespace, workspace: Workspace) -> VplusData:
     """The data sections asked for: --loc files' locations and points, --with-variables."""
     from valterm.core.files.locations import read_location_file
     from valterm.core.files.vplus import VplusData
@@ -71,12 +76,12 @@ def _data(args: argparse.Namespace, workspace: object) -> object:
     for name in args.loc or []:
         path = Path(name).expanduser()
         if not path.is_file():
-            path = workspace.path(Path(name).stem, "LOC")  # type: ignore[attr-defined]
+            path = workspace.path(Path(name).stem, "LOC")
         locations, points = read_location_file(path)
         data.locations.update(locations)
         data.precision.update(points)
     if args.with_variables:
-        data.reals.update(workspace.read_variables())  # type: ignore[attr-defined]
+        data.reals.update(workspace.read_variables())
     return data
 
 

@@ -31,7 +31,7 @@ from valterm.commands import FAILURE, OK, USAGE, fail
 from valterm.commands.limits import add_limit_flags, limits_from
 
 
-def register(subparsers: argparse._SubParsersAction) -> None:
+def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     parser = subparsers.add_parser("grade", help="grade students' programs against a task file (table, JSON, JUnit XML)")
     parser.add_argument("task", metavar="TASK.toml", help="the task file (docs/GRADING.md)")
     parser.add_argument("submissions", metavar="SUBMISSION", nargs="+",
@@ -108,7 +108,7 @@ def _report(args: argparse.Namespace, task: Any, verdicts: list[Any], elapsed: f
 
     outputs = []
     if args.json:
-        document = {"task": task.name, "passed": sum(v.passed for v in verdicts), "failed": sum(not v.passed for v in verdicts),
+        document = {"task": task.name, "robot": task.robot or "PUMA", "passed": sum(v.passed for v in verdicts), "failed": sum(not v.passed for v in verdicts),
                     "seconds": round(elapsed, 3), "results": [v.to_json() for v in verdicts]}
         outputs.append((args.json, json.dumps(document, indent=2) + "\n"))
     if args.junit:

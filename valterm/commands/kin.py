@@ -28,29 +28,24 @@ import numpy as np
 
 from valterm.core.errors import RefusedValue
 from valterm.commands import FAILURE, OK, USAGE, say
-from valterm.core.dh import DHRobot, RobotFileError, dh_robot, robot_names
+from valterm.commands.robots import add_robot_option, robot_from
+from valterm.core.arms import THESIS_ROBOT, Arm, arm_of
+from valterm.core.dh import RobotFileError
 from valterm.core.kinematics import (
     BeyondStop,
     Config,
     HasStops,
     IKError,
-    fit_to_stops,
-    fk,
-    ik,
-    indicators,
     oat_to_rotation,
     readout_joints,
-    robot_geometry,
-    rotation_to_oat,
 )
 
-THESIS_ROBOT = "PUMA"  # --robot's default: the thesis's own model (robot/PUMA.toml)
 
 # Larger numbers are no pose at all (mm or degrees); they would only overflow.
 LIMIT = 1e9
 
 
-def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     kin = sub.add_parser("kin", help="forward and inverse kinematics of the PUMA")
     kin_sub = kin.add_subparsers(dest="kin_command", metavar="fk|ik", required=True)
 
@@ -74,14 +69,12 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
 
 
 def _robot_option(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--robot", type=str.upper, default=THESIS_ROBOT, metavar="NAME",
-                        help=f"the robot: {THESIS_ROBOT} (the thesis's, default) or a robot file's name "
-                             f"({', '.join(robot_names())}: standard DH, the Robotics Toolbox's zero)")
+    add_robot_option(parser)
 
 
-def _dh(args: argparse.Namespace) -> DHRobot | None:
-    """The DH robot --robot names, None for the thesis's; RobotFileError for an unknown name."""
-    return None if args.robot == THESIS_ROBOT else dh_robot(args.robot)
+def _arm(args: argparse.Namespace) -> Arm:
+    """The robot --robot names (core/arms.py); RobotFileError for a robot file that is unusable."""
+    return arm_of(robot_from(args))
 
 
 class BadPose(ValueError):
@@ -176,34 +169,31 @@ def _table(xyz: Sequence[float], oat: Sequence[float], config: Config, joints: S
     return "\n".join((head, values, head2, values2))
 
 
-def _chosen(args: argparse.Namespace) -> tuple[DHRobot | None, int]:
+def _chosen(args: argparse.Namespace) -> tuple[Arm | None, int]:
     """The robot --robot names and OK, or None and USAGE after saying why."""
     try:
-        robot = _dh(args)
+        robot = _arm(args)
     except RobotFileError as error:
         say(f"kin {args.kin_command}: --robot: {error}")
         return None, USAGE
-    if robot is not None and getattr(args, "point", 1) != 1:
+    if robot.key != THESIS_ROBOT and getattr(args, "point", 1) != 1:
         say(f"kin fk: --point {args.point}: the LED sensor and the clamp tip are the thesis's robot's; "
             f"{robot.name} has its frame 6 only")
         return None, USAGE
     return robot, OK
 
 
-def _fk_pose(robot: DHRobot | None, joints: list[float], point: int) -> tuple[list[float], list[float], Config]:
+def _fk_pose(robot: Arm, joints: list[float], point: int) -> tuple[list[float], list[float], Config]:
     """XYZ (mm), O A T (degrees) and the indicators of a joint vector on the chosen robot."""
-    if robot is None:
-        pose = fk(joints, point=point)
-        return [float(v) for v in pose.xyz], list(pose.oat), indicators(joints)
-    tool = robot.fk(joints)
-    return [float(v) for v in tool[:3, 3]], list(rotation_to_oat(tool[:3, :3])), robot.indicators(joints)
+    pose = robot.fk(joints, point)
+    return [float(v) for v in pose.xyz], list(pose.oat), robot.indicators(joints)
 
 
 def run_fk(args: argparse.Namespace) -> int:
     robot, status = _chosen(args)
-    if status != OK:
+    if robot is None:
         return status
-    stops = robot or robot_geometry()
+    stops = robot
 
     def solve(words: list[str], line: int) -> None:
         joints = _numbers(words, 6, "JT1..JT6")
@@ -220,14 +210,9 @@ def run_fk(args: argparse.Namespace) -> int:
     return _each(args, args.joints, solve)
 
 
-def _ik_joints(robot: DHRobot | None, pose: list[float], config: Config) -> list[float]:
+def _ik_joints(robot: Arm, pose: list[float], config: Config) -> list[float]:
     """The geometric solution (degrees, wrapped) of X Y Z O A T on the chosen robot."""
-    rotation = oat_to_rotation(*pose[3:])
-    if robot is None:
-        return ik(pose[:3], rotation, config, enforce_stops=False)
-    tool = np.eye(4)
-    tool[:3, :3], tool[:3, 3] = rotation, pose[:3]
-    return robot.ik(tool, config)
+    return robot.ik(pose[:3], oat_to_rotation(*pose[3:]), config, enforce_stops=False)
 
 
 def run_ik(args: argparse.Namespace) -> int:
@@ -237,9 +222,9 @@ def run_ik(args: argparse.Namespace) -> int:
         say(f"kin ik: --config: {error}")
         return USAGE
     robot, status = _chosen(args)
-    if status != OK:
+    if robot is None:
         return status
-    stops = robot or robot_geometry()
+    stops = robot
 
     def solve(words: list[str], line: int) -> None:
         config = default_config
@@ -254,7 +239,7 @@ def run_ik(args: argparse.Namespace) -> int:
         joints = _finite(_ik_joints(robot, pose, config))
         beyond = 0
         try:
-            joints = fit_to_stops(joints, geometry=stops)
+            joints = robot.fit_to_stops(joints)
         except BeyondStop as stop:
             beyond = stop.joint
             _warn(args, f"joint {beyond} beyond its stop ({stop.angle:.2f} deg): "

@@ -27,15 +27,17 @@ import sys
 from typing import Any, TextIO
 
 from valterm.commands.limits import add_limit_flags, limits_from
+from valterm.commands.robots import add_robot_option, robot_from
 
 
-def register(subparsers: argparse._SubParsersAction) -> None:
+def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     parser = subparsers.add_parser("monitor", help="the VAL-II prompt as a line-mode program (stdin in, transcript out)")
     # SUPPRESS: given before the subcommand (valterm --setup X monitor), the value stays
     parser.add_argument("--setup", metavar="NAME", default=argparse.SUPPRESS, help="read NAME.SET (and NAME.LOC)")
     parser.add_argument("--loc", metavar="FILE", action="append", help="a location file (may repeat)")
     parser.add_argument("--rules", choices=("1985", "controller"), default=argparse.SUPPRESS,
                         help="the joint-state rules (default 1985; RULES at the prompt shows or sets them)")
+    add_robot_option(parser)
     add_limit_flags(parser)
     parser.set_defaults(func=run)
 
@@ -46,7 +48,8 @@ def _session(args: argparse.Namespace) -> Any:
     from valterm.core.files.locations import read_locations
     from valterm.core.session import Session
 
-    session = Session(getattr(args, "workspace", None), setup=None, limits=limits_from(args))
+    session = Session(getattr(args, "workspace", None), setup=None, limits=limits_from(args),
+                      robot=robot_from(args))
     setup = getattr(args, "setup", None)
     if setup:
         session.load_setup(setup)

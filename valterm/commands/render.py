@@ -22,6 +22,7 @@ import re
 import sys
 from typing import Any
 
+from valterm.commands.robots import add_robot_option, robot_from
 from valterm.core.errors import RefusedValue, ValtermError
 
 DEFAULT_SIZE = (80, 24)
@@ -31,7 +32,7 @@ class RenderFailed(Exception):
     """A reason to stop with exit status 1 (the input was fine, the picture cannot be had)."""
 
 
-def register(subparsers: argparse._SubParsersAction) -> None:
+def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     parser = subparsers.add_parser("render", help="draw the robot and the cell as text (or SVG)")
     # dest names of their own: the top-level --setup / --ascii mean the app's
     parser.add_argument("--setup", dest="render_setup", metavar="NAME", help="the setup file (default PROCESS)")
@@ -47,8 +48,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--svg", metavar="FILE", help="also write the picture as SVG")
     parser.add_argument("--ascii", dest="render_ascii", action="store_true", help="ASCII, not braille")
     parser.add_argument("--json", action="store_true", help="JSON: the view and the lines")
-    parser.add_argument("--robot", type=str.upper, default="PUMA", metavar="NAME",
-                        help="PUMA (the thesis's, default) or PUMA560 (drawn at --joints or its ready pose)")
+    add_robot_option(parser)
     parser.set_defaults(func=run)
 
 
@@ -118,37 +118,16 @@ def _session(args: argparse.Namespace) -> Any:
     from valterm.core.session import DEFAULT_SETUP, Session
 
     setup = args.render_setup or getattr(args, "setup", None) or DEFAULT_SETUP  # also `valterm --setup X render`
-    session = Session(workspace_root=getattr(args, "workspace", None), setup=setup)
+    session = Session(workspace_root=getattr(args, "workspace", None), setup=setup, robot=robot_from(args))
     for name in args.loc or ():
         session.load_locations(_stem(name, "LOC"))
     if args.trace and not session.workspace.exists(_stem(args.trace, "DAT"), "DAT"):
         raise RefusedValue(f"{args.trace}: no such program in the workspace {session.workspace.root}")
-    if args.robot != "PUMA":
-        _other_robot(session, args)
     if args.joints is not None:
         from valterm.core.motion import check_joint_goal
 
-        check_joint_goal(list(args.joints), session.simulator.geometry)
+        check_joint_goal(list(args.joints), session.simulator.arm)
     return session
-
-
-def _other_robot(session: Any, args: argparse.Namespace) -> None:
-    """A robot file's robot (--robot PUMA560) in the cell: drawn with its shoulder at the cell's
-    origin, where the thesis's robot has its own; programs and locations still move the
-    thesis's robot only."""
-    import numpy as np
-
-    from valterm.core.robot import load_robot_model
-    from valterm.core.simulator import Simulator
-
-    if args.trace or args.at:
-        raise RefusedValue(f"--robot {args.robot} is drawn at --joints or its ready pose; "
-                           "--trace and --at move the thesis's robot only")
-    model = load_robot_model(args.robot)
-    session.simulator = Simulator(session.simulator.cell, model=model)
-    if model.chain is not None:
-        session.simulator.base = np.eye(4)
-        session.simulator.base[2, 3] = -model.chain.d[0]  # the shoulder, not the mounting surface, at Z 0
 
 
 def _stem(name: str, ext: str) -> str:

@@ -42,9 +42,10 @@ from typing import Any
 from valterm.core.errors import RefusedValue
 from valterm.commands import FAILURE, OK, USAGE, fail
 from valterm.commands.limits import add_limit_flags, limits_from
+from valterm.commands.robots import add_robot_option, robot_from
 
 
-def register(subparsers: argparse._SubParsersAction) -> None:
+def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     parser = subparsers.add_parser("run", help="run a VAL-II program headless and print the transcript")
     parser.add_argument("program", metavar="PROGRAM.DAT", help="a path, or a program name in the workspace")
     parser.add_argument("--cell", metavar="X.SET", help="the work-cell setup file")
@@ -62,6 +63,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         help="the user's configuration indicators at the start (default RIGHTY,ABOVE,NOFLIP)")
     parser.add_argument("--inputs", metavar="FILE",
                         help='input signals scripted as "TIME SIGNAL VALUE" lines (V+ SIG, WAIT)')
+    add_robot_option(parser)
     add_limit_flags(parser)
     parser.set_defaults(func=run)
 
@@ -134,7 +136,7 @@ def _find(argument: str, ext: str, workspace: Any) -> Path:
         return given
     if any(sep in argument for sep in ("/", "\\")) or given.suffix.upper() not in ("", f".{ext}"):
         raise FileNotFoundError(f"{argument}: no such file")
-    path = workspace.path(argument, ext)
+    path: Path = workspace.path(argument, ext)
     if not path.is_file():
         raise FileNotFoundError(f"{path.name}: not in the workspace {workspace.root}")
     return path
@@ -157,7 +159,7 @@ def run(args: argparse.Namespace) -> int:
         program_path, main, in_file = _locate(args.program, workspace)
         cell_name = args.cell or (main.name if _in_workspace(workspace, main.name, "SET") else None)
         cell = read_setup(_find(cell_name, "SET", workspace)) if cell_name else None
-        sim = Simulator(cell)
+        sim = Simulator(cell, robot=robot_from(args))
         loc_names = args.loc or ([main.name] if _in_workspace(workspace, main.name, "LOC") else [])
         loc_paths = [_find(name, "LOC", workspace) for name in loc_names]
         for path in loc_paths:
@@ -229,7 +231,8 @@ def _write_end(args: argparse.Namespace, sim: Any, interpreter: Any, out: Any, m
     panel = interpreter.machine.signals
     end = End(where=where.to_json(), variables=dict(interpreter.variables),
               cycle_time_s=round(interpreter.cycle_seconds, 3),  # the interpreter's clock
-              signals_on=tuple(panel.outputs_on() + panel.inputs_on()), parts=part_positions(sim))
+              signals_on=tuple(panel.outputs_on() + panel.inputs_on()), parts=part_positions(sim),
+              robot=sim.arm.name, robot_key=sim.arm.key)
     if args.json:
         out.write(json.dumps(end.to_json()) + "\n")
     else:

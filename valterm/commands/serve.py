@@ -18,6 +18,7 @@ import sys
 from typing import Any
 from urllib.parse import urlsplit
 
+from valterm.commands.robots import robot_from
 from valterm.core.errors import RefusedValue
 
 WILDCARD_HOSTS = ("0.0.0.0", "::", "[::]", "")
@@ -25,7 +26,7 @@ WILDCARD_HOSTS = ("0.0.0.0", "::", "[::]", "")
 _HOST_HEADER = re.compile(r"[A-Za-z0-9.\-]+(:[0-9]{1,5})?|\[[0-9A-Fa-f:.]+\](:[0-9]{1,5})?")
 
 
-def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     serve = sub.add_parser("serve", help="serve the app to web browsers (needs valterm[web])",
                            description="Serve the VAL-II SIMULATOR to web browsers: each tab runs its own "
                                        "simulator on the workspace. See docs/SERVING.md.")
@@ -63,6 +64,8 @@ def app_command(args: argparse.Namespace) -> str:
         command += ["--setup", args.setup]
     if getattr(args, "ascii", False):
         command.append("--ascii")
+    if robot_from(args):  # valterm --robot PUMA560 serve: every tab's app on the 560
+        command += ["--robot", str(robot_from(args))]
     return shlex.join(command)
 
 
@@ -75,7 +78,7 @@ def make_server(command: str, host: str, port: int, public_url: str | None) -> A
 
     web_folder = resources.data_path("web")
 
-    class ValtermServer(Server):  # type: ignore[misc]
+    class ValtermServer(Server):
         def __init__(self) -> None:
             super().__init__(command, host=host, port=port, title="VAL-II SIMULATOR",
                              public_url=public_url or "http://localhost", templates_path=web_folder)

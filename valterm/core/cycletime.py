@@ -4,7 +4,8 @@ A joint-coordinated motion follows a trapezoidal profile on every joint; the slo
 governs (the controller stretches the others to arrive together). A straight line runs its
 tool path at the tool speed, its turn at the wrist's speed, whichever is slower. SPEED s%
 time-scales a profile by 100/s. The parameters and their source are in the robot data
-file, ``[timing]`` of ``valterm/data/robot/PUMA.toml``.
+file, ``[timing]`` of ``valterm/data/robot/PUMA.toml`` (another robot's, ``--robot PUMA560``:
+its own file's).
 """
 
 from __future__ import annotations
@@ -32,10 +33,11 @@ class Timing:
     hand_time: float
 
 
-@lru_cache(maxsize=1)
-def robot_timing() -> Timing:
-    """The bundled PUMA's timing parameters, read on first use."""
-    data = tomllib.loads(resources.read_text(*ROBOT_FILE))["timing"]
+@lru_cache(maxsize=4)
+def robot_timing(robot: str | None = None) -> Timing:
+    """A bundled robot's timing parameters (the thesis's PUMA when None), read on first use."""
+    file = ROBOT_FILE if robot is None else (ROBOT_FILE[0], f"{robot}.toml")
+    data = tomllib.loads(resources.read_text(*file))["timing"]
     return Timing(
         joint_speed=tuple(float(v) for v in data["joint_speed"]),
         joint_accel=tuple(float(v) for v in data["joint_accel"]),

@@ -253,6 +253,8 @@ class End(Event):
     # every part of the cell at the end: {"part": n, "position": [x, y, z], "held": bool}
     # (position: the part's reference point, its first vertex, as the setup file gives it)
     parts: tuple[dict[str, Json], ...] = ()
+    robot: str = "PUMA 600"  # the robot the run moved (core/arms.py), as in the status event
+    robot_key: str = "PUMA"
     event = "end"
 
 
@@ -288,7 +290,16 @@ class Status(Event):
     loops_left: int
     cycle_time_s: float = 0.0  # the real robot's time since the last EXECUTE (core/cycletime.py)
     rules: str = "1985"  # the joint-state rules in force (core/rules.py, SPEC §3a)
+    robot: str = "PUMA 600"  # the robot moved, as its file names it (core/arms.py)
+    robot_key: str = "PUMA"  # as --robot names it: PUMA, the thesis's own model, or a robot file's
     event = "status"
+
+    @property
+    def robot_text(self) -> str:
+        """Which robot the verdicts are for, when it is not the thesis's ("" when it is)."""
+        if self.robot_key == "PUMA":
+            return ""
+        return f"ROBOT {self.robot} (--ROBOT {self.robot_key}: ITS OWN DH MODEL, NOT THE THESIS'S)"
 
     @property
     def rules_text(self) -> str:

@@ -23,6 +23,7 @@ from pathlib import Path
 from typing import Any
 
 from valterm.core import resources
+from valterm.core.arms import check_robot
 from valterm.core.errors import ValtermError
 from valterm.core.events import Collision, Error, Event, Grasp, Json, LimitReached, Message, Near
 from valterm.core.files.errors import FileFormatError
@@ -46,7 +47,7 @@ PROGRAM_EXTENSIONS = (".DAT", *VPLUS_EXTENSIONS)
 KINDS = ("file", "syntax", "error", "limit", "collision", "part", "cycle-time")
 
 _TASK_KEYS = {"name", "cell", "locations", "program", "cycle_time", "collisions", "loops", "dialect", "rules",
-              "part"}
+              "robot", "part"}
 _PART_KEYS = {"number", "position", "tolerance", "held"}
 MAX_TASK_BYTES = 64 * 1024
 
@@ -74,6 +75,7 @@ class Task:
     loops: int = 1
     dialect: str = "1985"
     rules: str = ""  # the joint-state rules (docs/MOTION.md); "": the dialect's
+    robot: str = ""  # the robot graded on (--robot's names, core/arms.py); "": the thesis's
     parts: tuple[ExpectedPart, ...] = ()
 
 
@@ -146,6 +148,7 @@ def read_task(path: str | Path) -> Task:
         loops=int(_number(data.get("loops", 1), path, "loops")),
         dialect=_dialect(_text(data.get("dialect", "1985"), path, "dialect"), path),
         rules=_rules(_text(data.get("rules", ""), path, "rules"), path),
+        robot=_robot(_text(data.get("robot", ""), path, "robot"), path),
         parts=tuple(_part(entry, path) for entry in _list(data.get("part", []), path, "part")),
     )
 
@@ -176,6 +179,15 @@ def _rules(name: str, path: Path) -> str:
         return check_rules(name)
     except ValtermError as error:
         raise TaskError(path, 0, f"rules: {error}") from None
+
+
+def _robot(name: str, path: Path) -> str:
+    if not name:
+        return ""
+    try:
+        return check_robot(name)
+    except ValtermError as error:
+        raise TaskError(path, 0, f"robot: {error}") from None
 
 
 def _dialect(name: str, path: Path) -> str:
@@ -289,7 +301,7 @@ def _syntax(verdict: Verdict, main: Program, task: Task) -> None:
 
 def _run(verdict: Verdict, task: Task, path: Path, main: Program, in_file: dict[str, Program],
          limits: RunLimits) -> None:
-    sim = Simulator(read_setup(task.cell))  # check_task has read them once already
+    sim = Simulator(read_setup(task.cell), robot=task.robot or None)  # check_task has read them once already
     precision: dict[str, tuple[float, ...]] = {}
     for location_file in task.locations:
         locations, points = read_location_file(location_file)

@@ -279,7 +279,7 @@ def equivalent_inside(angle: float, low: float, high: float, near: float, tol: f
     return low if best < low else high if best > high else best
 
 
-def canonical_joints(joints: Sequence[float], geometry: RobotGeometry | None = None) -> list[float]:
+def canonical_joints(joints: Sequence[float], geometry: HasStops | None = None) -> list[float]:
     """Each joint as the 1985 rules show it (``canonical_angle``); BeyondStop for the first
     joint with no equivalent inside its stops (named by the angle as it would be shown)."""
     geometry = geometry or robot_geometry()

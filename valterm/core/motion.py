@@ -13,6 +13,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from valterm.core.arms import Arm, as_arm
 from valterm.core.errors import ValtermError
 from valterm.core.kinematics import (
     BeyondStop,
@@ -20,15 +21,13 @@ from valterm.core.kinematics import (
     IKError,
     RobotGeometry,
     canonical_angle,
-    fit_to_stops,
-    fk,
-    ik,
-    ik_batch,
-    indicators,
-    robot_geometry,
     wrap180,
 )
 from valterm.core.rules import CONTROLLER, RULES_1985
+
+# Each function takes the robot (core/arms.py): an Arm, or the thesis's geometry, or None for
+# the thesis's robot.
+Robot = Arm | RobotGeometry | None
 
 JOINT_INCREMENT = 12.0      # degrees per step at SPEED 100 (§2.6)
 STRAIGHT_INCREMENT = 25.4   # millimetres per step at SPEED 100
@@ -41,6 +40,9 @@ CONFIG_JUMP = 45.0
 WRIST_JUMP = 90.0
 # Within this of JT5 = 0 a line is at the wrist singularity: JT4 and JT6 swing as they please.
 NEAR_WRIST = 10.0
+
+
+OUT_OF_REACH_REASON = "location out of reach"  # the 1985 wording (a robot file's robot names itself)
 
 
 class MotionRefused(ValtermError):
@@ -131,7 +133,7 @@ def _slerp(r0: np.ndarray, r1: np.ndarray, fractions: np.ndarray) -> np.ndarray:
 def _refusal(error: IKError, step: int) -> MotionRefused:
     if isinstance(error, BeyondStop):
         return MotionRefused(str(error), error.joint, step)  # names the angle and the stop
-    return MotionRefused("location out of reach", 0, step)
+    return MotionRefused(OUT_OF_REACH_REASON, 0, step)
 
 
 def straight_path(
@@ -140,7 +142,7 @@ def straight_path(
     goal_rotation: np.ndarray,
     config: Config,
     increment: float,
-    geometry: RobotGeometry | None = None,
+    robot: Robot = None,
     rules: str = RULES_1985,
 ) -> np.ndarray:
     """The poses of a straight-line motion of the TCS origin (§2.4.2, SPEC §3).
@@ -155,14 +157,14 @@ def straight_path(
     ``rules``: under the 1985 rules a step is within the stops when a 360-degree equivalent
     is; under the controller's the angle itself must be (joints wind).
     """
-    geometry = geometry or robot_geometry()
+    robot = as_arm(robot)
     current = [float(v) for v in start]
-    here = fk(current, geometry=geometry)
-    _refuse_config_change(indicators(current, geometry), config)
+    here = robot.fk(current)
+    _refuse_config_change(robot.indicators(current), config)
     goal_xyz = np.asarray(goal_xyz, dtype=float)
     goal_rotation = np.asarray(goal_rotation, dtype=float)
     try:
-        goal_joints = ik(goal_xyz, goal_rotation, config, None, geometry, enforce_stops=False)
+        goal_joints = robot.ik(goal_xyz, goal_rotation, config, None, enforce_stops=False)
     except IKError as error:
         raise _refusal(error, 0) from None
     steps = _line_steps(here.xyz, here.rotation, goal_xyz, goal_rotation, increment)
@@ -175,7 +177,7 @@ def straight_path(
     solutions = []
     statuses = []
     for wrist in (1, -1):
-        joints, status = ik_batch(positions, rotations, (config.arm, config.elbow, wrist), geometry)
+        joints, status = robot.ik_batch(positions, rotations, (config.arm, config.elbow, wrist))
         solutions.append(joints)
         statuses.append(status)
     path = np.empty((steps, 6))
@@ -184,10 +186,10 @@ def straight_path(
     for i in range(steps):
         if i == steps - 1:
             best = _nearest_equivalent(np.array(goal_joints), previous)
-            _refuse_wrist_change(best, previous, current, geometry, i + 1)
+            _refuse_wrist_change(best, previous, current, robot, i + 1)
         else:
             best = _nearest_wrist(solutions, statuses, i, previous)
-        _refuse_jumps(best, previous, geometry, i + 1, wound)
+        _refuse_jumps(best, previous, robot, i + 1, wound)
         path[i] = best
         previous = best
     return path
@@ -228,18 +230,18 @@ def _nearest_wrist(solutions: list[np.ndarray], statuses: list[np.ndarray], i: i
     options = [_nearest_equivalent(joints[i], previous)
                for joints, status in zip(solutions, statuses) if int(status[i]) != -1]
     if not options:
-        raise MotionRefused("location out of reach", 0, i + 1)
+        raise MotionRefused(OUT_OF_REACH_REASON, 0, i + 1)
     return min(options, key=lambda o: float(np.abs(o[3:] - previous[3:]).sum()))
 
 
 def _refuse_wrist_change(goal: np.ndarray, previous: np.ndarray, start: Sequence[float],
-                         geometry: RobotGeometry, step: int) -> None:
+                         robot: Arm, step: int) -> None:
     """The goal is solved with the user's WRIST; the steps before it tracked the nearest wrist.
 
     When the two differ the last step would twirl the wrist: refuse, as for ARM and ELBOW, and
     say why: a line along which JT5 passed 0 went through the wrist singularity.
     """
-    have, want = indicators(list(previous), geometry).wrist, indicators(list(goal), geometry).wrist
+    have, want = robot.indicators(list(previous)).wrist, robot.indicators(list(goal)).wrist
     if have != want and float(np.abs(goal[3:] - previous[3:]).max()) > WRIST_JUMP:
         words = ("NOFLIP", "FLIP")
         if (previous[4] > 0) != (float(start[4]) > 0) or min(abs(previous[4]), abs(float(start[4]))) < NEAR_WRIST:
@@ -254,10 +256,10 @@ def beyond_stop_message(joint: int, angle: float, low: float, high: float) -> st
     return f"joint {joint} beyond its stop ({shown} deg, stop {low:g}..{high:g})"
 
 
-def _refuse_jumps(best: np.ndarray, previous: np.ndarray, geometry: RobotGeometry, step: int,
+def _refuse_jumps(best: np.ndarray, previous: np.ndarray, robot: Arm, step: int,
                   wound: bool = False) -> None:
     """A step beyond a stop, or one that jumps (a configuration change or a wrist twirl)."""
-    for joint, (angle, (low, high)) in enumerate(zip(best, geometry.stops), start=1):
+    for joint, (angle, (low, high)) in enumerate(zip(best, robot.stops), start=1):
         # the controller's joints wind: the angle itself must be inside (no jump of 360 degrees);
         # under the 1985 rules the angle is a function of the pose: an equivalent inside will do
         inside = low - 1e-9 <= angle <= high + 1e-9 if wound else canonical_angle(angle, low, high) is not None
@@ -268,7 +270,8 @@ def _refuse_jumps(best: np.ndarray, previous: np.ndarray, geometry: RobotGeometr
     if float(jumps[:3].max()) > CONFIG_JUMP:
         if jumps[0] >= max(jumps[1], jumps[2]):
             raise MotionRefused("the line passes the shoulder singularity (the wrist crosses joint 1's axis)", 1, step)
-        raise MotionRefused("the line passes the elbow singularity (the arm straight, JT3 = 90)", 3, step)
+        straight = f"{robot.elbow_straight:.4g}"
+        raise MotionRefused(f"the line passes the elbow singularity (the arm straight, JT3 = {straight})", 3, step)
     if float(jumps[3:].max()) > WRIST_JUMP:
         raise MotionRefused("the line passes the wrist singularity (JT5 = 0)", 5, step)
 
@@ -291,26 +294,26 @@ def approach_point(xyz: Sequence[float] | np.ndarray, rotation: np.ndarray, dist
 
 def joint_goal(
     xyz: Sequence[float] | np.ndarray, rotation: np.ndarray, config: Config, current: Sequence[float],
-    geometry: RobotGeometry | None = None,
+    robot: Robot = None,
 ) -> list[float]:
     """The joint vector of a location for a joint-coordinated move; MotionRefused if none."""
-    geometry = geometry or robot_geometry()
+    robot = as_arm(robot)
     try:
-        return ik(xyz, rotation, config, current, geometry)
+        return robot.ik(xyz, rotation, config, current)
     except IKError as error:
         raise _refusal(error, 0) from None
 
 
-def check_joint_goal(goal: Sequence[float], geometry: RobotGeometry | None = None) -> None:
+def check_joint_goal(goal: Sequence[float], robot: Robot = None) -> None:
     """Refuse a relative joint move (DRIVE, pendant joints) whose goal is beyond a stop.
 
     The joint turns through every angle on its way, so the goal itself must lie within the
     stops: no 360-degree equivalent helps here. The goal is checked before any path is built,
     so an absurd turn is refused at once.
     """
-    geometry = geometry or robot_geometry()
+    robot = as_arm(robot)
     _refuse_not_finite(goal)
-    for joint, (angle, (low, high)) in enumerate(zip(goal, geometry.stops), start=1):
+    for joint, (angle, (low, high)) in enumerate(zip(goal, robot.stops), start=1):
         if not low - 1e-9 <= angle <= high + 1e-9:
             raise MotionRefused(beyond_stop_message(joint, angle, low, high), joint)
 
@@ -323,15 +326,15 @@ def _refuse_not_finite(angles: Sequence[float]) -> None:
 
 
 def fit_precision_point(goal: Sequence[float], current: Sequence[float],
-                        geometry: RobotGeometry | None = None) -> list[float]:
+                        robot: Robot = None) -> list[float]:
     """A precision point's joints as the robot takes them: each the 360-degree equivalent inside
     its stops nearest the current angle (an angle copied from WHERE or ``kin ik`` is never
     refused; JT3 -144.96 is JT3 215.04). MotionRefused when a joint has no equivalent inside."""
-    geometry = geometry or robot_geometry()
+    robot = as_arm(robot)
     values = [float(v) for v in goal]
     _refuse_not_finite(values)
     try:
-        return fit_to_stops(values, current, geometry)
+        return robot.fit_to_stops(values, current)
     except BeyondStop as error:
         raise MotionRefused(str(error), error.joint) from None
 
@@ -344,7 +347,7 @@ def pendant_straight(
     current: Sequence[float],
     displacement: np.ndarray,
     increment: float,
-    geometry: RobotGeometry | None = None,
+    robot: Robot = None,
     rules: str = RULES_1985,
 ) -> np.ndarray:
     """A WORLD or TOOL step: the TCS origin moves by ``displacement`` keeping its orientation.
@@ -352,17 +355,17 @@ def pendant_straight(
     Uses the theoretical indicators of the current pose (§3.2) and refuses a step that would
     change them or bring JT3 within one increment of the elbow-straight singularity (§3.3).
     """
-    geometry = geometry or robot_geometry()
-    here = fk(current, geometry=geometry)
-    config = indicators(current, geometry)
+    robot = as_arm(robot)
+    here = robot.fk(current)
+    config = robot.indicators(current)
     goal = here.xyz + np.asarray(displacement, dtype=float)
     length = float(np.abs(displacement).max())
-    path = straight_path(current, goal, here.rotation, config, max(length, 1e-9), geometry, rules)
+    path = straight_path(current, goal, here.rotation, config, max(length, 1e-9), robot, rules)
     for step, joints in enumerate(path, start=1):
-        if indicators(joints, geometry) != config:
+        if robot.indicators(joints) != config:
             raise MotionRefused("the move would change the configuration indicators", 0, step)
-        # elbow straight: forearm in line with the upper arm at JT3 = 90 (JTsim3 = 0)
-        if abs(joints[2] - 90.0) < abs(increment):
+        # elbow straight: forearm in line with the upper arm (the thesis's: JT3 = 90, JTsim3 = 0)
+        if abs(joints[2] - robot.elbow_straight) < abs(increment):
             raise MotionRefused("links 2 and 3 nearly aligned (elbow singularity)", 3, step)
     return path
 
@@ -374,13 +377,14 @@ def world_displacement(axis: int, step: float) -> np.ndarray:
 
 
 def tool_displacement(current: Sequence[float], axis: int, step: float,
-                      geometry: RobotGeometry | None = None) -> np.ndarray:
+                      robot: Robot = None) -> np.ndarray:
     """A step along the tool's own X, Y or Z axis, in world coordinates."""
-    geometry = geometry or robot_geometry()
-    return fk(current, geometry=geometry).rotation[:, axis] * step
+    robot = as_arm(robot)
+    return robot.fk(current).rotation[:, axis] * step
 
 
 __all__ = [
+    "OUT_OF_REACH_REASON",
     "PENDANT_INCREMENT",
     "PENDANT_STEP",
     "MotionRefused",

@@ -7,7 +7,7 @@ by its link frame at once (einsum), then split back into polyhedra.
 from __future__ import annotations
 
 import tomllib
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Sequence
 
@@ -15,10 +15,11 @@ import numpy as np
 
 from valterm.core.cell.polyhedron import Polyhedron
 from valterm.core import resources
+from valterm.core.arms import THESIS_ROBOT, Arm, DHArm, ThesisArm, thesis_arm
 from valterm.core.dh import ROBOT_FOLDER, DHRobot, dh_robot
-from valterm.core.kinematics import ROBOT_FILE, RobotGeometry, link_frames, robot_geometry
+from valterm.core.kinematics import ROBOT_FILE, RobotGeometry, robot_geometry
 
-THESIS_ROBOT = "PUMA"  # the thesis's own model (robot/PUMA.toml), the default robot
+__all__ = ["THESIS_ROBOT", "RobotModel", "load_model", "load_robot_model"]
 
 
 @dataclass(frozen=True)
@@ -32,8 +33,13 @@ class RobotModel:
     finger_side: np.ndarray    # (links,) -1/+1 for a finger, 0 otherwise
     closed_gap: float
     open_gap: float
-    # a robot file's DH table (core/dh.py): the link frames come from it, not from the thesis's model
-    chain: DHRobot | None = None
+    # the robot that places the links (core/arms.py): the thesis's, or a robot file's DH arm
+    arm: Arm = field(default_factory=thesis_arm)
+
+    @property
+    def chain(self) -> DHRobot | None:
+        """A robot file's DH table, None for the thesis's robot."""
+        return self.arm.chain if isinstance(self.arm, DHArm) else None
 
     @property
     def count(self) -> int:
@@ -65,7 +71,7 @@ class RobotModel:
 
     def link_frames(self, joints: Sequence[float], base: np.ndarray | None = None) -> np.ndarray:
         """The seven (4, 4) link frames in world coordinates at JT1..JT6 (degrees)."""
-        frames = link_frames(joints, self.geometry) if self.chain is None else self.chain.link_frames(joints)[0]
+        frames = self.arm.link_frames(joints)
         return frames if base is None else base @ frames
 
     def clamp_frame(self, joints: Sequence[float], base: np.ndarray | None = None) -> np.ndarray:
@@ -99,6 +105,7 @@ def load_model(path: Path | None = None, geometry: RobotGeometry | None = None) 
     if not (len(names) == len(frames) == len(sides) == len(cell.objects)):
         raise ValueError(f"{path}: names, frames and finger_side need one entry per object of {data['geometry']}")
     return RobotModel(
+        arm=thesis_arm() if geometry is robot_geometry() else ThesisArm(geometry),
         geometry=geometry,
         names=names,
         frames=frames,
@@ -122,4 +129,4 @@ def load_robot_model(name: str = THESIS_ROBOT) -> RobotModel:
     geometry = RobotGeometry(a2=chain.a[1], d2=chain.d[2], d4=chain.d[3], d6=chain.d[5], led_sensor=0.0,
                              clamp_tip=0.0, stops=chain.stops, ready=chain.ready, name=chain.name,
                              model_geometry=str(tomllib.loads(path.read_text(encoding="utf-8"))["model"]["geometry"]))
-    return replace(load_model(path, geometry), chain=chain)
+    return replace(load_model(path, geometry), arm=DHArm(chain, name.upper()))

@@ -29,12 +29,12 @@ class Session:
     """What a VAL-II SIMULATOR session holds: the workspace, the cell, the robot, the programs."""
 
     def __init__(self, workspace_root: str | Path | None = None, setup: str | None = DEFAULT_SETUP,
-                 limits: RunLimits | None = None) -> None:
+                 limits: RunLimits | None = None, robot: str | None = None) -> None:
         self.workspace = Workspace.open(workspace_root)
         self.limits = limits or RunLimits()  # every EXECUTE's (valterm.core.val.limits)
         self.setup_name = ""
         self.setup_stamp = ""  # NAME.SET as read: saving it again checks no other session saved it since
-        self.simulator = Simulator()
+        self.simulator = Simulator(robot=robot)  # robot: --robot's name (None: the thesis's)
         self._interpreter: Interpreter | None = None
         self._keyboard = False  # the app's keyboard sets inputs (take_inputs_from_keyboard)
         if setup:

@@ -22,19 +22,12 @@ from valterm.core.cell.polyhedron import Polyhedron
 from valterm.core.cell.workcell import WorkCell
 from valterm.core.collision.frames import RobotScene
 from valterm.core.collision.world import Finding, Party
-from valterm.core.cycletime import joint_motion_seconds, straight_motion_seconds
+from valterm.core.cycletime import joint_motion_seconds, robot_timing, straight_motion_seconds
 from valterm.core.errors import ValtermError
 from valterm.core.events import Collision, Event, Grasp, Hand, Message, Motion, PoseEvent, Release, Where
-from valterm.core.kinematics import (
-    Config,
-    Location,
-    canonical_joints,
-    fk,
-    indicator_kind,
-    indicators,
-    rotation_to_oat,
-)
+from valterm.core.kinematics import Config, Location, indicator_kind, rotation_to_oat
 from valterm.core.motion import (
+    OUT_OF_REACH_REASON,
     PENDANT_INCREMENT,
     PENDANT_STEP,
     MotionRefused,
@@ -49,7 +42,7 @@ from valterm.core.motion import (
     straight_increment,
     straight_path,
 )
-from valterm.core.robot import RobotModel, load_model
+from valterm.core.robot import THESIS_ROBOT, RobotModel, load_model, load_robot_model
 from valterm.core.rules import CONTROLLER, RULES_1985, check_rules
 
 GRASP_MESSAGE = "IT IS POSSIBLE TO GRASP THIS PART"
@@ -58,6 +51,14 @@ GRASP_MESSAGE = "IT IS POSSIBLE TO GRASP THIS PART"
 @lru_cache(maxsize=1)
 def default_model() -> RobotModel:
     return load_model()
+
+
+@lru_cache(maxsize=4)
+def robot_model(name: str | None = None) -> RobotModel:
+    """The drawn robot --robot names (RobotFileError for none), read once per name."""
+    if name is None or name.strip().upper() == THESIS_ROBOT:
+        return default_model()
+    return load_robot_model(name.strip().upper())
 
 
 def _rounded(values: Iterable[float]) -> tuple[float, float, float]:
@@ -76,6 +77,11 @@ def _words_to_type(have: Config, want: Config) -> str:
     return ", ".join(b for a, b in zip(have.words, want.words) if a != b)
 
 
+def _goal_name(target: str | Location) -> str:
+    """How a refusal names a motion's goal: ``location A``."""
+    return f"location {target.upper()}" if isinstance(target, str) else "the location"
+
+
 class UndefinedLocation(ValtermError, KeyError):
     def __init__(self, name: str) -> None:
         super().__init__(name)
@@ -88,11 +94,16 @@ class UndefinedLocation(ValtermError, KeyError):
 class Simulator:
     """The robot, its clamp and the work cell, with the VAL-II state that goes with them."""
 
-    def __init__(self, cell: WorkCell | None = None, model: RobotModel | None = None) -> None:
-        self.model = model or default_model()
+    def __init__(self, cell: WorkCell | None = None, model: RobotModel | None = None,
+                 robot: str | None = None) -> None:
+        self.model = model or robot_model(robot)
         self.geometry = self.model.geometry
+        # the robot chosen once (--robot): everything kinematic goes through it (core/arms.py)
+        self.arm = self.model.arm
+        # the cycle-time figures of the robot's own file (core/cycletime.py)
+        self.timing = robot_timing(None if self.arm.key == THESIS_ROBOT else self.arm.key)
         self.cell = cell if cell is not None else WorkCell()
-        self.joints: list[float] = list(self.geometry.ready)
+        self.joints: list[float] = list(self.arm.ready)
         self.config = Config(1, 1, 1)  # the user's indicators: RIGHTY ABOVE NOFLIP
         # the joint-state rules (SPEC §3a, core/rules.py): the thesis's or the real controller's
         self.rules = RULES_1985
@@ -106,8 +117,10 @@ class Simulator:
         self.locations: dict[str, Location] = {}
         # the locations as last read from or written to a .LOC file (what STOREL clears)
         self.stored_locations: dict[str, Location] = {}
-        self.base = np.eye(4)
-        self._home_base = self.base
+        # the robot's own frame in the cell: its mount (the thesis's robot: the cell's frame)
+        self.base = self.arm.mount.copy()
+        # the base as built when it is the cell's frame: link frames skip the product (_frames_at)
+        self._home_base = self.base if np.array_equal(self.base, np.eye(4)) else np.eye(4)
         self.base_offsets = (0.0, 0.0, 0.0, 0.0)
         self.collision_checks = False
         self.stop_on_collision = False
@@ -123,7 +136,7 @@ class Simulator:
 
     def tool_pose(self, point: int = 1) -> tuple[np.ndarray, np.ndarray]:
         """World position of option 1/2/3 and the tool rotation."""
-        pose = fk(self.joints, point, self.geometry)
+        pose = self.arm.fk(self.joints, point)
         return self.base[:3, :3] @ pose.xyz + self.base[:3, 3], self.base[:3, :3] @ pose.rotation
 
     def where(self, point: int = 1) -> Where:
@@ -132,7 +145,7 @@ class Simulator:
             xyz=_rounded(xyz),
             oat=_rounded(rotation_to_oat(rotation)),
             joints=tuple(round(j, 6) for j in self.joints),
-            config=indicators(self.joints, self.geometry).as_dict(),
+            config=self.arm.indicators(self.joints).as_dict(),
             clamp="CLOSED" if self.clamp_closed else "OPENED",
         )
 
@@ -140,7 +153,7 @@ class Simulator:
         """Where the tool is, with the arm's configuration and joint angles (what HERE keeps)."""
         xyz, rotation = self.tool_pose()
         x, y, z = (float(v) for v in xyz)
-        return Location((x, y, z), rotation_to_oat(rotation), indicators(self.joints, self.geometry),
+        return Location((x, y, z), rotation_to_oat(rotation), self.arm.indicators(self.joints),
                         tuple(self.joints))
 
     def unsaved_locations(self) -> list[str]:
@@ -188,7 +201,7 @@ class Simulator:
         base = np.eye(4)
         base[:3, :3] = [[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]]
         base[:3, 3] = (x, y, z)
-        self.base = base
+        self.base = base @ self.arm.mount
         yield PoseEvent(tuple(self.joints), 1, 1)
 
     # -- locations -----------------------------------------------------------
@@ -224,20 +237,21 @@ class Simulator:
     def move(self, target: str | Location, straight: bool = False) -> Iterator[Event]:
         xyz, rotation, location = self._resolve(target)
         config = yield from self._config_for(target, location)
-        yield from self._go(xyz, rotation, straight, config)
+        yield from self._go(xyz, rotation, straight, config, _goal_name(target))
 
     def appro(self, target: str | Location, distance: float, straight: bool = False) -> Iterator[Event]:
         xyz, rotation, location = self._resolve(target)
         config = yield from self._config_for(target, location)
-        yield from self._go(approach_point(xyz, rotation, distance), rotation, straight, config)
+        yield from self._go(approach_point(xyz, rotation, distance), rotation, straight, config,
+                            f"the approach to {_goal_name(target)}")
 
     def depart(self, distance: float, straight: bool = False) -> Iterator[Event]:
-        here = fk(self.joints, 1, self.geometry)
+        here = self.arm.fk(self.joints, 1)
         yield from self._go(approach_point(here.xyz, here.rotation, distance), here.rotation, straight,
                             self._config_for_here())
 
     def draw(self, dx: float, dy: float, dz: float) -> Iterator[Event]:
-        here = fk(self.joints, 1, self.geometry)
+        here = self.arm.fk(self.joints, 1)
         offset = self.base[:3, :3].T @ np.array([dx, dy, dz], dtype=float)
         yield from self._go(here.xyz + offset, here.rotation, True, self._config_for_here())
 
@@ -246,14 +260,14 @@ class Simulator:
             raise MotionRefused(f"there is no joint {joint}", 0)
         goal = list(self.joints)
         goal[joint - 1] += degrees
-        check_joint_goal(goal, self.geometry)
+        check_joint_goal(goal, self.arm)
         increment = joint_increment(self.speed * clamp_speed(speed) / 100.0)
         yield from self._play(joint_path(self.joints, goal, increment), "joint")
 
     def move_joints(self, goal: Sequence[float]) -> Iterator[Event]:
         """A joint-coordinated motion to six joint angles (a V+ precision point, #name): each
         joint to its equivalent inside the stops nearest where it is."""
-        fitted = fit_precision_point(goal, self.joints, self.geometry)
+        fitted = fit_precision_point(goal, self.joints, self.arm)
         yield from self._play(joint_path(self.joints, fitted, joint_increment(self.speed)), "joint")
 
     def ready(self) -> Iterator[Event]:
@@ -264,7 +278,7 @@ class Simulator:
             yield Message(f"READY: CONFIGURATION INDICATORS {changes}", "warning")
         self.config = Config(1, 1, 1)
         self._asked.clear()
-        yield from self._play(joint_path(self.joints, self.geometry.ready, joint_increment(self.speed)), "joint")
+        yield from self._play(joint_path(self.joints, self.arm.ready, joint_increment(self.speed)), "joint")
 
     # -- configurations (SPEC §3a) -------------------------------------------------
     def _config_for(self, target: str | Location, location: Location) -> Generator[Event, None, Config]:
@@ -277,7 +291,7 @@ class Simulator:
         """
         stored = location.config
         if self.rules == CONTROLLER:
-            return self._asked_over(stored or indicators(self.joints, self.geometry))
+            return self._asked_over(stored or self.arm.indicators(self.joints))
         if stored is None or stored == self.config:
             return self.config
         name = target.upper() if isinstance(target, str) else "THE LOCATION"
@@ -291,7 +305,7 @@ class Simulator:
     def _config_for_here(self) -> Config:
         """DEPART, DRAW, ALIGN: the user's indicators (1985), the arm's own (controller)."""
         if self.rules == CONTROLLER:
-            return self._asked_over(indicators(self.joints, self.geometry))
+            return self._asked_over(self.arm.indicators(self.joints))
         return self.config
 
     def _asked_over(self, config: Config) -> Config:
@@ -304,11 +318,11 @@ class Simulator:
         values = [float(v) for v in joints]
         if self.rules == CONTROLLER:
             return values
-        return canonical_joints(values, self.geometry)
+        return self.arm.canonical_joints(values)
 
     def align(self) -> Iterator[Event]:
         """Turn the tool so its Z axis lies along the nearest world axis (joint-coordinated)."""
-        here = fk(self.joints, 1, self.geometry)
+        here = self.arm.fk(self.joints, 1)
         a = here.rotation[:, 2]
         axis = np.zeros(3)
         i = int(np.argmax(np.abs(a)))
@@ -320,14 +334,32 @@ class Simulator:
         rotation = np.column_stack([np.cross(o, axis), o, axis])
         yield from self._go(here.xyz, rotation, False, self._config_for_here())
 
-    def _go(self, xyz: np.ndarray, rotation: np.ndarray, straight: bool, config: Config) -> Iterator[Event]:
-        if straight:
-            path = straight_path(self.joints, xyz, rotation, config, straight_increment(self.speed),
-                                 self.geometry, self.rules)
-            yield from self._play(path, "straight")
+    def _go(self, xyz: np.ndarray, rotation: np.ndarray, straight: bool, config: Config,
+            goal: str = "the goal") -> Iterator[Event]:
+        try:
+            if straight:
+                path = straight_path(self.joints, xyz, rotation, config, straight_increment(self.speed),
+                                     self.arm, self.rules)
+            else:
+                joints = yield from self._joint_goal(xyz, rotation, config)
+                path = joint_path(self.joints, joints, joint_increment(self.speed))
+        except MotionRefused as refused:
+            raise self._on_this_robot(refused, goal) from None
+        yield from self._play(path, "straight" if straight else "joint")
+
+    def _on_this_robot(self, refused: MotionRefused, goal: str) -> MotionRefused:
+        """A refusal on a robot file's robot names the robot and the goal: its reach and stops
+        are not the thesis's (the thesis's robot keeps its 1985 wording)."""
+        if self.arm.key == THESIS_ROBOT:
+            return refused
+        robot = self.arm.name
+        if refused.reason == OUT_OF_REACH_REASON:
+            reason = f"{goal} is out of reach of the {robot}"
+        elif refused.joint and "beyond its stop" in refused.reason:
+            reason = f"{goal} is beyond the {robot}'s stops: {refused.reason}"
         else:
-            goal = yield from self._joint_goal(xyz, rotation, config)
-            yield from self._play(joint_path(self.joints, goal, joint_increment(self.speed)), "joint")
+            reason = f"{goal} on the {robot}: {refused.reason}"
+        return MotionRefused(reason, refused.joint, refused.step)
 
     def _joint_goal(self, xyz: np.ndarray, rotation: np.ndarray, config: Config) -> Generator[Event, None, list[float]]:
         """The goal in the user's configuration; with AUTOCONFIG ON, else the nearest other one.
@@ -336,7 +368,7 @@ class Simulator:
         used becomes the user's, and is announced.
         """
         try:
-            return joint_goal(xyz, rotation, config, self.joints, self.geometry)
+            return joint_goal(xyz, rotation, config, self.joints, self.arm)
         except MotionRefused:
             if not self.autoconfig:
                 raise
@@ -356,7 +388,7 @@ class Simulator:
             if config == tried:
                 continue
             try:
-                goal = joint_goal(xyz, rotation, config, self.joints, self.geometry)
+                goal = joint_goal(xyz, rotation, config, self.joints, self.arm)
             except MotionRefused:
                 continue
             found.append((float(np.abs(np.subtract(goal, self.joints)).max()), config, goal))
@@ -369,7 +401,7 @@ class Simulator:
         the arm in another configuration says so (never a silent flip)."""
         steps = len(path)
         seconds = self._motion_seconds(path, kind)
-        before = indicators(self.joints, self.geometry)
+        before = self.arm.indicators(self.joints)
         goal = tuple(self._settled(path[-1])) if steps else ()
         self._asked.clear()
         for index, pose in enumerate(path, start=1):
@@ -383,7 +415,7 @@ class Simulator:
                     if self.stop_on_collision and isinstance(finding, Collision):
                         # the robot stops where the collision was found (off by default, as in 1985)
                         raise MotionRefused(f"stopped on collision: {finding.text}", 0, index)
-        after = indicators(self.joints, self.geometry)
+        after = self.arm.indicators(self.joints)
         if after != before:
             yield Message(f"ARM CONFIGURATION CHANGED: {_changes(before, after)}", "warning")
         yield Motion(kind, steps, tuple(round(j, 6) for j in self.joints), round(seconds, 6))
@@ -394,30 +426,30 @@ class Simulator:
             return 0.0
         start = np.asarray(self.joints, dtype=float)
         if kind != "straight":
-            return joint_motion_seconds(start, path[-1], self.speed)
-        before, after = fk(list(start), 1, self.geometry), fk(list(path[-1]), 1, self.geometry)
+            return joint_motion_seconds(start, path[-1], self.speed, self.timing)
+        before, after = self.arm.fk(list(start), 1), self.arm.fk(list(path[-1]), 1)
         length = float(np.linalg.norm(after.xyz - before.xyz))
         cos = (np.trace(before.rotation.T @ after.rotation) - 1.0) / 2.0
         turn = math.degrees(math.acos(max(-1.0, min(1.0, float(cos)))))
-        return straight_motion_seconds(length, turn, self.speed)
+        return straight_motion_seconds(length, turn, self.speed, self.timing)
 
     # -- pendant (Chapter 3) ---------------------------------------------------
     def pendant_joint(self, joint: int) -> Iterator[Event]:
         goal = list(self.joints)
         goal[joint - 1] += self.pendant_increment
-        check_joint_goal(goal, self.geometry)
+        check_joint_goal(goal, self.arm)
         yield from self._play(np.array([goal]), "joint")
 
     def pendant_world(self, axis: int) -> Iterator[Event]:
         step = PENDANT_STEP * self.pendant_increment / PENDANT_INCREMENT
         displacement = self.base[:3, :3].T @ np.eye(3)[axis] * step
-        path = pendant_straight(self.joints, displacement, self.pendant_increment, self.geometry, self.rules)
+        path = pendant_straight(self.joints, displacement, self.pendant_increment, self.arm, self.rules)
         yield from self._play(path, "straight")
 
     def pendant_tool(self, axis: int) -> Iterator[Event]:
         step = PENDANT_STEP * self.pendant_increment / PENDANT_INCREMENT
-        displacement = fk(self.joints, 1, self.geometry).rotation[:, axis] * step
-        path = pendant_straight(self.joints, displacement, self.pendant_increment, self.geometry, self.rules)
+        displacement = self.arm.fk(self.joints, 1).rotation[:, axis] * step
+        path = pendant_straight(self.joints, displacement, self.pendant_increment, self.arm, self.rules)
         yield from self._play(path, "straight")
 
     def change_pendant_increment(self, key: str) -> float:

@@ -13,7 +13,7 @@ import sys
 import time
 from collections.abc import Callable, Iterable
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from textual import events
 from textual._styles_cache import StylesCache
@@ -37,6 +37,9 @@ from valterm.ui.playback import Audience, Player
 from valterm.ui.screens.guard import Guarded
 from valterm.ui.screens.main_menu import MainMenuScreen
 from valterm.ui.view.keys import ViewActions
+
+if TYPE_CHECKING:
+    from valterm.core.simulator import Simulator
 
 RELEASE_EVERY = 10.0  # seconds between clearings of Textual's leaking style cache
 
@@ -71,9 +74,11 @@ class ValtermApp(Guarded, ViewActions, App[int]):
         rules: str | None = None,  # the joint-state rules (core/rules.py); None: the dialect's
         limits: RunLimits | None = None,  # every program's limits (valterm.core.val.limits)
         keys: str | None = None,  # "1985": the thesis's keys (None: $VALTERM_KEYS, else modern)
+        robot: str | None = None,  # --robot (core/arms.py); None: the thesis's
     ) -> None:
         super().__init__()
         self.rules = rules
+        self.robot = robot
         self.limits = limits
         self.workspace_root = workspace
         self.initial_setup = setup
@@ -185,7 +190,7 @@ class ValtermApp(Guarded, ViewActions, App[int]):
     def open_session(self, setup: str | None) -> Session:
         """A fresh session on ``setup`` (raises the core's errors for the caller to show)."""
         root = self.workspace_root if self.session is None else self.session.workspace.root
-        session = Session(workspace_root=root, setup=setup, limits=self.limits)
+        session = Session(workspace_root=root, setup=setup, limits=self.limits, robot=self.robot)
         if self.rules is not None:
             session.simulator.set_rules(self.rules)
         self.session = session
@@ -212,9 +217,14 @@ class ValtermApp(Guarded, ViewActions, App[int]):
         return self._workspace
 
     @property
-    def simulator(self):  # type: ignore[no-untyped-def]
-        assert self.session is not None
-        return self.session.simulator
+    def active_session(self) -> Session:
+        """The open session: screens that show a cell are opened only once there is one."""
+        assert self.session is not None, "a cell screen without a session"
+        return self.session
+
+    @property
+    def simulator(self) -> Simulator:
+        return self.active_session.simulator
 
     # -- the picture -----------------------------------------------------------------
     def scene(self, part_axes: int | None = None) -> Scene:
@@ -346,8 +356,9 @@ def keyboard_of(keys: str | None) -> str:
 
 
 def run(workspace: str | Path | None = None, setup: str | None = None, ascii: bool = False,
-        rules: str | None = None, limits: RunLimits | None = None, keys: str | None = None) -> int:
-    app = ValtermApp(workspace, setup, ascii=ascii, rules=rules, limits=limits, keys=keys)
+        rules: str | None = None, limits: RunLimits | None = None, keys: str | None = None,
+        robot: str | None = None) -> int:
+    app = ValtermApp(workspace, setup, ascii=ascii, rules=rules, limits=limits, keys=keys, robot=robot)
     result = app.run()
     return exit_status(app, result)
 

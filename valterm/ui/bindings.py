@@ -27,12 +27,14 @@ def places() -> tuple[tuple[str, Iterable[BindingType]], ...]:
     is imported here, when a keymap file or the docs ask, not when the app starts (issue 25:
     the app shows MAIN MENU without the modes' screens)."""
     from valterm.ui.screens.base import MenuScreen
+    from valterm.ui.screens.changed import FileChangedScreen
     from valterm.ui.screens.editor import EditorScreen, StepInput
     from valterm.ui.screens.help import HelpScreen
     from valterm.ui.screens.keyboard import KeyboardScreen
     from valterm.ui.screens.main_menu import MainMenuScreen
     from valterm.ui.screens.manipulation import ManipulationScreen
     from valterm.ui.screens.pendant import PendantScreen
+    from valterm.ui.screens.quit import QuitScreen
     from valterm.ui.screens.signals import SignalsScreen
     from valterm.ui.screens.start import StartScreen
     from valterm.ui.screens.valmode import ValModeScreen
@@ -50,6 +52,8 @@ def places() -> tuple[tuple[str, Iterable[BindingType]], ...]:
         ("the editor's step line", StepInput.BINDINGS),
         ("HELP", HelpScreen.BINDINGS),
         ("I/O panel", SignalsScreen.BINDINGS),
+        ("leaving with unsaved work", QuitScreen.BINDINGS),
+        ("a file changed on disk", FileChangedScreen.BINDINGS),
     )
 
 

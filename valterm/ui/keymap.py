@@ -8,7 +8,7 @@
    lost by ESC: an unsaved set-up stays in the session and the status line says NOT SAVED.
 3. ``?`` and F1 open HELP for the current screen (at a menu; in a prompt ``?`` is text).
 4. A key that means nothing where it is pressed gets a one-line answer naming ``?``; at the
-   KEYBOARD menu a letter that is no menu key opens V's command line with it typed.
+   KEYBOARD and PENDANT menus a letter that is no menu key opens V's command line with it typed.
 5. CTRL-C aborts a running motion or program; CTRL-Q leaves the program, asking first when
    there is unsaved work.
 """

@@ -120,7 +120,8 @@ def event_lines(event: Event) -> list[str]:
     if isinstance(event, Where):
         return where_lines(event)
     if isinstance(event, Status):
-        return [event.text, event.rules_text, event.cycle_text]
+        robot = [event.robot_text] if event.robot_text else []  # the thesis's robot goes unsaid
+        return [event.text, event.rules_text, *robot, event.cycle_text]
     if isinstance(event, Signal):
         return [event.text]
     if isinstance(event, Breakpoint):  # before Pause: it is one

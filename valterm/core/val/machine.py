@@ -19,10 +19,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from valterm.core.arms import arm_in
 from valterm.core.cycletime import CycleClock
 from valterm.core.events import Event, Signal
 from valterm.core.files.vplus import VplusData
-from valterm.core.kinematics import Location, fk, rotation_to_oat
+from valterm.core.kinematics import Location, rotation_to_oat
 from valterm.core.signals import InputChange, SignalPanel
 from valterm.core.transform import Transform, inverse
 from valterm.core.val.ops import ProgramError
@@ -171,10 +172,9 @@ class Machine:
     def point_location(self, name: str) -> Location:
         return self.pose_location(self.point(name))
 
-    @staticmethod
-    def pose_location(joints: tuple[float, ...]) -> Location:
+    def pose_location(self, joints: tuple[float, ...]) -> Location:
         """The tool's location at six joint angles (the robot's own frame)."""
-        pose = fk(list(joints))
+        pose = arm_in(self.sim).fk(list(joints))
         x, y, z = (float(v) for v in pose.xyz)
         return Location((x, y, z), rotation_to_oat(np.asarray(pose.rotation)))
 

@@ -8,13 +8,12 @@ key is never swallowed by an input; an input is focused only while a typed answe
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Callable
+from typing import Any, Callable, ClassVar
 
 from textual import events
 from textual.app import ComposeResult
 from textual.binding import Binding
 from textual.containers import Horizontal, Vertical
-from textual.screen import Screen
 from textual.widgets import Input
 
 from valterm.core.errors import ValtermError
@@ -23,14 +22,13 @@ from valterm.core.monitor import listing_lines
 from valterm.ui import keymap
 from valterm.ui.errors import problem_text
 from valterm.ui.messages import SceneChanged
-from valterm.ui.screens.guard import Guarded
+from valterm.ui.screens.keyed import KeyedScreen, action_name
 from valterm.ui.screens.points import define_point
-from valterm.ui.view.keys import VIEW_KEYS
 from valterm.ui.view.model_view import ModelView
 from valterm.ui.widgets.cell_view import CellView
 from valterm.ui.widgets.menu_text import MenuText
 from valterm.ui.widgets.message_log import MessageLog
-from valterm.ui.widgets.prompt import Prompt, type_ahead
+from valterm.ui.widgets.prompt import Prompt
 from valterm.ui.widgets.status import StatusLine
 
 WIDE = 100  # columns from which the model is shown beside the menu
@@ -50,18 +48,30 @@ class Question:
         return bool(self.keys)
 
 
-class MenuScreen(Guarded, Screen[None]):
-    """A menu of the thesis with the model; subclasses set MENU and their bindings."""
+MENU, LINE, KEY = "menu", "line", "key"  # a menu screen's states: at its menu, or asking
+
+
+class MenuScreen(KeyedScreen[None]):
+    """A menu of the thesis with the model; subclasses set MENU and their bindings (each works
+    at the menu only, unless the subclass's STATES says otherwise)."""
 
     AUTO_FOCUS = ""  # nothing focused: "" disables auto focus (None would inherit the app's)
     MENU = ""
     SCREEN_NAME = ""  # HELP's name for the screen (the menu's title when empty)
-    UNKNOWN_KEY_HINT = ""  # what a key that is no menu key may have meant (e.g. a typed command)
     LETTERS_START_A_COMMAND = False  # a letter that is no menu key opens V's command line with it
     BINDINGS = [
+        Binding("escape", "cancel", "Back", show=False, id="menu.cancel"),
         Binding("pagedown", "page(1)", "More of the menu", show=False, id="menu.page_down"),
         Binding("pageup", "page(-1)", "Back in the menu", show=False, id="menu.page_up"),
     ]
+    ANY_STATE: ClassVar[frozenset[str]] = frozenset({"cancel", "help"})  # ESC, ? and F1
+
+    def __init_subclass__(cls, **kwargs: Any) -> None:
+        """Each subclass's own menu keys work at its menu only (one place: STATES)."""
+        super().__init_subclass__(**kwargs)
+        at_menu = {action_name(binding): frozenset({MENU}) for binding in cls.BINDINGS
+                   if isinstance(binding, Binding) and action_name(binding) not in cls.ANY_STATE}
+        cls.STATES = {**at_menu, **cls.__dict__.get("STATES", {})}
 
     def __init__(self) -> None:
         super().__init__()
@@ -183,7 +193,7 @@ class MenuScreen(Guarded, Screen[None]):
     def _monitor(self, command: str, argument: str) -> None:
         """LISTF, LISTL, LISTP, POINT and EDIT typed at a menu's V line (VAL-II mode's own
         transcript shows whole listings; three message lines show their gist here)."""
-        session = self.app.session
+        session = self.app.active_session
         try:
             if command == "LISTL":
                 files = (listing_lines(session, command, argument) or [""])[0]
@@ -243,7 +253,7 @@ class MenuScreen(Guarded, Screen[None]):
         if not text:
             return
         try:
-            events_ = self.app.session.command(text)
+            events_ = self.app.active_session.command(text)
         except Exception as error:
             self.say(problem_text(error), "error")
             return
@@ -288,31 +298,32 @@ class MenuScreen(Guarded, Screen[None]):
         self.messages.clear()   # what was said about the last answer goes, even if this one says nothing
         question.then(event.value.strip())
 
-    def on_key(self, event: events.Key) -> None:
-        """The keyboard model (valterm.ui.keymap): a prompt's keys go to it, never to the menu."""
-        self.messages.new_turn()
+    # -- the one key path (KeyedScreen.on_key) -----------------------------------------------
+    @property
+    def key_state(self) -> str:
         question = self.question
-        if question is None:
-            self._menu_key(event)
-            return
-        if event.key == "f1":  # help in every state; ? stays text in a typed line
-            event.stop()
-            event.prevent_default()
-            self.action_help()
-            return
-        if event.key == keymap.CANCEL_KEY:
-            event.stop()
-            event.prevent_default()
-            self._close_prompt()
-            (question.cancel or self.prompt_cancelled)()
-            return
-        if not question.single_key:
-            type_ahead(event, self.query_one(Prompt).query_one("#answer", Input))
-            return
-        if event.key in VIEW_KEYS:
-            return  # the view keys still turn the model while a one-key answer waits
-        event.stop()
-        event.prevent_default()
+        return MENU if question is None else KEY if question.single_key else LINE
+
+    def before_key(self, event: events.Key) -> None:
+        self.messages.new_turn()
+
+    def line_taking_keys(self) -> Input | None:
+        if self.key_state != LINE:
+            return None
+        return self.query_one(Prompt).query_one("#answer", Input)
+
+    def other_key(self, event: events.Key) -> bool:
+        """A one-key answer, or (KEYBOARD, PENDANT) a letter that opens V's command line."""
+        question = self.question
+        if question is not None:
+            self._answer_key(question, event)
+            return True
+        if self.LETTERS_START_A_COMMAND and event.character and event.character.isalpha():
+            self.ask_line("VAL-II COMMAND:", self.run_command, event.character.upper(), typed=True)
+            return True  # HERE P1 typed without V: the line takes it all
+        return False
+
+    def _answer_key(self, question: Question, event: events.Key) -> None:
         char = (event.character or "").upper()
         keys = question.keys
         if event.key == "enter" and keys:
@@ -320,29 +331,20 @@ class MenuScreen(Guarded, Screen[None]):
         if char and char in keys:
             self._close_prompt()
             question.then(char)
-        elif keymap.is_help(event):
-            self.action_help()  # ? is no answer to a question: the screen's help
         elif not keymap.is_silent(event) and event.key != "ctrl+c":
             self.say(keymap.wrong_answer(event, keys), "warning")
 
-    def _menu_key(self, event: events.Key) -> None:
-        """A key at the menu: ESC returns, ? and F1 help, a key bound nowhere is answered."""
-        if event.key == keymap.CANCEL_KEY:
-            event.stop()
-            event.prevent_default()
+    def say_wrong_key(self, text: str) -> None:
+        self.say(text, "warning")
+
+    def action_cancel(self) -> None:
+        """ESC: the open prompt closes (its own way back, or the menu); at the menu, back."""
+        question = self.question
+        if question is None:
             self.escape_menu()
-        elif event.key == "f1":
-            event.stop()
-            event.prevent_default()
-            self.action_help()
-        elif event.key in self.active_bindings or keymap.is_silent(event):
             return
-        elif self.LETTERS_START_A_COMMAND and event.character and event.character.isalpha():
-            event.stop()                      # HERE P1 typed without V: the line takes it all
-            event.prevent_default()
-            self.ask_line("VAL-II COMMAND:", self.run_command, event.character.upper(), typed=True)
-        else:
-            self.say(keymap.unknown_key(event, self.UNKNOWN_KEY_HINT), "warning")
+        self._close_prompt()
+        (question.cancel or self.prompt_cancelled)()
 
     def action_page(self, direction: int) -> None:
         """PGDN / PGUP: the rest of a menu that does not fit (80x24)."""

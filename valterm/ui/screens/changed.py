@@ -11,16 +11,19 @@ from __future__ import annotations
 
 from textual import events
 from textual.app import ComposeResult
+from textual.binding import Binding
 from textual.containers import Vertical
-from textual.screen import ModalScreen
 from textual.widgets import Input, Static
+
+from valterm.ui import keymap
+from valterm.ui.screens.keyed import KeyedModalScreen
 
 Answer = tuple[str, str] | None
 
 QUESTION = "O OVERWRITE IT   R RELOAD IT (YOUR CHANGES GO)   A SAVE AS ANOTHER NAME   ESC NOT NOW"
 
 
-class FileChangedScreen(ModalScreen[Answer]):
+class FileChangedScreen(KeyedModalScreen[Answer]):
     """NAME CHANGED ON DISK: overwrite, reload or save as."""
 
     DEFAULT_CSS = """
@@ -32,6 +35,13 @@ class FileChangedScreen(ModalScreen[Answer]):
     FileChangedScreen Input.asking { display: block; }
     """
     AUTO_FOCUS = ""
+    BINDINGS = [
+        Binding("o,O", "answer('overwrite')", "Overwrite it", id="changed.overwrite"),
+        Binding("r,R", "answer('reload')", "Reload it", id="changed.reload"),
+        Binding("a,A", "save_as", "Save as another name", id="changed.save_as"),
+        Binding("escape", "cancel", "Not now / back to the question", id="changed.cancel"),
+    ]
+    STATES = {"answer": frozenset({"question"}), "save_as": frozenset({"question"})}
 
     def __init__(self, file_name: str, kind: str = "file") -> None:
         super().__init__()
@@ -49,28 +59,35 @@ class FileChangedScreen(ModalScreen[Answer]):
     def question(self) -> str:
         return str(self.query_one("#changed-question", Static).content)
 
-    def on_key(self, event: events.Key) -> None:
+    @property
+    def key_state(self) -> str:
+        return "name" if self.query_one("#changed-name", Input).has_class("asking") else "question"
+
+    def line_taking_keys(self) -> Input | None:
+        name = self.query_one("#changed-name", Input)
+        return name if name.has_class("asking") else None
+
+    def action_answer(self, answer: str) -> None:
+        self.close((answer, ""))
+
+    def action_save_as(self) -> None:
+        name = self.query_one("#changed-name", Input)
+        name.add_class("asking")
+        name.focus()
+        self.query_one("#changed-question", Static).update(f"SAVE AS: TYPE A NEW {self.kind.upper()} NAME "
+                                                           "(ESC: BACK TO THE QUESTION)")
+
+    def action_cancel(self) -> None:
         name = self.query_one("#changed-name", Input)
         if name.has_class("asking"):
-            if event.key == "escape":
-                event.stop()
-                name.remove_class("asking")
-                self.query_one("#changed-question", Static).update(QUESTION)
-            return  # the name field takes the keys
-        event.stop()
-        event.prevent_default()
-        char = (event.character or "").upper()
-        if char == "O":
-            self.close(("overwrite", ""))
-        elif char == "R":
-            self.close(("reload", ""))
-        elif char == "A":
-            name.add_class("asking")
-            name.focus()
-            self.query_one("#changed-question", Static).update(f"SAVE AS: TYPE A NEW {self.kind.upper()} NAME "
-                                                               "(ESC: BACK TO THE QUESTION)")
-        elif event.key == "escape":
+            name.remove_class("asking")
+            self.set_focus(None)
+            self.query_one("#changed-question", Static).update(QUESTION)
+        else:
             self.close(None)
+
+    def wrong_key(self, event: events.Key) -> None:
+        self.query_one("#changed-question", Static).update(f"{QUESTION}\n{keymap.wrong_answer(event, 'ORA')}")
 
     def on_input_submitted(self, event: Input.Submitted) -> None:
         event.stop()

@@ -17,14 +17,14 @@ question screen (valterm.ui.screens.changed): overwrite, reload or save as.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from enum import StrEnum
+from typing import ClassVar
 
 from textual.app import ComposeResult
 from textual.binding import Binding
 from textual.containers import Horizontal, Vertical, VerticalScroll
 from textual.events import Key, Resize
-from textual.screen import Screen
 from textual.widgets import Input, Static
 
 from valterm.core.editor import EDITOR_MENU, EditorError, ProgramEditor
@@ -32,11 +32,10 @@ from valterm.core.errors import ValtermError
 from valterm.core.files.errors import FileChanged
 from valterm.core.files.programs import LABEL_COLUMNS
 from valterm.ui import keymap
-from valterm.ui.screens.guard import Guarded
-from valterm.ui.widgets.prompt import type_ahead
+from valterm.ui.screens.keyed import KeyedScreen
+from valterm.ui.widgets.prompt import typed_after
 from valterm.ui.widgets.status import StatusLine
 
-MENU_KEYS = {"c": "create", "i": "insert", "d": "delete", "s": "save", "e": "exit"}
 NARROW = 120  # columns below which the menu box is left out (80x24: the listing needs them)
 RULER = "LBL STATEMENT (COLUMNS 1-4: STEP LABEL, TAB: TO COLUMN 5)"
 
@@ -71,7 +70,7 @@ TEXT_MODES = frozenset({EditorMode.NAME, EditorMode.LINE, EditorMode.DELETE, Edi
                         EditorMode.INSERT_LINE})
 
 
-class EditorScreen(Guarded, Screen[None]):
+class EditorScreen(KeyedScreen[None]):
     """The Editor of VAL-II SIMULATOR (EVS)."""
 
     AUTO_FOCUS = None
@@ -88,15 +87,21 @@ class EditorScreen(Guarded, Screen[None]):
     EditorScreen #editor-prompt-row.hidden { display: none; }
     EditorScreen.-narrow #editor-menu { display: none; }
     """
-    # Shown in the footer; the keys themselves are read in on_key (a wrong key must be seen).
     BINDINGS = [
-        Binding("c", "create", "Continue", id="editor.create"),
-        Binding("i", "insert", "Insert", id="editor.insert"),
-        Binding("d", "delete", "Delete", id="editor.delete"),
-        Binding("s", "save", "Save", id="editor.save"),
-        Binding("e", "exit", "Exit", id="editor.exit"),
+        Binding("c,C", "create", "Continue", id="editor.create"),
+        Binding("i,I", "insert", "Insert", id="editor.insert"),
+        Binding("d,D", "delete", "Delete", id="editor.delete"),
+        Binding("s,S", "save", "Save", id="editor.save"),
+        Binding("e,E", "exit", "Exit", id="editor.exit"),
         Binding("escape", "cancel", "Cancel", id="editor.cancel"),
+        Binding("y,Y", "save_answer('Y')", "Save the changes", show=False, id="editor.save_yes"),
+        Binding("n,N", "save_answer('N')", "Leave them unsaved", show=False, id="editor.save_no"),
     ]
+    # which keys work in which state: the one place (KeyedScreen.check_action reads it)
+    STATES: ClassVar[Mapping[str, frozenset[str]]] = {
+        **{action: frozenset({EditorMode.MENU}) for action in ("create", "insert", "delete", "save", "exit")},
+        "save_answer": frozenset({EditorMode.SAVE}),
+    }
 
     def __init__(self, workspace=None, name: str = "") -> None:  # type: ignore[no-untyped-def]
         super().__init__()
@@ -138,7 +143,9 @@ class EditorScreen(Guarded, Screen[None]):
     @property
     def workspace(self):  # type: ignore[no-untyped-def]
         if self._workspace is None:
-            self._workspace = self.app.session.workspace
+            session = self.app.session  # the editor also runs over a bare workspace (tests' hosts)
+            assert session is not None, "the editor without a workspace"
+            self._workspace = session.workspace
         return self._workspace
 
     # -- what the screen shows (tests read these) --------------------------------------
@@ -203,54 +210,48 @@ class EditorScreen(Guarded, Screen[None]):
         self._menu()
         return True
 
-    # -- single keys in the menu ---------------------------------------------------------
-    def on_key(self, event: Key) -> None:
-        if event.key == "f1":  # help in every state; ? stays text in the step line
-            event.stop()
-            event.prevent_default()
-            self.action_help()
-            return
-        if self.mode in TEXT_MODES and type_ahead(event, self.query_one("#editor-line", StepInput)):
-            return
-        if self.mode == "save?":
-            answer = (event.character or "").upper()
-            if event.key != "escape":
-                event.stop()
-                event.prevent_default()
-            if answer in ("Y", "N"):
-                self._leave(save=answer == "Y")
-            elif event.key != "escape" and not keymap.is_silent(event):
+    # -- keys: the one key path (KeyedScreen.on_key) -----------------------------------------
+    @property
+    def key_state(self) -> str:
+        return self.mode
+
+    def line_taking_keys(self) -> StepInput | None:
+        return self.query_one("#editor-line", StepInput) if self.mode in TEXT_MODES else None
+
+    def other_key(self, event: Key) -> bool:
+        """The menu: TAB, a space or a digit starts the next step (label columns first)."""
+        char = event.character or ""
+        if self.mode == EditorMode.SAVE:
+            if not keymap.is_silent(event) and event.key != "ctrl+c":
                 self.say(f"SAVE THE CHANGES TO {self.editor.name}.DAT (Y/N) ?",  # type: ignore[union-attr]
                          keymap.wrong_answer(event, "YN"))
-            return
-        if self.mode != "menu" or event.key == "escape":
-            return
-        if keymap.is_help(event):
-            event.stop()
-            event.prevent_default()
-            self.action_help()
-            return
-        char = event.character or ""
-        event.stop()
-        event.prevent_default()  # the footer bindings must not run the action a second time
-        action = MENU_KEYS.get(char.lower())
-        if action is not None:
-            getattr(self, f"action_{action}")()
-        elif event.key == "tab":
+            return True
+        if self.mode != EditorMode.MENU:
+            return False
+        if event.key == "tab":
             self._next_line(" " * LABEL_COLUMNS)
         elif char == " " or char.isdigit():
-            self._next_line(char)  # the label columns of the next step
-        elif self.editor is not None:
-            try:
-                self.say(self.editor.wrong_key(char or event.key), keymap.HELP_HINT)
-            except FileChanged:  # §5.2 saves at once: another session saved it meanwhile
-                self.ask_changed()
-            self._refresh_listing()
-
-    def check_action(self, action: str, parameters: tuple[object, ...]) -> bool | None:
-        if action in MENU_KEYS.values():
-            return self.mode == "menu"  # typed letters belong to the line being typed
+            self._next_line(char)
+        else:
+            return False
         return True
+
+    def say_wrong_key(self, text: str) -> None:
+        self.say(text)
+
+    def wrong_key(self, event: Key) -> None:
+        """A wrong key at the editor's menu is named and the program saved (§5.2)."""
+        if self.editor is None or self.mode != EditorMode.MENU:
+            super().wrong_key(event)
+            return
+        try:
+            self.say(self.editor.wrong_key(keymap.key_name(event)), keymap.HELP_HINT)
+        except FileChanged:  # §5.2 saves at once: another session saved it meanwhile
+            self.ask_changed()
+        self._refresh_listing()
+
+    def action_save_answer(self, answer: str) -> None:
+        self._leave(save=answer == "Y")
 
     def action_create(self) -> None:
         self._next_line("")
@@ -367,6 +368,7 @@ class EditorScreen(Guarded, Screen[None]):
     def on_input_submitted(self, event: Input.Submitted) -> None:
         event.stop()
         typed = event.value
+        after = typed_after(self.query_one("#editor-line", StepInput), typed)  # typed since RETURN
         if self.mode == "name":
             self.open_program(typed)
             return
@@ -383,7 +385,7 @@ class EditorScreen(Guarded, Screen[None]):
                 if getattr(self.app, "keys_1985", False):
                     self._menu()  # 1985 (Fig. C-8): the menu; a space or a digit starts the next step
                 else:
-                    self._next_line("")  # the line stays open: typed lines are never menu keys
+                    self._next_line(after)  # the line stays open: typed lines are never menu keys
             elif self.mode == "delete":
                 number = self._number(typed)
                 removed = editor.delete(number)
@@ -407,7 +409,7 @@ class EditorScreen(Guarded, Screen[None]):
                 if getattr(self.app, "keys_1985", False):
                     self._menu()  # 1985: one step a time, then the menu
                 else:
-                    self._prompt("insert-line", editor.prompt(self.insert_at))
+                    self._prompt("insert-line", editor.prompt(self.insert_at), "", after)
         except ValtermError as error:
             # rejected: the line stays in the field to be corrected (nothing typed is lost)
             self.say(f"REJECTED: {error}")

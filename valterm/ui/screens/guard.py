@@ -9,21 +9,19 @@ unsaved set-up and the editor's journal stay as they were.
 
 from __future__ import annotations
 
-from typing import Any
-
 from textual.message import Message
+from textual.message_pump import MessagePump
 
 
 class Guarded:
     """Mixed into every screen class before ``Screen``."""
 
-    app: Any
-
     async def _dispatch_message(self, message: Message) -> None:
         try:
             await super()._dispatch_message(message)  # type: ignore[misc]
         except Exception as error:
-            survive = getattr(self.app, "survive", None)
+            app = self.app if isinstance(self, MessagePump) else None
+            survive = getattr(app, "survive", None)
             if survive is None or not getattr(self, "_is_mounted", True):
                 raise  # a screen (or the app) that never got built: the crash line and exit 70
             survive(error)

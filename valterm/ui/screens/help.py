@@ -11,11 +11,11 @@ from textual.app import ComposeResult
 from textual.binding import Binding
 from textual.containers import VerticalScroll
 from textual.events import Key
-from textual.screen import Screen
 from textual.widgets import Input, Static
 
 from valterm.core.files.helpfile import HelpTopics, NoHelpTopic, default_help
-from valterm.ui.screens.guard import Guarded
+from valterm.ui import keymap
+from valterm.ui.screens.keyed import KeyedScreen
 from valterm.ui.widgets.status import StatusLine
 
 ASK_TOPIC = "DO YOU NEED MORE INFORMATION ON A SPECIFIC TOPIC (Y/N) ?"
@@ -23,7 +23,7 @@ ASK_MENU = "DO YOU WANT THE HELP MENU DISPLAYED AGAIN (Y/N) ?"
 ENTER_TOPIC = "ENTER THE TOPIC FOR WHICH HELP IS NEEDED:"
 
 
-class HelpScreen(Guarded, Screen[None]):
+class HelpScreen(KeyedScreen[None]):
     """HELP, reachable from every mode; Esc (or N to the first question) returns."""
 
     AUTO_FOCUS = None
@@ -35,7 +35,11 @@ class HelpScreen(Guarded, Screen[None]):
     """
     BINDINGS = [
         Binding("escape", "leave", "Return", id="help.return"),
+        Binding("y,Y", "answer('Y')", "Yes", show=False, id="help.yes"),
+        Binding("n,N", "answer('N')", "No", show=False, id="help.no"),
     ]
+    STATES = {"answer": frozenset({"topic?", "menu?"})}
+    SCROLL_KEYS = frozenset({"up", "down", "pageup", "pagedown", "home", "end"})  # the text scrolls
 
     def __init__(self, topic: str = "", topics: HelpTopics | None = None, *, screen: str = "",
                  keys: list[tuple[str, str]] | None = None) -> None:
@@ -111,16 +115,21 @@ class HelpScreen(Guarded, Screen[None]):
         self._ask("menu?", ASK_MENU)
 
     # -- answers -------------------------------------------------------------------
-    def on_key(self, event: Key) -> None:
-        if self.state == "topic":
-            return  # the topic field takes the keys
-        key = (event.character or "").upper()
-        if key not in ("Y", "N"):
-            if event.key not in ("escape", "up", "down", "pageup", "pagedown", "home", "end"):
-                self.query_one("#help-question", Static).update(
-                    f"{self.question.splitlines()[0]}\n'{key or event.key.upper()}': PRESS Y OR N (ESC RETURNS)")
-            return
-        event.stop()
+    @property
+    def key_state(self) -> str:
+        return self.state
+
+    def line_taking_keys(self) -> Input | None:
+        return self.query_one("#help-topic", Input) if self.state == "topic" else None
+
+    def other_key(self, event: Key) -> bool:
+        return event.key in self.SCROLL_KEYS  # the help text's scroll keys
+
+    def wrong_key(self, event: Key) -> None:
+        self.query_one("#help-question", Static).update(
+            f"{self.question.splitlines()[0]}\n{keymap.wrong_answer(event, 'YN')}")
+
+    def action_answer(self, key: str) -> None:
         if self.state == "topic?":
             if key == "Y":
                 self._ask("topic", ENTER_TOPIC)

@@ -107,8 +107,8 @@ class KeyboardScreen(MenuScreen):
         self.menu.set_text(KEYBOARD_MENU)
 
     def on_key(self, event: events.Key) -> None:
+        """A listing or O's keys first; otherwise the one key path (KeyedScreen.on_key)."""
         if self.asking:
-            super().on_key(event)
             return
         if self.listing:
             # any key brings the menu back; a menu key also does its work
@@ -131,7 +131,7 @@ class KeyboardScreen(MenuScreen):
         self.update_readout()
 
     def action_smooth(self) -> None:
-        on = self.app.session.toggle_collision_checks()
+        on = self.app.active_session.toggle_collision_checks()
         self.say(f"COLLISION CHECKS {'ON' if on else 'OFF'}")
 
     def action_faces(self) -> None:

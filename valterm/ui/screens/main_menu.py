@@ -93,7 +93,7 @@ class MainMenuScreen(MenuScreen):
         self._unsaved_then("INITIALIZE", self._initialize)
 
     def _initialize(self) -> None:
-        name = self.app.session.setup_name if self.app.session else ""
+        name = self.app.active_session.setup_name if self.app.session else ""
         try:
             self.app.open_session(name or None)
         except Exception as error:
@@ -126,7 +126,7 @@ class MainMenuScreen(MenuScreen):
     def action_generate(self) -> None:
         """G_GENERATE: the cell and the robot as NAME.OBJ and NAME.GLB, asking first when either
         is there (a U_GII mesh read into this setup may have that very name)."""
-        session = self.app.session
+        session = self.app.active_session
         name = session.setup_name or "CELL"
         try:
             paths = [session.workspace.path(name, ext) for ext in ("OBJ", "GLB")]
@@ -146,7 +146,7 @@ class MainMenuScreen(MenuScreen):
     def _generate(self, paths: list[Path]) -> None:
         from valterm.core.cad.export import export_scene
 
-        session = self.app.session
+        session = self.app.active_session
         written = []
         try:
             for path in paths:

@@ -85,7 +85,7 @@ class ManipulationScreen(MenuScreen):
     def update_readout(self) -> None:
         if self.part:
             reference = self.app.simulator.cell.object(self.part).reference
-            self.query_one("#readout", PartReadout).show_part(self.part, reference)
+            self.query_one("#readout", PartReadout).show_part(self.part, [float(v) for v in reference])
 
     # -- which part, which way ------------------------------------------------------
     def ask_part(self) -> None:
@@ -250,12 +250,12 @@ class ManipulationScreen(MenuScreen):
         self.prompt_cancelled()
 
     def _ask_name(self) -> None:
-        name = self.app.session.setup_name
+        name = self.app.active_session.setup_name
         self.ask_line(f"ENTER SET-UP FILE NAME (RETURN: SAME NAME {name}):", self._save, cancel=self._end)
 
     def _save(self, name: str, overwrite: bool = False) -> None:
         try:
-            path = self.app.session.save_setup(name or None, overwrite=overwrite)
+            path = self.app.active_session.save_setup(name or None, overwrite=overwrite)
         except FileChanged:
             self._ask_changed()
             return
@@ -269,7 +269,7 @@ class ManipulationScreen(MenuScreen):
         """NAME.SET changed on disk since it was read: overwrite, reload or save as."""
         from valterm.ui.screens.changed import FileChangedScreen
 
-        session = self.app.session
+        session = self.app.active_session
         self.say(f"{session.setup_name}.SET CHANGED ON DISK: NOT SAVED", "warning")
 
         def answered(answer: tuple[str, str] | None) -> None:
@@ -290,7 +290,7 @@ class ManipulationScreen(MenuScreen):
     def _taken(self, name: str) -> bool:
         """Save as: a bad name or one a setup file has is refused (said) and asked again."""
         try:
-            taken = bool(self.app.session.workspace.exists(name, "SET"))
+            taken = bool(self.app.active_session.workspace.exists(name, "SET"))
         except ValtermError as error:
             self.say(problem_text(error), "error")
             return True
@@ -300,7 +300,7 @@ class ManipulationScreen(MenuScreen):
 
     def _reload(self) -> None:
         try:
-            self.app.session.load_setup(self.app.session.setup_name)
+            self.app.active_session.load_setup(self.app.active_session.setup_name)
         except (ValtermError, OSError) as error:
             self.say(problem_text(error), "error")
             self._back()
@@ -308,7 +308,7 @@ class ManipulationScreen(MenuScreen):
         self.modified = False
         self.app.setup_modified = False
         self.app.changed()
-        self.say(f"{self.app.session.setup_name}.SET RELOADED AS THE OTHER SESSION SAVED IT")
+        self.say(f"{self.app.active_session.setup_name}.SET RELOADED AS THE OTHER SESSION SAVED IT")
         self._back()
 
     def _saved(self, path) -> None:  # type: ignore[no-untyped-def]

@@ -32,6 +32,8 @@ def world_step(increment: float) -> float:
 
 class PendantScreen(MenuScreen):
     MENU = PENDANT_MENU
+    LETTERS_START_A_COMMAND = True  # HERE P2 typed without V: H is no pendant key, the line takes it
+    UNKNOWN_KEY_HINT = "V FIRST TO TYPE A VAL-II COMMAND"
     BINDINGS = [
         *(Binding(str(j), f"joint({j})", f"Joint {j}", id=f"pendant.joint{j}") for j in range(1, 7)),
         Binding("o,O", "open", "Open", id="pendant.open"),

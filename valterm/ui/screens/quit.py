@@ -4,11 +4,12 @@ from __future__ import annotations
 
 from textual import events
 from textual.app import App, ComposeResult
+from textual.binding import Binding
 from textual.containers import Vertical
-from textual.screen import ModalScreen
 from textual.widgets import Static
 
-from valterm.ui.screens.guard import Guarded
+from valterm.ui import keymap
+from valterm.ui.screens.keyed import KeyedModalScreen
 
 
 def unsaved_work(app: App) -> list[str]:  # type: ignore[type-arg]
@@ -43,7 +44,7 @@ def confirm_quit(app: App) -> None:  # type: ignore[type-arg]
     app.push_screen(QuitScreen(lost))
 
 
-class QuitScreen(Guarded, ModalScreen[None]):
+class QuitScreen(KeyedModalScreen[None]):
     """The one question before leaving with unsaved work."""
 
     DEFAULT_CSS = """
@@ -53,6 +54,10 @@ class QuitScreen(Guarded, ModalScreen[None]):
     QuitScreen Static { width: 100%; height: auto; }
     """
     AUTO_FOCUS = ""
+    BINDINGS = [
+        Binding("y,Y", "leave", "Exit without saving", id="quit.yes"),
+        Binding("n,N,escape", "stay", "Stay", id="quit.no"),
+    ]
 
     def __init__(self, lost: list[str]) -> None:
         super().__init__()
@@ -63,14 +68,15 @@ class QuitScreen(Guarded, ModalScreen[None]):
             yield Static("NOT SAVED:\n" + "\n".join(f"  {line}" for line in self.lost))
             yield Static("EXIT WITHOUT SAVING (Y/N) ?", id="quit-question")
 
-    def on_key(self, event: events.Key) -> None:
-        event.stop()
-        event.prevent_default()
-        char = (event.character or "").upper()
-        if char == "Y":
-            self.app.exit(0)
-        elif char == "N" or event.key == "escape":
-            self.close()
+    def action_leave(self) -> None:
+        self.app.exit(0)
+
+    def action_stay(self) -> None:
+        self.close()
+
+    def wrong_key(self, event: events.Key) -> None:
+        self.query_one("#quit-question", Static).update(
+            f"EXIT WITHOUT SAVING (Y/N) ?  {keymap.wrong_answer(event, 'YN')}")
 
     def close(self) -> None:
         """Dismiss this screen if it is still the one on top: keys typed ahead reach a screen's

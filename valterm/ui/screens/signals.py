@@ -15,13 +15,12 @@ from __future__ import annotations
 from textual.app import ComposeResult
 from textual.binding import Binding
 from textual.containers import Vertical
-from textual.screen import ModalScreen
 from textual.widgets import Input, Static
 
 from valterm.core.errors import RefusedValue, ValtermError
 from valterm.core.session import Session
 from valterm.core.signals import INPUTS, INTERNAL, OUTPUTS, SignalPanel
-from valterm.ui.screens.guard import Guarded
+from valterm.ui.screens.keyed import KeyedModalScreen
 
 SHOWN = 24  # lamps drawn per kind: two rows of 12 (the panel fits an 80 x 24 terminal)
 ROW = 12
@@ -71,7 +70,7 @@ def parse_input_command(typed: str, panel: SignalPanel) -> tuple[int, bool]:
     return number, words[1] in ("ON", "1")
 
 
-class SignalsScreen(Guarded, ModalScreen[None]):
+class SignalsScreen(KeyedModalScreen[None]):
     """The I/O panel over VAL-II mode."""
 
     DEFAULT_CSS = """
@@ -152,6 +151,9 @@ class SignalsScreen(Guarded, ModalScreen[None]):
             return f"*** {str(error).upper()}"
         self.look()
         return f"INPUT {number} {'ON' if on else 'OFF'}"
+
+    def line_taking_keys(self) -> Input:
+        return self.query_one("#io-line", Input)  # the panel's one line (typed ahead too)
 
     def action_close(self) -> None:
         self.dismiss(None)

@@ -39,14 +39,14 @@ from __future__ import annotations
 
 import re
 import textwrap
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Mapping
 from enum import StrEnum
+from typing import ClassVar
 
 from textual.app import ComposeResult
 from textual.binding import Binding
 from textual.containers import Horizontal, Vertical, VerticalScroll
 from textual.events import Key, Resize
-from textual.screen import Screen
 from textual.widgets import RichLog, Static
 
 from valterm.core.errors import ValtermError
@@ -60,8 +60,8 @@ from valterm.ui import keymap
 from valterm.ui.errors import problem_text
 from valterm.ui.playback import TRANSCRIPT_LINES, Player, Transcript, show_at_once
 from valterm.ui.screens.editor import EditorScreen, StepInput
-from valterm.ui.screens.guard import Guarded
 from valterm.ui.screens.help import HelpScreen
+from valterm.ui.screens.keyed import KeyedScreen
 from valterm.ui.screens.points import define_point
 from valterm.ui.screens.signals import SignalsScreen
 from valterm.ui.view.model_view import ModelView
@@ -72,11 +72,8 @@ from valterm.ui.widgets.menus import (
     VAL_MENU_1,
     VAL_MENU_2,
 )
-from valterm.ui.widgets.prompt import type_ahead
+from valterm.ui.widgets.prompt import typed_after
 from valterm.ui.widgets.status import StatusLine
-
-# keys that turn and zoom the view while the command line is open (left/right edit the line)
-LINE_VIEW_KEYS = frozenset({"up", "down", "pageup", "pagedown"})
 
 
 class Mode(StrEnum):
@@ -90,6 +87,7 @@ class Mode(StrEnum):
     DEFINE_FILE = "define-file"  # the line asks the .LOC file name
     DEFINE_EACH = "define-each"  # A / R / E for the location shown
     POINT = "point"  # the line takes NAME, X, Y, Z, O, A, T
+    DEFINE_AHEAD = "define-ahead"  # running to a .LOC file's location: A / R / E answer ahead
 
 
 LOG_WRITE = 200  # lines written to the log at once (more scroll past unseen within a tick)
@@ -119,7 +117,7 @@ def wrap_menu(text: str, width: int) -> str:
     return "\n".join(rows)
 
 
-class ValModeScreen(Guarded, Screen[None]):
+class ValModeScreen(KeyedScreen[None]):
     """VAL-II mode."""
 
     AUTO_FOCUS = None
@@ -161,7 +159,35 @@ class ValModeScreen(Guarded, Screen[None]):
                 id="valmode.transcript_back"),
         Binding("shift+down", "transcript(1)", "On a page in the transcript", show=False,
                 id="valmode.transcript_on"),
+        # the VAL-II MENU's single keys (Fig. C-13), the line closed
+        Binding("n,N", "at_menu('menu')", "Next menu page", show=False, id="valmode.menu.page"),
+        Binding("v,V,c,C,enter", "at_menu('line')", "The command line", show=False, id="valmode.menu.line"),
+        Binding("w,W", "at_menu('wipe')", "Wipe", show=False, id="valmode.menu.wipe"),
+        Binding("m,M", "at_menu('model')", "Model", show=False, id="valmode.menu.model"),
+        Binding("d,D", "at_menu('define')", "Define", show=False, id="valmode.menu.define"),
+        Binding("r,R", "at_menu('leave')", "Return", show=False, id="valmode.menu.return"),
+        Binding("pageup", "at_menu('scroll_page_up')", "Menu page up", show=False, id="valmode.menu.page_up"),
+        Binding("pagedown", "at_menu('scroll_page_down')", "Menu page down", show=False,
+                id="valmode.menu.page_down"),
+        Binding("home", "at_menu('scroll_home')", "Menu top", show=False, id="valmode.menu.home"),
+        Binding("end", "at_menu('scroll_end')", "Menu end", show=False, id="valmode.menu.end"),
+        # D_DEFINE's question: from a file, a POINT, STOREL, or the line again
+        Binding("d,D", "define_how('file')", "From a .LOC file", show=False, id="valmode.define.file"),
+        Binding("p,P", "define_how('point')", "Type a POINT", show=False, id="valmode.define.point"),
+        Binding("s,S", "define_how('store')", "STOREL: save them", show=False, id="valmode.define.store"),
+        Binding("r,R", "define_how('line')", "The command line", show=False, id="valmode.define.line"),
+        # each location of a .LOC file (answered while the robot moves there too)
+        Binding("a,A", "define_each('A')", "Accept", show=False, id="valmode.each.accept"),
+        Binding("r,R", "define_each('R')", "Reject", show=False, id="valmode.each.reject"),
+        Binding("e,E", "define_each('E')", "Accept and end", show=False, id="valmode.each.end"),
     ]
+    # which keys work in which state: the one place (KeyedScreen.check_action reads it)
+    STATES: ClassVar[Mapping[str, frozenset[str]]] = {
+        "at_menu": frozenset({Mode.MENU}),
+        "define_how": frozenset({Mode.DEFINE}),
+        "define_each": frozenset({Mode.DEFINE_EACH, Mode.DEFINE_AHEAD}),
+        "paused_command": frozenset({Mode.PAUSED}),
+    }
 
     def __init__(self, session: Session | None = None, *, show_menu: bool = True) -> None:
         super().__init__()
@@ -312,77 +338,66 @@ class ValModeScreen(Guarded, Screen[None]):
         self._keys(LINE_KEYS)
         self._open_line(Mode.COMMAND, ".", start)
 
-    # -- keys ----------------------------------------------------------------------------
-    def on_key(self, event: Key) -> None:
-        bound = self.active_bindings.get(event.key)  # as the keymap file has them
-        if (event.key == "ctrl+c" or (bound is not None and bound.node is self)
-                or (event.key.startswith("f") and event.key[1:].isdigit())):
-            return  # the app's CTRL-C, this screen's bindings, the view's F-keys
-        if self.model_only and event.key != "escape":
-            self.remove_class("model-only")  # any key brings the text back (and still counts)
-        field = self.query_one("#val-line", StepInput)
-        if not field.disabled and event.key in LINE_VIEW_KEYS:
-            return  # up/down and PGUP/PGDN turn and zoom the view (the app's bindings)
-        if not field.disabled:  # the line is open: it takes every key, typed ahead too
-            type_ahead(event, field)
-            return
-        if event.key == "escape":
-            return
-        char = (event.character or "").upper()
-        if keymap.is_help(event):
-            event.stop()
-            self.action_help()
-        elif self._single_key(char, event):
-            event.stop()
-            event.prevent_default()
-        elif not keymap.is_silent(event):
-            legend = self._legend
-            self._keys(f"{keymap.unknown_key(event)}   {legend}")
-            self._legend = legend
+    # -- keys: the one key path (KeyedScreen.on_key) -----------------------------------------
+    @property
+    def key_state(self) -> str:
+        if self.mode == Mode.RUNNING and self._defining:
+            return Mode.DEFINE_AHEAD
+        return self.mode
 
-    def _single_key(self, char: str, event: Key) -> bool:
-        """A key of the menu or of a one-key question (the line closed): True if it is one."""
-        if self.mode == Mode.MENU:
-            return self._menu_key(char, event)
-        if self.mode == Mode.DEFINE and char in ("D", "P", "S", "R"):
-            if char == "S":  # the locations to a .LOC file: STOREL on the line, the name to type
-                self.to_command("STOREL ")
-                self._keys("TYPE THE .LOC FILE NAME, RETURN (STOREL NAME WRITES NAME.LOC)   ESC: MENU")
-            elif char == "D":
-                self._open_line(Mode.DEFINE_FILE, "LOCATION FILE NAME:", "", "e.g. PROCESS.LOC")
-                self._keys("TYPE THE .LOC FILE NAME, RETURN   ESC: MENU")
-            elif char == "P":
-                self._open_line(Mode.POINT, "POINT", "", "NAME, X, Y, Z, O, A, T")
-                self._keys("TYPE NAME, X, Y, Z, O, A, T   RETURN   ESC: MENU")
-            else:
-                self.to_command()
-            return True
-        if self.mode == Mode.DEFINE_EACH and char in ("A", "R", "E"):
-            self._define_answer(char)
-            return True
-        if self.mode == Mode.RUNNING and self._defining and char in ("A", "R", "E"):
-            self._answer_ahead = char  # answered while the robot still moves there
+    def before_key(self, event: Key) -> None:
+        """The model alone (80x24): a typed key or one that means nothing here brings the text
+        back (and still counts); ESC, CTRL-C and the keys that turn or toggle the view do not."""
+        key = event.key
+        if not self.model_only or key in ("escape", "ctrl+c") or (key[0] == "f" and key[1:].isdigit()):
+            return
+        if event.is_printable or not self.bound_here(key):
+            self.remove_class("model-only")
+
+    def line_taking_keys(self) -> StepInput | None:
+        field = self.query_one("#val-line", StepInput)
+        return None if field.disabled else field  # the open line takes every key, typed ahead too
+
+    def other_key(self, event: Key) -> bool:
+        if self.mode == Mode.MENU and event.is_printable and (event.character or "").isalpha():
+            self.to_command(event.character.upper())  # type: ignore[union-attr]  # LOAD at the menu
             return True
         return self.mode == Mode.RUNNING  # while the robot moves to a location: nothing else
 
-    def _menu_key(self, char: str, event: Key) -> bool:
-        menu = self.query_one("#val-menu-scroll", VerticalScroll)
-        # the arrows turn the view (the app's keys, issue 12); PGUP/PGDN/HOME/END page the menu
-        scrolls = {"pageup": menu.scroll_page_up, "pagedown": menu.scroll_page_down,
-                   "home": menu.scroll_home, "end": menu.scroll_end}
-        actions = {"N": self.action_menu, "V": self.to_command, "C": self.to_command, "W": self.action_wipe,
-                   "M": self.action_model, "D": self.action_define, "R": self.action_leave}
-        if event.key in scrolls:
-            scrolls[event.key](animate=False)
-        elif event.key == "enter":
+    def say_wrong_key(self, text: str) -> None:
+        legend = self._legend
+        self._keys(f"{text}   {legend}")
+        self._legend = legend
+
+    def action_at_menu(self, what: str) -> None:
+        """A key of the VAL-II MENU: its action, or the menu scrolled (80x24)."""
+        if what.startswith("scroll_"):
+            getattr(self.query_one("#val-menu-scroll", VerticalScroll), what)(animate=False)
+        elif what == "line":
             self.to_command()
-        elif char in actions:
-            actions[char]()
-        elif event.is_printable and char.isalpha():
-            self.to_command(char)        # LOAD typed at the menu: L is no menu key, the line takes it
         else:
-            return False
-        return True
+            getattr(self, f"action_{what}")()
+
+    def action_define_how(self, how: str) -> None:
+        """D_DEFINE's answer: a .LOC file, a typed POINT, STOREL, or the line again."""
+        if how == "store":  # the locations to a .LOC file: STOREL on the line, the name to type
+            self.to_command("STOREL ")
+            self._keys("TYPE THE .LOC FILE NAME, RETURN (STOREL NAME WRITES NAME.LOC)   ESC: MENU")
+        elif how == "file":
+            self._open_line(Mode.DEFINE_FILE, "LOCATION FILE NAME:", "", "e.g. PROCESS.LOC")
+            self._keys("TYPE THE .LOC FILE NAME, RETURN   ESC: MENU")
+        elif how == "point":
+            self._open_line(Mode.POINT, "POINT", "", "NAME, X, Y, Z, O, A, T")
+            self._keys("TYPE NAME, X, Y, Z, O, A, T   RETURN   ESC: MENU")
+        else:
+            self.to_command()
+
+    def action_define_each(self, key: str) -> None:
+        """A, R or E for the location shown (or typed while the robot still moves there)."""
+        if self.mode == Mode.DEFINE_EACH:
+            self._define_answer(key)
+        else:
+            self._answer_ahead = key
 
     def action_help(self) -> None:
         """? (at the menu and its questions) and F1 (everywhere): this screen's keys, then HELP."""
@@ -460,7 +475,9 @@ class ValModeScreen(Guarded, Screen[None]):
     def on_input_submitted(self, event) -> None:  # type: ignore[no-untyped-def]
         event.stop()
         text = event.value
-        self.query_one("#val-line", StepInput).value = ""
+        field = self.query_one("#val-line", StepInput)
+        field.value = typed_after(field, text)  # keys typed after RETURN start the next line
+        field.cursor_position = len(field.value)
         if self.mode == Mode.RUNNING:
             self._lines_ahead.append(text)  # entered while a command plays: run when it has ended
             return

@@ -77,3 +77,11 @@ def type_ahead(event: events.Key, field: Input) -> bool:
     event.stop()
     event.prevent_default()
     return True
+
+
+def typed_after(field: Input, submitted: str) -> str:
+    """What was typed into ``field`` after RETURN submitted ``submitted`` and before the
+    screen took it (Textual posts the submission; keys typed quickly get in between): the
+    start of the next line, never lost."""
+    now = field.value
+    return now[len(submitted):] if now.startswith(submitted) else ""

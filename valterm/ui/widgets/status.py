@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from textual.widgets import Static
 
+from valterm.core.arms import THESIS_ROBOT
 from valterm.ui.keymap import HELP_HINT
 
 
@@ -40,15 +41,17 @@ def status_fields(app) -> list[tuple[str, str]]:  # type: ignore[no-untyped-def]
     fields.append((f"ARM {' '.join(arm)}", "ARM " + "".join(_short(w) for w in arm)))
     rules = "CONTROLLER" if getattr(sim, "rules", "1985") == "controller" else "1985"
     fields.append((f"RULES {rules}", f"R {rules[:4]}"))
+    robot = getattr(sim, "arm", None)
+    if robot is not None and robot.key != THESIS_ROBOT:  # the thesis's robot, the default, goes unsaid
+        fields.append((f"ROBOT {robot.name}", f"RB {robot.key}"))
     fields.append((HELP_HINT, "? HELP"))
     return fields
 
 
 def arm_configuration(sim) -> tuple[str, str, str]:  # type: ignore[no-untyped-def]
     """The configuration the arm is in now (RIGHTY/LEFTY, ABOVE/BELOW, FLIP/NOFLIP)."""
-    from valterm.core.kinematics import indicators
-
-    return indicators(sim.joints, sim.geometry).words
+    words: tuple[str, str, str] = sim.arm.indicators(sim.joints).words
+    return words
 
 
 def status_text(app, width: int) -> str:  # type: ignore[no-untyped-def]

@@ -1,0 +1,123 @@
+"""The one screen base (issue 27): every screen of the app is a ``KeyedScreen``.
+
+One key path for all of them, ``on_key``:
+
+1. An open line (``line_taking_keys``) takes every printable key, typed ahead too (a ``+``
+   typed before the line has the focus is text, not the view's zoom).
+2. A key bound (by id, as the keymap file has it) and switched on in the screen's present
+   state is let through: the app runs its binding after this handler.
+3. F1 is help in every state; ``?`` is help wherever no line takes text; the open line takes
+   what is left (RETURN, BACKSPACE typed ahead).
+4. What is left goes to the screen's ``other_key`` (a letter that opens the command line,
+   the editor's TAB); a key nobody took gets the one wrong-key message (``keymap.unknown_key``)
+   through ``say_wrong_key`` (the editor also saves the program then, §5.2: ``wrong_key``).
+
+Which bindings work in which state is said in one place per screen, ``STATES`` (an action
+name and the states it works in; an action not listed works in every state), and the state
+itself is one value, ``key_state``. ``check_action`` reads both, so the footer, HELP's key
+legend and the keymap file see exactly the keys that work.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import TYPE_CHECKING, ClassVar, TypeVar
+
+from textual import events
+from textual.binding import Binding
+from textual.screen import ModalScreen, Screen
+from textual.widgets import Input
+
+from valterm.ui import keymap
+from valterm.ui.screens.guard import Guarded
+from valterm.ui.widgets.prompt import type_ahead
+
+if TYPE_CHECKING:
+    from textual import getters
+
+    from valterm.ui.app import ValtermApp
+
+ResultT = TypeVar("ResultT")
+
+
+def action_name(binding: Binding) -> str:
+    """The action a binding runs, without its arguments (``joint(1)`` -> ``joint``)."""
+    return binding.action.partition("(")[0]
+
+
+class KeyedScreen(Guarded, Screen[ResultT]):
+    """A screen of valterm: a typed app, one key path, bindings switched on per state."""
+
+    STATES: ClassVar[Mapping[str, frozenset[str]]] = {}  # action -> the states it works in
+    UNKNOWN_KEY_HINT = ""  # what a key that is no key here may have meant
+
+    if TYPE_CHECKING:  # the app every screen runs in, typed (Textual's own says App[object])
+        app = getters.app(ValtermApp)
+
+    # -- the state ------------------------------------------------------------------------
+    @property
+    def key_state(self) -> str:
+        """The screen's one state value (its STATES name it)."""
+        return ""
+
+    def check_action(self, action: str, parameters: tuple[object, ...]) -> bool | None:
+        states = self.STATES.get(action)
+        return True if states is None else self.key_state in states
+
+    def bound_here(self, key: str) -> bool:
+        """True when ``key`` runs a binding that is switched on (this screen's, its focused
+        widget's or the app's)."""
+        active = self.active_bindings.get(key)
+        return active is not None and active.enabled
+
+    # -- the one key path ---------------------------------------------------------------------
+    def on_key(self, event: events.Key) -> None:
+        self.before_key(event)
+        line = self.line_taking_keys()
+        if line is not None and event.is_printable and type_ahead(event, line):
+            return
+        if self.bound_here(event.key):
+            return  # the app runs the binding
+        if event.key == "f1" or (keymap.is_help(event) and line is None):
+            self._take(event)
+            self.action_help()
+            return
+        if line is not None:
+            type_ahead(event, line)
+            return
+        if self.other_key(event):
+            self._take(event)
+        elif not keymap.is_silent(event) and event.key not in ("ctrl+c", keymap.CANCEL_KEY):
+            self._take(event)
+            self.wrong_key(event)
+
+    @staticmethod
+    def _take(event: events.Key) -> None:
+        event.stop()
+        event.prevent_default()
+
+    def before_key(self, event: events.Key) -> None:
+        """Every key first (e.g. the model alone goes at any key)."""
+
+    def line_taking_keys(self) -> Input | None:
+        """The open line every key goes to in the present state (None: keys are single keys)."""
+        return None
+
+    def other_key(self, event: events.Key) -> bool:
+        """A key no binding took, the line closed: True if the screen used it."""
+        return False
+
+    def wrong_key(self, event: events.Key) -> None:
+        """A key that means nothing here: the one wrong-key message."""
+        self.say_wrong_key(keymap.unknown_key(event, self.UNKNOWN_KEY_HINT))
+
+    def say_wrong_key(self, text: str) -> None:
+        """The one wrong-key message, where this screen shows messages."""
+        self.notify(text, severity="warning")
+
+    def action_help(self) -> None:
+        """? / F1: the screen's help."""
+
+
+class KeyedModalScreen(KeyedScreen[ResultT], ModalScreen[ResultT]):
+    """A question shown over the screen below (quit, the I/O panel, a file changed)."""
