@@ -1,5 +1,6 @@
-"""ik's stop fit (issue 25: three candidates a joint) gives what fit_to_stops gives, and its
-angle wrap what wrap180 gives, on any angles ik_fast can return."""
+"""ik's stop fit (issue 25: three candidates a joint, wrap and fit in one pass) gives what
+fit_to_stops gives on the angles wrap180 gives, on any angles ik_fast can return; and ik()
+as a whole gives what ik_fast, wrap180 and fit_to_stops give one after the other."""
 
 from __future__ import annotations
 
@@ -23,11 +24,62 @@ def outcome(fit, *args):  # type: ignore[no-untyped-def]
         return ("beyond", stop.joint)
 
 
+currents = st.one_of(st.none(), st.lists(st.floats(min_value=-300, max_value=300), min_size=6, max_size=6))
+
+
+def wrapped_degrees(radians: list[float]) -> list[float]:
+    return [wrap180(math.degrees(v)) for v in radians]
+
+
 @settings(max_examples=500, deadline=None)
-@given(st.lists(wrapped, min_size=6, max_size=6),
-       st.one_of(st.none(), st.lists(st.floats(min_value=-300, max_value=300), min_size=6, max_size=6)))
+@given(st.lists(wrapped, min_size=6, max_size=6), currents)
 def test_the_fast_fit_is_fit_to_stops(angles: list[float], current: list[float] | None) -> None:
-    assert outcome(K._fit_wrapped, angles, current, GEOMETRY.stops) == outcome(fit_to_stops, angles, current, GEOMETRY)
+    radians = [math.radians(a) for a in angles]
+    expected = outcome(fit_to_stops, wrapped_degrees(radians), current, GEOMETRY)
+    assert outcome(K._fit_turns, radians, current, GEOMETRY.fit_bounds) == expected
+
+
+@settings(max_examples=500, deadline=None)
+@given(st.lists(st.one_of(turn, st.sampled_from([0.0, math.pi, -math.pi, math.pi / 2, 2 * math.pi])),
+                min_size=6, max_size=6), currents)
+def test_the_fast_fit_takes_any_turn_ik_fast_gives(radians: list[float], current: list[float] | None) -> None:
+    """Unwrapped angles (JT1 is a difference of two atan2, a flipped wrist adds half a turn),
+    stops met exactly (-180 wraps to 180; 180 - 360 is JT2's -180)."""
+    radians = [v + math.pi if i in (3, 5) else v for i, v in enumerate(radians)]
+    expected = outcome(fit_to_stops, wrapped_degrees(radians), current, GEOMETRY)
+    assert outcome(K._fit_turns, radians, current, GEOMETRY.fit_bounds) == expected
+
+
+joint_sets = st.tuples(*(st.one_of(st.floats(min_value=low - 20, max_value=high + 20), st.sampled_from([low, high, 0.0]))
+                         for low, high in GEOMETRY.stops))
+
+
+@settings(max_examples=1000, deadline=None)
+@given(joint_sets, st.tuples(*(st.sampled_from([-1, 1]) for _ in range(3))), st.one_of(st.none(), joint_sets),
+       st.booleans())
+def test_ik_is_ik_fast_then_wrap180_then_fit_to_stops(
+    joints: tuple[float, ...], config: tuple[int, int, int], current: tuple[float, ...] | None, stops: bool
+) -> None:
+    """The fused path (issue 25) against the general one it replaced, angle for angle
+    (singular wrists at JT5 = 0, joints at their stops and beyond, all eight configurations)."""
+    pose = K.fk(list(joints))
+    chosen = K.Config(*config)
+    hint = math.radians(current[3]) if current is not None else 0.0
+    try:
+        radians = K.ik_fast(*pose.xyz.tolist(), pose.rotation.tolist(), *chosen, hint, GEOMETRY)
+    except K.IKError as error:
+        expected: object = ("refused", str(error))
+    else:
+        expected = wrapped_degrees(list(radians))
+        if stops:
+            expected = outcome(fit_to_stops, expected, current, GEOMETRY)
+    try:
+        got: object = K.ik(pose.xyz, pose.rotation, chosen, current, enforce_stops=stops)
+    except BeyondStop as error:
+        got = ("beyond", error.joint)
+    except K.IKError as error:
+        got = ("refused", str(error))
+    assert got == expected
 
 
 @settings(max_examples=500, deadline=None)
@@ -35,3 +87,20 @@ def test_the_fast_fit_is_fit_to_stops(angles: list[float], current: list[float] 
 def test_the_fast_wrap_is_wrap180(radians: float) -> None:
     degrees = math.degrees(radians + math.pi)  # ik_fast's widest: a wrist turned half a turn on
     assert K._wrap_turn(degrees) == wrap180(degrees)
+
+
+def test_a_tie_between_two_equivalents_goes_to_the_lower_as_fit_to_stops_does() -> None:
+    """JT4 and JT6 (stops +-266) at -100 or 100 degrees have a second equivalent inside; a
+    current angle exactly half way between the two is a tie, which fit_to_stops breaks low."""
+    for joint in (3, 5):
+        for degrees in (-100.0, 100.0):
+            radians = [0.0, -math.pi / 2, math.pi / 2, 0.0, 0.5, 0.0]
+            radians[joint] = math.radians(degrees)
+            angle = wrap180(math.degrees(radians[joint]))
+            other = angle + 360.0 if angle < 0 else angle - 360.0
+            current = [0.0, -90.0, 90.0, 0.0, 28.6, 0.0]
+            current[joint] = (angle + other) / 2
+            assert abs(angle - current[joint]) == abs(other - current[joint])      # a true tie
+            fitted = K._fit_turns(radians, current, GEOMETRY.fit_bounds)
+            assert fitted == fit_to_stops(wrapped_degrees(radians), current, GEOMETRY)
+            assert fitted[joint] == min(angle, other)

@@ -255,7 +255,7 @@ def test_import_into_a_setup_another_session_saved_meanwhile_is_refused(
         root: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]) -> None:
     import trimesh
 
-    import valterm.commands.cad as cad
+    import valterm.core.cad.convert as cad  # `valterm import` loads it when run (issue 25: start)
     from valterm.cli import main as cli
 
     part = tmp_path / "part.stl"

@@ -34,3 +34,57 @@ def test_each_loads_when_first_used() -> None:
             "cad.read_iges\n"
             "Session(tempfile.mkdtemp()).interpreter")
     assert {"valterm.core.cad.iges", "valterm.core.val.interpreter"} <= set(_loaded(code))
+
+
+# what MAIN MENU does not show loads when its key is pressed (issue 25: the start)
+NOT_AT_MAIN_MENU = ("valterm.ui.screens.editor", "valterm.ui.screens.valmode", "valterm.ui.screens.keyboard",
+                    "valterm.ui.screens.manipulation", "valterm.ui.screens.pendant", "valterm.ui.screens.help",
+                    "valterm.ui.screens.start", "valterm.ui.hardcopy", "valterm.core.cad.export",
+                    "valterm.core.cad.convert", "valterm.core.editor", "valterm.core.val.compiler",
+                    "concurrent.futures.process", *HEAVY)
+
+MAIN_MENU_PROBE = """
+import asyncio, json, sys, tempfile
+import valterm.cli
+from valterm.ui.app import ValtermApp
+
+async def main():
+    app = ValtermApp(tempfile.mkdtemp(), "PROCESS")
+    async with app.run_test(size=(160, 50)) as pilot:
+        await pilot.pause()
+        shown = type(app.screen).__name__
+        loaded = sorted(m for m in {names!r} if m in sys.modules)
+        parts = len(app.session.simulator.cell.objects)
+        await pilot.press("v")
+        await pilot.pause()
+        print(json.dumps([shown, loaded, parts, type(app.screen).__name__, "valterm.ui.screens.valmode" in sys.modules]))
+
+asyncio.run(main())
+"""
+
+
+def test_main_menu_shows_without_the_modes_screens_and_each_loads_on_its_key() -> None:
+    probe = MAIN_MENU_PROBE.format(names=NOT_AT_MAIN_MENU)
+    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True)
+    shown, loaded, parts, after_v, valmode_loaded = json.loads(out.stdout.strip().splitlines()[-1])
+    assert (shown, loaded, parts) == ("MainMenuScreen", [], 14)
+    assert (after_v, valmode_loaded) == ("ValModeScreen", True)
+
+
+def test_the_keymap_file_still_checks_every_screens_ids(tmp_path, monkeypatch) -> None:  # type: ignore[no-untyped-def]
+    """The binding ids come from every screen: with a keymap file they are all loaded then."""
+    from valterm.core.errors import ValtermError
+    from valterm.core.files.keymapfile import KEYMAP_ENV
+    from valterm.ui.bindings import load_user_keymap
+
+    keymap = tmp_path / "keymap.toml"
+    monkeypatch.setenv(KEYMAP_ENV, str(keymap))
+    keymap.write_text('"editor.create" = "f12"\n', encoding="utf-8")  # an id of a screen MAIN MENU does not load
+    assert load_user_keymap() == {"editor.create": "f12"}
+    keymap.write_text('"editor.no_such_key" = "f12"\n', encoding="utf-8")
+    try:
+        load_user_keymap()
+    except ValtermError as error:
+        assert "no binding id" in str(error)
+    else:
+        raise AssertionError("an unknown binding id was accepted")

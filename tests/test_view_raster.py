@@ -260,3 +260,17 @@ def test_each_point_projected_once_lights_the_dots_of_the_world_segments() -> No
             assert np.array_equal(frame.chars[codes != 0] - 0x2800, codes[codes != 0])
             assert len(np.unique(cells)) > 100
     assert _dot_tables(80, 24)[0].shape == (8 * 80 * 24,)
+
+
+def test_frame_text_and_lines_are_its_rows() -> None:
+    """``text`` decodes the whole grid at once (issue 25): the same rows ``row_text`` gives."""
+    from valterm.core.render.raster import Frame
+
+    scene = Scene.build([(Polyhedron.box([-300, -200, -100], [250, 300, 400]), 3)])
+    frame = rasterize(scene, ViewTransform().rotate_by("y", 25), 37, 11, axes=True)
+    rows = [frame.row_text(y) for y in range(frame.height)]
+    assert any(ch not in " " for row in rows for ch in row)
+    assert frame.lines() == rows and frame.text() == "\n".join(rows)
+    for h, w in ((0, 4), (3, 0)):
+        empty = Frame(np.full((h, w), 0x20, dtype=np.uint32), np.zeros((h, w), dtype=np.uint8))
+        assert (empty.lines(), empty.text()) == ([""] * h, "\n" * max(h - 1, 0))

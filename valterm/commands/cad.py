@@ -20,7 +20,6 @@ import sys
 from pathlib import Path
 
 from valterm.commands import FAILURE, USAGE, fail
-from valterm.core.cad.convert import add_parts, import_cad, summary
 from valterm.core.cad.errors import CadImportError
 from valterm.core.errors import ValtermError
 from valterm.core.files.errors import error_message
@@ -69,6 +68,7 @@ def _progress(text: str) -> None:
 
 
 def run_import(args: argparse.Namespace) -> int:
+    from valterm.core.cad.convert import add_parts, import_cad, summary  # not at every start (issue 25)
     from valterm.core.files.setup import write_setup
     from valterm.core.workspace import Workspace
 

@@ -23,7 +23,6 @@ import json
 import os
 import sys
 import time
-from concurrent.futures import ProcessPoolExecutor
 from functools import partial
 from pathlib import Path
 from typing import Any
@@ -91,6 +90,8 @@ def run(args: argparse.Namespace) -> int:
 
 def _grade_all(task: Any, found: list[Path], limits: Any, jobs: int) -> list[Any]:
     """Every submission's verdict, in the order given; in parallel processes when there are several."""
+    from concurrent.futures import ProcessPoolExecutor  # here: multiprocessing is no part of a start
+
     from valterm.core.grading import grade
 
     one = partial(grade, task, limits=limits)

@@ -34,6 +34,8 @@ WRIST_EPS = 1e-9
 # Within these of a boundary an indicator is tied and reads positive (SPEC §2, READY).
 TIE = 1e-9
 TIE_MM = 1e-6
+# ik's stop fit: fit_to_stops' tolerance on the whole-turn count (1e-12 turn), in degrees
+_FIT_TOL = 3.6e-10
 
 
 @dataclass(frozen=True)
@@ -51,9 +53,16 @@ class RobotGeometry:
     model_geometry: str = "PUMA.SET"
     name: str = "PUMA 600"  # as the robot file names it (STATUS, --json)
     stops_array: np.ndarray = field(init=False, repr=False, compare=False)
+    # ik's stop fit per joint (``_fit_turns``), made once: low - tol, high + tol, low, high,
+    # and whether angle - 360 / angle + 360 can fall inside at all (stops beyond -180 / 180)
+    fit_bounds: tuple[tuple[float, float, float, float, bool, bool], ...] = field(
+        init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "stops_array", np.array(self.stops, dtype=float))
+        object.__setattr__(self, "fit_bounds", tuple(
+            (low - _FIT_TOL, high + _FIT_TOL, low, high, low - _FIT_TOL <= -180.0, high + _FIT_TOL > 180.0)
+            for low, high in self.stops))
 
     def point_offset(self, point: int) -> float:
         """Distance beyond the wrist centre along a of position option 1, 2 or 3 (§3.4)."""
@@ -612,10 +621,10 @@ def ik_fast(
     ``j4_hint`` (radians) is JT4 to keep when the wrist is singular (JT5 = 0).
     """
     geometry = geometry or robot_geometry()
-    r = rotation
-    ax, ay, az = r[0][2], r[1][2], r[2][2]
+    # the rows once as plain names: indexing nested sequences costs more than the arithmetic
+    (r00, r01, r02), (r10, r11, r12), (r20, r21, r22) = rotation
     d6 = geometry.d6
-    wx, wy, wz = x - d6 * ax, y - d6 * ay, z - d6 * az
+    wx, wy, wz = x - d6 * r02, y - d6 * r12, z - d6 * r22
     d2 = geometry.d2
     planar2 = wx * wx + wy * wy - d2 * d2
     if planar2 < -1e-9:
@@ -635,18 +644,17 @@ def ik_fast(
     delta = 0.5 * math.pi - j3  # forearm relative to upper arm (e3 - e2)
     e2 = math.atan2(wz, big_x) - math.atan2(d4 * math.sin(delta), a2 + d4 * math.cos(delta))
     j2 = -e2
-    # M = (Rz1 Ry23)^T R ; rows of R03^T are the columns of R03
+    # M = (Rz1 Ry23)^T R ; rows of R03^T are the columns of R03:
+    # col0 = (c1 c23, s1 c23, -s23), col1 = (-s1, c1, 0), col2 = (c1 s23, s1 s23, c23);
+    # m_ij = col_i . (column j of R), summed in that order (the 0 term kept: it can turn -0 to 0)
     c1, s1 = math.cos(j1), math.sin(j1)
     c23, s23 = math.cos(j2 + j3), math.sin(j2 + j3)
-    col0 = (c1 * c23, s1 * c23, -s23)
-    col1 = (-s1, c1, 0.0)
-    col2 = (c1 * s23, s1 * s23, c23)
-
-    def m(i: tuple[float, float, float], j: int) -> float:
-        return i[0] * r[0][j] + i[1] * r[1][j] + i[2] * r[2][j]
-
-    m02, m12, m22 = m(col0, 2), m(col1, 2), m(col2, 2)
-    m20, m21 = m(col2, 0), m(col2, 1)
+    c1c23, s1c23, c1s23, s1s23 = c1 * c23, s1 * c23, c1 * s23, s1 * s23
+    m02 = c1c23 * r02 + s1c23 * r12 + -s23 * r22
+    m12 = -s1 * r02 + c1 * r12 + 0.0 * r22
+    m22 = c1s23 * r02 + s1s23 * r12 + c23 * r22
+    m20 = c1s23 * r00 + s1s23 * r10 + c23 * r20
+    m21 = c1s23 * r01 + s1s23 * r11 + c23 * r21
     sin5 = math.hypot(m02, m12)
     if sin5 > WRIST_EPS:
         j4 = math.atan2(m12, m02)
@@ -656,8 +664,10 @@ def ik_fast(
         # singular wrist: JT5 = 0 (or 180); keep JT4, JT6 takes the rest of the turn
         j4 = j4_hint
         j5 = 0.0 if m22 > 0 else math.pi
-        m00, m10 = m(col0, 0), m(col1, 0)
-        m01, m11 = m(col0, 1), m(col1, 1)
+        m00 = c1c23 * r00 + s1c23 * r10 + -s23 * r20
+        m10 = -s1 * r00 + c1 * r10 + 0.0 * r20
+        m01 = c1c23 * r01 + s1c23 * r11 + -s23 * r21
+        m11 = -s1 * r01 + c1 * r11 + 0.0 * r21
         # N = Rz(-j4) M = Ry5 Rz6 ; Ry(0 or pi) leaves row 1 as (sin6, cos6, 0)
         c4, s4 = math.cos(j4), math.sin(j4)
         n10 = -s4 * m00 + c4 * m10
@@ -695,10 +705,9 @@ def ik(
     if not math.isfinite(x + y + z + sum(rot[0]) + sum(rot[1]) + sum(rot[2])):
         raise OutOfReach("not a location: a coordinate is not a finite number")
     radians = ik_fast(x, y, z, rot, config.arm, config.elbow, config.wrist, hint, geometry)
-    degrees = [_wrap_turn(math.degrees(v)) for v in radians]
     if not enforce_stops:
-        return degrees
-    return _fit_wrapped(degrees, current, geometry.stops)
+        return [_wrap_turn(math.degrees(v)) for v in radians]
+    return _fit_turns(radians, current, geometry.fit_bounds)
 
 
 def _wrap_turn(angle: float) -> float:
@@ -711,19 +720,37 @@ def _wrap_turn(angle: float) -> float:
     return angle if -180.0 < angle <= 180.0 else wrap180(angle)
 
 
-def _fit_wrapped(degrees: list[float], current: Sequence[float] | None,
-                 stops: Sequence[tuple[float, float]]) -> list[float]:
-    """``fit_to_stops`` for angles already wrapped to (-180, 180]: three candidates a joint
-    with plain floats (``equivalent_inside``; the same result, a few times faster)."""
+_DEGREES = 180.0 / math.pi   # math.degrees(v) is exactly v * this
+
+
+def _fit_turns(radians: Sequence[float], current: Sequence[float] | None,
+               bounds: Sequence[tuple[float, float, float, float, bool, bool]]) -> list[float]:
+    """``fit_to_stops`` of ``ik_fast``'s angles wrapped to (-180, 180] (``_wrap_turn``), in
+    one pass with no call per joint (ik's hot path, issue 25): of the angle and its +-360
+    equivalents, the one inside the stops nearest the current angle, ties to the lower
+    (``equivalent_inside`` written out), clamped; BeyondStop when none is inside.
+    ``bounds`` is ``RobotGeometry.fit_bounds``."""
     fitted = []
-    for index, angle in enumerate(degrees):
-        low, high = stops[index]
-        near = angle if current is None else current[index]
-        # 3.6e-10: fit_to_stops' tolerance on the whole-turn count, in degrees
-        best = equivalent_inside(angle, low, high, near, 3.6e-10)
+    for joint, (turn, (lo, hi, low, high, below_may, above_may)) in enumerate(zip(radians, bounds), start=1):
+        angle = turn * _DEGREES
+        if angle > 180.0:
+            angle -= 360.0
+        elif angle <= -180.0:
+            angle += 360.0
+        if not -180.0 < angle <= 180.0:
+            angle = wrap180(angle)
+        near = angle if current is None else current[joint - 1]
+        best = None
+        # angle - 360 <= -180 and angle + 360 > 180: each is tried only where the stops reach
+        if below_may and lo <= (below := angle - 360.0) <= hi:
+            best = below
+        if lo <= angle <= hi and (best is None or abs(angle - near) < abs(best - near)):
+            best = angle
+        if above_may and lo <= (above := angle + 360.0) <= hi and (best is None or abs(above - near) < abs(best - near)):
+            best = above
         if best is None:
-            raise BeyondStop(index + 1, angle, (low, high))
-        fitted.append(best)
+            raise BeyondStop(joint, angle, (low, high))
+        fitted.append(low if best < low else high if best > high else best)
     return fitted
 
 

@@ -36,7 +36,6 @@ from valterm.ui.messages import SceneChanged
 from valterm.ui.playback import Audience, Player
 from valterm.ui.screens.guard import Guarded
 from valterm.ui.screens.main_menu import MainMenuScreen
-from valterm.ui.screens.start import StartScreen
 from valterm.ui.view.keys import ViewActions
 
 if TYPE_CHECKING:
@@ -171,11 +170,11 @@ class ValtermApp(Guarded, ViewActions, App[int]):
             try:
                 self.open_session(self.initial_setup)
             except ValtermError as error:
-                self.push_screen(StartScreen(message=error_text(error)))
+                self.push_screen(_start_screen(message=error_text(error)))
                 return
             self.push_screen(MainMenuScreen())
             return
-        self.push_screen(StartScreen())
+        self.push_screen(_start_screen())
 
     def on_unmount(self) -> None:
         self.player.close()  # a running program ends (and keeps its variables) before the exit
@@ -186,7 +185,7 @@ class ValtermApp(Guarded, ViewActions, App[int]):
 
     def show_start(self) -> None:
         """B (BEGIN) at MAIN MENU: the start screen in its place."""
-        self.switch_screen(StartScreen())
+        self.switch_screen(_start_screen())
 
     def open_session(self, setup: str | None) -> Session:
         """A fresh session on ``setup`` (raises the core's errors for the caller to show)."""
@@ -277,6 +276,14 @@ class ValtermApp(Guarded, ViewActions, App[int]):
     def skip_motion(self) -> None:
         """Show the end of what is playing now (tests; an impatient user)."""
         self.player.skip_to_end()
+
+
+def _start_screen(message: str = "") -> Any:
+    """The start screen, its module loaded when it is first shown (``--setup`` goes straight
+    to MAIN MENU without it: issue 25)."""
+    from valterm.ui.screens.start import StartScreen
+
+    return StartScreen(message=message)
 
 
 class Relay:

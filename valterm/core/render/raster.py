@@ -365,10 +365,18 @@ class Frame:
         return str(self.chars[y].astype("<u4").tobytes().decode("utf-32-le"))
 
     def lines(self) -> list[str]:
-        return [self.row_text(y) for y in range(self.height)]
+        return self.text().split("\n") if self.height else []
 
     def text(self) -> str:
-        return "\n".join(self.lines())
+        """The rows joined by newlines: one decode of the whole grid with a newline column
+        (not a decode and a join per row)."""
+        h, w = self.chars.shape
+        if h == 0:
+            return ""
+        grid = np.empty((h, w + 1), dtype="<u4")
+        grid[:, :w] = self.chars
+        grid[:, w] = ord("\n")
+        return str(grid.tobytes()[:-4].decode("utf-32-le"))
 
     def changed_spans(self, previous: "Frame | None") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Rows that differ from ``previous`` and, per row, the changed span [x0, x1)."""
@@ -391,10 +399,12 @@ def empty_frame(width: int, height: int) -> Frame:
 
 
 # -- ASCII fallback ----------------------------------------------------------------------
+@lru_cache(maxsize=1)
 def _ascii_table() -> np.ndarray:
     """Braille pattern (0..255) -> the ASCII character closest to its dots' direction.
 
-    Built once (256 patterns): the principal axis of the lit dots picks - / | \\, a blob
+    Built once, when ASCII is first drawn (256 patterns; not at import: the app's start
+    draws braille): the principal axis of the lit dots picks - / | \\, a blob
     gives + or #, a lone dot ' or .
     """
     table = np.full(256, ord(" "), dtype=np.uint32)
@@ -421,9 +431,6 @@ def _ascii_table() -> np.ndarray:
                 ch = "\\" if angle > 0 else "/"
         table[code] = ord(ch)
     return table
-
-
-ASCII_TABLE = _ascii_table()
 
 
 # -- rasterizing -------------------------------------------------------------------------
@@ -513,18 +520,22 @@ def _dot_samples(pts: np.ndarray, prio: np.ndarray, w: int, h: int) -> tuple[np.
     total = int(n.sum())
     if not total:
         return empty, empty.astype(np.uint8), empty
-    starts = np.cumsum(n) - n
-    t = (np.arange(total) - np.repeat(starts, n)) / np.repeat(np.maximum(n - 1, 1), n)
-    # x + iy: one repeat and one product for both coordinates (a real t times a complex d
-    # gives exactly t * dx and t * dy)
-    xy = np.repeat(a[:, 0] + 1j * a[:, 1], n) + t * np.repeat(d[:, 0] + 1j * d[:, 1], n)
-    x, y = xy.real.astype(np.intp), xy.imag.astype(np.intp)
+    # each segment's first sample, t's divisor, start and direction: six rows repeated to
+    # their samples in one call (contiguous rows: no complex or strided passes per sample)
+    per = np.empty((6, len(n)))
+    per[0] = np.cumsum(n) - n
+    per[1] = np.maximum(n - 1, 1)
+    per[2:4] = a.T
+    per[4:6] = d.T
+    each = np.repeat(per, n, axis=1)
+    t = (np.arange(total, dtype=float) - each[0]) / each[1]    # whole numbers: exact as floats
+    x = (each[2] + t * each[4]).astype(np.intp)
+    y = (each[3] + t * each[5]).astype(np.intp)
     if clipped:      # inside, samples lie between two in-range ends: no clamping needed
         np.clip(x, 0, wd - 1, out=x)
         np.clip(y, 0, hd - 1, out=y)
-    dot = y * wd + x
-    cell_of, lit_of = _dot_tables(w, h)
-    return cell_of.take(dot), lit_of.take(dot), np.repeat(p, n)
+    lit = _dot_tables(w, h)[1].take(y * wd + x)
+    return lit >> 3, lit, np.repeat(p, n)    # a dot's bit index is its cell * 8 + its bit
 
 
 # the number of the bit (0..7) of dot (row, col) at 2 * row + col
@@ -583,7 +594,7 @@ def _background(scene: Scene, view: ViewTransform, w: int, h: int, back_faces: b
 
 def _chars(codes: np.ndarray, ascii: bool) -> np.ndarray:
     """Character per braille pattern: the U+2800 block (blank for none), or the ASCII stand-in."""
-    chars: np.ndarray = (ASCII_TABLE if ascii else _BRAILLE_TABLE).take(codes)
+    chars: np.ndarray = (_ascii_table() if ascii else _BRAILLE_TABLE).take(codes)
     return chars
 
 

@@ -22,8 +22,6 @@ from valterm.core.monitor import listing_lines
 from valterm.ui import keymap
 from valterm.ui.errors import problem_text
 from valterm.ui.messages import SceneChanged
-from valterm.ui.screens.editor import EditorScreen
-from valterm.ui.screens.help import HelpScreen
 from valterm.ui.screens.keyed import KeyedScreen, action_name
 from valterm.ui.screens.points import define_point
 from valterm.ui.view.model_view import ModelView
@@ -183,6 +181,8 @@ class MenuScreen(KeyedScreen[None]):
 
     def take_event(self, event: Event) -> bool:
         if isinstance(event, Help):
+            from valterm.ui.screens.help import HelpScreen  # on first use (issue 25: start)
+
             self.app.push_screen(HelpScreen(event.topic))
             return True
         if isinstance(event, Monitor):
@@ -202,6 +202,8 @@ class MenuScreen(KeyedScreen[None]):
             elif (lines := listing_lines(session, command, argument)) is not None:
                 self.show_lines(lines)
             elif command == "EDIT":
+                from valterm.ui.screens.editor import EditorScreen  # on first use (issue 25: start)
+
                 self.app.push_screen(EditorScreen(session.workspace, argument))
             elif command == "POINT" and "," in argument:
                 name = define_point(session, argument)
@@ -260,6 +262,8 @@ class MenuScreen(KeyedScreen[None]):
         self.app.run_events(_confirm_here(self.app.simulator, text, events_), self)
 
     def action_help(self) -> None:
+        from valterm.ui.screens.help import HelpScreen  # on first use (issue 25: start)
+
         title = self.SCREEN_NAME or (self.MENU.splitlines()[0] if self.MENU else "")
         self.app.push_screen(HelpScreen(screen=title, keys=keymap.legend(self)))
 

@@ -6,17 +6,13 @@ from pathlib import Path
 
 from textual.binding import Binding
 
-from valterm.core.cad.export import export_scene
 from valterm.core.errors import ValtermError
 from valterm.ui.errors import problem_text
-from valterm.ui.hardcopy import write_hardcopy
 from valterm.ui.screens.base import MenuScreen
-from valterm.ui.screens.editor import EditorScreen
-from valterm.ui.screens.keyboard import KeyboardScreen
-from valterm.ui.screens.manipulation import ManipulationScreen
-from valterm.ui.screens.pendant import PendantScreen
-from valterm.ui.screens.valmode import ValModeScreen
 from valterm.ui.widgets.menus import MAIN_MENU
+
+# The modes' screens, HARDCOPY and GENERATE load when their key is pressed: the app shows
+# MAIN MENU without them (issue 25, tests/test_start_imports.py).
 
 
 class MainMenuScreen(MenuScreen):
@@ -61,18 +57,28 @@ class MainMenuScreen(MenuScreen):
 
     # -- to the modes ---------------------------------------------------------------
     def action_keyboard(self) -> None:
+        from valterm.ui.screens.keyboard import KeyboardScreen
+
         self.app.push_screen(KeyboardScreen())
 
     def action_manipulation(self) -> None:
+        from valterm.ui.screens.manipulation import ManipulationScreen
+
         self.app.push_screen(ManipulationScreen())
 
     def action_pendant(self) -> None:
+        from valterm.ui.screens.pendant import PendantScreen
+
         self.app.push_screen(PendantScreen())
 
     def action_editor(self) -> None:
+        from valterm.ui.screens.editor import EditorScreen
+
         self.app.push_screen(EditorScreen())
 
     def action_valmode(self) -> None:
+        from valterm.ui.screens.valmode import ValModeScreen
+
         self.app.push_screen(ValModeScreen())
 
 
@@ -108,6 +114,8 @@ class MainMenuScreen(MenuScreen):
         self.ask_key(f"{unsaved} ARE YOU SURE YOU WANT TO EXIT (Y/N) ?:".strip(), answer)
 
     def action_hardcopy(self) -> None:
+        from valterm.ui.hardcopy import write_hardcopy
+
         try:
             svg, txt = write_hardcopy(self.app)
         except Exception as error:
@@ -136,6 +144,8 @@ class MainMenuScreen(MenuScreen):
         self.say("POLYGON FILES KEPT")
 
     def _generate(self, paths: list[Path]) -> None:
+        from valterm.core.cad.export import export_scene
+
         session = self.app.active_session
         written = []
         try:
