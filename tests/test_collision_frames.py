@@ -337,3 +337,44 @@ def test_the_sweep_bound_holds_the_path_of_every_vertex():
         assert np.all(most <= bound + 1e-6), (q0, q1, most - bound)
         ratios += list(bound[most > 1.0] / most[most > 1.0])
     assert np.median(ratios) < 3.0, np.median(ratios)
+
+
+def test_the_arm_passing_through_itself_between_two_poses_is_reported():
+    """A 44-degree JT3 step whose two poses are both clear of the base, the clamp and fingers
+    passing through it between them: the swept check reports the arm against itself, as the
+    pose check does (link x link pairs are swept too)."""
+    sim = Simulator(WorkCell())
+    start = [115.7, 37.7, 155.0, 166.5, -84.3, -246.6]
+    end = [115.7, 37.7, 198.7, 166.5, -84.3, -246.6]
+    world = CollisionWorld(sim.model.names)
+    for pose in (start, end):
+        sim.joints = list(pose)
+        assert not [f for f in _old(sim, world, (), 100.0) if f.kind == "collides"], pose
+    sim.joints = [start[0], start[1], (start[2] + end[2]) / 2, *start[3:]]
+    assert ("FINGER", "BASE") in {(f.a, f.b) for f in _old(sim, world, (), 100.0) if f.kind == "collides"}
+    sim.joints = list(start)
+    sim.collision_checks = True
+    list(sim.check_collisions())                 # the start pose, as the motion before left it
+    sim.joints = list(end)
+    found = [e.text for e in sim.check_collisions(start) if isinstance(e, Collision)]
+    assert {"FINGER COLLIDES WITH BASE", "CLAMP COLLIDES WITH BASE"} <= set(found), found
+
+
+def test_a_step_that_bends_no_joint_between_two_links_costs_them_no_moments():
+    """JT1 alone turns the arm about the base: the fingers move far past the upper arm's
+    width, yet relative to the upper arm and forearm they do not move, so no link x link
+    pair of theirs is checked between the poses (counted, not timed)."""
+    sim = Simulator(WorkCell())
+    sim.joints = list(ARM_OUT)
+    moments, rows = _swept(sim, 30.0)
+    pairs = sim._collision_scene().world.pairs(0)
+    at_risk = {(pairs.a[i], pairs.b[i]) for i in np.flatnonzero(rows.any(axis=0)).tolist()} if rows.size else set()
+    assert not {p for p in at_risk if p[1] in ("UPPER ARM", "FOREARM")}, at_risk
+    # the JT3 step above does put the fingers against the base at risk
+    sim.joints = [115.7, 37.7, 155.0, 166.5, -84.3, -246.6]
+    scene = sim._collision_scene()
+    after = sim.model.link_frames([115.7, 37.7, 198.7, 166.5, -84.3, -246.6], sim.base)
+    scene.check(after, sim.cell.objects)
+    moments, rows = scene.swept(after, [0, 0, np.radians(43.7), 0, 0, 0], sim.cell.objects)
+    assert len(moments) >= 1
+    assert ("FINGER", "BASE") in {(pairs.a[i], pairs.b[i]) for i in np.flatnonzero(rows.any(axis=0)).tolist()}

@@ -84,6 +84,8 @@ class RobotScene:
         # the pose ``swept`` last saw: (pose, parts, carried, box gaps of every pair, or the boxes)
         self._ends: tuple[object, object, object, np.ndarray | None, np.ndarray, np.ndarray] | None = None
         self._planes_due: tuple[np.ndarray, np.ndarray] | None = None   # frames whose planes are not set yet
+        self._link_widths = np.zeros(0)
+        self._linked: tuple[_Pairs, tuple[np.ndarray, np.ndarray, np.ndarray]] | None = None   # _link_pairs'
 
     # -- what is built once ----------------------------------------------------------------
     def set_shapes(self, local: Sequence[np.ndarray]) -> None:
@@ -101,6 +103,8 @@ class RobotScene:
         self._local_centres = np.column_stack([own.centres, np.ones(len(local))])
         self._centre_pick = _pick(self.owners, self._n_frames)
         self._local_radii = own.radii
+        self._link_widths = np.array([thickness(np.asarray(v, dtype=float), len(v) // 2) for v in local])
+        self._linked = None
         if self.checker == "exact":
             from valterm.core.collision.exact import FrameExact   # fcl only when asked for
             self._exact = FrameExact()
@@ -305,7 +309,9 @@ class RobotScene:
         the most both can move, they can meet only from ``g0 / b`` to ``1 - g1 / b`` of the
         step, and never when ``g0 + g1 > b``. Those pairs are checked at moments no farther
         apart than the thinnest part among them (for collisions: "near" is said at the poses,
-        as in 1985; link x link pairs are not swept, no link being a thin part). ``since`` and
+        as in 1985). Link x link pairs (the arm against itself) likewise, their boxes closing
+        by at most both bounds, at moments no farther apart than the proximal link's width
+        measured against the distal link's travel relative to it (``_links_at_risk``). ``since`` and
         ``now`` name the two poses (the boxes at ``since`` are those kept by the last call,
         when it was given ``now=since``; else ``g0`` is 0).
         Call after ``check`` at ``frames`` (it uses the figures placed there).
@@ -324,14 +330,53 @@ class RobotScene:
         movers = self._movers
         turns = np.abs(np.asarray(turned, dtype=float))
         bound = np.zeros(len(s.radii))
-        bound[movers] = self._sweep_bounds(frames, turns, tight=False)
+        terms = self._travel_table(frames) * turns                # (movers, joints), the fixed lengths
+        bound[movers] = terms.sum(axis=1)
         thinnest = self._thinnest(objects)
-        if float(bound.max()) <= thinnest:
+        linked = self._link_pairs(pairs)
+        if float(bound.max()) <= thinnest and float((linked[2] @ terms[: len(self._link_ks)].ravel()).max(
+                initial=0.0)) <= 1.0:
             return never                  # nothing moves as far as the thinnest part is wide
-        bound[movers] = self._sweep_bounds(frames, turns)
-        if float(bound.max()) <= thinnest:
+        terms = self._sweep_terms(frames, turns, terms)
+        bound[movers] = terms.sum(axis=1)
+        relative = linked[2] @ terms[: len(self._link_ks)].ravel()   # link x link: steps needed
+        if float(bound.max()) <= thinnest and float(relative.max(initial=0.0)) <= 1.0:
             return never
-        # the parts' pairs (rules 1 and 2): links are no thin parts, link x link is not swept
+        risk = [self._parts_at_risk(bound, objects, since, kept), self._links_at_risk(bound, relative, linked, since, kept)]
+        sel = np.concatenate([r[0] for r in risk])
+        if len(sel) == 0:
+            return never
+        b0, b1, reach, need = (np.concatenate([r[i] for r in risk]) for i in range(1, 5))
+        steps = int(math.ceil(float(need.max())))
+        if steps <= 1:
+            return never
+        moments = np.arange(1, steps) / steps
+        # each pair only where its boxes can meet: from b0 / reach to 1 - b1 / reach of the step
+        live = ((b0 - 2.0 * EPS) / reach <= moments[:, None]) & (moments[:, None] <= 1.0 - (b1 - 2.0 * EPS) / reach)
+        used = live.any(axis=1)
+        rows = np.zeros((int(used.sum()), len(pairs.moving)), dtype=bool)
+        rows[:, sel] = live[used]
+        return moments[used], rows
+
+    def _kept_gaps(self, kept: tuple[object, ...] | None, since: object, at: np.ndarray,
+                   m: np.ndarray, st: np.ndarray) -> np.ndarray:
+        """The box gaps at the step's start of the pairs at positions ``at`` (bodies ``m``, ``st``):
+        those kept by the last ``swept`` call when it named that pose, else 0."""
+        if since is None or kept is None or kept[0] != since or kept[1] is not self._parts \
+                or kept[2] != self._carried:
+            return np.zeros(len(at))
+        if kept[3] is None:                       # the boxes were kept (copies)
+            return _box_gaps(kept[4], kept[5], m, st)  # type: ignore[arg-type]
+        gaps: np.ndarray = kept[3].take(at)  # type: ignore[attr-defined]
+        return gaps
+
+    def _parts_at_risk(self, bound: np.ndarray, objects: Sequence[Polyhedron], since: object,
+                       kept: tuple[object, ...] | None) -> tuple[np.ndarray, ...]:
+        """The parts' pairs (rules 1 and 2) whose boxes can meet over the step: their positions,
+        box gaps at the start and end, how far they can close, and the moments each needs."""
+        pairs, s, movers = self._pairs_now, self._scene, self._movers
+        assert pairs is not None
+        gaps = self._gaps_now
         ruled = len(movers) * len(self._free)
         if gaps is not None:
             sel, m, st, after = self._all_pairs(ruled), pairs.moving[:ruled], pairs.stationary[:ruled], gaps[:ruled]
@@ -340,31 +385,28 @@ class RobotScene:
             sel = (np.arange(0, ruled, len(self._free))[:, None] + near).ravel()
             m, st = pairs.moving.take(sel), pairs.stationary.take(sel)
             after = _box_gaps(s.mid, s.half, m, st)
-        before = np.zeros(len(sel))
-        if since is not None and kept is not None and kept[0] == since and kept[1] is self._parts \
-                and kept[2] == self._carried:
-            if kept[3] is None:                       # the boxes were kept (copies)
-                before = _box_gaps(kept[4], kept[5], m, st)
-            elif gaps is not None:
-                before = kept[3][:ruled]
+        before = self._kept_gaps(kept, since, sel, m, st)
         moved = bound.take(m)                          # a free part does not move
         cand = np.flatnonzero(before + after <= moved + 2.0 * EPS)
-        if len(cand) == 0:
-            return never
         moved = moved.take(cand)
-        reach = moved + 2.0 * EPS
-        b0, b1 = before.take(cand), after.take(cand)
         widths = np.maximum(self._widths(objects, st.take(cand)), 1.0)
-        steps = int(math.ceil(float((moved / widths).max())))
-        if steps <= 1:
-            return never
-        moments = np.arange(1, steps) / steps
-        # each pair only where its boxes can meet: from b0 / reach to 1 - b1 / reach of the step
-        live = ((b0 - 2.0 * EPS) / reach <= moments[:, None]) & (moments[:, None] <= 1.0 - (b1 - 2.0 * EPS) / reach)
-        used = live.any(axis=1)
-        rows = np.zeros((int(used.sum()), len(pairs.moving)), dtype=bool)
-        rows[:, sel.take(cand)] = live[used]
-        return moments[used], rows
+        return sel.take(cand), before.take(cand), after.take(cand), moved + 2.0 * EPS, moved / widths
+
+    def _links_at_risk(self, bound: np.ndarray, relative: np.ndarray,
+                       linked: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray],
+                       since: object, kept: tuple[object, ...] | None) -> tuple[np.ndarray, ...]:
+        """Link x link pairs (rule 3) whose boxes can meet over the step: both boxes move, so they
+        close by at most the sum of the two bounds; the moments a pair needs are the distal
+        link's travel relative to the proximal one (only the joints between them turn it) over
+        the proximal link's width (the stationary part of the pair, as in rules 1 and 2)."""
+        s = self._scene
+        at, i, j = linked[0], linked[1][:, 0], linked[1][:, 1]
+        gaps = self._gaps_now
+        after = gaps.take(at) if gaps is not None else _box_gaps(s.mid, s.half, i, j)
+        before = self._kept_gaps(kept, since, at, i, j)
+        closing = bound.take(i) + bound.take(j)
+        cand = np.flatnonzero((before + after <= closing + 2.0 * EPS) & (relative > 1.0))
+        return at.take(cand), before.take(cand), after.take(cand), closing.take(cand) + 2.0 * EPS, relative.take(cand)
 
     def _all_pairs(self, count: int) -> np.ndarray:
         """0 .. count - 1, kept."""
@@ -378,10 +420,14 @@ class RobotScene:
         ``tight``: the distances from the joints' axes taken from where the bodies are now,
         grown by how far the later joints can carry them over the step (a few more numpy
         calls; without it the fixed lengths of ``_travel_table``)."""
-        fixed = self._travel_table(frames)
-        if not tight:
-            loose: np.ndarray = fixed @ turned
-            return loose
+        far = self._travel_table(frames) * turned
+        travel: np.ndarray = (self._sweep_terms(frames, turned, far) if tight else far).sum(axis=1)
+        return travel
+
+    def _sweep_terms(self, frames: np.ndarray, turned: np.ndarray, far: np.ndarray) -> np.ndarray:
+        """(movers, joints): how far each joint's turn can carry each moving body over the step,
+        from its distance from the joint's axis now, grown by what the later joints can add
+        (``far``: the same from the fixed lengths, ``_travel_table`` times the turns)."""
         s, movers = self._scene, self._movers
         d = s.centres.take(movers, axis=0)[:, None, :] - frames[None, 1: self._n_frames, :3, 3]
         # the distance from each joint's axis (a point turns on a circle about it, not about
@@ -390,10 +436,27 @@ class RobotScene:
         along = np.einsum("mjk,jk->mj", d, axes)
         square = np.maximum(np.einsum("mjk,mjk->mj", d, d) - along * along, 0.0)
         now = np.sqrt(square) + s.radii.take(movers)[:, None]                             # (movers, joints)
-        far = fixed * turned
         later = far @ _LATER                           # what the joints after j add
-        travel: np.ndarray = (np.minimum(far, (now + later) * turned)).sum(axis=1)
-        return travel
+        terms: np.ndarray = np.minimum(far, (now + later) * turned)
+        return terms
+
+    def _link_pairs(self, pairs: _Pairs) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The link x link pairs (rule 3) of ``pairs``: their positions, their (distal, proximal)
+        links, and weights that turn the links' (links, joints) travel terms, flattened, into
+        each pair's steps needed: the distal link's travel from the joints after the proximal
+        link's frame (the others carry both alike) over the proximal link's width."""
+        kept = self._linked
+        if kept is not None and kept[0] is pairs:
+            return kept[1]
+        nl, joints = len(self._link_ks), self._n_frames - 1
+        at = np.flatnonzero((pairs.moving < nl) & (pairs.stationary < nl))
+        ij = np.column_stack([pairs.moving.take(at), pairs.stationary.take(at)])
+        weights = np.zeros((len(at), nl, joints))
+        for row, (i, j) in enumerate(ij.tolist()):
+            weights[row, i, int(self.owners[j]):] = 1.0 / max(float(self._link_widths[j]), 1.0)
+        found = (at, ij, weights.reshape(len(at), nl * joints))
+        self._linked = (pairs, found)
+        return found
 
     def _travel_table(self, frames: np.ndarray) -> np.ndarray:
         """(movers, joints): how far a point of each moving body can be from each joint's axis.
