@@ -85,6 +85,7 @@ class RobotScene:
         self._ends: tuple[object, object, object, np.ndarray | None, np.ndarray, np.ndarray] | None = None
         self._planes_due: tuple[np.ndarray, np.ndarray] | None = None   # frames whose planes are not set yet
         self._link_widths = np.zeros(0)
+        self._pair_widths: tuple[object, np.ndarray] | None = None    # _ruled_widths'
         self._linked: tuple[_Pairs, tuple[np.ndarray, np.ndarray, np.ndarray]] | None = None   # _link_pairs'
 
     # -- what is built once ----------------------------------------------------------------
@@ -330,26 +331,26 @@ class RobotScene:
         movers = self._movers
         turns = np.abs(np.asarray(turned, dtype=float))
         bound = np.zeros(len(s.radii))
-        terms = self._travel_table(frames) * turns                # (movers, joints), the fixed lengths
-        bound[movers] = terms.sum(axis=1)
         thinnest = self._thinnest(objects)
-        linked = self._link_pairs(pairs)
-        if float(bound.max()) <= thinnest and float((linked[2] @ terms[: len(self._link_ks)].ravel()).max(
-                initial=0.0)) <= 1.0:
-            return never                  # nothing moves as far as the thinnest part is wide
-        terms = self._sweep_terms(frames, turns, terms)
-        bound[movers] = terms.sum(axis=1)
-        relative = linked[2] @ terms[: len(self._link_ks)].ravel()   # link x link: steps needed
-        if float(bound.max()) <= thinnest and float(relative.max(initial=0.0)) <= 1.0:
-            return never
-        risk = [self._parts_at_risk(bound, objects, since, kept), self._links_at_risk(bound, relative, linked, since, kept)]
+        linked, nl = self._link_pairs(pairs), len(self._link_ks)
+        terms = self._travel_table(frames) * turns                # (movers, joints), the fixed lengths
+        # the fixed lengths first (one product): most steps are cleared by them, the bound
+        # from where the bodies are now (a dozen numpy calls) only when they do not
+        for tight in (False, True):
+            if tight:
+                terms = self._sweep_terms(frames, turns, terms)
+            bound[movers] = terms.sum(axis=1)
+            relative = linked[2] @ terms[:nl].ravel()           # link x link: the steps each needs
+            if float(bound.max()) <= thinnest and float(relative.max(initial=0.0)) <= 1.0:
+                return never              # nothing moves as far as the thinnest part is wide
+            risk = [self._parts_at_risk(bound, objects, since, kept),
+                    self._links_at_risk(bound, relative, linked, since, kept)]
+            need = np.concatenate([r[4] for r in risk])
+            if float(need.max(initial=0.0)) <= 1.0:
+                return never              # no pair whose boxes can meet moves past a part's width
         sel = np.concatenate([r[0] for r in risk])
-        if len(sel) == 0:
-            return never
-        b0, b1, reach, need = (np.concatenate([r[i] for r in risk]) for i in range(1, 5))
+        b0, b1, reach = (np.concatenate([r[i] for r in risk]) for i in range(1, 4))
         steps = int(math.ceil(float(need.max())))
-        if steps <= 1:
-            return never
         moments = np.arange(1, steps) / steps
         # each pair only where its boxes can meet: from b0 / reach to 1 - b1 / reach of the step
         live = ((b0 - 2.0 * EPS) / reach <= moments[:, None]) & (moments[:, None] <= 1.0 - (b1 - 2.0 * EPS) / reach)
@@ -389,8 +390,19 @@ class RobotScene:
         moved = bound.take(m)                          # a free part does not move
         cand = np.flatnonzero(before + after <= moved + 2.0 * EPS)
         moved = moved.take(cand)
-        widths = np.maximum(self._widths(objects, st.take(cand)), 1.0)
+        if gaps is not None:                           # every pair: their parts' widths kept
+            widths = self._ruled_widths(objects, st).take(cand)
+        else:
+            widths = np.maximum(self._widths(objects, st.take(cand)), 1.0)
         return sel.take(cand), before.take(cand), after.take(cand), moved + 2.0 * EPS, moved / widths
+
+    def _ruled_widths(self, objects: Sequence[Polyhedron], st: np.ndarray) -> np.ndarray:
+        """The widths (at least 1 mm) of the parts of the pairs whose parts are ``st``
+        (rules 1 and 2, every pair), measured once per set of parts."""
+        kept = self._pair_widths
+        if kept is None or kept[0] is not self._parts or len(kept[1]) != len(st):
+            kept = self._pair_widths = (self._parts, np.maximum(self._widths(objects, st), 1.0))
+        return kept[1]
 
     def _links_at_risk(self, bound: np.ndarray, relative: np.ndarray,
                        linked: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray],
