@@ -405,7 +405,7 @@ class RobotScene:
         return kept[1]
 
     def _links_at_risk(self, bound: np.ndarray, relative: np.ndarray,
-                       linked: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray],
+                       linked: tuple[np.ndarray, np.ndarray, np.ndarray],
                        since: object, kept: tuple[object, ...] | None) -> tuple[np.ndarray, ...]:
         """Link x link pairs (rule 3) whose boxes can meet over the step: both boxes move, so they
         close by at most the sum of the two bounds; the moments a pair needs are the distal
