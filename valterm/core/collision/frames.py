@@ -312,7 +312,7 @@ class RobotScene:
         apart than the thinnest part among them (for collisions: "near" is said at the poses,
         as in 1985). Link x link pairs (the arm against itself) likewise, their boxes closing
         by at most both bounds, at moments no farther apart than the proximal link's width
-        measured against the distal link's travel relative to it (``_links_at_risk``). ``since`` and
+        measured against the distal link's travel relative to it (``_link_gaps``). ``since`` and
         ``now`` name the two poses (the boxes at ``since`` are those kept by the last call,
         when it was given ``now=since``; else ``g0`` is 0).
         Call after ``check`` at ``frames`` (it uses the figures placed there).
@@ -334,26 +334,43 @@ class RobotScene:
         thinnest = self._thinnest(objects)
         linked, nl = self._link_pairs(pairs), len(self._link_ks)
         terms = self._travel_table(frames) * turns                # (movers, joints), the fixed lengths
-        # the fixed lengths first (one product): most steps are cleared by them, the bound
-        # from where the bodies are now (a dozen numpy calls) only when they do not
+        parts: tuple[np.ndarray, ...] | None = None
+        links: tuple[np.ndarray, ...] | None = None
+        # the fixed lengths first (one product): many steps are cleared by them, the bound
+        # from where the bodies are now (a dozen numpy calls) only when they are not
         for tight in (False, True):
             if tight:
                 terms = self._sweep_terms(frames, turns, terms)
             bound[movers] = terms.sum(axis=1)
             relative = linked[2] @ terms[:nl].ravel()           # link x link: the steps each needs
-            if float(bound.max()) <= thinnest and float(relative.max(initial=0.0)) <= 1.0:
+            linking = float(relative.max(initial=0.0)) > 1.0
+            if float(bound.max()) <= thinnest and not linking:
                 return never              # nothing moves as far as the thinnest part is wide
-            risk = [self._parts_at_risk(bound, objects, since, kept),
-                    self._links_at_risk(bound, relative, linked, since, kept)]
-            need = np.concatenate([r[4] for r in risk])
-            if float(need.max(initial=0.0)) <= 1.0:
-                return never              # no pair whose boxes can meet moves past a part's width
-        sel = np.concatenate([r[0] for r in risk])
-        b0, b1, reach = (np.concatenate([r[i] for r in risk]) for i in range(1, 4))
+            if parts is None:             # the pairs (and their gaps) the fixed lengths can reach
+                parts = self._part_pairs(float(bound.max()), objects, since, kept)
+            if links is None and linking:
+                links = self._link_gaps(linked, since, kept)
+            # a pair whose boxes can meet and that moves past its part's width needs moments
+            moved = bound.take(parts[1])
+            risky = bool(((parts[3] <= moved) & (moved > parts[4])).any())
+            if links is not None:
+                closing = bound.take(links[1]) + bound.take(links[2])
+                risky = risky or bool(((links[3] <= closing) & (relative > 1.0)).any())
+            if not risky:
+                return never
+        assert parts is not None
+        columns = [(parts[0], parts[5], parts[3], moved, moved / parts[4])]
+        picks = [np.flatnonzero(parts[3] <= moved)]
+        if links is not None:
+            columns.append((links[0], links[5], links[3], closing, relative))
+            picks.append(np.flatnonzero((links[3] <= closing) & (relative > 1.0)))
+        sel, b0, both, reach, need = (np.concatenate([c[i].take(p) for c, p in zip(columns, picks)]) for i in range(5))
+        reach = reach + 2.0 * EPS
         steps = int(math.ceil(float(need.max())))
         moments = np.arange(1, steps) / steps
         # each pair only where its boxes can meet: from b0 / reach to 1 - b1 / reach of the step
-        live = ((b0 - 2.0 * EPS) / reach <= moments[:, None]) & (moments[:, None] <= 1.0 - (b1 - 2.0 * EPS) / reach)
+        # (``both`` is b0 + b1 less 2 EPS)
+        live = ((b0 - 2.0 * EPS) / reach <= moments[:, None]) & (moments[:, None] <= 1.0 - (both - b0) / reach)
         used = live.any(axis=1)
         rows = np.zeros((int(used.sum()), len(pairs.moving)), dtype=bool)
         rows[:, sel] = live[used]
@@ -371,30 +388,26 @@ class RobotScene:
         gaps: np.ndarray = kept[3].take(at)  # type: ignore[attr-defined]
         return gaps
 
-    def _parts_at_risk(self, bound: np.ndarray, objects: Sequence[Polyhedron], since: object,
-                       kept: tuple[object, ...] | None) -> tuple[np.ndarray, ...]:
-        """The parts' pairs (rules 1 and 2) whose boxes can meet over the step: their positions,
-        box gaps at the start and end, how far they can close, and the moments each needs."""
+    def _part_pairs(self, reach: float, objects: Sequence[Polyhedron], since: object,
+                    kept: tuple[object, ...] | None) -> tuple[np.ndarray, ...]:
+        """The parts' pairs (rules 1 and 2) a body moving ``reach`` could meet: their positions,
+        moving bodies, parts, box gaps at start plus end (less 2 EPS), the parts' widths (at
+        least 1 mm) and the gaps at the start."""
         pairs, s, movers = self._pairs_now, self._scene, self._movers
         assert pairs is not None
         gaps = self._gaps_now
         ruled = len(movers) * len(self._free)
         if gaps is not None:
             sel, m, st, after = self._all_pairs(ruled), pairs.moving[:ruled], pairs.stationary[:ruled], gaps[:ruled]
+            widths = self._ruled_widths(objects, st)
         else:
-            near = self._candidates(movers, float(bound.max()))
+            near = self._candidates(movers, reach)
             sel = (np.arange(0, ruled, len(self._free))[:, None] + near).ravel()
             m, st = pairs.moving.take(sel), pairs.stationary.take(sel)
             after = _box_gaps(s.mid, s.half, m, st)
+            widths = np.maximum(self._widths(objects, st), 1.0)
         before = self._kept_gaps(kept, since, sel, m, st)
-        moved = bound.take(m)                          # a free part does not move
-        cand = np.flatnonzero(before + after <= moved + 2.0 * EPS)
-        moved = moved.take(cand)
-        if gaps is not None:                           # every pair: their parts' widths kept
-            widths = self._ruled_widths(objects, st).take(cand)
-        else:
-            widths = np.maximum(self._widths(objects, st.take(cand)), 1.0)
-        return sel.take(cand), before.take(cand), after.take(cand), moved + 2.0 * EPS, moved / widths
+        return sel, m, st, before + after - 2.0 * EPS, widths, before
 
     def _ruled_widths(self, objects: Sequence[Polyhedron], st: np.ndarray) -> np.ndarray:
         """The widths (at least 1 mm) of the parts of the pairs whose parts are ``st``
@@ -404,21 +417,20 @@ class RobotScene:
             kept = self._pair_widths = (self._parts, np.maximum(self._widths(objects, st), 1.0))
         return kept[1]
 
-    def _links_at_risk(self, bound: np.ndarray, relative: np.ndarray,
-                       linked: tuple[np.ndarray, np.ndarray, np.ndarray],
-                       since: object, kept: tuple[object, ...] | None) -> tuple[np.ndarray, ...]:
-        """Link x link pairs (rule 3) whose boxes can meet over the step: both boxes move, so they
-        close by at most the sum of the two bounds; the moments a pair needs are the distal
-        link's travel relative to the proximal one (only the joints between them turn it) over
-        the proximal link's width (the stationary part of the pair, as in rules 1 and 2)."""
+    def _link_gaps(self, linked: tuple[np.ndarray, np.ndarray, np.ndarray], since: object,
+                   kept: tuple[object, ...] | None) -> tuple[np.ndarray, ...]:
+        """Link x link pairs (rule 3), laid out as ``_part_pairs`` lays out the parts' pairs.
+
+        Both boxes move, so they close by at most the sum of the two bounds; the moments a
+        pair needs are the distal link's travel relative to the proximal one (only the joints
+        between them turn it) over the proximal link's width (``_link_pairs``), the stationary
+        part of the pair as in rules 1 and 2."""
         s = self._scene
         at, i, j = linked[0], linked[1][:, 0], linked[1][:, 1]
         gaps = self._gaps_now
         after = gaps.take(at) if gaps is not None else _box_gaps(s.mid, s.half, i, j)
         before = self._kept_gaps(kept, since, at, i, j)
-        closing = bound.take(i) + bound.take(j)
-        cand = np.flatnonzero((before + after <= closing + 2.0 * EPS) & (relative > 1.0))
-        return at.take(cand), before.take(cand), after.take(cand), closing.take(cand) + 2.0 * EPS, relative.take(cand)
+        return at, i, j, before + after - 2.0 * EPS, np.zeros(0), before
 
     def _all_pairs(self, count: int) -> np.ndarray:
         """0 .. count - 1, kept."""
