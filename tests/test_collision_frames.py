@@ -378,3 +378,31 @@ def test_a_step_that_bends_no_joint_between_two_links_costs_them_no_moments():
     moments, rows = scene.swept(after, [0, 0, np.radians(43.7), 0, 0, 0], sim.cell.objects)
     assert len(moments) >= 1
     assert ("FINGER", "BASE") in {(pairs.a[i], pairs.b[i]) for i in np.flatnonzero(rows.any(axis=0)).tolist()}
+
+
+def test_a_far_part_costs_no_substeps_when_every_joint_turns():
+    """A MOVE turning all six joints past a thin part out of reach: no moment between poses is
+    checked (the parts' pairs nor the arm's own), counted, as with the part taken away; the
+    same motion with the part across the fingers' path checks moments and finds it."""
+    sim = Simulator(WorkCell())
+    goal = [60.0, -20.0, 110.0, 30.0, 20.0, 40.0]
+    sim.joints = list(ARM_OUT)
+    sim.cell.objects.append(Polyhedron.box(np.array([2500.0, -500, -300]), np.array([2502.0, 500, 300])))
+    sim.collision_checks = True
+    scene = sim._collision_scene()
+    calls = []
+    between = scene.collisions_between
+    scene.collisions_between = lambda *a, **k: calls.append(1) or between(*a, **k)  # type: ignore[method-assign]
+    events = list(sim.move_joints(goal))
+    assert sum(type(e).__name__ == "PoseEvent" for e in events) >= 5 and calls == []
+    assert not [e for e in events if isinstance(e, Collision)]
+    # a thin plate where the fingers pass half way through the motion's second step
+    path = [e.joints for e in events if type(e).__name__ == "PoseEvent"]
+    c = sim.model.place([(a + b) / 2 for a, b in zip(path[0], path[1])], sim.gap, sim.base)[-1].centre
+    sim.cell.objects[0] = Polyhedron.box(c - np.array([1.0, 60, 60]), c + np.array([1.0, 60, 60]))
+    sim.joints = list(ARM_OUT)
+    calls.clear()
+    sim._findings = set()
+    events = list(sim.move_joints(goal))
+    assert len(calls) > 0
+    assert any(isinstance(e, Collision) and e.b == "1" for e in events)
