@@ -80,7 +80,7 @@ class RobotScene:
         self._every: np.ndarray | None = None
         self._part_widths: tuple[object, np.ndarray] | None = None
         self._thinnest_kept: tuple[object, float] | None = None
-        self._table: tuple[object, np.ndarray, np.ndarray, np.ndarray] | None = None   # _travel_table's
+        self._table: tuple[object, np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None = None   # _travel_table's
         # the pose ``swept`` last saw: (pose, parts, carried, box gaps of every pair, or the boxes)
         self._ends: tuple[object, object, object, np.ndarray | None, np.ndarray, np.ndarray] | None = None
         self._planes_due: tuple[np.ndarray, np.ndarray] | None = None   # frames whose planes are not set yet
@@ -501,14 +501,15 @@ class RobotScene:
             last = np.maximum(owner - 1, 0)
             starts = np.concatenate([[0], np.cumsum([2 * k for k in self._link_ks])[:-1]]).astype(np.intp)
             own = np.sqrt(np.maximum.reduceat(np.einsum("ij,ij->i", self._local, self._local), starts))
-            table = self._table = (self._parts, np.where(mask, chain[last][:, None] - chain[None, :], 0.0),
-                                   mask, own)
-        _, chain_part, mask, far = table
-        if len(movers) > nl:         # carried parts: their farthest point from the clamp frame's origin
-            d = s.vertices[self._held_rows] - origins[-1]
-            held = np.sqrt(np.maximum.reduceat(np.einsum("ij,ij->i", d, d), self._held_starts))
-            far = np.concatenate([far, held])
-        reach: np.ndarray = chain_part + far[:, None] * mask
+            chain_part = np.where(mask, chain[last][:, None] - chain[None, :], 0.0)
+            table = self._table = (self._parts, chain_part, mask, own, chain_part[:nl] + own[:, None] * mask[:nl])
+        _, chain_part, mask, far, links_only = table
+        if len(movers) == nl:        # nothing carried: the same every step
+            return links_only
+        # carried parts: their farthest point from the clamp frame's origin
+        d = s.vertices[self._held_rows] - origins[-1]
+        held = np.sqrt(np.maximum.reduceat(np.einsum("ij,ij->i", d, d), self._held_starts))
+        reach: np.ndarray = chain_part + np.concatenate([far, held])[:, None] * mask
         return reach
 
     def _thinnest(self, objects: Sequence[Polyhedron]) -> float:
