@@ -86,6 +86,7 @@ class RobotScene:
         self._planes_due: tuple[np.ndarray, np.ndarray] | None = None   # frames whose planes are not set yet
         self._link_widths = np.zeros(0)
         self._pair_widths: tuple[object, np.ndarray] | None = None    # _ruled_widths'
+        self._sel_kept: tuple[_Pairs, int, np.ndarray, np.ndarray] | None = None   # _sel_parts'
         self._linked: tuple[_Pairs, tuple[np.ndarray, np.ndarray, np.ndarray]] | None = None   # _link_pairs'
 
     # -- what is built once ----------------------------------------------------------------
@@ -151,6 +152,8 @@ class RobotScene:
         parts = self._parts
         if parts is None or carried != self._carried or len(parts) != len(objects):
             return True
+        if not carried:                # one pass in C, no list built
+            return not all(map(operator.is_, parts, map(_VERTICES, objects)))
         now = list(map(_VERTICES, objects))
         for c in carried:              # a carried part moves every pose: not part of the cache
             now[c - 1] = parts[c - 1]
@@ -237,8 +240,8 @@ class RobotScene:
         ruled = len(movers) * n_free                     # rules 1 and 2: movers x free parts
         if n_free and ruled >= self.broad_phase_from:
             near = self._candidates(movers, grow)
-            sel = np.concatenate([(np.arange(0, ruled, n_free)[:, None] + near).ravel(),
-                                  np.arange(ruled, len(pairs.moving))])
+            firsts, rest = self._sel_parts(pairs, ruled, n_free)
+            sel = np.concatenate([(firsts + near).ravel(), rest])
         else:                      # every pair: their box gaps kept for the swept check
             gaps = np.empty(len(pairs.moving))
             codes = check_pairs(self._scene, pairs.moving, pairs.stationary, grow, gaps=gaps)
@@ -249,6 +252,15 @@ class RobotScene:
         if len(sel):
             codes[sel] = check_pairs(self._scene, pairs.moving.take(sel), pairs.stationary.take(sel), grow)
         return world.findings(pairs, codes)
+
+    def _sel_parts(self, pairs: _Pairs, ruled: int, n_free: int) -> tuple[np.ndarray, np.ndarray]:
+        """Where each mover's pairs with the free parts start (a column), and the positions of
+        the pairs after those (links x links); kept per set of pairs."""
+        kept = self._sel_kept
+        if kept is None or kept[0] is not pairs or kept[1] != n_free:
+            kept = self._sel_kept = (pairs, n_free, np.arange(0, ruled, n_free)[:, None],
+                                     np.arange(ruled, len(pairs.moving)))
+        return kept[2], kept[3]
 
     def collisions_between(self, frames: np.ndarray, objects: Sequence[Polyhedron], only: np.ndarray,
                            speed: float = 100.0) -> list[Finding]:
@@ -402,7 +414,7 @@ class RobotScene:
             widths = self._ruled_widths(objects, st)
         else:
             near = self._candidates(movers, reach)
-            sel = (np.arange(0, ruled, len(self._free))[:, None] + near).ravel()
+            sel = (self._sel_parts(pairs, ruled, len(self._free))[0] + near).ravel()
             m, st = pairs.moving.take(sel), pairs.stationary.take(sel)
             after = _box_gaps(s.mid, s.half, m, st)
             widths = np.maximum(self._widths(objects, st), 1.0)
