@@ -542,7 +542,8 @@ class Simulator:
     def _swept(self, scene: RobotScene, previous: Sequence[float], frames: np.ndarray,
                carried: tuple[int, ...]) -> list[Finding]:
         """Collisions between ``previous`` and the pose now: at the moments ``RobotScene.swept``
-        names, the pairs it finds there at risk (nothing when no part can be reached)."""
+        names, the pairs it finds there at risk (nothing when no part can be reached and no link
+        turns against another past its width): parts and the arm against itself."""
         here = self.joints
         # the way the joints turned: under the 1985 rules 179 -> -179 is a turn of 2 degrees
         # (six Python floats: cheaper than numpy for the most steps, which need no moment)
