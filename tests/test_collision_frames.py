@@ -337,3 +337,72 @@ def test_the_sweep_bound_holds_the_path_of_every_vertex():
         assert np.all(most <= bound + 1e-6), (q0, q1, most - bound)
         ratios += list(bound[most > 1.0] / most[most > 1.0])
     assert np.median(ratios) < 3.0, np.median(ratios)
+
+
+def test_the_arm_passing_through_itself_between_two_poses_is_reported():
+    """A 44-degree JT3 step whose two poses are both clear of the base, the clamp and fingers
+    passing through it between them: the swept check reports the arm against itself, as the
+    pose check does (link x link pairs are swept too)."""
+    sim = Simulator(WorkCell())
+    start = [115.7, 37.7, 155.0, 166.5, -84.3, -246.6]
+    end = [115.7, 37.7, 198.7, 166.5, -84.3, -246.6]
+    world = CollisionWorld(sim.model.names)
+    for pose in (start, end):
+        sim.joints = list(pose)
+        assert not [f for f in _old(sim, world, (), 100.0) if f.kind == "collides"], pose
+    sim.joints = [start[0], start[1], (start[2] + end[2]) / 2, *start[3:]]
+    assert ("FINGER", "BASE") in {(f.a, f.b) for f in _old(sim, world, (), 100.0) if f.kind == "collides"}
+    sim.joints = list(start)
+    sim.collision_checks = True
+    list(sim.check_collisions())                 # the start pose, as the motion before left it
+    sim.joints = list(end)
+    found = [e.text for e in sim.check_collisions(start) if isinstance(e, Collision)]
+    assert {"FINGER COLLIDES WITH BASE", "CLAMP COLLIDES WITH BASE"} <= set(found), found
+
+
+def test_a_step_that_bends_no_joint_between_two_links_costs_them_no_moments():
+    """JT1 alone turns the arm about the base: the fingers move far past the upper arm's
+    width, yet relative to the upper arm and forearm they do not move, so no link x link
+    pair of theirs is checked between the poses (counted, not timed)."""
+    sim = Simulator(WorkCell())
+    sim.joints = list(ARM_OUT)
+    moments, rows = _swept(sim, 30.0)
+    pairs = sim._collision_scene().world.pairs(0)
+    at_risk = {(pairs.a[i], pairs.b[i]) for i in np.flatnonzero(rows.any(axis=0)).tolist()} if rows.size else set()
+    assert not {p for p in at_risk if p[1] in ("UPPER ARM", "FOREARM")}, at_risk
+    # the JT3 step above does put the fingers against the base at risk
+    sim.joints = [115.7, 37.7, 155.0, 166.5, -84.3, -246.6]
+    scene = sim._collision_scene()
+    after = sim.model.link_frames([115.7, 37.7, 198.7, 166.5, -84.3, -246.6], sim.base)
+    scene.check(after, sim.cell.objects)
+    moments, rows = scene.swept(after, [0, 0, np.radians(43.7), 0, 0, 0], sim.cell.objects)
+    assert len(moments) >= 1
+    assert ("FINGER", "BASE") in {(pairs.a[i], pairs.b[i]) for i in np.flatnonzero(rows.any(axis=0)).tolist()}
+
+
+def test_a_far_part_costs_no_substeps_when_every_joint_turns():
+    """A MOVE turning all six joints past a thin part out of reach: no moment between poses is
+    checked (the parts' pairs nor the arm's own), counted, as with the part taken away; the
+    same motion with the part across the fingers' path checks moments and finds it."""
+    sim = Simulator(WorkCell())
+    goal = [60.0, -20.0, 110.0, 30.0, 20.0, 40.0]
+    sim.joints = list(ARM_OUT)
+    sim.cell.objects.append(Polyhedron.box(np.array([2500.0, -500, -300]), np.array([2502.0, 500, 300])))
+    sim.collision_checks = True
+    scene = sim._collision_scene()
+    calls = []
+    between = scene.collisions_between
+    scene.collisions_between = lambda *a, **k: calls.append(1) or between(*a, **k)  # type: ignore[method-assign]
+    events = list(sim.move_joints(goal))
+    assert sum(type(e).__name__ == "PoseEvent" for e in events) >= 5 and calls == []
+    assert not [e for e in events if isinstance(e, Collision)]
+    # a thin plate where the fingers pass half way through the motion's second step
+    path = [e.joints for e in events if type(e).__name__ == "PoseEvent"]
+    c = sim.model.place([(a + b) / 2 for a, b in zip(path[0], path[1])], sim.gap, sim.base)[-1].centre
+    sim.cell.objects[0] = Polyhedron.box(c - np.array([1.0, 60, 60]), c + np.array([1.0, 60, 60]))
+    sim.joints = list(ARM_OUT)
+    calls.clear()
+    sim._findings = set()
+    events = list(sim.move_joints(goal))
+    assert len(calls) > 0
+    assert any(isinstance(e, Collision) and e.b == "1" for e in events)

@@ -574,14 +574,19 @@ class Simulator:
     def _swept(self, scene: RobotScene, previous: Sequence[float], frames: np.ndarray,
                carried: tuple[int, ...]) -> list[Finding]:
         """Collisions between ``previous`` and the pose now: at the moments ``RobotScene.swept``
-        names, the pairs it finds there at risk (nothing when no part can be reached)."""
+        names, the pairs it finds there at risk (nothing when no part can be reached and no link
+        turns against another past its width): parts and the arm against itself."""
         here = self.joints
-        q0 = np.asarray(previous, dtype=float)
         # the way the joints turned: under the 1985 rules 179 -> -179 is a turn of 2 degrees
-        q1 = q0 + (np.asarray(here, dtype=float) - q0 + 180.0) % 360.0 - 180.0
-        moments, rows = scene.swept(frames, np.radians(q1 - q0).tolist(), self.cell.objects,
+        # (six Python floats: cheaper than numpy for the most steps, which need no moment)
+        turns = [(float(b) - float(a) + 180.0) % 360.0 - 180.0 for a, b in zip(previous, here)]
+        moments, rows = scene.swept(frames, [math.radians(t) for t in turns], self.cell.objects,
                                     self._pose_key(previous), self._pose_key(here))
         found: list[Finding] = []
+        if not len(moments):
+            return found
+        q0 = np.asarray(previous, dtype=float)
+        q1 = q0 + np.asarray(turns)
         try:
             for t, row in zip(moments.tolist(), rows):
                 self.joints = [float(v) for v in q0 + (q1 - q0) * t]

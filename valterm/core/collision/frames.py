@@ -80,10 +80,14 @@ class RobotScene:
         self._every: np.ndarray | None = None
         self._part_widths: tuple[object, np.ndarray] | None = None
         self._thinnest_kept: tuple[object, float] | None = None
-        self._table: tuple[object, np.ndarray, np.ndarray, np.ndarray] | None = None   # _travel_table's
+        self._table: tuple[object, np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None = None   # _travel_table's
         # the pose ``swept`` last saw: (pose, parts, carried, box gaps of every pair, or the boxes)
         self._ends: tuple[object, object, object, np.ndarray | None, np.ndarray, np.ndarray] | None = None
         self._planes_due: tuple[np.ndarray, np.ndarray] | None = None   # frames whose planes are not set yet
+        self._link_widths = np.zeros(0)
+        self._pair_widths: tuple[object, np.ndarray] | None = None    # _ruled_widths'
+        self._sel_kept: tuple[_Pairs, int, np.ndarray, np.ndarray] | None = None   # _sel_parts'
+        self._linked: tuple[_Pairs, tuple[np.ndarray, np.ndarray, np.ndarray]] | None = None   # _link_pairs'
 
     # -- what is built once ----------------------------------------------------------------
     def set_shapes(self, local: Sequence[np.ndarray]) -> None:
@@ -101,6 +105,8 @@ class RobotScene:
         self._local_centres = np.column_stack([own.centres, np.ones(len(local))])
         self._centre_pick = _pick(self.owners, self._n_frames)
         self._local_radii = own.radii
+        self._link_widths = np.array([thickness(np.asarray(v, dtype=float), len(v) // 2) for v in local])
+        self._linked = None
         if self.checker == "exact":
             from valterm.core.collision.exact import FrameExact   # fcl only when asked for
             self._exact = FrameExact()
@@ -146,6 +152,8 @@ class RobotScene:
         parts = self._parts
         if parts is None or carried != self._carried or len(parts) != len(objects):
             return True
+        if not carried:                # one pass in C, no list built
+            return not all(map(operator.is_, parts, map(_VERTICES, objects)))
         now = list(map(_VERTICES, objects))
         for c in carried:              # a carried part moves every pose: not part of the cache
             now[c - 1] = parts[c - 1]
@@ -232,8 +240,8 @@ class RobotScene:
         ruled = len(movers) * n_free                     # rules 1 and 2: movers x free parts
         if n_free and ruled >= self.broad_phase_from:
             near = self._candidates(movers, grow)
-            sel = np.concatenate([(np.arange(0, ruled, n_free)[:, None] + near).ravel(),
-                                  np.arange(ruled, len(pairs.moving))])
+            firsts, rest = self._sel_parts(pairs, ruled, n_free)
+            sel = np.concatenate([(firsts + near).ravel(), rest])
         else:                      # every pair: their box gaps kept for the swept check
             gaps = np.empty(len(pairs.moving))
             codes = check_pairs(self._scene, pairs.moving, pairs.stationary, grow, gaps=gaps)
@@ -244,6 +252,15 @@ class RobotScene:
         if len(sel):
             codes[sel] = check_pairs(self._scene, pairs.moving.take(sel), pairs.stationary.take(sel), grow)
         return world.findings(pairs, codes)
+
+    def _sel_parts(self, pairs: _Pairs, ruled: int, n_free: int) -> tuple[np.ndarray, np.ndarray]:
+        """Where each mover's pairs with the free parts start (a column), and the positions of
+        the pairs after those (links x links); kept per set of pairs."""
+        kept = self._sel_kept
+        if kept is None or kept[0] is not pairs or kept[1] != n_free:
+            kept = self._sel_kept = (pairs, n_free, np.arange(0, ruled, n_free)[:, None],
+                                     np.arange(ruled, len(pairs.moving)))
+        return kept[2], kept[3]
 
     def collisions_between(self, frames: np.ndarray, objects: Sequence[Polyhedron], only: np.ndarray,
                            speed: float = 100.0) -> list[Finding]:
@@ -305,7 +322,9 @@ class RobotScene:
         the most both can move, they can meet only from ``g0 / b`` to ``1 - g1 / b`` of the
         step, and never when ``g0 + g1 > b``. Those pairs are checked at moments no farther
         apart than the thinnest part among them (for collisions: "near" is said at the poses,
-        as in 1985; link x link pairs are not swept, no link being a thin part). ``since`` and
+        as in 1985). Link x link pairs (the arm against itself) likewise, their boxes closing
+        by at most both bounds, at moments no farther apart than the proximal link's width
+        measured against the distal link's travel relative to it (``_link_gaps``). ``since`` and
         ``now`` name the two poses (the boxes at ``since`` are those kept by the last call,
         when it was given ``now=since``; else ``g0`` is 0).
         Call after ``check`` at ``frames`` (it uses the figures placed there).
@@ -324,47 +343,106 @@ class RobotScene:
         movers = self._movers
         turns = np.abs(np.asarray(turned, dtype=float))
         bound = np.zeros(len(s.radii))
-        bound[movers] = self._sweep_bounds(frames, turns, tight=False)
         thinnest = self._thinnest(objects)
-        if float(bound.max()) <= thinnest:
-            return never                  # nothing moves as far as the thinnest part is wide
-        bound[movers] = self._sweep_bounds(frames, turns)
-        if float(bound.max()) <= thinnest:
-            return never
-        # the parts' pairs (rules 1 and 2): links are no thin parts, link x link is not swept
+        linked, nl = self._link_pairs(pairs), len(self._link_ks)
+        terms = self._travel_table(frames) * turns                # (movers, joints), the fixed lengths
+        parts: tuple[np.ndarray, ...] | None = None
+        links: tuple[np.ndarray, ...] | None = None
+        # the fixed lengths first (one product): many steps are cleared by them, the bound
+        # from where the bodies are now (a dozen numpy calls) only when they are not
+        for tight in (False, True):
+            if tight:
+                terms = self._sweep_terms(frames, turns, terms)
+            bound[movers] = terms.sum(axis=1)
+            relative = linked[2] @ terms[:nl].ravel()           # link x link: the steps each needs
+            linking = float(relative.max(initial=0.0)) > 1.0
+            if float(bound.max()) <= thinnest and not linking:
+                return never              # nothing moves as far as the thinnest part is wide
+            if parts is None:             # the pairs (and their gaps) the fixed lengths can reach
+                parts = self._part_pairs(float(bound.max()), objects, since, kept)
+            if links is None and linking:
+                links = self._link_gaps(linked, since, kept)
+            # a pair whose boxes can meet and that moves past its part's width needs moments
+            moved = bound.take(parts[1])
+            risky = bool(((parts[3] <= moved) & (moved > parts[4])).any())
+            if links is not None:
+                closing = bound.take(links[1]) + bound.take(links[2])
+                risky = risky or bool(((links[3] <= closing) & (relative > 1.0)).any())
+            if not risky:
+                return never
+        assert parts is not None
+        columns = [(parts[0], parts[5], parts[3], moved, moved / parts[4])]
+        picks = [np.flatnonzero(parts[3] <= moved)]
+        if links is not None:
+            columns.append((links[0], links[5], links[3], closing, relative))
+            picks.append(np.flatnonzero((links[3] <= closing) & (relative > 1.0)))
+        sel, b0, both, reach, need = (np.concatenate([c[i].take(p) for c, p in zip(columns, picks)]) for i in range(5))
+        reach = reach + 2.0 * EPS
+        steps = int(math.ceil(float(need.max())))
+        moments = np.arange(1, steps) / steps
+        # each pair only where its boxes can meet: from b0 / reach to 1 - b1 / reach of the step
+        # (``both`` is b0 + b1 less 2 EPS)
+        live = ((b0 - 2.0 * EPS) / reach <= moments[:, None]) & (moments[:, None] <= 1.0 - (both - b0) / reach)
+        used = live.any(axis=1)
+        rows = np.zeros((int(used.sum()), len(pairs.moving)), dtype=bool)
+        rows[:, sel] = live[used]
+        return moments[used], rows
+
+    def _kept_gaps(self, kept: tuple[object, ...] | None, since: object, at: np.ndarray,
+                   m: np.ndarray, st: np.ndarray) -> np.ndarray:
+        """The box gaps at the step's start of the pairs at positions ``at`` (bodies ``m``, ``st``):
+        those kept by the last ``swept`` call when it named that pose, else 0."""
+        if since is None or kept is None or kept[0] != since or kept[1] is not self._parts \
+                or kept[2] != self._carried:
+            return np.zeros(len(at))
+        if kept[3] is None:                       # the boxes were kept (copies)
+            return _box_gaps(kept[4], kept[5], m, st)  # type: ignore[arg-type]
+        gaps: np.ndarray = kept[3].take(at)  # type: ignore[attr-defined]
+        return gaps
+
+    def _part_pairs(self, reach: float, objects: Sequence[Polyhedron], since: object,
+                    kept: tuple[object, ...] | None) -> tuple[np.ndarray, ...]:
+        """The parts' pairs (rules 1 and 2) a body moving ``reach`` could meet: their positions,
+        moving bodies, parts, box gaps at start plus end (less 2 EPS), the parts' widths (at
+        least 1 mm) and the gaps at the start."""
+        pairs, s, movers = self._pairs_now, self._scene, self._movers
+        assert pairs is not None
+        gaps = self._gaps_now
         ruled = len(movers) * len(self._free)
         if gaps is not None:
             sel, m, st, after = self._all_pairs(ruled), pairs.moving[:ruled], pairs.stationary[:ruled], gaps[:ruled]
+            widths = self._ruled_widths(objects, st)
         else:
-            near = self._candidates(movers, float(bound.max()))
-            sel = (np.arange(0, ruled, len(self._free))[:, None] + near).ravel()
+            near = self._candidates(movers, reach)
+            sel = (self._sel_parts(pairs, ruled, len(self._free))[0] + near).ravel()
             m, st = pairs.moving.take(sel), pairs.stationary.take(sel)
             after = _box_gaps(s.mid, s.half, m, st)
-        before = np.zeros(len(sel))
-        if since is not None and kept is not None and kept[0] == since and kept[1] is self._parts \
-                and kept[2] == self._carried:
-            if kept[3] is None:                       # the boxes were kept (copies)
-                before = _box_gaps(kept[4], kept[5], m, st)
-            elif gaps is not None:
-                before = kept[3][:ruled]
-        moved = bound.take(m)                          # a free part does not move
-        cand = np.flatnonzero(before + after <= moved + 2.0 * EPS)
-        if len(cand) == 0:
-            return never
-        moved = moved.take(cand)
-        reach = moved + 2.0 * EPS
-        b0, b1 = before.take(cand), after.take(cand)
-        widths = np.maximum(self._widths(objects, st.take(cand)), 1.0)
-        steps = int(math.ceil(float((moved / widths).max())))
-        if steps <= 1:
-            return never
-        moments = np.arange(1, steps) / steps
-        # each pair only where its boxes can meet: from b0 / reach to 1 - b1 / reach of the step
-        live = ((b0 - 2.0 * EPS) / reach <= moments[:, None]) & (moments[:, None] <= 1.0 - (b1 - 2.0 * EPS) / reach)
-        used = live.any(axis=1)
-        rows = np.zeros((int(used.sum()), len(pairs.moving)), dtype=bool)
-        rows[:, sel.take(cand)] = live[used]
-        return moments[used], rows
+            widths = np.maximum(self._widths(objects, st), 1.0)
+        before = self._kept_gaps(kept, since, sel, m, st)
+        return sel, m, st, before + after - 2.0 * EPS, widths, before
+
+    def _ruled_widths(self, objects: Sequence[Polyhedron], st: np.ndarray) -> np.ndarray:
+        """The widths (at least 1 mm) of the parts of the pairs whose parts are ``st``
+        (rules 1 and 2, every pair), measured once per set of parts."""
+        kept = self._pair_widths
+        if kept is None or kept[0] is not self._parts or len(kept[1]) != len(st):
+            kept = self._pair_widths = (self._parts, np.maximum(self._widths(objects, st), 1.0))
+        return kept[1]
+
+    def _link_gaps(self, linked: tuple[np.ndarray, np.ndarray, np.ndarray], since: object,
+                   kept: tuple[object, ...] | None) -> tuple[np.ndarray, ...]:
+        """Link x link pairs (rule 3), laid out as ``_part_pairs`` lays out the parts' pairs.
+
+        Both boxes move, so they close by at most the sum of the two bounds; the moments a
+        pair needs are the distal link's travel relative to the proximal one (only the joints
+        between them turn it) over the proximal link's width (``_link_pairs``), the stationary
+        part of the pair as in rules 1 and 2."""
+        s = self._scene
+        at, i, j = linked[0], linked[1][:, 0], linked[1][:, 1]
+        gaps = self._gaps_now
+        after = gaps.take(at) if gaps is not None else _box_gaps(s.mid, s.half, i, j)
+        before = self._kept_gaps(kept, since, at, i, j)
+        return at, i, j, before + after - 2.0 * EPS, np.zeros(0), before
 
     def _all_pairs(self, count: int) -> np.ndarray:
         """0 .. count - 1, kept."""
@@ -378,10 +456,14 @@ class RobotScene:
         ``tight``: the distances from the joints' axes taken from where the bodies are now,
         grown by how far the later joints can carry them over the step (a few more numpy
         calls; without it the fixed lengths of ``_travel_table``)."""
-        fixed = self._travel_table(frames)
-        if not tight:
-            loose: np.ndarray = fixed @ turned
-            return loose
+        far = self._travel_table(frames) * turned
+        travel: np.ndarray = (self._sweep_terms(frames, turned, far) if tight else far).sum(axis=1)
+        return travel
+
+    def _sweep_terms(self, frames: np.ndarray, turned: np.ndarray, far: np.ndarray) -> np.ndarray:
+        """(movers, joints): how far each joint's turn can carry each moving body over the step,
+        from its distance from the joint's axis now, grown by what the later joints can add
+        (``far``: the same from the fixed lengths, ``_travel_table`` times the turns)."""
         s, movers = self._scene, self._movers
         d = s.centres.take(movers, axis=0)[:, None, :] - frames[None, 1: self._n_frames, :3, 3]
         # the distance from each joint's axis (a point turns on a circle about it, not about
@@ -390,10 +472,27 @@ class RobotScene:
         along = np.einsum("mjk,jk->mj", d, axes)
         square = np.maximum(np.einsum("mjk,mjk->mj", d, d) - along * along, 0.0)
         now = np.sqrt(square) + s.radii.take(movers)[:, None]                             # (movers, joints)
-        far = fixed * turned
         later = far @ _LATER                           # what the joints after j add
-        travel: np.ndarray = (np.minimum(far, (now + later) * turned)).sum(axis=1)
-        return travel
+        terms: np.ndarray = np.minimum(far, (now + later) * turned)
+        return terms
+
+    def _link_pairs(self, pairs: _Pairs) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The link x link pairs (rule 3) of ``pairs``: their positions, their (distal, proximal)
+        links, and weights that turn the links' (links, joints) travel terms, flattened, into
+        each pair's steps needed: the distal link's travel from the joints after the proximal
+        link's frame (the others carry both alike) over the proximal link's width."""
+        kept = self._linked
+        if kept is not None and kept[0] is pairs:
+            return kept[1]
+        nl, joints = len(self._link_ks), self._n_frames - 1
+        at = np.flatnonzero((pairs.moving < nl) & (pairs.stationary < nl))
+        ij = np.column_stack([pairs.moving.take(at), pairs.stationary.take(at)])
+        weights = np.zeros((len(at), nl, joints))
+        for row, (i, j) in enumerate(ij.tolist()):
+            weights[row, i, int(self.owners[j]):] = 1.0 / max(float(self._link_widths[j]), 1.0)
+        found = (at, ij, weights.reshape(len(at), nl * joints))
+        self._linked = (pairs, found)
+        return found
 
     def _travel_table(self, frames: np.ndarray) -> np.ndarray:
         """(movers, joints): how far a point of each moving body can be from each joint's axis.
@@ -414,14 +513,15 @@ class RobotScene:
             last = np.maximum(owner - 1, 0)
             starts = np.concatenate([[0], np.cumsum([2 * k for k in self._link_ks])[:-1]]).astype(np.intp)
             own = np.sqrt(np.maximum.reduceat(np.einsum("ij,ij->i", self._local, self._local), starts))
-            table = self._table = (self._parts, np.where(mask, chain[last][:, None] - chain[None, :], 0.0),
-                                   mask, own)
-        _, chain_part, mask, far = table
-        if len(movers) > nl:         # carried parts: their farthest point from the clamp frame's origin
-            d = s.vertices[self._held_rows] - origins[-1]
-            held = np.sqrt(np.maximum.reduceat(np.einsum("ij,ij->i", d, d), self._held_starts))
-            far = np.concatenate([far, held])
-        reach: np.ndarray = chain_part + far[:, None] * mask
+            chain_part = np.where(mask, chain[last][:, None] - chain[None, :], 0.0)
+            table = self._table = (self._parts, chain_part, mask, own, chain_part[:nl] + own[:, None] * mask[:nl])
+        _, chain_part, mask, far, links_only = table
+        if len(movers) == nl:        # nothing carried: the same every step
+            return links_only
+        # carried parts: their farthest point from the clamp frame's origin
+        d = s.vertices[self._held_rows] - origins[-1]
+        held = np.sqrt(np.maximum.reduceat(np.einsum("ij,ij->i", d, d), self._held_starts))
+        reach: np.ndarray = chain_part + np.concatenate([far, held])[:, None] * mask
         return reach
 
     def _thinnest(self, objects: Sequence[Polyhedron]) -> float:
