@@ -531,7 +531,8 @@ class Simulator:
     def _collision_scene(self) -> RobotScene:
         """The collision check fed by link frames, its link shapes set for the clamp gap."""
         if self._checker is None:
-            self._checker = RobotScene(self.model.names, self.model.frames.tolist())
+            self._checker = RobotScene(self.model.names, self.model.frames.tolist(),
+                                       thesis_axes=self.arm.key == THESIS_ROBOT)
         if self._checker_gap != self.gap:
             self._checker.set_shapes(self.model.shapes(self.gap))
             self._checker_gap = self.gap

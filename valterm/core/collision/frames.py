@@ -62,8 +62,12 @@ class RobotScene:
 
     def __init__(self, labels: Sequence[str], owners: Sequence[int],
                  checker: Literal["thesis", "exact"] = "thesis",
-                 near_with_collision: bool = False) -> None:
+                 near_with_collision: bool = False, thesis_axes: bool = True) -> None:
         self.world = CollisionWorld(labels, near_with_collision=near_with_collision)
+        # the thesis's link frames: joint j turns about frame j's origin, about the column
+        # _AXIS_COLUMNS gives. Another robot's frames (a DH table's: joint j turns about frame
+        # j-1's z) get the swept bound from lengths alone (_reach_table): never too small
+        self.thesis_axes = thesis_axes
         self.owners = np.asarray(owners, dtype=np.intp)
         self._n_frames = int(self.owners.max()) + 1 if len(self.owners) else 0   # the frames used
         self.checker = checker
@@ -464,6 +468,8 @@ class RobotScene:
         """(movers, joints): how far each joint's turn can carry each moving body over the step,
         from its distance from the joint's axis now, grown by what the later joints can add
         (``far``: the same from the fixed lengths, ``_travel_table`` times the turns)."""
+        if not self.thesis_axes:
+            return far
         s, movers = self._scene, self._movers
         d = s.centres.take(movers, axis=0)[:, None, :] - frames[None, 1: self._n_frames, :3, 3]
         # the distance from each joint's axis (a point turns on a circle about it, not about
@@ -501,6 +507,8 @@ class RobotScene:
         no farther from it than the chain from frame j's origin to frame k's, plus the body's
         farthest point from frame k's origin: lengths no motion changes (kept per set of
         bodies; a carried part's measured at each call)."""
+        if not self.thesis_axes:
+            return self._reach_table(frames)
         s, movers = self._scene, self._movers
         nl = len(self._link_ks)
         origins = frames[1: self._n_frames, :3, 3]
@@ -523,6 +531,22 @@ class RobotScene:
         held = np.sqrt(np.maximum.reduceat(np.einsum("ij,ij->i", d, d), self._held_starts))
         reach: np.ndarray = chain_part + np.concatenate([far, held])[:, None] * mask
         return reach
+
+    def _reach_table(self, frames: np.ndarray) -> np.ndarray:
+        """(movers, joints) for frames without the thesis's axes: every point of the arm and
+        what it carries is no farther from any joint's axis (which passes through a frame
+        origin of the chain) than the chain's length (between frame origins: no joint changes
+        it) plus the farthest point of any body from its own frame's origin."""
+        s, movers = self._scene, self._movers
+        origins = frames[: self._n_frames, :3, 3]
+        links = origins[1:] - origins[:-1]
+        chain = float(np.sqrt(np.einsum("jk,jk->j", links, links)).sum())
+        local = self._local   # each link's vertices in its own frame
+        extent = float(np.sqrt(np.einsum("ij,ij->i", local, local)).max(initial=0.0))
+        if len(movers) > len(self._link_ks):   # carried parts, from the clamp frame's origin
+            d = s.vertices[self._held_rows] - origins[-1]
+            extent = max(extent, float(np.sqrt(np.einsum("ij,ij->i", d, d)).max(initial=0.0)))
+        return np.full((len(movers), self._n_frames - 1), chain + extent)
 
     def _thinnest(self, objects: Sequence[Polyhedron]) -> float:
         """The thinnest width of the free parts (measured once per set of parts)."""
