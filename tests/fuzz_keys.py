@@ -74,12 +74,13 @@ async def go_home(sim: Simulation) -> bool:
 
 
 async def probe(sim: Simulation, n: int, tally: Tally) -> None:
-    """TYPE PROBEn typed on VAL-II mode's line while a DRIVE is drawn: it must run."""
+    """DRIVE, then TYPE PROBEn typed on VAL-II mode's line while the DRIVE is drawn: both
+    must run, each whole."""
     if not await go_home(sim):
         return
-    await sim.press("V")
+    await sim.press("V", "v")  # VAL-II mode's menu, then its command line
     await sim.pilot.pause(0.05)
-    await sim.burst("escape", "v", *"DRIVE 1,5,10", "enter", *f"TYPE PROBE{n}", "enter")
+    await sim.burst(*"DRIVE 1,5,10", "enter", *f"TYPE PROBE{n}", "enter")
     tally.probes += 1
     await sim.settle(step=0.5, limit=400)
     for _ in range(50):
@@ -87,7 +88,7 @@ async def probe(sim: Simulation, n: int, tally: Tally) -> None:
             break
         await sim.advance(0.5)
     transcript = list(getattr(sim.screen, "transcript", []))
-    if f"PROBE{n}" not in transcript:
+    if f"PROBE{n}" not in transcript or ". DRIVE 1,5,10" not in transcript:
         tally.lost.append(f"probe {n}: {transcript[-4:]}")
 
 

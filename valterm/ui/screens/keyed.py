@@ -74,7 +74,8 @@ class KeyedScreen(Guarded, Screen[ResultT]):
     def on_key(self, event: events.Key) -> None:
         self.before_key(event)
         line = self.line_taking_keys()
-        if line is not None and event.is_printable and type_ahead(event, line):
+        if line is not None and (event.is_printable or event.key in ("enter", "backspace")) \
+                and type_ahead(event, line):
             return
         if self.bound_here(event.key):
             return  # the app runs the binding

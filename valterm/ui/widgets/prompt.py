@@ -58,13 +58,17 @@ class Prompt(Horizontal):
 
 
 def type_ahead(event: events.Key, field: Input) -> bool:
-    """Give a key to an input that was just opened but is not focused yet.
+    """Give the open line a key that reached the screen instead of it.
 
     Textual moves focus after the current message, so keys typed quickly after the one that
-    opened a question (or pasted) would reach the screen and be lost; they belong to the
-    field. Returns True when the key was taken (the caller stops the event).
+    opened a question (or pasted) reach the screen; they belong to the field. The field may
+    have the focus by the time the screen handles such a key: it is still the field's, and
+    taken here, in order (left to the app, a RETURN would run after the keys typed after it,
+    which went straight to the focused field). A RETURN or BACKSPACE typed into the focused
+    field bubbles here before the field's own bindings run: taken here once, and stopped.
+    Returns True when the key was taken (the caller stops the event).
     """
-    if field.disabled or field.has_focus:
+    if field.disabled:
         return False
     if event.key == "enter":
         field.post_message(Input.Submitted(field, field.value))
