@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import math
 import time
-from typing import TYPE_CHECKING, Callable, Collection, Sequence
+from typing import Any, TYPE_CHECKING, Callable, Collection, Sequence
 
 import numpy as np
 
@@ -41,7 +41,7 @@ def _time_per_step(world: CollisionWorld, poses: list[list[Polyhedron]], objects
 
 
 def bench_collision_step(links: Sequence[tuple[str, Polyhedron]], objects: Sequence[Polyhedron],
-                         carried: Collection[int] = (), speed: float = 100.0, steps: int = 200) -> dict:
+                         carried: Collection[int] = (), speed: float = 100.0, steps: int = 200) -> dict[str, Any]:
     """µs per motion step for the thesis and the fcl checker, with the scene's size and findings."""
     labels = [label for label, _ in links]
     poses = [[p for _, p in links], [_turn(p, 1.0) for _, p in links]]
@@ -203,7 +203,7 @@ def bench_puma_step(n_parts: int = 30, rounds: int = 5, steps: int = 60, carried
         objects.append([*parts, *boxes])
     scenes = {}
     for kind in ("thesis", "exact"):
-        scenes[kind] = RobotScene(sim.model.names, sim.model.frames.tolist(), checker=kind)  # type: ignore[arg-type]
+        scenes[kind] = RobotScene(sim.model.names, sim.model.frames.tolist(), checker=kind)
         scenes[kind].set_shapes(sim.model.shapes(sim.gap))
     exact_old = CollisionWorld(sim.model.names, checker="exact")
 

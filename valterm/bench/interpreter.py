@@ -2,10 +2,15 @@
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING, cast
+
 import time
 
 from valterm.core.val.interpreter import Interpreter, program_from_lines
 from valterm.core.val.limits import NO_LIMITS
+
+if TYPE_CHECKING:
+    from valterm.core.simulator import Simulator
 
 # A simple arithmetic loop: 3 statements a pass (WHILE, assignment, END), no motion.
 LOOP = [
@@ -30,7 +35,7 @@ def bench_interpreter(passes: int = 100_000, repeat: int = 3) -> float:
     program = program_from_lines("BENCH", LOOP)
     best = 0.0
     for _ in range(repeat):
-        interpreter = Interpreter(_NoRobot(), lambda name: program, {"N": float(passes)}, limits=NO_LIMITS)
+        interpreter = Interpreter(cast("Simulator", _NoRobot()), lambda name: program, {"N": float(passes)}, limits=NO_LIMITS)
         start = time.perf_counter()
         count = sum(1 for event in interpreter.execute("BENCH") if event.event == "step")
         elapsed = time.perf_counter() - start
@@ -47,7 +52,7 @@ def bench_run_json(passes: int = 50_000, repeat: int = 3) -> float:
     best = 0.0
     with open(os.devnull, "w", encoding="utf-8") as out:
         for _ in range(repeat):
-            interpreter = Interpreter(_NoRobot(), lambda name: program, {"N": float(passes)})
+            interpreter = Interpreter(cast("Simulator", _NoRobot()), lambda name: program, {"N": float(passes)})
             count = 0
             start = time.perf_counter()
             for event in interpreter.execute("BENCH"):

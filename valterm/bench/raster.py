@@ -75,7 +75,8 @@ def _drawille_segments(scene: Scene, view: ViewTransform, width: int, height: in
     ppm = min(wd / (2 * view.half_extent[0]), hd / (2 * view.half_extent[1]))
     flat = segs.reshape(-1, 3) @ a_mat[:2].T + b_vec[:2]
     pts = flat * [ppm, -ppm] + [wd / 2, hd / 2]
-    return np.clip(pts, 0, [wd - 1, hd - 1]).reshape(-1, 4)
+    clipped: np.ndarray = np.clip(pts, 0, [wd - 1, hd - 1]).reshape(-1, 4)
+    return clipped
 
 
 def bench_raster_vs_drawille(width: int = 200, height: int = 60, rounds: int = 7) -> dict[str, float]:
@@ -88,7 +89,7 @@ def bench_raster_vs_drawille(width: int = 200, height: int = 60, rounds: int = 7
     ``raster_frame_vs_drawille_x``.
 
     Raises ImportError when drawille (the ``bench`` extra) is not installed."""
-    import drawille  # type: ignore[import-untyped]
+    import drawille
 
     whole, framed, view = process_scenes(width, height)
     edges = _drawille_segments(whole, view, width, height).tolist()

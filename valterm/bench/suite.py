@@ -88,17 +88,17 @@ def _bytes_per_pose(func: Callable[[], Any], n: int) -> float:
 
 def kinematics_entries() -> dict[str, float]:
     joints = [-20.0, -150.0, 40.0, 10.0, 50.0, 20.0]
-    radians = [math.radians(j) for j in joints]
+    r1, r2, r3, r4, r5, r6 = (math.radians(j) for j in joints)
     pose = fk(joints)
     config = indicators(joints)
-    xyz = [float(v) for v in pose.xyz]
+    x, y, z = (float(v) for v in pose.xyz)
     rotation = pose.rotation.tolist()
     rng = np.random.default_rng(0)
     stops = robot_geometry().stops_array
     entries: dict[str, float] = {
-        "fk_single_us": median_of(lambda: fk_fast(*radians), 20_000) * 1e6,
+        "fk_single_us": median_of(lambda: fk_fast(r1, r2, r3, r4, r5, r6), 20_000) * 1e6,
         "fk_single_with_arrays_us": median_of(lambda: fk(joints), 20_000) * 1e6,
-        "ik_fast_us": median_of(lambda: ik_fast(*xyz, rotation, config.arm, config.elbow, config.wrist), 20_000) * 1e6,
+        "ik_fast_us": median_of(lambda: ik_fast(x, y, z, rotation, config.arm, config.elbow, config.wrist), 20_000) * 1e6,
         # the public call as the simulator makes it: numpy xyz and rotation, stops fitted
         "ik_single_us": median_of(lambda: ik(pose.xyz, pose.rotation, config, joints), 20_000) * 1e6,
     }
@@ -131,7 +131,7 @@ def kinematics_entries() -> dict[str, float]:
 
 def _rtb_entries() -> dict[str, float]:
     """Robotics Toolbox's analytic PUMA 560 IK on its own model, when it is installed."""
-    import roboticstoolbox as rtb  # type: ignore[import-untyped]
+    import roboticstoolbox as rtb
 
     puma = rtb.models.DH.Puma560()
     target = puma.fkine(puma.qn)
