@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import fcntl
 import math
+from collections.abc import Callable
 from itertools import pairwise
 import os
 import pty
@@ -158,8 +159,10 @@ def start_times(width: int = 160, height: int = 50, rounds: int = 5) -> dict[str
     compiled = cache_bytecode()
     workspace = tempfile.mkdtemp(prefix="valterm-bench-")
     times: dict[str, list[float]] = {"app": [], "bare": []}
+    spawners: tuple[tuple[str, Callable[[], tuple[int, int]]], ...] = (
+        ("app", lambda: _spawn(width, height, workspace)), ("bare", lambda: _spawn_bare(width, height)))
     for _ in range(rounds):
-        for name, spawn in (("app", lambda: _spawn(width, height, workspace)), ("bare", lambda: _spawn_bare(width, height))):
+        for name, spawn in spawners:
             start = time.perf_counter()
             pid, fd = spawn()
             try:
