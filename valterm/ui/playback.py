@@ -29,8 +29,10 @@ from collections import deque
 from collections.abc import Callable, Generator, Iterable, Iterator
 from typing import Protocol
 
+from textual.cache import LRUCache
 from textual.message_pump import MessagePump
 from textual.timer import Timer
+from textual.widgets import RichLog
 
 from valterm.core.events import (
     Collision,
@@ -53,6 +55,11 @@ TICK_BUDGET = 0.005  # seconds of work a tick, then Textual gets the loop back
 YIELD = 0.001  # seconds the pump sleeps between busy ticks (keys and redraws run then)
 MAX_FPS = 60.0  # no more redraws a second than this while a motion is paced
 TRANSCRIPT_LINES = 2000  # lines a screen keeps of its transcript (and the most handed a tick)
+# the on-screen log keeps fewer: a line there is a few Textual strips (about 5 KB with their
+# caches, 8 KB of resident memory), so 2000 of them took 20 minutes of a looping program and
+# 17 MiB to fill; these fill in minutes and hold about 2 MiB
+LOG_LINES = 500
+LOG_CACHE = 200  # rendered log lines kept (Textual's 1024 is for any widget; a screen shows < 100)
 # playback factors: the animation takes the real robot's time times this (x0.25 is 4x faster)
 FACTORS = (0.25, 0.5, 1.0, 2.0, 4.0, 8.0)
 
@@ -67,6 +74,17 @@ class Transcript(deque[str]):
 
     def __init__(self, lines: Iterable[str] = (), maxlen: int = TRANSCRIPT_LINES) -> None:
         super().__init__(lines, maxlen=maxlen)
+
+
+class TranscriptLog(RichLog):
+    """The transcript as the screen shows it: the last ``LOG_LINES`` lines, wrapped, and a
+    render cache of ``LOG_CACHE`` lines (the memory of a long run levels off in minutes)."""
+
+    def __init__(self, *, id: str | None = None, classes: str | None = None) -> None:
+        super().__init__(id=id, classes=classes, wrap=True, markup=False, max_lines=LOG_LINES)
+        # RichLog keys its cache by the line's number since the start, so every line ever
+        # shown takes a place there until 1024 are held (textual is pinned: the name holds)
+        self._line_cache = LRUCache(LOG_CACHE)
 
 
 class Audience(Protocol):
