@@ -280,11 +280,13 @@ LOOPS_DAT = """    ; PROGRAM : LOOPS
 """
 
 
-def bench_memory(minutes: float = 10.0, every: float = 10.0, width: int = 160,
+def bench_memory(minutes: float = 30.0, every: float = 30.0, width: int = 160,
                  height: int = 50) -> dict[str, float]:
     """The app's resident memory while a program loops in VAL-II mode at real pace (x1):
     sampled every ``every`` s for ``minutes``; the growth over the last two thirds of the
-    span in MiB a minute (least squares), the first and last samples and the samples."""
+    span in MiB a minute (least squares) and its low and high (the goal: flat, high - low
+    <= 2 MiB over the last 20 of 30 minutes), the first sample, those at a third and two
+    thirds of the span, and the last."""
     workspace = tempfile.mkdtemp(prefix="valterm-bench-")
     with open(os.path.join(workspace, "LOOPS.DAT"), "w", encoding="ascii") as program:
         program.write(LOOPS_DAT)
@@ -310,7 +312,11 @@ def bench_memory(minutes: float = 10.0, every: float = 10.0, width: int = 160,
     r = [b for _, b in tail]
     mean_t, mean_r = sum(t) / len(t), sum(r) / len(r)
     slope = sum((a - mean_t) * (b - mean_r) for a, b in zip(t, r)) / max(1e-12, sum((a - mean_t) ** 2 for a in t))
+    def at(fraction: float) -> float:
+        return min(samples, key=lambda sample: abs(sample[0] - fraction * samples[-1][0]))[1]
+
     return {"app_rss_first_mib": samples[0][1], "app_rss_last_mib": samples[-1][1],
+            "app_rss_third_mib": at(1 / 3), "app_rss_two_thirds_mib": at(2 / 3),
             "app_rss_growth_mib_per_min": slope, "app_rss_minutes": samples[-1][0],
             "app_rss_tail_low_mib": min(r), "app_rss_tail_high_mib": max(r),
             "app_rss_samples": float(len(samples)), "app_kib_written_per_min": written / 1024.0 / samples[-1][0]}

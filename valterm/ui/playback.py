@@ -8,6 +8,11 @@ MOVE of D_DEFINE) and works through it in ticks on its host's timers:
   times the playback ``factor``; DELAY waits its seconds times the factor on the same
   clock; with ``rate`` infinite both happen at once (tests); ``rate`` paces the poses of a
   motion that announces no time;
+- between two poses of a paced motion the picture moves on at up to ``DRAW_RATE`` frames a
+  second: the audience redraws and the app draws the robot at ``drawn()``, each joint
+  turned part of the way (the shortest turn) from the pose before the one due to it. Only
+  the picture: the simulator stands at the motion's own pose, and the verdicts and lines
+  are those of its poses (the same as ``valterm run``);
 - whatever the program does (``10 GOTO 10`` has no motion and no DELAY) a tick works at
   most ``budget`` seconds of real time, then hands control back to Textual, so the screen
   updates and CTRL-C is seen at the next tick;
@@ -142,6 +147,7 @@ class Player:
         self._last_pose: tuple[float, ...] | None = None  # the last pose the robot was seen at
         self._segment: tuple[tuple[float, ...], tuple[float, ...]] | None = None
         self._between: tuple[float, ...] | None = None
+        self._tick_start = 0.0  # perf_counter() when the tick began
 
     # -- state -----------------------------------------------------------------------
     @property
@@ -230,6 +236,7 @@ class Player:
         if not self.playing:
             return
         self.ticks += 1
+        self._tick_start = time.perf_counter()
         wait = self._guarded(time.perf_counter() + self.budget, pace=not math.isinf(self.rate))
         self._flush()
         if wait is not None and self.playing and not self._paused:
@@ -368,7 +375,9 @@ class Player:
                 self._between, self._scene_changed = between, True
             # at most 0.1 s without a fresh look at the clock (as for DELAY)
             wait = min(max(motion.next_due_in(), 1.0 / MAX_FPS), 0.1)
-            return wait if between is None else min(wait, 1.0 / DRAW_RATE)
+            # the next picture a frame after this tick began (the tick's own work included)
+            frame = 1.0 / DRAW_RATE - (time.perf_counter() - self._tick_start)
+            return wait if between is None else min(wait, frame)
         self._motion, self._between, self._segment = None, None, None
         self._scene_changed = True
         tail, self._after_motion = self._after_motion, []
