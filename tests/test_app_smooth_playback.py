@@ -124,11 +124,13 @@ def test_paced_playback_prints_what_run_prints(tmp_path: Path, capsys: pytest.Ca
                 return between
 
             app.player.drawn = counted  # type: ignore[method-assign]
-            before = view.redraws
-            for _ in range(2000):
+            before, ticks = view.redraws, app.player.ticks
+            for _ in range(50_000):
                 if screen.mode == Mode.COMMAND:
                     break
-                clock.t += 0.03
+                if app.player.ticks != ticks:  # the player saw the last step of the clock
+                    clock.t += 0.05
+                    ticks = app.player.ticks
                 await pilot.pause(0.005)
             assert screen.mode == Mode.COMMAND
             counts["poses"] = view.redraws - before
