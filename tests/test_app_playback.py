@@ -17,7 +17,7 @@ from valterm.core.session import Session
 from valterm.core.text.transcript import event_lines
 from valterm.core.val.limits import NO_LIMITS
 from valterm.ui.app import ValtermApp
-from valterm.ui.playback import TRANSCRIPT_LINES
+from valterm.ui.playback import LOG_CACHE, LOG_LINES, TRANSCRIPT_LINES
 from valterm.ui.screens.keyboard import KeyboardScreen
 from valterm.ui.screens.valmode import Mode, ValModeScreen
 
@@ -78,7 +78,7 @@ async def test_a_runaway_program_keeps_the_screen_alive_and_ctrl_c_stops_it(tmp_
         assert screen.mode == Mode.RUNNING and player.playing
         assert "SPIN" in screen_text(app) and "GOTO 10" in screen_text(app)  # the screen was drawn
         assert len(screen.transcript) == TRANSCRIPT_LINES  # capped: memory stays flat
-        assert len(screen.query_one("#val-log").lines) <= TRANSCRIPT_LINES
+        assert len(screen.query_one("#val-log").lines) <= LOG_LINES
 
         await pilot.press("ctrl+c")
         await run_until(pilot, lambda: not player.playing)
@@ -152,7 +152,13 @@ async def test_a_flood_of_lines_keeps_the_last_ones(tmp_path: Path) -> None:
         screen.run_events(iter([TypeOut(f"LINE {i}") for i in range(50_000)]))
         await run_until(pilot, lambda: not app.player.playing)
         assert list(screen.transcript) == [f"LINE {i}" for i in range(48_000, 50_000)]
-        assert len(screen.query_one("#val-log").lines) <= TRANSCRIPT_LINES
+        log = screen.query_one("#val-log")
+        assert len(log.lines) == LOG_LINES and log.lines[-1].text == "LINE 49999"
+        # what the log holds of the lines it drew is capped too (memory levels off in minutes)
+        for y in range(0, LOG_LINES, 10):  # every line of it drawn, a page at a time
+            log.scroll_to(y=y, animate=False)
+            await pilot.pause()
+        assert 0 < len(log._line_cache) <= LOG_CACHE < LOG_LINES
 
 
 def _transcript_of_run(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> list[str]:

@@ -4,19 +4,33 @@ from __future__ import annotations
 
 import pytest
 
-from valterm.bench.pty import frame_figures
+from valterm.bench.pty import BRAILLE, drawing_figures, frame_figures
 from valterm.bench.suite import GOALS, markdown
 
 
 def test_bursts_are_frames_and_pauses_are_not_drawing_time() -> None:
     # three frames 20 ms apart (the second in two reads), a 1 s DELAY, two more 20 ms apart
-    chunks = [(0.000, 100), (0.020, 60), (0.021, 40), (0.040, 100),
-              (1.040, 300), (1.060, 100)]
+    chunks = [(0.000, 100, True), (0.020, 60, True), (0.021, 40, False), (0.040, 100, True),
+              (1.040, 300, False), (1.060, 100, True)]
     figures = frame_figures(chunks, "app_program", "160x50")
     assert figures["app_program_frames_160x50"] == 5
     assert figures["app_program_bytes_per_frame_160x50"] == pytest.approx(700 / 5)
     # four gaps: three of 20 ms drawing, the 1 s DELAY left out
     assert figures["app_program_fps_160x50"] == pytest.approx(3 / 0.060)
+
+
+def test_robot_drawings_are_counted_per_second_of_motion() -> None:
+    """At real pace: only bursts that write braille (the picture changed) are drawings, and
+    the rate is per second of the program's motion (a DELAY or a transcript line is neither)."""
+    picture = "⠁⣿ ⢀".encode()
+    assert BRAILLE.search(picture) and not BRAILLE.search("PROCESS  6  APPRO A, -50 é".encode())
+    chunks = [(0.000, 5000, True), (0.002, 3000, False),  # one drawing in two reads
+              (0.030, 400, False),  # a transcript line alone
+              (0.060, 6000, True), (2.000, 7000, True)]
+    figures = drawing_figures(chunks, 0.5, "app_program", "160x50")
+    assert figures["app_program_frames_160x50"] == 3
+    assert figures["app_program_fps_160x50"] == pytest.approx(3 / 0.5)
+    assert figures["app_program_bytes_per_frame_160x50"] == pytest.approx(21000 / 3)
 
 
 def test_no_output_is_no_frame_rate() -> None:

@@ -7,10 +7,15 @@ app's drawing rate, not the motion's step rate), it counts the frames and bytes 
 
 - while a joint move typed at the KEYBOARD mode's V prompt plays (``app_move_*``);
 - while the thesis's PROCESS program runs in VAL-II mode, its locations read from
-  PROCESS.LOC with CTRL-T D as a person defines them (``app_program_*``).
+  PROCESS.LOC with CTRL-T D as a person defines them (``app_program_fastest_*``).
 
 Frames are write bursts separated by quiet gaps (Textual writes a frame in one go); the
 rate counts only the time a motion was drawing (a DELAY or a TYPE line is not a frame gap).
+
+What a user sees (``app_program_*``): PROCESS in a second app at real pace (x1, each motion
+takes the real PUMA's time), the robot drawings (bursts that write braille: the picture
+changed) per second of motion, the motions' seconds summed from the same program run
+headless (``Motion.seconds``), and the bytes of those drawings.
 """
 
 from __future__ import annotations
@@ -20,6 +25,7 @@ import math
 from collections.abc import Callable
 from itertools import pairwise
 import os
+import re
 import pty
 import select
 import signal
@@ -32,6 +38,7 @@ import time
 FRAME_GAP = 0.004  # seconds of quiet between two frames
 DRAWING_GAP = 0.1  # a longer gap between frames is not drawing (a DELAY, a prompt)
 LOCATIONS = "ABCDEF"  # the locations of PROCESS.LOC, accepted one by one
+BRAILLE = re.compile(rb"\xe2[\xa0-\xa3]")  # UTF-8 of U+2800-U+28FF: the picture's cells
 
 
 def _read_until(fd: int, needle: bytes, timeout: float) -> tuple[bytes, float]:
@@ -57,11 +64,14 @@ def _drain(fd: int, quiet: float) -> None:
             return
 
 
+Chunk = tuple[float, int, bool]  # when read, bytes, braille among them (the picture drawn)
+
+
 def _record(fd: int, duration: float, quiet_end: float = 0.4,
-            until: bytes | None = None) -> list[tuple[float, int]]:
-    """(time, bytes) of every read until ``quiet_end`` s pass with no output (after ``until``
-    was seen, when given), or ``duration`` s in all."""
-    chunks: list[tuple[float, int]] = []
+            until: bytes | None = None) -> list[Chunk]:
+    """(time, bytes, braille?) of every read until ``quiet_end`` s pass with no output (after
+    ``until`` was seen, when given), or ``duration`` s in all."""
+    chunks: list[Chunk] = []
     start = time.perf_counter()
     last = start
     tail = b""
@@ -74,7 +84,7 @@ def _record(fd: int, duration: float, quiet_end: float = 0.4,
                 data = os.read(fd, 65536)
             except OSError:
                 break
-            chunks.append((now, len(data)))
+            chunks.append((now, len(data), BRAILLE.search(data) is not None))
             last = now
             if not seen and until is not None:
                 tail = (tail + data)[-4096:]
@@ -84,17 +94,24 @@ def _record(fd: int, duration: float, quiet_end: float = 0.4,
     return chunks
 
 
-def frame_figures(chunks: list[tuple[float, int]], name: str, size: str) -> dict[str, float]:
-    """Frames a second while drawing, bytes a frame and frames in all, from timed reads."""
-    starts: list[float] = []
-    sizes: list[int] = []
+def _bursts(chunks: list[Chunk]) -> list[tuple[float, int, bool]]:
+    """Write bursts (frames): (start, bytes, braille in it), reads closer than FRAME_GAP joined."""
+    bursts: list[tuple[float, int, bool]] = []
     previous = None
-    for when, count in chunks:
+    for when, count, drawn in chunks:
         if previous is None or when - previous > FRAME_GAP:
-            starts.append(when)
-            sizes.append(0)
-        sizes[-1] += count
+            bursts.append((when, 0, False))
+        start, total, seen = bursts[-1]
+        bursts[-1] = (start, total + count, seen or drawn)
         previous = when
+    return bursts
+
+
+def frame_figures(chunks: list[Chunk], name: str, size: str) -> dict[str, float]:
+    """Frames a second while drawing, bytes a frame and frames in all, from timed reads."""
+    bursts = _bursts(chunks)
+    starts = [when for when, _, _ in bursts]
+    sizes = [count for _, count, _ in bursts]
     gaps = [b - a for a, b in pairwise(starts) if b - a <= DRAWING_GAP]
     drawing = sum(gaps)
     return {
@@ -102,6 +119,29 @@ def frame_figures(chunks: list[tuple[float, int]], name: str, size: str) -> dict
         f"{name}_bytes_per_frame_{size}": sum(sizes) / max(1, len(sizes)),
         f"{name}_frames_{size}": float(len(sizes)),
     }
+
+
+def drawing_figures(chunks: list[Chunk], motion_seconds: float, name: str, size: str) -> dict[str, float]:
+    """Robot drawings (frames that write braille: the picture changed) per second of motion,
+    and their bytes a drawing, from timed reads and the motions' seconds."""
+    drawn = [count for _, count, braille in _bursts(chunks) if braille]
+    return {
+        f"{name}_fps_{size}": len(drawn) / motion_seconds if motion_seconds > 0 else 0.0,
+        f"{name}_bytes_per_frame_{size}": sum(drawn) / max(1, len(drawn)),
+        f"{name}_frames_{size}": float(len(drawn)),
+        f"{name}_motion_s_{size}": motion_seconds,
+    }
+
+
+def program_motion_seconds(program: str = "PROCESS") -> float:
+    """The motions' seconds of ``program`` run headless on the PROCESS cell and locations
+    (what the app's playback takes at x1)."""
+    from valterm.core.events import Motion
+    from valterm.core.session import Session
+
+    session = Session(workspace_root=tempfile.mkdtemp(prefix="valterm-bench-"), setup="PROCESS")
+    session.load_locations("PROCESS")
+    return sum(float(e.seconds) for e in session.interpreter.execute(program) if isinstance(e, Motion))
 
 
 def _spawn(width: int, height: int, workspace: str) -> tuple[int, int]:
@@ -189,7 +229,7 @@ def _line(fd: int, text: str) -> None:
     os.write(fd, b"\r")
 
 
-def _play_drive(fd: int, command: str) -> list[tuple[float, int]]:
+def _play_drive(fd: int, command: str) -> list[Chunk]:
     """KEYBOARD, playback at its fastest, V, the joint move; back to MAIN after it."""
     os.write(fd, b"K")
     _read_until(fd, b"KEYBOARD", 10.0)
@@ -215,11 +255,11 @@ def _define_locations(fd: int) -> None:
     _drain(fd, 0.5)
 
 
-def _play_program(fd: int) -> list[tuple[float, int]]:
+def _play_program(fd: int, seconds: float = 60.0) -> list[Chunk]:
     """VAL-II mode: PROCESS.LOC's locations defined (``_define_locations``), then EXECUTE PROCESS."""
     _define_locations(fd)
     _line(fd, "EXECUTE PROCESS")
-    return _record(fd, 60.0, until=b"COMPLETED")
+    return _record(fd, seconds, until=b"COMPLETED")
 
 
 def _rss_mib(pid: int) -> float:
@@ -262,11 +302,13 @@ LOOPS_DAT = """    ; PROGRAM : LOOPS
 """
 
 
-def bench_memory(minutes: float = 10.0, every: float = 10.0, width: int = 160,
+def bench_memory(minutes: float = 30.0, every: float = 30.0, width: int = 160,
                  height: int = 50) -> dict[str, float]:
     """The app's resident memory while a program loops in VAL-II mode at real pace (x1):
     sampled every ``every`` s for ``minutes``; the growth over the last two thirds of the
-    span in MiB a minute (least squares), the first and last samples and the samples."""
+    span in MiB a minute (least squares) and its low and high (the goal: flat, high - low
+    <= 2 MiB over the last 20 of 30 minutes), the first sample, those at a third and two
+    thirds of the span, and the last."""
     workspace = tempfile.mkdtemp(prefix="valterm-bench-")
     with open(os.path.join(workspace, "LOOPS.DAT"), "w", encoding="ascii") as program:
         program.write(LOOPS_DAT)
@@ -281,7 +323,7 @@ def bench_memory(minutes: float = 10.0, every: float = 10.0, width: int = 160,
         start = time.perf_counter()
         while time.perf_counter() - start < minutes * 60.0:
             # the app's output read as a terminal would; its bytes show it kept drawing
-            written += sum(n for _, n in _record(fd, every, quiet_end=math.inf))
+            written += sum(n for _, n, _ in _record(fd, every, quiet_end=math.inf))
             samples.append(((time.perf_counter() - start) / 60.0, _rss_mib(pid)))
     finally:
         os.kill(pid, signal.SIGTERM)
@@ -292,7 +334,11 @@ def bench_memory(minutes: float = 10.0, every: float = 10.0, width: int = 160,
     r = [b for _, b in tail]
     mean_t, mean_r = sum(t) / len(t), sum(r) / len(r)
     slope = sum((a - mean_t) * (b - mean_r) for a, b in zip(t, r)) / max(1e-12, sum((a - mean_t) ** 2 for a in t))
+    def at(fraction: float) -> float:
+        return min(samples, key=lambda sample: abs(sample[0] - fraction * samples[-1][0]))[1]
+
     return {"app_rss_first_mib": samples[0][1], "app_rss_last_mib": samples[-1][1],
+            "app_rss_third_mib": at(1 / 3), "app_rss_two_thirds_mib": at(2 / 3),
             "app_rss_growth_mib_per_min": slope, "app_rss_minutes": samples[-1][0],
             "app_rss_tail_low_mib": min(r), "app_rss_tail_high_mib": max(r),
             "app_rss_samples": float(len(samples)), "app_kib_written_per_min": written / 1024.0 / samples[-1][0]}
@@ -309,9 +355,26 @@ def bench_app(width: int = 160, height: int = 50, command: str = "DRIVE 1,-150,2
         figures = {"app_start_to_main_menu_s": startup, **start_times(width, height)}
         figures.update(frame_figures(_play_drive(fd, command), "app_move", size))
         if program:
-            figures.update(frame_figures(_play_program(fd), "app_program", size))
+            figures.update(frame_figures(_play_program(fd), "app_program_fastest", size))
     finally:
         os.kill(pid, signal.SIGTERM)
         os.waitpid(pid, 0)
         os.close(fd)
+    if program:
+        figures.update(bench_program_real_pace(width, height))
     return figures
+
+
+def bench_program_real_pace(width: int = 160, height: int = 50) -> dict[str, float]:
+    """PROCESS at real pace (x1) in a fresh app: robot drawings per second of motion."""
+    workspace = tempfile.mkdtemp(prefix="valterm-bench-")
+    pid, fd = _spawn(width, height, workspace)
+    try:
+        _read_until(fd, b"MAIN MENU", 30.0)
+        _drain(fd, 0.5)
+        chunks = _play_program(fd, 120.0)
+    finally:
+        os.kill(pid, signal.SIGTERM)
+        os.waitpid(pid, 0)
+        os.close(fd)
+    return drawing_figures(chunks, program_motion_seconds(), "app_program", f"{width}x{height}")

@@ -261,7 +261,8 @@ def _raster_entries() -> dict[str, float]:
 
 def _app_entries() -> dict[str, float]:
     """The real app under a pseudo-terminal at 160x50: start time, then frames and bytes
-    while a joint move plays and while the PROCESS program runs in VAL-II mode."""
+    while a joint move plays and while the PROCESS program runs in VAL-II mode at the fastest
+    playback factor, and PROCESS at real pace: robot drawings per second of motion."""
     from valterm.bench.pty import bench_app
 
     return bench_app(160, 50)

@@ -190,6 +190,12 @@ def wrap180(angle: float) -> float:
     return wrapped
 
 
+def joints_between(start: Sequence[float], end: Sequence[float], fraction: float) -> tuple[float, ...]:
+    """The pose ``fraction`` of the way from ``start`` to ``end``, each joint along its shortest
+    turn (the 1985 rules keep angles in (-180, 180]: 179 -> -179 is a 2-degree step, not 358)."""
+    return tuple(float(a) + wrap180(float(b) - float(a)) * fraction for a, b in zip(start, end))
+
+
 def wrap180_array(angles: np.ndarray) -> np.ndarray:
     wrapped = np.fmod(angles, 360.0)
     wrapped = np.where(wrapped <= -180.0, wrapped + 360.0, wrapped)

@@ -242,6 +242,7 @@ class ValtermApp(Guarded, ViewActions, App[int]):
             axes=True,
             depth=self.view_transform,
             part_axes=part_axes,
+            drawn=self.player.drawn(sim.joints),  # an in-between pose while a motion plays
         )
         return picture_scene(sim, overlays)
 

@@ -8,6 +8,11 @@ MOVE of D_DEFINE) and works through it in ticks on its host's timers:
   times the playback ``factor``; DELAY waits its seconds times the factor on the same
   clock; with ``rate`` infinite both happen at once (tests); ``rate`` paces the poses of a
   motion that announces no time;
+- between two poses of a paced motion the picture moves on at up to ``DRAW_RATE`` frames a
+  second: the audience redraws and the app draws the robot at ``drawn()``, each joint
+  turned part of the way (the shortest turn) from the pose before the one due to it. Only
+  the picture: the simulator stands at the motion's own pose, and the verdicts and lines
+  are those of its poses (the same as ``valterm run``);
 - whatever the program does (``10 GOTO 10`` has no motion and no DELAY) a tick works at
   most ``budget`` seconds of real time, then hands control back to Textual, so the screen
   updates and CTRL-C is seen at the next tick;
@@ -26,11 +31,13 @@ from __future__ import annotations
 import math
 import time
 from collections import deque
-from collections.abc import Callable, Generator, Iterable, Iterator
+from collections.abc import Callable, Generator, Iterable, Iterator, Sequence
 from typing import Protocol
 
+from textual.cache import LRUCache
 from textual.message_pump import MessagePump
 from textual.timer import Timer
+from textual.widgets import RichLog
 
 from valterm.core.events import (
     Collision,
@@ -45,6 +52,7 @@ from valterm.core.events import (
     PoseEvent,
     Release,
 )
+from valterm.core.kinematics import joints_between
 from valterm.core.render.clock import DEFAULT_RATE, MotionPlayer
 from valterm.core.text.transcript import event_lines
 from valterm.ui.errors import problem_text
@@ -52,7 +60,15 @@ from valterm.ui.errors import problem_text
 TICK_BUDGET = 0.005  # seconds of work a tick, then Textual gets the loop back
 YIELD = 0.001  # seconds the pump sleeps between busy ticks (keys and redraws run then)
 MAX_FPS = 60.0  # no more redraws a second than this while a motion is paced
+# in-between pictures a second while a motion is paced (the real PUMA's poses come 10-15 a
+# second at SPEED 100): each joint turned part of the way to the next pose, drawn only
+DRAW_RATE = 60.0
 TRANSCRIPT_LINES = 2000  # lines a screen keeps of its transcript (and the most handed a tick)
+# the on-screen log keeps fewer: a line there is a few Textual strips (about 5 KB with their
+# caches, 8 KB of resident memory), so 2000 of them took 20 minutes of a looping program and
+# 17 MiB to fill; these fill in minutes and hold about 2 MiB
+LOG_LINES = 500
+LOG_CACHE = 200  # rendered log lines kept (Textual's 1024 is for any widget; a screen shows < 100)
 # playback factors: the animation takes the real robot's time times this (x0.25 is 4x faster)
 FACTORS = (0.25, 0.5, 1.0, 2.0, 4.0, 8.0)
 
@@ -67,6 +83,17 @@ class Transcript(deque[str]):
 
     def __init__(self, lines: Iterable[str] = (), maxlen: int = TRANSCRIPT_LINES) -> None:
         super().__init__(lines, maxlen=maxlen)
+
+
+class TranscriptLog(RichLog):
+    """The transcript as the screen shows it: the last ``LOG_LINES`` lines, wrapped, and a
+    render cache of ``LOG_CACHE`` lines (the memory of a long run levels off in minutes)."""
+
+    def __init__(self, *, id: str | None = None, classes: str | None = None) -> None:
+        super().__init__(id=id, classes=classes, wrap=True, markup=False, max_lines=LOG_LINES)
+        # RichLog keys its cache by the line's number since the start, so every line ever
+        # shown takes a place there until 1024 are held (textual is pinned: the name holds)
+        self._line_cache = LRUCache(LOG_CACHE)
 
 
 class Audience(Protocol):
@@ -116,6 +143,11 @@ class Player:
         self._last_pause: Pause | None = None  # to hand to the audience after the lines
         self._ended: bool | None = None  # the stream ended (aborted?): to tell the audience
         self._timer: Timer | None = None
+        # drawing only: the pose before the one shown and that pose, the picture in between
+        self._last_pose: tuple[float, ...] | None = None  # the last pose the robot was seen at
+        self._segment: tuple[tuple[float, ...], tuple[float, ...]] | None = None
+        self._between: tuple[float, ...] | None = None
+        self._tick_start = 0.0  # perf_counter() when the tick began
 
     # -- state -----------------------------------------------------------------------
     @property
@@ -126,6 +158,18 @@ class Player:
     @property
     def paused(self) -> bool:
         return self._paused
+
+    def drawn(self, joints: Sequence[float]) -> tuple[float, ...] | None:
+        """The joints to draw the robot at instead of ``joints`` (the simulator's): while a
+        motion is paced, a pose between the motion's pose shown and the one before it, as far
+        along as the clock is towards the next; None: draw ``joints``. Drawn only: the
+        simulator, the verdicts and the transcript are the motion's own poses'."""
+        if self._motion is None:
+            self._last_pose = tuple(joints)  # where the next motion starts from
+            return None
+        if self._segment is None or tuple(joints) != self._segment[1]:
+            return None  # the robot is not where the motion put it: draw it as it is
+        return self._between
 
     @property
     def drawing(self) -> bool:
@@ -192,6 +236,7 @@ class Player:
         if not self.playing:
             return
         self.ticks += 1
+        self._tick_start = time.perf_counter()
         wait = self._guarded(time.perf_counter() + self.budget, pace=not math.isinf(self.rate))
         self._flush()
         if wait is not None and self.playing and not self._paused:
@@ -245,6 +290,8 @@ class Player:
             self.goal = event.goal or None
             if pace and not self._aborting:
                 self._motion = self._paced(event)
+            else:
+                self._last_pose = event.joints
             return
         if isinstance(event, Delay):
             if pace and not self._aborting:
@@ -286,15 +333,33 @@ class Player:
     def _poses(self, first: PoseEvent) -> Iterator[PoseEvent]:
         """The poses of one motion, pulled from the stream as the clock wants them; findings
         between poses are shown as they come, the first other event is kept for after."""
+        self._arrive(first)
         yield first
         for event in self._source or ():
             if isinstance(event, PoseEvent):
+                self._arrive(event)
                 yield event
             elif isinstance(event, _DURING_MOTION):
                 self._show(event)
             else:
                 self._after_motion.append(event)
                 return
+
+    def _arrive(self, pose: PoseEvent) -> None:
+        """A pose pulled from the stream: the simulator is there now (the next to be shown)."""
+        before, self._last_pose = self._last_pose, pose.joints
+        self._segment = None if before is None else (before, pose.joints)
+
+    def _in_between(self, motion: MotionPlayer[PoseEvent]) -> tuple[float, ...] | None:
+        """The picture's pose now: from the pose before the one shown (at the moment that
+        one fell due) to it (when the next falls due), so the drawing follows the clock one
+        step behind the poses; None once the next is due (draw the pose itself)."""
+        if self._segment is None or motion.start_time is None or math.isinf(motion.rate):
+            return None
+        fraction = (self.clock() - motion.start_time) * motion.rate - motion.index
+        if fraction >= 1.0:
+            return None
+        return joints_between(*self._segment, max(0.0, fraction))
 
     def _motion_step(self, pace: bool) -> float | None:
         """Show the pose due now; the seconds to wait, or None once the motion is over."""
@@ -305,9 +370,15 @@ class Player:
         elif motion.poll() is not None:
             self._scene_changed = True
         if not motion.finished:
+            between = self._in_between(motion) if pace and not self._aborting else None
+            if between != self._between:
+                self._between, self._scene_changed = between, True
             # at most 0.1 s without a fresh look at the clock (as for DELAY)
-            return min(max(motion.next_due_in(), 1.0 / MAX_FPS), 0.1)
-        self._motion = None
+            wait = min(max(motion.next_due_in(), 1.0 / MAX_FPS), 0.1)
+            # the next picture a frame after this tick began (the tick's own work included)
+            frame = 1.0 / DRAW_RATE - (time.perf_counter() - self._tick_start)
+            return wait if between is None else min(wait, frame)
+        self._motion, self._between, self._segment = None, None, None
         self._scene_changed = True
         tail, self._after_motion = self._after_motion, []
         for event in tail:
@@ -338,6 +409,7 @@ class Player:
         source, self._source = self._source, None
         self.end_tick = self.ticks
         self._motion, self._after_motion, self._resume_at = None, [], None
+        self._between = self._segment = None
         self._paused = False
         self._stop_source = None
         if self._timer is not None:

@@ -93,6 +93,9 @@ class Overlays:
     depth: ViewTransform | None = None  # dim what is far from the viewer of this view
     part_axes: int | None = None  # a part whose frame is drawn (MANIPULATION mode)
     extra: list[tuple[np.ndarray, int]] = field(default_factory=list)  # (segments, colour)
+    # the joints the robot is drawn at instead of the simulator's: an in-between pose of the
+    # app's playback (drawn only; the LED's verdict and the collisions are the pose's own)
+    drawn: Sequence[float] | None = None
 
 
 def _dimmed(polys: list[Polyhedron], colours: list[int], keep: list[bool], view: ViewTransform) -> list[int]:
@@ -123,17 +126,27 @@ def picture_scene(simulator: Simulator, overlays: Overlays | None = None) -> Sce
         return objects[number - 1], object_colour(number), True
 
     items = [object_item(n) for n in range(1, len(objects) + 1) if n != carried]
-    for i, poly in enumerate(simulator.robot_polyhedra()):
+    joints = simulator.joints if ov.drawn is None else list(ov.drawn)
+    for i, poly in enumerate(simulator.model.place(joints, simulator.gap, simulator.base)):
         hit = i < len(names) and names[i] in ov.collided
         items.append((poly, HIGHLIGHT_COLOUR if hit else link_colour(i), not hit))
     if carried is not None and 1 <= carried <= len(objects):
-        items.append(object_item(carried))
+        poly, colour, keep = object_item(carried)
+        items.append((poly if ov.drawn is None else _carried_at(simulator, poly, joints), colour, keep))
     polys = [p for p, _, _ in items]
     colours = [c for _, c, _ in items]
     if ov.depth is not None:
         colours = _dimmed(polys, colours, [k for _, _, k in items], ov.depth)
     lines, line_colours = _lines(simulator, ov)
     return Scene.build(zip(polys, colours), lines, line_colours)
+
+
+def _carried_at(simulator: Simulator, part: Polyhedron, joints: Sequence[float]) -> Polyhedron:
+    """The carried part as the clamp holds it at ``joints`` (it rides the clamp rigidly)."""
+    here = simulator.model.clamp_frame(simulator.joints, simulator.base)
+    there = simulator.model.clamp_frame(joints, simulator.base)
+    move = there @ np.linalg.inv(here)
+    return Polyhedron(part.vertices @ move[:3, :3].T + move[:3, 3], part.name, part.winding_flipped)
 
 
 def _lines(simulator: Simulator, ov: Overlays) -> tuple[np.ndarray, list[int]]:
@@ -151,7 +164,8 @@ def _lines(simulator: Simulator, ov: Overlays) -> tuple[np.ndarray, list[int]]:
     if ov.part_axes is not None and 1 <= ov.part_axes <= len(objects):
         parts.append((frame_lines(list(objects[ov.part_axes - 1].reference), length=150.0), LED_COLOUR))
     parts.extend(ov.extra)
-    p0, p1 = simulator.model.led_segment(simulator.joints, simulator.gap, simulator.base)
+    joints = simulator.joints if ov.drawn is None else list(ov.drawn)
+    p0, p1 = simulator.model.led_segment(joints, simulator.gap, simulator.base)
     parts.append((np.stack([np.asarray(p0, dtype=float), np.asarray(p1, dtype=float)])[None], LED_COLOUR))
     segs = [np.asarray(s, dtype=float).reshape(-1, 2, 3) for s, _ in parts]
     colours = [c for s, c in zip(segs, (c for _, c in parts)) for _ in range(len(s))]

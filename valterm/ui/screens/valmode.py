@@ -58,7 +58,7 @@ from valterm.core.session import Session
 from valterm.core.text.transcript import where_lines
 from valterm.ui import keymap
 from valterm.ui.errors import problem_text
-from valterm.ui.playback import TRANSCRIPT_LINES, Player, Transcript, show_at_once
+from valterm.ui.playback import Player, Transcript, TranscriptLog, show_at_once
 from valterm.ui.screens.editor import EditorScreen, StepInput
 from valterm.ui.screens.help import HelpScreen
 from valterm.ui.screens.keyed import KeyedScreen
@@ -219,7 +219,7 @@ class ValModeScreen(KeyedScreen[None]):
         with VerticalScroll(id="val-menu-scroll"):
             yield Static(VAL_MENU_1, id="val-menu")
         with Horizontal(id="val-middle"):
-            yield RichLog(id="val-log", wrap=True, markup=False, max_lines=TRANSCRIPT_LINES)
+            yield TranscriptLog(id="val-log")
             yield DebugPanel(id="val-debug", classes="hidden")  # beside the transcript
         yield Static("", id="val-keys")
         yield Static("", id="val-where")
