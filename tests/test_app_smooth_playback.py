@@ -140,3 +140,39 @@ def test_paced_playback_prints_what_run_prints(tmp_path: Path, capsys: pytest.Ca
     assert seen[1:] == by_run
     assert session.simulator.joints == headless.simulator.joints
     assert counts["between"] > 100 and counts["poses"] > 181  # PROCESS has 181 poses
+
+
+@sync
+async def test_in_between_pictures_redraw_the_model_alone(tmp_path: Path) -> None:
+    """A picture between two poses redraws the model view only: the readouts and the status
+    line are redrawn once a pose (they say the poses', and each redraw costs a layout)."""
+    clock = FakeClock()
+    app = make_app(tmp_path, rate=40.0, clock=clock)
+    async with app.run_test(size=(120, 40)) as pilot:
+        await pilot.press("K")
+        screen = app.screen
+        view = screen.query_one(ModelView)
+        counts = {"redraw": 0, "picture": 0}
+        redraw, update_scene = screen.redraw, view.update_scene
+
+        def counted_redraw() -> None:
+            counts["redraw"] += 1
+            redraw()
+
+        def counted_update(scene) -> None:  # type: ignore[no-untyped-def]
+            counts["picture"] += 1
+            update_scene(scene)
+
+        screen.redraw = counted_redraw  # type: ignore[method-assign]
+        view.update_scene = counted_update  # type: ignore[method-assign]
+        app.run_events(app.session.simulator.drive(1, 60.0))  # 5 poses
+        await pilot.pause()
+        motion = app.player._motion
+        assert motion is not None
+        for _ in range(5 * 8):  # eight looks at the clock a pose
+            clock.t += 1.0 / motion.rate / 8
+            await pilot.pause(0.02)
+        await run_until(pilot, lambda: not app.moving)
+        pictures_alone = counts["picture"] - counts["redraw"]
+        assert counts["redraw"] <= 5 + 2, counts  # the poses (and the end)
+        assert pictures_alone >= 10, counts  # the in-between pictures, each the model alone

@@ -316,6 +316,11 @@ class Relay:
         if top is not None:
             self._guard(top.show_scene)
 
+    def show_picture(self) -> None:
+        top = self.screen if self._here() else self._top()
+        if top is not None:
+            self._guard(getattr(top, "show_picture", top.show_scene))
+
     def show_lines(self, lines: list[str]) -> None:
         if self._here():
             self._guard(lambda: self.screen.show_lines(lines))

@@ -102,6 +102,10 @@ class Audience(Protocol):
     def show_scene(self) -> None:
         """The robot or the cell changed: redraw the model and the readouts."""
 
+    def show_picture(self) -> None:
+        """Only the picture moved (a pose drawn between two of a motion's): redraw the model
+        alone (the readouts, WHERE and the status line say the poses' own)."""
+
     def show_lines(self, lines: list[str]) -> None:
         """Transcript lines (rendered by the core's renderer) to add to what is shown."""
 
@@ -140,6 +144,7 @@ class Player:
         self._aborting = False
         self._lines: deque[str] = deque(maxlen=TRANSCRIPT_LINES)
         self._scene_changed = False
+        self._picture_changed = False  # only the in-between picture moved (show_picture)
         self._last_pause: Pause | None = None  # to hand to the audience after the lines
         self._ended: bool | None = None  # the stream ended (aborted?): to tell the audience
         self._timer: Timer | None = None
@@ -372,7 +377,7 @@ class Player:
         if not motion.finished:
             between = self._in_between(motion) if pace and not self._aborting else None
             if between != self._between:
-                self._between, self._scene_changed = between, True
+                self._between, self._picture_changed = between, True
             # at most 0.1 s without a fresh look at the clock (as for DELAY)
             wait = min(max(motion.next_due_in(), 1.0 / MAX_FPS), 0.1)
             # the next picture a frame after this tick began (the tick's own work included)
@@ -395,8 +400,11 @@ class Player:
             self._lines.clear()
             audience.show_lines(lines)
         if self._scene_changed:
-            self._scene_changed = False
+            self._scene_changed = self._picture_changed = False
             audience.show_scene()
+        elif self._picture_changed:
+            self._picture_changed = False
+            audience.show_picture()
         if self._last_pause is not None:
             pause, self._last_pause = self._last_pause, None
             audience.paused(pause)

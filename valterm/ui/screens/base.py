@@ -175,6 +175,11 @@ class MenuScreen(KeyedScreen[None]):
     def show_scene(self) -> None:
         self.redraw()
 
+    def show_picture(self) -> None:
+        """A pose between two of a motion's: the model alone (the readout says the poses')."""
+        if self.is_attached:
+            self.model_view.update_scene(self.app.scene(self.part_axes))
+
     def show_lines(self, lines: list[str]) -> None:
         for line in lines[-self.messages.max_lines:]:
             self.say(line, "error" if line.startswith("***") else "info")

@@ -559,6 +559,10 @@ class ValModeScreen(KeyedScreen[None]):
             self.query_one(ModelView).call_after_refresh(self._fit)
         self.redraw()
 
+
+    def show_picture(self) -> None:
+        """A pose between two of a motion's: the model alone (WHERE says the poses')."""
+        self.query_one(ModelView).update_scene(self.app.scene())
     def _text_after_motion(self) -> None:
         """The text again once what moved the robot has ended or paused (80x24)."""
         if self._model_for_motion:
