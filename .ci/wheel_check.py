@@ -118,6 +118,10 @@ def check_commands(valterm: Path, folder: Path, env: dict[str, str]) -> None:
     run("check", "--workspace", ws, "check", "PROCESS.DAT", "CONV1", "CONV2", out="PROCESS: ")
     run("kin fk", "kin", "fk", "0", "-90", "90", "0", "0", "0", out="NOFLIP")
     run("kin ik", "kin", "ik", "0", "158.75", "990.6", "90", "-90", "0", "--json", out='"joints"')
+    # the PUMA 560 from the robot file the wheel carries (assets/robot/PUMA560.toml)
+    run("kin fk --robot PUMA560", "kin", "fk", "0", "90", "-90", "0", "0", "0", "--robot", "PUMA560", out="1535.43")
+    run("run --robot PUMA560", "--workspace", ws, "run", "PROCESS.DAT", "--cell", "PROCESS.SET", "--loc",
+        "PROCESS.LOC", "--robot", "PUMA560", status=1, out="BEYOND THE PUMA 560'S STOPS")
     run("a usage error", "kin", "fk", "1", "2", "3", status=2)
     run("a missing file", "--workspace", ws, "run", "NOSUCH", status=1)
     cube = folder / "cube.obj"
