@@ -176,3 +176,25 @@ async def test_in_between_pictures_redraw_the_model_alone(tmp_path: Path) -> Non
         pictures_alone = counts["picture"] - counts["redraw"]
         assert counts["redraw"] <= 5 + 2, counts  # the poses (and the end)
         assert pictures_alone >= 10, counts  # the in-between pictures, each the model alone
+
+
+@sync
+async def test_the_first_picture_starts_where_the_robot_is(tmp_path: Path) -> None:
+    """The robot moved without a pose or a redraw (JT1 set to 40): the next motion's first
+    in-between picture lies between 40 and its first pose, not between an older picture's."""
+    clock = FakeClock()
+    app = make_app(tmp_path, rate=40.0, clock=clock)
+    async with app.run_test(size=(120, 40)) as pilot:
+        await pilot.press("K")
+        simulator = app.session.simulator
+        simulator.joints[0] = 40.0  # no redraw: the last picture still shows JT1 at 0
+        app.run_events(simulator.drive(1, 24.0))  # poses at 52 and 64
+        await pilot.pause()
+        motion = app.player._motion
+        assert motion is not None and round(simulator.joints[0]) == 52
+        clock.t += 0.5 / motion.rate  # half way to the second pose
+        await pilot.pause(0.1)
+        drawn = app.player.drawn(simulator.joints)
+        assert drawn is not None and 40.0 < drawn[0] < 52.0, drawn
+        clock.t += 10.0
+        await run_until(pilot, lambda: not app.moving)

@@ -262,6 +262,7 @@ class ValtermApp(Guarded, ViewActions, App[int]):
         stop = self.session.abort_program if self.session is not None else None
         if self.session is not None:
             self.session.take_inputs_from_keyboard()  # the I/O panel (F10 in VAL-II mode) sets inputs
+            self.player.rest_at(self.session.simulator.joints)  # where the first picture starts
         self.player.play(events, Relay(self, target), stop)  # type: ignore[arg-type]
 
     def action_abort(self) -> None:

@@ -170,11 +170,17 @@ class Player:
         along as the clock is towards the next; None: draw ``joints``. Drawn only: the
         simulator, the verdicts and the transcript are the motion's own poses'."""
         if self._motion is None:
-            self._last_pose = tuple(joints)  # where the next motion starts from
+            self.rest_at(joints)
             return None
         if self._segment is None or tuple(joints) != self._segment[1]:
             return None  # the robot is not where the motion put it: draw it as it is
         return self._between
+
+    def rest_at(self, joints: Sequence[float]) -> None:
+        """The robot is at ``joints`` with no motion playing: the next motion's pictures
+        start there (also when it was moved without a pose or a redraw)."""
+        if self._motion is None:
+            self._last_pose = tuple(joints)
 
     @property
     def drawing(self) -> bool:
