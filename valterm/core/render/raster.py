@@ -303,11 +303,18 @@ class Scene:
 
     def drawn_points(self, axes: bool) -> np.ndarray:
         """Every point a segment of ``drawn_pairs`` names: the vertices, then the loose lines'
-        ends, then (``axes``) the WCS axes' ends."""
-        parts = [self.vertices, self.lines.reshape(-1, 3)]
-        if axes:
-            parts.append(_AXES_POINTS)
-        return np.concatenate(parts)
+        ends, then (``axes``) the WCS axes' ends (kept: a scene's points do not change)."""
+        return self._drawn_points[int(axes)]
+
+    @cached_property
+    def _drawn_points(self) -> tuple[np.ndarray, np.ndarray]:
+        points = np.concatenate([self.vertices, self.lines.reshape(-1, 3)])
+        return points, np.concatenate([points, _AXES_POINTS])
+
+    @cached_property
+    def _every_end_at(self) -> tuple[np.ndarray, np.ndarray]:
+        """``_end_at`` of every edge (back faces on), without and with the WCS axes."""
+        return _end_at(self._every_pair[0][0]), _end_at(self._every_pair[1][0])
 
     def drawn_pairs(self, view: ViewTransform, back_faces: bool, axes: bool) -> tuple[np.ndarray, np.ndarray]:
         """The segments to draw as index pairs into ``drawn_points`` (S, 2), and the priority
@@ -499,43 +506,66 @@ def _samples(segs: np.ndarray, prio: np.ndarray, maps: tuple[np.ndarray, np.ndar
 
 def _dot_samples(pts: np.ndarray, prio: np.ndarray, w: int, h: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``_samples`` of segments already in continuous dot coordinates (S, 2, 2)."""
+    return _end_samples(np.ascontiguousarray(pts.reshape(-1, 4).T), prio, w, h)
+
+
+def _end_samples(ends: np.ndarray, prio: np.ndarray, w: int, h: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``_dot_samples`` of the segments' ends as four rows (first x, first y, last x, last y):
+    every pass below runs on contiguous rows (a reduction or an op along an axis of 2 costs
+    several times more). The third result is ``prio`` (a value per segment) per sample."""
     wd, hd = 2 * w, 4 * h
-    empty = np.zeros(0, dtype=np.intp)
-    if len(pts) == 0:
-        return empty, empty.astype(np.uint8), empty
     hi = np.array([wd - 1e-6, hd - 1e-6])
-    # whole-array and 1-D reductions: one along the axis of 2 costs several times more
-    if pts.min() >= 0.0 and pts[:, :, 0].max() <= hi[0] and pts[:, :, 1].max() <= hi[1]:
-        a, p = pts[:, 0], prio                  # all inside (the usual frame): nothing to clip
-        d = pts[:, 1] - a
-        clipped = False
+    if not ends.shape[1]:
+        return _NO_SAMPLES
+    per = np.empty((6, ends.shape[1]))    # first sample, t's divisor, start (2), direction (2)
+    if ends.min() >= 0.0 and ends[0::2].max() <= hi[0] and ends[1::2].max() <= hi[1]:
+        clipped = False                   # all inside (the usual frame): nothing to clip
+        per[2:4] = ends[:2]
+        np.subtract(ends[2:], ends[:2], out=per[4:6])
     else:
         clipped = True
-        a, b, keep = _clip(pts[:, 0], pts[:, 1], hi)
-        a, b, p = a[keep], b[keep], prio[keep]
-        d = b - a
+        a, b, keep = _clip(ends[:2].T, ends[2:].T, hi)
+        per = per[:, keep]
+        per[2:4] = a[keep].T
+        per[4:6] = (b[keep] - a[keep]).T
+        prio = prio[keep]
     # samples per edge from its length in dots: consecutive samples <= 1 dot apart
-    ad = np.abs(d)
-    n = np.ceil(np.maximum(ad[:, 0], ad[:, 1])).astype(np.intp) + 1   # (no reduction along an axis of 2)
-    total = int(n.sum())
-    if not total:
-        return empty, empty.astype(np.uint8), empty
-    # each segment's first sample, t's divisor, start and direction: six rows repeated to
-    # their samples in one call (contiguous rows: no complex or strided passes per sample)
-    per = np.empty((6, len(n)))
-    per[0] = np.cumsum(n) - n
-    per[1] = np.maximum(n - 1, 1)
-    per[2:4] = a.T
-    per[4:6] = d.T
+    ad = np.abs(per[4:6])
+    steps = np.ceil(np.maximum(ad[0], ad[1]))
+    n = steps.astype(np.intp)
+    n += 1
+    if not len(n):
+        return _NO_SAMPLES
+    ends_at = np.cumsum(n)
+    total = int(ends_at[-1])
+    per[0, 0] = 0.0
+    per[0, 1:] = ends_at[:-1]
+    np.maximum(steps, 1.0, out=per[1])
+    # the six rows repeated to their samples in one call (contiguous rows: no strided passes)
     each = np.repeat(per, n, axis=1)
-    t = (np.arange(total, dtype=float) - each[0]) / each[1]    # whole numbers: exact as floats
-    x = (each[2] + t * each[4]).astype(np.intp)
-    y = (each[3] + t * each[5]).astype(np.intp)
+    t = _counting(total) - each[0]
+    t /= each[1]                          # whole numbers over whole numbers: exact as floats
+    xy = each[4:6] * t
+    xy += each[2:4]
+    dots = xy.astype(np.intp)
     if clipped:      # inside, samples lie between two in-range ends: no clamping needed
-        np.clip(x, 0, wd - 1, out=x)
-        np.clip(y, 0, hd - 1, out=y)
-    lit = _dot_tables(w, h)[1].take(y * wd + x)
-    return lit >> 3, lit, np.repeat(p, n)    # a dot's bit index is its cell * 8 + its bit
+        np.clip(dots[0], 0, wd - 1, out=dots[0])
+        np.clip(dots[1], 0, hd - 1, out=dots[1])
+    at = dots[1] * wd
+    at += dots[0]
+    lit = _dot_tables(w, h)[1].take(at)
+    return lit >> 3, lit, np.repeat(prio, n)    # a dot's bit index is its cell * 8 + its bit
+
+
+_NO_SAMPLES = (np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp))
+_COUNTING = [np.arange(4096, dtype=float)]
+
+
+def _counting(total: int) -> np.ndarray:
+    """0.0, 1.0, ... total - 1 (a view of one kept array, grown when a frame needs more)."""
+    if len(_COUNTING[0]) < total:
+        _COUNTING[0] = np.arange(max(total, 2 * len(_COUNTING[0])), dtype=float)
+    return _COUNTING[0][:total]
 
 
 # the number of the bit (0..7) of dot (row, col) at 2 * row + col
@@ -640,7 +670,7 @@ def rasterize(
     maps = _to_dots(view, 2 * w, 4 * h, dot_aspect)
     pts, prio = _scene_dots(scene, view, back_faces, axes, maps)
     palette = scene._palette_with_axes
-    cells, lit, owners = _dot_samples(pts, prio, w, h)
+    cells, lit, owners = _end_samples(pts, prio, w, h)
     codes: np.ndarray
     colours: np.ndarray
     if scene.background is None:
@@ -669,9 +699,38 @@ def _scene_dots(scene: Scene, view: ViewTransform, back_faces: bool, axes: bool,
                 maps: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
     """The scene's segments in dot coordinates (S, 2, 2) and their priorities: each point
     projected once, then paired into segments."""
-    project, offset = _projection(maps)
+    project, offset = _kept_projection(maps)
     pairs, prio = scene.drawn_pairs(view, back_faces, axes)
-    return (scene.drawn_points(axes) @ project + offset)[pairs], prio
+    at = scene._every_end_at[int(axes)] if back_faces else _end_at(pairs)
+    # one take of the flat (x, y, x, y ...) products (a fancy index costs several times more),
+    # then the offset: the same sums as ``points @ project + offset`` paired afterwards
+    ends: np.ndarray = (scene.drawn_points(axes) @ project).ravel().take(at)
+    ends += offset
+    return ends, prio
+
+
+def _end_at(pairs: np.ndarray) -> np.ndarray:
+    """Where the ends' coordinates of segments ``pairs`` (S, 2) lie in the flattened (P, 2)
+    points, as the four rows (first x, first y, last x, last y) ``_end_samples`` takes."""
+    at = np.empty((4, len(pairs)), dtype=np.intp)
+    at[0::2] = 2 * pairs.T
+    at[1::2] = at[0::2] + 1
+    return at
+
+
+_PROJECTIONS: dict[int, tuple[np.ndarray, np.ndarray, np.ndarray]] = {}
+
+
+def _kept_projection(maps: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+    """``_projection`` of ``_to_dots``' kept maps, its offset as a (4, 1) column for the ends'
+    rows (x, y, x, y): made once per view state and canvas, as the maps are."""
+    found = _PROJECTIONS.get(id(maps[2]))
+    if found is None or found[0] is not maps[2]:
+        if len(_PROJECTIONS) >= 8:
+            _PROJECTIONS.pop(next(iter(_PROJECTIONS)))
+        project, offset = _projection(maps)
+        found = _PROJECTIONS[id(maps[2])] = (maps[2], project, np.tile(offset, 2)[:, None])
+    return found[1], found[2]
 
 
 def _label_axes(chars: np.ndarray, colours: np.ndarray, a_mat: np.ndarray, b_vec: np.ndarray,
