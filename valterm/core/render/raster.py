@@ -520,7 +520,8 @@ def _end_samples(ends: np.ndarray, prio: np.ndarray, w: int, h: int) -> tuple[np
     if not ends.shape[1]:
         return _NO_SAMPLES
     per = np.empty((6, ends.shape[1]))    # first sample, t's divisor, start (2), direction (2)
-    if ends.min() >= 0.0 and ends[0::2].max() <= hi[0] and ends[1::2].max() <= hi[1]:
+    x0, y0, x1, y1 = ends.max(axis=1).tolist()
+    if ends.min() >= 0.0 and max(x0, x1) <= wd - 1e-6 and max(y0, y1) <= hd - 1e-6:
         clipped = False                   # all inside (the usual frame): nothing to clip
         per[2:4] = ends[:2]
         np.subtract(ends[2:], ends[:2], out=per[4:6])
@@ -532,16 +533,15 @@ def _end_samples(ends: np.ndarray, prio: np.ndarray, w: int, h: int) -> tuple[np
         per[4:6] = (b[keep] - a[keep]).T
         prio = prio[keep]
     # samples per edge from its length in dots: consecutive samples <= 1 dot apart
-    ad = np.abs(per[4:6])
-    steps = np.ceil(np.maximum(ad[0], ad[1]))
+    steps = np.abs(per[4:6]).max(axis=0)
+    np.ceil(steps, out=steps)
     n = steps.astype(np.intp)
     n += 1
     if not len(n):
         return _NO_SAMPLES
-    ends_at = np.cumsum(n)
-    total = int(ends_at[-1])
     per[0, 0] = 0.0
-    per[0, 1:] = ends_at[:-1]
+    np.cumsum(n[:-1], out=per[0, 1:])
+    total = int(per[0, -1]) + int(n[-1])
     np.maximum(steps, 1.0, out=per[1])
     # the six rows repeated to their samples in one call (contiguous rows: no strided passes)
     each = np.repeat(per, n, axis=1)
@@ -549,11 +549,11 @@ def _end_samples(ends: np.ndarray, prio: np.ndarray, w: int, h: int) -> tuple[np
     t /= each[1]                          # whole numbers over whole numbers: exact as floats
     xy = each[4:6] * t
     xy += each[2:4]
-    dots = xy.astype(np.intp)
+    dots = xy.astype(np.int32)      # (a canvas of 2 ** 28 cells would need a 16 GB table)
     if clipped:      # inside, samples lie between two in-range ends: no clamping needed
         np.clip(dots[0], 0, wd - 1, out=dots[0])
         np.clip(dots[1], 0, hd - 1, out=dots[1])
-    at = dots[1] * wd
+    at = dots[1] * np.int32(wd)
     at += dots[0]
     lit = _dot_tables(w, h)[1].take(at)
     return lit >> 3, lit, np.repeat(prio, n)    # a dot's bit index is its cell * 8 + its bit
