@@ -516,7 +516,6 @@ def _end_samples(ends: np.ndarray, prio: np.ndarray, w: int, h: int) -> tuple[np
     every pass below runs on contiguous rows (a reduction or an op along an axis of 2 costs
     several times more). The third result is ``prio`` (a value per segment) per sample."""
     wd, hd = 2 * w, 4 * h
-    hi = np.array([wd - 1e-6, hd - 1e-6])
     if not ends.shape[1]:
         return _NO_SAMPLES
     per = np.empty((6, ends.shape[1]))    # first sample, t's divisor, start (2), direction (2)
@@ -527,7 +526,7 @@ def _end_samples(ends: np.ndarray, prio: np.ndarray, w: int, h: int) -> tuple[np
         np.subtract(ends[2:], ends[:2], out=per[4:6])
     else:
         clipped = True
-        a, b, keep = _clip(ends[:2].T, ends[2:].T, hi)
+        a, b, keep = _clip(ends[:2].T, ends[2:].T, np.array([wd - 1e-6, hd - 1e-6]))
         per = per[:, keep]
         per[2:4] = a[keep].T
         per[4:6] = (b[keep] - a[keep]).T
