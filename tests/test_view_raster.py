@@ -274,3 +274,95 @@ def test_frame_text_and_lines_are_its_rows() -> None:
     for h, w in ((0, 4), (3, 0)):
         empty = Frame(np.full((h, w), 0x20, dtype=np.uint32), np.zeros((h, w), dtype=np.uint8))
         assert (empty.lines(), empty.text()) == ([""] * h, "\n" * max(h - 1, 0))
+
+
+def _reference_dot_samples(pts: np.ndarray, prio: np.ndarray, w: int, h: int) -> tuple[np.ndarray, ...]:
+    """The sampling as it was before issue 25's third pass (kept here to compare against):
+    per segment n = ceil(longest side) + 1 samples at t = k / max(n - 1, 1), each dot the
+    truncation of start + t * direction, clipped segments clamped to the canvas."""
+    from valterm.core.render.raster import _clip, _dot_tables
+
+    wd, hd = 2 * w, 4 * h
+    hi = np.array([wd - 1e-6, hd - 1e-6])
+    inside = len(pts) == 0 or (pts.min() >= 0.0 and pts[:, :, 0].max() <= hi[0] and pts[:, :, 1].max() <= hi[1])
+    if inside:
+        a, b, p = pts[:, 0], pts[:, 1], prio
+    else:
+        a, b, keep = _clip(pts[:, 0], pts[:, 1], hi)
+        a, b, p = a[keep], b[keep], prio[keep]
+    d = b - a
+    n = np.ceil(np.abs(d).max(axis=1, initial=0.0)).astype(np.intp) + 1
+    first = np.repeat(np.cumsum(n) - n, n)
+    t = (np.arange(int(n.sum()), dtype=float) - first) / np.repeat(np.maximum(n - 1, 1), n)
+    x = (np.repeat(a[:, 0], n) + t * np.repeat(d[:, 0], n)).astype(np.intp)
+    y = (np.repeat(a[:, 1], n) + t * np.repeat(d[:, 1], n)).astype(np.intp)
+    if not inside:
+        x, y = np.clip(x, 0, wd - 1), np.clip(y, 0, hd - 1)
+    lit = _dot_tables(w, h)[1][y * wd + x]
+    return lit >> 3, lit, np.repeat(p, n)
+
+
+def test_sampling_lights_the_dots_it_lit_before_the_third_pass() -> None:
+    """Issue 25's third pass samples the segments from contiguous rows of their ends: every
+    sample (its cell, bit and owner) is the one the earlier sampling gave, on random segment
+    sets inside, across and outside the canvas, with ends on whole and half dots (cell edges)."""
+    from valterm.core.render.raster import _dot_samples
+
+    rng = np.random.default_rng(25)
+    clipped = 0
+    for trial in range(150):
+        w, h = int(rng.integers(1, 220)), int(rng.integers(1, 70))
+        span = np.array([2 * w, 4 * h]) * (1.0 if trial % 2 else 1.4)
+        pts = rng.uniform(-0.2, 1.0, (int(rng.integers(0, 300)), 2, 2)) * span
+        if trial % 3 == 0:
+            pts = np.round(pts * 2) / 2             # whole and half dots: the cell edges
+        if trial % 4 == 0:
+            pts = np.clip(pts, 0, [2 * w - 1e-6, 4 * h - 1e-6])
+        prio = rng.integers(1, 40, len(pts))
+        got, want = _dot_samples(pts, prio, w, h), _reference_dot_samples(pts, prio, w, h)
+        for g, r in zip(got, want):
+            assert np.array_equal(g, r), trial
+        clipped += int(len(pts) > 0 and (pts.min() < 0 or (pts.max(axis=(0, 1)) >= [2 * w, 4 * h]).any()))
+    assert 30 < clipped < 150       # both paths ran
+
+
+def test_frames_are_those_of_the_earlier_sampling() -> None:
+    """Whole frames of random scenes and views (some edges off the canvas): the dots of the
+    earlier sampling applied to the scene's world segments, projected one by one."""
+    from valterm.core.render.raster import _dots_to_codes, _projection, _to_dots, link_colour
+
+    rng = np.random.default_rng(52)
+    for trial in range(16):
+        boxes = [(Polyhedron.box(lo, lo + rng.uniform(5, 500, 3)), link_colour(i % 7))
+                 for i, lo in enumerate(rng.uniform(-900, 700, (int(rng.integers(1, 25)), 3)))]
+        scene = Scene.build(boxes, rng.uniform(-800, 800, (2, 2, 3)))
+        view = ViewTransform().rotate_by("y", rng.uniform(-180, 180)).rotate_by("x", rng.uniform(-90, 90))
+        view.scale_by(rng.uniform(0.6, 2.5))
+        w, h = (200, 60) if trial % 2 else (77, 23)
+        for back_faces in (True, False):
+            frame = rasterize(scene, view, w, h, back_faces=back_faces)
+            segs, prio = scene.segments(view, back_faces)
+            project, offset = _projection(_to_dots(view, 2 * w, 4 * h, 1.0))
+            pts = (segs.reshape(-1, 3) @ project + offset).reshape(-1, 2, 2)
+            cells, lit, owner = _reference_dot_samples(pts, prio, w, h)
+            codes = _dots_to_codes(lit, w * h)
+            colours = np.zeros(w * h, dtype=np.uint8)
+            colours[cells] = scene.palette_indices()[owner]
+            assert np.array_equal(frame.chars.ravel(), np.where(codes > 0, BRAILLE_BASE + codes.astype(np.uint32), 0x20))
+            assert np.array_equal(frame.colours.ravel(), colours)
+            assert (codes > 0).sum() > 20
+
+
+def test_characters_two_cells_a_lookup_and_text_beyond_the_braille_block() -> None:
+    """Odd and even cell counts give the characters of one lookup per cell; a frame holding
+    characters above the surrogates still makes its text (UTF-32, not UTF-16)."""
+    from valterm.core.render.raster import _BRAILLE_TABLE, Frame, _ascii_table, _chars
+
+    codes = np.random.default_rng(3).integers(0, 256, 101).astype(np.uint8)
+    for ascii, table in ((False, _BRAILLE_TABLE), (True, _ascii_table())):
+        for part in (codes, codes[:100], codes[1:], codes[::2]):
+            assert np.array_equal(_chars(part, ascii), table[part])
+    wide = np.array([[0x1F916, 0x2800 + 7], [0x41, 0xFFFF]], dtype=np.uint32)
+    frame = Frame(wide, np.zeros((2, 2), dtype=np.uint8))
+    assert frame.text() == "\U0001F916\u2807\nA\uffff"
+    assert frame.lines() == [frame.row_text(0), frame.row_text(1)]

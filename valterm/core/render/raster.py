@@ -303,11 +303,18 @@ class Scene:
 
     def drawn_points(self, axes: bool) -> np.ndarray:
         """Every point a segment of ``drawn_pairs`` names: the vertices, then the loose lines'
-        ends, then (``axes``) the WCS axes' ends."""
-        parts = [self.vertices, self.lines.reshape(-1, 3)]
-        if axes:
-            parts.append(_AXES_POINTS)
-        return np.concatenate(parts)
+        ends, then (``axes``) the WCS axes' ends (kept: a scene's points do not change)."""
+        return self._drawn_points[int(axes)]
+
+    @cached_property
+    def _drawn_points(self) -> tuple[np.ndarray, np.ndarray]:
+        points = np.concatenate([self.vertices, self.lines.reshape(-1, 3)])
+        return points, np.concatenate([points, _AXES_POINTS])
+
+    @cached_property
+    def _every_end_at(self) -> tuple[np.ndarray, np.ndarray]:
+        """``_end_at`` of every edge (back faces on), without and with the WCS axes."""
+        return _end_at(self._every_pair[0][0]), _end_at(self._every_pair[1][0])
 
     def drawn_pairs(self, view: ViewTransform, back_faces: bool, axes: bool) -> tuple[np.ndarray, np.ndarray]:
         """The segments to draw as index pairs into ``drawn_points`` (S, 2), and the priority
@@ -373,10 +380,12 @@ class Frame:
         h, w = self.chars.shape
         if h == 0:
             return ""
-        grid = np.empty((h, w + 1), dtype="<u4")
+        # braille and ASCII lie below the surrogates: two bytes a character decode in half the time
+        narrow = w == 0 or int(self.chars.max()) < 0xD800
+        grid = np.empty((h, w + 1), dtype="<u2" if narrow else "<u4")
         grid[:, :w] = self.chars
         grid[:, w] = ord("\n")
-        return str(grid.tobytes()[:-4].decode("utf-32-le"))
+        return str(grid.tobytes()[:-grid.itemsize].decode("utf-16-le" if narrow else "utf-32-le"))
 
     def changed_spans(self, previous: "Frame | None") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Rows that differ from ``previous`` and, per row, the changed span [x0, x1)."""
@@ -499,43 +508,65 @@ def _samples(segs: np.ndarray, prio: np.ndarray, maps: tuple[np.ndarray, np.ndar
 
 def _dot_samples(pts: np.ndarray, prio: np.ndarray, w: int, h: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``_samples`` of segments already in continuous dot coordinates (S, 2, 2)."""
+    return _end_samples(np.ascontiguousarray(pts.reshape(-1, 4).T), prio, w, h)
+
+
+def _end_samples(ends: np.ndarray, prio: np.ndarray, w: int, h: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``_dot_samples`` of the segments' ends as four rows (first x, first y, last x, last y):
+    every pass below runs on contiguous rows (a reduction or an op along an axis of 2 costs
+    several times more). The third result is ``prio`` (a value per segment) per sample."""
     wd, hd = 2 * w, 4 * h
-    empty = np.zeros(0, dtype=np.intp)
-    if len(pts) == 0:
-        return empty, empty.astype(np.uint8), empty
-    hi = np.array([wd - 1e-6, hd - 1e-6])
-    # whole-array and 1-D reductions: one along the axis of 2 costs several times more
-    if pts.min() >= 0.0 and pts[:, :, 0].max() <= hi[0] and pts[:, :, 1].max() <= hi[1]:
-        a, p = pts[:, 0], prio                  # all inside (the usual frame): nothing to clip
-        d = pts[:, 1] - a
-        clipped = False
+    if not ends.shape[1]:
+        return _NO_SAMPLES
+    per = np.empty((6, ends.shape[1]))    # first sample, t's divisor, start (2), direction (2)
+    x0, y0, x1, y1 = ends.max(axis=1).tolist()
+    if ends.min() >= 0.0 and max(x0, x1) <= wd - 1e-6 and max(y0, y1) <= hd - 1e-6:
+        clipped = False                   # all inside (the usual frame): nothing to clip
+        per[2:4] = ends[:2]
+        np.subtract(ends[2:], ends[:2], out=per[4:6])
     else:
         clipped = True
-        a, b, keep = _clip(pts[:, 0], pts[:, 1], hi)
-        a, b, p = a[keep], b[keep], prio[keep]
-        d = b - a
+        a, b, keep = _clip(ends[:2].T, ends[2:].T, np.array([wd - 1e-6, hd - 1e-6]))
+        per = per[:, keep]
+        per[2:4] = a[keep].T
+        per[4:6] = (b[keep] - a[keep]).T
+        prio = prio[keep]
     # samples per edge from its length in dots: consecutive samples <= 1 dot apart
-    ad = np.abs(d)
-    n = np.ceil(np.maximum(ad[:, 0], ad[:, 1])).astype(np.intp) + 1   # (no reduction along an axis of 2)
-    total = int(n.sum())
-    if not total:
-        return empty, empty.astype(np.uint8), empty
-    # each segment's first sample, t's divisor, start and direction: six rows repeated to
-    # their samples in one call (contiguous rows: no complex or strided passes per sample)
-    per = np.empty((6, len(n)))
-    per[0] = np.cumsum(n) - n
-    per[1] = np.maximum(n - 1, 1)
-    per[2:4] = a.T
-    per[4:6] = d.T
+    steps = np.abs(per[4:6]).max(axis=0)
+    np.ceil(steps, out=steps)
+    n = steps.astype(np.intp)
+    n += 1
+    if not len(n):
+        return _NO_SAMPLES
+    per[0, 0] = 0.0
+    np.cumsum(n[:-1], out=per[0, 1:])
+    total = int(per[0, -1]) + int(n[-1])
+    np.maximum(steps, 1.0, out=per[1])
+    # the six rows repeated to their samples in one call (contiguous rows: no strided passes)
     each = np.repeat(per, n, axis=1)
-    t = (np.arange(total, dtype=float) - each[0]) / each[1]    # whole numbers: exact as floats
-    x = (each[2] + t * each[4]).astype(np.intp)
-    y = (each[3] + t * each[5]).astype(np.intp)
+    t = _counting(total) - each[0]
+    t /= each[1]                          # whole numbers over whole numbers: exact as floats
+    xy = each[4:6] * t
+    xy += each[2:4]
+    dots = xy.astype(np.int32)      # (a canvas of 2 ** 28 cells would need a 16 GB table)
     if clipped:      # inside, samples lie between two in-range ends: no clamping needed
-        np.clip(x, 0, wd - 1, out=x)
-        np.clip(y, 0, hd - 1, out=y)
-    lit = _dot_tables(w, h)[1].take(y * wd + x)
-    return lit >> 3, lit, np.repeat(p, n)    # a dot's bit index is its cell * 8 + its bit
+        np.clip(dots[0], 0, wd - 1, out=dots[0])
+        np.clip(dots[1], 0, hd - 1, out=dots[1])
+    at = dots[1] * np.int32(wd)
+    at += dots[0]
+    lit = _dot_tables(w, h)[1].take(at)
+    return lit >> 3, lit, np.repeat(prio, n)    # a dot's bit index is its cell * 8 + its bit
+
+
+_NO_SAMPLES = (np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp))
+_COUNTING = [np.arange(4096, dtype=float)]
+
+
+def _counting(total: int) -> np.ndarray:
+    """0.0, 1.0, ... total - 1 (a view of one kept array, grown when a frame needs more)."""
+    if len(_COUNTING[0]) < total:
+        _COUNTING[0] = np.arange(max(total, 2 * len(_COUNTING[0])), dtype=float)
+    return _COUNTING[0][:total]
 
 
 # the number of the bit (0..7) of dot (row, col) at 2 * row + col
@@ -582,10 +613,10 @@ def _background(scene: Scene, view: ViewTransform, w: int, h: int, back_faces: b
         return found[1], found[2]
     segs, prio = scene.segments(view, back_faces)
     polys = len(prio) - len(scene.lines)
-    cells, lit, owners = _samples(segs[:polys], prio[:polys], maps, w, h)
+    cells, lit, painted = _samples(segs[:polys], scene.colours.take(prio[:polys] - 1), maps, w, h)
     codes = _dots_to_codes(lit, h * w)
     colours = np.zeros(h * w, dtype=np.uint8)
-    colours[cells] = scene.colours[owners - 1]     # samples in priority order: the last wins
+    colours[cells] = painted     # samples in priority order: the last wins
     if len(_BACKGROUNDS) >= 8:          # a few views and sizes (the app, a hardcopy, a bench)
         _BACKGROUNDS.pop(next(iter(_BACKGROUNDS)))
     _BACKGROUNDS[key] = (scene, codes, colours)
@@ -593,9 +624,24 @@ def _background(scene: Scene, view: ViewTransform, w: int, h: int, back_faces: b
 
 
 def _chars(codes: np.ndarray, ascii: bool) -> np.ndarray:
-    """Character per braille pattern: the U+2800 block (blank for none), or the ASCII stand-in."""
-    chars: np.ndarray = (_ascii_table() if ascii else _BRAILLE_TABLE).take(codes)
+    """Character per braille pattern: the U+2800 block (blank for none), or the ASCII stand-in.
+
+    Two cells at a time where they pair up (a table of the 65536 pairs: half the lookups)."""
+    chars: np.ndarray
+    if len(codes) % 2 or not codes.flags.c_contiguous:
+        chars = (_ascii_table() if ascii else _BRAILLE_TABLE).take(codes)
+    else:
+        chars = _pair_table(ascii).take(codes.view("<u2")).view("<u4")
     return chars
+
+
+@lru_cache(maxsize=2)
+def _pair_table(ascii: bool) -> np.ndarray:
+    """The characters of two neighbouring codes (first + 256 * second) as one 8-byte word."""
+    table = (_ascii_table() if ascii else _BRAILLE_TABLE).astype("<u8")
+    pairs = np.arange(65536)
+    both: np.ndarray = table[pairs & 255] | (table[pairs >> 8] << np.uint64(32))
+    return both
 
 
 # the character of each braille code: U+2800 + code, blank for none
@@ -640,7 +686,8 @@ def rasterize(
     maps = _to_dots(view, 2 * w, 4 * h, dot_aspect)
     pts, prio = _scene_dots(scene, view, back_faces, axes, maps)
     palette = scene._palette_with_axes
-    cells, lit, owners = _dot_samples(pts, prio, w, h)
+    # each segment's colour repeated to its samples (not each sample's priority looked up)
+    cells, lit, painted = _end_samples(pts, palette.take(prio), w, h)
     codes: np.ndarray
     colours: np.ndarray
     if scene.background is None:
@@ -655,7 +702,7 @@ def rasterize(
         # only the cells this frame touched change character: the rest are the background's
         chars = _static_chars(scene.background, static_codes, ascii).copy()
         chars[cells] = _chars(codes.take(cells), ascii)
-    colours[cells] = palette[owners]     # samples come in priority order: the later item wins
+    colours[cells] = painted     # samples come in priority order: the later item wins
     chars = chars.reshape(h, w)
     colours = colours.reshape(h, w)
 
@@ -669,9 +716,38 @@ def _scene_dots(scene: Scene, view: ViewTransform, back_faces: bool, axes: bool,
                 maps: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
     """The scene's segments in dot coordinates (S, 2, 2) and their priorities: each point
     projected once, then paired into segments."""
-    project, offset = _projection(maps)
+    project, offset = _kept_projection(maps)
     pairs, prio = scene.drawn_pairs(view, back_faces, axes)
-    return (scene.drawn_points(axes) @ project + offset)[pairs], prio
+    at = scene._every_end_at[int(axes)] if back_faces else _end_at(pairs)
+    # one take of the flat (x, y, x, y ...) products (a fancy index costs several times more),
+    # then the offset: the same sums as ``points @ project + offset`` paired afterwards
+    ends: np.ndarray = (scene.drawn_points(axes) @ project).ravel().take(at)
+    ends += offset
+    return ends, prio
+
+
+def _end_at(pairs: np.ndarray) -> np.ndarray:
+    """Where the ends' coordinates of segments ``pairs`` (S, 2) lie in the flattened (P, 2)
+    points, as the four rows (first x, first y, last x, last y) ``_end_samples`` takes."""
+    at = np.empty((4, len(pairs)), dtype=np.intp)
+    at[0::2] = 2 * pairs.T
+    at[1::2] = at[0::2] + 1
+    return at
+
+
+_PROJECTIONS: dict[int, tuple[np.ndarray, np.ndarray, np.ndarray]] = {}
+
+
+def _kept_projection(maps: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+    """``_projection`` of ``_to_dots``' kept maps, its offset as a (4, 1) column for the ends'
+    rows (x, y, x, y): made once per view state and canvas, as the maps are."""
+    found = _PROJECTIONS.get(id(maps[2]))
+    if found is None or found[0] is not maps[2]:
+        if len(_PROJECTIONS) >= 8:
+            _PROJECTIONS.pop(next(iter(_PROJECTIONS)))
+        project, offset = _projection(maps)
+        found = _PROJECTIONS[id(maps[2])] = (maps[2], project, np.tile(offset, 2)[:, None])
+    return found[1], found[2]
 
 
 def _label_axes(chars: np.ndarray, colours: np.ndarray, a_mat: np.ndarray, b_vec: np.ndarray,
