@@ -17,7 +17,7 @@ from __future__ import annotations
 import math
 import time
 import tomllib
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -146,9 +146,9 @@ def read_task(path: str | Path) -> Task:
         cycle_time=None if "cycle_time" not in data else _number(data["cycle_time"], path, "cycle_time"),
         collisions=_flag(data.get("collisions", False), path, "collisions"),
         loops=int(_number(data.get("loops", 1), path, "loops")),
-        dialect=_dialect(_text(data.get("dialect", "1985"), path, "dialect"), path),
-        rules=_rules(_text(data.get("rules", ""), path, "rules"), path),
-        robot=_robot(_text(data.get("robot", ""), path, "robot"), path),
+        dialect=_setting(data, "dialect", "1985", check_dialect, path),
+        rules=_setting(data, "rules", "", check_rules, path),
+        robot=_setting(data, "robot", "", check_robot, path),
         parts=tuple(_part(entry, path) for entry in _list(data.get("part", []), path, "part")),
     )
 
@@ -172,29 +172,16 @@ def _part(entry: object, path: Path) -> ExpectedPart:
     return ExpectedPart(number, (x, y, z), tolerance, None if held is None else _flag(held, path, f"{where} held"))
 
 
-def _rules(name: str, path: Path) -> str:
-    if not name:
+def _setting(data: dict[str, object], key: str, default: str, check: Callable[[str], str], path: Path) -> str:
+    """A task file's named setting (dialect, rules, robot) as its core check takes it; ""
+    when an optional one (no default) is left out."""
+    name = _text(data.get(key, default), path, key)
+    if not name and not default:
         return ""
     try:
-        return check_rules(name)
+        return check(name)
     except ValtermError as error:
-        raise TaskError(path, 0, f"rules: {error}") from None
-
-
-def _robot(name: str, path: Path) -> str:
-    if not name:
-        return ""
-    try:
-        return check_robot(name)
-    except ValtermError as error:
-        raise TaskError(path, 0, f"robot: {error}") from None
-
-
-def _dialect(name: str, path: Path) -> str:
-    try:
-        return check_dialect(name)
-    except ValtermError as error:
-        raise TaskError(path, 0, f"dialect: {error}") from None
+        raise TaskError(path, 0, f"{key}: {error}") from None
 
 
 def _text(value: object, path: Path, key: str) -> str:
