@@ -2,12 +2,13 @@
 
 One key path for all of them, ``on_key``:
 
-1. An open line (``line_taking_keys``) takes every printable key, typed ahead too (a ``+``
-   typed before the line has the focus is text, not the view's zoom).
+1. An open line (``line_taking_keys``) takes every printable key, RETURN and BACKSPACE that
+   reach the screen, typed ahead or not, in the order typed (a ``+`` typed before the line
+   has the focus is text, not the view's zoom).
 2. A key bound (by id, as the keymap file has it) and switched on in the screen's present
    state is let through: the app runs its binding after this handler.
-3. F1 is help in every state; ``?`` is help wherever no line takes text; the open line takes
-   what is left (RETURN, BACKSPACE typed ahead).
+3. F1 is help in every state; ``?`` is help wherever no line takes text; any other key is
+   the open line's business (nothing more happens).
 4. What is left goes to the screen's ``other_key`` (a letter that opens the command line,
    the editor's TAB); a key nobody took gets the one wrong-key message (``keymap.unknown_key``)
    through ``say_wrong_key`` (the editor also saves the program then, §5.2: ``wrong_key``).
@@ -74,9 +75,8 @@ class KeyedScreen(Guarded, Screen[ResultT]):
     def on_key(self, event: events.Key) -> None:
         self.before_key(event)
         line = self.line_taking_keys()
-        if line is not None and (event.is_printable or event.key in ("enter", "backspace")) \
-                and type_ahead(event, line):
-            return
+        if line is not None and type_ahead(event, line):
+            return  # text, RETURN or BACKSPACE: the line's, in the order typed
         if self.bound_here(event.key):
             return  # the app runs the binding
         if event.key == "f1" or (keymap.is_help(event) and line is None):
@@ -84,8 +84,7 @@ class KeyedScreen(Guarded, Screen[ResultT]):
             self.action_help()
             return
         if line is not None:
-            type_ahead(event, line)
-            return
+            return  # a key the open line has no use for (TAB, a function key bound nowhere)
         if self.other_key(event):
             self._take(event)
         elif not keymap.is_silent(event) and event.key not in ("ctrl+c", keymap.CANCEL_KEY):
