@@ -320,7 +320,7 @@ class Relay:
     def show_picture(self) -> None:
         top = self.screen if self._here() else self._top()
         if top is not None:
-            self._guard(getattr(top, "show_picture", top.show_scene))
+            self._guard(top.show_picture)
 
     def show_lines(self, lines: list[str]) -> None:
         if self._here():
