@@ -10,7 +10,7 @@ from textual.app import ComposeResult
 from textual.binding import Binding
 
 from valterm.ui.errors import Refusal, problem_text
-from valterm.ui.screens.base import MenuScreen
+from valterm.ui.screens.base import MENU, MenuScreen
 from valterm.ui.widgets.menus import KEYBOARD_MENU, ORIENT_MENU
 from valterm.ui.widgets.readouts import PositionReadout
 
@@ -123,7 +123,7 @@ class KeyboardScreen(MenuScreen):
         """Asking, at the menu, a listing shown, or ORIENT1's keys."""
         if self.asking:
             return super().key_state
-        return "orient" if self.orienting else "listing" if self.listing else "menu"
+        return "orient" if self.orienting else "listing" if self.listing else MENU
 
     def on_key(self, event: events.Key) -> None:
         """A listing: any key brings the menu back (a menu key also does its work); then the

@@ -34,9 +34,6 @@ VIEW_BINDINGS = [
     Binding("f8", "toggle_model", "The model alone / the menu again", show=False, id="view.model"),
 ]
 
-# every key bound above (VAL-II mode lets them through to the app)
-VIEW_KEYS = frozenset(key for binding in VIEW_BINDINGS for key in binding.key.split(","))
-
 
 class ViewActions:
     """The view keys' actions; mixed into the app (which holds the shared view state:
