@@ -509,7 +509,7 @@ class RobotScene:
         bodies; a carried part's measured at each call)."""
         if not self.thesis_axes:
             return self._reach_table(frames)
-        s, movers = self._scene, self._movers
+        movers = self._movers
         nl = len(self._link_ks)
         origins = frames[1: self._n_frames, :3, 3]
         table = self._table
@@ -526,9 +526,7 @@ class RobotScene:
         _, chain_part, mask, far, links_only = table
         if len(movers) == nl:        # nothing carried: the same every step
             return links_only
-        # carried parts: their farthest point from the clamp frame's origin
-        d = s.vertices[self._held_rows] - origins[-1]
-        held = np.sqrt(np.maximum.reduceat(np.einsum("ij,ij->i", d, d), self._held_starts))
+        held = self._held_reach(origins[-1])
         reach: np.ndarray = chain_part + np.concatenate([far, held])[:, None] * mask
         return reach
 
@@ -537,16 +535,21 @@ class RobotScene:
         what it carries is no farther from any joint's axis (which passes through a frame
         origin of the chain) than the chain's length (between frame origins: no joint changes
         it) plus the farthest point of any body from its own frame's origin."""
-        s, movers = self._scene, self._movers
+        movers = self._movers
         origins = frames[: self._n_frames, :3, 3]
         links = origins[1:] - origins[:-1]
         chain = float(np.sqrt(np.einsum("jk,jk->j", links, links)).sum())
         local = self._local   # each link's vertices in its own frame
         extent = float(np.sqrt(np.einsum("ij,ij->i", local, local)).max(initial=0.0))
-        if len(movers) > len(self._link_ks):   # carried parts, from the clamp frame's origin
-            d = s.vertices[self._held_rows] - origins[-1]
-            extent = max(extent, float(np.sqrt(np.einsum("ij,ij->i", d, d)).max(initial=0.0)))
+        if len(movers) > len(self._link_ks):
+            extent = max(extent, float(self._held_reach(origins[-1]).max()))
         return np.full((len(movers), self._n_frames - 1), chain + extent)
+
+    def _held_reach(self, clamp: np.ndarray) -> np.ndarray:
+        """Each carried part's farthest point from the clamp frame's origin ``clamp``."""
+        d = self._scene.vertices[self._held_rows] - clamp
+        reach: np.ndarray = np.sqrt(np.maximum.reduceat(np.einsum("ij,ij->i", d, d), self._held_starts))
+        return reach
 
     def _thinnest(self, objects: Sequence[Polyhedron]) -> float:
         """The thinnest width of the free parts (measured once per set of parts)."""
