@@ -14,6 +14,7 @@ front faces is drawn twice, as in 1985); with back faces on every edge is drawn 
 
 from __future__ import annotations
 
+import codecs
 import math
 from dataclasses import dataclass, field
 from functools import cached_property, lru_cache
@@ -381,11 +382,13 @@ class Frame:
         if h == 0:
             return ""
         # braille and ASCII lie below the surrogates: two bytes a character decode in half the time
-        narrow = w == 0 or int(self.chars.max()) < 0xD800
+        narrow = w == 0 or int(_MAX(self.chars, axis=None)) < 0xD800
         grid = np.empty((h, w + 1), dtype="<u2" if narrow else "<u4")
         grid[:, :w] = self.chars
         grid[:, w] = ord("\n")
-        return str(grid.tobytes()[:-grid.itemsize].decode("utf-16-le" if narrow else "utf-32-le"))
+        # decoded straight from the grid's memory (no bytes copy), less the last newline
+        text = memoryview(grid).cast("B")[:-grid.itemsize]
+        return str((codecs.utf_16_le_decode if narrow else codecs.utf_32_le_decode)(text)[0])
 
     def changed_spans(self, previous: "Frame | None") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Rows that differ from ``previous`` and, per row, the changed span [x0, x1)."""
@@ -519,8 +522,9 @@ def _end_samples(ends: np.ndarray, prio: np.ndarray, w: int, h: int) -> tuple[np
     if not ends.shape[1]:
         return _NO_SAMPLES
     per = np.empty((6, ends.shape[1]))    # first sample, t's divisor, start (2), direction (2)
-    x0, y0, x1, y1 = ends.max(axis=1).tolist()
-    if ends.min() >= 0.0 and max(x0, x1) <= wd - 1e-6 and max(y0, y1) <= hd - 1e-6:
+    # the ufuncs' own reductions and the arrays' own methods: numpy's wrappers cost a call each
+    x0, y0, x1, y1 = _MAX(ends, axis=1).tolist()
+    if _MIN(ends, axis=None) >= 0.0 and max(x0, x1) <= wd - 1e-6 and max(y0, y1) <= hd - 1e-6:
         clipped = False                   # all inside (the usual frame): nothing to clip
         per[2:4] = ends[:2]
         np.subtract(ends[2:], ends[:2], out=per[4:6])
@@ -528,36 +532,41 @@ def _end_samples(ends: np.ndarray, prio: np.ndarray, w: int, h: int) -> tuple[np
         clipped = True
         a, b, keep = _clip(ends[:2].T, ends[2:].T, np.array([wd - 1e-6, hd - 1e-6]))
         per = per[:, keep]
+        if not per.shape[1]:
+            return _NO_SAMPLES
         per[2:4] = a[keep].T
         per[4:6] = (b[keep] - a[keep]).T
         prio = prio[keep]
     # samples per edge from its length in dots: consecutive samples <= 1 dot apart
-    steps = np.abs(per[4:6]).max(axis=0)
+    steps = np.maximum(np.abs(per[4]), np.abs(per[5]), out=per[1])
     np.ceil(steps, out=steps)
     n = steps.astype(np.intp)
     n += 1
-    if not len(n):
-        return _NO_SAMPLES
+    past = n.cumsum()                     # whole numbers: summed as integers, then stored
+    total = int(past[-1])
     per[0, 0] = 0.0
-    np.cumsum(n[:-1], out=per[0, 1:])
-    total = int(per[0, -1]) + int(n[-1])
-    np.maximum(steps, 1.0, out=per[1])
-    # the six rows repeated to their samples in one call (contiguous rows: no strided passes)
-    each = np.repeat(per, n, axis=1)
-    t = _counting(total) - each[0]
+    per[0, 1:] = past[:-1]
+    np.maximum(steps, 1.0, out=steps)     # t's divisor, in place of the steps
+    # the six rows repeated to their samples in one call (contiguous rows: no strided passes),
+    # then every pass in place in that copy
+    each = per.repeat(n, axis=1)
+    t = np.subtract(_counting(total), each[0], out=each[0])
     t /= each[1]                          # whole numbers over whole numbers: exact as floats
-    xy = each[4:6] * t
+    xy = np.multiply(each[4:6], t, out=each[4:6])
     xy += each[2:4]
     dots = xy.astype(np.int32)      # (a canvas of 2 ** 28 cells would need a 16 GB table)
     if clipped:      # inside, samples lie between two in-range ends: no clamping needed
         np.clip(dots[0], 0, wd - 1, out=dots[0])
         np.clip(dots[1], 0, hd - 1, out=dots[1])
-    at = dots[1] * np.int32(wd)
+    at = dots[1]
+    at *= np.int32(wd)
     at += dots[0]
     lit = _dot_tables(w, h)[1].take(at)
-    return lit >> 3, lit, np.repeat(prio, n)    # a dot's bit index is its cell * 8 + its bit
+    return lit >> 3, lit, prio.repeat(n)    # a dot's bit index is its cell * 8 + its bit
 
 
+_MAX = np.maximum.reduce
+_MIN = np.minimum.reduce
 _NO_SAMPLES = (np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp))
 _COUNTING = [np.arange(4096, dtype=float)]
 
