@@ -387,7 +387,7 @@ class Frame:
         grid[:, :w] = self.chars
         grid[:, w] = ord("\n")
         # decoded straight from the grid's memory (no bytes copy), less the last newline
-        text = memoryview(grid).cast("B")[:-grid.itemsize]
+        text = grid.data.cast("B")[:-grid.itemsize]
         return str((codecs.utf_16_le_decode if narrow else codecs.utf_32_le_decode)(text)[0])
 
     def changed_spans(self, previous: "Frame | None") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
