@@ -313,6 +313,12 @@ class Scene:
         return points, np.concatenate([points, _AXES_POINTS])
 
     @cached_property
+    def _every_paint(self) -> tuple[np.ndarray, np.ndarray]:
+        """The colour of every edge (back faces on), without and with the WCS axes."""
+        palette = self._palette_with_axes
+        return palette.take(self._every_pair[0][1]), palette.take(self._every_pair[1][1])
+
+    @cached_property
     def _every_end_at(self) -> tuple[np.ndarray, np.ndarray]:
         """``_end_at`` of every edge (back faces on), without and with the WCS axes."""
         return _end_at(self._every_pair[0][0]), _end_at(self._every_pair[1][0])
@@ -511,26 +517,29 @@ def _samples(segs: np.ndarray, prio: np.ndarray, maps: tuple[np.ndarray, np.ndar
 
 def _dot_samples(pts: np.ndarray, prio: np.ndarray, w: int, h: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``_samples`` of segments already in continuous dot coordinates (S, 2, 2)."""
-    return _end_samples(np.ascontiguousarray(pts.reshape(-1, 4).T), prio, w, h)
+    per = np.empty((6, len(pts)))
+    per[2:] = pts.reshape(-1, 4).T
+    return _end_samples(per, prio, w, h)
 
 
-def _end_samples(ends: np.ndarray, prio: np.ndarray, w: int, h: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """``_dot_samples`` of the segments' ends as four rows (first x, first y, last x, last y):
-    every pass below runs on contiguous rows (a reduction or an op along an axis of 2 costs
-    several times more). The third result is ``prio`` (a value per segment) per sample."""
+def _end_samples(per: np.ndarray, prio: np.ndarray, w: int, h: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``_dot_samples`` of the segments' ends in rows 2-5 of ``per`` (first x, first y, last
+    x, last y; rows 0-1 free, every row overwritten): every pass below runs on contiguous rows
+    (a reduction or an op along an axis of 2 costs several times more). The third result is
+    ``prio`` (a value per segment) per sample."""
     wd, hd = 2 * w, 4 * h
-    if not ends.shape[1]:
+    if not per.shape[1]:
         return _NO_SAMPLES
-    per = np.empty((6, ends.shape[1]))    # first sample, t's divisor, start (2), direction (2)
-    # the ufuncs' own reductions and the arrays' own methods: numpy's wrappers cost a call each
+    # rows: first sample, t's divisor, start (2), direction (2). The ufuncs' own reductions and
+    # the arrays' own methods: numpy's wrappers cost a call each, and at this size calls count
+    ends = per[2:]
     x0, y0, x1, y1 = _MAX(ends, axis=1).tolist()
     if _MIN(ends, axis=None) >= 0.0 and max(x0, x1) <= wd - 1e-6 and max(y0, y1) <= hd - 1e-6:
         clipped = False                   # all inside (the usual frame): nothing to clip
-        per[2:4] = ends[:2]
-        np.subtract(ends[2:], ends[:2], out=per[4:6])
+        np.subtract(per[4:], per[2:4], out=per[4:])
     else:
         clipped = True
-        a, b, keep = _clip(ends[:2].T, ends[2:].T, np.array([wd - 1e-6, hd - 1e-6]))
+        a, b, keep = _clip(per[2:4].T, per[4:].T, np.array([wd - 1e-6, hd - 1e-6]))
         per = per[:, keep]
         if not per.shape[1]:
             return _NO_SAMPLES
@@ -538,14 +547,13 @@ def _end_samples(ends: np.ndarray, prio: np.ndarray, w: int, h: int) -> tuple[np
         per[4:6] = (b[keep] - a[keep]).T
         prio = prio[keep]
     # samples per edge from its length in dots: consecutive samples <= 1 dot apart
-    steps = np.maximum(np.abs(per[4]), np.abs(per[5]), out=per[1])
+    steps = _MAX(np.abs(per[4:]), axis=0, out=per[1])
     np.ceil(steps, out=steps)
     n = steps.astype(np.intp)
     n += 1
     past = n.cumsum()                     # whole numbers: summed as integers, then stored
     total = int(past[-1])
-    per[0, 0] = 0.0
-    per[0, 1:] = past[:-1]
+    np.subtract(past, n, out=per[0])
     np.maximum(steps, 1.0, out=steps)     # t's divisor, in place of the steps
     # the six rows repeated to their samples in one call (contiguous rows: no strided passes),
     # then every pass in place in that copy
@@ -693,10 +701,8 @@ def rasterize(
     if w == 0 or h == 0:
         return empty_frame(w, h)
     maps = _to_dots(view, 2 * w, 4 * h, dot_aspect)
-    pts, prio = _scene_dots(scene, view, back_faces, axes, maps)
-    palette = scene._palette_with_axes
     # each segment's colour repeated to its samples (not each sample's priority looked up)
-    cells, lit, painted = _end_samples(pts, palette.take(prio), w, h)
+    cells, lit, painted = _end_samples(*_scene_dots(scene, view, back_faces, axes, maps), w, h)
     codes: np.ndarray
     colours: np.ndarray
     if scene.background is None:
@@ -723,24 +729,28 @@ def rasterize(
 
 def _scene_dots(scene: Scene, view: ViewTransform, back_faces: bool, axes: bool,
                 maps: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
-    """The scene's segments in dot coordinates (S, 2, 2) and their priorities: each point
-    projected once, then paired into segments."""
+    """The scene's segments' ends in dot coordinates, as ``_end_samples`` takes them (rows
+    2-5 of six), and their colours: each point projected once, then paired into segments."""
     project, offset = _kept_projection(maps)
-    pairs, prio = scene.drawn_pairs(view, back_faces, axes)
-    at = scene._every_end_at[int(axes)] if back_faces else _end_at(pairs)
+    if back_faces:        # every edge: where its ends lie and its colour kept with the scene
+        at, paint = scene._every_end_at[int(axes)], scene._every_paint[int(axes)]
+    else:
+        pairs, prio = scene.drawn_pairs(view, back_faces, axes)
+        at, paint = _end_at(pairs), scene._palette_with_axes.take(prio)
     # one take of the flat (x, y, x, y ...) products (a fancy index costs several times more),
     # then the offset: the same sums as ``points @ project + offset`` paired afterwards
-    ends: np.ndarray = (scene.drawn_points(axes) @ project).ravel().take(at)
-    ends += offset
-    return ends, prio
+    per: np.ndarray = (scene.drawn_points(axes) @ project).ravel().take(at)
+    per += offset
+    return per, paint
 
 
 def _end_at(pairs: np.ndarray) -> np.ndarray:
     """Where the ends' coordinates of segments ``pairs`` (S, 2) lie in the flattened (P, 2)
-    points, as the four rows (first x, first y, last x, last y) ``_end_samples`` takes."""
-    at = np.empty((4, len(pairs)), dtype=np.intp)
-    at[0::2] = 2 * pairs.T
-    at[1::2] = at[0::2] + 1
+    points, as rows 2-5 (first x, first y, last x, last y) of the six ``_end_samples`` takes
+    (rows 0-1 take the first coordinate: room for the sampling's own rows, no copy)."""
+    at = np.zeros((6, len(pairs)), dtype=np.intp)
+    at[2::2] = 2 * pairs.T
+    at[3::2] = at[2::2] + 1
     return at
 
 
@@ -748,14 +758,14 @@ _PROJECTIONS: dict[int, tuple[np.ndarray, np.ndarray, np.ndarray]] = {}
 
 
 def _kept_projection(maps: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
-    """``_projection`` of ``_to_dots``' kept maps, its offset as a (4, 1) column for the ends'
-    rows (x, y, x, y): made once per view state and canvas, as the maps are."""
+    """``_projection`` of ``_to_dots``' kept maps, its offset as a (6, 1) column for the rows
+    ``_end_at`` takes (0, 0, x, y, x, y): made once per view state and canvas, as the maps are."""
     found = _PROJECTIONS.get(id(maps[2]))
     if found is None or found[0] is not maps[2]:
         if len(_PROJECTIONS) >= 8:
             _PROJECTIONS.pop(next(iter(_PROJECTIONS)))
         project, offset = _projection(maps)
-        found = _PROJECTIONS[id(maps[2])] = (maps[2], project, np.tile(offset, 2)[:, None])
+        found = _PROJECTIONS[id(maps[2])] = (maps[2], project, np.r_[0.0, 0.0, offset, offset][:, None])
     return found[1], found[2]
 
 
