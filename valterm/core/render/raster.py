@@ -551,7 +551,7 @@ def _end_samples(per: np.ndarray, prio: np.ndarray, w: int, h: int) -> tuple[np.
     np.ceil(steps, out=steps)
     n = steps.astype(np.intp)
     n += 1
-    past = n.cumsum()                     # whole numbers: summed as integers, then stored
+    past = _ACCUMULATE(n)                 # whole numbers: summed as integers, then stored
     total = int(past[-1])
     np.subtract(past, n, out=per[0])
     np.maximum(steps, 1.0, out=steps)     # t's divisor, in place of the steps
@@ -567,13 +567,14 @@ def _end_samples(per: np.ndarray, prio: np.ndarray, w: int, h: int) -> tuple[np.
         np.clip(dots[0], 0, wd - 1, out=dots[0])
         np.clip(dots[1], 0, hd - 1, out=dots[1])
     at = dots[1]
-    at *= np.int32(wd)
+    at *= wd
     at += dots[0]
     lit = _dot_tables(w, h)[1].take(at)
     return lit >> 3, lit, prio.repeat(n)    # a dot's bit index is its cell * 8 + its bit
 
 
 _MAX = np.maximum.reduce
+_ACCUMULATE = np.add.accumulate
 _MIN = np.minimum.reduce
 _NO_SAMPLES = (np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp))
 _COUNTING = [np.arange(4096, dtype=float)]
