@@ -366,3 +366,17 @@ def test_characters_two_cells_a_lookup_and_text_beyond_the_braille_block() -> No
     frame = Frame(wide, np.zeros((2, 2), dtype=np.uint8))
     assert frame.text() == "\U0001F916\u2807\nA\uffff"
     assert frame.lines() == [frame.row_text(0), frame.row_text(1)]
+
+
+def test_sample_fractions_are_the_quotients_of_whole_numbers() -> None:
+    """Issue 25, fourth pass: a sample's t is looked up, not divided; row s of the table holds
+    k / max(s, 1) for k = 0 .. s, bit for bit, and a bigger canvas grows the table."""
+    from valterm.core.render.raster import _fractions
+
+    for longest in (3, 40, 17, 130):
+        table, row_ends = _fractions(longest)
+        assert len(row_ends) > longest
+        for s in (0, 1, 2, 3, longest // 2, longest):
+            row = table[row_ends[s] - (s + 1): row_ends[s]]
+            k = np.arange(s + 1, dtype=float)
+            assert row.tobytes() == (k / max(s, 1)).tobytes(), s

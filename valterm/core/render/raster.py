@@ -517,59 +517,64 @@ def _samples(segs: np.ndarray, prio: np.ndarray, maps: tuple[np.ndarray, np.ndar
 
 def _dot_samples(pts: np.ndarray, prio: np.ndarray, w: int, h: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``_samples`` of segments already in continuous dot coordinates (S, 2, 2)."""
-    per = np.empty((6, len(pts)))
-    per[2:] = pts.reshape(-1, 4).T
+    per = np.empty((5, len(pts)))
+    per[1:] = pts.reshape(-1, 4).T
     return _end_samples(per, prio, w, h)
 
 
 def _end_samples(per: np.ndarray, prio: np.ndarray, w: int, h: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """``_dot_samples`` of the segments' ends in rows 2-5 of ``per`` (first x, first y, last
-    x, last y; rows 0-1 free, every row overwritten): every pass below runs on contiguous rows
+    """``_dot_samples`` of the segments' ends in rows 1-4 of ``per`` (first x, first y, last
+    x, last y; row 0 free, every row overwritten): every pass below runs on contiguous rows
     (a reduction or an op along an axis of 2 costs several times more). The third result is
     ``prio`` (a value per segment) per sample."""
     wd, hd = 2 * w, 4 * h
     if not per.shape[1]:
         return _NO_SAMPLES
-    # rows: first sample, t's divisor, start (2), direction (2). The ufuncs' own reductions and
-    # the arrays' own methods: numpy's wrappers cost a call each, and at this size calls count
-    ends = per[2:]
+    # rows: the steps, start (2), direction (2). The ufuncs' own reductions and the arrays'
+    # own methods: numpy's wrappers cost a call each, and at this size calls count
+    ends = per[1:]
     x0, y0, x1, y1 = _MAX(ends, axis=1).tolist()
     if _MIN(ends, axis=None) >= 0.0 and max(x0, x1) <= wd - 1e-6 and max(y0, y1) <= hd - 1e-6:
         clipped = False                   # all inside (the usual frame): nothing to clip
-        np.subtract(per[4:], per[2:4], out=per[4:])
+        np.subtract(per[3:], per[1:3], out=per[3:])
     else:
         clipped = True
-        a, b, keep = _clip(per[2:4].T, per[4:].T, np.array([wd - 1e-6, hd - 1e-6]))
+        a, b, keep = _clip(per[1:3].T, per[3:].T, np.array([wd - 1e-6, hd - 1e-6]))
         per = per[:, keep]
         if not per.shape[1]:
             return _NO_SAMPLES
-        per[2:4] = a[keep].T
-        per[4:6] = (b[keep] - a[keep]).T
+        per[1:3] = a[keep].T
+        per[3:] = (b[keep] - a[keep]).T
         prio = prio[keep]
-    # samples per edge from its length in dots: consecutive samples <= 1 dot apart
-    steps = _MAX(np.abs(per[4:]), axis=0, out=per[1])
+    # samples per edge from its length in dots: consecutive samples <= 1 dot apart, at
+    # t = k / max(steps, 1), k = 0 .. steps
+    steps = _MAX(np.abs(per[3:]), axis=0, out=per[0])
     np.ceil(steps, out=steps)
-    n = steps.astype(np.intp)
-    n += 1
-    past = _ACCUMULATE(n)                 # whole numbers: summed as integers, then stored
+    whole = steps.astype(np.intp)         # whole steps (clipped or inside: at most the canvas)
+    n = whole + 1
+    past = _ACCUMULATE(n)
     total = int(past[-1])
-    np.subtract(past, n, out=per[0])
-    np.maximum(steps, 1.0, out=steps)     # t's divisor, in place of the steps
-    # the six rows repeated to their samples in one call (contiguous rows: no strided passes),
-    # then every pass in place in that copy
-    each = per.repeat(n, axis=1)
-    t = np.subtract(_counting(total), each[0], out=each[0])
-    t /= each[1]                          # whole numbers over whole numbers: exact as floats
-    xy = np.multiply(each[4:6], t, out=each[4:6])
-    xy += each[2:4]
+    fractions, past_row = _fractions(max(wd, hd))
+    # each sample's t looked up (no division): its segment's row of the table, less the
+    # samples before it, plus the running count
+    at = past_row.take(whole)
+    at -= past
+    at = at.repeat(n)
+    at += _counting(total)
+    t = fractions.take(at)
+    # the four rows repeated to their samples in one call (contiguous rows: no strided
+    # passes), then every pass in place in that copy
+    each = per[1:].repeat(n, axis=1)
+    xy = np.multiply(each[2:], t, out=each[2:])
+    xy += each[:2]
     dots = xy.astype(np.int32)      # (a canvas of 2 ** 28 cells would need a 16 GB table)
     if clipped:      # inside, samples lie between two in-range ends: no clamping needed
         np.clip(dots[0], 0, wd - 1, out=dots[0])
         np.clip(dots[1], 0, hd - 1, out=dots[1])
-    at = dots[1]
-    at *= wd
-    at += dots[0]
-    lit = _dot_tables(w, h)[1].take(at)
+    at32 = dots[1]
+    at32 *= wd
+    at32 += dots[0]
+    lit = _dot_tables(w, h)[1].take(at32)
     return lit >> 3, lit, prio.repeat(n)    # a dot's bit index is its cell * 8 + its bit
 
 
@@ -577,14 +582,30 @@ _MAX = np.maximum.reduce
 _ACCUMULATE = np.add.accumulate
 _MIN = np.minimum.reduce
 _NO_SAMPLES = (np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp))
-_COUNTING = [np.arange(4096, dtype=float)]
+_COUNTING = [np.arange(4096, dtype=np.intp)]
 
 
 def _counting(total: int) -> np.ndarray:
-    """0.0, 1.0, ... total - 1 (a view of one kept array, grown when a frame needs more)."""
+    """0, 1, ... total - 1 (a view of one kept array, grown when a frame needs more)."""
     if len(_COUNTING[0]) < total:
-        _COUNTING[0] = np.arange(max(total, 2 * len(_COUNTING[0])), dtype=float)
+        _COUNTING[0] = np.arange(max(total, 2 * len(_COUNTING[0])), dtype=np.intp)
     return _COUNTING[0][:total]
+
+
+_FRACTIONS: list[tuple[np.ndarray, np.ndarray]] = []
+
+
+def _fractions(longest: int) -> tuple[np.ndarray, np.ndarray]:
+    """Every sample's t of segments of up to ``longest`` steps: row s of the table holds
+    k / max(s, 1) for k = 0 .. s (the same quotients of whole numbers the sampling made as
+    floats, so the same t), and where row s + 1 starts. Kept, and grown for a bigger canvas."""
+    if not _FRACTIONS or len(_FRACTIONS[0][1]) <= longest:
+        s = np.arange(longest + 1)
+        ends = np.cumsum(s + 1)                   # row s ends (row s + 1 starts) here
+        row = np.repeat(s, s + 1)
+        k = np.arange(int(ends[-1])) - (ends - (s + 1)).repeat(s + 1)
+        _FRACTIONS[:] = [(k / np.maximum(row, 1).astype(float), ends)]
+    return _FRACTIONS[0]
 
 
 # the number of the bit (0..7) of dot (row, col) at 2 * row + col
@@ -731,7 +752,7 @@ def rasterize(
 def _scene_dots(scene: Scene, view: ViewTransform, back_faces: bool, axes: bool,
                 maps: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
     """The scene's segments' ends in dot coordinates, as ``_end_samples`` takes them (rows
-    2-5 of six), and their colours: each point projected once, then paired into segments."""
+    1-4 of five), and their colours: each point projected once, then paired into segments."""
     project, offset = _kept_projection(maps)
     if back_faces:        # every edge: where its ends lie and its colour kept with the scene
         at, paint = scene._every_end_at[int(axes)], scene._every_paint[int(axes)]
@@ -747,11 +768,11 @@ def _scene_dots(scene: Scene, view: ViewTransform, back_faces: bool, axes: bool,
 
 def _end_at(pairs: np.ndarray) -> np.ndarray:
     """Where the ends' coordinates of segments ``pairs`` (S, 2) lie in the flattened (P, 2)
-    points, as rows 2-5 (first x, first y, last x, last y) of the six ``_end_samples`` takes
-    (rows 0-1 take the first coordinate: room for the sampling's own rows, no copy)."""
-    at = np.zeros((6, len(pairs)), dtype=np.intp)
-    at[2::2] = 2 * pairs.T
-    at[3::2] = at[2::2] + 1
+    points, as rows 1-4 (first x, first y, last x, last y) of the five ``_end_samples`` takes
+    (row 0 takes the first coordinate: room for the sampling's own row, no copy)."""
+    at = np.zeros((5, len(pairs)), dtype=np.intp)
+    at[1::2] = 2 * pairs.T
+    at[2::2] = at[1::2] + 1
     return at
 
 
@@ -759,14 +780,14 @@ _PROJECTIONS: dict[int, tuple[np.ndarray, np.ndarray, np.ndarray]] = {}
 
 
 def _kept_projection(maps: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
-    """``_projection`` of ``_to_dots``' kept maps, its offset as a (6, 1) column for the rows
-    ``_end_at`` takes (0, 0, x, y, x, y): made once per view state and canvas, as the maps are."""
+    """``_projection`` of ``_to_dots``' kept maps, its offset as a (5, 1) column for the rows
+    ``_end_at`` takes (0, x, y, x, y): made once per view state and canvas, as the maps are."""
     found = _PROJECTIONS.get(id(maps[2]))
     if found is None or found[0] is not maps[2]:
         if len(_PROJECTIONS) >= 8:
             _PROJECTIONS.pop(next(iter(_PROJECTIONS)))
         project, offset = _projection(maps)
-        found = _PROJECTIONS[id(maps[2])] = (maps[2], project, np.r_[0.0, 0.0, offset, offset][:, None])
+        found = _PROJECTIONS[id(maps[2])] = (maps[2], project, np.r_[0.0, offset, offset][:, None])
     return found[1], found[2]
 
 
