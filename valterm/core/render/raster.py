@@ -389,12 +389,12 @@ class Frame:
             return ""
         # braille and ASCII lie below the surrogates: two bytes a character decode in half the time
         narrow = w == 0 or int(_MAX(self.chars, axis=None)) < 0xD800
-        grid = np.empty((h, w + 1), dtype="<u2" if narrow else "<u4")
+        flat = np.empty(h * (w + 1), dtype="<u2" if narrow else "<u4")
+        grid = flat.reshape(h, w + 1)
         grid[:, :w] = self.chars
         grid[:, w] = ord("\n")
         # decoded straight from the grid's memory (no bytes copy), less the last newline
-        text = grid.data.cast("B")[:-grid.itemsize]
-        return str((codecs.utf_16_le_decode if narrow else codecs.utf_32_le_decode)(text)[0])
+        return str((codecs.utf_16_le_decode if narrow else codecs.utf_32_le_decode)(flat[:-1].data)[0])
 
     def changed_spans(self, previous: "Frame | None") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Rows that differ from ``previous`` and, per row, the changed span [x0, x1)."""
@@ -753,16 +753,18 @@ def _scene_dots(scene: Scene, view: ViewTransform, back_faces: bool, axes: bool,
                 maps: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
     """The scene's segments' ends in dot coordinates, as ``_end_samples`` takes them (rows
     1-4 of five), and their colours: each point projected once, then paired into segments."""
-    project, offset = _kept_projection(maps)
+    points = scene.drawn_points(axes)
+    project, offsets = _kept_projection(maps, len(points))
     if back_faces:        # every edge: where its ends lie and its colour kept with the scene
         at, paint = scene._every_end_at[int(axes)], scene._every_paint[int(axes)]
     else:
         pairs, prio = scene.drawn_pairs(view, back_faces, axes)
         at, paint = _end_at(pairs), scene._palette_with_axes.take(prio)
-    # one take of the flat (x, y, x, y ...) products (a fancy index costs several times more),
-    # then the offset: the same sums as ``points @ project + offset`` paired afterwards
-    per: np.ndarray = (scene.drawn_points(axes) @ project).ravel().take(at)
-    per += offset
+    # the offset added to the flat (x, y, x, y ...) products in one contiguous pass (the same
+    # sums as ``points @ project + offset``), then one take (a fancy index costs several times more)
+    flat = (points @ project).ravel()
+    flat += offsets
+    per: np.ndarray = flat.take(at)
     return per, paint
 
 
@@ -770,7 +772,7 @@ def _end_at(pairs: np.ndarray) -> np.ndarray:
     """Where the ends' coordinates of segments ``pairs`` (S, 2) lie in the flattened (P, 2)
     points, as rows 1-4 (first x, first y, last x, last y) of the five ``_end_samples`` takes
     (row 0 takes the first coordinate: room for the sampling's own row, no copy)."""
-    at = np.zeros((5, len(pairs)), dtype=np.intp)
+    at = np.zeros((5, len(pairs)), dtype=np.intp)   # row 0: any valid place
     at[1::2] = 2 * pairs.T
     at[2::2] = at[1::2] + 1
     return at
@@ -779,16 +781,18 @@ def _end_at(pairs: np.ndarray) -> np.ndarray:
 _PROJECTIONS: dict[int, tuple[np.ndarray, np.ndarray, np.ndarray]] = {}
 
 
-def _kept_projection(maps: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
-    """``_projection`` of ``_to_dots``' kept maps, its offset as a (5, 1) column for the rows
-    ``_end_at`` takes (0, x, y, x, y): made once per view state and canvas, as the maps are."""
+def _kept_projection(maps: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray], n_points: int
+                     ) -> tuple[np.ndarray, np.ndarray]:
+    """``_projection`` of ``_to_dots``' kept maps, its offset repeated (x, y, x, y ...) for the
+    flattened products of ``n_points`` points: made once per view state and canvas, as the
+    maps are (and made longer for a scene with more points)."""
     found = _PROJECTIONS.get(id(maps[2]))
-    if found is None or found[0] is not maps[2]:
-        if len(_PROJECTIONS) >= 8:
+    if found is None or found[0] is not maps[2] or len(found[2]) < 2 * n_points:
+        if found is None and len(_PROJECTIONS) >= 8:
             _PROJECTIONS.pop(next(iter(_PROJECTIONS)))
         project, offset = _projection(maps)
-        found = _PROJECTIONS[id(maps[2])] = (maps[2], project, np.r_[0.0, offset, offset][:, None])
-    return found[1], found[2]
+        found = _PROJECTIONS[id(maps[2])] = (maps[2], project, np.tile(offset, max(n_points, 1024)))
+    return found[1], found[2][:2 * n_points]
 
 
 def _label_axes(chars: np.ndarray, colours: np.ndarray, a_mat: np.ndarray, b_vec: np.ndarray,
