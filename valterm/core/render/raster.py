@@ -548,7 +548,8 @@ def _end_samples(per: np.ndarray, prio: np.ndarray, w: int, h: int) -> tuple[np.
         prio = prio[keep]
     # samples per edge from its length in dots: consecutive samples <= 1 dot apart, at
     # t = k / max(steps, 1), k = 0 .. steps
-    steps = _MAX(np.abs(per[3:]), axis=0, out=per[0])
+    size = np.abs(per[3:])
+    steps = np.maximum(size[0], size[1], out=per[0])   # (a ufunc call costs less than a reduction)
     np.ceil(steps, out=steps)
     whole = steps.astype(np.intp)         # whole steps (clipped or inside: at most the canvas)
     n = whole + 1
