@@ -366,3 +366,38 @@ def test_characters_two_cells_a_lookup_and_text_beyond_the_braille_block() -> No
     frame = Frame(wide, np.zeros((2, 2), dtype=np.uint8))
     assert frame.text() == "\U0001F916\u2807\nA\uffff"
     assert frame.lines() == [frame.row_text(0), frame.row_text(1)]
+
+
+def test_sample_fractions_are_the_quotients_of_whole_numbers() -> None:
+    """Issue 25, fourth pass: a sample's t is looked up, not divided; row s of the table holds
+    k / max(s, 1) for k = 0 .. s, bit for bit, and a bigger canvas grows the table."""
+    from valterm.core.render.raster import _fractions
+
+    for longest in (3, 40, 17, 130):
+        table, row_ends = _fractions(longest)
+        assert len(row_ends) > longest
+        for s in (0, 1, 2, 3, longest // 2, longest):
+            row = table[row_ends[s] - (s + 1): row_ends[s]]
+            k = np.arange(s + 1, dtype=float)
+            assert row.tobytes() == (k / max(s, 1)).tobytes(), s
+
+
+def test_a_scene_of_many_points_keeps_its_offsets_long_enough() -> None:
+    """The view's offset is kept repeated for the flat products (issue 25, fourth pass): a
+    scene with more points than first kept (1200 vertices) draws the earlier sampling's dots."""
+    from valterm.core.render.raster import _dots_to_codes, _projection, _to_dots
+
+    rng = np.random.default_rng(1200)
+    view = ViewTransform().rotate_by("y", 35).rotate_by("x", -20)
+    small = Scene.build([(Polyhedron.box([0, 0, 0], [100, 100, 100]), 3)])
+    rasterize(small, view, 80, 24)                   # the offsets kept for 8 points first
+    boxes = [(Polyhedron.box(lo, lo + rng.uniform(5, 200, 3)), 3) for lo in rng.uniform(-900, 700, (150, 3))]
+    scene = Scene.build(boxes)
+    for back_faces in (True, False):
+        frame = rasterize(scene, view, 80, 24, back_faces=back_faces)
+        segs, prio = scene.segments(view, back_faces)
+        project, offset = _projection(_to_dots(view, 160, 96, 1.0))
+        pts = (segs.reshape(-1, 3) @ project + offset).reshape(-1, 2, 2)
+        codes = _dots_to_codes(_reference_dot_samples(pts, prio, 80, 24)[1], 80 * 24)
+        assert np.array_equal(frame.chars.ravel(), np.where(codes > 0, BRAILLE_BASE + codes.astype(np.uint32), 0x20))
+        assert (codes > 0).sum() > 200

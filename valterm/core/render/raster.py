@@ -14,6 +14,7 @@ front faces is drawn twice, as in 1985); with back faces on every edge is drawn 
 
 from __future__ import annotations
 
+import codecs
 import math
 from dataclasses import dataclass, field
 from functools import cached_property, lru_cache
@@ -312,6 +313,12 @@ class Scene:
         return points, np.concatenate([points, _AXES_POINTS])
 
     @cached_property
+    def _every_paint(self) -> tuple[np.ndarray, np.ndarray]:
+        """The colour of every edge (back faces on), without and with the WCS axes."""
+        palette = self._palette_with_axes
+        return palette.take(self._every_pair[0][1]), palette.take(self._every_pair[1][1])
+
+    @cached_property
     def _every_end_at(self) -> tuple[np.ndarray, np.ndarray]:
         """``_end_at`` of every edge (back faces on), without and with the WCS axes."""
         return _end_at(self._every_pair[0][0]), _end_at(self._every_pair[1][0])
@@ -381,11 +388,13 @@ class Frame:
         if h == 0:
             return ""
         # braille and ASCII lie below the surrogates: two bytes a character decode in half the time
-        narrow = w == 0 or int(self.chars.max()) < 0xD800
-        grid = np.empty((h, w + 1), dtype="<u2" if narrow else "<u4")
+        narrow = w == 0 or int(_MAX(self.chars, axis=None)) < 0xD800
+        flat = np.empty(h * (w + 1), dtype="<u2" if narrow else "<u4")
+        grid = flat.reshape(h, w + 1)
         grid[:, :w] = self.chars
         grid[:, w] = ord("\n")
-        return str(grid.tobytes()[:-grid.itemsize].decode("utf-16-le" if narrow else "utf-32-le"))
+        # decoded straight from the grid's memory (no bytes copy), less the last newline
+        return str((codecs.utf_16_le_decode if narrow else codecs.utf_32_le_decode)(flat[:-1].data)[0])
 
     def changed_spans(self, previous: "Frame | None") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Rows that differ from ``previous`` and, per row, the changed span [x0, x1)."""
@@ -508,65 +517,96 @@ def _samples(segs: np.ndarray, prio: np.ndarray, maps: tuple[np.ndarray, np.ndar
 
 def _dot_samples(pts: np.ndarray, prio: np.ndarray, w: int, h: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``_samples`` of segments already in continuous dot coordinates (S, 2, 2)."""
-    return _end_samples(np.ascontiguousarray(pts.reshape(-1, 4).T), prio, w, h)
+    per = np.empty((5, len(pts)))
+    per[1:] = pts.reshape(-1, 4).T
+    return _end_samples(per, prio, w, h)
 
 
-def _end_samples(ends: np.ndarray, prio: np.ndarray, w: int, h: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """``_dot_samples`` of the segments' ends as four rows (first x, first y, last x, last y):
-    every pass below runs on contiguous rows (a reduction or an op along an axis of 2 costs
-    several times more). The third result is ``prio`` (a value per segment) per sample."""
+def _end_samples(per: np.ndarray, prio: np.ndarray, w: int, h: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``_dot_samples`` of the segments' ends in rows 1-4 of ``per`` (first x, first y, last
+    x, last y; row 0 free, every row overwritten): every pass below runs on contiguous rows
+    (a reduction or an op along an axis of 2 costs several times more). The third result is
+    ``prio`` (a value per segment) per sample."""
     wd, hd = 2 * w, 4 * h
-    if not ends.shape[1]:
+    if not per.shape[1]:
         return _NO_SAMPLES
-    per = np.empty((6, ends.shape[1]))    # first sample, t's divisor, start (2), direction (2)
-    x0, y0, x1, y1 = ends.max(axis=1).tolist()
-    if ends.min() >= 0.0 and max(x0, x1) <= wd - 1e-6 and max(y0, y1) <= hd - 1e-6:
+    # rows: the steps, start (2), direction (2). The ufuncs' own reductions and the arrays'
+    # own methods: numpy's wrappers cost a call each, and at this size calls count
+    ends = per[1:]
+    x0, y0, x1, y1 = _MAX(ends, axis=1).tolist()
+    if _MIN(ends, axis=None) >= 0.0 and max(x0, x1) <= wd - 1e-6 and max(y0, y1) <= hd - 1e-6:
         clipped = False                   # all inside (the usual frame): nothing to clip
-        per[2:4] = ends[:2]
-        np.subtract(ends[2:], ends[:2], out=per[4:6])
+        np.subtract(per[3:], per[1:3], out=per[3:])
     else:
         clipped = True
-        a, b, keep = _clip(ends[:2].T, ends[2:].T, np.array([wd - 1e-6, hd - 1e-6]))
+        a, b, keep = _clip(per[1:3].T, per[3:].T, np.array([wd - 1e-6, hd - 1e-6]))
         per = per[:, keep]
-        per[2:4] = a[keep].T
-        per[4:6] = (b[keep] - a[keep]).T
+        if not per.shape[1]:
+            return _NO_SAMPLES
+        per[1:3] = a[keep].T
+        per[3:] = (b[keep] - a[keep]).T
         prio = prio[keep]
-    # samples per edge from its length in dots: consecutive samples <= 1 dot apart
-    steps = np.abs(per[4:6]).max(axis=0)
+    # samples per edge from its length in dots: consecutive samples <= 1 dot apart, at
+    # t = k / max(steps, 1), k = 0 .. steps
+    size = np.abs(per[3:])
+    steps = np.maximum(size[0], size[1], out=per[0])   # (a ufunc call costs less than a reduction)
     np.ceil(steps, out=steps)
-    n = steps.astype(np.intp)
-    n += 1
-    if not len(n):
-        return _NO_SAMPLES
-    per[0, 0] = 0.0
-    np.cumsum(n[:-1], out=per[0, 1:])
-    total = int(per[0, -1]) + int(n[-1])
-    np.maximum(steps, 1.0, out=per[1])
-    # the six rows repeated to their samples in one call (contiguous rows: no strided passes)
-    each = np.repeat(per, n, axis=1)
-    t = _counting(total) - each[0]
-    t /= each[1]                          # whole numbers over whole numbers: exact as floats
-    xy = each[4:6] * t
-    xy += each[2:4]
+    whole = steps.astype(np.intp)         # whole steps (clipped or inside: at most the canvas)
+    n = whole + 1
+    past = _ACCUMULATE(n)
+    total = int(past[-1])
+    fractions, past_row = _fractions(max(wd, hd))
+    # each sample's t looked up (no division): its segment's row of the table, less the
+    # samples before it, plus the running count
+    at = past_row.take(whole)
+    at -= past
+    at = at.repeat(n)
+    at += _counting(total)
+    t = fractions.take(at)
+    # the four rows repeated to their samples in one call (contiguous rows: no strided
+    # passes), then every pass in place in that copy
+    each = per[1:].repeat(n, axis=1)
+    xy = np.multiply(each[2:], t, out=each[2:])
+    xy += each[:2]
     dots = xy.astype(np.int32)      # (a canvas of 2 ** 28 cells would need a 16 GB table)
     if clipped:      # inside, samples lie between two in-range ends: no clamping needed
         np.clip(dots[0], 0, wd - 1, out=dots[0])
         np.clip(dots[1], 0, hd - 1, out=dots[1])
-    at = dots[1] * np.int32(wd)
-    at += dots[0]
-    lit = _dot_tables(w, h)[1].take(at)
-    return lit >> 3, lit, np.repeat(prio, n)    # a dot's bit index is its cell * 8 + its bit
+    at32 = dots[1]
+    at32 *= wd
+    at32 += dots[0]
+    lit = _dot_tables(w, h)[1].take(at32)
+    return lit >> 3, lit, prio.repeat(n)    # a dot's bit index is its cell * 8 + its bit
 
 
+_MAX = np.maximum.reduce
+_ACCUMULATE = np.add.accumulate
+_MIN = np.minimum.reduce
 _NO_SAMPLES = (np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp))
-_COUNTING = [np.arange(4096, dtype=float)]
+_COUNTING = [np.arange(4096, dtype=np.intp)]
 
 
 def _counting(total: int) -> np.ndarray:
-    """0.0, 1.0, ... total - 1 (a view of one kept array, grown when a frame needs more)."""
+    """0, 1, ... total - 1 (a view of one kept array, grown when a frame needs more)."""
     if len(_COUNTING[0]) < total:
-        _COUNTING[0] = np.arange(max(total, 2 * len(_COUNTING[0])), dtype=float)
+        _COUNTING[0] = np.arange(max(total, 2 * len(_COUNTING[0])), dtype=np.intp)
     return _COUNTING[0][:total]
+
+
+_FRACTIONS: list[tuple[np.ndarray, np.ndarray]] = []
+
+
+def _fractions(longest: int) -> tuple[np.ndarray, np.ndarray]:
+    """Every sample's t of segments of up to ``longest`` steps: row s of the table holds
+    k / max(s, 1) for k = 0 .. s (the same quotients of whole numbers the sampling made as
+    floats, so the same t), and where row s + 1 starts. Kept, and grown for a bigger canvas."""
+    if not _FRACTIONS or len(_FRACTIONS[0][1]) <= longest:
+        s = np.arange(longest + 1)
+        ends = np.cumsum(s + 1)                   # row s ends (row s + 1 starts) here
+        row = np.repeat(s, s + 1)
+        k = np.arange(int(ends[-1])) - (ends - (s + 1)).repeat(s + 1)
+        _FRACTIONS[:] = [(k / np.maximum(row, 1).astype(float), ends)]
+    return _FRACTIONS[0]
 
 
 # the number of the bit (0..7) of dot (row, col) at 2 * row + col
@@ -684,10 +724,8 @@ def rasterize(
     if w == 0 or h == 0:
         return empty_frame(w, h)
     maps = _to_dots(view, 2 * w, 4 * h, dot_aspect)
-    pts, prio = _scene_dots(scene, view, back_faces, axes, maps)
-    palette = scene._palette_with_axes
     # each segment's colour repeated to its samples (not each sample's priority looked up)
-    cells, lit, painted = _end_samples(pts, palette.take(prio), w, h)
+    cells, lit, painted = _end_samples(*_scene_dots(scene, view, back_faces, axes, maps), w, h)
     codes: np.ndarray
     colours: np.ndarray
     if scene.background is None:
@@ -714,40 +752,48 @@ def rasterize(
 
 def _scene_dots(scene: Scene, view: ViewTransform, back_faces: bool, axes: bool,
                 maps: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
-    """The scene's segments in dot coordinates (S, 2, 2) and their priorities: each point
-    projected once, then paired into segments."""
-    project, offset = _kept_projection(maps)
-    pairs, prio = scene.drawn_pairs(view, back_faces, axes)
-    at = scene._every_end_at[int(axes)] if back_faces else _end_at(pairs)
-    # one take of the flat (x, y, x, y ...) products (a fancy index costs several times more),
-    # then the offset: the same sums as ``points @ project + offset`` paired afterwards
-    ends: np.ndarray = (scene.drawn_points(axes) @ project).ravel().take(at)
-    ends += offset
-    return ends, prio
+    """The scene's segments' ends in dot coordinates, as ``_end_samples`` takes them (rows
+    1-4 of five), and their colours: each point projected once, then paired into segments."""
+    points = scene.drawn_points(axes)
+    project, offsets = _kept_projection(maps, len(points))
+    if back_faces:        # every edge: where its ends lie and its colour kept with the scene
+        at, paint = scene._every_end_at[int(axes)], scene._every_paint[int(axes)]
+    else:
+        pairs, prio = scene.drawn_pairs(view, back_faces, axes)
+        at, paint = _end_at(pairs), scene._palette_with_axes.take(prio)
+    # the offset added to the flat (x, y, x, y ...) products in one contiguous pass (the same
+    # sums as ``points @ project + offset``), then one take (a fancy index costs several times more)
+    flat = (points @ project).ravel()
+    flat += offsets
+    per: np.ndarray = flat.take(at)
+    return per, paint
 
 
 def _end_at(pairs: np.ndarray) -> np.ndarray:
     """Where the ends' coordinates of segments ``pairs`` (S, 2) lie in the flattened (P, 2)
-    points, as the four rows (first x, first y, last x, last y) ``_end_samples`` takes."""
-    at = np.empty((4, len(pairs)), dtype=np.intp)
-    at[0::2] = 2 * pairs.T
-    at[1::2] = at[0::2] + 1
+    points, as rows 1-4 (first x, first y, last x, last y) of the five ``_end_samples`` takes
+    (row 0 takes the first coordinate: room for the sampling's own row, no copy)."""
+    at = np.zeros((5, len(pairs)), dtype=np.intp)   # row 0: any valid place
+    at[1::2] = 2 * pairs.T
+    at[2::2] = at[1::2] + 1
     return at
 
 
 _PROJECTIONS: dict[int, tuple[np.ndarray, np.ndarray, np.ndarray]] = {}
 
 
-def _kept_projection(maps: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
-    """``_projection`` of ``_to_dots``' kept maps, its offset as a (4, 1) column for the ends'
-    rows (x, y, x, y): made once per view state and canvas, as the maps are."""
+def _kept_projection(maps: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray], n_points: int
+                     ) -> tuple[np.ndarray, np.ndarray]:
+    """``_projection`` of ``_to_dots``' kept maps, its offset repeated (x, y, x, y ...) for the
+    flattened products of ``n_points`` points: made once per view state and canvas, as the
+    maps are (and made longer for a scene with more points)."""
     found = _PROJECTIONS.get(id(maps[2]))
-    if found is None or found[0] is not maps[2]:
-        if len(_PROJECTIONS) >= 8:
+    if found is None or found[0] is not maps[2] or len(found[2]) < 2 * n_points:
+        if found is None and len(_PROJECTIONS) >= 8:
             _PROJECTIONS.pop(next(iter(_PROJECTIONS)))
         project, offset = _projection(maps)
-        found = _PROJECTIONS[id(maps[2])] = (maps[2], project, np.tile(offset, 2)[:, None])
-    return found[1], found[2]
+        found = _PROJECTIONS[id(maps[2])] = (maps[2], project, np.tile(offset, max(n_points, 1024)))
+    return found[1], found[2][:2 * n_points]
 
 
 def _label_axes(chars: np.ndarray, colours: np.ndarray, a_mat: np.ndarray, b_vec: np.ndarray,
