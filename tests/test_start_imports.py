@@ -88,3 +88,17 @@ def test_the_keymap_file_still_checks_every_screens_ids(tmp_path, monkeypatch) -
         assert "no binding id" in str(error)
     else:
         raise AssertionError("an unknown binding id was accepted")
+
+
+def test_the_apps_command_line_loads_no_commands_module() -> None:
+    """`valterm --setup PROCESS` parses its options without any subcommand's module (issue 25);
+    a subcommand's line loads its own module only."""
+    probe = ("import json, sys\nfrom valterm.cli import build_parser, chosen_commands\n"
+             "def parsed(argv):\n"
+             "    build_parser(chosen_commands(argv)).parse_args(argv)\n"
+             "    return sorted(m for m in sys.modules if m.startswith('valterm.commands.'))\n"
+             "print(json.dumps([parsed(['--setup', 'PROCESS', '--rules', '1985']), parsed(['check', 'X'])]))")
+    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True)
+    app_line, check_line = json.loads(out.stdout.strip().splitlines()[-1])
+    assert app_line == ["valterm.commands.app", "valterm.commands.limits", "valterm.commands.robots"]
+    assert check_line == [*app_line[:1], "valterm.commands.check", *app_line[1:]]
