@@ -4,6 +4,7 @@ load when first used; each is still there when asked for."""
 from __future__ import annotations
 
 import json
+import os
 import subprocess
 import sys
 
@@ -105,3 +106,19 @@ def test_the_apps_command_line_loads_no_commands_module() -> None:
     app_line, check_line = json.loads(out.stdout.strip().splitlines()[-1])
     assert app_line == ["valterm.commands.app", "valterm.commands.limits", "valterm.commands.robots"]
     assert check_line == [*app_line[:1], "valterm.commands.check", *app_line[1:]]
+
+
+def test_the_command_line_keeps_numpys_blas_to_one_thread() -> None:
+    """OpenBLAS's threads spin at numpy's import, taking CPU from the app's start on a busy
+    machine (issue 25): the command line sets one thread before numpy loads, unless the user
+    set a number."""
+    probe = ("import os, sys\nimport valterm.cli\nassert 'numpy' in sys.modules\n"
+             "status = open('/proc/self/status').read() if os.path.exists('/proc/self/status') else ''\n"
+             "threads = [line.split()[1] for line in status.splitlines() if line.startswith('Threads:')]\n"
+             "print(os.environ['OPENBLAS_NUM_THREADS'], threads[0] if threads else '1')")
+    env = {k: v for k, v in os.environ.items() if k != "OPENBLAS_NUM_THREADS"}
+    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True, env=env)
+    assert out.stdout.split() == ["1", "1"]
+    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True,
+                         env={**env, "OPENBLAS_NUM_THREADS": "2"})
+    assert out.stdout.split()[0] == "2"

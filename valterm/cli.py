@@ -14,6 +14,12 @@ import sys
 from collections.abc import Callable, Sequence
 from typing import NoReturn
 
+# numpy's OpenBLAS starts a thread per core at import, and each spins for a while waiting for
+# work that the simulator's small matrices never give it: about 0.1 s of CPU at every start,
+# which a busy two-core machine takes from the app itself (issue 25). Set before numpy loads;
+# the user's own setting wins.
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
 from valterm.commands import FAILURE, USAGE, app, say
 from valterm.commands.limits import add_limit_flags
 from valterm.commands.robots import add_robot_option
