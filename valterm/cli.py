@@ -8,25 +8,15 @@ exception is a bug: one line on stderr naming the log file with its traceback
 from __future__ import annotations
 
 import argparse
+import gc
 import os
 import re
 import sys
 from collections.abc import Callable, Sequence
 from typing import NoReturn
 
-# numpy's OpenBLAS starts a thread per core at import, and each spins for a while waiting for
-# work that the simulator's small matrices never give it: about 0.1 s of CPU at every start,
-# which a busy two-core machine takes from the app itself (issue 25). Set before numpy loads;
-# the user's own setting wins.
-os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
-
-from valterm.commands import FAILURE, USAGE, app, say
-from valterm.commands.limits import add_limit_flags
-from valterm.commands.robots import add_robot_option
-from valterm.core.crashlog import report_crash
-from valterm.core.errors import ValtermError
-from valterm.core.rules import RULES
-from valterm.core.workspace import ENV_VAR
+# Nothing of the package is imported here: ``main`` pauses the cycle collector and sets
+# numpy's threads before the start's imports (issue 25, the start).
 
 # The subcommands in the order of --help. A command line loads only its own command's module
 # (the app none: issue 25, the start); --help and a usage error load them all.
@@ -74,12 +64,14 @@ def registrar(command: str) -> Callable[..., None]:
     from valterm.commands import serve
     return serve.register
 
-EPILOG = (
-    f"The workspace (programs, setup and location files) is --workspace DIR, else ${ENV_VAR}, "
-    "else ~/valterm; it is created and filled with the bundled examples on first use. "
-    "--workspace may also follow the subcommand. "
-    "Exit status: 0 ok, 1 failure, 2 usage error, 70 internal error (traceback logged)."
-)
+def epilog() -> str:
+    """What --help says after the options."""
+    from valterm.core.workspace import ENV_VAR
+
+    return (f"The workspace (programs, setup and location files) is --workspace DIR, else ${ENV_VAR}, "
+            "else ~/valterm; it is created and filled with the bundled examples on first use. "
+            "--workspace may also follow the subcommand. "
+            "Exit status: 0 ok, 1 failure, 2 usage error, 70 internal error (traceback logged).")
 
 
 NEGATIVE_NUMBER = re.compile(r"^-(\d+\.?\d*|\.\d+)(e[-+]?\d+)?$|^-(inf|infinity|nan)$", re.IGNORECASE)
@@ -90,6 +82,8 @@ class Parser(argparse.ArgumentParser):
     subcommand also takes ``--workspace`` (after its name as well as before)."""
 
     def __init__(self, *args: object, **kwargs: object) -> None:
+        from valterm.core.workspace import ENV_VAR
+
         top = kwargs.pop("top", False)
         super().__init__(*args, **kwargs)  # type: ignore[arg-type]
         self.add_argument(
@@ -102,6 +96,8 @@ class Parser(argparse.ArgumentParser):
         self._negative_number_matcher = NEGATIVE_NUMBER
 
     def error(self, message: str) -> NoReturn:
+        from valterm.commands import USAGE, say
+
         self.print_usage(sys.stderr)
         where = self.prog.removeprefix("valterm").strip()
         say(f"{where}: {message}" if where else message)
@@ -167,7 +163,7 @@ def build_parser(commands: Sequence[str] | None = None) -> argparse.ArgumentPars
         prog="valterm", top=True,
         description="VAL-II SIMULATOR: teach and program a PUMA robot in VAL-II, in the terminal. "
                     "With no COMMAND it starts the app.",
-        epilog=EPILOG,
+        epilog=epilog(),
     )
     parser.add_argument("--version", action=VersionAction)
     _top_options(parser)
@@ -179,6 +175,10 @@ def build_parser(commands: Sequence[str] | None = None) -> argparse.ArgumentPars
 
 def _top_options(parser: argparse.ArgumentParser) -> None:
     """The app's options, before any command."""
+    from valterm.commands.limits import add_limit_flags
+    from valterm.commands.robots import add_robot_option
+    from valterm.core.rules import RULES
+
     parser.add_argument("--setup", metavar="NAME", help="the app: read NAME.SET and go straight to the MAIN MENU")
     parser.add_argument("--ascii", action="store_true", help="the app: draw the model in ASCII, not braille")
     parser.add_argument("--rules", choices=RULES, default=None,
@@ -193,18 +193,40 @@ def _top_options(parser: argparse.ArgumentParser) -> None:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
+    # The app's start makes some hundred thousand objects that live as long as it does, and
+    # the cycle collector would walk them again and again before the first frame (about a
+    # tenth of the start, issue 25): it waits until the command is known, then runs again at
+    # once for a subcommand and after MAIN MENU's first frame for the app.
+    collecting = gc.isenabled()
+    gc.disable()
+    # numpy's OpenBLAS starts a thread per core at import, and each spins for a while waiting
+    # for work that the simulator's small matrices never give it: about 0.1 s of CPU at every
+    # start, which a busy two-core machine takes from the app. The user's own setting wins.
+    os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
     try:
-        return _dispatch(argv)
+        return _dispatch(argv, collecting)
     except Exception as bug:
+        from valterm.core.crashlog import report_crash
+
         return report_crash(bug)
+    finally:
+        if collecting:
+            gc.enable()
 
 
-def _dispatch(argv: Sequence[str] | None) -> int:
+def _dispatch(argv: Sequence[str] | None, collecting: bool = True) -> int:
+    from valterm.commands import FAILURE, USAGE, app, say
+    from valterm.core.errors import ValtermError
+
     try:
         args = build_parser(chosen_commands(argv)).parse_args(argv)
     except SystemExit as done:  # --help, --version, a usage error
         return done.code if isinstance(done.code, int) else USAGE
     func = getattr(args, "func", None) or app.run_app
+    if func is app.run_app:
+        args.collect_after_first_frame = collecting
+    elif collecting:
+        gc.enable()
     try:
         return int(func(args) or 0)
     except ValtermError as error:  # a refusal the command did not word itself
