@@ -113,14 +113,16 @@ class _Lines:
             yield found
 
 
-def read_setup(path: str | Path) -> WorkCell:
+def read_setup(path: str | Path, *, checked: bool = True) -> WorkCell:
     """Read a setup file into a WorkCell of world millimetres (FileFormatError if malformed)."""
     path = Path(path)
-    return parse_setup(read_text(path, "setup"), path)
+    return parse_setup(read_text(path, "setup"), path, checked=checked)
 
 
-def parse_setup(text: str, name: str | Path) -> WorkCell:
-    """Parse setup-file text; ``name`` (the file name) locates errors and warnings."""
+def parse_setup(text: str, name: str | Path, *, checked: bool = True) -> WorkCell:
+    """Parse setup-file text; ``name`` (the file name) locates errors and warnings.
+    ``checked=False`` skips the geometry warnings (``_check_geometry``): for the bundled
+    robot model, of which only the vertices are used (issue 25: half a session's start)."""
     lines = _Lines(text)
     where = Path(name)
     if not text.strip():
@@ -166,7 +168,7 @@ def parse_setup(text: str, name: str | Path) -> WorkCell:
                 polyhedron = Polyhedron(vertices, name=lines.names.get(header_line, f"PART {part}"))
         except (FloatingPointError, ValueError) as error:
             raise FileFormatError(where, header_line, f"object {part}: unusable vertices ({error})") from None
-        for warning in _check_geometry(polyhedron, part):
+        for warning in _check_geometry(polyhedron, part) if checked else ():
             cell.warnings.append(f"{where.name}:{header_line}: object {part}: {warning}")
         cell.objects.append(polyhedron)
 
