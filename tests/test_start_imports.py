@@ -42,7 +42,8 @@ NOT_AT_MAIN_MENU = ("valterm.ui.screens.editor", "valterm.ui.screens.valmode", "
                     "valterm.ui.screens.manipulation", "valterm.ui.screens.pendant", "valterm.ui.screens.help",
                     "valterm.ui.screens.start", "valterm.ui.hardcopy", "valterm.core.cad.export",
                     "valterm.core.cad.convert", "valterm.core.editor", "valterm.core.val.compiler",
-                    "concurrent.futures.process", "valterm.ui.widgets.transcript_log", "rich.pretty", *HEAVY)
+                    "concurrent.futures.process", "valterm.ui.widgets.transcript_log", "rich.pretty", "importlib.resources", "importlib.metadata",
+                    *HEAVY)
 
 MAIN_MENU_PROBE = """
 import asyncio, json, sys, tempfile
