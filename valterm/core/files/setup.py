@@ -280,7 +280,7 @@ def _convex(polygons: np.ndarray) -> np.ndarray:
     turns = np.einsum("pcx,px->pc", np.cross(edges, np.roll(edges, -1, axis=1)), normals)
     scale = np.abs(turns).max(axis=1)
     scale[scale == 0.0] = 1.0
-    flat = ~(normals != 0.0).any(axis=1)
+    flat = (normals * normals).sum(axis=-1) == 0.0  # no normal: as the face-at-a-time norm test
     return np.asarray(flat | (turns >= -1e-9 * scale[:, None]).all(axis=1))
 
 
