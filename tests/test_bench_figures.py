@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
+import os
+
 import pytest
 
-from valterm.bench.pty import BRAILLE, drawing_figures, frame_figures
+from valterm.bench.pty import BRAILLE, _read_until, drawing_figures, frame_figures
 from valterm.bench.suite import GOALS, markdown
 
 
@@ -82,3 +84,21 @@ def test_bench_svg_goes_through_the_safe_write_path(monkeypatch: pytest.MonkeyPa
     assert outside.read_text() == "keep"
     assert main(["bench", "--no-app", "--svg", str(tmp_path / "new.svg")]) == 0
     assert (tmp_path / "new.svg").read_text().startswith("<svg")
+
+
+def test_the_start_counts_once_the_model_is_drawn_beside_main_menu() -> None:
+    """The app's start time waits for the title and the model's braille (issue 25): a MAIN
+    MENU drawn before its model would not count."""
+    read, write = os.pipe()
+    try:
+        os.write(write, b"\x1b[1;1HMAIN MENU\x1b[2;1H   ")
+        with pytest.raises(TimeoutError):
+            _read_until(read, b"MAIN MENU", 0.2, picture=True)
+        os.write(write, "MAIN MENU \u2800\u28ff".encode())  # a frame with the model
+        seen, _ = _read_until(read, b"MAIN MENU", 5.0, picture=True)
+        assert BRAILLE.search(seen)
+        os.write(write, b"MAIN MENU")  # the bare app's one line: the title alone
+        assert _read_until(read, b"MAIN MENU", 5.0)[0] == b"MAIN MENU"
+    finally:
+        os.close(read)
+        os.close(write)

@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 
 import valterm
-from valterm.cli import main
+from valterm.cli import COMMANDS, main
 from valterm.commands import kin
 from valterm.core.crashlog import EXIT_BUG
 from valterm.core.workspace import WorkspaceError
@@ -147,10 +147,30 @@ def test_a_log_folder_that_cannot_be_written_falls_back_to_the_temporary_folder(
     assert f"the traceback is in {tmp_path / 'tmp' / 'valterm'}" in err
 
 
-def test_an_import_error_in_a_command_module_surfaces() -> None:
-    result = python("import sys; sys.modules['valterm.commands.bench'] = None; import valterm.cli")
-    assert result.returncode != 0
+BROKEN_BENCH = "import sys; sys.modules['valterm.commands.bench'] = None; from valterm.cli import main; " \
+               "sys.exit(main(sys.argv[1:]))"
+
+
+@pytest.mark.parametrize("argv", [["bench", "--help"], ["--help"]])
+def test_an_import_error_in_a_command_module_surfaces(argv: list[str], tmp_path: Path) -> None:
+    """A command's module loads when the command line names it (or --help lists them all):
+    an import error there is a bug, exit 70 with the one line naming it."""
+    result = python(BROKEN_BENCH, *argv, env={"XDG_STATE_HOME": str(tmp_path)})
+    assert result.returncode == EXIT_BUG
     assert "ModuleNotFoundError: import of valterm.commands.bench halted" in result.stderr
+
+
+def test_a_command_line_loads_only_its_own_commands_module(tmp_path: Path) -> None:
+    """The app and every other command do without a broken module they do not use (issue 25:
+    the app's start loads no command's module)."""
+    result = python(BROKEN_BENCH, "kin", "fk", "0", "0", "0", "0", "0", "0", env={"XDG_STATE_HOME": str(tmp_path)})
+    assert (result.returncode, result.stderr) == (0, "")
+    assert "431.80" in result.stdout
+    probe = ("import sys; from valterm.cli import chosen_commands; "
+             "print(chosen_commands(['--setup', 'run', '--robot', 'PUMA']), chosen_commands(['--workspace', 'W', 'run', 'X']), "
+             "chosen_commands(['-h', 'run']), chosen_commands(['--rules', 'bad']) == chosen_commands(['--help']), "
+             "'valterm.commands.run' in sys.modules)")
+    assert python(probe).stdout.strip() == f"() ('run',) {COMMANDS} True False"
 
 
 def test_a_closed_pipe_ends_quietly(tmp_path: Path) -> None:

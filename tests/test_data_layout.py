@@ -36,3 +36,12 @@ def test_resources_read_the_top_level_files_through_the_links() -> None:
     assert resources.read_text("COMMAND.DAT") == (ROOT / "assets/COMMAND.DAT").read_text(encoding="utf-8")
     assert {p.name for p in resources.bundled_files(resources.CELLS)} == {
         p.name for p in (ROOT / "cells").iterdir() if p.is_file()}
+
+
+def test_the_data_folder_is_the_one_importlib_resources_finds() -> None:
+    """resources finds the package's folder itself (issue 25: importlib.resources' readers and
+    zipfile are not loaded at the start); for a package on disk it is the same folder."""
+    from importlib.resources import files
+
+    assert resources.data_root() == files(resources.PACKAGE) / resources.DATA
+    assert Path(str(resources.data_root())).is_dir()

@@ -148,6 +148,34 @@ def test_flat_and_non_convex_objects_warn_but_load() -> None:
     assert len(cell.objects) == 1 and cell.warnings
 
 
+
+def test_the_geometry_warnings_name_the_face_off_plane_and_the_polygon_not_convex() -> None:
+    """The checks run on every face at once (issue 25, the start): the same words and figures
+    as a face at a time."""
+    assert parse_setup(BOX.replace("50 30 70", "52 30 70"), "P.SET").warnings == [
+        "P.SET:4: object 1: a face is not planar (off by 0.50 mm)"]
+    assert parse_setup(BOX.replace("0 30 70\n0 30 0\n50", "0 5 10\n0 30 0\n50"), "D.SET").warnings == [
+        "D.SET:4: object 1: a face is not planar (off by 11.50 mm)", "D.SET:4: object 1: the front polygon is not convex"]
+    assert parse_setup(BOX.replace("50 30 70", "50 12 20"), "B.SET").warnings == [
+        "B.SET:4: object 1: a face is not planar (off by 10.44 mm)", "B.SET:4: object 1: the back polygon is not convex"]
+    assert parse_setup(BOX, "OK.SET").warnings == []
+
+
+def test_the_robot_model_is_read_unchecked_and_loses_nothing_by_it() -> None:
+    """The bundled robot model skips the geometry checks (issue 25, the start): checked, it
+    has no warning and no link wound inward, so its vertices are the same either way."""
+    import tomllib
+
+    from valterm.core import resources
+    from valterm.core.robot import ROBOT_FILE
+
+    path = resources.data_path(*ROBOT_FILE)
+    model = path.parent / tomllib.loads(path.read_text())["model"]["geometry"]
+    checked, unchecked = read_setup(model), read_setup(model, checked=False)
+    assert checked.warnings == [] and not any(p.winding_flipped for p in checked.objects)
+    assert all((a.vertices == b.vertices).all() for a, b in zip(checked.objects, unchecked.objects, strict=True))
+    assert parse_setup(BOX.replace("50 30 70", "52 30 70"), "P.SET", checked=False).warnings == []
+
 MALFORMED = [
     ("", 0, "empty"),
     ("   \n\n", 0, "empty"),

@@ -4,6 +4,7 @@ load when first used; each is still there when asked for."""
 from __future__ import annotations
 
 import json
+import os
 import subprocess
 import sys
 
@@ -41,7 +42,8 @@ NOT_AT_MAIN_MENU = ("valterm.ui.screens.editor", "valterm.ui.screens.valmode", "
                     "valterm.ui.screens.manipulation", "valterm.ui.screens.pendant", "valterm.ui.screens.help",
                     "valterm.ui.screens.start", "valterm.ui.hardcopy", "valterm.core.cad.export",
                     "valterm.core.cad.convert", "valterm.core.editor", "valterm.core.val.compiler",
-                    "concurrent.futures.process", *HEAVY)
+                    "concurrent.futures.process", "valterm.ui.widgets.transcript_log", "rich.pretty", "importlib.resources", "importlib.metadata",
+                    *HEAVY)
 
 MAIN_MENU_PROBE = """
 import asyncio, json, sys, tempfile
@@ -54,6 +56,9 @@ async def main():
         await pilot.pause()
         shown = type(app.screen).__name__
         loaded = sorted(m for m in {names!r} if m in sys.modules)
+        from valterm.core import events
+        if not events._PENDING:  # the events' dataclasses are made when the first event is
+            loaded.append("the events' dataclasses")
         parts = len(app.session.simulator.cell.objects)
         await pilot.press("v")
         await pilot.pause()
@@ -88,3 +93,75 @@ def test_the_keymap_file_still_checks_every_screens_ids(tmp_path, monkeypatch) -
         assert "no binding id" in str(error)
     else:
         raise AssertionError("an unknown binding id was accepted")
+
+
+def test_the_apps_command_line_loads_no_commands_module() -> None:
+    """`valterm --setup PROCESS` parses its options without any subcommand's module (issue 25);
+    a subcommand's line loads its own module only."""
+    probe = ("import json, sys\nfrom valterm.cli import build_parser, chosen_commands\n"
+             "def parsed(argv):\n"
+             "    build_parser(chosen_commands(argv)).parse_args(argv)\n"
+             "    return sorted(m for m in sys.modules if m.startswith('valterm.commands.'))\n"
+             "print(json.dumps([parsed(['--setup', 'PROCESS', '--rules', '1985']), parsed(['check', 'X'])]))")
+    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True)
+    app_line, check_line = json.loads(out.stdout.strip().splitlines()[-1])
+    assert app_line == ["valterm.commands.limits", "valterm.commands.robots"]  # the app's own options
+    assert check_line == ["valterm.commands.check", *app_line]
+
+
+def test_the_command_line_keeps_numpys_blas_to_one_thread() -> None:
+    """OpenBLAS's threads spin at numpy's import, taking CPU from the app's start on a busy
+    machine (issue 25): the command line sets one thread before numpy loads, unless the user
+    set a number."""
+    probe = ("import os, sys\nfrom valterm.cli import main\nassert 'numpy' not in sys.modules\n"
+             "assert main(['kin', 'fk', '0', '0', '0', '0', '0', '0']) == 0 and 'numpy' in sys.modules\n"
+             "status = open('/proc/self/status').read() if os.path.exists('/proc/self/status') else ''\n"
+             "threads = [line.split()[1] for line in status.splitlines() if line.startswith('Threads:')]\n"
+             "print(os.environ['OPENBLAS_NUM_THREADS'], threads[0] if threads else '1')")
+    env = {k: v for k, v in os.environ.items() if k != "OPENBLAS_NUM_THREADS"}
+    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True, env=env)
+    assert out.stdout.split()[-2:] == ["1", "1"]
+    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True,
+                         env={**env, "OPENBLAS_NUM_THREADS": "2"})
+    assert out.stdout.split()[-2] == "2"
+
+
+GC_PROBE = """
+import gc, json, sys, tempfile
+from valterm.ui import app as ui_app
+from valterm.cli import main
+seen = []
+def run(self, *args, **kwargs):
+    seen.append([gc.isenabled(), self.collect_after_first_frame])
+    return 0
+ui_app.ValtermApp.run = run
+seen.append(main(["--workspace", tempfile.mkdtemp(), "--setup", "PROCESS"]))
+seen.append(gc.isenabled())
+seen.append(main(["kin", "fk", "0", "0", "0", "0", "0", "0"]))
+seen.append(gc.isenabled())
+print(json.dumps(seen))
+"""
+
+
+def test_the_collector_waits_for_the_apps_first_frame_only() -> None:
+    """The command line pauses Python's cycle collector for the start (issue 25); the app is
+    told to turn it on after its first frame, and it is on again when main returns."""
+    out = subprocess.run([sys.executable, "-c", GC_PROBE], capture_output=True, text=True, check=True)
+    assert json.loads(out.stdout.strip().splitlines()[-1]) == [[False, True], 0, True, 0, True]
+
+
+async def test_the_app_turns_the_collector_on_after_its_first_frame(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    import gc
+
+    from valterm.ui.app import ValtermApp
+
+    app = ValtermApp(tmp_path, "PROCESS")
+    app.collect_after_first_frame = True
+    gc.disable()
+    try:
+        async with app.run_test(size=(160, 50)) as pilot:
+            await pilot.pause()
+            assert type(app.screen).__name__ == "MainMenuScreen"
+            assert gc.isenabled()
+    finally:
+        gc.enable()

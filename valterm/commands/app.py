@@ -21,4 +21,4 @@ def run_app(args: argparse.Namespace) -> int:
 
     return run(getattr(args, "workspace", None), getattr(args, "setup", None), ascii=bool(getattr(args, "ascii", False)),
                rules=getattr(args, "rules", None), limits=limits_from(args), keys=getattr(args, "keys", None),
-               robot=robot_from(args))
+               robot=robot_from(args), collect_after_first_frame=bool(getattr(args, "collect_after_first_frame", False)))

@@ -98,7 +98,7 @@ def load_model(path: Path | None = None, geometry: RobotGeometry | None = None) 
     path = path or resources.data_path(*ROBOT_FILE)
 
     data = tomllib.loads(path.read_text())["model"]
-    cell = read_setup(path.parent / data["geometry"])
+    cell = read_setup(path.parent / data["geometry"], checked=False)  # the links' vertices only
     names = tuple(data["names"])
     frames = np.asarray(data["frames"], dtype=int)
     sides = np.asarray(data["finger_side"], dtype=int)

@@ -9,6 +9,7 @@ module: they reach the app's state through ``self.app``.
 
 from __future__ import annotations
 
+import gc
 import sys
 import time
 from collections.abc import Callable, Iterable
@@ -103,6 +104,7 @@ class ValtermApp(Guarded, ViewActions, App[int]):
         self.key_queue = KeyQueue(self, self._busy_playing)
         self.unsaid: list[tuple[str, str]] = []  # messages no screen could show yet (the next one does)
         self.survived: list[str] = []  # the bugs the app lived through (their lines, tests)
+        self.collect_after_first_frame = False  # the collector waits for the first screen (run)
 
     def _handle_exception(self, error: Exception) -> None:
         # A bug: its traceback goes to a log file and the terminal gets one line naming it
@@ -157,6 +159,8 @@ class ValtermApp(Guarded, ViewActions, App[int]):
         self.say(line, "error")
 
     def on_mount(self) -> None:
+        if self.collect_after_first_frame:
+            self.call_after_refresh(gc.enable)  # after the first screen's frame (see run)
         self.set_interval(RELEASE_EVERY, release_styles_caches, name="release-styles-caches")
         try:
             self.set_keymap(load_user_keymap())  # the user's rebindings, on every screen
@@ -364,8 +368,12 @@ def keyboard_of(keys: str | None) -> str:
 
 def run(workspace: str | Path | None = None, setup: str | None = None, ascii: bool = False,
         rules: str | None = None, limits: RunLimits | None = None, keys: str | None = None,
-        robot: str | None = None) -> int:
+        robot: str | None = None, collect_after_first_frame: bool = False) -> int:
+    """The app until it ends; ``collect_after_first_frame``: the command line paused Python's
+    cycle collector for the start (valterm.cli), and the app turns it on once its first
+    screen is drawn."""
     app = ValtermApp(workspace, setup, ascii=ascii, rules=rules, limits=limits, keys=keys, robot=robot)
+    app.collect_after_first_frame = collect_after_first_frame
     result = app.run()
     return exit_status(app, result)
 

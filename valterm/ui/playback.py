@@ -34,10 +34,8 @@ from collections import deque
 from collections.abc import Callable, Generator, Iterable, Iterator, Sequence
 from typing import Protocol
 
-from textual.cache import LRUCache
 from textual.message_pump import MessagePump
 from textual.timer import Timer
-from textual.widgets import RichLog
 
 from valterm.core.events import (
     Collision,
@@ -83,17 +81,6 @@ class Transcript(deque[str]):
 
     def __init__(self, lines: Iterable[str] = (), maxlen: int = TRANSCRIPT_LINES) -> None:
         super().__init__(lines, maxlen=maxlen)
-
-
-class TranscriptLog(RichLog):
-    """The transcript as the screen shows it: the last ``LOG_LINES`` lines, wrapped, and a
-    render cache of ``LOG_CACHE`` lines (the memory of a long run levels off in minutes)."""
-
-    def __init__(self, *, id: str | None = None, classes: str | None = None) -> None:
-        super().__init__(id=id, classes=classes, wrap=True, markup=False, max_lines=LOG_LINES)
-        # RichLog keys its cache by the line's number since the start, so every line ever
-        # shown takes a place there until 1024 are held (textual is pinned: the name holds)
-        self._line_cache = LRUCache(LOG_CACHE)
 
 
 class Audience(Protocol):

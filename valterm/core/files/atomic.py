@@ -27,7 +27,6 @@ from __future__ import annotations
 import hashlib
 import os
 import re
-import secrets
 import stat
 import sys
 from collections.abc import Iterator
@@ -144,6 +143,8 @@ def release(fd: int | None) -> None:
 
 
 def _write(target: Path, data: bytes) -> None:
+    import secrets  # with the first write, not at every start (issue 25: the app's start writes nothing)
+
     mode = check_writable(target)
     temp = target.with_name(f".{target.name}.{secrets.token_hex(_RANDOM_CHARS // 2)}{TEMP_SUFFIX}")
     try:

@@ -113,14 +113,16 @@ class _Lines:
             yield found
 
 
-def read_setup(path: str | Path) -> WorkCell:
+def read_setup(path: str | Path, *, checked: bool = True) -> WorkCell:
     """Read a setup file into a WorkCell of world millimetres (FileFormatError if malformed)."""
     path = Path(path)
-    return parse_setup(read_text(path, "setup"), path)
+    return parse_setup(read_text(path, "setup"), path, checked=checked)
 
 
-def parse_setup(text: str, name: str | Path) -> WorkCell:
-    """Parse setup-file text; ``name`` (the file name) locates errors and warnings."""
+def parse_setup(text: str, name: str | Path, *, checked: bool = True) -> WorkCell:
+    """Parse setup-file text; ``name`` (the file name) locates errors and warnings.
+    ``checked=False`` skips the geometry warnings (``_check_geometry``): for the bundled
+    robot model, of which only the vertices are used (issue 25: half a session's start)."""
     lines = _Lines(text)
     where = Path(name)
     if not text.strip():
@@ -166,7 +168,7 @@ def parse_setup(text: str, name: str | Path) -> WorkCell:
                 polyhedron = Polyhedron(vertices, name=lines.names.get(header_line, f"PART {part}"))
         except (FloatingPointError, ValueError) as error:
             raise FileFormatError(where, header_line, f"object {part}: unusable vertices ({error})") from None
-        for warning in _check_geometry(polyhedron, part):
+        for warning in _check_geometry(polyhedron, part) if checked else ():
             cell.warnings.append(f"{where.name}:{header_line}: object {part}: {warning}")
         cell.objects.append(polyhedron)
 
@@ -239,34 +241,47 @@ def _geometry_warnings(polyhedron: Polyhedron, warnings: list[str]) -> None:
     if np.linalg.svd(centred, compute_uv=False)[-1] <= 1e-6 * size:
         warnings.append("flat: the vertices enclose no volume")
         return
-    worst = 0.0
-    for face in polyhedron.topology.faces:
-        pts = v[face]
-        normal = _newell(pts)
-        length = float(np.linalg.norm(normal))
-        if length == 0.0:
-            continue
-        worst = max(worst, float(np.abs((pts - pts.mean(axis=0)) @ (normal / length)).max()))
+    # the faces in two stacks, the end polygons (k corners) and the sides (4): a few numpy
+    # calls a polyhedron instead of a few a face (this was most of a session's start, issue 25)
+    faces = polyhedron.topology.faces
+    worst = max(_off_plane(v[np.stack(faces[:2])]), _off_plane(v[np.stack(faces[2:])]))
     if worst > tolerance:
         warnings.append(f"a face is not planar (off by {worst:.2f} mm)")
-    for label, polygon in (("front", v[: polyhedron.k]), ("back", v[polyhedron.k :])):
-        if not _convex(polygon):
+    convex = _convex(np.stack([v[: polyhedron.k], v[polyhedron.k :]]))
+    for label, ok in zip(("front", "back"), convex, strict=True):
+        if not ok:
             warnings.append(f"the {label} polygon is not convex")
 
 
 def _newell(pts: np.ndarray) -> np.ndarray:
-    nxt = np.roll(pts, -1, axis=0)
-    return np.asarray(np.cross(pts, nxt).sum(axis=0))
+    """The Newell normals of polygons (..., corners, 3)."""
+    nxt = np.roll(pts, -1, axis=-2)
+    return np.asarray(np.cross(pts, nxt).sum(axis=-2))
 
 
-def _convex(polygon: np.ndarray) -> bool:
-    normal = _newell(polygon)
-    if not np.linalg.norm(normal):
-        return True
-    edges = np.roll(polygon, -1, axis=0) - polygon
-    turns = np.cross(edges, np.roll(edges, -1, axis=0)) @ normal
-    scale = float(np.abs(turns).max()) or 1.0
-    return bool((turns >= -1e-9 * scale).all())
+def _off_plane(faces: np.ndarray) -> float:
+    """The farthest any corner of ``faces`` (n, corners, 3) lies from its face's plane
+    (through the face's mean, along its Newell normal); faces without a normal are skipped."""
+    normals = _newell(faces)
+    lengths = np.sqrt((normals * normals).sum(axis=-1))
+    kept = lengths != 0.0
+    if not kept.any():
+        return 0.0
+    faces, units = faces[kept], normals[kept] / lengths[kept, None]
+    off = np.einsum("fcx,fx->fc", faces - faces.mean(axis=1, keepdims=True), units)
+    return float(np.abs(off).max())
+
+
+def _convex(polygons: np.ndarray) -> np.ndarray:
+    """Whether each of ``polygons`` (n, corners, 3) turns one way only (a polygon without a
+    normal counts as convex)."""
+    normals = _newell(polygons)
+    edges = np.roll(polygons, -1, axis=1) - polygons
+    turns = np.einsum("pcx,px->pc", np.cross(edges, np.roll(edges, -1, axis=1)), normals)
+    scale = np.abs(turns).max(axis=1)
+    scale[scale == 0.0] = 1.0
+    flat = (normals * normals).sum(axis=-1) == 0.0  # no normal: as the face-at-a-time norm test
+    return np.asarray(flat | (turns >= -1e-9 * scale[:, None]).all(axis=1))
 
 
 # ---------------------------------------------------------------------------

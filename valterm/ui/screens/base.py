@@ -80,6 +80,9 @@ class MenuScreen(KeyedScreen[None]):
 
     # -- layout ----------------------------------------------------------------------
     def compose(self) -> ComposeResult:
+        # wide or narrow before the first styling, not a second styling of every widget after
+        # it (issue 25, the start)
+        self._layout(self.app.size.width, update=False)
         with Horizontal(id="body"):
             with Vertical(id="menu-pane"):
                 yield MenuText(self.MENU, id="menu")
@@ -117,9 +120,9 @@ class MenuScreen(KeyedScreen[None]):
     def on_resize(self, event: events.Resize) -> None:
         self._layout(event.size.width)
 
-    def _layout(self, width: int) -> None:
-        self.set_class(width >= WIDE, "-wide")
-        self.set_class(width < WIDE, "-narrow")
+    def _layout(self, width: int, update: bool = True) -> None:
+        self.set_class(width >= WIDE, "-wide", update=update)
+        self.set_class(width < WIDE, "-narrow", update=update)
 
     def _sync_view_options(self) -> None:
         view = self.model_view

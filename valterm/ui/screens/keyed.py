@@ -55,6 +55,16 @@ class KeyedScreen(Guarded, Screen[ResultT]):
     if TYPE_CHECKING:  # the app every screen runs in, typed (Textual's own says App[object])
         app = getters.app(ValtermApp)
 
+    def _compositor_refresh(self) -> None:
+        # Textual (pinned 8.2) draws a screen's frame even while the app holds a batch of
+        # updates, and then drops it (App._display): the first screen, pushed while the app
+        # mounts (one batch), was drawn twice before it showed (issue 25, the start). The
+        # frame waits for the batch's end instead (a timer: the loop runs the batch on).
+        if self.app._batch_count:
+            self.set_timer(0.001, self._compositor_refresh, name="frame after the batch")
+            return
+        super()._compositor_refresh()
+
     # -- the state ------------------------------------------------------------------------
     @property
     def key_state(self) -> str:

@@ -58,7 +58,7 @@ from valterm.core.session import Session
 from valterm.core.text.transcript import where_lines
 from valterm.ui import keymap
 from valterm.ui.errors import problem_text
-from valterm.ui.playback import Player, Transcript, TranscriptLog, show_at_once
+from valterm.ui.playback import Player, Transcript, show_at_once
 from valterm.ui.screens.editor import EditorScreen, StepInput
 from valterm.ui.screens.help import HelpScreen
 from valterm.ui.screens.keyed import KeyedScreen
@@ -74,6 +74,7 @@ from valterm.ui.widgets.menus import (
 )
 from valterm.ui.widgets.prompt import typed_after
 from valterm.ui.widgets.status import StatusLine
+from valterm.ui.widgets.transcript_log import TranscriptLog
 
 
 class Mode(StrEnum):

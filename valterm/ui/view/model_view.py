@@ -126,6 +126,7 @@ class ModelView(Widget):
         self.dirty_spans: tuple[tuple[int, int, int], ...] = ()  # (row, x0, x1)
         self.last_raster_ms = 0.0
         self.caption = ""  # shown over the last row (see _update_caption)
+        self._painting = False  # render_line draws the picture for the frame being painted
 
     # -- inputs --------------------------------------------------------------------
     @property
@@ -217,7 +218,8 @@ class ModelView(Widget):
         self.dirty_spans = tuple((int(r), int(a), int(b)) for r, a, b in zip(rows, x0, x1))
         if previous is None or previous.chars.shape != frame.chars.shape:
             self._strips = [None] * height
-            self.refresh()
+            if not self._painting:
+                self.refresh()
             return
         for r in self.dirty_rows:
             self._strips[r] = None
@@ -254,6 +256,15 @@ class ModelView(Widget):
     def render_line(self, y: int) -> Strip:
         frame = self._frame
         width = self.size.width
+        if frame is None or frame.width != width or frame.height != self.size.height:
+            # a size came and on_resize has not run yet (the first frame): the picture now,
+            # not a frame without it first (issue 25, the start)
+            self._painting = True  # no repaint asked: this frame is being painted
+            try:
+                self.redraw()
+            finally:
+                self._painting = False
+            frame = self._frame
         if frame is None or y >= frame.height or frame.width != width:
             return Strip.blank(width, self.rich_style)
         strip = self._strips[y]
