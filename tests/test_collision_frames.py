@@ -406,3 +406,43 @@ def test_a_far_part_costs_no_substeps_when_every_joint_turns():
     events = list(sim.move_joints(goal))
     assert len(calls) > 0
     assert any(isinstance(e, Collision) and e.b == "1" for e in events)
+
+
+def test_each_movers_broad_phase_keeps_every_pair_the_coarse_test_finds():
+    """On a dense cell (parts within reach, one carried) the per-mover broad phase picks a
+    handful of pairs, holds every pair the coarse test calls near, and the findings are
+    those of checking every pair."""
+    from valterm.bench.collision import _poses, carried_boxes, dense_cell, move_program
+    from valterm.core.collision.thesis import check_pairs, margin
+
+    parts = dense_cell(120)
+    sim = Simulator(WorkCell(objects=parts))
+    broad = RobotScene(sim.model.names, sim.model.frames.tolist())
+    every = RobotScene(sim.model.names, sim.model.frames.tolist())
+    every.broad_phase_from = 10 ** 9
+    for scene in (broad, every):
+        scene.set_shapes(sim.model.shapes(sim.gap))
+    rng = np.random.default_rng(25)
+    picked, near, found = [], 0, 0
+    for n, joints in enumerate(_poses(move_program(40), sim)):     # the hand among the parts
+        sim.joints = joints
+        frames = sim.model.link_frames(sim.joints, sim.base)
+        objects, held = parts, ()
+        if n % 3 == 0:                       # a box in the clamp, checked against the parts
+            flange = frames[-1]
+            box = carried_boxes(1)[0].transformed(flange[:3, :3], flange[:3, 3])
+            objects, held = [*parts, box], (len(parts) + 1,)
+        speed = float(rng.choice([10.0, 100.0]))
+        findings = broad.check(frames, objects, held, speed)
+        assert findings == every.check(frames, objects, held, speed), sim.joints
+        pairs, n_free = broad._pairs_now, len(broad._free)
+        assert pairs is not None
+        sel = broad._near_pairs(broad._movers, margin(speed), n_free)
+        ruled = len(broad._movers) * n_free
+        codes = check_pairs(broad._scene, pairs.moving[:ruled], pairs.stationary[:ruled], margin(speed))
+        assert set(np.flatnonzero(codes).tolist()) <= set(sel.tolist())
+        picked.append(len(set(sel.tolist())) / ruled)
+        near += int(np.count_nonzero(codes))
+        found += len(findings)
+    assert near > 100 and found > 100, (near, found)   # the arm among the parts, not beside them
+    assert float(np.mean(picked)) < 0.05           # a few pairs of the 1000-odd each pose

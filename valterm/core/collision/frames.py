@@ -7,9 +7,10 @@ per pose and the check concatenated every part's vertices again. ``RobotScene`` 
   one einsum from the 4x4 link frames, written into a vertex array allocated once;
 * the parts' vertices, centres, radii and boxes, computed once and again only when a part is
   moved (its vertex array replaced) - a carried part is re-placed every pose like a link;
-* a broad phase: the parts whose box, grown by the largest mover's radius and the margin,
-  reaches the box of the movers' centres. Only their pairs go to the coarse + fine check, so
-  the cost grows with the parts near the robot. The skipped pairs are exactly the ones the
+* a broad phase, each mover on its own: the free parts are kept in groups of neighbours
+  (built when the parts change), and a mover's pairs go to the coarse + fine check only with
+  the parts of the groups whose box, grown by that mover's radius and the margin, holds its
+  centre: a few dozen pairs of the thousands on a dense cell. The skipped pairs are ones the
   coarse test would call clear, so the findings are those of ``CollisionWorld.check``.
 
 The same pair rules, kinds and message order as ``CollisionWorld`` (it is used for them).
@@ -143,6 +144,7 @@ class RobotScene:
         free = np.array([nl + n - 1 for n in range(1, len(objects) + 1) if n not in set(carried)], dtype=np.intp)
         self._free = free
         self._free_lo, self._free_hi = scene.mid[free] - scene.half[free], scene.mid[free] + scene.half[free]
+        self._groups = _groups(self._free_lo, self._free_hi)
         # the carried parts' polyhedra, their vertex rows in the scene, and where each starts
         self._held_at = np.array([nl + c - 1 for c in carried], dtype=np.intp)
         sizes = np.array([2 * objects[c - 1].k for c in carried], dtype=np.intp)
@@ -223,6 +225,22 @@ class RobotScene:
         gap = np.maximum(self._free_lo - cmax, cmin - self._free_hi)
         return np.flatnonzero(largest_of_xyz(gap) <= 0.0)
 
+    def _near_pairs(self, movers: np.ndarray, grow: float, n_free: int) -> np.ndarray:
+        """Broad phase, each mover on its own: the positions (rules 1 and 2) of the pairs of each
+        mover with the parts of every group whose box, grown by that mover's radius and the margin,
+        holds its centre: a few more than the coarse test calls near, never fewer."""
+        s = self._scene
+        members, lo, hi = self._groups
+        c = s.centres.take(movers, axis=0)[:, :, None]                  # (movers, 3, 1)
+        # how far the centre is outside the group's box on each axis, then the largest of the three
+        out = np.maximum(lo - c, c - hi)                                 # (movers, 3, groups)
+        far = np.maximum(out[:, 0], out[:, 1])
+        np.maximum(far, out[:, 2], out=far)
+        # 1 mm over the coarse test's reach: the group's box is the same test in other roundings
+        mover, group = np.nonzero(far <= (s.radii.take(movers) + (grow + 1.0))[:, None])
+        near: np.ndarray = ((mover * n_free)[:, None] + members.take(group, axis=0)).ravel()
+        return near
+
     def check(self, frames: np.ndarray, objects: Sequence[Polyhedron], carried: Collection[int] = (),
               speed: float = 100.0) -> list[Finding]:
         """One motion step: findings for the links at ``frames`` (links, 4, 4) and the parts."""
@@ -243,9 +261,7 @@ class RobotScene:
         n_free = len(self._free)
         ruled = len(movers) * n_free                     # rules 1 and 2: movers x free parts
         if n_free and ruled >= self.broad_phase_from:
-            near = self._candidates(movers, grow)
-            firsts, rest = self._sel_parts(pairs, ruled, n_free)
-            sel = np.concatenate([(firsts + near).ravel(), rest])
+            sel = np.concatenate([self._near_pairs(movers, grow, n_free), self._sel_parts(pairs, ruled, n_free)[1]])
         else:                      # every pair: their box gaps kept for the swept check
             gaps = np.empty(len(pairs.moving))
             codes = check_pairs(self._scene, pairs.moving, pairs.stationary, grow, gaps=gaps)
@@ -586,6 +602,27 @@ _AXIS_COLUMNS = np.array([2, 1, 1, 2, 1, 2])
 
 # x @ _LATER sums, for each joint, the columns of the joints after it
 _LATER = np.tril(np.ones((6, 6)), -1)
+
+
+def _groups(lo: np.ndarray, hi: np.ndarray, size: int = 8) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The free parts in groups of neighbours (halved along the widest spread of their boxes'
+    middles until at most ``size`` are left): each group's members, padded to ``size`` by
+    repeating its last (a pair checked twice gets the same code), and the box holding them, as
+    (3, groups) lows and highs. Built when the parts change; parts stand still between."""
+    mid = (lo + hi) * 0.5
+    todo, done = [np.arange(len(lo))] if len(lo) else [], []
+    while todo:
+        group = todo.pop()
+        if len(group) <= size:
+            done.append(group)
+            continue
+        axis = int(np.argmax(mid[group].max(axis=0) - mid[group].min(axis=0)))
+        ordered = group[np.argsort(mid[group, axis], kind="stable")]
+        todo += [ordered[: len(ordered) // 2], ordered[len(ordered) // 2:]]
+    members = np.array([np.pad(g, (0, size - len(g)), mode="edge") for g in done], dtype=np.intp).reshape(-1, size)
+    group_lo = np.array([lo[g].min(axis=0) for g in done]).reshape(-1, 3).T.copy()
+    group_hi = np.array([hi[g].max(axis=0) for g in done]).reshape(-1, 3).T.copy()
+    return members, group_lo, group_hi
 
 
 def _box_gaps(mid: np.ndarray, half: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
