@@ -92,6 +92,7 @@ class RobotScene:
         self._link_widths = np.zeros(0)
         self._pair_widths: tuple[object, np.ndarray] | None = None    # _ruled_widths'
         self._sel_kept: tuple[_Pairs, int, np.ndarray, np.ndarray] | None = None   # _sel_parts'
+        self._group_kept: tuple[object, float, np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None = None
         self._linked: tuple[_Pairs, tuple[np.ndarray, np.ndarray, np.ndarray]] | None = None   # _link_pairs'
 
     # -- what is built once ----------------------------------------------------------------
@@ -230,16 +231,37 @@ class RobotScene:
         mover with the parts of every group whose box, grown by that mover's radius and the margin,
         holds its centre: a few more than the coarse test calls near, never fewer."""
         s = self._scene
-        members, lo, hi = self._groups
-        c = s.centres.take(movers, axis=0)[:, :, None]                  # (movers, 3, 1)
-        # how far the centre is outside the group's box on each axis, then the largest of the three
-        out = np.maximum(lo - c, c - hi)                                 # (movers, 3, groups)
-        far = np.maximum(out[:, 0], out[:, 1])
-        np.maximum(far, out[:, 2], out=far)
-        # 1 mm over the coarse test's reach: the group's box is the same test in other roundings
-        mover, group = np.nonzero(far <= (s.radii.take(movers) + (grow + 1.0))[:, None])
-        near: np.ndarray = ((mover * n_free)[:, None] + members.take(group, axis=0)).ravel()
+        mid, half, at, reach = self._group_table(movers, grow, n_free)
+        # (3, movers x groups): how far each centre is outside each group's box on each axis
+        d = s.centres.take(movers, axis=0).T.repeat(len(mid[0]) // len(movers), axis=1)
+        np.subtract(mid, d, out=d)
+        np.abs(d, out=d)
+        d -= half
+        far = np.maximum(d[0], d[1])
+        np.maximum(far, d[2], out=far)
+        near: np.ndarray = at.take(np.flatnonzero(far <= reach), axis=0).ravel()
         return near
+
+    def _group_table(self, movers: np.ndarray, grow: float, n_free: int
+                     ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """The groups' box middles and half sizes once for each mover (3, movers x groups), the
+        pair positions of each (mover, group) and each mover's reach, repeated likewise: kept
+        per set of parts and margin (a carried part's reach measured at each call)."""
+        kept = self._group_kept
+        if kept is None or kept[0] is not self._parts or kept[1] != grow:
+            members, lo, hi = self._groups
+            m = len(movers)
+            at = (np.arange(m)[:, None, None] * n_free + members[None]).reshape(m * len(members), -1)
+            kept = self._group_kept = (self._parts, grow, np.tile((lo + hi) * 0.5, m), np.tile((hi - lo) * 0.5, m), at,
+                                       self._reach(movers, grow, len(members)))
+        elif self._carried:
+            kept = (*kept[:5], self._reach(movers, grow, len(self._groups[0])))
+        return kept[2], kept[3], kept[4], kept[5]
+
+    def _reach(self, movers: np.ndarray, grow: float, groups: int) -> np.ndarray:
+        # 1 mm over the coarse test's reach: the group's box is the same test in other roundings
+        reach: np.ndarray = (self._scene.radii.take(movers) + (grow + 1.0)).repeat(groups)
+        return reach
 
     def check(self, frames: np.ndarray, objects: Sequence[Polyhedron], carried: Collection[int] = (),
               speed: float = 100.0) -> list[Finding]:
