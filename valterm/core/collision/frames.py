@@ -81,6 +81,7 @@ class RobotScene:
         self._carried: tuple[int, ...] = ()
         self._thin: dict[int, tuple[np.ndarray, float]] = {}
         self._pairs_now: _Pairs | None = None       # the pairs of the last ``check``
+        self._pairs_for: tuple[int, tuple[int, ...]] = (0, ())   # their objects and carried parts
         self._gaps_now: np.ndarray | None = None     # their box gaps, when it measured every pair
         self._every: np.ndarray | None = None
         self._part_widths: tuple[object, np.ndarray] | None = None
@@ -183,10 +184,12 @@ class RobotScene:
         v = s.vertices
         nl = len(self._link_ks)
         stacked = _stacked(frames[: self._n_frames])
-        placed = self._place(stacked)
-        v[: self._nl_rows] = placed
+        # taken straight into the scene's arrays ("wrap": the indices are valid, and numpy
+        # buffers a take into ``out`` in its default mode)
+        placed = v[: self._nl_rows]
+        np.take(self._local_h @ stacked, self._own_flat, out=placed, mode="wrap")
         # a link's centre, radius and face planes move with its frame: no pass over its vertices
-        s.centres[:nl] = (self._local_centres @ stacked).take(self._centre_pick)
+        np.take(self._local_centres @ stacked, self._centre_pick, out=s.centres[:nl], mode="wrap")
         self._planes_due = (frames, stacked)       # the face planes follow when a fine check asks
         starts = lay.starts[:nl]
         lo = np.minimum.reduceat(placed, starts, axis=0)
@@ -266,11 +269,14 @@ class RobotScene:
     def check(self, frames: np.ndarray, objects: Sequence[Polyhedron], carried: Collection[int] = (),
               speed: float = 100.0) -> list[Finding]:
         """One motion step: findings for the links at ``frames`` (links, 4, 4) and the parts."""
-        held = tuple(sorted(set(carried)))
+        held = tuple(sorted(set(carried))) if carried else ()
         if self._parts_changed(objects, held):
             self._rebuild(objects, held)
         world = self.world
-        pairs = world.pairs(len(objects), held)
+        pairs = self._pairs_now
+        if pairs is None or self._pairs_for != (len(objects), held):
+            pairs = world.pairs(len(objects), held)
+            self._pairs_for = (len(objects), held)
         self._pairs_now = pairs
         if len(pairs.moving) == 0:
             return []
