@@ -83,6 +83,28 @@ def test_frames_path_follows_a_moved_part():
     assert after == CollisionWorld(sim.model.names).check(sim.robot_polyhedra(), sim.cell.objects)
 
 
+def test_frames_path_follows_parts_swapped_in_the_list():
+    """Parts that trade places in the cell's list (no vertices set, no new polyhedron) are
+    seen at once, in the broad phase too: the scene's cache is not fooled by its counter."""
+    sim = Simulator(read_setup(resources.data_path("cells", "PROCESS.SET")))
+    hand = sim.model.clamp_frame(sim.joints, sim.base)[:3, 3]
+    sim.move_part(5, hand - sim.cell.objects[4].centre)            # part 5 at the wrist
+    frames = sim.model.link_frames(sim.joints, sim.base)
+    for broad_from in (10 ** 9, 0):
+        scene = RobotScene(sim.model.names, sim.model.frames.tolist())
+        scene.broad_phase_from = broad_from
+        scene.set_shapes(sim.model.shapes(sim.gap))
+        objects = sim.cell.objects
+        before = scene.check(frames, objects)
+        assert any(f.b == 5 for f in before) and not any(f.b == 6 for f in before)
+        assert scene.check(frames, objects) == before                # nothing moved: the same
+        objects[4], objects[5] = objects[5], objects[4]
+        after = scene.check(frames, objects)
+        assert any(f.b == 6 for f in after) and not any(f.b == 5 for f in after)
+        assert after == CollisionWorld(sim.model.names).check(sim.robot_polyhedra(), objects)
+        objects[4], objects[5] = objects[5], objects[4]
+
+
 def test_thickness_of_a_plate():
     plate = Polyhedron.box(np.array([0.0, 0, 0]), np.array([300.0, 4, 200]))
     assert abs(thickness(plate.vertices, plate.k) - 4.0) < 1e-9

@@ -9,6 +9,7 @@ culling and collision work on whole arrays at once.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 
@@ -57,6 +58,14 @@ class Polyhedron:
     vertices: np.ndarray
     name: str = ""
     winding_flipped: bool = False
+    # how many times any polyhedron's vertices have been set (made or moved): a cache of
+    # placed polyhedra (the collision scene's) knows none has moved while this stays the same
+    placements: ClassVar[int] = 0
+
+    def __setattr__(self, name: str, value: object) -> None:
+        object.__setattr__(self, name, value)
+        if name == "vertices":
+            Polyhedron.placements += 1
 
     def __post_init__(self) -> None:
         v = np.asarray(self.vertices, dtype=float)

@@ -81,6 +81,8 @@ class RobotScene:
         self._carried: tuple[int, ...] = ()
         self._thin: dict[int, tuple[np.ndarray, float]] = {}
         self._pairs_now: _Pairs | None = None       # the pairs of the last ``check``
+        self._placements = -1                        # Polyhedron.placements when the parts were last seen
+        self._objects: tuple[Polyhedron, ...] = ()   # and the objects then
         self._pairs_for: tuple[int, tuple[int, ...]] = (0, ())   # their objects and carried parts
         self._gaps_now: np.ndarray | None = None     # their box gaps, when it measured every pair
         self._every: np.ndarray | None = None
@@ -110,7 +112,9 @@ class RobotScene:
         # what a rigid motion keeps: each link's centre and radius in its own frame
         own = Scene.of([Polyhedron(np.asarray(v, dtype=float)) for v in local])
         self._local_centres = np.column_stack([own.centres, np.ones(len(local))])
-        self._centre_pick = _pick(self.owners, self._n_frames)
+        # the vertices and the centres placed by one product, each then taken from it
+        self._local_all = np.concatenate([self._local_h, self._local_centres])
+        self._centre_pick = _pick(self.owners, self._n_frames) + len(self._local) * 3 * self._n_frames
         self._local_radii = own.radii
         self._link_widths = np.array([thickness(np.asarray(v, dtype=float), len(v) // 2) for v in local])
         self._linked = None
@@ -140,6 +144,7 @@ class RobotScene:
         self._planes_due = None
         self._scene = scene
         self._parts = tuple(p.vertices for p in objects)
+        self._placements, self._objects = Polyhedron.placements, tuple(objects)
         self._carried = carried
         self._movers = np.array([*range(nl), *(nl + c - 1 for c in carried)], dtype=np.intp)
         scene.stale[nl + np.asarray(carried, dtype=np.intp) - 1] = True   # links' planes kept by _update
@@ -160,8 +165,11 @@ class RobotScene:
         parts = self._parts
         if parts is None or carried != self._carried or len(parts) != len(objects):
             return True
-        if not carried:                # one pass in C, no list built
-            return not all(map(operator.is_, parts, map(_VERTICES, objects)))
+        if not carried:
+            if Polyhedron.placements == self._placements:    # no vertices set since: the same objects?
+                return not all(map(operator.is_, self._objects, objects))
+            self._placements, self._objects = Polyhedron.placements, tuple(objects)
+            return not all(map(operator.is_, parts, map(_VERTICES, objects)))   # one pass in C
         now = list(map(_VERTICES, objects))
         for c in carried:              # a carried part moves every pose: not part of the cache
             now[c - 1] = parts[c - 1]
@@ -187,9 +195,10 @@ class RobotScene:
         # taken straight into the scene's arrays ("wrap": the indices are valid, and numpy
         # buffers a take into ``out`` in its default mode)
         placed = v[: self._nl_rows]
-        np.take(self._local_h @ stacked, self._own_flat, out=placed, mode="wrap")
+        every = self._local_all @ stacked
+        np.take(every, self._own_flat, out=placed, mode="wrap")
         # a link's centre, radius and face planes move with its frame: no pass over its vertices
-        np.take(self._local_centres @ stacked, self._centre_pick, out=s.centres[:nl], mode="wrap")
+        np.take(every, self._centre_pick, out=s.centres[:nl], mode="wrap")
         self._planes_due = (frames, stacked)       # the face planes follow when a fine check asks
         starts = lay.starts[:nl]
         lo = np.minimum.reduceat(placed, starts, axis=0)
