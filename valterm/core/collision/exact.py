@@ -248,9 +248,10 @@ class FrameExact:
         self._link_centres = np.zeros((0, 3))
         self._links_tree: fcl.DynamicAABBTreeCollisionManager | None = None
         self._parts_key: tuple[object, ...] | None = None
+        self._parts_known: object = None
         self._parts_tree: fcl.DynamicAABBTreeCollisionManager | None = None
         self._index: dict[int, tuple[str, int]] = {}
-        self._link_ij: tuple[dict[tuple[int, int], int], np.ndarray] | None = None
+        self._link_ij: tuple[dict[tuple[int, int], int], np.ndarray, np.ndarray, np.ndarray] | None = None
         self._held: _Held | None = None
 
     def set_shapes(self, local: Sequence[np.ndarray], owners: np.ndarray) -> None:
@@ -274,8 +275,13 @@ class FrameExact:
         self._links_tree.registerObjects(self._links)
         self._links_tree.setup()
 
-    def _parts(self, objects: Sequence[Polyhedron], free: Sequence[int]) -> None:
+    def _parts(self, objects: Sequence[Polyhedron], free: Sequence[int], known: object = None) -> None:
+        """The free parts' tree, built again when they moved. ``known``: the caller's name for
+        the parts where they are (an object it replaces when they move): no need to look."""
         old = self._parts_key
+        if known is not None and known is self._parts_known and old is not None:
+            return
+        self._parts_known = known
         if old is not None and len(old) == len(free) + 1 and old[0] == tuple(free) and all(
                 a is objects[n - 1].vertices for a, n in zip(old[1:], free)):
             return
@@ -326,13 +332,16 @@ class FrameExact:
 
     def codes(self, frames: np.ndarray, objects: Sequence[Polyhedron], free: Sequence[int],
               carried: Sequence[int], n_pairs: int, link_pairs: dict[tuple[int, int], int],
-              boxes: tuple[np.ndarray, np.ndarray], centres: np.ndarray | None = None) -> np.ndarray:
+              boxes: tuple[np.ndarray, np.ndarray], centres: np.ndarray | None = None,
+              parts_key: object = None) -> np.ndarray:
         """COLLIDES/CLEAR per pair, in ``CollisionWorld.pairs`` order (rules 1, 2, 3).
 
-        ``centres``: the links' centres in the world when the caller has them (else computed)."""
-        self._parts(objects, free)
+        ``centres``: the links' centres in the world when the caller has them (else computed).
+        ``parts_key``: an object the caller replaces whenever the free parts move or change
+        (``RobotScene`` has one): while it is the same, the parts are not looked at."""
+        self._parts(objects, free, parts_key)
         assert self._links_tree is not None and self._parts_tree is not None
-        f = frames[self._owners]
+        f = frames.take(self._owners, axis=0)
         rot = f[:, :3, :3]
         if centres is None:
             centres = np.einsum("lij,lj->li", rot, self._link_centres) + f[:, :3, 3]
@@ -365,11 +374,11 @@ class FrameExact:
         if link_pairs:                                  # robot link against robot link
             lo, hi = boxes
             if self._link_ij is None or self._link_ij[0] is not link_pairs:   # once per set of pairs
-                self._link_ij = (link_pairs, np.array(list(link_pairs), dtype=np.intp))
-            ij = self._link_ij[1]
-            i, j = ij[:, 0], ij[:, 1]
+                found = np.array(list(link_pairs), dtype=np.intp)
+                self._link_ij = (link_pairs, found, found[:, 0].copy(), found[:, 1].copy())
+            _, ij, i, j = self._link_ij
             # boxes overlap on all three axes: the largest gap not above zero (no bool reduction)
-            gap = np.maximum(lo[i] - hi[j], lo[j] - hi[i])
+            gap = np.maximum(lo.take(i, axis=0) - hi.take(j, axis=0), lo.take(j, axis=0) - hi.take(i, axis=0))
             overlap = np.maximum(np.maximum(gap[:, 0], gap[:, 1]), gap[:, 2]) <= 0.0
             for a, b in ij[overlap].tolist():
                 if fcl.collide(self._links[a], self._links[b], fcl.CollisionRequest(), fcl.CollisionResult()):

@@ -348,8 +348,9 @@ class RobotScene:
         _, free, link_pairs = self._exact_pairs
         s = self._scene
         nl = len(self._link_ks)
+        mid, half = s.mid[:nl], s.half[:nl]           # the links' boxes (for the link x link pairs)
         codes: np.ndarray = self._exact.codes(frames, objects, free, held, len(pairs.moving), link_pairs,
-                                              (s.mid - s.half, s.mid + s.half), s.centres[:nl])
+                                              (mid - half, mid + half), s.centres[:nl], self._parts)
         return codes
 
     # -- swept motion (issue 13) -----------------------------------------------------------------
