@@ -305,9 +305,11 @@ class RobotScene:
             self._gaps_now = gaps
             return world.findings(pairs, codes)
         self._gaps_now = None
+        found = check_pairs(self._scene, pairs.moving.take(sel), pairs.stationary.take(sel), grow)
+        if not found.any():            # nothing near (about half the poses on a dense cell)
+            return []
         codes = np.zeros(len(pairs.moving), dtype=np.int8)
-        if len(sel):
-            codes[sel] = check_pairs(self._scene, pairs.moving.take(sel), pairs.stationary.take(sel), grow)
+        codes[sel] = found
         return world.findings(pairs, codes)
 
     def _sel_parts(self, pairs: _Pairs, ruled: int, n_free: int) -> tuple[np.ndarray, np.ndarray]:
