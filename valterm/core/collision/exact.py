@@ -251,7 +251,8 @@ class FrameExact:
         self._parts_known: object = None
         self._parts_tree: fcl.DynamicAABBTreeCollisionManager | None = None
         self._index: dict[int, tuple[str, int]] = {}
-        self._link_ij: tuple[dict[tuple[int, int], int], np.ndarray, np.ndarray, np.ndarray] | None = None
+        self._link_ij: tuple[dict[tuple[int, int], int], np.ndarray, np.ndarray, np.ndarray, np.ndarray,
+                             np.ndarray] | None = None
         self._held: _Held | None = None
 
     def set_shapes(self, local: Sequence[np.ndarray], owners: np.ndarray) -> None:
@@ -332,11 +333,13 @@ class FrameExact:
 
     def codes(self, frames: np.ndarray, objects: Sequence[Polyhedron], free: Sequence[int],
               carried: Sequence[int], n_pairs: int, link_pairs: dict[tuple[int, int], int],
-              boxes: tuple[np.ndarray, np.ndarray], centres: np.ndarray | None = None,
+              radii: np.ndarray, centres: np.ndarray | None = None,
               parts_key: object = None) -> np.ndarray:
         """COLLIDES/CLEAR per pair, in ``CollisionWorld.pairs`` order (rules 1, 2, 3).
 
-        ``centres``: the links' centres in the world when the caller has them (else computed).
+        ``radii``: each link's farthest vertex from its centre (the link x link pairs whose
+        spheres do not meet are not asked about). ``centres``: the links' centres in the world
+        when the caller has them (else computed).
         ``parts_key``: an object the caller replaces whenever the free parts move or change
         (``RobotScene`` has one): while it is the same, the parts are not looked at."""
         self._parts(objects, free, parts_key)
@@ -372,15 +375,16 @@ class FrameExact:
                     if row is not None and other is not None and other[0] == "part":
                         codes[(nl + row) * n_free + other[1]] = COLLIDES
         if link_pairs:                                  # robot link against robot link
-            lo, hi = boxes
-            if self._link_ij is None or self._link_ij[0] is not link_pairs:   # once per set of pairs
+            if self._link_ij is None or self._link_ij[0] is not link_pairs or self._link_ij[1] is not radii:
                 found = np.array(list(link_pairs), dtype=np.intp)
-                self._link_ij = (link_pairs, found, found[:, 0].copy(), found[:, 1].copy())
-            _, ij, i, j = self._link_ij
-            # boxes overlap on all three axes: the largest gap not above zero (no bool reduction)
-            gap = np.maximum(lo.take(i, axis=0) - hi.take(j, axis=0), lo.take(j, axis=0) - hi.take(i, axis=0))
-            overlap = np.maximum(np.maximum(gap[:, 0], gap[:, 1]), gap[:, 2]) <= 0.0
-            for a, b in ij[overlap].tolist():
+                i, j = found[:, 0].copy(), found[:, 1].copy()
+                # 1 mm over the two spheres: a pair further apart is certainly clear
+                reach = (radii.take(i) + radii.take(j) + 1.0) ** 2
+                self._link_ij = (link_pairs, radii, found, i, j, reach)
+            _, _, ij, i, j, reach = self._link_ij
+            # fcl asked only about links whose spheres (about their centres, holding them) meet
+            d = centres.take(i, axis=0) - centres.take(j, axis=0)
+            for a, b in ij[np.einsum("ij,ij->i", d, d) <= reach].tolist():
                 if fcl.collide(self._links[a], self._links[b], fcl.CollisionRequest(), fcl.CollisionResult()):
                     codes[link_pairs[(a, b)]] = COLLIDES
         return codes

@@ -114,7 +114,8 @@ class RobotScene:
         self._local_centres = np.column_stack([own.centres, np.ones(len(local))])
         # the vertices and the centres placed by one product, each then taken from it
         self._local_all = np.concatenate([self._local_h, self._local_centres])
-        self._centre_pick = _pick(self.owners, self._n_frames) + len(self._local) * 3 * self._n_frames
+        self._own_centre_pick = _pick(self.owners, self._n_frames)
+        self._centre_pick = self._own_centre_pick + len(self._local) * 3 * self._n_frames
         self._local_radii = own.radii
         self._link_widths = np.array([thickness(np.asarray(v, dtype=float), len(v) // 2) for v in local])
         self._linked = None
@@ -289,9 +290,9 @@ class RobotScene:
         self._pairs_now = pairs
         if len(pairs.moving) == 0:
             return []
-        movers = self._update(frames)
-        if self.checker == "exact":                     # fcl keeps its own copy of carried parts
+        if self.checker == "exact":                     # fcl keeps its own copy of the shapes
             return world.findings(pairs, self._exact_codes(frames, objects, held, pairs))
+        movers = self._update(frames)
         if held:                                        # the carried parts: figures from their vertices
             self._place_carried(objects)
         grow = margin(speed)
@@ -348,11 +349,11 @@ class RobotScene:
                           enumerate(zip(pairs.moving[ruled:], pairs.stationary[ruled:]), start=ruled)}
             self._exact_pairs = (pairs, free, link_pairs)
         _, free, link_pairs = self._exact_pairs
-        s = self._scene
-        nl = len(self._link_ks)
-        mid, half = s.mid[:nl], s.half[:nl]           # the links' boxes (for the link x link pairs)
+        # the links' centres (fcl's objects are placed by them) as ``_update`` works them out;
+        # no vertex is placed: fcl has its own copy of the shapes
+        centres = (self._local_centres @ _stacked(frames[: self._n_frames])).take(self._own_centre_pick)
         codes: np.ndarray = self._exact.codes(frames, objects, free, held, len(pairs.moving), link_pairs,
-                                              (mid - half, mid + half), s.centres[:nl], self._parts)
+                                              self._local_radii, centres, self._parts)
         return codes
 
     # -- swept motion (issue 13) -----------------------------------------------------------------
