@@ -168,7 +168,7 @@ class RobotScene:
             return True
         if not carried:
             if Polyhedron.placements == self._placements:    # no vertices set since: the same objects?
-                return not all(map(operator.is_, self._objects, objects))
+                return not _same_objects(self._objects, objects)
             self._placements, self._objects = Polyhedron.placements, tuple(objects)
             return not all(map(operator.is_, parts, map(_VERTICES, objects)))   # one pass in C
         now = list(map(_VERTICES, objects))
@@ -643,6 +643,17 @@ _AXIS_COLUMNS = np.array([2, 1, 1, 2, 1, 2])
 
 # x @ _LATER sums, for each joint, the columns of the joints after it
 _LATER = np.tril(np.ones((6, 6)), -1)
+
+
+def _same_objects(kept: tuple[Polyhedron, ...], objects: Sequence[Polyhedron]) -> bool:
+    """Whether ``objects`` are the polyhedra ``kept``, in order: one tuple comparison in C, which
+    takes an object as equal to itself at once. Two different polyhedra compare their fields:
+    equal only when they share the same vertex array (the same shape where it is); else numpy
+    cannot say whether two arrays are equal, and that is an answer too."""
+    try:
+        return kept == tuple(objects)
+    except ValueError:
+        return False
 
 
 def _groups(lo: np.ndarray, hi: np.ndarray, size: int = 8) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
