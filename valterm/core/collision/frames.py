@@ -307,11 +307,11 @@ class RobotScene:
             return world.findings(pairs, codes)
         self._gaps_now = None
         found = check_pairs(self._scene, pairs.moving.take(sel), pairs.stationary.take(sel), grow)
-        if not found.any():            # nothing near (about half the poses on a dense cell)
+        hit = np.flatnonzero(found)
+        if len(hit) == 0:              # nothing near (about half the poses on a dense cell)
             return []
-        codes = np.zeros(len(pairs.moving), dtype=np.int8)
-        codes[sel] = found
-        return world.findings(pairs, codes)
+        # by position, once each (a group's padding repeats a pair)
+        return world.findings_at(pairs, tuple(sorted(set(zip(sel.take(hit).tolist(), found.take(hit).tolist())))))
 
     def _sel_parts(self, pairs: _Pairs, ruled: int, n_free: int) -> tuple[np.ndarray, np.ndarray]:
         """Where each mover's pairs with the free parts start (a column), and the positions of
