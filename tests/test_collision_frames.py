@@ -76,8 +76,11 @@ def test_frames_path_follows_a_moved_part():
     frames = sim.model.link_frames(sim.joints, sim.base)
     before = scene.check(frames, sim.cell.objects)
     hand = sim.model.clamp_frame(sim.joints, sim.base)[:3, 3]
+    placements = Polyhedron.placements
+    Polyhedron(np.zeros((8, 3)))                                    # made, not moved
+    assert Polyhedron.placements == placements
     part = sim.move_part(5, hand - sim.cell.objects[4].centre)     # part 5 brought to the wrist
-    assert part is sim.cell.objects[4]
+    assert part is sim.cell.objects[4] and Polyhedron.placements == placements + 1
     after = scene.check(frames, sim.cell.objects)
     assert after != before and any(f.b == 5 for f in after)
     assert after == CollisionWorld(sim.model.names).check(sim.robot_polyhedra(), sim.cell.objects)
