@@ -132,7 +132,7 @@ class CollisionWorld:
             self.checker = checker
         self.near_with_collision = near_with_collision
         self._pairs: dict[tuple[int, tuple[int, ...]], _Pairs] = {}
-        self._findings: dict[tuple[int, tuple[tuple[int, int], ...]], tuple[_Pairs, tuple[Finding, ...]]] = {}
+        self._findings: dict[tuple[object, ...], tuple[_Pairs, tuple[Finding, ...]]] = {}
 
     def pairs(self, n_objects: int, carried: Collection[int] = ()) -> _Pairs:
         """The (moving, stationary) index pairs into links + objects, with their parties."""
@@ -181,16 +181,24 @@ class CollisionWorld:
 
     def findings(self, pairs: _Pairs, codes: np.ndarray) -> list[Finding]:
         """The findings of a step from the kind code of each pair, in the stable order."""
+        # consecutive steps mostly repeat the last codes: remember the findings of a few
+        key = (id(pairs), codes.dtype.str, codes.tobytes())
+        known = self._findings.get(key)
+        if known is not None and known[0] is pairs:
+            return list(known[1])
         hits = np.flatnonzero(codes)
-        return self.findings_at(pairs, tuple(zip(hits.tolist(), codes.take(hits).tolist())))
+        return self._remember(key, pairs, tuple(zip(hits.tolist(), codes.take(hits).tolist())))
 
     def findings_at(self, pairs: _Pairs, hits: tuple[tuple[int, int], ...]) -> list[Finding]:
-        """The findings of a step from (position, kind code) of each pair not clear, by position."""
-        # consecutive steps mostly repeat the last codes: remember the findings of a few
+        """The same from (position, kind code) of each pair not clear, by position: a few pairs
+        of many need not make a code for every pair."""
         key = (id(pairs), hits)
         known = self._findings.get(key)
         if known is not None and known[0] is pairs:
             return list(known[1])
+        return self._remember(key, pairs, hits)
+
+    def _remember(self, key: tuple[object, ...], pairs: _Pairs, hits: tuple[tuple[int, int], ...]) -> list[Finding]:
         found = self._new_findings(pairs, hits)
         if len(self._findings) >= 64:
             self._findings.clear()
