@@ -76,11 +76,36 @@ def test_frames_path_follows_a_moved_part():
     frames = sim.model.link_frames(sim.joints, sim.base)
     before = scene.check(frames, sim.cell.objects)
     hand = sim.model.clamp_frame(sim.joints, sim.base)[:3, 3]
+    placements = Polyhedron.placements
+    Polyhedron(np.zeros((8, 3)))                                    # made, not moved
+    assert Polyhedron.placements == placements
     part = sim.move_part(5, hand - sim.cell.objects[4].centre)     # part 5 brought to the wrist
-    assert part is sim.cell.objects[4]
+    assert part is sim.cell.objects[4] and Polyhedron.placements == placements + 1
     after = scene.check(frames, sim.cell.objects)
     assert after != before and any(f.b == 5 for f in after)
     assert after == CollisionWorld(sim.model.names).check(sim.robot_polyhedra(), sim.cell.objects)
+
+
+def test_frames_path_follows_parts_swapped_in_the_list():
+    """Parts that trade places in the cell's list (no vertices set, no new polyhedron) are
+    seen at once, in the broad phase too: the scene's cache is not fooled by its counter."""
+    sim = Simulator(read_setup(resources.data_path("cells", "PROCESS.SET")))
+    hand = sim.model.clamp_frame(sim.joints, sim.base)[:3, 3]
+    sim.move_part(5, hand - sim.cell.objects[4].centre)            # part 5 at the wrist
+    frames = sim.model.link_frames(sim.joints, sim.base)
+    for broad_from in (10 ** 9, 0):
+        scene = RobotScene(sim.model.names, sim.model.frames.tolist())
+        scene.broad_phase_from = broad_from
+        scene.set_shapes(sim.model.shapes(sim.gap))
+        objects = sim.cell.objects
+        before = scene.check(frames, objects)
+        assert any(f.b == 5 for f in before) and not any(f.b == 6 for f in before)
+        assert scene.check(frames, objects) == before                # nothing moved: the same
+        objects[4], objects[5] = objects[5], objects[4]
+        after = scene.check(frames, objects)
+        assert any(f.b == 6 for f in after) and not any(f.b == 5 for f in after)
+        assert after == CollisionWorld(sim.model.names).check(sim.robot_polyhedra(), objects)
+        objects[4], objects[5] = objects[5], objects[4]
 
 
 def test_thickness_of_a_plate():
@@ -406,3 +431,43 @@ def test_a_far_part_costs_no_substeps_when_every_joint_turns():
     events = list(sim.move_joints(goal))
     assert len(calls) > 0
     assert any(isinstance(e, Collision) and e.b == "1" for e in events)
+
+
+def test_each_movers_broad_phase_keeps_every_pair_the_coarse_test_finds():
+    """On a dense cell (parts within reach, one carried) the per-mover broad phase picks a
+    handful of pairs, holds every pair the coarse test calls near, and the findings are
+    those of checking every pair."""
+    from valterm.bench.collision import _poses, carried_boxes, dense_cell, move_program
+    from valterm.core.collision.thesis import check_pairs, margin
+
+    parts = dense_cell(120)
+    sim = Simulator(WorkCell(objects=parts))
+    broad = RobotScene(sim.model.names, sim.model.frames.tolist())
+    every = RobotScene(sim.model.names, sim.model.frames.tolist())
+    every.broad_phase_from = 10 ** 9
+    for scene in (broad, every):
+        scene.set_shapes(sim.model.shapes(sim.gap))
+    rng = np.random.default_rng(25)
+    picked, near, found = [], 0, 0
+    for n, joints in enumerate(_poses(move_program(40), sim)):     # the hand among the parts
+        sim.joints = joints
+        frames = sim.model.link_frames(sim.joints, sim.base)
+        objects, held = parts, ()
+        if n % 3 == 0:                       # a box in the clamp, checked against the parts
+            flange = frames[-1]
+            box = carried_boxes(1)[0].transformed(flange[:3, :3], flange[:3, 3])
+            objects, held = [*parts, box], (len(parts) + 1,)
+        speed = float(rng.choice([10.0, 100.0]))
+        findings = broad.check(frames, objects, held, speed)
+        assert findings == every.check(frames, objects, held, speed), sim.joints
+        pairs, n_free = broad._pairs_now, len(broad._free)
+        assert pairs is not None
+        sel = broad._near_pairs(broad._movers, margin(speed), n_free)
+        ruled = len(broad._movers) * n_free
+        codes = check_pairs(broad._scene, pairs.moving[:ruled], pairs.stationary[:ruled], margin(speed))
+        assert set(np.flatnonzero(codes).tolist()) <= set(sel.tolist())
+        picked.append(len(set(sel.tolist())) / ruled)
+        near += int(np.count_nonzero(codes))
+        found += len(findings)
+    assert near > 100 and found > 100, (near, found)   # the arm among the parts, not beside them
+    assert float(np.mean(picked)) < 0.05           # a few pairs of the 1000-odd each pose

@@ -9,6 +9,7 @@ culling and collision work on whole arrays at once.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 
@@ -57,12 +58,21 @@ class Polyhedron:
     vertices: np.ndarray
     name: str = ""
     winding_flipped: bool = False
+    # how many times a polyhedron's vertices have been replaced (moved): a cache of placed
+    # polyhedra (the collision scene's) knows none has moved while this stays the same (a new
+    # polyhedron is a new object, told by its identity)
+    placements: ClassVar[int] = 0
+
+    def __setattr__(self, name: str, value: object) -> None:
+        if name == "vertices" and "vertices" in self.__dict__:
+            Polyhedron.placements += 1
+        object.__setattr__(self, name, value)
 
     def __post_init__(self) -> None:
         v = np.asarray(self.vertices, dtype=float)
         if v.ndim != 2 or v.shape[1] != 3 or len(v) < 6 or len(v) % 2:
             raise ValueError(f"a polyhedron needs an even number (>= 6) of 3-D vertices, got shape {v.shape}")
-        self.vertices = v
+        object.__setattr__(self, "vertices", v)     # still being made: not a move
 
     # -- structure ---------------------------------------------------------
     @property

@@ -248,9 +248,11 @@ class FrameExact:
         self._link_centres = np.zeros((0, 3))
         self._links_tree: fcl.DynamicAABBTreeCollisionManager | None = None
         self._parts_key: tuple[object, ...] | None = None
+        self._parts_known: object = None
         self._parts_tree: fcl.DynamicAABBTreeCollisionManager | None = None
         self._index: dict[int, tuple[str, int]] = {}
-        self._link_ij: tuple[dict[tuple[int, int], int], np.ndarray] | None = None
+        self._link_ij: tuple[dict[tuple[int, int], int], np.ndarray, np.ndarray, np.ndarray, np.ndarray,
+                             np.ndarray] | None = None
         self._held: _Held | None = None
 
     def set_shapes(self, local: Sequence[np.ndarray], owners: np.ndarray) -> None:
@@ -274,8 +276,13 @@ class FrameExact:
         self._links_tree.registerObjects(self._links)
         self._links_tree.setup()
 
-    def _parts(self, objects: Sequence[Polyhedron], free: Sequence[int]) -> None:
+    def _parts(self, objects: Sequence[Polyhedron], free: Sequence[int], known: object = None) -> None:
+        """The free parts' tree, built again when they moved. ``known``: the caller's name for
+        the parts where they are (an object it replaces when they move): no need to look."""
         old = self._parts_key
+        if known is not None and known is self._parts_known and old is not None:
+            return
+        self._parts_known = known
         if old is not None and len(old) == len(free) + 1 and old[0] == tuple(free) and all(
                 a is objects[n - 1].vertices for a, n in zip(old[1:], free)):
             return
@@ -326,13 +333,18 @@ class FrameExact:
 
     def codes(self, frames: np.ndarray, objects: Sequence[Polyhedron], free: Sequence[int],
               carried: Sequence[int], n_pairs: int, link_pairs: dict[tuple[int, int], int],
-              boxes: tuple[np.ndarray, np.ndarray], centres: np.ndarray | None = None) -> np.ndarray:
+              radii: np.ndarray, centres: np.ndarray | None = None,
+              parts_key: object = None) -> np.ndarray:
         """COLLIDES/CLEAR per pair, in ``CollisionWorld.pairs`` order (rules 1, 2, 3).
 
-        ``centres``: the links' centres in the world when the caller has them (else computed)."""
-        self._parts(objects, free)
+        ``radii``: each link's farthest vertex from its centre (the link x link pairs whose
+        spheres do not meet are not asked about). ``centres``: the links' centres in the world
+        when the caller has them (else computed).
+        ``parts_key``: an object the caller replaces whenever the free parts move or change
+        (``RobotScene`` has one): while it is the same, the parts are not looked at."""
+        self._parts(objects, free, parts_key)
         assert self._links_tree is not None and self._parts_tree is not None
-        f = frames[self._owners]
+        f = frames.take(self._owners, axis=0)
         rot = f[:, :3, :3]
         if centres is None:
             centres = np.einsum("lij,lj->li", rot, self._link_centres) + f[:, :3, 3]
@@ -363,15 +375,16 @@ class FrameExact:
                     if row is not None and other is not None and other[0] == "part":
                         codes[(nl + row) * n_free + other[1]] = COLLIDES
         if link_pairs:                                  # robot link against robot link
-            lo, hi = boxes
-            if self._link_ij is None or self._link_ij[0] is not link_pairs:   # once per set of pairs
-                self._link_ij = (link_pairs, np.array(list(link_pairs), dtype=np.intp))
-            ij = self._link_ij[1]
-            i, j = ij[:, 0], ij[:, 1]
-            # boxes overlap on all three axes: the largest gap not above zero (no bool reduction)
-            gap = np.maximum(lo[i] - hi[j], lo[j] - hi[i])
-            overlap = np.maximum(np.maximum(gap[:, 0], gap[:, 1]), gap[:, 2]) <= 0.0
-            for a, b in ij[overlap].tolist():
+            if self._link_ij is None or self._link_ij[0] is not link_pairs or self._link_ij[1] is not radii:
+                found = np.array(list(link_pairs), dtype=np.intp)
+                i, j = found[:, 0].copy(), found[:, 1].copy()
+                # 1 mm over the two spheres: a pair further apart is certainly clear
+                reach = (radii.take(i) + radii.take(j) + 1.0) ** 2
+                self._link_ij = (link_pairs, radii, found, i, j, reach)
+            _, _, ij, i, j, reach = self._link_ij
+            # fcl asked only about links whose spheres (about their centres, holding them) meet
+            d = centres.take(i, axis=0) - centres.take(j, axis=0)
+            for a, b in ij[np.einsum("ij,ij->i", d, d) <= reach].tolist():
                 if fcl.collide(self._links[a], self._links[b], fcl.CollisionRequest(), fcl.CollisionResult()):
                     codes[link_pairs[(a, b)]] = COLLIDES
         return codes

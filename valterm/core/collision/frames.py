@@ -7,9 +7,10 @@ per pose and the check concatenated every part's vertices again. ``RobotScene`` 
   one einsum from the 4x4 link frames, written into a vertex array allocated once;
 * the parts' vertices, centres, radii and boxes, computed once and again only when a part is
   moved (its vertex array replaced) - a carried part is re-placed every pose like a link;
-* a broad phase: the parts whose box, grown by the largest mover's radius and the margin,
-  reaches the box of the movers' centres. Only their pairs go to the coarse + fine check, so
-  the cost grows with the parts near the robot. The skipped pairs are exactly the ones the
+* a broad phase, each mover on its own: the free parts are kept in groups of neighbours
+  (built when the parts change), and a mover's pairs go to the coarse + fine check only with
+  the parts of the groups whose box, grown by that mover's radius and the margin, holds its
+  centre: a few dozen pairs of the thousands on a dense cell. The skipped pairs are ones the
   coarse test would call clear, so the findings are those of ``CollisionWorld.check``.
 
 The same pair rules, kinds and message order as ``CollisionWorld`` (it is used for them).
@@ -80,6 +81,9 @@ class RobotScene:
         self._carried: tuple[int, ...] = ()
         self._thin: dict[int, tuple[np.ndarray, float]] = {}
         self._pairs_now: _Pairs | None = None       # the pairs of the last ``check``
+        self._placements = -1                        # Polyhedron.placements when the parts were last seen
+        self._objects: tuple[Polyhedron, ...] = ()   # and the objects then
+        self._pairs_for: tuple[int, tuple[int, ...]] = (0, ())   # their objects and carried parts
         self._gaps_now: np.ndarray | None = None     # their box gaps, when it measured every pair
         self._every: np.ndarray | None = None
         self._part_widths: tuple[object, np.ndarray] | None = None
@@ -91,6 +95,7 @@ class RobotScene:
         self._link_widths = np.zeros(0)
         self._pair_widths: tuple[object, np.ndarray] | None = None    # _ruled_widths'
         self._sel_kept: tuple[_Pairs, int, np.ndarray, np.ndarray] | None = None   # _sel_parts'
+        self._group_kept: tuple[object, float, np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None = None
         self._linked: tuple[_Pairs, tuple[np.ndarray, np.ndarray, np.ndarray]] | None = None   # _link_pairs'
 
     # -- what is built once ----------------------------------------------------------------
@@ -107,7 +112,10 @@ class RobotScene:
         # what a rigid motion keeps: each link's centre and radius in its own frame
         own = Scene.of([Polyhedron(np.asarray(v, dtype=float)) for v in local])
         self._local_centres = np.column_stack([own.centres, np.ones(len(local))])
-        self._centre_pick = _pick(self.owners, self._n_frames)
+        # the vertices and the centres placed by one product, each then taken from it
+        self._local_all = np.concatenate([self._local_h, self._local_centres])
+        self._own_centre_pick = _pick(self.owners, self._n_frames)
+        self._centre_pick = self._own_centre_pick + len(self._local) * 3 * self._n_frames
         self._local_radii = own.radii
         self._link_widths = np.array([thickness(np.asarray(v, dtype=float), len(v) // 2) for v in local])
         self._linked = None
@@ -137,12 +145,14 @@ class RobotScene:
         self._planes_due = None
         self._scene = scene
         self._parts = tuple(p.vertices for p in objects)
+        self._placements, self._objects = Polyhedron.placements, tuple(objects)
         self._carried = carried
         self._movers = np.array([*range(nl), *(nl + c - 1 for c in carried)], dtype=np.intp)
         scene.stale[nl + np.asarray(carried, dtype=np.intp) - 1] = True   # links' planes kept by _update
         free = np.array([nl + n - 1 for n in range(1, len(objects) + 1) if n not in set(carried)], dtype=np.intp)
         self._free = free
         self._free_lo, self._free_hi = scene.mid[free] - scene.half[free], scene.mid[free] + scene.half[free]
+        self._groups = _groups(self._free_lo, self._free_hi)
         # the carried parts' polyhedra, their vertex rows in the scene, and where each starts
         self._held_at = np.array([nl + c - 1 for c in carried], dtype=np.intp)
         sizes = np.array([2 * objects[c - 1].k for c in carried], dtype=np.intp)
@@ -156,8 +166,11 @@ class RobotScene:
         parts = self._parts
         if parts is None or carried != self._carried or len(parts) != len(objects):
             return True
-        if not carried:                # one pass in C, no list built
-            return not all(map(operator.is_, parts, map(_VERTICES, objects)))
+        if not carried:
+            if Polyhedron.placements == self._placements:    # no vertices set since: the same objects?
+                return not _same_objects(self._objects, objects)
+            self._placements, self._objects = Polyhedron.placements, tuple(objects)
+            return not all(map(operator.is_, parts, map(_VERTICES, objects)))   # one pass in C
         now = list(map(_VERTICES, objects))
         for c in carried:              # a carried part moves every pose: not part of the cache
             now[c - 1] = parts[c - 1]
@@ -180,10 +193,13 @@ class RobotScene:
         v = s.vertices
         nl = len(self._link_ks)
         stacked = _stacked(frames[: self._n_frames])
-        placed = self._place(stacked)
-        v[: self._nl_rows] = placed
+        # taken straight into the scene's arrays ("wrap": the indices are valid, and numpy
+        # buffers a take into ``out`` in its default mode)
+        placed = v[: self._nl_rows]
+        every = self._local_all @ stacked
+        np.take(every, self._own_flat, out=placed, mode="wrap")
         # a link's centre, radius and face planes move with its frame: no pass over its vertices
-        s.centres[:nl] = (self._local_centres @ stacked).take(self._centre_pick)
+        np.take(every, self._centre_pick, out=s.centres[:nl], mode="wrap")
         self._planes_due = (frames, stacked)       # the face planes follow when a fine check asks
         starts = lay.starts[:nl]
         lo = np.minimum.reduceat(placed, starts, axis=0)
@@ -223,39 +239,79 @@ class RobotScene:
         gap = np.maximum(self._free_lo - cmax, cmin - self._free_hi)
         return np.flatnonzero(largest_of_xyz(gap) <= 0.0)
 
+    def _near_pairs(self, movers: np.ndarray, grow: float, n_free: int) -> np.ndarray:
+        """Broad phase, each mover on its own: the positions (rules 1 and 2) of the pairs of each
+        mover with the parts of every group whose box, grown by that mover's radius and the margin,
+        holds its centre: a few more than the coarse test calls near, never fewer."""
+        s = self._scene
+        mid, half, at, reach = self._group_table(movers, grow, n_free)
+        # (3, movers x groups): how far each centre is outside each group's box on each axis
+        d = s.centres.take(movers, axis=0).T.repeat(len(mid[0]) // len(movers), axis=1)
+        np.subtract(mid, d, out=d)
+        np.abs(d, out=d)
+        d -= half
+        far = np.maximum(d[0], d[1])
+        np.maximum(far, d[2], out=far)
+        near: np.ndarray = at.take(np.flatnonzero(far <= reach), axis=0).ravel()
+        return near
+
+    def _group_table(self, movers: np.ndarray, grow: float, n_free: int
+                     ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """The groups' box middles and half sizes once for each mover (3, movers x groups), the
+        pair positions of each (mover, group) and each mover's reach, repeated likewise: kept
+        per set of parts and margin (a carried part's reach measured at each call)."""
+        kept = self._group_kept
+        if kept is None or kept[0] is not self._parts or kept[1] != grow:
+            members, lo, hi = self._groups
+            m = len(movers)
+            at = (np.arange(m)[:, None, None] * n_free + members[None]).reshape(m * len(members), -1)
+            kept = self._group_kept = (self._parts, grow, np.tile((lo + hi) * 0.5, m), np.tile((hi - lo) * 0.5, m), at,
+                                       self._reach(movers, grow, len(members)))
+        elif self._carried:
+            kept = (*kept[:5], self._reach(movers, grow, len(self._groups[0])))
+        return kept[2], kept[3], kept[4], kept[5]
+
+    def _reach(self, movers: np.ndarray, grow: float, groups: int) -> np.ndarray:
+        # 1 mm over the coarse test's reach: the group's box is the same test in other roundings
+        reach: np.ndarray = (self._scene.radii.take(movers) + (grow + 1.0)).repeat(groups)
+        return reach
+
     def check(self, frames: np.ndarray, objects: Sequence[Polyhedron], carried: Collection[int] = (),
               speed: float = 100.0) -> list[Finding]:
         """One motion step: findings for the links at ``frames`` (links, 4, 4) and the parts."""
-        held = tuple(sorted(set(carried)))
+        held = tuple(sorted(set(carried))) if carried else ()
         if self._parts_changed(objects, held):
             self._rebuild(objects, held)
         world = self.world
-        pairs = world.pairs(len(objects), held)
+        pairs = self._pairs_now
+        if pairs is None or self._pairs_for != (len(objects), held):
+            pairs = world.pairs(len(objects), held)
+            self._pairs_for = (len(objects), held)
         self._pairs_now = pairs
         if len(pairs.moving) == 0:
             return []
-        movers = self._update(frames)
-        if self.checker == "exact":                     # fcl keeps its own copy of carried parts
+        if self.checker == "exact":                     # fcl keeps its own copy of the shapes
             return world.findings(pairs, self._exact_codes(frames, objects, held, pairs))
+        movers = self._update(frames)
         if held:                                        # the carried parts: figures from their vertices
             self._place_carried(objects)
         grow = margin(speed)
         n_free = len(self._free)
         ruled = len(movers) * n_free                     # rules 1 and 2: movers x free parts
         if n_free and ruled >= self.broad_phase_from:
-            near = self._candidates(movers, grow)
-            firsts, rest = self._sel_parts(pairs, ruled, n_free)
-            sel = np.concatenate([(firsts + near).ravel(), rest])
+            sel = np.concatenate([self._near_pairs(movers, grow, n_free), self._sel_parts(pairs, ruled, n_free)[1]])
         else:                      # every pair: their box gaps kept for the swept check
             gaps = np.empty(len(pairs.moving))
             codes = check_pairs(self._scene, pairs.moving, pairs.stationary, grow, gaps=gaps)
             self._gaps_now = gaps
             return world.findings(pairs, codes)
         self._gaps_now = None
-        codes = np.zeros(len(pairs.moving), dtype=np.int8)
-        if len(sel):
-            codes[sel] = check_pairs(self._scene, pairs.moving.take(sel), pairs.stationary.take(sel), grow)
-        return world.findings(pairs, codes)
+        found = check_pairs(self._scene, pairs.moving.take(sel), pairs.stationary.take(sel), grow)
+        hit = np.flatnonzero(found)
+        if len(hit) == 0:              # nothing near (about half the poses on a dense cell)
+            return []
+        # by position, once each (a group's padding repeats a pair)
+        return world.findings_at(pairs, tuple(sorted(set(zip(sel.take(hit).tolist(), found.take(hit).tolist())))))
 
     def _sel_parts(self, pairs: _Pairs, ruled: int, n_free: int) -> tuple[np.ndarray, np.ndarray]:
         """Where each mover's pairs with the free parts start (a column), and the positions of
@@ -293,10 +349,11 @@ class RobotScene:
                           enumerate(zip(pairs.moving[ruled:], pairs.stationary[ruled:]), start=ruled)}
             self._exact_pairs = (pairs, free, link_pairs)
         _, free, link_pairs = self._exact_pairs
-        s = self._scene
-        nl = len(self._link_ks)
+        # the links' centres (fcl's objects are placed by them) as ``_update`` works them out;
+        # no vertex is placed: fcl has its own copy of the shapes
+        centres = (self._local_centres @ _stacked(frames[: self._n_frames])).take(self._own_centre_pick)
         codes: np.ndarray = self._exact.codes(frames, objects, free, held, len(pairs.moving), link_pairs,
-                                              (s.mid - s.half, s.mid + s.half), s.centres[:nl])
+                                              self._local_radii, centres, self._parts)
         return codes
 
     # -- swept motion (issue 13) -----------------------------------------------------------------
@@ -586,6 +643,38 @@ _AXIS_COLUMNS = np.array([2, 1, 1, 2, 1, 2])
 
 # x @ _LATER sums, for each joint, the columns of the joints after it
 _LATER = np.tril(np.ones((6, 6)), -1)
+
+
+def _same_objects(kept: tuple[Polyhedron, ...], objects: Sequence[Polyhedron]) -> bool:
+    """Whether ``objects`` are the polyhedra ``kept``, in order: one tuple comparison in C, which
+    takes an object as equal to itself at once. Two different polyhedra compare their fields:
+    equal only when they share the same vertex array (the same shape where it is); else numpy
+    cannot say whether two arrays are equal, and that is an answer too."""
+    try:
+        return kept == tuple(objects)
+    except ValueError:
+        return False
+
+
+def _groups(lo: np.ndarray, hi: np.ndarray, size: int = 8) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The free parts in groups of neighbours (halved along the widest spread of their boxes'
+    middles until at most ``size`` are left): each group's members, padded to ``size`` by
+    repeating its last (a pair checked twice gets the same code), and the box holding them, as
+    (3, groups) lows and highs. Built when the parts change; parts stand still between."""
+    mid = (lo + hi) * 0.5
+    todo, done = [np.arange(len(lo))] if len(lo) else [], []
+    while todo:
+        group = todo.pop()
+        if len(group) <= size:
+            done.append(group)
+            continue
+        axis = int(np.argmax(mid[group].max(axis=0) - mid[group].min(axis=0)))
+        ordered = group[np.argsort(mid[group, axis], kind="stable")]
+        todo += [ordered[: len(ordered) // 2], ordered[len(ordered) // 2:]]
+    members = np.array([np.pad(g, (0, size - len(g)), mode="edge") for g in done], dtype=np.intp).reshape(-1, size)
+    group_lo = np.array([lo[g].min(axis=0) for g in done]).reshape(-1, 3).T.copy()
+    group_hi = np.array([hi[g].max(axis=0) for g in done]).reshape(-1, 3).T.copy()
+    return members, group_lo, group_hi
 
 
 def _box_gaps(mid: np.ndarray, half: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:

@@ -293,21 +293,27 @@ def check_pairs(scene: Scene, moving: np.ndarray, stationary: np.ndarray, grow: 
     # the coarse test: the moving centre inside the stationary box grown by radius + margin
     near = largest_of_xyz(gap) <= scene.radii.take(moving) + grow
     codes = near.astype(np.int8)
-    # an edge can only cross a face where the two extreme boxes overlap: the fine test runs
-    # on near pairs whose boxes meet (an exact shortcut, not a change to the 1985 answer;
-    # worked out for every pair at once, fewer numpy calls than picking the near ones first)
-    apart = np.abs(scene.mid.take(moving, axis=0) - mid_s)
-    apart -= scene.half.take(moving, axis=0) + half_s
-    box_gaps = largest_of_xyz(apart)
-    if gaps is not None:
-        gaps[:] = box_gaps
-    near &= box_gaps <= EPS
     if fine_only is not None:
         near &= ~fine_only
-    idx = np.flatnonzero(near)
-    if len(idx):
-        codes[idx[fine(scene, moving.take(idx), stationary.take(idx))]] = COLLIDES
+    # an edge can only cross a face where the two extreme boxes overlap: the fine test runs
+    # on near pairs whose boxes meet (an exact shortcut, not a change to the 1985 answer)
+    if gaps is not None:            # every pair's boxes: their gaps are asked for
+        gaps[:] = _box_gaps(scene, moving, mid_s, half_s)
+        at = np.flatnonzero(near & (gaps <= EPS))
+    else:                           # the near pairs' only: most poses have none
+        at = np.flatnonzero(near)
+        if len(at):
+            at = at[_box_gaps(scene, moving.take(at), mid_s[at], half_s[at]) <= EPS]
+    if len(at):
+        codes[at[fine(scene, moving.take(at), stationary.take(at))]] = COLLIDES
     return codes
+
+
+def _box_gaps(scene: Scene, moving: np.ndarray, mid_s: np.ndarray, half_s: np.ndarray) -> np.ndarray:
+    """How far the boxes of the polyhedra ``moving`` are from the boxes given (largest axis gap)."""
+    apart = np.abs(scene.mid.take(moving, axis=0) - mid_s)
+    apart -= scene.half.take(moving, axis=0) + half_s
+    return largest_of_xyz(apart)
 
 
 def check_pair(moving: Polyhedron, stationary: Polyhedron, margin: float) -> Kind:

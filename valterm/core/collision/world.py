@@ -132,7 +132,7 @@ class CollisionWorld:
             self.checker = checker
         self.near_with_collision = near_with_collision
         self._pairs: dict[tuple[int, tuple[int, ...]], _Pairs] = {}
-        self._findings: dict[tuple[int, str, bytes], tuple[_Pairs, tuple[Finding, ...]]] = {}
+        self._findings: dict[tuple[object, ...], tuple[_Pairs, tuple[Finding, ...]]] = {}
 
     def pairs(self, n_objects: int, carried: Collection[int] = ()) -> _Pairs:
         """The (moving, stationary) index pairs into links + objects, with their parties."""
@@ -186,17 +186,29 @@ class CollisionWorld:
         known = self._findings.get(key)
         if known is not None and known[0] is pairs:
             return list(known[1])
-        found = self._new_findings(pairs, codes)
+        hits = np.flatnonzero(codes)
+        return self._remember(key, pairs, tuple(zip(hits.tolist(), codes.take(hits).tolist())))
+
+    def findings_at(self, pairs: _Pairs, hits: tuple[tuple[int, int], ...]) -> list[Finding]:
+        """The same from (position, kind code) of each pair not clear, by position: a few pairs
+        of many need not make a code for every pair."""
+        key = (id(pairs), hits)
+        known = self._findings.get(key)
+        if known is not None and known[0] is pairs:
+            return list(known[1])
+        return self._remember(key, pairs, hits)
+
+    def _remember(self, key: tuple[object, ...], pairs: _Pairs, hits: tuple[tuple[int, int], ...]) -> list[Finding]:
+        found = self._new_findings(pairs, hits)
         if len(self._findings) >= 64:
             self._findings.clear()
         self._findings[key] = (pairs, tuple(found))
         return found
 
-    def _new_findings(self, pairs: _Pairs, codes: np.ndarray) -> list[Finding]:
+    def _new_findings(self, pairs: _Pairs, hits: tuple[tuple[int, int], ...]) -> list[Finding]:
         found: list[Finding] = []
         seen: set[Finding] = set()
-        hits = np.flatnonzero(codes)
-        for p, code in zip(hits.tolist(), codes.take(hits).tolist()):   # Python ints: no numpy scalars
+        for p, code in hits:
             kinds = ["near"] if code == NEAR else ["near", "collides"] if self.near_with_collision else ["collides"]
             for kind in kinds:
                 f = Finding(kind, pairs.a[p], pairs.b[p])  # type: ignore[arg-type]
