@@ -530,56 +530,45 @@ def link_frames_batch(joints: np.ndarray, geometry: RobotGeometry | None = None,
     joints (n, 6) -> (n, 7, 4, 4). Frame k is where the drawn polyhedra of link k are placed:
     0 base (fixed), 1 waist (Rz JT1), 2 upper arm (at the shoulder, turned by JT2),
     3 forearm (at the elbow), 4 wrist (at the wrist centre, turned by JT4), 5 by JT5,
-    6 the clamp (R6, origin at the wrist centre).
+    6 the clamp (R6, origin at the wrist centre). The same arithmetic as ``link_frames``, in
+    the same order, on columns of poses: the numbers are those of one pose at a time (the
+    swept check of a whole path relies on it to give the verdicts of the pose-by-pose one).
     """
     geometry = geometry or robot_geometry()
     q = np.asarray(joints, dtype=float).reshape(-1, 6)
     if not radians:
         q = np.radians(q)
-    n = len(q)
-    c = np.cos(q)
-    s = np.sin(q)
-    c1, s1 = c[:, 0], s[:, 0]
-    c2, s2 = c[:, 1], s[:, 1]
-    c23, s23 = np.cos(q[:, 1] + q[:, 2]), np.sin(q[:, 1] + q[:, 2])
-    frames = np.zeros((n, 7, 4, 4))
+    q1, q2, q3, q4, q5, q6 = q.T
+    c1, s1, c2, s2 = np.cos(q1), np.sin(q1), np.cos(q2), np.sin(q2)
+    c23, s23 = np.cos(q2 + q3), np.sin(q2 + q3)
+    c4, s4, c5, s5, c6, s6 = np.cos(q4), np.sin(q4), np.cos(q5), np.sin(q5), np.cos(q6), np.sin(q6)
+    zero, one = np.zeros(len(q)), np.ones(len(q))
+
+    def turn(a: _Cols, b: _Cols, c: np.ndarray, s: np.ndarray) -> tuple[_Cols, _Cols]:
+        return ((c * a[0] + s * b[0], c * a[1] + s * b[1], c * a[2] + s * b[2]),
+                (c * b[0] - s * a[0], c * b[1] - s * a[1], c * b[2] - s * a[2]))
+
+    r1 = ((c1, s1, zero), (-s1, c1, zero), (zero, zero, one))
+    r2 = ((c1 * c2, s1 * c2, -s2), r1[1], (c1 * s2, s1 * s2, c2))
+    r3 = ((c1 * c23, s1 * c23, -s23), r1[1], (c1 * s23, s1 * s23, c23))
+    r4 = (*turn(r3[0], r3[1], c4, s4), r3[2])
+    r5x, r5z = turn(r4[2], r4[0], c5, s5)
+    r5 = (r5z, r4[1], r5x)
+    r6 = (*turn(r5[0], r5[1], c6, s6), r5[2])
+    d2, a2, d4 = geometry.d2, geometry.a2, geometry.d4
+    shoulder = (-s1 * d2, c1 * d2, zero)
+    elbow = tuple(o + a2 * x for o, x in zip(shoulder, r2[0]))
+    wrist = tuple(o + d4 * x for o, x in zip(elbow, r3[2]))
+    rows = [v for (x, y, z), o in ((r1, (zero,) * 3), (r2, shoulder), (r3, elbow), (r4, wrist), (r5, wrist),
+                                   (r6, wrist)) for i in range(3) for v in (x[i], y[i], z[i], o[i])]
+    frames = np.zeros((len(q), 7, 4, 4))
     frames[:, :, 3, 3] = 1.0
     frames[:, 0, :3, :3] = np.eye(3)
-
-    r1 = np.zeros((n, 3, 3))
-    r1[:, 0, 0], r1[:, 0, 1] = c1, -s1
-    r1[:, 1, 0], r1[:, 1, 1] = s1, c1
-    r1[:, 2, 2] = 1.0
-    frames[:, 1, :3, :3] = r1
-
-    def ry(cos: np.ndarray, sin: np.ndarray) -> np.ndarray:
-        m = np.zeros((n, 3, 3))
-        m[:, 0, 0], m[:, 0, 2] = cos, sin
-        m[:, 1, 1] = 1.0
-        m[:, 2, 0], m[:, 2, 2] = -sin, cos
-        return m
-
-    def rz(cos: np.ndarray, sin: np.ndarray) -> np.ndarray:
-        m = np.zeros((n, 3, 3))
-        m[:, 0, 0], m[:, 0, 1] = cos, -sin
-        m[:, 1, 0], m[:, 1, 1] = sin, cos
-        m[:, 2, 2] = 1.0
-        return m
-
-    r2 = r1 @ ry(c2, s2)
-    r3 = r1 @ ry(c23, s23)
-    r4 = r3 @ rz(c[:, 3], s[:, 3])
-    r5 = r4 @ ry(c[:, 4], s[:, 4])
-    r6 = r5 @ rz(c[:, 5], s[:, 5])
-    shoulder = r1 @ np.array([0.0, geometry.d2, 0.0])
-    elbow = shoulder + r2 @ np.array([geometry.a2, 0.0, 0.0])
-    wrist = elbow + r3 @ np.array([0.0, 0.0, geometry.d4])
-    for index, (rot, origin) in enumerate(
-        ((r2, shoulder), (r3, elbow), (r4, wrist), (r5, wrist), (r6, wrist)), start=2
-    ):
-        frames[:, index, :3, :3] = rot
-        frames[:, index, :3, 3] = origin
+    frames[:, 1:, :3, :] = np.array(rows).T.reshape(len(q), 6, 3, 4)     # one copy of the 72 columns
     return frames
+
+
+_Cols = tuple[np.ndarray, np.ndarray, np.ndarray]
 
 
 def indicators(joints: Sequence[float], geometry: RobotGeometry | None = None) -> Config:
