@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import math
 import operator
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Collection, Literal, Sequence
 
 import numpy as np
@@ -86,7 +87,7 @@ class RobotScene:
         self._thinnest_kept: tuple[object, float] | None = None
         self._table: tuple[object, np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None = None   # _travel_table's
         # the pose ``swept`` last saw: (pose, parts, carried, box gaps of every pair, or the boxes)
-        self._ends: tuple[object, object, object, np.ndarray | None, np.ndarray, np.ndarray] | None = None
+        self._ends: tuple[object, object, object, np.ndarray | None, np.ndarray | None, np.ndarray | None] | None = None
         self._planes_due: tuple[np.ndarray, np.ndarray] | None = None   # frames whose planes are not set yet
         self._link_widths = np.zeros(0)
         self._pair_widths: tuple[object, np.ndarray] | None = None    # _ruled_widths'
@@ -392,6 +393,165 @@ class RobotScene:
         rows[:, sel] = live[used]
         return moments[used], rows
 
+    # -- a whole path's steps together (issue 25, round 7) -------------------------------------
+    def pose_figures(self, frames: np.ndarray, key: object) -> PoseFigures | None:
+        """What ``swept_path`` needs of the pose the last ``check`` saw (at ``frames``, named
+        ``key``): the box gaps of every pair (or the boxes), the moving bodies' centres and
+        radii and their travel table. None when there is nothing to sweep."""
+        pairs = self._pairs_now
+        if pairs is None or self.checker == "exact" or len(pairs.moving) == 0:
+            return None
+        s, movers, gaps = self._scene, self._movers, self._gaps_now
+        if gaps is None:
+            return PoseFigures(key, self._parts, self._carried, None, s.mid.copy(), s.half.copy(),
+                               s.centres.take(movers, axis=0), s.radii.take(movers), self._travel_table(frames))
+        return PoseFigures(key, self._parts, self._carried, gaps.copy(), None, None,
+                           s.centres.take(movers, axis=0), s.radii.take(movers), self._travel_table(frames))
+
+    def keep_ends(self, figures: PoseFigures | None) -> None:
+        """The pose a path stopped at is where the next step starts (as ``swept(now=...)`` keeps it)."""
+        self._ends = None if figures is None else (figures.key, figures.parts, figures.carried, figures.gaps,
+                                                    figures.mid, figures.half)
+
+    def swept_path(self, frames: np.ndarray, turned: np.ndarray, objects: Sequence[Polyhedron],
+                   since: object, poses: Sequence[PoseFigures]) -> list[tuple[int, np.ndarray, np.ndarray]]:
+        """``swept`` for every step of a path at once: (step, moments, rows) for the steps that
+        need moments. ``frames`` (steps, links, 4, 4) and ``poses`` (``pose_figures``) are the
+        poses each step ends at, ``turned`` (steps, 6) the joints' turns (radians), ``since``
+        names the pose before the first (its gaps are those ``swept`` or ``keep_ends`` kept).
+        The same decision as ``swept``, step by step, in a few dozen numpy calls for the path.
+        Call after ``check`` at the path's poses (the pairs and parts are the path's)."""
+        pairs = self._pairs_now
+        if pairs is None or self.checker == "exact" or len(pairs.moving) == 0 or not len(poses):
+            return []
+        turns = np.abs(turned)
+        before, after = self._path_gaps(since, poses)
+        movers = self._movers
+        ruled = len(movers) * len(self._free)
+        linked = self._link_pairs(pairs)
+        tables = [f.table for f in poses]
+        table = tables[0] if all(t is tables[0] for t in tables) else np.stack(tables)
+        far = table * turns[:, None, :]                                  # (steps, movers, joints)
+        widths = self._ruled_widths(objects, pairs.stationary[:ruled]) if ruled else np.zeros(0)
+        both = before + after - 2.0 * EPS
+        bound, relative = self._path_bounds(far, linked[2])
+        linking = relative.max(axis=1, initial=0.0) > 1.0
+        reach = bound.max(axis=1)
+        clear = ((reach <= self._thinnest(objects)) & ~linking) | ~turns.any(axis=1)
+        narrow = [i for i, f in enumerate(poses) if f.gaps is None]      # steps the broad phase chose pairs for
+        if narrow and ruled:
+            both[narrow, :ruled] = np.where(self._path_candidates(poses, narrow, reach), both[narrow, :ruled],
+                                            np.inf)
+        at, li, lj = linked[0], linked[1][:, 0], linked[1][:, 1]
+        risky = self._path_risky(bound, relative, both, widths, linking, ruled, linked)
+        steps = np.flatnonzero(~clear & risky)
+        if not len(steps):
+            return []
+        # the bound from where the bodies are now, only for the steps the fixed lengths leave at risk
+        far = self._path_terms(frames[steps], turns[steps], far[steps], [poses[i] for i in steps.tolist()])
+        bound, relative = self._path_bounds(far, linked[2])
+        both, before, linking = both[steps], before[steps], linking[steps]
+        still = relative.max(axis=1, initial=0.0) > 1.0
+        keep = ~((bound.max(axis=1) <= self._thinnest(objects)) & ~still)
+        keep &= self._path_risky(bound, relative, both, widths, linking, ruled, linked)
+        moved = bound[:, pairs.moving[:ruled]]
+        closing = bound.take(li, axis=1) + bound.take(lj, axis=1)
+        pick = np.concatenate([both[:, :ruled] <= moved,
+                               (both[:, at] <= closing) & (relative > 1.0) & linking[:, None]], axis=1)
+        sel = np.concatenate([np.arange(ruled), at])
+        found = []
+        for k in np.flatnonzero(keep).tolist():
+            columns = (before[k].take(sel), both[k].take(sel), np.concatenate([moved[k], closing[k]]),
+                       np.concatenate([moved[k] / widths, relative[k]]))
+            moments, rows = _moments(pick[k], sel, *columns, len(pairs.moving))
+            if len(moments):
+                found.append((int(steps[k]), moments, rows))
+        return found
+
+    def meeting(self, frames: np.ndarray, rows: np.ndarray, held: np.ndarray | None) -> np.ndarray:
+        """Per moment (the links at ``frames`` (moments, links, 4, 4), the carried parts'
+        vertices ``held`` (moments, vertices, 3)): do the boxes of a pair of its row meet
+        (within a hair)? The fine test finds a collision only where the boxes meet, so the
+        other moments need no check. Call after ``check`` (the free parts are where it saw them)."""
+        pairs, s = self._pairs_now, self._scene
+        assert pairs is not None
+        count, nl = len(frames), len(self._link_ks)
+        stacked = frames[:, : self._n_frames, :3, :].transpose(0, 3, 1, 2).reshape(count, 4, -1)
+        placed = (self._local_h @ stacked).reshape(count, -1).take(self._own_flat, axis=1)   # (moments, rows, 3)
+        starts = self._layout.starts[:nl]
+        lo, hi = np.repeat(s.lo[None], count, axis=0), np.repeat(s.hi[None], count, axis=0)
+        lo[:, :nl] = np.minimum.reduceat(placed, starts, axis=1)
+        hi[:, :nl] = np.maximum.reduceat(placed, starts, axis=1)
+        if held is not None and len(self._held_at):
+            lo[:, self._held_at] = np.minimum.reduceat(held, self._held_starts, axis=1)
+            hi[:, self._held_at] = np.maximum.reduceat(held, self._held_starts, axis=1)
+        at, p = np.nonzero(rows)
+        a, b = pairs.moving.take(p), pairs.stationary.take(p)
+        gap = np.maximum(lo[at, b] - hi[at, a], lo[at, a] - hi[at, b])
+        meet = np.zeros(count, dtype=bool)
+        meet[at[largest_of_xyz(gap) <= EPS + _HAIR]] = True
+        return meet
+
+    def _path_gaps(self, since: object, poses: Sequence[PoseFigures]) -> tuple[np.ndarray, np.ndarray]:
+        """(steps, pairs) box gaps at each step's start and end: the start's from the pose
+        before (the first step's those kept, else 0, as ``_kept_gaps`` gives them)."""
+        pairs = self._pairs_now
+        assert pairs is not None
+        m, st = pairs.moving, pairs.stationary
+        rows = [f.gaps if f.gaps is not None else _box_gaps(f.mid, f.half, m, st)  # type: ignore[arg-type]
+                for f in poses]
+        after = np.stack(rows)
+        first = self._kept_gaps(self._ends, since, self._all_pairs(len(m)), m, st)
+        return np.concatenate([first[None], after[:-1]]), after
+
+    def _path_bounds(self, terms: np.ndarray, weights: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Each body's bound (steps, bodies; 0 for the still ones) and the link pairs' steps
+        needed (steps, link pairs) from the (steps, movers, joints) travel terms."""
+        nl = len(self._link_ks)
+        bound = np.zeros((len(terms), len(self._scene.radii)))
+        bound[:, self._movers] = terms.sum(axis=2)
+        flat = terms[:, :nl].reshape(len(terms), -1, 1)
+        relative: np.ndarray = (weights[None] @ flat)[..., 0]          # one matrix-vector product a step
+        return bound, relative
+
+    def _path_risky(self, bound: np.ndarray, relative: np.ndarray, both: np.ndarray, widths: np.ndarray,
+                    linking: np.ndarray, ruled: int, linked: tuple[np.ndarray, np.ndarray, np.ndarray]
+                    ) -> np.ndarray:
+        """Per step: does a pair's boxes meet within the bound and move past its part's width,
+        or (the link pairs, when the fixed lengths found one turning past its width) close
+        within both bounds while turning past the proximal link's width?"""
+        pairs = self._pairs_now
+        assert pairs is not None
+        moved = bound[:, pairs.moving[:ruled]]
+        risky = np.any((both[:, :ruled] <= moved) & (moved > widths), axis=1)
+        closing = bound.take(linked[1][:, 0], axis=1) + bound.take(linked[1][:, 1], axis=1)
+        links = np.any((both[:, linked[0]] <= closing) & (relative > 1.0), axis=1) & linking
+        either: np.ndarray = risky | links
+        return either
+
+    def _path_terms(self, frames: np.ndarray, turns: np.ndarray, far: np.ndarray,
+                    poses: Sequence[PoseFigures]) -> np.ndarray:
+        """``_sweep_terms`` of several steps at once (their end poses' frames and figures)."""
+        if not self.thesis_axes:
+            return np.broadcast_to(far, (len(turns), *far.shape[-2:]))
+        centres = np.stack([f.centres for f in poses])
+        radii = np.stack([f.radii for f in poses])
+        d = centres[:, :, None, :] - frames[:, None, 1: self._n_frames, :3, 3]
+        axes = frames.reshape(len(frames), -1).take(_AXIS_FLAT, axis=1)  # (steps, joints, 3)
+        along = np.einsum("smjk,sjk->smj", d, axes)
+        square = np.maximum(np.einsum("smjk,smjk->smj", d, d) - along * along, 0.0)
+        now = np.sqrt(square) + radii[:, :, None]
+        terms: np.ndarray = np.minimum(far, (now + far @ _LATER) * turns[:, None, :])
+        return terms
+
+    def _path_candidates(self, poses: Sequence[PoseFigures], steps: list[int], reach: np.ndarray) -> np.ndarray:
+        """(steps, ruled pairs): the pairs ``_candidates`` keeps at each of these steps' end
+        poses for a body moving ``reach`` (the broad phase, batched: ``_candidates_batch``)."""
+        centres = np.stack([poses[i].centres for i in steps])
+        radii = np.stack([poses[i].radii for i in steps])
+        near = _candidates_batch(centres, radii.max(axis=1) + reach[steps], self._free_lo, self._free_hi)
+        return np.tile(near, (1, len(self._movers)))                     # pairs run mover by mover
+
     def _kept_gaps(self, kept: tuple[object, ...] | None, since: object, at: np.ndarray,
                    m: np.ndarray, st: np.ndarray) -> np.ndarray:
         """The box gaps at the step's start of the pairs at positions ``at`` (bodies ``m``, ``st``):
@@ -586,6 +746,56 @@ _AXIS_COLUMNS = np.array([2, 1, 1, 2, 1, 2])
 
 # x @ _LATER sums, for each joint, the columns of the joints after it
 _LATER = np.tril(np.ones((6, 6)), -1)
+
+
+# mm: how much nearer than the fine test's EPS two boxes are taken to meet between poses
+# (room for the rounding of boxes worked out in another order; far above it)
+_HAIR = 1e-3
+
+# the joints' axes as flat indices into a pose's (links, 4, 4) frames
+_AXIS_FLAT = (_AXIS_FRAMES[:, None] * 16 + np.arange(3)[None, :] * 4 + _AXIS_COLUMNS[:, None])
+
+
+@dataclass(frozen=True)
+class PoseFigures:
+    """What the swept check keeps of one pose (``RobotScene.pose_figures``)."""
+
+    key: object
+    parts: object
+    carried: tuple[int, ...]
+    gaps: np.ndarray | None                  # box gaps of every pair, or
+    mid: np.ndarray | None                   # the boxes (when the broad phase skipped pairs)
+    half: np.ndarray | None
+    centres: np.ndarray                      # the moving bodies' centres, radii, travel table
+    radii: np.ndarray
+    table: np.ndarray
+
+
+def _candidates_batch(centres: np.ndarray, grow: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+    """``RobotScene._candidates`` at several poses: (poses, free parts) near the box of the
+    movers' centres (poses, movers, 3) grown by ``grow`` (poses,)."""
+    cmin = centres.min(axis=1) - grow[:, None]
+    cmax = centres.max(axis=1) + grow[:, None]
+    gap = np.maximum(lo[None] - cmax[:, None], cmin[:, None] - hi[None])
+    near: np.ndarray = gap.max(axis=2) <= 0.0
+    return near
+
+
+def _moments(pick: np.ndarray, sel: np.ndarray, b0: np.ndarray, both: np.ndarray, reach: np.ndarray,
+             need: np.ndarray, n_pairs: int) -> tuple[np.ndarray, np.ndarray]:
+    """The moments of one step and the pairs at each (``swept``'s last part): the picked
+    columns (pair positions ``sel``) with their gaps at start, gaps at start plus end, bounds
+    and steps needed."""
+    p = np.flatnonzero(pick)
+    sel, b0, both, reach, need = sel.take(p), b0.take(p), both.take(p), reach.take(p), need.take(p)
+    reach = reach + 2.0 * EPS
+    steps = int(math.ceil(float(need.max())))
+    moments = np.arange(1, steps) / steps
+    live = ((b0 - 2.0 * EPS) / reach <= moments[:, None]) & (moments[:, None] <= 1.0 - (both - b0) / reach)
+    used = live.any(axis=1)
+    rows = np.zeros((int(used.sum()), n_pairs), dtype=bool)
+    rows[:, sel] = live[used]
+    return moments[used], rows
 
 
 def _box_gaps(mid: np.ndarray, half: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
