@@ -538,37 +538,35 @@ def link_frames_batch(joints: np.ndarray, geometry: RobotGeometry | None = None,
     q = np.asarray(joints, dtype=float).reshape(-1, 6)
     if not radians:
         q = np.radians(q)
-    q1, q2, q3, q4, q5, q6 = q.T
-    c1, s1, c2, s2 = np.cos(q1), np.sin(q1), np.cos(q2), np.sin(q2)
-    c23, s23 = np.cos(q2 + q3), np.sin(q2 + q3)
-    c4, s4, c5, s5, c6, s6 = np.cos(q4), np.sin(q4), np.cos(q5), np.sin(q5), np.cos(q6), np.sin(q6)
-    zero, one = np.zeros(len(q)), np.ones(len(q))
+    n = len(q)
+    cos, sin = np.cos(q.T), np.sin(q.T)
+    c1, s1, c2, s2 = cos[0], sin[0], cos[1], sin[1]
+    c23, s23 = np.cos(q[:, 1] + q[:, 2]), np.sin(q[:, 1] + q[:, 2])
+    zero, one = np.zeros(n), np.ones(n)
 
-    def turn(a: _Cols, b: _Cols, c: np.ndarray, s: np.ndarray) -> tuple[_Cols, _Cols]:
-        return ((c * a[0] + s * b[0], c * a[1] + s * b[1], c * a[2] + s * b[2]),
-                (c * b[0] - s * a[0], c * b[1] - s * a[1], c * b[2] - s * a[2]))
+    def turn(a: np.ndarray, b: np.ndarray, j: int) -> tuple[np.ndarray, np.ndarray]:
+        """(c a + s b, -s a + c b) for columns a, b (3, n) turned by joint j about the third."""
+        c, s = cos[j], sin[j]
+        return c * a + s * b, c * b - s * a
 
-    r1 = ((c1, s1, zero), (-s1, c1, zero), (zero, zero, one))
-    r2 = ((c1 * c2, s1 * c2, -s2), r1[1], (c1 * s2, s1 * s2, c2))
-    r3 = ((c1 * c23, s1 * c23, -s23), r1[1], (c1 * s23, s1 * s23, c23))
-    r4 = (*turn(r3[0], r3[1], c4, s4), r3[2])
-    r5x, r5z = turn(r4[2], r4[0], c5, s5)
+    # each rotation's columns x, y, z as (3, n): the same products as ``link_frames``, three rows at a time
+    r1 = (np.array([c1, s1, zero]), np.array([-s1, c1, zero]), np.array([zero, zero, one]))
+    r2 = (np.array([c1 * c2, s1 * c2, -s2]), r1[1], np.array([c1 * s2, s1 * s2, c2]))
+    r3 = (np.array([c1 * c23, s1 * c23, -s23]), r1[1], np.array([c1 * s23, s1 * s23, c23]))
+    r4 = (*turn(r3[0], r3[1], 3), r3[2])
+    r5x, r5z = turn(r4[2], r4[0], 4)
     r5 = (r5z, r4[1], r5x)
-    r6 = (*turn(r5[0], r5[1], c6, s6), r5[2])
-    d2, a2, d4 = geometry.d2, geometry.a2, geometry.d4
-    shoulder = (-s1 * d2, c1 * d2, zero)
-    elbow = tuple(o + a2 * x for o, x in zip(shoulder, r2[0]))
-    wrist = tuple(o + d4 * x for o, x in zip(elbow, r3[2]))
-    rows = [v for (x, y, z), o in ((r1, (zero,) * 3), (r2, shoulder), (r3, elbow), (r4, wrist), (r5, wrist),
-                                   (r6, wrist)) for i in range(3) for v in (x[i], y[i], z[i], o[i])]
-    frames = np.zeros((len(q), 7, 4, 4))
+    r6 = (*turn(r5[0], r5[1], 5), r5[2])
+    shoulder = np.array([-s1 * geometry.d2, c1 * geometry.d2, zero])
+    elbow = shoulder + geometry.a2 * r2[0]
+    wrist = elbow + geometry.d4 * r3[2]
+    columns = np.array([r1[0], r1[1], r1[2], np.zeros((3, n)), *r2, shoulder, *r3, elbow, *r4, wrist, *r5, wrist,
+                        *r6, wrist])                                          # (24, 3, n): frame, column, row
+    frames = np.zeros((n, 7, 4, 4))
     frames[:, :, 3, 3] = 1.0
     frames[:, 0, :3, :3] = np.eye(3)
-    frames[:, 1:, :3, :] = np.array(rows).T.reshape(len(q), 6, 3, 4)     # one copy of the 72 columns
+    frames[:, 1:, :3, :] = columns.reshape(6, 4, 3, n).transpose(3, 0, 2, 1)
     return frames
-
-
-_Cols = tuple[np.ndarray, np.ndarray, np.ndarray]
 
 
 def indicators(joints: Sequence[float], geometry: RobotGeometry | None = None) -> Config:

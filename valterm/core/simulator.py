@@ -20,7 +20,7 @@ import numpy as np
 
 from valterm.core.cell.polyhedron import Polyhedron
 from valterm.core.cell.workcell import WorkCell
-from valterm.core.collision.frames import PoseFigures, RobotScene
+from valterm.core.collision.frames import PathFigures, RobotScene
 from valterm.core.collision.world import Finding, Party
 from valterm.core.cycletime import joint_motion_seconds, robot_timing, straight_motion_seconds
 from valterm.core.errors import ValtermError
@@ -410,7 +410,7 @@ class Simulator:
         try:
             for index, pose in enumerate(path, start=1):
                 previous = self.joints
-                self.joints = self._settled(pose)
+                self.joints = self._settled(pose) if checks is None else checks.settled(index, pose)
                 self._follow_clamp()
                 yield PoseEvent(tuple(self.joints), index, steps, round(seconds, 6), goal)
                 if not self.collision_checks:
@@ -418,7 +418,7 @@ class Simulator:
                         checks.dropped()          # a pause in the checks: pose by pose after it
                     continue
                 if checks is None:
-                    checks = _PathChecks(self, previous, path[index - 1:])
+                    checks = _PathChecks(self, previous, path[index - 1:], index)
                 for finding in self._said(checks.findings(previous)):
                     yield finding
                     if self.stop_on_collision and isinstance(finding, Collision):
@@ -605,25 +605,26 @@ class Simulator:
                                     self._pose_key(previous), self._pose_key(here))
         if not len(moments):
             return []
-        q0 = np.asarray(previous, dtype=float)
-        return self._at_moments(scene, [(q0, q0 + np.asarray(turns), moments, rows)])[0]
+        q0 = np.asarray(previous, dtype=float)[None]
+        step = np.zeros(len(moments), dtype=np.intp)
+        return self._at_moments(scene, q0, q0 + np.asarray(turns), (step, moments, rows))[0]
 
-    def _at_moments(self, scene: RobotScene, steps: Sequence[tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]]
-                    ) -> list[list[Finding]]:
-        """The collisions at the moments of steps (from, to, moments, rows: ``RobotScene.swept``'s),
-        step by step in order: the link frames of every moment at once, then the pairs at risk
-        checked at the moments where their boxes can meet (``RobotScene.meeting``; nowhere else
-        can the fine test find one)."""
+    def _at_moments(self, scene: RobotScene, q0: np.ndarray, q1: np.ndarray,
+                    moments: tuple[np.ndarray, np.ndarray, np.ndarray]) -> list[list[Finding]]:
+        """The collisions at the moments (each one's step, its fraction of the step, its row of
+        pairs: ``RobotScene.swept``'s) of the steps from poses ``q0`` to ``q1`` (steps, 6), step
+        by step: the link frames of every moment at once, then the pairs at risk checked at the
+        moments where their boxes can meet (``RobotScene.meeting``; nowhere else can the fine
+        test find one)."""
         here = self.joints
-        joints = np.concatenate([q0 + (q1 - q0) * moments[:, None] for q0, q1, moments, _ in steps])
-        rows = np.concatenate([r for *_, r in steps])
-        step_of = np.repeat(np.arange(len(steps)), [len(m) for _, _, m, _ in steps])
+        step_of, t, rows = moments
+        joints = q0[step_of] + (q1[step_of] - q0[step_of]) * t[:, None]
         frames = self.model.link_frames_batch(joints, self.base)
         held = None
         if self.carried is not None and self._carried_local is not None:
             clamp = frames[:, 6]
             held = self._carried_local @ clamp[:, :3, :3].transpose(0, 2, 1) + clamp[:, None, :3, 3]
-        found: list[list[Finding]] = [[] for _ in steps]
+        found: list[list[Finding]] = [[] for _ in q0]
         try:
             for k in np.flatnonzero(scene.meeting(frames, rows, held)).tolist():
                 self.joints = [float(v) for v in joints[k]]
@@ -648,57 +649,60 @@ class _PathChecks:
     paused (``dropped``) the pose it reached is kept as the next step's start and the rest
     is checked pose by pose."""
 
-    def __init__(self, sim: Simulator, start: Sequence[float], path: np.ndarray) -> None:
-        self.sim = sim
+    def __init__(self, sim: Simulator, start: Sequence[float], path: np.ndarray, first: int) -> None:
+        self.sim, self.first = sim, first
         self.scene = scene = sim._collision_scene()
         self.next = 0
-        self.reached: PoseFigures | None = None
         self.live = True
         here = sim.joints
-        poses: list[list[float]] = []
+        self.poses: list[list[float]] = []
         try:
             for pose in path:
-                poses.append(sim._settled(pose))
+                self.poses.append(sim._settled(pose))
         except ValtermError:
             pass                          # the motion stops there when it gets there
         carried = () if sim.carried is None else (sim.carried,)
         objects = sim.cell.objects
-        frames = sim.model.link_frames_batch(np.asarray(poses), None if sim.base is sim._home_base else sim.base)
+        base = None if sim.base is sim._home_base else sim.base
+        frames = sim.model.link_frames_batch(np.asarray(self.poses), base)
         self.found: list[list[Finding]] = []
-        self.figures: list[PoseFigures | None] = []
+        self.figures: PathFigures | None = None
         try:
-            for joints, at in zip(poses, frames):
+            for joints, at in zip(self.poses, frames):
                 sim.joints = joints
                 sim._follow_clamp()
                 self.found.append(scene.check(at, objects, carried, sim.speed))
-                self.figures.append(scene.pose_figures(at, sim._pose_key(joints)))
-            self._steps(sim, [list(start), *poses], frames)
+                if len(self.found) == 1:
+                    self.figures = scene.path_figures(len(self.poses), sim._pose_key(start))
+                if self.figures is not None:
+                    scene.keep_pose(self.figures, at, sim._pose_key(joints))
+            self._steps(sim, np.asarray([start, *self.poses], dtype=float), frames)
         finally:
             sim.joints = here
             sim._follow_clamp()
 
-    def _steps(self, sim: Simulator, poses: list[list[float]], frames: np.ndarray) -> None:
+    def _steps(self, sim: Simulator, q: np.ndarray, frames: np.ndarray) -> None:
         """Every step's collisions between its poses, put before that pose's findings."""
-        figures = [f for f in self.figures if f is not None]
-        if len(figures) != len(self.figures) or not figures:
+        if self.figures is None:
             return
-        q = np.asarray(poses)
         # the way the joints turned: under the 1985 rules 179 -> -179 is a turn of 2 degrees
         turns = (q[1:] - q[:-1] + 180.0) % 360.0 - 180.0
-        found = self.scene.swept_path(frames, np.radians(turns), sim.cell.objects, sim._pose_key(poses[0]), figures)
-        if not found:
+        moments = self.scene.swept_path(frames, np.radians(turns), sim.cell.objects, self.figures)
+        if not len(moments[0]):
             return
-        swept = sim._at_moments(self.scene, [(q[step], q[step] + turns[step], moments, rows)
-                                             for step, moments, rows in found])
-        for (step, _, _), said in zip(found, swept):
+        for step, said in enumerate(sim._at_moments(self.scene, q[:-1], q[:-1] + turns, moments)):
             if said:
                 self.found[step] = said + self.found[step]
+
+    def settled(self, index: int, pose: Sequence[float]) -> list[float]:
+        """The joint state at the path's pose ``index`` (worked out once)."""
+        k = index - self.first
+        return self.poses[k] if 0 <= k < len(self.poses) else self.sim._settled(pose)
 
     def findings(self, previous: Sequence[float]) -> list[Finding]:
         """The findings of the next pose (pose by pose, once dropped)."""
         if self.live and self.next < len(self.found):
             found = self.found[self.next]
-            self.reached = self.figures[self.next]
             self.next += 1
             return found
         self.dropped()
@@ -707,6 +711,5 @@ class _PathChecks:
     def dropped(self) -> None:
         """The checks stop here: the next step starts from the last pose checked."""
         if self.live and self.next:
-            self.scene.keep_ends(self.reached)
+            self.scene.keep_ends(self.figures, self.next)
         self.live = False
-

@@ -382,54 +382,65 @@ class RobotScene:
             columns.append((links[0], links[5], links[3], closing, relative))
             picks.append(np.flatnonzero((links[3] <= closing) & (relative > 1.0)))
         sel, b0, both, reach, need = (np.concatenate([c[i].take(p) for c, p in zip(columns, picks)]) for i in range(5))
-        reach = reach + 2.0 * EPS
-        steps = int(math.ceil(float(need.max())))
-        moments = np.arange(1, steps) / steps
-        # each pair only where its boxes can meet: from b0 / reach to 1 - b1 / reach of the step
-        # (``both`` is b0 + b1 less 2 EPS)
-        live = ((b0 - 2.0 * EPS) / reach <= moments[:, None]) & (moments[:, None] <= 1.0 - (both - b0) / reach)
-        used = live.any(axis=1)
-        rows = np.zeros((int(used.sum()), len(pairs.moving)), dtype=bool)
-        rows[:, sel] = live[used]
-        return moments[used], rows
+        _, moments, rows = _moments(np.ones((1, len(sel)), dtype=bool), sel, b0[None], both[None], reach[None],
+                                    need[None], len(pairs.moving))
+        return moments, rows
 
     # -- a whole path's steps together (issue 25, round 7) -------------------------------------
-    def pose_figures(self, frames: np.ndarray, key: object) -> PoseFigures | None:
-        """What ``swept_path`` needs of the pose the last ``check`` saw (at ``frames``, named
-        ``key``): the box gaps of every pair (or the boxes), the moving bodies' centres and
-        radii and their travel table. None when there is nothing to sweep."""
+    def path_figures(self, count: int, since: object) -> PathFigures | None:
+        """Room for what ``swept_path`` needs of a path's ``count`` poses (``keep_pose``), the
+        gaps at the pose before (named ``since``) as ``swept`` kept them. Call after ``check``
+        at the path's first pose; None when there is nothing to sweep."""
         pairs = self._pairs_now
         if pairs is None or self.checker == "exact" or len(pairs.moving) == 0:
             return None
-        s, movers, gaps = self._scene, self._movers, self._gaps_now
-        if gaps is None:
-            return PoseFigures(key, self._parts, self._carried, None, s.mid.copy(), s.half.copy(),
-                               s.centres.take(movers, axis=0), s.radii.take(movers), self._travel_table(frames))
-        return PoseFigures(key, self._parts, self._carried, gaps.copy(), None, None,
-                           s.centres.take(movers, axis=0), s.radii.take(movers), self._travel_table(frames))
+        movers, n = self._movers, len(pairs.moving)
+        gaps = np.empty((count + 1, n))
+        gaps[0] = self._kept_gaps(self._ends, since, self._all_pairs(n), pairs.moving, pairs.stationary)
+        return PathFigures(pairs, self._parts, self._carried, [since], gaps, np.empty((count, len(movers), 3)),
+                           np.empty((count, len(movers))), [], [])
 
-    def keep_ends(self, figures: PoseFigures | None) -> None:
-        """The pose a path stopped at is where the next step starts (as ``swept(now=...)`` keeps it)."""
-        self._ends = None if figures is None else (figures.key, figures.parts, figures.carried, figures.gaps,
-                                                    figures.mid, figures.half)
+    def keep_pose(self, figures: PathFigures, frames: np.ndarray, key: object) -> None:
+        """Keep the figures of the pose the last ``check`` saw (at ``frames``, named ``key``):
+        the box gaps of every pair, the moving bodies' centres and radii, their travel table."""
+        s, i = self._scene, len(figures.keys)
+        if self._pairs_now is not figures.pairs or self._parts is not figures.parts:
+            raise ValueError("the path's parts changed while it was checked")
+        gaps = self._gaps_now
+        row = figures.gaps[i]
+        if gaps is None:             # the broad phase skipped pairs: their gaps from the boxes
+            figures.narrow.append(i - 1)
+            row[:] = _box_gaps(s.mid, s.half, figures.pairs.moving, figures.pairs.stationary)
+        else:
+            row[:] = gaps
+        s.centres.take(self._movers, axis=0, out=figures.centres[i - 1])
+        s.radii.take(self._movers, out=figures.radii[i - 1])
+        figures.tables.append(self._travel_table(frames))
+        figures.keys.append(key)
+
+    def keep_ends(self, figures: PathFigures | None, reached: int) -> None:
+        """The path's pose ``reached`` (0 the pose before it) is where the next step starts, as
+        ``swept(now=...)`` keeps it (nothing when there was nothing to sweep)."""
+        self._ends = None if figures is None else (figures.keys[reached], figures.parts, figures.carried,
+                                                   figures.gaps[reached], None, None)
 
     def swept_path(self, frames: np.ndarray, turned: np.ndarray, objects: Sequence[Polyhedron],
-                   since: object, poses: Sequence[PoseFigures]) -> list[tuple[int, np.ndarray, np.ndarray]]:
-        """``swept`` for every step of a path at once: (step, moments, rows) for the steps that
-        need moments. ``frames`` (steps, links, 4, 4) and ``poses`` (``pose_figures``) are the
-        poses each step ends at, ``turned`` (steps, 6) the joints' turns (radians), ``since``
-        names the pose before the first (its gaps are those ``swept`` or ``keep_ends`` kept).
-        The same decision as ``swept``, step by step, in a few dozen numpy calls for the path.
-        Call after ``check`` at the path's poses (the pairs and parts are the path's)."""
-        pairs = self._pairs_now
-        if pairs is None or self.checker == "exact" or len(pairs.moving) == 0 or not len(poses):
-            return []
-        turns = np.abs(turned)
-        before, after = self._path_gaps(since, poses)
+                   figures: PathFigures) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``swept`` for every step of a path at once: the moments of every step in order, each
+        with its step (an index into the path) and its row of pairs to check. ``frames``
+        (steps, links, 4, 4) are the poses each step ends at, ``turned`` (steps, 6) the joints'
+        turns (radians), ``figures`` what ``keep_pose`` kept of them. The same decision as
+        ``swept``, step by step, in a few dozen numpy calls for the path."""
+        never = np.zeros(0, dtype=np.intp), np.zeros(0), np.zeros((0, 0), dtype=bool)
+        count = len(figures.keys) - 1
+        if not count:
+            return never
+        pairs, turns, frames, turned = figures.pairs, np.abs(turned[:count]), frames[:count], turned[:count]
+        before, after = figures.gaps[:count], figures.gaps[1: count + 1]
         movers = self._movers
         ruled = len(movers) * len(self._free)
         linked = self._link_pairs(pairs)
-        tables = [f.table for f in poses]
+        tables = figures.tables
         table = tables[0] if all(t is tables[0] for t in tables) else np.stack(tables)
         far = table * turns[:, None, :]                                  # (steps, movers, joints)
         widths = self._ruled_widths(objects, pairs.stationary[:ruled]) if ruled else np.zeros(0)
@@ -437,36 +448,37 @@ class RobotScene:
         bound, relative = self._path_bounds(far, linked[2])
         linking = relative.max(axis=1, initial=0.0) > 1.0
         reach = bound.max(axis=1)
-        clear = ((reach <= self._thinnest(objects)) & ~linking) | ~turns.any(axis=1)
-        narrow = [i for i, f in enumerate(poses) if f.gaps is None]      # steps the broad phase chose pairs for
-        if narrow and ruled:
-            both[narrow, :ruled] = np.where(self._path_candidates(poses, narrow, reach), both[narrow, :ruled],
-                                            np.inf)
-        at, li, lj = linked[0], linked[1][:, 0], linked[1][:, 1]
+        thinnest = self._thinnest(objects)
+        clear = ((reach <= thinnest) & ~linking) | ~turns.any(axis=1)
+        if figures.narrow and ruled:                                     # the pairs the broad phase keeps
+            narrow = figures.narrow
+            near = _candidates_batch(figures.centres[narrow], figures.radii[narrow].max(axis=1) + reach[narrow],
+                                     self._free_lo, self._free_hi)
+            both[narrow, :ruled] = np.where(np.tile(near, (1, len(movers))), both[narrow, :ruled], np.inf)
         risky = self._path_risky(bound, relative, both, widths, linking, ruled, linked)
         steps = np.flatnonzero(~clear & risky)
         if not len(steps):
-            return []
+            return never
         # the bound from where the bodies are now, only for the steps the fixed lengths leave at risk
-        far = self._path_terms(frames[steps], turns[steps], far[steps], [poses[i] for i in steps.tolist()])
+        far = self._path_terms(frames[steps], turns[steps], far[steps], figures.centres[steps], figures.radii[steps])
         bound, relative = self._path_bounds(far, linked[2])
         both, before, linking = both[steps], before[steps], linking[steps]
-        still = relative.max(axis=1, initial=0.0) > 1.0
-        keep = ~((bound.max(axis=1) <= self._thinnest(objects)) & ~still)
+        keep = ~((bound.max(axis=1) <= thinnest) & ~(relative.max(axis=1, initial=0.0) > 1.0))
         keep &= self._path_risky(bound, relative, both, widths, linking, ruled, linked)
+        k = np.flatnonzero(keep)
+        if not len(k):
+            return never
+        bound, relative, both, before, linking = bound[k], relative[k], both[k], before[k], linking[k]
+        at, li, lj = linked[0], linked[1][:, 0], linked[1][:, 1]
         moved = bound[:, pairs.moving[:ruled]]
         closing = bound.take(li, axis=1) + bound.take(lj, axis=1)
         pick = np.concatenate([both[:, :ruled] <= moved,
                                (both[:, at] <= closing) & (relative > 1.0) & linking[:, None]], axis=1)
         sel = np.concatenate([np.arange(ruled), at])
-        found = []
-        for k in np.flatnonzero(keep).tolist():
-            columns = (before[k].take(sel), both[k].take(sel), np.concatenate([moved[k], closing[k]]),
-                       np.concatenate([moved[k] / widths, relative[k]]))
-            moments, rows = _moments(pick[k], sel, *columns, len(pairs.moving))
-            if len(moments):
-                found.append((int(steps[k]), moments, rows))
-        return found
+        step, moments, rows = _moments(pick, sel, before[:, sel], both[:, sel],
+                                       np.concatenate([moved, closing], axis=1),
+                                       np.concatenate([moved / widths, relative], axis=1), len(pairs.moving))
+        return steps[k].take(step), moments, rows
 
     def meeting(self, frames: np.ndarray, rows: np.ndarray, held: np.ndarray | None) -> np.ndarray:
         """Per moment (the links at ``frames`` (moments, links, 4, 4), the carried parts'
@@ -491,18 +503,6 @@ class RobotScene:
         meet = np.zeros(count, dtype=bool)
         meet[at[largest_of_xyz(gap) <= EPS + _HAIR]] = True
         return meet
-
-    def _path_gaps(self, since: object, poses: Sequence[PoseFigures]) -> tuple[np.ndarray, np.ndarray]:
-        """(steps, pairs) box gaps at each step's start and end: the start's from the pose
-        before (the first step's those kept, else 0, as ``_kept_gaps`` gives them)."""
-        pairs = self._pairs_now
-        assert pairs is not None
-        m, st = pairs.moving, pairs.stationary
-        rows = [f.gaps if f.gaps is not None else _box_gaps(f.mid, f.half, m, st)  # type: ignore[arg-type]
-                for f in poses]
-        after = np.stack(rows)
-        first = self._kept_gaps(self._ends, since, self._all_pairs(len(m)), m, st)
-        return np.concatenate([first[None], after[:-1]]), after
 
     def _path_bounds(self, terms: np.ndarray, weights: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Each body's bound (steps, bodies; 0 for the still ones) and the link pairs' steps
@@ -529,13 +529,12 @@ class RobotScene:
         either: np.ndarray = risky | links
         return either
 
-    def _path_terms(self, frames: np.ndarray, turns: np.ndarray, far: np.ndarray,
-                    poses: Sequence[PoseFigures]) -> np.ndarray:
-        """``_sweep_terms`` of several steps at once (their end poses' frames and figures)."""
+    def _path_terms(self, frames: np.ndarray, turns: np.ndarray, far: np.ndarray, centres: np.ndarray,
+                    radii: np.ndarray) -> np.ndarray:
+        """``_sweep_terms`` of several steps at once (their end poses' frames, the moving bodies'
+        centres and radii there)."""
         if not self.thesis_axes:
-            return np.broadcast_to(far, (len(turns), *far.shape[-2:]))
-        centres = np.stack([f.centres for f in poses])
-        radii = np.stack([f.radii for f in poses])
+            return far
         d = centres[:, :, None, :] - frames[:, None, 1: self._n_frames, :3, 3]
         axes = frames.reshape(len(frames), -1).take(_AXIS_FLAT, axis=1)  # (steps, joints, 3)
         along = np.einsum("smjk,sjk->smj", d, axes)
@@ -543,14 +542,6 @@ class RobotScene:
         now = np.sqrt(square) + radii[:, :, None]
         terms: np.ndarray = np.minimum(far, (now + far @ _LATER) * turns[:, None, :])
         return terms
-
-    def _path_candidates(self, poses: Sequence[PoseFigures], steps: list[int], reach: np.ndarray) -> np.ndarray:
-        """(steps, ruled pairs): the pairs ``_candidates`` keeps at each of these steps' end
-        poses for a body moving ``reach`` (the broad phase, batched: ``_candidates_batch``)."""
-        centres = np.stack([poses[i].centres for i in steps])
-        radii = np.stack([poses[i].radii for i in steps])
-        near = _candidates_batch(centres, radii.max(axis=1) + reach[steps], self._free_lo, self._free_hi)
-        return np.tile(near, (1, len(self._movers)))                     # pairs run mover by mover
 
     def _kept_gaps(self, kept: tuple[object, ...] | None, since: object, at: np.ndarray,
                    m: np.ndarray, st: np.ndarray) -> np.ndarray:
@@ -756,19 +747,19 @@ _HAIR = 1e-3
 _AXIS_FLAT = (_AXIS_FRAMES[:, None] * 16 + np.arange(3)[None, :] * 4 + _AXIS_COLUMNS[:, None])
 
 
-@dataclass(frozen=True)
-class PoseFigures:
-    """What the swept check keeps of one pose (``RobotScene.pose_figures``)."""
+@dataclass
+class PathFigures:
+    """What the swept check keeps of a path's poses (``RobotScene.path_figures``, ``keep_pose``)."""
 
-    key: object
+    pairs: _Pairs
     parts: object
     carried: tuple[int, ...]
-    gaps: np.ndarray | None                  # box gaps of every pair, or
-    mid: np.ndarray | None                   # the boxes (when the broad phase skipped pairs)
-    half: np.ndarray | None
-    centres: np.ndarray                      # the moving bodies' centres, radii, travel table
+    keys: list[object]             # the poses' names, the pose before the path first
+    gaps: np.ndarray               # (poses + 1, pairs) box gaps, the pose before the path first
+    centres: np.ndarray            # (poses, movers, 3) the moving bodies' centres and radii
     radii: np.ndarray
-    table: np.ndarray
+    tables: list[np.ndarray]       # their travel tables (``_travel_table``)
+    narrow: list[int]              # the poses whose check left pairs to the broad phase
 
 
 def _candidates_batch(centres: np.ndarray, grow: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
@@ -782,20 +773,26 @@ def _candidates_batch(centres: np.ndarray, grow: np.ndarray, lo: np.ndarray, hi:
 
 
 def _moments(pick: np.ndarray, sel: np.ndarray, b0: np.ndarray, both: np.ndarray, reach: np.ndarray,
-             need: np.ndarray, n_pairs: int) -> tuple[np.ndarray, np.ndarray]:
-    """The moments of one step and the pairs at each (``swept``'s last part): the picked
-    columns (pair positions ``sel``) with their gaps at start, gaps at start plus end, bounds
-    and steps needed."""
-    p = np.flatnonzero(pick)
-    sel, b0, both, reach, need = sel.take(p), b0.take(p), both.take(p), reach.take(p), need.take(p)
+             need: np.ndarray, n_pairs: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The moments of steps at risk and the pairs at each: per step (a row of each argument),
+    the picked columns (pair positions ``sel``) with their gaps at start, gaps at start plus
+    end, bounds and steps needed. Returns each moment's step (a row), the moments (fractions
+    of their steps) and their rows of pairs, step by step in order."""
+    steps = np.ceil(np.where(pick, need, -np.inf).max(axis=1)).astype(np.intp)   # steps of each
+    count = np.maximum(steps - 1, 0)
+    step = np.repeat(np.arange(len(pick)), count)
+    nth = np.arange(len(step)) - np.repeat(np.cumsum(count) - count, count) + 1
+    moments = nth / steps.take(step)
     reach = reach + 2.0 * EPS
-    steps = int(math.ceil(float(need.max())))
-    moments = np.arange(1, steps) / steps
-    live = ((b0 - 2.0 * EPS) / reach <= moments[:, None]) & (moments[:, None] <= 1.0 - (both - b0) / reach)
+    # each pair only where its boxes can meet: from b0 / reach to 1 - b1 / reach of the step
+    # (``both`` is b0 + b1 less 2 EPS)
+    early, late = (b0 - 2.0 * EPS) / reach, 1.0 - (both - b0) / reach
+    at = moments[:, None]
+    live = pick[step] & (early[step] <= at) & (at <= late[step])
     used = live.any(axis=1)
     rows = np.zeros((int(used.sum()), n_pairs), dtype=bool)
     rows[:, sel] = live[used]
-    return moments[used], rows
+    return step[used], moments[used], rows
 
 
 def _box_gaps(mid: np.ndarray, half: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
