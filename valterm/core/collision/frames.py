@@ -435,7 +435,7 @@ class RobotScene:
         count = len(figures.keys) - 1
         if not count:
             return never
-        pairs, turns, frames, turned = figures.pairs, np.abs(turned[:count]), frames[:count], turned[:count]
+        pairs, turns, frames = figures.pairs, np.abs(turned[:count]), frames[:count]
         before, after = figures.gaps[:count], figures.gaps[1: count + 1]
         movers = self._movers
         ruled = len(movers) * len(self._free)
@@ -455,7 +455,11 @@ class RobotScene:
             near = _candidates_batch(figures.centres[narrow], figures.radii[narrow].max(axis=1) + reach[narrow],
                                      self._free_lo, self._free_hi)
             both[narrow, :ruled] = np.where(np.tile(near, (1, len(movers))), both[narrow, :ruled], np.inf)
-        risky = self._path_risky(bound, relative, both, widths, linking, ruled, linked)
+        # only the parts' pairs whose boxes a step's reach can close go on (and the link pairs)
+        near = np.flatnonzero((both[:, :ruled] <= reach[:, None]).any(axis=0))
+        cols = np.concatenate([near, linked[0]])
+        both, before, widths, moving = both[:, cols], before[:, cols], widths.take(near), pairs.moving.take(near)
+        risky = self._path_risky(bound, relative, both, widths, linking, moving, linked)
         steps = np.flatnonzero(~clear & risky)
         if not len(steps):
             return never
@@ -464,19 +468,17 @@ class RobotScene:
         bound, relative = self._path_bounds(far, linked[2])
         both, before, linking = both[steps], before[steps], linking[steps]
         keep = ~((bound.max(axis=1) <= thinnest) & ~(relative.max(axis=1, initial=0.0) > 1.0))
-        keep &= self._path_risky(bound, relative, both, widths, linking, ruled, linked)
+        keep &= self._path_risky(bound, relative, both, widths, linking, moving, linked)
         k = np.flatnonzero(keep)
         if not len(k):
             return never
         bound, relative, both, before, linking = bound[k], relative[k], both[k], before[k], linking[k]
-        at, li, lj = linked[0], linked[1][:, 0], linked[1][:, 1]
-        moved = bound[:, pairs.moving[:ruled]]
-        closing = bound.take(li, axis=1) + bound.take(lj, axis=1)
-        pick = np.concatenate([both[:, :ruled] <= moved,
-                               (both[:, at] <= closing) & (relative > 1.0) & linking[:, None]], axis=1)
-        sel = np.concatenate([np.arange(ruled), at])
-        step, moments, rows = _moments(pick, sel, before[:, sel], both[:, sel],
-                                       np.concatenate([moved, closing], axis=1),
+        moved = bound.take(moving, axis=1)
+        closing = bound.take(linked[1][:, 0], axis=1) + bound.take(linked[1][:, 1], axis=1)
+        n = len(near)
+        pick = np.concatenate([both[:, :n] <= moved, (both[:, n:] <= closing) & (relative > 1.0) & linking[:, None]],
+                              axis=1)
+        step, moments, rows = _moments(pick, cols, before, both, np.concatenate([moved, closing], axis=1),
                                        np.concatenate([moved / widths, relative], axis=1), len(pairs.moving))
         return steps[k].take(step), moments, rows
 
@@ -515,17 +517,17 @@ class RobotScene:
         return bound, relative
 
     def _path_risky(self, bound: np.ndarray, relative: np.ndarray, both: np.ndarray, widths: np.ndarray,
-                    linking: np.ndarray, ruled: int, linked: tuple[np.ndarray, np.ndarray, np.ndarray]
+                    linking: np.ndarray, moving: np.ndarray, linked: tuple[np.ndarray, np.ndarray, np.ndarray]
                     ) -> np.ndarray:
-        """Per step: does a pair's boxes meet within the bound and move past its part's width,
-        or (the link pairs, when the fixed lengths found one turning past its width) close
-        within both bounds while turning past the proximal link's width?"""
-        pairs = self._pairs_now
-        assert pairs is not None
-        moved = bound[:, pairs.moving[:ruled]]
-        risky = np.any((both[:, :ruled] <= moved) & (moved > widths), axis=1)
+        """Per step: does a part's pair (``both`` first columns: moving bodies ``moving``, the
+        parts' ``widths``) have boxes that meet within the bound and move past its part's width,
+        or (the link pairs, the last columns, when the fixed lengths found one turning past its
+        width) boxes that close within both bounds while turning past the proximal link's width?"""
+        n = len(moving)
+        moved = bound.take(moving, axis=1)
+        risky = np.any((both[:, :n] <= moved) & (moved > widths), axis=1)
         closing = bound.take(linked[1][:, 0], axis=1) + bound.take(linked[1][:, 1], axis=1)
-        links = np.any((both[:, linked[0]] <= closing) & (relative > 1.0), axis=1) & linking
+        links = np.any((both[:, n:] <= closing) & (relative > 1.0), axis=1) & linking
         either: np.ndarray = risky | links
         return either
 
