@@ -397,8 +397,11 @@ class RobotScene:
         movers, n = self._movers, len(pairs.moving)
         gaps = np.empty((count + 1, n))
         gaps[0] = self._kept_gaps(self._ends, since, self._all_pairs(n), pairs.moving, pairs.stationary)
-        return PathFigures(pairs, self._parts, self._carried, [since], gaps, np.empty((count, len(movers), 3)),
-                           np.empty((count, len(movers))), [], [])
+        figures = PathFigures(pairs, self._parts, self._carried, [since], gaps, np.empty((count, len(movers), 3)),
+                              np.empty((count, len(movers))), [], [], not self._carried and self.thesis_axes)
+        if figures.rigid:           # the links' radii and the fixed lengths: the same at every pose
+            figures.radii[:] = self._scene.radii.take(movers)
+        return figures
 
     def keep_pose(self, figures: PathFigures, frames: np.ndarray, key: object) -> None:
         """Keep the figures of the pose the last ``check`` saw (at ``frames``, named ``key``):
@@ -414,8 +417,10 @@ class RobotScene:
         else:
             row[:] = gaps
         s.centres.take(self._movers, axis=0, out=figures.centres[i - 1])
-        s.radii.take(self._movers, out=figures.radii[i - 1])
-        figures.tables.append(self._travel_table(frames))
+        if not figures.rigid or not figures.tables:
+            if not figures.rigid:
+                s.radii.take(self._movers, out=figures.radii[i - 1])
+            figures.tables.append(self._travel_table(frames))
         figures.keys.append(key)
 
     def keep_ends(self, figures: PathFigures | None, reached: int) -> None:
@@ -441,7 +446,7 @@ class RobotScene:
         ruled = len(movers) * len(self._free)
         linked = self._link_pairs(pairs)
         tables = figures.tables
-        table = tables[0] if all(t is tables[0] for t in tables) else np.stack(tables)
+        table = tables[0] if figures.rigid else np.stack(tables[:count])
         far = table * turns[:, None, :]                                  # (steps, movers, joints)
         widths = self._ruled_widths(objects, pairs.stationary[:ruled]) if ruled else np.zeros(0)
         both = before + after - 2.0 * EPS
@@ -760,8 +765,9 @@ class PathFigures:
     gaps: np.ndarray               # (poses + 1, pairs) box gaps, the pose before the path first
     centres: np.ndarray            # (poses, movers, 3) the moving bodies' centres and radii
     radii: np.ndarray
-    tables: list[np.ndarray]       # their travel tables (``_travel_table``)
+    tables: list[np.ndarray]       # their travel tables (``_travel_table``; one when ``rigid``)
     narrow: list[int]              # the poses whose check left pairs to the broad phase
+    rigid: bool                    # only links move, on the thesis's axes: radii and table kept once
 
 
 def _candidates_batch(centres: np.ndarray, grow: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
