@@ -33,6 +33,24 @@ def test_one_pose_link_frames_match_the_batch():
         assert np.abs(link_frames(q) - link_frames_batch(q)[0]).max() < 1e-12
 
 
+def test_model_link_frames_batch_is_link_frames_pose_by_pose():
+    """Both robots (the thesis's and a DH robot file's), with and without a BASE frame: the
+    batch gives the one-pose frames (the swept check of a whole path relies on it)."""
+    from valterm.core.simulator import robot_model
+
+    base = np.eye(4)
+    base[:3, :3] = [[0.6, -0.8, 0.0], [0.8, 0.6, 0.0], [0.0, 0.0, 1.0]]
+    base[:3, 3] = (120.0, -35.5, 10.0)
+    for name in (None, "PUMA560"):
+        model = robot_model(name)
+        q = _poses(200, seed=7)
+        for b in (None, base):
+            batch = model.link_frames_batch(q, b)
+            assert batch.shape == (200, 7, 4, 4)
+            one = np.array([model.link_frames(list(row), b) for row in q])
+            assert np.abs(batch - one).max() < 1e-12
+
+
 def test_ik_batch_in_chunks_round_trips_and_matches_ik():
     q = _poses(BATCH_CHUNK + 500, seed=9)
     xyz, rot = fk_batch(q)

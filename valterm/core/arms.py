@@ -78,6 +78,8 @@ class Arm(Protocol):
 
     def link_frames(self, joints: Sequence[float]) -> np.ndarray: ...
 
+    def link_frames_batch(self, joints: np.ndarray) -> np.ndarray: ...   # (n, 6) -> (n, 7, 4, 4), as link_frames
+
 
 @dataclass(frozen=True)
 class ThesisArm:
@@ -125,6 +127,9 @@ class ThesisArm:
 
     def link_frames(self, joints: Sequence[float]) -> np.ndarray:
         return kinematics.link_frames(joints, self.geometry)
+
+    def link_frames_batch(self, joints: np.ndarray) -> np.ndarray:
+        return kinematics.link_frames_batch(joints, self.geometry)
 
 
 @dataclass(frozen=True)
@@ -214,6 +219,9 @@ class DHArm:
     def link_frames(self, joints: Sequence[float]) -> np.ndarray:
         frames: np.ndarray = self.chain.link_frames([float(v) for v in joints])[0]
         return frames
+
+    def link_frames_batch(self, joints: np.ndarray) -> np.ndarray:
+        return self.chain.link_frames(joints)
 
 
 WRIST_SINGULAR = 1e-9  # |sin JT5| below this: JT4 and JT6 turn about one axis

@@ -530,55 +530,42 @@ def link_frames_batch(joints: np.ndarray, geometry: RobotGeometry | None = None,
     joints (n, 6) -> (n, 7, 4, 4). Frame k is where the drawn polyhedra of link k are placed:
     0 base (fixed), 1 waist (Rz JT1), 2 upper arm (at the shoulder, turned by JT2),
     3 forearm (at the elbow), 4 wrist (at the wrist centre, turned by JT4), 5 by JT5,
-    6 the clamp (R6, origin at the wrist centre).
+    6 the clamp (R6, origin at the wrist centre). The same arithmetic as ``link_frames``, in
+    the same order, on columns of poses: the numbers are those of one pose at a time (the
+    swept check of a whole path relies on it to give the verdicts of the pose-by-pose one).
     """
     geometry = geometry or robot_geometry()
     q = np.asarray(joints, dtype=float).reshape(-1, 6)
     if not radians:
         q = np.radians(q)
     n = len(q)
-    c = np.cos(q)
-    s = np.sin(q)
-    c1, s1 = c[:, 0], s[:, 0]
-    c2, s2 = c[:, 1], s[:, 1]
+    cos, sin = np.cos(q.T), np.sin(q.T)
+    c1, s1, c2, s2 = cos[0], sin[0], cos[1], sin[1]
     c23, s23 = np.cos(q[:, 1] + q[:, 2]), np.sin(q[:, 1] + q[:, 2])
+    zero, one = np.zeros(n), np.ones(n)
+
+    def turn(a: np.ndarray, b: np.ndarray, j: int) -> tuple[np.ndarray, np.ndarray]:
+        """(c a + s b, -s a + c b) for columns a, b (3, n) turned by joint j about the third."""
+        c, s = cos[j], sin[j]
+        return c * a + s * b, c * b - s * a
+
+    # each rotation's columns x, y, z as (3, n): the same products as ``link_frames``, three rows at a time
+    r1 = (np.array([c1, s1, zero]), np.array([-s1, c1, zero]), np.array([zero, zero, one]))
+    r2 = (np.array([c1 * c2, s1 * c2, -s2]), r1[1], np.array([c1 * s2, s1 * s2, c2]))
+    r3 = (np.array([c1 * c23, s1 * c23, -s23]), r1[1], np.array([c1 * s23, s1 * s23, c23]))
+    r4 = (*turn(r3[0], r3[1], 3), r3[2])
+    r5x, r5z = turn(r4[2], r4[0], 4)
+    r5 = (r5z, r4[1], r5x)
+    r6 = (*turn(r5[0], r5[1], 5), r5[2])
+    shoulder = np.array([-s1 * geometry.d2, c1 * geometry.d2, zero])
+    elbow = shoulder + geometry.a2 * r2[0]
+    wrist = elbow + geometry.d4 * r3[2]
+    columns = np.array([r1[0], r1[1], r1[2], np.zeros((3, n)), *r2, shoulder, *r3, elbow, *r4, wrist, *r5, wrist,
+                        *r6, wrist])                                          # (24, 3, n): frame, column, row
     frames = np.zeros((n, 7, 4, 4))
     frames[:, :, 3, 3] = 1.0
     frames[:, 0, :3, :3] = np.eye(3)
-
-    r1 = np.zeros((n, 3, 3))
-    r1[:, 0, 0], r1[:, 0, 1] = c1, -s1
-    r1[:, 1, 0], r1[:, 1, 1] = s1, c1
-    r1[:, 2, 2] = 1.0
-    frames[:, 1, :3, :3] = r1
-
-    def ry(cos: np.ndarray, sin: np.ndarray) -> np.ndarray:
-        m = np.zeros((n, 3, 3))
-        m[:, 0, 0], m[:, 0, 2] = cos, sin
-        m[:, 1, 1] = 1.0
-        m[:, 2, 0], m[:, 2, 2] = -sin, cos
-        return m
-
-    def rz(cos: np.ndarray, sin: np.ndarray) -> np.ndarray:
-        m = np.zeros((n, 3, 3))
-        m[:, 0, 0], m[:, 0, 1] = cos, -sin
-        m[:, 1, 0], m[:, 1, 1] = sin, cos
-        m[:, 2, 2] = 1.0
-        return m
-
-    r2 = r1 @ ry(c2, s2)
-    r3 = r1 @ ry(c23, s23)
-    r4 = r3 @ rz(c[:, 3], s[:, 3])
-    r5 = r4 @ ry(c[:, 4], s[:, 4])
-    r6 = r5 @ rz(c[:, 5], s[:, 5])
-    shoulder = r1 @ np.array([0.0, geometry.d2, 0.0])
-    elbow = shoulder + r2 @ np.array([geometry.a2, 0.0, 0.0])
-    wrist = elbow + r3 @ np.array([0.0, 0.0, geometry.d4])
-    for index, (rot, origin) in enumerate(
-        ((r2, shoulder), (r3, elbow), (r4, wrist), (r5, wrist), (r6, wrist)), start=2
-    ):
-        frames[:, index, :3, :3] = rot
-        frames[:, index, :3, 3] = origin
+    frames[:, 1:, :3, :] = columns.reshape(6, 4, 3, n).transpose(3, 0, 2, 1)
     return frames
 
 

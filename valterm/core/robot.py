@@ -74,6 +74,11 @@ class RobotModel:
         frames = self.arm.link_frames(joints)
         return frames if base is None else base @ frames
 
+    def link_frames_batch(self, joints: np.ndarray, base: np.ndarray | None = None) -> np.ndarray:
+        """``link_frames`` of (n, 6) poses at once, (n, 7, 4, 4): the same numbers, pose by pose."""
+        frames = self.arm.link_frames_batch(np.asarray(joints, dtype=float).reshape(-1, 6))
+        return frames if base is None else base @ frames
+
     def clamp_frame(self, joints: Sequence[float], base: np.ndarray | None = None) -> np.ndarray:
         """The 4x4 clamp frame (R6, origin at the wrist centre) in world coordinates."""
         frame: np.ndarray = self.link_frames(joints)[6]

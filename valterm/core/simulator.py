@@ -20,7 +20,7 @@ import numpy as np
 
 from valterm.core.cell.polyhedron import Polyhedron
 from valterm.core.cell.workcell import WorkCell
-from valterm.core.collision.frames import RobotScene
+from valterm.core.collision.frames import PathFigures, RobotScene
 from valterm.core.collision.world import Finding, Party
 from valterm.core.cycletime import joint_motion_seconds, robot_timing, straight_motion_seconds
 from valterm.core.errors import ValtermError
@@ -398,23 +398,35 @@ class Simulator:
         """Show every pose of a computed path; the path was checked before the first pose.
 
         The joint state after each pose follows the rules (``_settled``); a motion that leaves
-        the arm in another configuration says so (never a silent flip)."""
+        the arm in another configuration says so (never a silent flip). With collision checks
+        on, the path's poses and steps are checked together at the first pose checked
+        (``_PathChecks``) and each pose's findings said as it is shown."""
         steps = len(path)
         seconds = self._motion_seconds(path, kind)
         before = self.arm.indicators(self.joints)
         goal = tuple(self._settled(path[-1])) if steps else ()
         self._asked.clear()
-        for index, pose in enumerate(path, start=1):
-            previous = self.joints
-            self.joints = self._settled(pose)
-            self._follow_clamp()
-            yield PoseEvent(tuple(self.joints), index, steps, round(seconds, 6), goal)
-            if self.collision_checks:
-                for finding in self.check_collisions(previous):
+        checks: _PathChecks | None = None
+        try:
+            for index, pose in enumerate(path, start=1):
+                previous = self.joints
+                self.joints = self._settled(pose) if checks is None else checks.settled(index, pose)
+                self._follow_clamp()
+                yield PoseEvent(tuple(self.joints), index, steps, round(seconds, 6), goal)
+                if not self.collision_checks:
+                    if checks is not None:
+                        checks.dropped()          # a pause in the checks: pose by pose after it
+                    continue
+                if checks is None:
+                    checks = _PathChecks(self, previous, path[index - 1:], index)
+                for finding in self._said(checks.findings(previous)):
                     yield finding
                     if self.stop_on_collision and isinstance(finding, Collision):
                         # the robot stops where the collision was found (off by default, as in 1985)
                         raise MotionRefused(f"stopped on collision: {finding.text}", 0, index)
+        finally:
+            if checks is not None:
+                checks.dropped()
         after = self.arm.indicators(self.joints)
         if after != before:
             yield Message(f"ARM CONFIGURATION CHANGED: {_changes(before, after)}", "warning")
@@ -550,6 +562,10 @@ class Simulator:
         (issue 13: a thin part straddled by two consecutive poses is reported), where a part
         is near enough to be reached (issue 25).
         """
+        yield from self._said(self._findings_here(previous))
+
+    def _findings_here(self, previous: Sequence[float] | None) -> list[Finding]:
+        """The findings of the pose now and (with ``previous``) of the step to it, in order."""
         scene = self._collision_scene()
         carried = () if self.carried is None else (self.carried,)
         objects = self.cell.objects
@@ -559,6 +575,10 @@ class Simulator:
             scene.swept(frames, (), objects, now=self._pose_key(self.joints))   # the boxes a step starts from
         else:
             findings = self._swept(scene, previous, frames, carried) + findings
+        return findings
+
+    def _said(self, findings: list[Finding]) -> Iterator[Event]:
+        """Each finding not said at the pose before (nor already at this one), as an event."""
         now: set[tuple[str, Party, Party]] = {(f.kind, f.a, f.b) for f in findings}
         said: set[tuple[str, Party, Party]] = set()
         for finding in findings:
@@ -583,19 +603,113 @@ class Simulator:
         turns = [(float(b) - float(a) + 180.0) % 360.0 - 180.0 for a, b in zip(previous, here)]
         moments, rows = scene.swept(frames, [math.radians(t) for t in turns], self.cell.objects,
                                     self._pose_key(previous), self._pose_key(here))
-        found: list[Finding] = []
         if not len(moments):
-            return found
-        q0 = np.asarray(previous, dtype=float)
-        q1 = q0 + np.asarray(turns)
+            return []
+        q0 = np.asarray(previous, dtype=float)[None]
+        step = np.zeros(len(moments), dtype=np.intp)
+        return self._at_moments(scene, q0, q0 + np.asarray(turns), (step, moments, rows))[0]
+
+    def _at_moments(self, scene: RobotScene, q0: np.ndarray, q1: np.ndarray,
+                    moments: tuple[np.ndarray, np.ndarray, np.ndarray]) -> list[list[Finding]]:
+        """The collisions at the moments (each one's step, its fraction of the step, its row of
+        pairs: ``RobotScene.swept``'s) of the steps from poses ``q0`` to ``q1`` (steps, 6), step
+        by step: the link frames of every moment at once, then the pairs at risk checked at the
+        moments where their boxes can meet (``RobotScene.meeting``; nowhere else can the fine
+        test find one)."""
+        here = self.joints
+        step_of, t, rows = moments
+        joints = q0[step_of] + (q1[step_of] - q0[step_of]) * t[:, None]
+        frames = self.model.link_frames_batch(joints, self.base)
+        held = None
+        if self.carried is not None and self._carried_local is not None:
+            clamp = frames[:, 6]
+            held = self._carried_local @ clamp[:, :3, :3].transpose(0, 2, 1) + clamp[:, None, :3, 3]
+        found: list[list[Finding]] = [[] for _ in q0]
         try:
-            for t, row in zip(moments.tolist(), rows):
-                self.joints = [float(v) for v in q0 + (q1 - q0) * t]
+            for k in np.flatnonzero(scene.meeting(frames, rows, held)).tolist():
+                self.joints = [float(v) for v in joints[k]]
                 self._follow_clamp()
-                found += scene.collisions_between(self.model.link_frames(self.joints, self.base),
-                                                  self.cell.objects, np.flatnonzero(row), self.speed)
+                found[int(step_of[k])] += scene.collisions_between(frames[k], self.cell.objects,
+                                                                   np.flatnonzero(rows[k]), self.speed)
         finally:
-            if len(moments):
+            if self.joints is not here:
                 self.joints = here
                 self._follow_clamp()
         return found
+
+
+class _PathChecks:
+    """A path's collision checks worked out together at its first checked pose: the link
+    frames of every pose in one batch, the pose checks, every step's swept decision at once
+    (``RobotScene.swept_path``) and every moment's link frames at once; ``findings`` hands
+    each pose's out as the pose is shown (the steps' findings first, as ``check_collisions``).
+
+    What it assumes: nothing but the path moves the arm or the cell while it plays (the
+    simulator's motions are generators played to the end or dropped). When the checks are
+    paused (``dropped``) the pose it reached is kept as the next step's start and the rest
+    is checked pose by pose."""
+
+    def __init__(self, sim: Simulator, start: Sequence[float], path: np.ndarray, first: int) -> None:
+        self.sim, self.first = sim, first
+        self.scene = scene = sim._collision_scene()
+        self.next = 0
+        self.live = True
+        here = sim.joints
+        self.poses: list[list[float]] = []
+        try:
+            for pose in path:
+                self.poses.append(sim._settled(pose))
+        except ValtermError:
+            pass                          # the motion stops there when it gets there
+        carried = () if sim.carried is None else (sim.carried,)
+        objects = sim.cell.objects
+        base = None if sim.base is sim._home_base else sim.base
+        frames = sim.model.link_frames_batch(np.asarray(self.poses), base)
+        self.found: list[list[Finding]] = []
+        self.figures: PathFigures | None = None
+        try:
+            for joints, at in zip(self.poses, frames):
+                sim.joints = joints
+                sim._follow_clamp()
+                self.found.append(scene.check(at, objects, carried, sim.speed))
+                if len(self.found) == 1:
+                    self.figures = scene.path_figures(len(self.poses), sim._pose_key(start))
+                if self.figures is not None:
+                    scene.keep_pose(self.figures, at, sim._pose_key(joints))
+            self._steps(sim, np.asarray([start, *self.poses], dtype=float), frames)
+        finally:
+            sim.joints = here
+            sim._follow_clamp()
+
+    def _steps(self, sim: Simulator, q: np.ndarray, frames: np.ndarray) -> None:
+        """Every step's collisions between its poses, put before that pose's findings."""
+        if self.figures is None:
+            return
+        # the way the joints turned: under the 1985 rules 179 -> -179 is a turn of 2 degrees
+        turns = (q[1:] - q[:-1] + 180.0) % 360.0 - 180.0
+        moments = self.scene.swept_path(frames, np.radians(turns), sim.cell.objects, self.figures)
+        if not len(moments[0]):
+            return
+        for step, said in enumerate(sim._at_moments(self.scene, q[:-1], q[:-1] + turns, moments)):
+            if said:
+                self.found[step] = said + self.found[step]
+
+    def settled(self, index: int, pose: Sequence[float]) -> list[float]:
+        """The joint state at the path's pose ``index`` (worked out once)."""
+        k = index - self.first
+        return self.poses[k] if 0 <= k < len(self.poses) else self.sim._settled(pose)
+
+    def findings(self, previous: Sequence[float]) -> list[Finding]:
+        """The findings of the next pose (pose by pose, once dropped)."""
+        if self.live and self.next < len(self.found):
+            found = self.found[self.next]
+            self.next += 1
+            return found
+        self.dropped()
+        return self.sim._findings_here(previous)
+
+    def dropped(self) -> None:
+        """The checks stop here: the next step starts from the last pose checked."""
+        if self.live and self.next:
+            self.scene.keep_ends(self.figures, self.next)
+        self.live = False

@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import math
 import operator
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Collection, Literal, Sequence
 
 import numpy as np
@@ -90,7 +91,7 @@ class RobotScene:
         self._thinnest_kept: tuple[object, float] | None = None
         self._table: tuple[object, np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None = None   # _travel_table's
         # the pose ``swept`` last saw: (pose, parts, carried, box gaps of every pair, or the boxes)
-        self._ends: tuple[object, object, object, np.ndarray | None, np.ndarray, np.ndarray] | None = None
+        self._ends: tuple[object, object, object, np.ndarray | None, np.ndarray | None, np.ndarray | None] | None = None
         self._planes_due: tuple[np.ndarray, np.ndarray] | None = None   # frames whose planes are not set yet
         self._link_widths = np.zeros(0)
         self._pair_widths: tuple[object, np.ndarray] | None = None    # _ruled_widths'
@@ -438,16 +439,174 @@ class RobotScene:
             columns.append((links[0], links[5], links[3], closing, relative))
             picks.append(np.flatnonzero((links[3] <= closing) & (relative > 1.0)))
         sel, b0, both, reach, need = (np.concatenate([c[i].take(p) for c, p in zip(columns, picks)]) for i in range(5))
-        reach = reach + 2.0 * EPS
-        steps = int(math.ceil(float(need.max())))
-        moments = np.arange(1, steps) / steps
-        # each pair only where its boxes can meet: from b0 / reach to 1 - b1 / reach of the step
-        # (``both`` is b0 + b1 less 2 EPS)
-        live = ((b0 - 2.0 * EPS) / reach <= moments[:, None]) & (moments[:, None] <= 1.0 - (both - b0) / reach)
-        used = live.any(axis=1)
-        rows = np.zeros((int(used.sum()), len(pairs.moving)), dtype=bool)
-        rows[:, sel] = live[used]
-        return moments[used], rows
+        _, moments, rows = _moments(np.ones((1, len(sel)), dtype=bool), sel, b0[None], both[None], reach[None],
+                                    need[None], len(pairs.moving))
+        return moments, rows
+
+    # -- a whole path's steps together (issue 25, round 7) -------------------------------------
+    def path_figures(self, count: int, since: object) -> PathFigures | None:
+        """Room for what ``swept_path`` needs of a path's ``count`` poses (``keep_pose``), the
+        gaps at the pose before (named ``since``) as ``swept`` kept them. Call after ``check``
+        at the path's first pose; None when there is nothing to sweep."""
+        pairs = self._pairs_now
+        if pairs is None or self.checker == "exact" or len(pairs.moving) == 0:
+            return None
+        movers, n = self._movers, len(pairs.moving)
+        gaps = np.empty((count + 1, n))
+        gaps[0] = self._kept_gaps(self._ends, since, self._all_pairs(n), pairs.moving, pairs.stationary)
+        figures = PathFigures(pairs, self._parts, self._carried, [since], gaps, np.empty((count, len(movers), 3)),
+                              np.empty((count, len(movers))), [], [], not self._carried and self.thesis_axes)
+        if figures.rigid:           # the links' radii and the fixed lengths: the same at every pose
+            figures.radii[:] = self._scene.radii.take(movers)
+        return figures
+
+    def keep_pose(self, figures: PathFigures, frames: np.ndarray, key: object) -> None:
+        """Keep the figures of the pose the last ``check`` saw (at ``frames``, named ``key``):
+        the box gaps of every pair, the moving bodies' centres and radii, their travel table."""
+        s, i = self._scene, len(figures.keys)
+        if self._pairs_now is not figures.pairs or self._parts is not figures.parts:
+            raise ValueError("the path's parts changed while it was checked")
+        gaps = self._gaps_now
+        row = figures.gaps[i]
+        if gaps is None:             # the broad phase skipped pairs: their gaps from the boxes
+            figures.narrow.append(i - 1)
+            row[:] = _box_gaps(s.mid, s.half, figures.pairs.moving, figures.pairs.stationary)
+        else:
+            row[:] = gaps
+        s.centres.take(self._movers, axis=0, out=figures.centres[i - 1])
+        if not figures.rigid or not figures.tables:
+            if not figures.rigid:
+                s.radii.take(self._movers, out=figures.radii[i - 1])
+            figures.tables.append(self._travel_table(frames))
+        figures.keys.append(key)
+
+    def keep_ends(self, figures: PathFigures | None, reached: int) -> None:
+        """The path's pose ``reached`` (0 the pose before it) is where the next step starts, as
+        ``swept(now=...)`` keeps it (nothing when there was nothing to sweep)."""
+        self._ends = None if figures is None else (figures.keys[reached], figures.parts, figures.carried,
+                                                   figures.gaps[reached], None, None)
+
+    def swept_path(self, frames: np.ndarray, turned: np.ndarray, objects: Sequence[Polyhedron],
+                   figures: PathFigures) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``swept`` for every step of a path at once: the moments of every step in order, each
+        with its step (an index into the path) and its row of pairs to check. ``frames``
+        (steps, links, 4, 4) are the poses each step ends at, ``turned`` (steps, 6) the joints'
+        turns (radians), ``figures`` what ``keep_pose`` kept of them. The same decision as
+        ``swept``, step by step, in a few dozen numpy calls for the path."""
+        never = np.zeros(0, dtype=np.intp), np.zeros(0), np.zeros((0, 0), dtype=bool)
+        count = len(figures.keys) - 1
+        if not count:
+            return never
+        pairs, turns, frames = figures.pairs, np.abs(turned[:count]), frames[:count]
+        before, after = figures.gaps[:count], figures.gaps[1: count + 1]
+        movers = self._movers
+        ruled = len(movers) * len(self._free)
+        linked = self._link_pairs(pairs)
+        tables = figures.tables
+        table = tables[0] if figures.rigid else np.stack(tables[:count])
+        far = table * turns[:, None, :]                                  # (steps, movers, joints)
+        widths = self._ruled_widths(objects, pairs.stationary[:ruled]) if ruled else np.zeros(0)
+        both = before + after - 2.0 * EPS
+        bound, relative = self._path_bounds(far, linked[2])
+        linking = relative.max(axis=1, initial=0.0) > 1.0
+        reach = bound.max(axis=1)
+        thinnest = self._thinnest(objects)
+        clear = ((reach <= thinnest) & ~linking) | ~turns.any(axis=1)
+        if figures.narrow and ruled:                                     # the pairs the broad phase keeps
+            narrow = figures.narrow
+            near = _candidates_batch(figures.centres[narrow], figures.radii[narrow].max(axis=1) + reach[narrow],
+                                     self._free_lo, self._free_hi)
+            both[narrow, :ruled] = np.where(np.tile(near, (1, len(movers))), both[narrow, :ruled], np.inf)
+        # only the parts' pairs whose boxes a step's reach can close go on (and the link pairs)
+        near = np.flatnonzero((both[:, :ruled] <= reach[:, None]).any(axis=0))
+        cols = np.concatenate([near, linked[0]])
+        both, before, widths, moving = both[:, cols], before[:, cols], widths.take(near), pairs.moving.take(near)
+        # the bound from where the bodies are now for the steps the fixed lengths leave open (a
+        # step the fixed lengths find safe is safe with it too: it is never larger; ``swept``
+        # tests the fixed lengths first only to skip it, which saves nothing on a whole path)
+        steps = np.flatnonzero(~clear)
+        if not len(steps):
+            return never
+        far = self._path_terms(frames[steps], turns[steps], far[steps], figures.centres[steps], figures.radii[steps])
+        bound, relative = self._path_bounds(far, linked[2])
+        both, before, linking = both[steps], before[steps], linking[steps]
+        keep = ~((bound.max(axis=1) <= thinnest) & ~(relative.max(axis=1, initial=0.0) > 1.0))
+        keep &= self._path_risky(bound, relative, both, widths, linking, moving, linked)
+        k = np.flatnonzero(keep)
+        if not len(k):
+            return never
+        bound, relative, both, before, linking = bound[k], relative[k], both[k], before[k], linking[k]
+        moved = bound.take(moving, axis=1)
+        closing = bound.take(linked[1][:, 0], axis=1) + bound.take(linked[1][:, 1], axis=1)
+        n = len(near)
+        pick = np.concatenate([both[:, :n] <= moved, (both[:, n:] <= closing) & (relative > 1.0) & linking[:, None]],
+                              axis=1)
+        step, moments, rows = _moments(pick, cols, before, both, np.concatenate([moved, closing], axis=1),
+                                       np.concatenate([moved / widths, relative], axis=1), len(pairs.moving))
+        return steps[k].take(step), moments, rows
+
+    def meeting(self, frames: np.ndarray, rows: np.ndarray, held: np.ndarray | None) -> np.ndarray:
+        """Per moment (the links at ``frames`` (moments, links, 4, 4), the carried parts'
+        vertices ``held`` (moments, vertices, 3)): do the boxes of a pair of its row meet
+        (within a hair)? The fine test finds a collision only where the boxes meet, so the
+        other moments need no check. Call after ``check`` (the free parts are where it saw them)."""
+        pairs, s = self._pairs_now, self._scene
+        assert pairs is not None
+        count, nl = len(frames), len(self._link_ks)
+        stacked = frames[:, : self._n_frames, :3, :].transpose(0, 3, 1, 2).reshape(count, 4, -1)
+        placed = (self._local_h @ stacked).reshape(count, -1).take(self._own_flat, axis=1)   # (moments, rows, 3)
+        starts = self._layout.starts[:nl]
+        lo, hi = np.repeat(s.lo[None], count, axis=0), np.repeat(s.hi[None], count, axis=0)
+        lo[:, :nl] = np.minimum.reduceat(placed, starts, axis=1)
+        hi[:, :nl] = np.maximum.reduceat(placed, starts, axis=1)
+        if held is not None and len(self._held_at):
+            lo[:, self._held_at] = np.minimum.reduceat(held, self._held_starts, axis=1)
+            hi[:, self._held_at] = np.maximum.reduceat(held, self._held_starts, axis=1)
+        at, p = np.nonzero(rows)
+        a, b = pairs.moving.take(p), pairs.stationary.take(p)
+        gap = np.maximum(lo[at, b] - hi[at, a], lo[at, a] - hi[at, b])
+        meet = np.zeros(count, dtype=bool)
+        meet[at[largest_of_xyz(gap) <= EPS + _HAIR]] = True
+        return meet
+
+    def _path_bounds(self, terms: np.ndarray, weights: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Each body's bound (steps, bodies; 0 for the still ones) and the link pairs' steps
+        needed (steps, link pairs) from the (steps, movers, joints) travel terms."""
+        nl = len(self._link_ks)
+        bound = np.zeros((len(terms), len(self._scene.radii)))
+        bound[:, self._movers] = terms.sum(axis=2)
+        flat = terms[:, :nl].reshape(len(terms), -1, 1)
+        relative: np.ndarray = (weights[None] @ flat)[..., 0]          # one matrix-vector product a step
+        return bound, relative
+
+    def _path_risky(self, bound: np.ndarray, relative: np.ndarray, both: np.ndarray, widths: np.ndarray,
+                    linking: np.ndarray, moving: np.ndarray, linked: tuple[np.ndarray, np.ndarray, np.ndarray]
+                    ) -> np.ndarray:
+        """Per step: does a part's pair (``both`` first columns: moving bodies ``moving``, the
+        parts' ``widths``) have boxes that meet within the bound and move past its part's width,
+        or (the link pairs, the last columns, when the fixed lengths found one turning past its
+        width) boxes that close within both bounds while turning past the proximal link's width?"""
+        n = len(moving)
+        moved = bound.take(moving, axis=1)
+        risky = np.any((both[:, :n] <= moved) & (moved > widths), axis=1)
+        closing = bound.take(linked[1][:, 0], axis=1) + bound.take(linked[1][:, 1], axis=1)
+        links = np.any((both[:, n:] <= closing) & (relative > 1.0), axis=1) & linking
+        either: np.ndarray = risky | links
+        return either
+
+    def _path_terms(self, frames: np.ndarray, turns: np.ndarray, far: np.ndarray, centres: np.ndarray,
+                    radii: np.ndarray) -> np.ndarray:
+        """``_sweep_terms`` of several steps at once (their end poses' frames, the moving bodies'
+        centres and radii there)."""
+        if not self.thesis_axes:
+            return far
+        d = centres[:, :, None, :] - frames[:, None, 1: self._n_frames, :3, 3]
+        axes = frames.reshape(len(frames), -1).take(_AXIS_FLAT, axis=1)  # (steps, joints, 3)
+        along = np.einsum("smjk,sjk->smj", d, axes)
+        square = np.maximum(np.einsum("smjk,smjk->smj", d, d) - along * along, 0.0)
+        now = np.sqrt(square) + radii[:, :, None]
+        terms: np.ndarray = np.minimum(far, (now + far @ _LATER) * turns[:, None, :])
+        return terms
 
     def _kept_gaps(self, kept: tuple[object, ...] | None, since: object, at: np.ndarray,
                    m: np.ndarray, st: np.ndarray) -> np.ndarray:
@@ -675,6 +834,63 @@ def _groups(lo: np.ndarray, hi: np.ndarray, size: int = 8) -> tuple[np.ndarray, 
     group_lo = np.array([lo[g].min(axis=0) for g in done]).reshape(-1, 3).T.copy()
     group_hi = np.array([hi[g].max(axis=0) for g in done]).reshape(-1, 3).T.copy()
     return members, group_lo, group_hi
+
+
+# mm: how much nearer than the fine test's EPS two boxes are taken to meet between poses
+# (room for the rounding of boxes worked out in another order; far above it)
+_HAIR = 1e-3
+
+# the joints' axes as flat indices into a pose's (links, 4, 4) frames
+_AXIS_FLAT = (_AXIS_FRAMES[:, None] * 16 + np.arange(3)[None, :] * 4 + _AXIS_COLUMNS[:, None])
+
+
+@dataclass
+class PathFigures:
+    """What the swept check keeps of a path's poses (``RobotScene.path_figures``, ``keep_pose``)."""
+
+    pairs: _Pairs
+    parts: object
+    carried: tuple[int, ...]
+    keys: list[object]             # the poses' names, the pose before the path first
+    gaps: np.ndarray               # (poses + 1, pairs) box gaps, the pose before the path first
+    centres: np.ndarray            # (poses, movers, 3) the moving bodies' centres and radii
+    radii: np.ndarray
+    tables: list[np.ndarray]       # their travel tables (``_travel_table``; one when ``rigid``)
+    narrow: list[int]              # the poses whose check left pairs to the broad phase
+    rigid: bool                    # only links move, on the thesis's axes: radii and table kept once
+
+
+def _candidates_batch(centres: np.ndarray, grow: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+    """``RobotScene._candidates`` at several poses: (poses, free parts) near the box of the
+    movers' centres (poses, movers, 3) grown by ``grow`` (poses,)."""
+    cmin = centres.min(axis=1) - grow[:, None]
+    cmax = centres.max(axis=1) + grow[:, None]
+    gap = np.maximum(lo[None] - cmax[:, None], cmin[:, None] - hi[None])
+    near: np.ndarray = gap.max(axis=2) <= 0.0
+    return near
+
+
+def _moments(pick: np.ndarray, sel: np.ndarray, b0: np.ndarray, both: np.ndarray, reach: np.ndarray,
+             need: np.ndarray, n_pairs: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The moments of steps at risk and the pairs at each: per step (a row of each argument),
+    the picked columns (pair positions ``sel``) with their gaps at start, gaps at start plus
+    end, bounds and steps needed. Returns each moment's step (a row), the moments (fractions
+    of their steps) and their rows of pairs, step by step in order."""
+    steps = np.ceil(np.where(pick, need, -np.inf).max(axis=1)).astype(np.intp)   # steps of each
+    count = np.maximum(steps - 1, 0)
+    step = np.repeat(np.arange(len(pick)), count)
+    nth = np.arange(len(step)) - np.repeat(np.cumsum(count) - count, count) + 1
+    moments = nth / steps.take(step)
+    reach = reach + 2.0 * EPS
+    # each pair only where its boxes can meet: from b0 / reach to 1 - b1 / reach of the step
+    # (``both`` is b0 + b1 less 2 EPS)
+    early, late = (b0 - 2.0 * EPS) / reach, 1.0 - (both - b0) / reach
+    at = moments[:, None]
+    live = pick[step] & (early[step] <= at) & (at <= late[step])
+    used = live.any(axis=1)
+    rows = np.zeros((int(used.sum()), n_pairs), dtype=bool)
+    rows[:, sel] = live[used]
+    return step[used], moments[used], rows
 
 
 def _box_gaps(mid: np.ndarray, half: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
