@@ -5,6 +5,7 @@ from __future__ import annotations
 import time
 
 import numpy as np
+import pytest
 
 from valterm.core.cell.polyhedron import Polyhedron
 from valterm.bench.raster import bench_raster
@@ -401,3 +402,15 @@ def test_a_scene_of_many_points_keeps_its_offsets_long_enough() -> None:
         codes = _dots_to_codes(_reference_dot_samples(pts, prio, 80, 24)[1], 80 * 24)
         assert np.array_equal(frame.chars.ravel(), np.where(codes > 0, BRAILLE_BASE + codes.astype(np.uint32), 0x20))
         assert (codes > 0).sum() > 200
+
+
+# projecting an infinite end warns (inf times 0 in the matrix product) before the clip drops it
+@pytest.mark.filterwarnings("ignore:invalid value encountered in matmul:RuntimeWarning")
+def test_segments_with_ends_not_finite_are_left_out_of_the_frame() -> None:
+    drawn = ((0, -9.5, 0.5), (0, -0.5, 0.5))
+    expected = rasterize(line_scene(drawn), unit_view(), 10, 10)
+    for bad in (np.nan, np.inf, -np.inf):
+        frame = rasterize(line_scene(drawn, ((0, bad, 3.0), (0, 2.0, 3.0)), ((0, 1.0, 1.0), (0, 1.0, bad))),
+                          unit_view(), 10, 10)
+        assert (frame.chars == expected.chars).all(), bad
+        assert (frame.colours == expected.colours).all(), bad

@@ -453,11 +453,13 @@ def _ascii_table() -> np.ndarray:
 
 # -- rasterizing -------------------------------------------------------------------------
 def _clip(a: np.ndarray, b: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Liang-Barsky on all segments at once against [0, hi]; returns clipped a, b and kept."""
+    """Liang-Barsky on all segments at once against [0, hi]; returns clipped a, b and kept.
+    A segment with an end not a finite number has no place on the canvas: not kept (the
+    sampling would turn NaN into an index far outside its tables)."""
     d = b - a
     t0 = np.zeros(len(a))
     t1 = np.ones(len(a))
-    keep = np.ones(len(a), dtype=bool)
+    keep = np.isfinite(a).all(axis=1) & np.isfinite(b).all(axis=1)
     with np.errstate(divide="ignore", invalid="ignore"):
         for axis in (0, 1):
             for p, q in ((-d[:, axis], a[:, axis]), (d[:, axis], hi[axis] - a[:, axis])):
@@ -466,8 +468,8 @@ def _clip(a: np.ndarray, b: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.
                 r = q / p
                 t0 = np.where(p < 0, np.maximum(t0, r), t0)
                 t1 = np.where(p > 0, np.minimum(t1, r), t1)
-    keep &= t0 <= t1
-    return a + t0[:, None] * d, a + t1[:, None] * d, keep
+        keep &= t0 <= t1
+        return a + t0[:, None] * d, a + t1[:, None] * d, keep
 
 
 _DOT_MAPS: dict[tuple[bytes, float, int, int, float], tuple[np.ndarray, ...]] = {}
