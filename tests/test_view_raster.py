@@ -290,6 +290,15 @@ def test_frame_text_and_lines_are_its_rows() -> None:
     assert plain.text_units is None and plain.text() == frame.text()
     assert [plain.row_text(y) for y in range(frame.height)] == rows
     assert all(label in frame.text() for label in "XYZ") and frame.text().count("\n") == frame.height - 1
+    # ASCII, a kept background (its grid copied, the touched cells redrawn), odd and even
+    # cell counts (one lookup a cell or a pair): the same text as from scratch
+    robot = Scene.build([(Polyhedron.box([-50, -50, 0], [60, 40, 500]), 9)], background=scene)
+    for drawn, (w, h) in ((robot, (37, 11)), (robot, (40, 12)), (scene, (1, 1)), (scene, (12, 5))):
+        for ascii in (False, True):
+            got = rasterize(drawn, ViewTransform().rotate_by("x", 30), w, h, axes=True, ascii=ascii)
+            made = Frame(got.chars.astype(np.uint32), got.colours)
+            assert got.text() == made.text() and got.lines() == made.lines(), (w, h, ascii)
+            assert [got.row_text(y) for y in range(h)] == made.lines()
     for h, w in ((0, 4), (3, 0)):
         empty = Frame(np.full((h, w), 0x20, dtype=np.uint32), np.zeros((h, w), dtype=np.uint8))
         assert (empty.lines(), empty.text()) == ([""] * h, "\n" * max(h - 1, 0))
