@@ -689,7 +689,7 @@ def _chars(codes: np.ndarray, ascii: bool) -> np.ndarray:
     if len(codes) % 2 or not codes.flags.c_contiguous:
         chars = (_ascii_units() if ascii else _BRAILLE_TABLE).take(codes)
     else:
-        chars = _pair_table(ascii).take(codes.view("<u2"), mode="wrap").view("<u2")  # any pair is a row
+        chars = _pair_table(ascii).take(codes.view("<u2"), mode="wrap").view("<u2")  # (any two codes: a row)
     return chars
 
 
@@ -758,7 +758,6 @@ def rasterize(
     maps = _to_dots(view, 2 * w, 4 * h, dot_aspect)
     # each segment's colour repeated to its samples (not each sample's priority looked up)
     cells, lit, painted = _end_samples(*_scene_dots(scene, view, back_faces, axes, maps), w, h)
-    codes: np.ndarray
     colours: np.ndarray
     # cells in rows of w + 1, the last a newline: the characters are the text's own units
     codes = _dots_to_codes(lit, h * (w + 1))
@@ -797,7 +796,7 @@ def _scene_dots(scene: Scene, view: ViewTransform, back_faces: bool, axes: bool,
     # sums as ``points @ project + offset``), then one take (a fancy index costs several times more)
     flat = (points @ project).ravel()
     flat += offsets
-    per: np.ndarray = flat.take(at, mode="wrap")   # (every place a point's)
+    per: np.ndarray = flat.take(at, mode="wrap")   # (every place a point's coordinate: in range)
     return per, paint
 
 
