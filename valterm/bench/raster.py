@@ -86,7 +86,7 @@ def bench_raster_vs_drawille(width: int = 200, height: int = 60, rounds: int = 7
     The goal's figure (issue 25) is like-for-like: the same edges, the whole frame drawn
     (no background kept from the frame before) and its text made, as drawille's ``frame()``
     makes its text: ``raster_vs_drawille_x``. A motion's frame, the cell kept per view, is
-    ``raster_frame_vs_drawille_x``.
+    ``raster_frame_vs_drawille_x``. Each of the ``rounds`` times all four in turn.
 
     Raises ImportError when drawille (the ``bench`` extra) is not installed."""
     import drawille
