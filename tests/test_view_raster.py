@@ -24,6 +24,17 @@ def unit_view() -> ViewTransform:
     return ViewTransform(pivot=np.array([0.0, 26.0, 0.0]), half_extent=np.array([10.0, 20.0]))
 
 
+def cell_codes(lit: np.ndarray, w: int, h: int) -> np.ndarray:
+    """The braille code of each of the w x h cells from the lit dots (``_dot_tables``' bit
+    index of each); the sampling numbers cells in rows of w + 1 (the last, never lit, is
+    where the text's newline goes)."""
+    from valterm.core.render.raster import _dots_to_codes
+
+    codes: np.ndarray = _dots_to_codes(lit, h * (w + 1)).reshape(h, w + 1)
+    assert not codes[:, w].any()
+    return codes[:, :w]
+
+
 def line_scene(*segments: tuple[tuple[float, float, float], tuple[float, float, float]]) -> Scene:
     return Scene.build([], lines=np.array(segments, dtype=float), line_colours=5)
 
@@ -239,7 +250,7 @@ def test_static_background_draws_the_same_frame_as_one_scene() -> None:
 def test_each_point_projected_once_lights_the_dots_of_the_world_segments() -> None:
     """``rasterize`` projects each vertex once and pairs the points into edges; the dots it
     lights are those of the scene's world segments sampled one by one (``_samples``)."""
-    from valterm.core.render.raster import _dot_tables, _dots_to_codes, _samples, _to_dots, link_colour
+    from valterm.core.render.raster import _dot_tables, _samples, _to_dots, link_colour
 
     rng = np.random.default_rng(11)
     for trial in range(12):
@@ -256,7 +267,7 @@ def test_each_point_projected_once_lights_the_dots_of_the_world_segments() -> No
             edges = idx.edges if back_faces else idx.face_edges[scene.visible_faces(view)[idx.face_edge_face]]
             segs = np.concatenate([scene.vertices[edges], lines])
             cells, lit, _ = _samples(segs, np.ones(len(segs), dtype=np.intp), _to_dots(view, 2 * w, 4 * h, 1.0), w, h)
-            codes = _dots_to_codes(lit, w * h).reshape(h, w)
+            codes = cell_codes(lit, w, h)
             assert np.array_equal(frame.chars != 0x20, codes != 0)
             assert np.array_equal(frame.chars[codes != 0] - 0x2800, codes[codes != 0])
             assert len(np.unique(cells)) > 100
@@ -272,6 +283,22 @@ def test_frame_text_and_lines_are_its_rows() -> None:
     rows = [frame.row_text(y) for y in range(frame.height)]
     assert any(ch not in " " for row in rows for ch in row)
     assert frame.lines() == rows and frame.text() == "\n".join(rows)
+    # the text drawn as UTF-16 units, the characters a view of them (the axes' labels too):
+    # the same text and rows as a frame of the same characters made from scratch
+    assert frame.text_units is not None and np.shares_memory(frame.chars, frame.text_units)
+    plain = Frame(frame.chars.astype(np.uint32), frame.colours)
+    assert plain.text_units is None and plain.text() == frame.text()
+    assert [plain.row_text(y) for y in range(frame.height)] == rows
+    assert all(label in frame.text() for label in "XYZ") and frame.text().count("\n") == frame.height - 1
+    # ASCII, a kept background (its grid copied, the touched cells redrawn), odd and even
+    # cell counts (one lookup a cell or a pair): the same text as from scratch
+    robot = Scene.build([(Polyhedron.box([-50, -50, 0], [60, 40, 500]), 9)], background=scene)
+    for drawn, (w, h) in ((robot, (37, 11)), (robot, (40, 12)), (scene, (1, 1)), (scene, (12, 5))):
+        for ascii in (False, True):
+            got = rasterize(drawn, ViewTransform().rotate_by("x", 30), w, h, axes=True, ascii=ascii)
+            made = Frame(got.chars.astype(np.uint32), got.colours)
+            assert got.text() == made.text() and got.lines() == made.lines(), (w, h, ascii)
+            assert [got.row_text(y) for y in range(h)] == made.lines()
     for h, w in ((0, 4), (3, 0)):
         empty = Frame(np.full((h, w), 0x20, dtype=np.uint32), np.zeros((h, w), dtype=np.uint8))
         assert (empty.lines(), empty.text()) == ([""] * h, "\n" * max(h - 1, 0))
@@ -330,7 +357,7 @@ def test_sampling_lights_the_dots_it_lit_before_the_third_pass() -> None:
 def test_frames_are_those_of_the_earlier_sampling() -> None:
     """Whole frames of random scenes and views (some edges off the canvas): the dots of the
     earlier sampling applied to the scene's world segments, projected one by one."""
-    from valterm.core.render.raster import _dots_to_codes, _projection, _to_dots, link_colour
+    from valterm.core.render.raster import _projection, _to_dots, link_colour
 
     rng = np.random.default_rng(52)
     for trial in range(16):
@@ -346,11 +373,11 @@ def test_frames_are_those_of_the_earlier_sampling() -> None:
             project, offset = _projection(_to_dots(view, 2 * w, 4 * h, 1.0))
             pts = (segs.reshape(-1, 3) @ project + offset).reshape(-1, 2, 2)
             cells, lit, owner = _reference_dot_samples(pts, prio, w, h)
-            codes = _dots_to_codes(lit, w * h)
-            colours = np.zeros(w * h, dtype=np.uint8)
+            codes = cell_codes(lit, w, h).ravel()
+            colours = np.zeros(h * (w + 1), dtype=np.uint8)
             colours[cells] = scene.palette_indices()[owner]
             assert np.array_equal(frame.chars.ravel(), np.where(codes > 0, BRAILLE_BASE + codes.astype(np.uint32), 0x20))
-            assert np.array_equal(frame.colours.ravel(), colours)
+            assert np.array_equal(frame.colours, colours.reshape(h, w + 1)[:, :w])
             assert (codes > 0).sum() > 20
 
 
@@ -386,7 +413,7 @@ def test_sample_fractions_are_the_quotients_of_whole_numbers() -> None:
 def test_a_scene_of_many_points_keeps_its_offsets_long_enough() -> None:
     """The view's offset is kept repeated for the flat products (issue 25, fourth pass): a
     scene with more points than first kept (1200 vertices) draws the earlier sampling's dots."""
-    from valterm.core.render.raster import _dots_to_codes, _projection, _to_dots
+    from valterm.core.render.raster import _projection, _to_dots
 
     rng = np.random.default_rng(1200)
     view = ViewTransform().rotate_by("y", 35).rotate_by("x", -20)
@@ -399,7 +426,7 @@ def test_a_scene_of_many_points_keeps_its_offsets_long_enough() -> None:
         segs, prio = scene.segments(view, back_faces)
         project, offset = _projection(_to_dots(view, 160, 96, 1.0))
         pts = (segs.reshape(-1, 3) @ project + offset).reshape(-1, 2, 2)
-        codes = _dots_to_codes(_reference_dot_samples(pts, prio, 80, 24)[1], 80 * 24)
+        codes = cell_codes(_reference_dot_samples(pts, prio, 80, 24)[1], 80, 24).ravel()
         assert np.array_equal(frame.chars.ravel(), np.where(codes > 0, BRAILLE_BASE + codes.astype(np.uint32), 0x20))
         assert (codes > 0).sum() > 200
 

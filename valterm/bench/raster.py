@@ -86,7 +86,7 @@ def bench_raster_vs_drawille(width: int = 200, height: int = 60, rounds: int = 7
     The goal's figure (issue 25) is like-for-like: the same edges, the whole frame drawn
     (no background kept from the frame before) and its text made, as drawille's ``frame()``
     makes its text: ``raster_vs_drawille_x``. A motion's frame, the cell kept per view, is
-    ``raster_frame_vs_drawille_x``.
+    ``raster_frame_vs_drawille_x``. Each of the ``rounds`` times all four in turn.
 
     Raises ImportError when drawille (the ``bench`` extra) is not installed."""
     import drawille
@@ -101,20 +101,25 @@ def bench_raster_vs_drawille(width: int = 200, height: int = 60, rounds: int = 7
                 canvas.set(x, y)
         return str(canvas.frame(0, 0, 2 * width, 4 * height))
 
-    def median_ms(func: Callable[[], object], number: int) -> float:
+    measured: list[tuple[Callable[[], object], int]] = [
+        (lambda: rasterize(whole, view, width, height, back_faces=True), 20),
+        (lambda: rasterize(whole, view, width, height, back_faces=True).text(), 20),
+        (lambda: rasterize(framed, view, width, height, back_faces=True), 20),
+        (with_drawille, 2),
+    ]
+    for func, _ in measured:
         func()
-        runs = []
-        for _ in range(rounds):
+    # the rounds of ours and drawille's in turn (the order reversed every other round), so a
+    # machine that slows down or speeds up during the run moves both sides' medians alike
+    runs: list[list[float]] = [[] for _ in measured]
+    for r in range(rounds):
+        for i in range(len(measured))[:: -1 if r % 2 else 1]:
+            func, number = measured[i]
             t0 = time.perf_counter()
             for _ in range(number):
                 func()
-            runs.append((time.perf_counter() - t0) / number)
-        return float(np.median(runs) * 1000)
-
-    whole_ms = median_ms(lambda: rasterize(whole, view, width, height, back_faces=True), 20)
-    text_ms = median_ms(lambda: rasterize(whole, view, width, height, back_faces=True).text(), 20)
-    frame_ms = median_ms(lambda: rasterize(framed, view, width, height, back_faces=True), 20)
-    drawille_ms = median_ms(with_drawille, 2)
+            runs[i].append((time.perf_counter() - t0) / number)
+    whole_ms, text_ms, frame_ms, drawille_ms = (float(np.median(r) * 1000) for r in runs)
     return {
         "raster_process_ms_200x60": whole_ms,
         "raster_process_text_ms_200x60": text_ms,

@@ -362,10 +362,15 @@ def frame_lines(origin: Sequence[float], rotation: np.ndarray | None = None, len
 # -- the frame ---------------------------------------------------------------------------
 @dataclass(frozen=True, eq=False)
 class Frame:
-    """A rasterized picture: ``chars`` (H, W) code points, ``colours`` (H, W) colour indices."""
+    """A rasterized picture: ``chars`` (H, W) code points, ``colours`` (H, W) colour indices.
+
+    ``text_units``: the frame's text as UTF-16 units, H rows of W + 1 ending in a newline,
+    with ``chars`` a view of its first W columns (``rasterize`` draws the characters there,
+    so ``text`` is one decode); None: ``text`` makes it from ``chars``."""
 
     chars: np.ndarray
     colours: np.ndarray
+    text_units: np.ndarray | None = field(default=None, repr=False)
 
     @property
     def width(self) -> int:
@@ -376,6 +381,10 @@ class Frame:
         return int(self.chars.shape[0])
 
     def row_text(self, y: int) -> str:
+        units = self.text_units
+        if units is not None:
+            w = self.width
+            return str(codecs.utf_16_le_decode(units[y * (w + 1): y * (w + 1) + w].data)[0])
         return str(self.chars[y].astype("<u4").tobytes().decode("utf-32-le"))
 
     def lines(self) -> list[str]:
@@ -387,6 +396,8 @@ class Frame:
         h, w = self.chars.shape
         if h == 0:
             return ""
+        if self.text_units is not None:     # drawn as text already: less the last newline
+            return str(codecs.utf_16_le_decode(self.text_units[:-1].data)[0])
         # braille and ASCII lie below the surrogates: two bytes a character decode in half the time
         narrow = w == 0 or int(_MAX(self.chars, axis=None)) < 0xD800
         flat = np.empty(h * (w + 1), dtype="<u2" if narrow else "<u4")
@@ -559,12 +570,13 @@ def _end_samples(per: np.ndarray, prio: np.ndarray, w: int, h: int) -> tuple[np.
     total = int(past[-1])
     fractions, past_row = _fractions(max(wd, hd))
     # each sample's t looked up (no division): its segment's row of the table, less the
-    # samples before it, plus the running count
+    # samples before it, plus the running count. Lookups whose places are in range by
+    # construction take mode 'wrap': cheaper than 'raise', numpy's default (issue 25, round 8)
     at = past_row.take(whole)
     at -= past
     at = at.repeat(n)
     at += _counting(total)
-    t = fractions.take(at)
+    t = fractions.take(at, mode="wrap")
     # the four rows repeated to their samples in one call (contiguous rows: no strided
     # passes), then every pass in place in that copy
     each = per[1:].repeat(n, axis=1)
@@ -577,7 +589,7 @@ def _end_samples(per: np.ndarray, prio: np.ndarray, w: int, h: int) -> tuple[np.
     at32 = dots[1]
     at32 *= wd
     at32 += dots[0]
-    lit = _dot_tables(w, h)[1].take(at32)
+    lit = _dot_tables(w, h)[1].take(at32, mode="wrap")
     return lit >> 3, lit, prio.repeat(n)    # a dot's bit index is its cell * 8 + its bit
 
 
@@ -620,12 +632,15 @@ _DOT_TABLES: dict[tuple[int, int], tuple[np.ndarray, np.ndarray]] = {}
 
 def _dot_tables(w: int, h: int) -> tuple[np.ndarray, np.ndarray]:
     """Per dot (y * 2w + x) of a w x h canvas: its cell, and its bit in the packed bit map
-    (cell * 8 + bit number). Two lookups per sample instead of a dozen shifts and masks."""
+    (cell * 8 + bit number). Two lookups per sample instead of a dozen shifts and masks.
+
+    Cells are numbered in rows of w + 1 (``row * (w + 1) + column``): the last cell of each
+    row, which no dot lights, is where the frame's text puts its newline (``_text_grid``)."""
     found = _DOT_TABLES.get((w, h))
     if found is not None:
         return found
     y, x = np.divmod(np.arange(8 * w * h), 2 * w)
-    cell = (y >> 2) * w + (x >> 1)
+    cell = (y >> 2) * (w + 1) + (x >> 1)
     tables = (cell, cell * 8 + _BIT_NUMBER.take(((y & 3) << 1) | (x & 1)))
     if len(_DOT_TABLES) >= 4:
         _DOT_TABLES.pop(next(iter(_DOT_TABLES)))
@@ -656,8 +671,8 @@ def _background(scene: Scene, view: ViewTransform, w: int, h: int, back_faces: b
     segs, prio = scene.segments(view, back_faces)
     polys = len(prio) - len(scene.lines)
     cells, lit, painted = _samples(segs[:polys], scene.colours.take(prio[:polys] - 1), maps, w, h)
-    codes = _dots_to_codes(lit, h * w)
-    colours = np.zeros(h * w, dtype=np.uint8)
+    codes = _dots_to_codes(lit, h * (w + 1))   # cells in rows of w + 1 (``_dot_tables``)
+    colours = np.zeros(h * (w + 1), dtype=np.uint8)
     colours[cells] = painted     # samples in priority order: the last wins
     if len(_BACKGROUNDS) >= 8:          # a few views and sizes (the app, a hardcopy, a bench)
         _BACKGROUNDS.pop(next(iter(_BACKGROUNDS)))
@@ -666,41 +681,56 @@ def _background(scene: Scene, view: ViewTransform, w: int, h: int, back_faces: b
 
 
 def _chars(codes: np.ndarray, ascii: bool) -> np.ndarray:
-    """Character per braille pattern: the U+2800 block (blank for none), or the ASCII stand-in.
+    """Character per braille pattern, as UTF-16 units (every one lies below the surrogates):
+    the U+2800 block (blank for none), or the ASCII stand-in.
 
     Two cells at a time where they pair up (a table of the 65536 pairs: half the lookups)."""
     chars: np.ndarray
     if len(codes) % 2 or not codes.flags.c_contiguous:
-        chars = (_ascii_table() if ascii else _BRAILLE_TABLE).take(codes)
+        chars = (_ascii_units() if ascii else _BRAILLE_TABLE).take(codes)
     else:
-        chars = _pair_table(ascii).take(codes.view("<u2")).view("<u4")
+        chars = _pair_table(ascii).take(codes.view("<u2"), mode="wrap").view("<u2")  # (any two codes: a row)
     return chars
 
 
 @lru_cache(maxsize=2)
 def _pair_table(ascii: bool) -> np.ndarray:
-    """The characters of two neighbouring codes (first + 256 * second) as one 8-byte word."""
-    table = (_ascii_table() if ascii else _BRAILLE_TABLE).astype("<u8")
+    """The characters of two neighbouring codes (first + 256 * second) as one 4-byte word."""
+    table = (_ascii_units() if ascii else _BRAILLE_TABLE).astype("<u4")
     pairs = np.arange(65536)
-    both: np.ndarray = table[pairs & 255] | (table[pairs >> 8] << np.uint64(32))
+    both: np.ndarray = table[pairs & 255] | (table[pairs >> 8] << np.uint32(16))
     return both
 
 
-# the character of each braille code: U+2800 + code, blank for none
-_BRAILLE_TABLE = np.where(np.arange(256) > 0, BRAILLE_BASE + np.arange(256), 0x20).astype(np.uint32)
+@lru_cache(maxsize=1)
+def _ascii_units() -> np.ndarray:
+    """``_ascii_table`` as UTF-16 units."""
+    return _ascii_table().astype("<u2")
+
+
+# the character of each braille code: U+2800 + code, blank for none (UTF-16 units)
+_BRAILLE_TABLE = np.where(np.arange(256) > 0, BRAILLE_BASE + np.arange(256), 0x20).astype("<u2")
+
+
+def _text_grid(codes: np.ndarray, ascii: bool, w: int) -> np.ndarray:
+    """The characters of the codes of a frame's cells in rows of w + 1 (``_dot_tables``), the
+    last cell of every row a newline: the frame's text as UTF-16 units (``Frame.text``)."""
+    grid = _chars(codes, ascii)
+    grid[w::w + 1] = ord("\n")
+    return grid
 
 
 _STATIC_CHARS: dict[tuple[int, bool], tuple[np.ndarray, np.ndarray]] = {}
 
 
-def _static_chars(scene: Scene, codes: np.ndarray, ascii: bool) -> np.ndarray:
-    """The background's characters, kept with the codes array they were made from."""
+def _static_chars(scene: Scene, codes: np.ndarray, ascii: bool, w: int) -> np.ndarray:
+    """The background's ``_text_grid``, kept with the codes array it was made from."""
     found = _STATIC_CHARS.get((id(codes), ascii))
     if found is not None and found[0] is codes:
         return found[1]
     if len(_STATIC_CHARS) >= 16:
         _STATIC_CHARS.pop(next(iter(_STATIC_CHARS)))
-    chars = _chars(codes, ascii)
+    chars = _text_grid(codes, ascii, w)
     _STATIC_CHARS[(id(codes), ascii)] = (codes, chars)
     return chars
 
@@ -728,28 +758,27 @@ def rasterize(
     maps = _to_dots(view, 2 * w, 4 * h, dot_aspect)
     # each segment's colour repeated to its samples (not each sample's priority looked up)
     cells, lit, painted = _end_samples(*_scene_dots(scene, view, back_faces, axes, maps), w, h)
-    codes: np.ndarray
     colours: np.ndarray
+    # cells in rows of w + 1, the last a newline: the characters are the text's own units
+    codes = _dots_to_codes(lit, h * (w + 1))
     if scene.background is None:
-        codes = _dots_to_codes(lit, h * w)
-        colours = np.zeros(h * w, dtype=np.uint8)
-        chars = _chars(codes, ascii)
+        colours = np.zeros(h * (w + 1), dtype=np.uint8)
+        grid = _text_grid(codes, ascii, w)
     else:
         static_codes, static_colours = _background(scene.background, view, w, h, back_faces, dot_aspect, maps)
-        codes = _dots_to_codes(lit, h * w)
         codes |= static_codes
         colours = static_colours.copy()
         # only the cells this frame touched change character: the rest are the background's
-        chars = _static_chars(scene.background, static_codes, ascii).copy()
-        chars[cells] = _chars(codes.take(cells), ascii)
+        grid = _static_chars(scene.background, static_codes, ascii, w).copy()
+        grid[cells] = _chars(codes.take(cells), ascii)
     colours[cells] = painted     # samples come in priority order: the later item wins
-    chars = chars.reshape(h, w)
-    colours = colours.reshape(h, w)
+    chars = grid.reshape(h, w + 1)[:, :w]
+    colours = colours.reshape(h, w + 1)[:, :w]
 
     if axes:
         a_mat, b_vec, to_dots, centre = maps
         _label_axes(chars, colours, a_mat, b_vec, to_dots, centre)
-    return Frame(chars, colours)
+    return Frame(chars, colours, grid)
 
 
 def _scene_dots(scene: Scene, view: ViewTransform, back_faces: bool, axes: bool,
@@ -767,7 +796,7 @@ def _scene_dots(scene: Scene, view: ViewTransform, back_faces: bool, axes: bool,
     # sums as ``points @ project + offset``), then one take (a fancy index costs several times more)
     flat = (points @ project).ravel()
     flat += offsets
-    per: np.ndarray = flat.take(at)
+    per: np.ndarray = flat.take(at, mode="wrap")   # (every place a point's coordinate: in range)
     return per, paint
 
 
