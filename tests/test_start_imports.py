@@ -56,9 +56,6 @@ async def main():
         await pilot.pause()
         shown = type(app.screen).__name__
         loaded = sorted(m for m in {names!r} if m in sys.modules)
-        from valterm.core import events
-        if not events._PENDING:  # the events' dataclasses are made when the first event is
-            loaded.append("the events' dataclasses")
         parts = len(app.session.simulator.cell.objects)
         await pilot.press("v")
         await pilot.pause()

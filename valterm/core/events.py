@@ -7,78 +7,13 @@ Textual app, the headless ``valterm run`` and the tests all drive the same code.
 
 from __future__ import annotations
 
-import dataclasses
 import json
-import threading
-from dataclasses import field, fields, is_dataclass
+from dataclasses import dataclass, field, fields, is_dataclass
 from functools import lru_cache
-from typing import TYPE_CHECKING, Any, TypeAlias, cast
+from typing import Any, TypeAlias, cast
 
 # A value json.dumps writes: what ``to_json()`` gives for ``valterm run --json``.
 Json: TypeAlias = "str | int | float | bool | list[Json] | tuple[Json, ...] | dict[str, Json] | None"
-
-# Each class below is a frozen dataclass. Python writes and compiles each one's methods when
-# the decorator runs (about 15 ms for all of them, an eighth of the app's start beyond a bare
-# Textual app's: issue 25), so the decorator runs for every class at once when the first
-# event is made or a class's fields are first asked for, not at import. Until then a class
-# has only the stand-ins below; after, it is exactly the dataclass it says.
-_PENDING: list[tuple[type, dict[str, Any]]] = []  # the classes not made dataclasses yet, in order
-_BUILDING = threading.RLock()
-_STAND_INS = ("__init__", "__setstate__", "__dataclass_fields__", "__match_args__")
-
-
-def _make_dataclasses() -> None:
-    """Run the dataclass decorator on every waiting class, bases first (definition order)."""
-    with _BUILDING:
-        while _PENDING:
-            kind, options = _PENDING[0]
-            for name in _STAND_INS:
-                delattr(kind, name)
-            dataclasses.dataclass(kind, **options)
-            del _PENDING[0]
-
-
-class _Waiting:
-    """A class attribute that makes the dataclasses first, then is the real attribute."""
-
-    def __init__(self, name: str) -> None:
-        self.name = name
-
-    def __get__(self, instance: object, owner: type) -> Any:
-        _make_dataclasses()
-        return getattr(owner if instance is None else instance, self.name)
-
-
-def _init(self: object, *args: object, **kwargs: object) -> None:
-    # the first event: the dataclasses are made, then this one is made by its own __init__
-    _make_dataclasses()
-    type(self).__init__(self, *args, **kwargs)
-
-
-def _setstate(self: object, state: dict[str, object]) -> None:
-    # an event unpickled (or copied) before any was made: as pickle does without __setstate__
-    _make_dataclasses()
-    self.__dict__.update(state)
-
-
-def _later(**options: Any) -> Any:
-    """``@dataclass(**options)``, run when the first event is made (``_make_dataclasses``)."""
-
-    def wait(kind: type) -> type:
-        kind.__init__ = _init  # type: ignore[misc]
-        kind.__setstate__ = _setstate  # type: ignore[attr-defined]
-        for name in _STAND_INS[2:]:
-            setattr(kind, name, _Waiting(name))
-        _PENDING.append((kind, options))
-        return kind
-
-    return wait
-
-
-if TYPE_CHECKING:
-    from dataclasses import dataclass
-else:
-    dataclass = _later
 
 
 @dataclass(frozen=True)
