@@ -172,8 +172,12 @@ class RobotScene:
                 return not _same_objects(self._objects, objects)
             self._placements, self._objects = Polyhedron.placements, tuple(objects)
             return not all(map(operator.is_, parts, map(_VERTICES, objects)))   # one pass in C
+        # a carried part moves every pose: not part of the cache
+        if Polyhedron.placements == self._placements and _same_free(self._objects, objects, carried):
+            return False
+        self._placements, self._objects = Polyhedron.placements, tuple(objects)
         now = list(map(_VERTICES, objects))
-        for c in carried:              # a carried part moves every pose: not part of the cache
+        for c in carried:
             now[c - 1] = parts[c - 1]
         return not all(map(operator.is_, parts, now))
 
@@ -280,7 +284,10 @@ class RobotScene:
     def check(self, frames: np.ndarray, objects: Sequence[Polyhedron], carried: Collection[int] = (),
               speed: float = 100.0) -> list[Finding]:
         """One motion step: findings for the links at ``frames`` (links, 4, 4) and the parts."""
-        held = tuple(sorted(set(carried))) if carried else ()
+        if type(carried) is tuple and carried == self._carried:   # as the last step (sorted, once each)
+            held = self._carried
+        else:
+            held = tuple(sorted(set(carried))) if carried else ()
         if self._parts_changed(objects, held):
             self._rebuild(objects, held)
         world = self.world
@@ -292,7 +299,8 @@ class RobotScene:
         if len(pairs.moving) == 0:
             return []
         if self.checker == "exact":                     # fcl keeps its own copy of the shapes
-            return world.findings(pairs, self._exact_codes(frames, objects, held, pairs))
+            hits = self._exact_hits(frames, objects, held, pairs)
+            return world.findings_at(pairs, tuple((p, COLLIDES) for p in hits)) if hits else []
         movers = self._update(frames)
         if held:                                        # the carried parts: figures from their vertices
             self._place_carried(objects)
@@ -338,9 +346,10 @@ class RobotScene:
         codes[codes != COLLIDES] = CLEAR
         return self.world.findings(pairs, codes)
 
-    def _exact_codes(self, frames: np.ndarray, objects: Sequence[Polyhedron], held: tuple[int, ...],
-                     pairs: _Pairs) -> np.ndarray:
-        """python-fcl on the same pairs (its own AABB trees are the broad phase)."""
+    def _exact_hits(self, frames: np.ndarray, objects: Sequence[Polyhedron], held: tuple[int, ...],
+                    pairs: _Pairs) -> list[int]:
+        """python-fcl on the same pairs (its own AABB trees are the broad phase): the positions
+        of those that collide."""
         assert self._exact is not None
         if self._exact_pairs is None or self._exact_pairs[0] is not pairs:   # once per set of pairs
             nl = len(self._link_ks)
@@ -353,9 +362,7 @@ class RobotScene:
         # the links' centres (fcl's objects are placed by them) as ``_update`` works them out;
         # no vertex is placed: fcl has its own copy of the shapes
         centres = (self._local_centres @ _stacked(frames[: self._n_frames])).take(self._own_centre_pick)
-        codes: np.ndarray = self._exact.codes(frames, objects, free, held, len(pairs.moving), link_pairs,
-                                              self._local_radii, centres, self._parts)
-        return codes
+        return self._exact.hits(frames, objects, free, held, link_pairs, self._local_radii, centres, self._parts)
 
     # -- swept motion (issue 13) -----------------------------------------------------------------
     def _width(self, p: Polyhedron) -> float:
@@ -813,6 +820,14 @@ def _same_objects(kept: tuple[Polyhedron, ...], objects: Sequence[Polyhedron]) -
         return kept == tuple(objects)
     except ValueError:
         return False
+
+
+def _same_free(kept: tuple[Polyhedron, ...], objects: Sequence[Polyhedron], carried: tuple[int, ...]) -> bool:
+    """``_same_objects`` but for the carried parts (object numbers ``carried``), which may be others."""
+    now = list(objects)
+    for c in carried:
+        now[c - 1] = kept[c - 1]
+    return _same_objects(kept, now)
 
 
 def _groups(lo: np.ndarray, hi: np.ndarray, size: int = 8) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
