@@ -28,8 +28,8 @@ from typing import TYPE_CHECKING, Collection, Literal, Sequence
 import numpy as np
 
 from valterm.core.cell.polyhedron import Polyhedron
-from valterm.core.collision.thesis import (CLEAR, COLLIDES, EPS, Layout, Scene, check_pairs, face_planes, figures,
-                                           largest_of_xyz, layout, margin)
+from valterm.core.collision.thesis import (CLEAR, COLLIDES, EPS, SEPARATED, Layout, Scene, check_pairs, face_planes,
+                                           figures, largest_of_xyz, layout, margin)
 from valterm.core.collision.world import CollisionWorld, Finding, _Pairs
 
 if TYPE_CHECKING:
@@ -137,6 +137,19 @@ class RobotScene:
         # the links' face planes in their own frames (padded as the whole scene's): moved by _update
         self._local_planes = face_planes(self._local, lay.face_idx[:nl], lay.face_next[:nl])
         scene.planes[2][:nl] = self._local_planes[2]      # a face's area does not move,
+        # for ``_apart``: each link's face planes in its own frame, turned to look away from its
+        # centre (normals as columns); other bodies' planes 0 with an infinite offset (never apart)
+        unit, off = self._local_planes[0], self._local_planes[1]
+        outward = -np.sign(np.einsum("nfk,nk->nf", unit, self._local_centres[:, :3]) - off)
+        self._apart_normals = np.zeros((len(ks), 3, unit.shape[1]))
+        self._apart_normals[:nl] = (unit * outward[..., None]).transpose(0, 2, 1)
+        self._apart_offsets = np.full((len(ks), unit.shape[1]), np.inf)
+        self._apart_offsets[:nl] = off * outward
+        self._body_frames = np.zeros(len(ks), dtype=np.intp)
+        self._body_frames[:nl] = self.owners
+        # each polyhedron's vertex rows, padded with its last (a repeated vertex changes no extreme)
+        self._vertex_rows = lay.starts[:, None] + np.minimum(np.arange(int(lay.counts.max())), lay.counts[:, None] - 1)
+        scene.apart = self._apart
         self._local_normals = self._local_planes[0].reshape(-1, 3)
         faces = self._local_planes[0].shape[1]
         self._normal_pick = _pick(np.repeat(self.owners, faces), self._n_frames)
@@ -206,6 +219,7 @@ class RobotScene:
         # a link's centre, radius and face planes move with its frame: no pass over its vertices
         np.take(every, self._centre_pick, out=s.centres[:nl], mode="wrap")
         self._planes_due = (frames, stacked)       # the face planes follow when a fine check asks
+        self._frames_now = frames
         starts = lay.starts[:nl]
         lo = np.minimum.reduceat(placed, starts, axis=0)
         hi = np.maximum.reduceat(placed, starts, axis=0)
@@ -233,6 +247,20 @@ class RobotScene:
         unit = planes[0][:nl]
         unit.reshape(-1, 3)[:] = (self._local_normals @ stacked[:3]).take(self._normal_pick)    # R n
         planes[1][:nl] = self._local_planes[1] + np.matmul(unit, frames[self.owners, :3, 3:])[..., 0]
+
+    def _apart(self, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+        """Per pair (a[i], b[i]) with a[i] a link: is every vertex of b[i] more than ``SEPARATED``
+        mm beyond one of the link's face planes? Only the planes of the links asked about are
+        placed (from their own frames, kept turned to look outward), not every link's; the fine
+        test would answer clear (its own shortcut's argument). False where a[i] is not a link.
+        For ``Scene.apart``; the links where the last ``_update`` put them."""
+        frame = self._frames_now.take(self._body_frames.take(a), axis=0)
+        turned = frame[:, :3, :3] @ self._apart_normals.take(a, axis=0)               # R n: the planes placed
+        off = self._apart_offsets.take(a, axis=0) + (frame[:, None, :3, 3] @ turned)[:, 0]
+        d = self._scene.vertices[self._vertex_rows.take(b, axis=0)] @ turned            # (pairs, V, faces)
+        d -= off[:, None]
+        found: np.ndarray = d.min(axis=1).max(axis=1) > SEPARATED
+        return found
 
     def _candidates(self, movers: np.ndarray, grow: float) -> np.ndarray:
         """Broad phase: positions among the free parts of those a mover could be near."""
