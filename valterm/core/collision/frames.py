@@ -158,6 +158,10 @@ class RobotScene:
         scene.refresh = self._move_planes
         self._planes_due = None
         self._scene = scene
+        # the links' rows of the scene's arrays (views, kept while the scene is) and room for
+        # their boxes' corners: what ``_update`` writes at each pose
+        self._link_rows = (scene.vertices[: self._nl_rows], scene.centres[:nl], scene.mid[:nl], scene.half[:nl],
+                           lay.starts[:nl], np.empty((nl, 3)), np.empty((nl, 3)))
         self._parts = tuple(p.vertices for p in objects)
         self._placements, self._objects = Polyhedron.placements, tuple(objects)
         self._carried = carried
@@ -207,23 +211,18 @@ class RobotScene:
 
     def _update(self, frames: np.ndarray) -> np.ndarray:
         """Put the links where they are now; the indices of the moving polyhedra."""
-        s, lay = self._scene, self._layout
-        v = s.vertices
-        nl = len(self._link_ks)
+        placed, centres, mid, half, starts, lo, hi = self._link_rows
         stacked = _stacked(frames[: self._n_frames])
         # taken straight into the scene's arrays ("wrap": the indices are valid, and numpy
         # buffers a take into ``out`` in its default mode)
-        placed = v[: self._nl_rows]
         every = self._local_all @ stacked
         np.take(every, self._own_flat, out=placed, mode="wrap")
         # a link's centre, radius and face planes move with its frame: no pass over its vertices
-        np.take(every, self._centre_pick, out=s.centres[:nl], mode="wrap")
+        np.take(every, self._centre_pick, out=centres, mode="wrap")
         self._planes_due = (frames, stacked)       # the face planes follow when a fine check asks
         self._frames_now = frames
-        starts = lay.starts[:nl]
-        lo = np.minimum.reduceat(placed, starts, axis=0)
-        hi = np.maximum.reduceat(placed, starts, axis=0)
-        mid, half = s.mid[:nl], s.half[:nl]
+        np.minimum.reduceat(placed, starts, axis=0, out=lo)
+        np.maximum.reduceat(placed, starts, axis=0, out=hi)
         np.multiply(np.add(lo, hi, out=mid), 0.5, out=mid)
         np.multiply(np.subtract(hi, lo, out=half), 0.5, out=half)
         return self._movers
