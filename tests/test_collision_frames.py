@@ -108,6 +108,60 @@ def test_frames_path_follows_parts_swapped_in_the_list():
         objects[4], objects[5] = objects[5], objects[4]
 
 
+def test_frames_path_follows_parts_swapped_while_a_part_is_carried():
+    """With a part carried (a new polyhedron every step, no vertices set, so the scene's counter
+    stands still), free parts that trade places in the list are still seen at once."""
+    sim = Simulator(read_setup(resources.data_path("cells", "PROCESS.SET")))
+    hand = sim.model.clamp_frame(sim.joints, sim.base)[:3, 3]
+    sim.move_part(5, hand - sim.cell.objects[4].centre)            # part 5 at the wrist
+    frames = sim.model.link_frames(sim.joints, sim.base)
+    objects = list(sim.cell.objects)
+    held = objects[0]
+    for checker in ("thesis", "exact"):
+        scene = RobotScene(sim.model.names, sim.model.frames.tolist(), checker=checker)
+        scene.set_shapes(sim.model.shapes(sim.gap))
+        world = CollisionWorld(sim.model.names, checker=checker)
+        placements = Polyhedron.placements
+        for swapped in (False, True, True, False):
+            objects[0] = Polyhedron(held.vertices + 0.0, held.name)      # carried: new each step
+            if swapped != (objects[4] is not sim.cell.objects[4]):
+                objects[4], objects[5] = objects[5], objects[4]
+            found = scene.check(frames, objects, (1,))
+            assert found == world.check(sim.robot_polyhedra(), objects, (1,)), (checker, swapped)
+            assert any(f.b == (6 if swapped else 5) for f in found), (checker, swapped, found)
+            assert not any(f.b == (5 if swapped else 6) for f in found), (checker, swapped, found)
+        assert Polyhedron.placements == placements
+
+
+def test_links_found_apart_in_their_own_frames_never_change_the_fine_answer():
+    """``RobotScene._apart`` (a link's face plane, placed from its frame, clear of the other's
+    vertices by 1 mm) lets the fine test answer clear at once: over random poses among parts
+    near the arm, every pair whose boxes meet gets the full edge-face test's answer, and the
+    shortcut answered many of them."""
+    from valterm.bench.collision import dense_cell, move_program
+    from valterm.core.collision.thesis import fine
+
+    sim = Simulator(WorkCell(objects=dense_cell(30)))
+    scene = RobotScene(sim.model.names, sim.model.frames.tolist())
+    scene.set_shapes(sim.model.shapes(sim.gap))
+    rng = np.random.default_rng(25)
+    apart = hits = asked = 0
+    for goal in move_program(600):        # the hand 40 to 300 mm above the tables, then lower
+        joints = goal + rng.normal(0.0, 12.0, 6) * [0, 1, 1, 0, 1, 0]
+        scene.check(sim.model.link_frames([float(v) for v in joints], sim.base), sim.cell.objects)
+        pairs, s = scene._pairs_now, scene._scene
+        lo, hi = s.lo, s.hi
+        a, b = pairs.moving, pairs.stationary
+        meet = np.flatnonzero(((lo[a] <= hi[b]) & (lo[b] <= hi[a])).all(axis=1))
+        a, b = a[meet], b[meet]
+        found = scene._apart(a, b)
+        full = fine(s, a, b, shortcut=False)
+        assert np.array_equal(fine(s, a, b), full)
+        assert not (found & full).any()
+        apart, hits, asked = apart + int(found.sum()), hits + int(full.sum()), asked + len(a)
+    assert apart > 20 and hits > 50 and asked > apart + hits, (apart, hits, asked)
+
+
 def test_thickness_of_a_plate():
     plate = Polyhedron.box(np.array([0.0, 0, 0]), np.array([300.0, 4, 200]))
     assert abs(thickness(plate.vertices, plate.k) - 4.0) < 1e-9

@@ -251,13 +251,17 @@ class FrameExact:
         self._parts_known: object = None
         self._parts_tree: fcl.DynamicAABBTreeCollisionManager | None = None
         self._index: dict[int, tuple[str, int]] = {}
-        self._link_ij: tuple[dict[tuple[int, int], int], np.ndarray, np.ndarray, np.ndarray, np.ndarray,
+        self._link_ij: tuple[dict[tuple[int, int], int], np.ndarray, list[tuple[int, int, int]], np.ndarray,
                              np.ndarray] | None = None
         self._held: _Held | None = None
+        # one request for every query (fcl only reads it); the data's result is emptied each time
+        self._data = fcl.CollisionData(fcl.CollisionRequest(num_max_contacts=1 << 30), fcl.CollisionResult())
+        self._one = fcl.CollisionRequest()          # a pair's query: is there a contact at all
 
     def set_shapes(self, local: Sequence[np.ndarray], owners: np.ndarray) -> None:
         """Link shapes (2k, 3) in their frames; ``owners`` (links,) the frame of each."""
         self._owners = np.asarray(owners, dtype=np.intp)
+        self._hand = int(self._owners[-1]) if len(self._owners) else 0    # the frame the fingers ride
         self._links, centres = [], []
         self._geoms: list[fcl.Convex] = []
         self._index = {}
@@ -308,13 +312,15 @@ class FrameExact:
         the clamp holds them); built again when they do not."""
         if not carried:
             return None
-        hand = frames[int(self._owners[-1])]          # the frame the fingers ride
+        hand = frames[self._hand]
         rot, origin = hand[:3, :3], hand[:3, 3]
         now = np.concatenate([objects[c - 1].vertices for c in carried])
         held = self._held
         if held is not None and held.key == tuple(carried) and len(held.local) == len(now):
-            off = np.abs(held.local @ rot.T + origin - now).max()
-            if off <= RIGID_TOL * (1.0 + held.extent):
+            off = held.local @ rot.T
+            off += origin
+            off -= now
+            if np.abs(off, out=off).max() <= RIGID_TOL * (1.0 + held.extent):
                 for obj in held.objects:
                     obj.setRotation(rot)
                     obj.setTranslation(origin)
@@ -331,60 +337,76 @@ class FrameExact:
                            {id(g): row for row, g in enumerate(geoms)}, tree)
         return self._held.rows, tree
 
-    def codes(self, frames: np.ndarray, objects: Sequence[Polyhedron], free: Sequence[int],
-              carried: Sequence[int], n_pairs: int, link_pairs: dict[tuple[int, int], int],
-              radii: np.ndarray, centres: np.ndarray | None = None,
-              parts_key: object = None) -> np.ndarray:
-        """COLLIDES/CLEAR per pair, in ``CollisionWorld.pairs`` order (rules 1, 2, 3).
+    def _contacts(self, tree: fcl.DynamicAABBTreeCollisionManager) -> list[Any]:
+        """fcl's contacts of ``tree``'s objects with the free parts' (both trees' broad phase)."""
+        data = self._data
+        data.done = False
+        data.result.is_collision = False
+        data.result.contacts = []
+        tree.collide(self._parts_tree, data, fcl.defaultCollisionCallback)
+        contacts: list[Any] = data.result.contacts
+        return contacts
+
+    def hits(self, frames: np.ndarray, objects: Sequence[Polyhedron], free: Sequence[int],
+             carried: Sequence[int], link_pairs: dict[tuple[int, int], int], radii: np.ndarray,
+             centres: np.ndarray, parts_key: object = None) -> list[int]:
+        """The positions of the pairs that collide, ascending, in ``CollisionWorld.pairs`` order
+        (rules 1, 2, 3): a step finds a few of hundreds, so no code per pair is made.
 
         ``radii``: each link's farthest vertex from its centre (the link x link pairs whose
-        spheres do not meet are not asked about). ``centres``: the links' centres in the world
-        when the caller has them (else computed).
+        spheres do not meet are not asked about). ``centres``: the links' centres in the world.
         ``parts_key``: an object the caller replaces whenever the free parts move or change
         (``RobotScene`` has one): while it is the same, the parts are not looked at."""
         self._parts(objects, free, parts_key)
         assert self._links_tree is not None and self._parts_tree is not None
-        f = frames.take(self._owners, axis=0)
-        rot = f[:, :3, :3]
-        if centres is None:
-            centres = np.einsum("lij,lj->li", rot, self._link_centres) + f[:, :3, 3]
+        rot = frames.take(self._owners, axis=0)[:, :3, :3]
         for obj, r, t in zip(self._links, rot, centres):
             obj.setRotation(r)                  # (cheaper than a new Transform per link)
             obj.setTranslation(t)
         self._links_tree.update()
-        codes = np.zeros(n_pairs, dtype=np.int8)
+        found: list[int] = []
         n_free, nl = len(free), len(self._links)
         if n_free:
-            data = fcl.CollisionData(fcl.CollisionRequest(num_max_contacts=1 << 30), fcl.CollisionResult())
-            self._links_tree.collide(self._parts_tree, data, fcl.defaultCollisionCallback)
-            for contact in data.result.contacts:
+            for contact in self._contacts(self._links_tree):
                 a = self._index.get(id(contact.o1))
                 b = self._index.get(id(contact.o2))
                 if a is None or b is None or a[0] == b[0]:
                     continue
                 link, part = (a[1], b[1]) if a[0] == "link" else (b[1], a[1])
-                codes[link * n_free + part] = COLLIDES
+                found.append(link * n_free + part)
             held = self._carried(frames, objects, carried)
             if held is not None:
                 rows, tree = held
-                data = fcl.CollisionData(fcl.CollisionRequest(num_max_contacts=1 << 30), fcl.CollisionResult())
-                tree.collide(self._parts_tree, data, fcl.defaultCollisionCallback)   # both trees' broad phase
-                for contact in data.result.contacts:
+                for contact in self._contacts(tree):
                     row = rows.get(id(contact.o1), rows.get(id(contact.o2)))
                     other = self._index.get(id(contact.o2 if id(contact.o1) in rows else contact.o1))
                     if row is not None and other is not None and other[0] == "part":
-                        codes[(nl + row) * n_free + other[1]] = COLLIDES
+                        found.append((nl + row) * n_free + other[1])
         if link_pairs:                                  # robot link against robot link
-            if self._link_ij is None or self._link_ij[0] is not link_pairs or self._link_ij[1] is not radii:
-                found = np.array(list(link_pairs), dtype=np.intp)
-                i, j = found[:, 0].copy(), found[:, 1].copy()
-                # 1 mm over the two spheres: a pair further apart is certainly clear
-                reach = (radii.take(i) + radii.take(j) + 1.0) ** 2
-                self._link_ij = (link_pairs, radii, found, i, j, reach)
-            _, _, ij, i, j, reach = self._link_ij
-            # fcl asked only about links whose spheres (about their centres, holding them) meet
-            d = centres.take(i, axis=0) - centres.take(j, axis=0)
-            for a, b in ij[np.einsum("ij,ij->i", d, d) <= reach].tolist():
-                if fcl.collide(self._links[a], self._links[b], fcl.CollisionRequest(), fcl.CollisionResult()):
-                    codes[link_pairs[(a, b)]] = COLLIDES
-        return codes
+            found += self._link_hits(link_pairs, radii, centres)
+        return sorted(set(found))
+
+    def _link_hits(self, link_pairs: dict[tuple[int, int], int], radii: np.ndarray, centres: np.ndarray) -> list[int]:
+        """The positions of the link x link pairs that collide: fcl asked only about links whose
+        spheres (about their centres, holding them) meet."""
+        if self._link_ij is None or self._link_ij[0] is not link_pairs or self._link_ij[1] is not radii:
+            ij = np.array(list(link_pairs), dtype=np.intp).reshape(-1, 2)
+            # one product gives every pair's centre i less centre j (the other terms are 0)
+            apart = np.zeros((len(ij), len(radii)))
+            apart[np.arange(len(ij)), ij[:, 0]] = 1.0
+            apart[np.arange(len(ij)), ij[:, 1]] = -1.0
+            # 1 mm over the two spheres: a pair further apart is certainly clear
+            reach = (radii.take(ij[:, 0]) + radii.take(ij[:, 1]) + 1.0) ** 2
+            asked = [(int(i), int(j), link_pairs[(int(i), int(j))]) for i, j in ij.tolist()]
+            self._link_ij = (link_pairs, radii, asked, apart, reach)
+        _, _, asked, apart, reach = self._link_ij
+        d = apart @ centres
+        found = []
+        for n in np.flatnonzero((d * d) @ _ONES3 <= reach).tolist():
+            a, b, at = asked[n]
+            if fcl.collide(self._links[a], self._links[b], self._one, fcl.CollisionResult()):
+                found.append(at)
+        return found
+
+
+_ONES3 = np.ones(3)

@@ -28,8 +28,8 @@ from typing import TYPE_CHECKING, Collection, Literal, Sequence
 import numpy as np
 
 from valterm.core.cell.polyhedron import Polyhedron
-from valterm.core.collision.thesis import (CLEAR, COLLIDES, EPS, Layout, Scene, check_pairs, face_planes, figures,
-                                           largest_of_xyz, layout, margin)
+from valterm.core.collision.thesis import (CLEAR, COLLIDES, EPS, SEPARATED, Layout, Scene, check_pairs, face_planes,
+                                           figures, largest_of_xyz, layout, margin)
 from valterm.core.collision.world import CollisionWorld, Finding, _Pairs
 
 if TYPE_CHECKING:
@@ -137,6 +137,19 @@ class RobotScene:
         # the links' face planes in their own frames (padded as the whole scene's): moved by _update
         self._local_planes = face_planes(self._local, lay.face_idx[:nl], lay.face_next[:nl])
         scene.planes[2][:nl] = self._local_planes[2]      # a face's area does not move,
+        # for ``_apart``: each link's face planes in its own frame, turned to look away from its
+        # centre (normals as columns); other bodies' planes 0 with an infinite offset (never apart)
+        unit, off = self._local_planes[0], self._local_planes[1]
+        outward = -np.sign(np.einsum("nfk,nk->nf", unit, self._local_centres[:, :3]) - off)
+        self._apart_normals = np.zeros((len(ks), 3, unit.shape[1]))
+        self._apart_normals[:nl] = (unit * outward[..., None]).transpose(0, 2, 1)
+        self._apart_offsets = np.full((len(ks), unit.shape[1]), np.inf)
+        self._apart_offsets[:nl] = off * outward
+        self._body_frames = np.zeros(len(ks), dtype=np.intp)
+        self._body_frames[:nl] = self.owners
+        # each polyhedron's vertex rows, padded with its last (a repeated vertex changes no extreme)
+        self._vertex_rows = lay.starts[:, None] + np.minimum(np.arange(int(lay.counts.max())), lay.counts[:, None] - 1)
+        scene.apart = self._apart
         self._local_normals = self._local_planes[0].reshape(-1, 3)
         faces = self._local_planes[0].shape[1]
         self._normal_pick = _pick(np.repeat(self.owners, faces), self._n_frames)
@@ -145,6 +158,10 @@ class RobotScene:
         scene.refresh = self._move_planes
         self._planes_due = None
         self._scene = scene
+        # the links' rows of the scene's arrays (views, kept while the scene is) and room for
+        # their boxes' corners: what ``_update`` writes at each pose
+        self._link_rows = (scene.vertices[: self._nl_rows], scene.centres[:nl], scene.mid[:nl], scene.half[:nl],
+                           lay.starts[:nl], np.empty((nl, 3)), np.empty((nl, 3)))
         self._parts = tuple(p.vertices for p in objects)
         self._placements, self._objects = Polyhedron.placements, tuple(objects)
         self._carried = carried
@@ -172,8 +189,12 @@ class RobotScene:
                 return not _same_objects(self._objects, objects)
             self._placements, self._objects = Polyhedron.placements, tuple(objects)
             return not all(map(operator.is_, parts, map(_VERTICES, objects)))   # one pass in C
+        # a carried part moves every pose: not part of the cache
+        if Polyhedron.placements == self._placements and _same_free(self._objects, objects, carried):
+            return False
+        self._placements, self._objects = Polyhedron.placements, tuple(objects)
         now = list(map(_VERTICES, objects))
-        for c in carried:              # a carried part moves every pose: not part of the cache
+        for c in carried:
             now[c - 1] = parts[c - 1]
         return not all(map(operator.is_, parts, now))
 
@@ -190,22 +211,18 @@ class RobotScene:
 
     def _update(self, frames: np.ndarray) -> np.ndarray:
         """Put the links where they are now; the indices of the moving polyhedra."""
-        s, lay = self._scene, self._layout
-        v = s.vertices
-        nl = len(self._link_ks)
+        placed, centres, mid, half, starts, lo, hi = self._link_rows
         stacked = _stacked(frames[: self._n_frames])
         # taken straight into the scene's arrays ("wrap": the indices are valid, and numpy
         # buffers a take into ``out`` in its default mode)
-        placed = v[: self._nl_rows]
         every = self._local_all @ stacked
         np.take(every, self._own_flat, out=placed, mode="wrap")
         # a link's centre, radius and face planes move with its frame: no pass over its vertices
-        np.take(every, self._centre_pick, out=s.centres[:nl], mode="wrap")
+        np.take(every, self._centre_pick, out=centres, mode="wrap")
         self._planes_due = (frames, stacked)       # the face planes follow when a fine check asks
-        starts = lay.starts[:nl]
-        lo = np.minimum.reduceat(placed, starts, axis=0)
-        hi = np.maximum.reduceat(placed, starts, axis=0)
-        mid, half = s.mid[:nl], s.half[:nl]
+        self._frames_now = frames
+        np.minimum.reduceat(placed, starts, axis=0, out=lo)
+        np.maximum.reduceat(placed, starts, axis=0, out=hi)
         np.multiply(np.add(lo, hi, out=mid), 0.5, out=mid)
         np.multiply(np.subtract(hi, lo, out=half), 0.5, out=half)
         return self._movers
@@ -229,6 +246,20 @@ class RobotScene:
         unit = planes[0][:nl]
         unit.reshape(-1, 3)[:] = (self._local_normals @ stacked[:3]).take(self._normal_pick)    # R n
         planes[1][:nl] = self._local_planes[1] + np.matmul(unit, frames[self.owners, :3, 3:])[..., 0]
+
+    def _apart(self, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+        """Per pair (a[i], b[i]) with a[i] a link: is every vertex of b[i] more than ``SEPARATED``
+        mm beyond one of the link's face planes? Only the planes of the links asked about are
+        placed (from their own frames, kept turned to look outward), not every link's; the fine
+        test would answer clear (its own shortcut's argument). False where a[i] is not a link.
+        For ``Scene.apart``; the links where the last ``_update`` put them."""
+        frame = self._frames_now.take(self._body_frames.take(a), axis=0)
+        turned = frame[:, :3, :3] @ self._apart_normals.take(a, axis=0)               # R n: the planes placed
+        off = self._apart_offsets.take(a, axis=0) + (frame[:, None, :3, 3] @ turned)[:, 0]
+        d = self._scene.vertices[self._vertex_rows.take(b, axis=0)] @ turned            # (pairs, V, faces)
+        d -= off[:, None]
+        found: np.ndarray = d.min(axis=1).max(axis=1) > SEPARATED
+        return found
 
     def _candidates(self, movers: np.ndarray, grow: float) -> np.ndarray:
         """Broad phase: positions among the free parts of those a mover could be near."""
@@ -280,7 +311,10 @@ class RobotScene:
     def check(self, frames: np.ndarray, objects: Sequence[Polyhedron], carried: Collection[int] = (),
               speed: float = 100.0) -> list[Finding]:
         """One motion step: findings for the links at ``frames`` (links, 4, 4) and the parts."""
-        held = tuple(sorted(set(carried))) if carried else ()
+        if type(carried) is tuple and carried == self._carried:   # as the last step (sorted, once each)
+            held = self._carried
+        else:
+            held = tuple(sorted(set(carried))) if carried else ()
         if self._parts_changed(objects, held):
             self._rebuild(objects, held)
         world = self.world
@@ -292,7 +326,8 @@ class RobotScene:
         if len(pairs.moving) == 0:
             return []
         if self.checker == "exact":                     # fcl keeps its own copy of the shapes
-            return world.findings(pairs, self._exact_codes(frames, objects, held, pairs))
+            hits = self._exact_hits(frames, objects, held, pairs)
+            return world.findings_at(pairs, tuple((p, COLLIDES) for p in hits)) if hits else []
         movers = self._update(frames)
         if held:                                        # the carried parts: figures from their vertices
             self._place_carried(objects)
@@ -338,9 +373,10 @@ class RobotScene:
         codes[codes != COLLIDES] = CLEAR
         return self.world.findings(pairs, codes)
 
-    def _exact_codes(self, frames: np.ndarray, objects: Sequence[Polyhedron], held: tuple[int, ...],
-                     pairs: _Pairs) -> np.ndarray:
-        """python-fcl on the same pairs (its own AABB trees are the broad phase)."""
+    def _exact_hits(self, frames: np.ndarray, objects: Sequence[Polyhedron], held: tuple[int, ...],
+                    pairs: _Pairs) -> list[int]:
+        """python-fcl on the same pairs (its own AABB trees are the broad phase): the positions
+        of those that collide."""
         assert self._exact is not None
         if self._exact_pairs is None or self._exact_pairs[0] is not pairs:   # once per set of pairs
             nl = len(self._link_ks)
@@ -353,9 +389,7 @@ class RobotScene:
         # the links' centres (fcl's objects are placed by them) as ``_update`` works them out;
         # no vertex is placed: fcl has its own copy of the shapes
         centres = (self._local_centres @ _stacked(frames[: self._n_frames])).take(self._own_centre_pick)
-        codes: np.ndarray = self._exact.codes(frames, objects, free, held, len(pairs.moving), link_pairs,
-                                              self._local_radii, centres, self._parts)
-        return codes
+        return self._exact.hits(frames, objects, free, held, link_pairs, self._local_radii, centres, self._parts)
 
     # -- swept motion (issue 13) -----------------------------------------------------------------
     def _width(self, p: Polyhedron) -> float:
@@ -813,6 +847,14 @@ def _same_objects(kept: tuple[Polyhedron, ...], objects: Sequence[Polyhedron]) -
         return kept == tuple(objects)
     except ValueError:
         return False
+
+
+def _same_free(kept: tuple[Polyhedron, ...], objects: Sequence[Polyhedron], carried: tuple[int, ...]) -> bool:
+    """``_same_objects`` but for the carried parts (object numbers ``carried``), which may be others."""
+    now = list(objects)
+    for c in carried:
+        now[c - 1] = kept[c - 1]
+    return _same_objects(kept, now)
 
 
 def _groups(lo: np.ndarray, hi: np.ndarray, size: int = 8) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

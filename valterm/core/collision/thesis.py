@@ -108,6 +108,9 @@ class Scene:
     # called before the kept planes are read: the owner brings them up to date only when a
     # fine check needs them (most steps need none)
     refresh: Callable[[], None] | None = None
+    # per pair (a[i], b[i]): True where the owner can show cheaply that the two are more than
+    # SEPARATED mm apart (the fine test then answers clear without its own arrays); else False
+    apart: Callable[[np.ndarray, np.ndarray], np.ndarray] | None = None
 
     @classmethod
     def of(cls, polys: Sequence[Polyhedron]) -> "Scene":
@@ -206,10 +209,24 @@ def fine(scene: Scene, a: np.ndarray, b: np.ndarray, shortcut: bool = True) -> n
     or does one lie wholly inside the other (its centre inside)?
 
     ``shortcut``: when a face plane separates every pair (``_separated``), answer clear at
-    once (the same answer, fewer numpy calls; off only to test that it is the same)."""
+    once (the same answer, fewer numpy calls; off only to test that it is the same), and
+    likewise the pairs the scene's owner finds ``apart`` first."""
     n = len(a)
     if n == 0:
         return np.zeros(0, dtype=bool)
+    if shortcut and scene.apart is not None:
+        todo = np.flatnonzero(~scene.apart(a, b))
+        if len(todo) < n:
+            hit = np.zeros(n, dtype=bool)
+            if len(todo):
+                hit[todo] = _edges_cross_faces(scene, a.take(todo), b.take(todo), shortcut)
+            return hit
+    return _edges_cross_faces(scene, a, b, shortcut)
+
+
+def _edges_cross_faces(scene: Scene, a: np.ndarray, b: np.ndarray, shortcut: bool) -> np.ndarray:
+    """``fine`` itself: the edge-face test of Fig. 2-14 and the containment test."""
+    n = len(a)
     lay, v = scene.layout, scene.vertices
     src = np.concatenate([a, b])    # whose edges
     dst = np.concatenate([b, a])    # whose faces
