@@ -651,7 +651,7 @@ class _PathChecks:
 
     def __init__(self, sim: Simulator, start: Sequence[float], path: np.ndarray, first: int) -> None:
         self.sim, self.first = sim, first
-        self.scene = scene = sim._collision_scene()
+        self.scene = sim._collision_scene()
         self.next = 0
         self.live = True
         here = sim.joints
@@ -661,25 +661,36 @@ class _PathChecks:
                 self.poses.append(sim._settled(pose))
         except ValtermError:
             pass                          # the motion stops there when it gets there
-        carried = () if sim.carried is None else (sim.carried,)
-        objects = sim.cell.objects
         base = None if sim.base is sim._home_base else sim.base
         frames = sim.model.link_frames_batch(np.asarray(self.poses), base)
         self.found: list[list[Finding]] = []
         self.figures: PathFigures | None = None
         try:
-            for joints, at in zip(self.poses, frames):
-                sim.joints = joints
-                sim._follow_clamp()
-                self.found.append(scene.check(at, objects, carried, sim.speed))
-                if len(self.found) == 1:
-                    self.figures = scene.path_figures(len(self.poses), sim._pose_key(start))
-                if self.figures is not None:
-                    scene.keep_pose(self.figures, at, sim._pose_key(joints))
+            self._poses_checked(sim, start, frames)
             self._steps(sim, np.asarray([start, *self.poses], dtype=float), frames)
         finally:
             sim.joints = here
             sim._follow_clamp()
+
+    def _poses_checked(self, sim: Simulator, start: Sequence[float], frames: np.ndarray) -> None:
+        """Every pose's check: the first pose's alone (it sets the scene up), the rest together
+        (``RobotScene.keep_path``) but for the few it leaves to the fine test, checked alone."""
+        scene, carried, objects = self.scene, () if sim.carried is None else (sim.carried,), sim.cell.objects
+        told: list[list[Finding] | None] | None = None
+        for k, (joints, at) in enumerate(zip(self.poses, frames)):
+            found = told[k - 1] if told is not None else None
+            if found is None:
+                sim.joints = joints
+                sim._follow_clamp()
+                found = scene.check(at, objects, carried, sim.speed)
+                if k == 0:
+                    self.figures = scene.path_figures(len(self.poses), sim._pose_key(start))
+                if self.figures is not None and told is None:
+                    scene.keep_pose(self.figures, at, sim._pose_key(joints))
+                if k == 0 and self.figures is not None:
+                    told = scene.keep_path(self.figures, frames[1:], [sim._pose_key(j) for j in self.poses[1:]],
+                                           sim.speed)
+            self.found.append(found)
 
     def _steps(self, sim: Simulator, q: np.ndarray, frames: np.ndarray) -> None:
         """Every step's collisions between its poses, put before that pose's findings."""

@@ -98,6 +98,7 @@ class RobotScene:
         self._sel_kept: tuple[_Pairs, int, np.ndarray, np.ndarray] | None = None   # _sel_parts'
         self._group_kept: tuple[object, float, np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None = None
         self._linked: tuple[_Pairs, tuple[np.ndarray, np.ndarray, np.ndarray]] | None = None   # _link_pairs'
+        self._picks: dict[int, tuple[np.ndarray, np.ndarray]] = {}    # _path_picks'
 
     # -- what is built once ----------------------------------------------------------------
     def set_shapes(self, local: Sequence[np.ndarray]) -> None:
@@ -120,6 +121,7 @@ class RobotScene:
         self._local_radii = own.radii
         self._link_widths = np.array([thickness(np.asarray(v, dtype=float), len(v) // 2) for v in local])
         self._linked = None
+        self._picks = {}
         if self.checker == "exact":
             from valterm.core.collision.exact import FrameExact   # fcl only when asked for
             self._exact = FrameExact()
@@ -479,6 +481,71 @@ class RobotScene:
                 s.radii.take(self._movers, out=figures.radii[i - 1])
             figures.tables.append(self._travel_table(frames))
         figures.keys.append(key)
+
+    def keep_path(self, figures: PathFigures, frames: np.ndarray, keys: Sequence[object],
+                  speed: float) -> list[list[Finding] | None] | None:
+        """``check`` and ``keep_pose`` of the path's next poses together (the links at ``frames``
+        (poses, links, 4, 4), the poses named ``keys``): the links placed at every pose by one
+        product, then the coarse test and the box gaps of (poses x pairs) in a few numpy calls,
+        the same arithmetic as the pose-by-pose ``check`` (the same numbers, bit for bit). Per
+        pose its findings, or None where a near pair's boxes meet (the fine test's case: call
+        ``check`` at that pose, a few in a hundred). None when this does not apply: a part is
+        carried (it moves with the hand) or the last ``check`` (the path's first pose) left
+        pairs to its broad phase (then ``keep_pose`` pose by pose)."""
+        if self._gaps_now is None or self._carried or self._pairs_now is not figures.pairs \
+                or self._parts is not figures.parts:
+            return None
+        s, pairs, nl, count = self._scene, figures.pairs, len(self._link_ks), len(frames)
+        # every pose's frames side by side: one product places every vertex at every pose
+        every = self._local_all @ frames[:, : self._n_frames, :3, :].transpose(3, 0, 1, 2).reshape(4, -1)
+        place, centre = self._path_picks(count)
+        placed = every.take(place)                                      # (vertices, poses x 3)
+        starts = self._layout.starts[:nl]
+        lo = np.minimum.reduceat(placed, starts).reshape(nl, count, 3).transpose(2, 0, 1)
+        hi = np.maximum.reduceat(placed, starts).reshape(nl, count, 3).transpose(2, 0, 1)
+        # (3, bodies, poses): a coordinate's values side by side
+        mid, half = np.empty((3, len(s.mid), count)), np.empty((3, len(s.mid), count))
+        mid[:, nl:], half[:, nl:] = s.mid[nl:].T[:, :, None], s.half[nl:].T[:, :, None]
+        np.multiply(np.add(lo, hi), 0.5, out=mid[:, :nl])
+        np.multiply(np.subtract(hi, lo), 0.5, out=half[:, :nl])
+        centres = every.take(centre)                                    # (links, poses, 3)
+        m, st = pairs.moving, pairs.stationary          # nothing carried: every moving body is a link
+        mid_s, half_s = mid.take(st, axis=1), half.take(st, axis=1)
+        coarse = np.abs(centres.transpose(2, 0, 1).take(m, axis=1) - mid_s)
+        coarse -= half_s
+        near: np.ndarray = (_largest_of(coarse) <= (s.radii.take(m) + margin(speed))[:, None]).T     # (poses, pairs)
+        apart = np.abs(mid.take(m, axis=1) - mid_s)
+        apart -= half.take(m, axis=1) + half_s
+        i = len(figures.keys)
+        gaps = figures.gaps[i: i + count]
+        gaps[:] = _largest_of(apart).T
+        figures.centres[i - 1: i - 1 + count] = centres.transpose(1, 0, 2)
+        if not figures.rigid:
+            figures.radii[i - 1: i - 1 + count] = s.radii.take(self._movers)
+            figures.tables.extend(self._travel_table(at) for at in frames)
+        figures.keys.extend(keys)
+        fine: list[bool] = np.any(near & (gaps <= EPS), axis=1).tolist()
+        said: list[bool] = np.any(near, axis=1).tolist()
+        codes = near.astype(np.int8)
+        return [None if fine[k] else self.world.findings(pairs, codes[k]) if said[k] else []
+                for k in range(count)]
+
+    def _path_picks(self, count: int) -> tuple[np.ndarray, np.ndarray]:
+        """Flat indices into the product of ``keep_path`` (rows, poses x 3 x frames) of every
+        vertex's coordinates in its own frame, (vertices, poses x 3), and of the links' centres,
+        (links, poses, 3); kept per number of poses."""
+        kept = self._picks.get(count)
+        if kept is None:
+            width = 3 * self._n_frames
+            rows = len(self._local)
+            shift = (np.arange(count) * width)[None, :, None]
+            place = self._own_flat - (np.arange(rows) * width)[:, None] + (np.arange(rows) * width * count)[:, None]
+            centre = self._own_centre_pick - (np.arange(len(self.owners)) * width)[:, None]
+            centre = centre + ((np.arange(len(self.owners)) + rows) * width * count)[:, None]
+            kept = self._picks[count] = ((place[:, None, :] + shift).reshape(rows, -1), centre[:, None, :] + shift)
+            if len(self._picks) > 64:
+                self._picks.clear()
+        return kept
 
     def keep_ends(self, figures: PathFigures | None, reached: int) -> None:
         """The path's pose ``reached`` (0 the pose before it) is where the next step starts, as
@@ -891,6 +958,13 @@ def _moments(pick: np.ndarray, sel: np.ndarray, b0: np.ndarray, both: np.ndarray
     rows = np.zeros((int(used.sum()), n_pairs), dtype=bool)
     rows[:, sel] = live[used]
     return step[used], moments[used], rows
+
+
+def _largest_of(d: np.ndarray) -> np.ndarray:
+    """``largest_of_xyz`` of (3, ...) coordinates laid side by side: the largest of the three."""
+    out: np.ndarray = np.maximum(d[0], d[1])
+    np.maximum(out, d[2], out=out)
+    return out
 
 
 def _box_gaps(mid: np.ndarray, half: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
