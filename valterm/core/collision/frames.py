@@ -574,43 +574,35 @@ class RobotScene:
         far = table * turns[:, None, :]                                  # (steps, movers, joints)
         widths = self._ruled_widths(objects, pairs.stationary[:ruled]) if ruled else np.zeros(0)
         both = before + after - 2.0 * EPS
-        bound, relative = self._path_bounds(far, linked[2])
-        linking = relative.max(axis=1, initial=0.0) > 1.0
-        reach = bound.max(axis=1)
-        thinnest = self._thinnest(objects)
-        clear = ((reach <= thinnest) & ~linking) | ~turns.any(axis=1)
-        if figures.narrow and ruled:                                     # the pairs the broad phase keeps
+        if figures.narrow and ruled:     # the pairs the broad phase keeps, by the fixed lengths' reach
             narrow = figures.narrow
-            near = _candidates_batch(figures.centres[narrow], figures.radii[narrow].max(axis=1) + reach[narrow],
+            reach = far[narrow].sum(axis=2).max(axis=1)
+            near = _candidates_batch(figures.centres[narrow], figures.radii[narrow].max(axis=1) + reach,
                                      self._free_lo, self._free_hi)
             both[narrow, :ruled] = np.where(np.tile(near, (1, len(movers))), both[narrow, :ruled], np.inf)
-        # only the parts' pairs whose boxes a step's reach can close go on (and the link pairs)
-        near = np.flatnonzero((both[:, :ruled] <= reach[:, None]).any(axis=0))
-        cols = np.concatenate([near, linked[0]])
-        both, before, widths, moving = both[:, cols], before[:, cols], widths.take(near), pairs.moving.take(near)
-        # the bound from where the bodies are now for the steps the fixed lengths leave open (a
-        # step the fixed lengths find safe is safe with it too: it is never larger; ``swept``
-        # tests the fixed lengths first only to skip it, which saves nothing on a whole path)
-        steps = np.flatnonzero(~clear)
-        if not len(steps):
-            return never
-        far = self._path_terms(frames[steps], turns[steps], far[steps], figures.centres[steps], figures.radii[steps])
+        # the bound from where the bodies are now, of every step. ``swept`` first tries the fixed
+        # lengths (never smaller: a step they clear it clears too) only to skip this, which saves
+        # nothing on a whole path
+        far = self._path_terms(frames, turns, far, figures.centres[:count], figures.radii[:count])
         bound, relative = self._path_bounds(far, linked[2])
-        both, before, linking = both[steps], before[steps], linking[steps]
-        keep = ~((bound.max(axis=1) <= thinnest) & ~(relative.max(axis=1, initial=0.0) > 1.0))
-        keep &= self._path_risky(bound, relative, both, widths, linking, moving, linked)
-        k = np.flatnonzero(keep)
+        # only the parts' pairs whose boxes a step's reach can close go on (and the link pairs)
+        near = np.flatnonzero((both[:, :ruled] <= bound.max(axis=1)[:, None]).any(axis=0))
+        cols = np.concatenate([near, linked[0]])
+        n = len(near)
+        both, before = both[:, cols], before[:, cols]
+        moved = bound.take(pairs.moving.take(near), axis=1)
+        closing = bound.take(linked[1][:, 0], axis=1) + bound.take(linked[1][:, 1], axis=1)
+        # a pair whose boxes can meet and that moves past its part's width (a link pair: turns
+        # past the proximal link's width) needs moments; a step with none needs none
+        pick = np.concatenate([both[:, :n] <= moved, (both[:, n:] <= closing) & (relative > 1.0)], axis=1)
+        widths = widths.take(near)
+        k = np.flatnonzero(np.any(pick[:, :n] & (moved > widths), axis=1) | np.any(pick[:, n:], axis=1))
         if not len(k):
             return never
-        bound, relative, both, before, linking = bound[k], relative[k], both[k], before[k], linking[k]
-        moved = bound.take(moving, axis=1)
-        closing = bound.take(linked[1][:, 0], axis=1) + bound.take(linked[1][:, 1], axis=1)
-        n = len(near)
-        pick = np.concatenate([both[:, :n] <= moved, (both[:, n:] <= closing) & (relative > 1.0) & linking[:, None]],
-                              axis=1)
-        step, moments, rows = _moments(pick, cols, before, both, np.concatenate([moved, closing], axis=1),
-                                       np.concatenate([moved / widths, relative], axis=1), len(pairs.moving))
-        return steps[k].take(step), moments, rows
+        reach = np.concatenate([moved, closing], axis=1)
+        need = np.concatenate([moved / widths, relative], axis=1)
+        step, moments, rows = _moments(pick[k], cols, before[k], both[k], reach[k], need[k], len(pairs.moving))
+        return k.take(step), moments, rows
 
     def meeting(self, frames: np.ndarray, rows: np.ndarray, held: np.ndarray | None) -> np.ndarray:
         """Per moment (the links at ``frames`` (moments, links, 4, 4), the carried parts'
@@ -645,21 +637,6 @@ class RobotScene:
         flat = terms[:, :nl].reshape(len(terms), -1, 1)
         relative: np.ndarray = (weights[None] @ flat)[..., 0]          # one matrix-vector product a step
         return bound, relative
-
-    def _path_risky(self, bound: np.ndarray, relative: np.ndarray, both: np.ndarray, widths: np.ndarray,
-                    linking: np.ndarray, moving: np.ndarray, linked: tuple[np.ndarray, np.ndarray, np.ndarray]
-                    ) -> np.ndarray:
-        """Per step: does a part's pair (``both`` first columns: moving bodies ``moving``, the
-        parts' ``widths``) have boxes that meet within the bound and move past its part's width,
-        or (the link pairs, the last columns, when the fixed lengths found one turning past its
-        width) boxes that close within both bounds while turning past the proximal link's width?"""
-        n = len(moving)
-        moved = bound.take(moving, axis=1)
-        risky = np.any((both[:, :n] <= moved) & (moved > widths), axis=1)
-        closing = bound.take(linked[1][:, 0], axis=1) + bound.take(linked[1][:, 1], axis=1)
-        links = np.any((both[:, n:] <= closing) & (relative > 1.0), axis=1) & linking
-        either: np.ndarray = risky | links
-        return either
 
     def _path_terms(self, frames: np.ndarray, turns: np.ndarray, far: np.ndarray, centres: np.ndarray,
                     radii: np.ndarray) -> np.ndarray:
