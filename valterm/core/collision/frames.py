@@ -612,18 +612,22 @@ class RobotScene:
         pairs, s = self._pairs_now, self._scene
         assert pairs is not None
         count, nl = len(frames), len(self._link_ks)
-        stacked = frames[:, : self._n_frames, :3, :].transpose(0, 3, 1, 2).reshape(count, 4, -1)
-        placed = (self._local_h @ stacked).reshape(count, -1).take(self._own_flat, axis=1)   # (moments, rows, 3)
+        # every moment's frames side by side, one product (as ``keep_path``); (bodies, moments, 3) boxes
+        placed = (self._local_h @ frames[:, : self._n_frames, :3, :].transpose(3, 0, 1, 2).reshape(4, -1)
+                  ).take(self._path_picks(count)[0])
         starts = self._layout.starts[:nl]
-        lo, hi = np.repeat(s.lo[None], count, axis=0), np.repeat(s.hi[None], count, axis=0)
-        lo[:, :nl] = np.minimum.reduceat(placed, starts, axis=1)
-        hi[:, :nl] = np.maximum.reduceat(placed, starts, axis=1)
+        lo: np.ndarray = np.empty((len(s.mid), count, 3))
+        hi: np.ndarray = np.empty((len(s.mid), count, 3))
+        lo[nl:], hi[nl:] = s.lo[nl:, None], s.hi[nl:, None]
+        lo[:nl] = np.minimum.reduceat(placed, starts).reshape(nl, count, 3)
+        hi[:nl] = np.maximum.reduceat(placed, starts).reshape(nl, count, 3)
         if held is not None and len(self._held_at):
-            lo[:, self._held_at] = np.minimum.reduceat(held, self._held_starts, axis=1)
-            hi[:, self._held_at] = np.maximum.reduceat(held, self._held_starts, axis=1)
+            lo[self._held_at] = np.minimum.reduceat(held, self._held_starts, axis=1).transpose(1, 0, 2)
+            hi[self._held_at] = np.maximum.reduceat(held, self._held_starts, axis=1).transpose(1, 0, 2)
         at, p = np.nonzero(rows)
-        a, b = pairs.moving.take(p), pairs.stationary.take(p)
-        gap = np.maximum(lo[at, b] - hi[at, a], lo[at, a] - hi[at, b])
+        a, b = pairs.moving.take(p) * count + at, pairs.stationary.take(p) * count + at
+        low, high = lo.reshape(-1, 3), hi.reshape(-1, 3)
+        gap = np.maximum(low.take(b, axis=0) - high.take(a, axis=0), low.take(a, axis=0) - high.take(b, axis=0))
         meet = np.zeros(count, dtype=bool)
         meet[at[largest_of_xyz(gap) <= EPS + _HAIR]] = True
         return meet
