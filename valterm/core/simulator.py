@@ -673,23 +673,30 @@ class _PathChecks:
             sim._follow_clamp()
 
     def _poses_checked(self, sim: Simulator, start: Sequence[float], frames: np.ndarray) -> None:
-        """Every pose's check: the first pose's alone (it sets the scene up), the rest together
-        (``RobotScene.keep_path``) but for the few it leaves to the fine test, checked alone."""
+        """Every pose's check, together (``RobotScene.keep_path``) but for the few it leaves to the
+        fine test, checked alone. The first pose is checked alone first when the scene is not set
+        up for the cell as it is (``RobotScene.path_ready``: the first motion, a part moved or
+        carried), and every pose when the poses cannot be checked together."""
         scene, carried, objects = self.scene, () if sim.carried is None else (sim.carried,), sim.cell.objects
+        keys = [sim._pose_key(j) for j in self.poses]
         told: list[list[Finding] | None] | None = None
+        if self.poses and scene.path_ready(objects, carried):
+            self.figures = scene.path_figures(len(self.poses), sim._pose_key(start))
+            told = None if self.figures is None else scene.keep_path(self.figures, frames, keys, sim.speed)
         for k, (joints, at) in enumerate(zip(self.poses, frames)):
-            found = told[k - 1] if told is not None else None
+            found = None if told is None else told[k]
             if found is None:
                 sim.joints = joints
                 sim._follow_clamp()
                 found = scene.check(at, objects, carried, sim.speed)
-                if k == 0:
-                    self.figures = scene.path_figures(len(self.poses), sim._pose_key(start))
-                if self.figures is not None and told is None:
-                    scene.keep_pose(self.figures, at, sim._pose_key(joints))
-                if k == 0 and self.figures is not None:
-                    told = scene.keep_path(self.figures, frames[1:], [sim._pose_key(j) for j in self.poses[1:]],
-                                           sim.speed)
+                if told is None:                      # pose by pose, or the first pose setting up
+                    if k == 0:
+                        self.figures = scene.path_figures(len(self.poses), sim._pose_key(start))
+                    if self.figures is not None:
+                        scene.keep_pose(self.figures, at, keys[k])
+                    if k == 0 and self.figures is not None:
+                        rest = scene.keep_path(self.figures, frames[1:], keys[1:], sim.speed)
+                        told = None if rest is None else [found, *rest]
             self.found.append(found)
 
     def _steps(self, sim: Simulator, q: np.ndarray, frames: np.ndarray) -> None:

@@ -482,6 +482,14 @@ class RobotScene:
             figures.tables.append(self._travel_table(frames))
         figures.keys.append(key)
 
+    def path_ready(self, objects: Sequence[Polyhedron], carried: Collection[int] = ()) -> bool:
+        """Whether the last ``check`` left the scene set up for these parts (the same parts where
+        they were, none carried, every pair's box gaps measured, as the thesis's checker): then
+        ``keep_path`` can check a path's first pose too, with no ``check`` before it."""
+        return (self.checker == "thesis" and not carried and self._gaps_now is not None
+                and self._pairs_now is not None and self._pairs_for == (len(objects), ())
+                and not self._parts_changed(objects, ()))
+
     def keep_path(self, figures: PathFigures, frames: np.ndarray, keys: Sequence[object],
                   speed: float) -> list[list[Finding] | None] | None:
         """``check`` and ``keep_pose`` of the path's next poses together (the links at ``frames``
@@ -523,6 +531,8 @@ class RobotScene:
         if not figures.rigid:
             figures.radii[i - 1: i - 1 + count] = s.radii.take(self._movers)
             figures.tables.extend(self._travel_table(at) for at in frames)
+        elif not figures.tables:                      # the fixed lengths, once
+            figures.tables.append(self._travel_table(frames[0]))
         figures.keys.extend(keys)
         fine: list[bool] = np.any(near & (gaps <= EPS), axis=1).tolist()
         said: list[bool] = np.any(near, axis=1).tolist()
