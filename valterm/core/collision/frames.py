@@ -28,7 +28,7 @@ from typing import TYPE_CHECKING, Collection, Literal, Sequence
 import numpy as np
 
 from valterm.core.cell.polyhedron import Polyhedron
-from valterm.core.collision.thesis import (CLEAR, COLLIDES, EPS, Layout, Scene, check_pairs, face_planes, figures,
+from valterm.core.collision.thesis import (CLEAR, COLLIDES, EPS, NEAR, Layout, Scene, check_pairs, face_planes, figures,
                                            largest_of_xyz, layout, margin)
 from valterm.core.collision.world import CollisionWorld, Finding, _Pairs
 
@@ -507,43 +507,46 @@ class RobotScene:
         # every pose's frames side by side: one product places every vertex at every pose
         every = self._local_all @ frames[:, : self._n_frames, :3, :].transpose(3, 0, 1, 2).reshape(4, -1)
         place, centre = self._path_picks(count)
-        placed = every.take(place)                                      # (vertices, poses x 3)
+        placed = every.take(place)                                      # (vertices, 3 x poses)
         starts = self._layout.starts[:nl]
-        lo = np.minimum.reduceat(placed, starts).reshape(nl, count, 3).transpose(2, 0, 1)
-        hi = np.maximum.reduceat(placed, starts).reshape(nl, count, 3).transpose(2, 0, 1)
+        lo = np.minimum.reduceat(placed, starts).reshape(nl, 3, count).transpose(1, 0, 2)
+        hi = np.maximum.reduceat(placed, starts).reshape(nl, 3, count).transpose(1, 0, 2)
         # (3, bodies, poses): a coordinate's values side by side
         mid, half = np.empty((3, len(s.mid), count)), np.empty((3, len(s.mid), count))
         mid[:, nl:], half[:, nl:] = s.mid[nl:].T[:, :, None], s.half[nl:].T[:, :, None]
         np.multiply(np.add(lo, hi), 0.5, out=mid[:, :nl])
         np.multiply(np.subtract(hi, lo), 0.5, out=half[:, :nl])
-        centres = every.take(centre)                                    # (links, poses, 3)
+        centres = every.take(centre)                                    # the links', (3, links, poses)
         m, st = pairs.moving, pairs.stationary          # nothing carried: every moving body is a link
         mid_s, half_s = mid.take(st, axis=1), half.take(st, axis=1)
-        coarse = np.abs(centres.transpose(2, 0, 1).take(m, axis=1) - mid_s)
+        coarse = np.abs(centres.take(m, axis=1) - mid_s)
         coarse -= half_s
-        near: np.ndarray = (_largest_of(coarse) <= (s.radii.take(m) + margin(speed))[:, None]).T     # (poses, pairs)
+        near: np.ndarray = _largest_of(coarse) <= (s.radii.take(m) + margin(speed))[:, None]     # (pairs, poses)
         apart = np.abs(mid.take(m, axis=1) - mid_s)
         apart -= half.take(m, axis=1) + half_s
+        gaps = _largest_of(apart)
         i = len(figures.keys)
-        gaps = figures.gaps[i: i + count]
-        gaps[:] = _largest_of(apart).T
-        figures.centres[i - 1: i - 1 + count] = centres.transpose(1, 0, 2)
+        figures.gaps[i: i + count] = gaps.T
+        figures.centres[i - 1: i - 1 + count] = centres.transpose(2, 1, 0)
         if not figures.rigid:
             figures.radii[i - 1: i - 1 + count] = s.radii.take(self._movers)
             figures.tables.extend(self._travel_table(at) for at in frames)
         elif not figures.tables:                      # the fixed lengths, once
             figures.tables.append(self._travel_table(frames[0]))
         figures.keys.extend(keys)
-        fine: list[bool] = np.any(near & (gaps <= EPS), axis=1).tolist()
-        said: list[bool] = np.any(near, axis=1).tolist()
-        codes = near.astype(np.int8)
-        return [None if fine[k] else self.world.findings(pairs, codes[k]) if said[k] else []
-                for k in range(count)]
+        # each pose's near pairs, by position (as ``check`` finds them); the fine test's poses left
+        pair, pose = np.nonzero(near)
+        fine = set(pose[gaps[pair, pose] <= EPS].tolist())
+        hits: list[list[tuple[int, int]]] = [[] for _ in range(count)]
+        for k, p in sorted(zip(pose.tolist(), pair.tolist())):
+            hits[k].append((p, NEAR))
+        return [None if k in fine else self.world.findings_at(pairs, tuple(h)) if h else []
+                for k, h in enumerate(hits)]
 
     def _path_picks(self, count: int) -> tuple[np.ndarray, np.ndarray]:
         """Flat indices into the product of ``keep_path`` (rows, poses x 3 x frames) of every
-        vertex's coordinates in its own frame, (vertices, poses x 3), and of the links' centres,
-        (links, poses, 3); kept per number of poses."""
+        vertex's coordinates in its own frame, (vertices, 3 x poses), and of the links' centres,
+        (3, links, poses); kept per number of poses."""
         kept = self._picks.get(count)
         if kept is None:
             width = 3 * self._n_frames
@@ -552,7 +555,8 @@ class RobotScene:
             place = self._own_flat - (np.arange(rows) * width)[:, None] + (np.arange(rows) * width * count)[:, None]
             centre = self._own_centre_pick - (np.arange(len(self.owners)) * width)[:, None]
             centre = centre + ((np.arange(len(self.owners)) + rows) * width * count)[:, None]
-            kept = self._picks[count] = ((place[:, None, :] + shift).reshape(rows, -1), centre[:, None, :] + shift)
+            kept = self._picks[count] = ((place[:, None, :] + shift).transpose(0, 2, 1).reshape(rows, -1),
+                                         (centre[:, None, :] + shift).transpose(2, 0, 1).copy())
             if len(self._picks) > 64:
                 self._picks.clear()
         return kept
@@ -629,8 +633,8 @@ class RobotScene:
         lo: np.ndarray = np.empty((len(s.mid), count, 3))
         hi: np.ndarray = np.empty((len(s.mid), count, 3))
         lo[nl:], hi[nl:] = s.lo[nl:, None], s.hi[nl:, None]
-        lo[:nl] = np.minimum.reduceat(placed, starts).reshape(nl, count, 3)
-        hi[:nl] = np.maximum.reduceat(placed, starts).reshape(nl, count, 3)
+        lo[:nl] = np.minimum.reduceat(placed, starts).reshape(nl, 3, count).transpose(0, 2, 1)
+        hi[:nl] = np.maximum.reduceat(placed, starts).reshape(nl, 3, count).transpose(0, 2, 1)
         if held is not None and len(self._held_at):
             lo[self._held_at] = np.minimum.reduceat(held, self._held_starts, axis=1).transpose(1, 0, 2)
             hi[self._held_at] = np.maximum.reduceat(held, self._held_starts, axis=1).transpose(1, 0, 2)
