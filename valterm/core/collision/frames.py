@@ -492,14 +492,15 @@ class RobotScene:
 
     def keep_path(self, figures: PathFigures, frames: np.ndarray, keys: Sequence[object],
                   speed: float) -> list[list[Finding] | None] | None:
-        """``check`` and ``keep_pose`` of the path's next poses together (the links at ``frames``
+        """``check`` and ``keep_pose`` of a path's poses together (the links at ``frames``
         (poses, links, 4, 4), the poses named ``keys``): the links placed at every pose by one
-        product, then the coarse test and the box gaps of (poses x pairs) in a few numpy calls,
-        the same arithmetic as the pose-by-pose ``check`` (the same numbers, bit for bit). Per
-        pose its findings, or None where a near pair's boxes meet (the fine test's case: call
+        product, then the box gaps of (pairs x poses) in a few numpy calls and the coarse test
+        where the boxes are within its reach (a body's centre lies in its box: nowhere else can
+        it pass), the arithmetic of the pose-by-pose ``check`` (the same numbers, bit for bit).
+        Per pose its findings, or None where a near pair's boxes meet (the fine test's case: call
         ``check`` at that pose, a few in a hundred). None when this does not apply: a part is
-        carried (it moves with the hand) or the last ``check`` (the path's first pose) left
-        pairs to its broad phase (then ``keep_pose`` pose by pose)."""
+        carried (it moves with the hand), or the last ``check`` left pairs to its broad phase
+        (then ``keep_pose`` pose by pose), or the scene is not the one ``figures`` were made in."""
         if self._gaps_now is None or self._carried or self._pairs_now is not figures.pairs \
                 or self._parts is not figures.parts:
             return None
@@ -519,12 +520,21 @@ class RobotScene:
         centres = every.take(centre)                                    # the links', (3, links, poses)
         m, st = pairs.moving, pairs.stationary          # nothing carried: every moving body is a link
         mid_s, half_s = mid.take(st, axis=1), half.take(st, axis=1)
-        coarse = np.abs(centres.take(m, axis=1) - mid_s)
-        coarse -= half_s
-        near: np.ndarray = _largest_of(coarse) <= (s.radii.take(m) + margin(speed))[:, None]     # (pairs, poses)
         apart = np.abs(mid.take(m, axis=1) - mid_s)
         apart -= half.take(m, axis=1) + half_s
-        gaps = _largest_of(apart)
+        gaps = _largest_of(apart)                                       # (pairs, poses)
+        # the coarse test (``check_pairs``'s arithmetic) only where the boxes are within its
+        # reach (+1 mm): a body's centre lies in its box, so it is never nearer than the box
+        reach = s.radii.take(m) + margin(speed)
+        at = np.flatnonzero(gaps <= (reach + 1.0)[:, None])             # (pair, pose) flat
+        pair = at // count
+        pose = at - pair * count
+        st_at = st.take(pair) * count + pose
+        coarse = np.abs(centres.reshape(3, -1).take(m.take(pair) * count + pose, axis=1)
+                        - mid.reshape(3, -1).take(st_at, axis=1))
+        coarse -= half.reshape(3, -1).take(st_at, axis=1)
+        near = _largest_of(coarse) <= reach.take(pair)
+        pair, pose = pair[near], pose[near]
         i = len(figures.keys)
         figures.gaps[i: i + count] = gaps.T
         figures.centres[i - 1: i - 1 + count] = centres.transpose(2, 1, 0)
@@ -535,7 +545,6 @@ class RobotScene:
             figures.tables.append(self._travel_table(frames[0]))
         figures.keys.extend(keys)
         # each pose's near pairs, by position (as ``check`` finds them); the fine test's poses left
-        pair, pose = np.nonzero(near)
         fine = set(pose[gaps[pair, pose] <= EPS].tolist())
         hits: list[list[tuple[int, int]]] = [[] for _ in range(count)]
         for k, p in sorted(zip(pose.tolist(), pair.tolist())):
