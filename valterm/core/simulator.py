@@ -418,7 +418,7 @@ class Simulator:
                         checks.dropped()          # a pause in the checks: pose by pose after it
                     continue
                 if checks is None:
-                    checks = _PathChecks(self, previous, path[index - 1:], index)
+                    checks = _PathChecks(self, previous, path[index:], index)
                 for finding in self._said(checks.findings(previous)):
                     yield finding
                     if self.stop_on_collision and isinstance(finding, Collision):
@@ -650,12 +650,14 @@ class _PathChecks:
     is checked pose by pose."""
 
     def __init__(self, sim: Simulator, start: Sequence[float], path: np.ndarray, first: int) -> None:
+        """The path's poses from the one the simulator has just shown (its joints now, settled)
+        on, ``path`` the rest; ``start`` the pose before it, ``first`` its index in the motion."""
         self.sim, self.first = sim, first
         self.scene = sim._collision_scene()
         self.next = 0
         self.live = True
         here = sim.joints
-        self.poses: list[list[float]] = []
+        self.poses: list[list[float]] = [list(here)]
         try:
             for pose in path:
                 self.poses.append(sim._settled(pose))
