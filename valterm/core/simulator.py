@@ -419,7 +419,10 @@ class Simulator:
                     continue
                 if checks is None:
                     checks = _PathChecks(self, previous, path[index:], index)
-                for finding in self._said(checks.findings(previous)):
+                found = checks.findings(previous)
+                if not found and not self._findings:
+                    continue                      # nothing now nor at the pose before (most poses)
+                for finding in self._said(found):
                     yield finding
                     if self.stop_on_collision and isinstance(finding, Collision):
                         # the robot stops where the collision was found (off by default, as in 1985)
