@@ -214,3 +214,28 @@ def test_a_path_with_a_part_carried_is_checked_pose_by_pose():
     assert figures is not None
     scene.keep_pose(figures, frames[0], 0)
     assert scene.keep_path(figures, frames[1:], [1, 2], 100.0) is None     # the part moves with the hand
+
+
+def test_a_part_moved_between_motions_is_checked_where_it_is_now():
+    """A part moved between two motions (its vertices replaced, the same object): the next
+    path's checks see it where it is now (``RobotScene.path_ready`` finds the parts changed)."""
+    batched, reference = _pair()
+    goals = move_program(24, seed=17)
+    out: dict[Simulator, list[str]] = {batched: [], reference: []}
+    for sim in (batched, reference):
+        sim.joints = [float(v) for v in goals[0]]
+        for n, goal in enumerate(goals[1:]):
+            for event in sim.move_joints(goal):
+                if isinstance(event, (Collision, Near)):
+                    out[sim].append(event.text)
+            # a part slid under where the hand is now: met on the way back
+            tool = sim.tool_pose()[0]
+            part = sim.cell.object(1 + n % len(sim.cell.objects))
+            sim.move_part(part_number(sim, part), tool - part.vertices.mean(axis=0) + [0.0, 0.0, -40.0])
+            out[sim].append(f"moved {part.name}")
+    assert out[batched] == out[reference]
+    assert sum(" COLLIDES WITH " in s for s in out[batched]) >= 5
+
+
+def part_number(sim: Simulator, part: Polyhedron) -> int:
+    return next(n for n, p in enumerate(sim.cell.objects, start=1) if p is part)

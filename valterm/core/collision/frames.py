@@ -486,9 +486,14 @@ class RobotScene:
         """Whether the last ``check`` left the scene set up for these parts (the same parts where
         they were, none carried, every pair's box gaps measured, as the thesis's checker): then
         ``keep_path`` can check a path's first pose too, with no ``check`` before it."""
-        return (self.checker == "thesis" and not carried and self._gaps_now is not None
-                and self._pairs_now is not None and self._pairs_for == (len(objects), ())
-                and not self._parts_changed(objects, ()))
+        if self.checker != "thesis" or carried or self._gaps_now is None or self._pairs_now is None \
+                or self._pairs_for != (len(objects), ()):
+            return False
+        if self._parts_changed(objects, ()):
+            # as ``check`` would: asking again would find the same objects and say unchanged
+            self._rebuild(objects, ())
+            return False
+        return True
 
     def keep_path(self, figures: PathFigures, frames: np.ndarray, keys: Sequence[object],
                   speed: float) -> list[list[Finding] | None] | None:
