@@ -524,9 +524,12 @@ class RobotScene:
         np.multiply(np.subtract(hi, lo), 0.5, out=half[:, :nl])
         centres = every.take(centre)                                    # the links', (3, links, poses)
         m, st = pairs.moving, pairs.stationary          # nothing carried: every moving body is a link
-        mid_s, half_s = mid.take(st, axis=1), half.take(st, axis=1)
-        apart = np.abs(mid.take(m, axis=1) - mid_s)
-        apart -= half.take(m, axis=1) + half_s
+        apart = mid.take(m, axis=1)                    # |mid_m - mid_s| - (half_m + half_s), in place
+        apart -= mid.take(st, axis=1)
+        np.abs(apart, out=apart)
+        halves = half.take(m, axis=1)
+        halves += half.take(st, axis=1)
+        apart -= halves
         gaps = _largest_of(apart)                                       # (pairs, poses)
         # the coarse test (``check_pairs``'s arithmetic) only where the boxes are within its
         # reach (+1 mm): a body's centre lies in its box, so it is never nearer than the box
@@ -601,7 +604,8 @@ class RobotScene:
         table = tables[0] if figures.rigid else np.stack(tables[:count])
         far = table * turns[:, None, :]                                  # (steps, movers, joints)
         widths = self._ruled_widths(objects, pairs.stationary[:ruled]) if ruled else np.zeros(0)
-        both = before + after - 2.0 * EPS
+        both = before + after
+        both -= 2.0 * EPS
         if figures.narrow and ruled:     # the pairs the broad phase keeps, by the fixed lengths' reach
             narrow = figures.narrow
             reach = far[narrow].sum(axis=2).max(axis=1)
