@@ -548,7 +548,7 @@ class RobotScene:
         figures.centres[i - 1: i - 1 + count] = centres.transpose(2, 1, 0)
         if not figures.rigid:
             figures.radii[i - 1: i - 1 + count] = s.radii.take(self._movers)
-            figures.tables.extend(self._travel_table(at) for at in frames)
+            figures.tables.extend(self._travel_table(pose_frames) for pose_frames in frames)
         elif not figures.tables:                      # the fixed lengths, once
             figures.tables.append(self._travel_table(frames[0]))
         figures.keys.extend(keys)
@@ -625,7 +625,9 @@ class RobotScene:
         moved = bound.take(pairs.moving.take(near), axis=1)
         closing = bound.take(linked[1][:, 0], axis=1) + bound.take(linked[1][:, 1], axis=1)
         # a pair whose boxes can meet and that moves past its part's width (a link pair: turns
-        # past the proximal link's width) needs moments; a step with none needs none
+        # past the proximal link's width) needs moments; a step with none needs none. (``swept``'s
+        # other tests follow: such a pair moves past the thinnest part, and a link pair's turn
+        # by the fixed lengths is never less than by this bound)
         pick = np.concatenate([both[:, :n] <= moved, (both[:, n:] <= closing) & (relative > 1.0)], axis=1)
         widths = widths.take(near)
         k = np.flatnonzero(np.any(pick[:, :n] & (moved > widths), axis=1) | np.any(pick[:, n:], axis=1))
