@@ -231,11 +231,11 @@ def test_a_part_moved_between_motions_is_checked_where_it_is_now():
             # a part slid under where the hand is now: met on the way back
             tool = sim.tool_pose()[0]
             part = sim.cell.object(1 + n % len(sim.cell.objects))
-            sim.move_part(part_number(sim, part), tool - part.vertices.mean(axis=0) + [0.0, 0.0, -40.0])
+            sim.move_part(_part_number(sim, part), tool - part.vertices.mean(axis=0) + [0.0, 0.0, -40.0])
             out[sim].append(f"moved {part.name}")
     assert out[batched] == out[reference]
     assert sum(" COLLIDES WITH " in s for s in out[batched]) >= 5
 
 
-def part_number(sim: Simulator, part: Polyhedron) -> int:
+def _part_number(sim: Simulator, part: Polyhedron) -> int:
     return next(n for n, p in enumerate(sim.cell.objects, start=1) if p is part)
