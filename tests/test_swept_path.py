@@ -164,3 +164,78 @@ def test_only_moments_whose_boxes_meet_can_collide():
         hits += bool(found)
         assert meet[k] or not found
     assert hits > 20 and meet.sum() < len(meet) / 2    # most moments need no check
+
+
+@pytest.mark.parametrize(("robot", "near"), [(None, 50), ("PUMA560", 0)])
+def test_a_paths_poses_checked_together_are_checked_as_one_by_one(robot: str | None, near: int):
+    """``RobotScene.keep_path``: the findings, box gaps and centres of a path's poses worked out
+    together are those of ``check`` and ``keep_pose`` pose by pose, bit for bit; it leaves to
+    ``check`` only the poses where a near pair's boxes meet (the fine test's)."""
+    sim = Simulator(WorkCell(objects=list(dense_cell(30))), robot=robot)
+    scene: RobotScene = sim._collision_scene()
+    joints = np.asarray(_poses(move_program(120, seed=21), sim))
+    frames = sim.model.link_frames_batch(joints, sim.base)
+    objects, length = sim.cell.objects, 13
+    left = said = 0
+    for start in range(0, len(joints) - length, length):
+        path = frames[start: start + length]
+        scene.check(path[0], objects)
+        together = scene.path_figures(length, "before")
+        alone = scene.path_figures(length, "before")
+        assert together is not None and alone is not None
+        scene.keep_pose(together, path[0], 0)
+        told = scene.keep_path(together, path[1:], list(range(1, length)), 100.0)
+        assert told is not None and len(told) == length - 1
+        for k, at in enumerate(path):
+            found = scene.check(at, objects)
+            scene.keep_pose(alone, at, k)
+            if k and told[k - 1] is None:
+                left += 1
+                assert found                             # a near pair at least
+            elif k:
+                assert told[k - 1] == found
+                said += bool(found)
+        assert np.array_equal(together.gaps, alone.gaps)
+        assert np.array_equal(together.centres, alone.centres)
+        assert together.keys == alone.keys and len(together.tables) == len(alone.tables)
+        assert all(np.array_equal(a, b) for a, b in zip(together.tables, alone.tables))
+    if near:      # (the PUMA 560's links touch each other's boxes at every pose: all left to ``check``)
+        assert said >= near and 0 < left < said / 4     # near poses told at once, few left to the fine test
+
+
+def test_a_path_with_a_part_carried_is_checked_pose_by_pose():
+    sim = Simulator(WorkCell(objects=list(dense_cell(30))))
+    sim.joints = [float(v) for v in move_program(1)[0]]
+    _cell_with_a_part_in_hand(sim)
+    scene: RobotScene = sim._collision_scene()
+    frames = sim.model.link_frames_batch(np.asarray([sim.joints] * 3), sim.base)
+    scene.check(frames[0], sim.cell.objects, (sim.carried,))
+    figures = scene.path_figures(3, None)
+    assert figures is not None
+    scene.keep_pose(figures, frames[0], 0)
+    assert scene.keep_path(figures, frames[1:], [1, 2], 100.0) is None     # the part moves with the hand
+
+
+def test_a_part_moved_between_motions_is_checked_where_it_is_now():
+    """A part moved between two motions (its vertices replaced, the same object): the next
+    path's checks see it where it is now (``RobotScene.path_ready`` finds the parts changed)."""
+    batched, reference = _pair()
+    goals = move_program(24, seed=17)
+    out: dict[Simulator, list[str]] = {batched: [], reference: []}
+    for sim in (batched, reference):
+        sim.joints = [float(v) for v in goals[0]]
+        for n, goal in enumerate(goals[1:]):
+            for event in sim.move_joints(goal):
+                if isinstance(event, (Collision, Near)):
+                    out[sim].append(event.text)
+            # a part slid under where the hand is now: met on the way back
+            tool = sim.tool_pose()[0]
+            part = sim.cell.object(1 + n % len(sim.cell.objects))
+            sim.move_part(_part_number(sim, part), tool - part.vertices.mean(axis=0) + [0.0, 0.0, -40.0])
+            out[sim].append(f"moved {part.name}")
+    assert out[batched] == out[reference]
+    assert sum(" COLLIDES WITH " in s for s in out[batched]) >= 5
+
+
+def _part_number(sim: Simulator, part: Polyhedron) -> int:
+    return next(n for n, p in enumerate(sim.cell.objects, start=1) if p is part)

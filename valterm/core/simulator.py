@@ -418,8 +418,11 @@ class Simulator:
                         checks.dropped()          # a pause in the checks: pose by pose after it
                     continue
                 if checks is None:
-                    checks = _PathChecks(self, previous, path[index - 1:], index)
-                for finding in self._said(checks.findings(previous)):
+                    checks = _PathChecks(self, previous, path[index:], index)
+                found = checks.findings(previous)
+                if not found and not self._findings:
+                    continue                      # nothing now nor at the pose before (most poses)
+                for finding in self._said(found):
                     yield finding
                     if self.stop_on_collision and isinstance(finding, Collision):
                         # the robot stops where the collision was found (off by default, as in 1985)
@@ -650,36 +653,56 @@ class _PathChecks:
     is checked pose by pose."""
 
     def __init__(self, sim: Simulator, start: Sequence[float], path: np.ndarray, first: int) -> None:
+        """The path's poses from the one the simulator has just shown (its joints now, settled)
+        on, ``path`` the rest; ``start`` the pose before it, ``first`` its index in the motion."""
         self.sim, self.first = sim, first
-        self.scene = scene = sim._collision_scene()
+        self.scene = sim._collision_scene()
         self.next = 0
         self.live = True
         here = sim.joints
-        self.poses: list[list[float]] = []
+        self.poses: list[list[float]] = [list(here)]
         try:
             for pose in path:
                 self.poses.append(sim._settled(pose))
         except ValtermError:
             pass                          # the motion stops there when it gets there
-        carried = () if sim.carried is None else (sim.carried,)
-        objects = sim.cell.objects
         base = None if sim.base is sim._home_base else sim.base
         frames = sim.model.link_frames_batch(np.asarray(self.poses), base)
         self.found: list[list[Finding]] = []
         self.figures: PathFigures | None = None
         try:
-            for joints, at in zip(self.poses, frames):
-                sim.joints = joints
-                sim._follow_clamp()
-                self.found.append(scene.check(at, objects, carried, sim.speed))
-                if len(self.found) == 1:
-                    self.figures = scene.path_figures(len(self.poses), sim._pose_key(start))
-                if self.figures is not None:
-                    scene.keep_pose(self.figures, at, sim._pose_key(joints))
+            self._poses_checked(sim, start, frames)
             self._steps(sim, np.asarray([start, *self.poses], dtype=float), frames)
         finally:
             sim.joints = here
             sim._follow_clamp()
+
+    def _poses_checked(self, sim: Simulator, start: Sequence[float], frames: np.ndarray) -> None:
+        """Every pose's check, together (``RobotScene.keep_path``) but for the few it leaves to the
+        fine test, checked alone. The first pose is checked alone first when the scene is not set
+        up for the cell as it is (``RobotScene.path_ready``: the first motion, a part moved or
+        carried), and every pose when the poses cannot be checked together."""
+        scene, carried, objects = self.scene, () if sim.carried is None else (sim.carried,), sim.cell.objects
+        keys = [sim._pose_key(j) for j in self.poses]
+        told: list[list[Finding] | None] | None = None
+        if self.poses and scene.path_ready(objects, carried):
+            self.figures = scene.path_figures(len(self.poses), sim._pose_key(start))
+            told = None if self.figures is None else scene.keep_path(self.figures, frames, keys, sim.speed)
+        for k, (joints, at) in enumerate(zip(self.poses, frames)):
+            found = None if told is None else told[k]
+            if found is None:
+                sim.joints = joints
+                sim._follow_clamp()
+                found = scene.check(at, objects, carried, sim.speed)
+                if told is None:                      # pose by pose, or the first pose setting up
+                    if k == 0:
+                        self.figures = scene.path_figures(len(self.poses), sim._pose_key(start))
+                    if self.figures is not None:
+                        scene.keep_pose(self.figures, at, keys[k])
+                    if k == 0 and self.figures is not None:
+                        rest = scene.keep_path(self.figures, frames[1:], keys[1:], sim.speed)
+                        told = None if rest is None else [found, *rest]
+            self.found.append(found)
 
     def _steps(self, sim: Simulator, q: np.ndarray, frames: np.ndarray) -> None:
         """Every step's collisions between its poses, put before that pose's findings."""

@@ -28,8 +28,8 @@ from typing import TYPE_CHECKING, Collection, Literal, Sequence
 import numpy as np
 
 from valterm.core.cell.polyhedron import Polyhedron
-from valterm.core.collision.thesis import (CLEAR, COLLIDES, EPS, SEPARATED, Layout, Scene, check_pairs, face_planes,
-                                           figures, largest_of_xyz, layout, margin)
+from valterm.core.collision.thesis import (CLEAR, COLLIDES, EPS, NEAR, SEPARATED, Layout, Scene, check_pairs,
+                                           face_planes, figures, largest_of_xyz, layout, margin)
 from valterm.core.collision.world import CollisionWorld, Finding, _Pairs
 
 if TYPE_CHECKING:
@@ -98,6 +98,7 @@ class RobotScene:
         self._sel_kept: tuple[_Pairs, int, np.ndarray, np.ndarray] | None = None   # _sel_parts'
         self._group_kept: tuple[object, float, np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None = None
         self._linked: tuple[_Pairs, tuple[np.ndarray, np.ndarray, np.ndarray]] | None = None   # _link_pairs'
+        self._picks: dict[int, tuple[np.ndarray, np.ndarray]] = {}    # _path_picks'
 
     # -- what is built once ----------------------------------------------------------------
     def set_shapes(self, local: Sequence[np.ndarray]) -> None:
@@ -120,6 +121,7 @@ class RobotScene:
         self._local_radii = own.radii
         self._link_widths = np.array([thickness(np.asarray(v, dtype=float), len(v) // 2) for v in local])
         self._linked = None
+        self._picks = {}
         if self.checker == "exact":
             from valterm.core.collision.exact import FrameExact   # fcl only when asked for
             self._exact = FrameExact()
@@ -514,6 +516,102 @@ class RobotScene:
             figures.tables.append(self._travel_table(frames))
         figures.keys.append(key)
 
+    def path_ready(self, objects: Sequence[Polyhedron], carried: Collection[int] = ()) -> bool:
+        """Whether the last ``check`` left the scene set up for these parts (the same parts where
+        they were, none carried, every pair's box gaps measured, as the thesis's checker): then
+        ``keep_path`` can check a path's first pose too, with no ``check`` before it."""
+        if self.checker != "thesis" or carried or self._gaps_now is None or self._pairs_now is None \
+                or self._pairs_for != (len(objects), ()):
+            return False
+        if self._parts_changed(objects, ()):
+            # as ``check`` would: asking again would find the same objects and say unchanged
+            self._rebuild(objects, ())
+            return False
+        return True
+
+    def keep_path(self, figures: PathFigures, frames: np.ndarray, keys: Sequence[object],
+                  speed: float) -> list[list[Finding] | None] | None:
+        """``check`` and ``keep_pose`` of a path's poses together (the links at ``frames``
+        (poses, links, 4, 4), the poses named ``keys``): the links placed at every pose by one
+        product, then the box gaps of (pairs x poses) in a few numpy calls and the coarse test
+        where the boxes are within its reach (a body's centre lies in its box: nowhere else can
+        it pass), the arithmetic of the pose-by-pose ``check`` (the same numbers, bit for bit).
+        Per pose its findings, or None where a near pair's boxes meet (the fine test's case: call
+        ``check`` at that pose, a few in a hundred). None when this does not apply: a part is
+        carried (it moves with the hand), or the last ``check`` left pairs to its broad phase
+        (then ``keep_pose`` pose by pose), or the scene is not the one ``figures`` were made in."""
+        if self._gaps_now is None or self._carried or self._pairs_now is not figures.pairs \
+                or self._parts is not figures.parts:
+            return None
+        s, pairs, nl, count = self._scene, figures.pairs, len(self._link_ks), len(frames)
+        # every pose's frames side by side: one product places every vertex at every pose
+        every = self._local_all @ frames[:, : self._n_frames, :3, :].transpose(3, 0, 1, 2).reshape(4, -1)
+        place, centre = self._path_picks(count)
+        placed = every.take(place)                                      # (vertices, 3 x poses)
+        starts = self._layout.starts[:nl]
+        lo = np.minimum.reduceat(placed, starts).reshape(nl, 3, count).transpose(1, 0, 2)
+        hi = np.maximum.reduceat(placed, starts).reshape(nl, 3, count).transpose(1, 0, 2)
+        # (3, bodies, poses): a coordinate's values side by side
+        mid, half = np.empty((3, len(s.mid), count)), np.empty((3, len(s.mid), count))
+        mid[:, nl:], half[:, nl:] = s.mid[nl:].T[:, :, None], s.half[nl:].T[:, :, None]
+        np.multiply(np.add(lo, hi), 0.5, out=mid[:, :nl])
+        np.multiply(np.subtract(hi, lo), 0.5, out=half[:, :nl])
+        centres = every.take(centre)                                    # the links', (3, links, poses)
+        m, st = pairs.moving, pairs.stationary          # nothing carried: every moving body is a link
+        apart = mid.take(m, axis=1)                    # |mid_m - mid_s| - (half_m + half_s), in place
+        apart -= mid.take(st, axis=1)
+        np.abs(apart, out=apart)
+        halves = half.take(m, axis=1)
+        halves += half.take(st, axis=1)
+        apart -= halves
+        gaps = _largest_of(apart)                                       # (pairs, poses)
+        # the coarse test (``check_pairs``'s arithmetic) only where the boxes are within its
+        # reach (+1 mm): a body's centre lies in its box, so it is never nearer than the box
+        reach = s.radii.take(m) + margin(speed)
+        at = np.flatnonzero(gaps <= (reach + 1.0)[:, None])             # (pair, pose) flat
+        pair = at // count
+        pose = at - pair * count
+        st_at = st.take(pair) * count + pose
+        coarse = np.abs(centres.reshape(3, -1).take(m.take(pair) * count + pose, axis=1)
+                        - mid.reshape(3, -1).take(st_at, axis=1))
+        coarse -= half.reshape(3, -1).take(st_at, axis=1)
+        near = _largest_of(coarse) <= reach.take(pair)
+        pair, pose = pair[near], pose[near]
+        i = len(figures.keys)
+        figures.gaps[i: i + count] = gaps.T
+        figures.centres[i - 1: i - 1 + count] = centres.transpose(2, 1, 0)
+        if not figures.rigid:
+            figures.radii[i - 1: i - 1 + count] = s.radii.take(self._movers)
+            figures.tables.extend(self._travel_table(pose_frames) for pose_frames in frames)
+        elif not figures.tables:                      # the fixed lengths, once
+            figures.tables.append(self._travel_table(frames[0]))
+        figures.keys.extend(keys)
+        # each pose's near pairs, by position (as ``check`` finds them); the fine test's poses left
+        fine = set(pose[gaps[pair, pose] <= EPS].tolist())
+        hits: list[list[tuple[int, int]]] = [[] for _ in range(count)]
+        for k, p in sorted(zip(pose.tolist(), pair.tolist())):
+            hits[k].append((p, NEAR))
+        return [None if k in fine else self.world.findings_at(pairs, tuple(h)) if h else []
+                for k, h in enumerate(hits)]
+
+    def _path_picks(self, count: int) -> tuple[np.ndarray, np.ndarray]:
+        """Flat indices into the product of ``keep_path`` (rows, poses x 3 x frames) of every
+        vertex's coordinates in its own frame, (vertices, 3 x poses), and of the links' centres,
+        (3, links, poses); kept per number of poses."""
+        kept = self._picks.get(count)
+        if kept is None:
+            width = 3 * self._n_frames
+            rows = len(self._local)
+            shift = (np.arange(count) * width)[None, :, None]
+            place = self._own_flat - (np.arange(rows) * width)[:, None] + (np.arange(rows) * width * count)[:, None]
+            centre = self._own_centre_pick - (np.arange(len(self.owners)) * width)[:, None]
+            centre = centre + ((np.arange(len(self.owners)) + rows) * width * count)[:, None]
+            kept = self._picks[count] = ((place[:, None, :] + shift).transpose(0, 2, 1).reshape(rows, -1),
+                                         (centre[:, None, :] + shift).transpose(2, 0, 1).copy())
+            if len(self._picks) > 64:
+                self._picks.clear()
+        return kept
+
     def keep_ends(self, figures: PathFigures | None, reached: int) -> None:
         """The path's pose ``reached`` (0 the pose before it) is where the next step starts, as
         ``swept(now=...)`` keeps it (nothing when there was nothing to sweep)."""
@@ -540,44 +638,39 @@ class RobotScene:
         table = tables[0] if figures.rigid else np.stack(tables[:count])
         far = table * turns[:, None, :]                                  # (steps, movers, joints)
         widths = self._ruled_widths(objects, pairs.stationary[:ruled]) if ruled else np.zeros(0)
-        both = before + after - 2.0 * EPS
-        bound, relative = self._path_bounds(far, linked[2])
-        linking = relative.max(axis=1, initial=0.0) > 1.0
-        reach = bound.max(axis=1)
-        thinnest = self._thinnest(objects)
-        clear = ((reach <= thinnest) & ~linking) | ~turns.any(axis=1)
-        if figures.narrow and ruled:                                     # the pairs the broad phase keeps
+        both = before + after
+        both -= 2.0 * EPS
+        if figures.narrow and ruled:     # the pairs the broad phase keeps, by the fixed lengths' reach
             narrow = figures.narrow
-            near = _candidates_batch(figures.centres[narrow], figures.radii[narrow].max(axis=1) + reach[narrow],
+            reach = far[narrow].sum(axis=2).max(axis=1)
+            near = _candidates_batch(figures.centres[narrow], figures.radii[narrow].max(axis=1) + reach,
                                      self._free_lo, self._free_hi)
             both[narrow, :ruled] = np.where(np.tile(near, (1, len(movers))), both[narrow, :ruled], np.inf)
-        # only the parts' pairs whose boxes a step's reach can close go on (and the link pairs)
-        near = np.flatnonzero((both[:, :ruled] <= reach[:, None]).any(axis=0))
-        cols = np.concatenate([near, linked[0]])
-        both, before, widths, moving = both[:, cols], before[:, cols], widths.take(near), pairs.moving.take(near)
-        # the bound from where the bodies are now for the steps the fixed lengths leave open (a
-        # step the fixed lengths find safe is safe with it too: it is never larger; ``swept``
-        # tests the fixed lengths first only to skip it, which saves nothing on a whole path)
-        steps = np.flatnonzero(~clear)
-        if not len(steps):
-            return never
-        far = self._path_terms(frames[steps], turns[steps], far[steps], figures.centres[steps], figures.radii[steps])
+        # the bound from where the bodies are now, of every step. ``swept`` first tries the fixed
+        # lengths (never smaller: a step they clear it clears too) only to skip this, which saves
+        # nothing on a whole path
+        far = self._path_terms(frames, turns, far, figures.centres[:count], figures.radii[:count])
         bound, relative = self._path_bounds(far, linked[2])
-        both, before, linking = both[steps], before[steps], linking[steps]
-        keep = ~((bound.max(axis=1) <= thinnest) & ~(relative.max(axis=1, initial=0.0) > 1.0))
-        keep &= self._path_risky(bound, relative, both, widths, linking, moving, linked)
-        k = np.flatnonzero(keep)
+        # only the parts' pairs whose boxes a step's reach can close go on (and the link pairs)
+        near = np.flatnonzero((both[:, :ruled] <= bound.max(axis=1)[:, None]).any(axis=0))
+        cols = np.concatenate([near, linked[0]])
+        n = len(near)
+        both, before = both[:, cols], before[:, cols]
+        moved = bound.take(pairs.moving.take(near), axis=1)
+        closing = bound.take(linked[1][:, 0], axis=1) + bound.take(linked[1][:, 1], axis=1)
+        # a pair whose boxes can meet and that moves past its part's width (a link pair: turns
+        # past the proximal link's width) needs moments; a step with none needs none. (``swept``'s
+        # other tests follow: such a pair moves past the thinnest part, and a link pair's turn
+        # by the fixed lengths is never less than by this bound)
+        pick = np.concatenate([both[:, :n] <= moved, (both[:, n:] <= closing) & (relative > 1.0)], axis=1)
+        widths = widths.take(near)
+        k = np.flatnonzero(np.any(pick[:, :n] & (moved > widths), axis=1) | np.any(pick[:, n:], axis=1))
         if not len(k):
             return never
-        bound, relative, both, before, linking = bound[k], relative[k], both[k], before[k], linking[k]
-        moved = bound.take(moving, axis=1)
-        closing = bound.take(linked[1][:, 0], axis=1) + bound.take(linked[1][:, 1], axis=1)
-        n = len(near)
-        pick = np.concatenate([both[:, :n] <= moved, (both[:, n:] <= closing) & (relative > 1.0) & linking[:, None]],
-                              axis=1)
-        step, moments, rows = _moments(pick, cols, before, both, np.concatenate([moved, closing], axis=1),
-                                       np.concatenate([moved / widths, relative], axis=1), len(pairs.moving))
-        return steps[k].take(step), moments, rows
+        reach = np.concatenate([moved, closing], axis=1)
+        need = np.concatenate([moved / widths, relative], axis=1)
+        step, moments, rows = _moments(pick[k], cols, before[k], both[k], reach[k], need[k], len(pairs.moving))
+        return k.take(step), moments, rows
 
     def meeting(self, frames: np.ndarray, rows: np.ndarray, held: np.ndarray | None) -> np.ndarray:
         """Per moment (the links at ``frames`` (moments, links, 4, 4), the carried parts'
@@ -587,18 +680,22 @@ class RobotScene:
         pairs, s = self._pairs_now, self._scene
         assert pairs is not None
         count, nl = len(frames), len(self._link_ks)
-        stacked = frames[:, : self._n_frames, :3, :].transpose(0, 3, 1, 2).reshape(count, 4, -1)
-        placed = (self._local_h @ stacked).reshape(count, -1).take(self._own_flat, axis=1)   # (moments, rows, 3)
+        # every moment's frames side by side, one product (as ``keep_path``); (bodies, moments, 3) boxes
+        placed = (self._local_h @ frames[:, : self._n_frames, :3, :].transpose(3, 0, 1, 2).reshape(4, -1)
+                  ).take(self._path_picks(count)[0])
         starts = self._layout.starts[:nl]
-        lo, hi = np.repeat(s.lo[None], count, axis=0), np.repeat(s.hi[None], count, axis=0)
-        lo[:, :nl] = np.minimum.reduceat(placed, starts, axis=1)
-        hi[:, :nl] = np.maximum.reduceat(placed, starts, axis=1)
+        lo: np.ndarray = np.empty((len(s.mid), count, 3))
+        hi: np.ndarray = np.empty((len(s.mid), count, 3))
+        lo[nl:], hi[nl:] = s.lo[nl:, None], s.hi[nl:, None]
+        lo[:nl] = np.minimum.reduceat(placed, starts).reshape(nl, 3, count).transpose(0, 2, 1)
+        hi[:nl] = np.maximum.reduceat(placed, starts).reshape(nl, 3, count).transpose(0, 2, 1)
         if held is not None and len(self._held_at):
-            lo[:, self._held_at] = np.minimum.reduceat(held, self._held_starts, axis=1)
-            hi[:, self._held_at] = np.maximum.reduceat(held, self._held_starts, axis=1)
+            lo[self._held_at] = np.minimum.reduceat(held, self._held_starts, axis=1).transpose(1, 0, 2)
+            hi[self._held_at] = np.maximum.reduceat(held, self._held_starts, axis=1).transpose(1, 0, 2)
         at, p = np.nonzero(rows)
-        a, b = pairs.moving.take(p), pairs.stationary.take(p)
-        gap = np.maximum(lo[at, b] - hi[at, a], lo[at, a] - hi[at, b])
+        a, b = pairs.moving.take(p) * count + at, pairs.stationary.take(p) * count + at
+        low, high = lo.reshape(-1, 3), hi.reshape(-1, 3)
+        gap = np.maximum(low.take(b, axis=0) - high.take(a, axis=0), low.take(a, axis=0) - high.take(b, axis=0))
         meet = np.zeros(count, dtype=bool)
         meet[at[largest_of_xyz(gap) <= EPS + _HAIR]] = True
         return meet
@@ -612,21 +709,6 @@ class RobotScene:
         flat = terms[:, :nl].reshape(len(terms), -1, 1)
         relative: np.ndarray = (weights[None] @ flat)[..., 0]          # one matrix-vector product a step
         return bound, relative
-
-    def _path_risky(self, bound: np.ndarray, relative: np.ndarray, both: np.ndarray, widths: np.ndarray,
-                    linking: np.ndarray, moving: np.ndarray, linked: tuple[np.ndarray, np.ndarray, np.ndarray]
-                    ) -> np.ndarray:
-        """Per step: does a part's pair (``both`` first columns: moving bodies ``moving``, the
-        parts' ``widths``) have boxes that meet within the bound and move past its part's width,
-        or (the link pairs, the last columns, when the fixed lengths found one turning past its
-        width) boxes that close within both bounds while turning past the proximal link's width?"""
-        n = len(moving)
-        moved = bound.take(moving, axis=1)
-        risky = np.any((both[:, :n] <= moved) & (moved > widths), axis=1)
-        closing = bound.take(linked[1][:, 0], axis=1) + bound.take(linked[1][:, 1], axis=1)
-        links = np.any((both[:, n:] <= closing) & (relative > 1.0), axis=1) & linking
-        either: np.ndarray = risky | links
-        return either
 
     def _path_terms(self, frames: np.ndarray, turns: np.ndarray, far: np.ndarray, centres: np.ndarray,
                     radii: np.ndarray) -> np.ndarray:
@@ -933,6 +1015,13 @@ def _moments(pick: np.ndarray, sel: np.ndarray, b0: np.ndarray, both: np.ndarray
     rows = np.zeros((int(used.sum()), n_pairs), dtype=bool)
     rows[:, sel] = live[used]
     return step[used], moments[used], rows
+
+
+def _largest_of(d: np.ndarray) -> np.ndarray:
+    """``largest_of_xyz`` of (3, ...) coordinates laid side by side: the largest of the three."""
+    out: np.ndarray = np.maximum(d[0], d[1])
+    np.maximum(out, d[2], out=out)
+    return out
 
 
 def _box_gaps(mid: np.ndarray, half: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
