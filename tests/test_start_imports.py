@@ -151,17 +151,24 @@ def test_the_collector_waits_for_the_apps_first_frame_only() -> None:
 
 
 async def test_the_app_turns_the_collector_on_after_its_first_frame(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    """On again after the first frame, with the start's objects frozen out of it: its first
+    pass would otherwise walk them all while the first frame waits to be written."""
     import gc
 
     from valterm.ui.app import ValtermApp
 
     app = ValtermApp(tmp_path, "PROCESS")
     app.collect_after_first_frame = True
+    gc.unfreeze()
     gc.disable()
     try:
         async with app.run_test(size=(160, 50)) as pilot:
             await pilot.pause()
             assert type(app.screen).__name__ == "MainMenuScreen"
             assert gc.isenabled()
+            frozen = gc.get_freeze_count()
+            assert frozen > 10_000  # the start's objects (Textual's, the session's, the screen's)
+            assert id(app.screen) not in {id(o) for o in gc.get_objects()}  # MAIN MENU is frozen
     finally:
+        gc.unfreeze()  # the rest of the tests' process as it was
         gc.enable()
