@@ -93,6 +93,9 @@ class MenuScreen(KeyedScreen[None]):
         yield Prompt(id="prompt")
         yield StatusLine(id="status")
 
+    def after_first_frame(self) -> None:
+        self.query_one(Prompt).mount_parts()  # hidden until asked: not in the first frame
+
     def compose_readout(self) -> ComposeResult:
         """The readout under the body (none by default)."""
         return iter(())
@@ -318,7 +321,7 @@ class MenuScreen(KeyedScreen[None]):
     def line_taking_keys(self) -> Input | None:
         if self.key_state != LINE:
             return None
-        return self.query_one(Prompt).query_one("#answer", Input)
+        return self.query_one(Prompt).field
 
     def other_key(self, event: events.Key) -> bool:
         """A one-key answer, or (KEYBOARD, PENDANT) a letter that opens V's command line."""
