@@ -13,7 +13,7 @@ from typing import Any, Callable, ClassVar
 from textual import events
 from textual.app import ComposeResult
 from textual.binding import Binding
-from textual.containers import Horizontal, Vertical
+from textual.containers import Horizontal
 from textual.widgets import Input
 
 from valterm.core.errors import ValtermError
@@ -83,11 +83,9 @@ class MenuScreen(KeyedScreen[None]):
         # wide or narrow before the first styling, not a second styling of every widget after
         # it (issue 25, the start)
         self._layout(self.app.size.width, update=False)
-        with Horizontal(id="body"):
-            with Vertical(id="menu-pane"):
-                yield MenuText(self.MENU, id="menu")
-            with Vertical(id="model-pane"):
-                yield CellView(id="model")
+        with Horizontal(id="body"):  # no pane around either: each is a widget less to draw (issue 25)
+            yield MenuText(self.MENU, id="menu")
+            yield CellView(id="model")
         yield from self.compose_readout()
         yield MessageLog(id="messages")
         yield Prompt(id="prompt")
