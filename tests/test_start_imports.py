@@ -42,7 +42,7 @@ NOT_AT_MAIN_MENU = ("valterm.ui.screens.editor", "valterm.ui.screens.valmode", "
                     "valterm.ui.screens.manipulation", "valterm.ui.screens.pendant", "valterm.ui.screens.help",
                     "valterm.ui.screens.start", "valterm.ui.hardcopy", "valterm.core.cad.export",
                     "valterm.core.cad.convert", "valterm.core.editor", "valterm.core.val.compiler",
-                    "concurrent.futures.process", "valterm.ui.widgets.transcript_log", "rich.pretty", "importlib.resources", "importlib.metadata",
+                    "concurrent.futures.process", "valterm.core.files.vplus", "valterm.ui.widgets.transcript_log", "rich.pretty", "importlib.resources", "importlib.metadata",
                     *HEAVY)
 
 MAIN_MENU_PROBE = """
@@ -172,3 +172,13 @@ async def test_the_app_turns_the_collector_on_after_its_first_frame(tmp_path) ->
     finally:
         gc.unfreeze()  # the rest of the tests' process as it was
         gc.enable()
+
+
+def test_the_workspace_knows_the_v_plus_files_without_their_reader() -> None:
+    """The workspace lists .V2 / .PG files without loading the V+ reader (issue 25, the start):
+    its kinds are the reader's extensions, and a V+ name loads it."""
+    from valterm.core import workspace
+    from valterm.core.files import vplus
+
+    assert workspace.VPLUS_KINDS == tuple(ext.lstrip(".") for ext in vplus.EXTENSIONS)
+    assert workspace._vplus() is vplus
