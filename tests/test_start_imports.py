@@ -182,3 +182,25 @@ def test_the_workspace_knows_the_v_plus_files_without_their_reader() -> None:
 
     assert workspace.VPLUS_KINDS == tuple(ext.lstrip(".") for ext in vplus.EXTENSIONS)
     assert workspace._vplus() is vplus
+
+
+async def test_main_menu_draws_its_picture_once_each_time_it_is_shown_again(tmp_path, monkeypatch) -> None:  # type: ignore[no-untyped-def]
+    """Textual runs every class's on_screen_resume along the MRO: MAIN MENU's own does not
+    call MenuScreen's as well, which built the picture twice (issue 25, the start)."""
+    from valterm.ui.app import ValtermApp
+    from valterm.ui.screens.base import MenuScreen
+
+    app = ValtermApp(tmp_path, "PROCESS")
+    async with app.run_test(size=(160, 50)) as pilot:
+        await pilot.pause()
+        drawn: list[str] = []
+        redraw = MenuScreen.redraw
+        monkeypatch.setattr(MenuScreen, "redraw", lambda self: drawn.append(type(self).__name__) or redraw(self))
+        await pilot.press("k")
+        await pilot.pause()
+        drawn.clear()
+        await pilot.press("escape")  # KEYBOARD -> MAIN MENU
+        await pilot.pause()
+        assert type(app.screen).__name__ == "MainMenuScreen"
+        assert drawn == ["MainMenuScreen"]
+        assert "SETUP FILE PROCESS.SET WITH 14 PARTS" in app.screen.messages.text
