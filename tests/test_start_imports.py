@@ -180,7 +180,7 @@ def test_the_workspace_knows_the_v_plus_files_without_their_reader() -> None:
     from valterm.core import workspace
     from valterm.core.files import vplus
 
-    assert workspace.VPLUS_KINDS == tuple(ext.lstrip(".") for ext in vplus.EXTENSIONS)
+    assert tuple(ext.lstrip(".") for ext in vplus.EXTENSIONS) == workspace.VPLUS_KINDS
     assert workspace._vplus() is vplus
 
 
