@@ -204,3 +204,35 @@ async def test_main_menu_draws_its_picture_once_each_time_it_is_shown_again(tmp_
         assert type(app.screen).__name__ == "MainMenuScreen"
         assert drawn == ["MainMenuScreen"]
         assert "SETUP FILE PROCESS.SET WITH 14 PARTS" in app.screen.messages.text
+
+
+PARSE_PROBE = """
+import contextlib, io, json, sys
+from valterm.cli import build_parser, chosen_commands, parse_command_line
+
+def outcome(parse, argv):
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        try:
+            result = sorted(vars(parse(argv)).items())
+        except SystemExit as done:
+            result = ["exit", done.code]
+    return [repr(result), out.getvalue(), err.getvalue()]
+
+lines = [[], ["--setup", "PROCESS"], ["--workspace", "W", "--setup", "PROCESS", "--rules", "controller"],
+         ["--robot", "PUMA560", "--ascii", "--keys", "1985"], ["--robot", "NOPE"], ["--setup"], ["--nope"],
+         ["--help"], ["-h"], ["--he"], ["--version"], ["--setup", "run"], ["check", "X"], ["--rules", "1999"],
+         ["--max-steps", "10"], ["X"]]
+long_way = lambda argv: build_parser(chosen_commands(argv)).parse_args(argv)
+print(json.dumps([[outcome(parse_command_line, a), outcome(long_way, a)] for a in lines]))
+"""
+
+
+def test_the_apps_line_is_parsed_as_the_long_way_parses_it() -> None:
+    """An app's line skips the glance (issue 25, the start): every line parses, and every help
+    or usage error reads, as through the glance and every command it names."""
+    out = subprocess.run([sys.executable, "-c", PARSE_PROBE], capture_output=True, text=True, check=True)
+    pairs = json.loads(out.stdout.strip().splitlines()[-1])
+    assert all(quick == long for quick, long in pairs)
+    assert "kin" in pairs[7][0][1] and "usage" in pairs[6][0][2]  # --help lists the commands; a usage error
+    assert pairs[1][0][0].startswith("[('ascii', False)") and "'PROCESS'" in pairs[1][0][0]
