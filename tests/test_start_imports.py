@@ -186,16 +186,19 @@ def test_the_workspace_knows_the_v_plus_files_without_their_reader() -> None:
 
 async def test_main_menu_draws_its_picture_once_each_time_it_is_shown_again(tmp_path, monkeypatch) -> None:  # type: ignore[no-untyped-def]
     """Textual runs every class's on_screen_resume along the MRO: MAIN MENU's own does not
-    call MenuScreen's as well, which built the picture twice (issue 25, the start)."""
+    call MenuScreen's as well, and the mount leaves the drawing to the resume (the picture
+    was built three times at the start, issue 25)."""
     from valterm.ui.app import ValtermApp
     from valterm.ui.screens.base import MenuScreen
 
+    drawn: list[str] = []
+    redraw = MenuScreen.redraw
+    monkeypatch.setattr(MenuScreen, "redraw", lambda self: drawn.append(type(self).__name__) or redraw(self))
     app = ValtermApp(tmp_path, "PROCESS")
     async with app.run_test(size=(160, 50)) as pilot:
         await pilot.pause()
-        drawn: list[str] = []
-        redraw = MenuScreen.redraw
-        monkeypatch.setattr(MenuScreen, "redraw", lambda self: drawn.append(type(self).__name__) or redraw(self))
+        assert drawn == ["MainMenuScreen"]  # first shown: by its resume, not by its mount as well
+        assert app.screen.model_view.redraws == 1
         await pilot.press("k")
         await pilot.pause()
         drawn.clear()

@@ -104,7 +104,8 @@ class MenuScreen(KeyedScreen[None]):
         view.ascii = self.app.ascii
         self._sync_view_options()
         self._layout(self.app.size.width)
-        self.redraw()
+        # no redraw here: the screen's resume, which follows its mount before the first frame,
+        # draws it (the picture was built twice for every screen shown, issue 25)
 
     def on_screen_resume(self) -> None:
         self.model_view.set_view(self.app.view_transform)
