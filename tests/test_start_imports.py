@@ -239,3 +239,56 @@ def test_the_apps_line_is_parsed_as_the_long_way_parses_it() -> None:
     assert all(quick == long for quick, long in pairs)
     assert "kin" in pairs[7][0][1] and "usage" in pairs[6][0][2]  # --help lists the commands; a usage error
     assert pairs[1][0][0].startswith("[('ascii', False)") and "'PROCESS'" in pairs[1][0][0]
+
+
+async def test_the_prompts_parts_come_after_the_first_frame_or_with_the_first_question(tmp_path, monkeypatch) -> None:  # type: ignore[no-untyped-def]
+    """A menu screen's first frame has the prompt without its question and input field (hidden
+    at a menu); they are mounted a moment after it, or at once by a question (issue 25)."""
+    from textual.widgets import Input, Label
+
+    from valterm.ui.app import ValtermApp
+    from valterm.ui.screens import base
+    from valterm.ui.widgets.prompt import Prompt
+
+    monkeypatch.setattr(base, "PROMPT_PARTS_AFTER", 3600.0)  # not within this test
+    app = ValtermApp(tmp_path, "PROCESS")
+    async with app.run_test(size=(160, 50)) as pilot:
+        await pilot.pause()
+        prompt = app.screen.query_one(Prompt)
+        assert not prompt.children and not app.screen.query(Input)
+        await pilot.press("s")  # S: ARE YOU SURE YOU WANT TO EXIT (Y/N) ?
+        await pilot.pause()
+        assert [type(w) for w in prompt.children] == [Label, Input]
+        assert prompt.question == "ARE YOU SURE YOU WANT TO EXIT (Y/N) ?:" and prompt.display
+        await pilot.press("n")
+        await pilot.pause()
+        assert not prompt.display and "SESSION CONTINUES" in app.screen.messages.text
+    monkeypatch.setattr(base, "PROMPT_PARTS_AFTER", 0.01)
+    app = ValtermApp(tmp_path, "PROCESS")
+    async with app.run_test(size=(160, 50)) as pilot:
+        prompt = app.screen.query_one(Prompt)
+        for _ in range(500):  # until the timer has run (no time limit of its own)
+            await pilot.pause(0.01)
+            if prompt.children:
+                break
+        assert [type(w) for w in prompt.children] == [Label, Input]
+
+
+async def test_the_prompts_parts_timer_does_nothing_on_a_screen_that_is_going(tmp_path, monkeypatch) -> None:  # type: ignore[no-untyped-def]
+    """The timer that mounts the prompt's parts may run while its screen goes (the app ends):
+    nothing is mounted then, and nothing fails."""
+    from valterm.ui.app import ValtermApp
+    from valterm.ui.screens import base
+    from valterm.ui.widgets.prompt import Prompt
+
+    monkeypatch.setattr(base, "PROMPT_PARTS_AFTER", 3600.0)  # the test calls it itself
+    app = ValtermApp(tmp_path, "PROCESS")
+    async with app.run_test(size=(160, 50)) as pilot:
+        await pilot.pause()
+        prompt = app.screen.query_one(Prompt)
+        monkeypatch.setattr(prompt, "_closing", True)
+        prompt.mount_parts()
+        assert not prompt.children
+        monkeypatch.setattr(prompt, "_closing", False)
+        prompt.mount_parts()
+        assert len(prompt.children) == 2

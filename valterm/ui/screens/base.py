@@ -32,6 +32,7 @@ from valterm.ui.widgets.prompt import Prompt
 from valterm.ui.widgets.status import StatusLine
 
 WIDE = 100  # columns from which the model is shown beside the menu
+PROMPT_PARTS_AFTER = 0.1  # seconds after a menu screen's first frame (see after_first_frame)
 
 
 @dataclass(frozen=True)
@@ -92,7 +93,10 @@ class MenuScreen(KeyedScreen[None]):
         yield StatusLine(id="status")
 
     def after_first_frame(self) -> None:
-        self.query_one(Prompt).mount_parts()  # hidden until asked: not in the first frame
+        # the prompt's parts, hidden until asked, a moment later: mounted at once, they held
+        # the interpreter while Textual's output thread was still writing the first frame
+        # (8 ms more before it was all on the terminal, issue 25); a question mounts them sooner
+        self.set_timer(PROMPT_PARTS_AFTER, self.query_one(Prompt).mount_parts, name="prompt parts")
 
     def compose_readout(self) -> ComposeResult:
         """The readout under the body (none by default)."""

@@ -26,7 +26,8 @@ class Prompt(Horizontal):
     """
 
     def mount_parts(self) -> None:
-        self._parts()
+        if not (self._closing or self._pruning):  # Textual mounts nothing on a widget that is going
+            self._parts()
 
     def _parts(self) -> tuple[Label, Input]:
         """The question and the input field, mounted now if they are not yet."""
