@@ -96,13 +96,13 @@ async def test_main_menu_r_toggles_menu_and_model_when_narrow(tmp_path: Path) ->
     async with app.run_test(size=(80, 24)) as pilot:
         screen = app.screen
         assert screen.has_class("-narrow")
-        assert not screen.query_one("#model-pane").display
+        assert not screen.query_one("#model").display
         await pilot.press("R")
-        assert screen.query_one("#model-pane").display
-        assert not screen.query_one("#menu-pane").display
+        assert screen.query_one("#model").display
+        assert not screen.query_one("#menu").display
         assert any(0x2800 < ord(c) <= 0x28FF for c in screen_text(app))  # braille on screen
         await pilot.press("R")
-        assert screen.query_one("#menu-pane").display
+        assert screen.query_one("#menu").display
 
 
 @sync
@@ -111,7 +111,7 @@ async def test_main_menu_model_beside_menu_when_wide(tmp_path: Path) -> None:
     async with app.run_test(size=(120, 40)):
         screen = app.screen
         assert screen.has_class("-wide")
-        assert screen.query_one("#model-pane").display and screen.query_one("#menu-pane").display
+        assert screen.query_one("#model").display and screen.query_one("#menu").display
         assert screen.query_one("#model").size.width > 30
 
 

@@ -161,6 +161,49 @@ def test_the_geometry_warnings_name_the_face_off_plane_and_the_polygon_not_conve
     assert parse_setup(BOX, "OK.SET").warnings == []
 
 
+def _odd_polyhedra(rng: np.random.Generator, count: int) -> list[Polyhedron]:
+    """Prisms of 4-7 corners: fine, dented, skewed, wound inward, flat, coincident, huge."""
+    made = []
+    for _ in range(count):
+        k = int(rng.integers(4, 8))
+        angles = np.sort(rng.uniform(0, 2 * np.pi, k))
+        front = np.stack([np.cos(angles), np.sin(angles), np.zeros(k)], 1) * rng.uniform(1, 500)
+        front += rng.normal(0, rng.choice([0.0, 0.01, 1.0, 30.0]), front.shape)
+        depth = rng.choice([0.0, 1e-12, rng.uniform(1, 300)])
+        back = front + [0, 0, depth] + rng.normal(0, rng.choice([0.0, 0.5, 20.0]), front.shape)
+        vertices = np.concatenate([front, back]) + rng.uniform(-1e3, 1e3, 3)
+        if rng.random() < 0.2:
+            vertices = np.concatenate([front[::-1], back[::-1]])
+        if rng.random() < 0.05:
+            vertices = np.zeros_like(vertices) + rng.uniform(-5, 5)
+        if rng.random() < 0.05:
+            vertices = vertices * 1e150
+        made.append(Polyhedron(vertices))
+    return made
+
+
+def test_a_files_parts_are_checked_together_with_the_same_warnings_as_one_by_one(monkeypatch) -> None:  # type: ignore[no-untyped-def]
+    """The geometry checks take all parts of one size at once (issue 25, the start): the same
+    warnings and the same parts wound inward as checking each part alone, file after file
+    of 14 parts; a file with numbers too odd for the batch is checked part by part."""
+    from valterm.core.files import setup
+
+    rng = np.random.default_rng(25)
+    polyhedra = _odd_polyhedra(rng, 3000)
+    alone = [Polyhedron(p.vertices.copy()) for p in polyhedra]
+    expected = [setup._check_geometry(p, 0) for p in alone]
+    one_by_one: list[Polyhedron] = []
+    check = setup._check_geometry
+    monkeypatch.setattr(setup, "_check_geometry", lambda p, part: one_by_one.append(p) or check(p, part))
+    found = [w for start in range(0, 3000, 14) for w in setup._all_warnings(polyhedra[start:start + 14])]
+    assert found == expected
+    assert [p.winding_flipped for p in polyhedra] == [p.winding_flipped for p in alone]
+    assert 0 < len(one_by_one) < 1000  # most files were checked in the batch
+    said = {w.split(" (")[0] for ws in expected for w in ws}
+    assert len(said) == 6  # every kind of warning was among them
+    assert any(p.winding_flipped for p in alone) and not all(p.winding_flipped for p in alone)
+
+
 def test_the_robot_model_is_read_unchecked_and_loses_nothing_by_it() -> None:
     """The bundled robot model skips the geometry checks (issue 25, the start): checked, it
     has no warning and no link wound inward, so its vertices are the same either way."""

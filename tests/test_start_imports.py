@@ -42,7 +42,7 @@ NOT_AT_MAIN_MENU = ("valterm.ui.screens.editor", "valterm.ui.screens.valmode", "
                     "valterm.ui.screens.manipulation", "valterm.ui.screens.pendant", "valterm.ui.screens.help",
                     "valterm.ui.screens.start", "valterm.ui.hardcopy", "valterm.core.cad.export",
                     "valterm.core.cad.convert", "valterm.core.editor", "valterm.core.val.compiler",
-                    "concurrent.futures.process", "valterm.ui.widgets.transcript_log", "rich.pretty", "importlib.resources", "importlib.metadata",
+                    "concurrent.futures.process", "valterm.core.files.vplus", "valterm.ui.widgets.transcript_log", "rich.pretty", "importlib.resources", "importlib.metadata",
                     *HEAVY)
 
 MAIN_MENU_PROBE = """
@@ -148,17 +148,144 @@ def test_the_collector_waits_for_the_apps_first_frame_only() -> None:
 
 
 async def test_the_app_turns_the_collector_on_after_its_first_frame(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    """On again after the first frame, with the start's objects frozen out of it: its first
+    pass would otherwise walk them all while the first frame waits to be written."""
     import gc
 
     from valterm.ui.app import ValtermApp
 
     app = ValtermApp(tmp_path, "PROCESS")
     app.collect_after_first_frame = True
+    gc.unfreeze()
     gc.disable()
     try:
         async with app.run_test(size=(160, 50)) as pilot:
             await pilot.pause()
             assert type(app.screen).__name__ == "MainMenuScreen"
             assert gc.isenabled()
+            frozen = gc.get_freeze_count()
+            assert frozen > 10_000  # the start's objects (Textual's, the session's, the screen's)
+            assert id(app.screen) not in {id(o) for o in gc.get_objects()}  # MAIN MENU is frozen
     finally:
+        gc.unfreeze()  # the rest of the tests' process as it was
         gc.enable()
+
+
+def test_the_workspace_knows_the_v_plus_files_without_their_reader() -> None:
+    """The workspace lists .V2 / .PG files without loading the V+ reader (issue 25, the start):
+    its kinds are the reader's extensions, and a V+ name loads it."""
+    from valterm.core import workspace
+    from valterm.core.files import vplus
+
+    assert tuple(ext.lstrip(".") for ext in vplus.EXTENSIONS) == workspace.VPLUS_KINDS
+    assert workspace._vplus() is vplus
+
+
+async def test_main_menu_draws_its_picture_once_each_time_it_is_shown_again(tmp_path, monkeypatch) -> None:  # type: ignore[no-untyped-def]
+    """Textual runs every class's on_screen_resume along the MRO: MAIN MENU's own does not
+    call MenuScreen's as well, and the mount leaves the drawing to the resume (the picture
+    was built three times at the start, issue 25)."""
+    from valterm.ui.app import ValtermApp
+    from valterm.ui.screens.base import MenuScreen
+
+    drawn: list[str] = []
+    redraw = MenuScreen.redraw
+    monkeypatch.setattr(MenuScreen, "redraw", lambda self: drawn.append(type(self).__name__) or redraw(self))
+    app = ValtermApp(tmp_path, "PROCESS")
+    async with app.run_test(size=(160, 50)) as pilot:
+        await pilot.pause()
+        assert drawn == ["MainMenuScreen"]  # first shown: by its resume, not by its mount as well
+        assert app.screen.model_view.redraws == 1
+        await pilot.press("k")
+        await pilot.pause()
+        drawn.clear()
+        await pilot.press("escape")  # KEYBOARD -> MAIN MENU
+        await pilot.pause()
+        assert type(app.screen).__name__ == "MainMenuScreen"
+        assert drawn == ["MainMenuScreen"]
+        assert "SETUP FILE PROCESS.SET WITH 14 PARTS" in app.screen.messages.text
+
+
+PARSE_PROBE = """
+import contextlib, io, json, sys
+from valterm.cli import build_parser, chosen_commands, parse_command_line
+
+def outcome(parse, argv):
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        try:
+            result = sorted(vars(parse(argv)).items())
+        except SystemExit as done:
+            result = ["exit", done.code]
+    return [repr(result), out.getvalue(), err.getvalue()]
+
+lines = [[], ["--setup", "PROCESS"], ["--workspace", "W", "--setup", "PROCESS", "--rules", "controller"],
+         ["--robot", "PUMA560", "--ascii", "--keys", "1985"], ["--robot", "NOPE"], ["--setup"], ["--nope"],
+         ["--help"], ["-h"], ["--he"], ["--version"], ["--setup", "run"], ["check", "X"], ["--rules", "1999"],
+         ["--max-steps", "10"], ["X"]]
+long_way = lambda argv: build_parser(chosen_commands(argv)).parse_args(argv)
+print(json.dumps([[outcome(parse_command_line, a), outcome(long_way, a)] for a in lines]))
+"""
+
+
+def test_the_apps_line_is_parsed_as_the_long_way_parses_it() -> None:
+    """An app's line skips the glance (issue 25, the start): every line parses, and every help
+    or usage error reads, as through the glance and every command it names."""
+    out = subprocess.run([sys.executable, "-c", PARSE_PROBE], capture_output=True, text=True, check=True)
+    pairs = json.loads(out.stdout.strip().splitlines()[-1])
+    assert all(quick == long for quick, long in pairs)
+    assert "kin" in pairs[7][0][1] and "usage" in pairs[6][0][2]  # --help lists the commands; a usage error
+    assert pairs[1][0][0].startswith("[('ascii', False)") and "'PROCESS'" in pairs[1][0][0]
+
+
+async def test_the_prompts_parts_come_after_the_first_frame_or_with_the_first_question(tmp_path, monkeypatch) -> None:  # type: ignore[no-untyped-def]
+    """A menu screen's first frame has the prompt without its question and input field (hidden
+    at a menu); they are mounted a moment after it, or at once by a question (issue 25)."""
+    from textual.widgets import Input, Label
+
+    from valterm.ui.app import ValtermApp
+    from valterm.ui.screens import base
+    from valterm.ui.widgets.prompt import Prompt
+
+    monkeypatch.setattr(base, "PROMPT_PARTS_AFTER", 3600.0)  # not within this test
+    app = ValtermApp(tmp_path, "PROCESS")
+    async with app.run_test(size=(160, 50)) as pilot:
+        await pilot.pause()
+        prompt = app.screen.query_one(Prompt)
+        assert not prompt.children and not app.screen.query(Input)
+        await pilot.press("s")  # S: ARE YOU SURE YOU WANT TO EXIT (Y/N) ?
+        await pilot.pause()
+        assert [type(w) for w in prompt.children] == [Label, Input]
+        assert prompt.question == "ARE YOU SURE YOU WANT TO EXIT (Y/N) ?:" and prompt.display
+        await pilot.press("n")
+        await pilot.pause()
+        assert not prompt.display and "SESSION CONTINUES" in app.screen.messages.text
+    monkeypatch.setattr(base, "PROMPT_PARTS_AFTER", 0.01)
+    app = ValtermApp(tmp_path, "PROCESS")
+    async with app.run_test(size=(160, 50)) as pilot:
+        prompt = app.screen.query_one(Prompt)
+        for _ in range(500):  # until the timer has run (no time limit of its own)
+            await pilot.pause(0.01)
+            if prompt.children:
+                break
+        assert [type(w) for w in prompt.children] == [Label, Input]
+
+
+async def test_the_prompts_parts_timer_does_nothing_on_a_screen_that_is_going(tmp_path, monkeypatch) -> None:  # type: ignore[no-untyped-def]
+    """The timer that mounts the prompt's parts may run while its screen goes (the app ends):
+    nothing is mounted then, and nothing fails."""
+    from valterm.ui.app import ValtermApp
+    from valterm.ui.screens import base
+    from valterm.ui.widgets.prompt import Prompt
+
+    monkeypatch.setattr(base, "PROMPT_PARTS_AFTER", 3600.0)  # the test calls it itself
+    app = ValtermApp(tmp_path, "PROCESS")
+    async with app.run_test(size=(160, 50)) as pilot:
+        await pilot.pause()
+        prompt = app.screen.query_one(Prompt)
+        monkeypatch.setattr(prompt, "_closing", True)
+        prompt.mount_parts()
+        assert not prompt.children
+        monkeypatch.setattr(prompt, "_closing", False)
+        prompt.mount_parts()
+        assert len(prompt.children) == 2

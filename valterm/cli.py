@@ -157,9 +157,25 @@ def chosen_commands(argv: Sequence[str] | None) -> tuple[str, ...]:
     return tuple(COMMANDS) if extra else ()
 
 
-def build_parser(commands: Sequence[str] | None = None) -> argparse.ArgumentParser:
-    """The command line's parser with ``commands`` registered (default: every one)."""
-    parser = Parser(
+def parse_command_line(argv: Sequence[str] | None) -> argparse.Namespace:
+    """``argv`` parsed by the parser that ``chosen_commands`` picks. A line that names no
+    command is tried first on the app's own parser alone, without the glance (the first
+    argparse parser a process builds costs some milliseconds of the app's start, issue 25);
+    anything it cannot take (a help, version or usage question) goes the long way."""
+    tokens = sys.argv[1:] if argv is None else list(argv)
+    if not any(token in COMMANDS or token.startswith(("-h", "--h", "--v")) for token in tokens):
+        try:
+            return build_parser((), top_class=_Glance).parse_args(argv)
+        except _Unsure:
+            pass
+    return build_parser(chosen_commands(argv)).parse_args(argv)
+
+
+def build_parser(commands: Sequence[str] | None = None,
+                 top_class: type[Parser] | None = None) -> argparse.ArgumentParser:
+    """The command line's parser with ``commands`` registered (default: every one);
+    ``top_class`` (default Parser) the top parser's class."""
+    parser = (top_class or Parser)(
         prog="valterm", top=True,
         description="VAL-II SIMULATOR: teach and program a PUMA robot in VAL-II, in the terminal. "
                     "With no COMMAND it starts the app.",
@@ -219,7 +235,7 @@ def _dispatch(argv: Sequence[str] | None, collecting: bool = True) -> int:
     from valterm.core.errors import ValtermError
 
     try:
-        args = build_parser(chosen_commands(argv)).parse_args(argv)
+        args = parse_command_line(argv)
     except SystemExit as done:  # --help, --version, a usage error
         return done.code if isinstance(done.code, int) else USAGE
     func = getattr(args, "func", None) or app.run_app

@@ -150,8 +150,14 @@ def _wrap(angle: float) -> float:
 
 def robot_names() -> list[str]:
     """The robots a user can choose with --robot: the bundled robot files with a DH table."""
+    return list(_bundled_dh_robots())
+
+
+@lru_cache(maxsize=1)
+def _bundled_dh_robots() -> tuple[str, ...]:
+    # read once: the command line's --robot help asks at every start, the bundle never changes
     folder = resources.data_path(ROBOT_FOLDER)
-    return sorted(p.stem for p in folder.glob("*.toml") if "[dh]" in p.read_text(encoding="utf-8"))
+    return tuple(sorted(p.stem for p in folder.glob("*.toml") if "[dh]" in p.read_text(encoding="utf-8")))
 
 
 @lru_cache(maxsize=8)

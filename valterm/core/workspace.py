@@ -25,17 +25,22 @@ import re
 import stat
 from collections.abc import Callable
 from pathlib import Path
+from types import ModuleType
+from typing import TYPE_CHECKING
 
 from valterm.core import resources
 from valterm.core.cell.workcell import WorkCell
 from valterm.core.errors import ValtermError
-from valterm.core.files import datfiler, locations, programs, setup, variables, vplus
+from valterm.core.files import datfiler, locations, programs, setup, variables
 from valterm.core.files.atomic import file_stamp, folder_lock, remove_stale_temporaries, write_bytes_atomic
 from valterm.core.files.datfiler import DATFILER
 from valterm.core.files.errors import shown_name
 from valterm.core.files.programs import Program
 from valterm.core.files.variables import CHECK
 from valterm.core.kinematics import Location
+
+if TYPE_CHECKING:
+    from valterm.core.files.vplus import VplusData
 
 ENV_VAR = "VALTERM_WORKSPACE"
 DEFAULT_ROOT = Path("~/valterm")
@@ -51,8 +56,15 @@ _RESERVED = frozenset({"CON", "PRN", "AUX", "NUL",
                        *(f"COM{i}" for i in range(1, 10)), *(f"LPT{i}" for i in range(1, 10))})
 
 _KINDS = {"SET": "setup", "LOC": "location", "DAT": "program"}
-# V+ program files (docs/VPLUS.md): NAME.V2 / NAME.PG, several .PROGRAM blocks each
-VPLUS_KINDS = tuple(ext.lstrip(".") for ext in vplus.EXTENSIONS)
+# V+ program files (docs/VPLUS.md): NAME.V2 / NAME.PG, several .PROGRAM blocks each; their
+# reader loads when a V+ name or file is first met (not at the app's start, issue 25)
+VPLUS_KINDS = ("V2", "PG")  # valterm.core.files.vplus.EXTENSIONS without the dot
+
+
+def _vplus() -> ModuleType:
+    from valterm.core.files import vplus
+
+    return vplus
 
 
 class WorkspaceError(ValtermError):
@@ -234,7 +246,7 @@ class Workspace:
         folder = Path(beside) if beside is not None else None
 
         def load(name: str) -> Program:
-            if vplus.is_dotted_name(name):
+            if _vplus().is_dotted_name(name):
                 return self.read_program(name)  # only the workspace's V+ files define it
             stem = self._program_name(name)
             if folder is not None:
@@ -251,7 +263,7 @@ class Workspace:
         folder = Path(beside) if beside is not None else None
 
         def exists(name: str) -> bool:
-            if vplus.is_dotted_name(name):
+            if _vplus().is_dotted_name(name):
                 return name.strip().upper() in self.vplus_programs()
             file_name = check_name(name, "DAT")
             if folder is not None and checked_path(folder, file_name).is_file():
@@ -310,7 +322,7 @@ class Workspace:
     # -- programs ----------------------------------------------------------------
     def read_program(self, name: str) -> Program:
         """NAME.DAT; else the program NAME of a V+ file of the workspace (a dotted name: only there)."""
-        if vplus.is_dotted_name(name):
+        if _vplus().is_dotted_name(name):
             return self._vplus_program(name.strip().upper())
         path = self.path(self._program_name(name), "DAT")
         if not path.is_file():
@@ -324,7 +336,7 @@ class Workspace:
         """(program, its .V2/.PG file) when ``name`` is a V+ program of the workspace that no
         NAME.DAT holds (the editor shows it read-only); None otherwise."""
         upper = name.strip().upper().removesuffix(".DAT")
-        if not vplus.is_dotted_name(upper):
+        if not _vplus().is_dotted_name(upper):
             try:
                 if self.path(self._program_name(upper), "DAT").is_file():
                     return None
@@ -332,13 +344,13 @@ class Workspace:
                 return None  # a bad name: the caller's own check says why
         return self.vplus_programs().get(upper)
 
-    def vplus_data(self, name: str) -> tuple[str, vplus.VplusData] | None:
+    def vplus_data(self, name: str) -> tuple[str, VplusData] | None:
         """(the file, its data sections) of the V+ file holding program ``name``; None when
         no V+ file of the workspace holds it."""
         found = self.vplus_source(name)
         if found is None:
             return None
-        return str(found[1].resolve()), vplus.read_vplus_file(found[1]).data
+        return str(found[1].resolve()), _vplus().read_vplus_file(found[1]).data
 
     def vplus_files(self) -> list[Path]:
         """NAME.V2 / NAME.PG files whose NAME is a workspace name, in name order; a file that
@@ -358,7 +370,7 @@ class Workspace:
         found: dict[str, tuple[Program, Path]] = {}
         for path in self.vplus_files():
             try:
-                blocks = vplus.read_vplus(path)
+                blocks = _vplus().read_vplus(path)
             except (ValtermError, OSError):
                 continue
             for block in blocks:
@@ -371,7 +383,7 @@ class Workspace:
             return found[0]
         for path in self.vplus_files():  # a damaged file may be the one meant: say why it is not read
             try:
-                vplus.read_vplus(path)
+                _vplus().read_vplus(path)
             except (ValtermError, OSError) as error:
                 raise WorkspaceError(f"PROGRAM {name} IS NOT DEFINED; {path.name} CANNOT BE READ: {error}") from None
         raise WorkspaceError(f"PROGRAM {name} IS NOT DEFINED (NO .V2 OR .PG FILE OF THE WORKSPACE HAS IT)")

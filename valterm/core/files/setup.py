@@ -153,6 +153,7 @@ def parse_setup(text: str, name: str | Path, *, checked: bool = True) -> WorkCel
         raise FileFormatError(where, number, f"the frame must be W (world) or S (screen), not {_shown(fields)!r}")
 
     cell = WorkCell(units=units, system=system, name=where.name)
+    header_lines: list[int] = []
     for part in range(1, count + 1):
         header_line, fields = need(f"object {part} of {count} ('1,N')")
         vertex_count = _object_size(fields, where, header_line, part)
@@ -168,15 +169,17 @@ def parse_setup(text: str, name: str | Path, *, checked: bool = True) -> WorkCel
                 polyhedron = Polyhedron(vertices, name=lines.names.get(header_line, f"PART {part}"))
         except (FloatingPointError, ValueError) as error:
             raise FileFormatError(where, header_line, f"object {part}: unusable vertices ({error})") from None
-        for warning in _check_geometry(polyhedron, part) if checked else ():
-            cell.warnings.append(f"{where.name}:{header_line}: object {part}: {warning}")
         cell.objects.append(polyhedron)
+        header_lines.append(header_line)
 
     extra = lines.next()
     if extra is not None:
         raise FileFormatError(
             where, extra[0], f"more data after the last object (line 1 says {count} object{'s' if count != 1 else ''})"
         )
+    for part, (header_line, warnings) in enumerate(zip(header_lines, _all_warnings(cell.objects) if checked else (),
+                                                       strict=False), 1):
+        cell.warnings.extend(f"{where.name}:{header_line}: object {part}: {warning}" for warning in warnings)
     return cell
 
 
@@ -227,6 +230,63 @@ def _check_geometry(polyhedron: Polyhedron, part: int) -> list[str]:
     return warnings
 
 
+def _all_warnings(polyhedra: list[Polyhedron]) -> list[list[str]]:
+    """``_check_geometry``'s warnings of each polyhedron, the polyhedra of one size checked
+    at once: a few numpy calls a file instead of a few a part (most of the app's session at
+    its start, issue 25). Numbers too odd for the batch are checked one by one."""
+    found: list[list[str]] = [[] for _ in polyhedra]
+    sizes: dict[int, list[int]] = {}
+    for index, polyhedron in enumerate(polyhedra):
+        sizes.setdefault(polyhedron.k, []).append(index)
+    for members in sizes.values():
+        group = [polyhedra[i] for i in members]
+        try:
+            with numpy_errors():
+                warnings, flipped = _group_warnings(group)
+        except (FloatingPointError, ValueError, np.linalg.LinAlgError):
+            warnings = [_check_geometry(polyhedron, 0) for polyhedron in group]
+        else:
+            for polyhedron, turned in zip(group, flipped, strict=True):
+                if turned:
+                    polyhedron.winding_flipped = True
+        for index, said in zip(members, warnings, strict=True):
+            found[index] = said
+    return found
+
+
+def _group_warnings(group: list[Polyhedron]) -> tuple[list[list[str]], list[bool]]:
+    """``_geometry_warnings`` of polyhedra of one size k at once: their warnings and which
+    wind inward (the same numbers, face by face, as one at a time)."""
+    k = group[0].k
+    v = np.stack([polyhedron.vertices for polyhedron in group])  # (n, 2k, 3)
+    front = v[:, :k]
+    normal = np.cross(front, np.roll(front, -1, axis=1)).sum(axis=1)
+    outward = ((normal * (front.mean(axis=1) - v.mean(axis=1))).sum(axis=1) >= 0).tolist()
+    size = np.ptp(v, axis=1).max(axis=1)
+    smallest = np.linalg.svd(v - v.mean(axis=1, keepdims=True), compute_uv=False)[:, -1]
+    faces = group[0].topology.faces
+    ends = v[:, np.stack(faces[:2])].reshape(-1, k, 3)
+    sides = v[:, np.stack(faces[2:])].reshape(-1, 4, 3)
+    worst = np.maximum(_off_planes(ends).reshape(len(group), 2).max(axis=1),
+                       _off_planes(sides).reshape(len(group), k).max(axis=1))
+    convex = _convex(np.concatenate([front, v[:, k:]])).reshape(2, len(group))
+    warnings: list[list[str]] = []
+    for i, out in enumerate(outward):
+        said = [] if out else ["vertices wind inward; drawn with outward normals"]
+        warnings.append(said)
+        if size[i] <= 1e-9:
+            said.append("all vertices coincide")
+            continue
+        if smallest[i] <= 1e-6 * size[i]:
+            said.append("flat: the vertices enclose no volume")
+            continue
+        if worst[i] > 1e-3 * size[i] + 0.01:
+            said.append(f"a face is not planar (off by {worst[i]:.2f} mm)")
+        said.extend(f"the {label} polygon is not convex"
+                    for label, ok in zip(("front", "back"), convex[:, i], strict=True) if not ok)
+    return warnings, [not out for out in outward]
+
+
 def _geometry_warnings(polyhedron: Polyhedron, warnings: list[str]) -> None:
     if not polyhedron.file_winding_outward():
         polyhedron.winding_flipped = True
@@ -257,6 +317,20 @@ def _newell(pts: np.ndarray) -> np.ndarray:
     """The Newell normals of polygons (..., corners, 3)."""
     nxt = np.roll(pts, -1, axis=-2)
     return np.asarray(np.cross(pts, nxt).sum(axis=-2))
+
+
+def _off_planes(faces: np.ndarray) -> np.ndarray:
+    """The farthest each of ``faces`` (n, corners, 3) has a corner from its plane, as
+    ``_off_plane`` measures it (0 for a face without a normal)."""
+    normals = _newell(faces)
+    lengths = np.sqrt((normals * normals).sum(axis=-1))
+    kept = lengths != 0.0
+    worst = np.zeros(len(faces))
+    if kept.any():
+        faces, units = faces[kept], normals[kept] / lengths[kept, None]
+        off = np.einsum("fcx,fx->fc", faces - faces.mean(axis=1, keepdims=True), units)
+        worst[kept] = np.abs(off).max(axis=1)
+    return worst
 
 
 def _off_plane(faces: np.ndarray) -> float:

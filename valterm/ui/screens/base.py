@@ -13,7 +13,7 @@ from typing import Any, Callable, ClassVar
 from textual import events
 from textual.app import ComposeResult
 from textual.binding import Binding
-from textual.containers import Horizontal, Vertical
+from textual.containers import Horizontal
 from textual.widgets import Input
 
 from valterm.core.errors import ValtermError
@@ -32,6 +32,7 @@ from valterm.ui.widgets.prompt import Prompt
 from valterm.ui.widgets.status import StatusLine
 
 WIDE = 100  # columns from which the model is shown beside the menu
+PROMPT_PARTS_AFTER = 0.1  # seconds after a menu screen's first frame (see after_first_frame)
 
 
 @dataclass(frozen=True)
@@ -83,15 +84,19 @@ class MenuScreen(KeyedScreen[None]):
         # wide or narrow before the first styling, not a second styling of every widget after
         # it (issue 25, the start)
         self._layout(self.app.size.width, update=False)
-        with Horizontal(id="body"):
-            with Vertical(id="menu-pane"):
-                yield MenuText(self.MENU, id="menu")
-            with Vertical(id="model-pane"):
-                yield CellView(id="model")
+        with Horizontal(id="body"):  # no pane around either: each is a widget less to draw (issue 25)
+            yield MenuText(self.MENU, id="menu")
+            yield CellView(id="model")
         yield from self.compose_readout()
         yield MessageLog(id="messages")
         yield Prompt(id="prompt")
         yield StatusLine(id="status")
+
+    def after_first_frame(self) -> None:
+        # the prompt's parts, hidden until asked, a moment later: mounted at once, they held
+        # the interpreter while Textual's output thread was still writing the first frame
+        # (8 ms more before it was all on the terminal, issue 25); a question mounts them sooner
+        self.set_timer(PROMPT_PARTS_AFTER, self.query_one(Prompt).mount_parts, name="prompt parts")
 
     def compose_readout(self) -> ComposeResult:
         """The readout under the body (none by default)."""
@@ -103,7 +108,8 @@ class MenuScreen(KeyedScreen[None]):
         view.ascii = self.app.ascii
         self._sync_view_options()
         self._layout(self.app.size.width)
-        self.redraw()
+        # no redraw here: the screen's resume, which follows its mount before the first frame,
+        # draws it (the picture was built twice for every screen shown, issue 25)
 
     def on_screen_resume(self) -> None:
         self.model_view.set_view(self.app.view_transform)
@@ -318,7 +324,7 @@ class MenuScreen(KeyedScreen[None]):
     def line_taking_keys(self) -> Input | None:
         if self.key_state != LINE:
             return None
-        return self.query_one(Prompt).query_one("#answer", Input)
+        return self.query_one(Prompt).field
 
     def other_key(self, event: events.Key) -> bool:
         """A one-key answer, or (KEYBOARD, PENDANT) a letter that opens V's command line."""

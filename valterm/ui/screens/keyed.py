@@ -63,7 +63,16 @@ class KeyedScreen(Guarded, Screen[ResultT]):
         if self.app._batch_count:
             self.set_timer(0.001, self._compositor_refresh, name="frame after the batch")
             return
+        drawing = self.is_current
         super()._compositor_refresh()
+        if drawing and not self._first_frame_drawn:
+            self._first_frame_drawn = True
+            self.call_later(self.after_first_frame)
+
+    _first_frame_drawn = False
+
+    def after_first_frame(self) -> None:
+        """Once the screen's first frame is drawn: what it does not show yet (issue 25, the start)."""
 
     # -- the state ------------------------------------------------------------------------
     @property

@@ -33,7 +33,8 @@ class MainMenuScreen(MenuScreen):
     ]
 
     def on_screen_resume(self) -> None:
-        super().on_screen_resume()
+        # Textual runs MenuScreen's on_screen_resume after this one (every class's handler
+        # along the MRO): calling it here too drew the picture twice (issue 25, the start)
         self._say_setup()  # first shown, or a save-as in MANIPULATION renamed the set-up
 
     def _say_setup(self) -> None:

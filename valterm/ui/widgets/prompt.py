@@ -7,12 +7,15 @@ shown only for typed answers, so menu keys never go to a focused input by accide
 from __future__ import annotations
 
 from textual import events
-from textual.app import ComposeResult
 from textual.containers import Horizontal
 from textual.widgets import Input, Label
 
 
 class Prompt(Horizontal):
+    """Hidden until a question opens it. Its question and input field are mounted after the
+    screen's first frame (``mount_parts``, or by the first question if one comes sooner): a
+    menu screen shows without them, a tenth of MAIN MENU's first frame (issue 25, the start)."""
+
     DEFAULT_CSS = """
     Prompt { height: 1; display: none; }
     Prompt.-active { display: block; }
@@ -22,22 +25,28 @@ class Prompt(Horizontal):
     Prompt.-key > Input { display: none; }
     """
 
-    def compose(self) -> ComposeResult:
-        yield Label("", id="question")
-        # disabled while closed, so a hidden input can never take a menu key
-        yield Input(id="answer", compact=True, disabled=True)
+    def mount_parts(self) -> None:
+        if not (self._closing or self._pruning):  # Textual mounts nothing on a widget that is going
+            self._parts()
+
+    def _parts(self) -> tuple[Label, Input]:
+        """The question and the input field, mounted now if they are not yet."""
+        if not self.children:
+            # disabled while closed, so a hidden input can never take a menu key
+            self.mount(Label("", id="question"), Input(id="answer", compact=True, disabled=True))
+        return self.query_one("#question", Label), self.query_one("#answer", Input)
 
     @property
     def question(self) -> str:
-        return str(self.query_one("#question", Label).content)
+        return str(self._parts()[0].content)
 
     def open_line(self, question: str, default: str = "", typed: bool = False) -> None:
         """Open the typed answer with ``default`` in it: selected, so typing replaces it, or
         when ``typed`` (the user's own first key) kept, so typing goes on after it."""
+        label, answer = self._parts()
         self.remove_class("-key")
         self.add_class("-active")
-        self.query_one("#question", Label).update(question)
-        answer = self.query_one("#answer", Input)
+        label.update(question)
         answer.disabled = False
         answer.select_on_focus = not typed
         answer.value = default
@@ -46,15 +55,20 @@ class Prompt(Horizontal):
 
     def open_key(self, question: str) -> None:
         self.add_class("-active", "-key")
-        self.query_one("#question", Label).update(question)
+        self._parts()[0].update(question)
 
     def close(self) -> None:
         self.remove_class("-active", "-key")
-        answer = self.query_one("#answer", Input)
+        answer = self._parts()[1]
         answer.value = ""
         if answer.has_focus:
             self.screen.set_focus(None)
         answer.disabled = True
+
+    @property
+    def field(self) -> Input:
+        """The input field (mounted now if it is not yet)."""
+        return self._parts()[1]
 
 
 def type_ahead(event: events.Key, field: Input) -> bool:
