@@ -134,9 +134,9 @@ class Simulator:
     def robot_polyhedra(self) -> list[Polyhedron]:
         return self.model.place(self.joints, self.gap, self.base)
 
-    def tool_pose(self, point: int = 1) -> tuple[np.ndarray, np.ndarray]:
-        """World position of option 1/2/3 and the tool rotation."""
-        pose = self.arm.fk(self.joints, point)
+    def tool_pose(self, point: int = 1, joints: Sequence[float] | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """World position of option 1/2/3 and the tool rotation (at ``joints``, else where the arm is)."""
+        pose = self.arm.fk(self.joints if joints is None else joints, point)
         return self.base[:3, :3] @ pose.xyz + self.base[:3, 3], self.base[:3, :3] @ pose.rotation
 
     def where(self, point: int = 1) -> Where:

@@ -249,6 +249,8 @@ class ValtermApp(Guarded, ViewActions, App[int]):
         if self.session is None:
             return Scene.build([])
         sim = self.session.simulator
+        for joints in self.player.passed_poses():  # every pose the motion went through
+            self.trace.add(clamp_point(sim, joints))
         self.trace.add(clamp_point(sim))
         if self.follow_clamp:
             self.frame_clamp()

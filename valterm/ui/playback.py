@@ -52,6 +52,7 @@ from valterm.core.events import (
 )
 from valterm.core.kinematics import joints_between
 from valterm.core.render.clock import DEFAULT_RATE, MotionPlayer
+from valterm.core.render.overlays import TRACE_POINTS
 from valterm.core.text.transcript import event_lines
 from valterm.ui.errors import problem_text
 
@@ -137,6 +138,9 @@ class Player:
         self._timer: Timer | None = None
         # drawing only: the pose before the one shown and that pose, the picture in between
         self._last_pose: tuple[float, ...] | None = None  # the last pose the robot was seen at
+        # the tool path's poses: every pose the stream went through, not only those a frame
+        # showed (a slow terminal draws fewer; the path must not turn into chords)
+        self._passed: deque[tuple[float, ...]] = deque(maxlen=TRACE_POINTS)
         self._segment: tuple[tuple[float, ...], tuple[float, ...]] | None = None
         self._between: tuple[float, ...] | None = None
         self._tick_start = 0.0  # perf_counter() when the tick began
@@ -162,6 +166,13 @@ class Player:
         if self._segment is None or tuple(joints) != self._segment[1]:
             return None  # the robot is not where the motion put it: draw it as it is
         return self._between
+
+    def passed_poses(self) -> list[tuple[float, ...]]:
+        """The motions' poses the stream went through since the last call, in order (the
+        tool path draws each, as ``valterm render --trace`` does)."""
+        passed = list(self._passed)
+        self._passed.clear()
+        return passed
 
     def rest_at(self, joints: Sequence[float]) -> None:
         """The robot is at ``joints`` with no motion playing: the next motion's pictures
@@ -290,6 +301,7 @@ class Player:
                 self._motion = self._paced(event)
             else:
                 self._last_pose = event.joints
+                self._passed.append(event.joints)
             return
         if isinstance(event, Delay):
             if pace and not self._aborting:
@@ -346,6 +358,7 @@ class Player:
     def _arrive(self, pose: PoseEvent) -> None:
         """A pose pulled from the stream: the simulator is there now (the next to be shown)."""
         before, self._last_pose = self._last_pose, pose.joints
+        self._passed.append(pose.joints)
         self._segment = None if before is None else (before, pose.joints)
 
     def _in_between(self, motion: MotionPlayer[PoseEvent]) -> tuple[float, ...] | None:

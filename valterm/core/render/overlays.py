@@ -45,9 +45,10 @@ TRACE_STEP = 0.5  # mm the clamp must move to add a point
 GHOST_LENGTH = 80.0  # mm, the axes of the target frame
 
 
-def clamp_point(simulator: Simulator) -> np.ndarray:
-    """The world position whose path the trace draws: the clamp tip (KEYBOARD's POSITION 3)."""
-    xyz, _ = simulator.tool_pose(3)
+def clamp_point(simulator: Simulator, joints: Sequence[float] | None = None) -> np.ndarray:
+    """The world position whose path the trace draws: the clamp tip (KEYBOARD's POSITION 3),
+    at ``joints`` (else where the arm is)."""
+    xyz, _ = simulator.tool_pose(3, joints)
     return np.asarray(xyz, dtype=float)
 
 
