@@ -525,3 +525,35 @@ def test_each_movers_broad_phase_keeps_every_pair_the_coarse_test_finds():
         found += len(findings)
     assert near > 100 and found > 100, (near, found)   # the arm among the parts, not beside them
     assert float(np.mean(picked)) < 0.05           # a few pairs of the 1000-odd each pose
+
+
+def test_steps_turning_alike_reuse_the_fixed_lengths_pass_with_the_same_moments():
+    """``swept``'s first pass (the fixed lengths' bound) is kept for the next step turning the
+    joints alike (a path's steps do): every step's moments and pairs are those of a scene that
+    works the pass out afresh at every step, through PROCESS's cell with moments on the way."""
+    sim = Simulator(read_setup(resources.data_path("cells", "PROCESS.SET")))
+    kept = sim._collision_scene()
+    fresh = RobotScene(sim.model.names, sim.model.frames.tolist())
+    fresh.set_shapes(sim.model.shapes(sim.gap))
+    rng = np.random.default_rng(29)
+    ready = np.asarray(sim.geometry.ready, dtype=float)
+    steps_with_moments = reused = 0
+    for start in range(6):
+        q = ready + rng.normal(0.0, 30.0, 6)
+        turn = rng.normal(0.0, 4.0, 6) * (rng.random(6) < 0.5)
+        turn[0] = 3.0
+        for n in range(25):
+            frames = sim.model.link_frames(q.tolist())
+            answers, before = [], kept._fixed_kept
+            for scene in (kept, fresh):
+                scene.check(frames, sim.cell.objects)
+                fresh._fixed_kept = None
+                answers.append(scene.swept(frames, np.radians(turn).tolist(), sim.cell.objects,
+                                           since=(start, n - 1), now=(start, n)))
+            (m0, r0), (m1, r1) = answers
+            assert np.array_equal(m0, m1) and np.array_equal(r0, r1), (start, n)
+            steps_with_moments += len(m0) > 0
+            reused += before is not None and kept._fixed_kept is before
+            q = q + turn
+    assert steps_with_moments > 10, steps_with_moments    # the test saw steps needing moments
+    assert reused > 100, reused                           # and the kept pass used again

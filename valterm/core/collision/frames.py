@@ -99,6 +99,8 @@ class RobotScene:
         self._group_kept: tuple[object, float, np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None = None
         self._linked: tuple[_Pairs, tuple[np.ndarray, np.ndarray, np.ndarray]] | None = None   # _link_pairs'
         self._picks: dict[int, tuple[np.ndarray, np.ndarray]] = {}    # _path_picks'
+        self._fixed_kept: tuple[object, object, tuple[float, ...], tuple[np.ndarray, np.ndarray, np.ndarray,
+                                np.ndarray, bool, float]] | None = None   # _fixed_lengths'
 
     # -- what is built once ----------------------------------------------------------------
     def set_shapes(self, local: Sequence[np.ndarray]) -> None:
@@ -429,7 +431,7 @@ class RobotScene:
         """
         pairs, s = self._pairs_now, self._scene
         kept, self._ends = self._ends, None
-        never = np.zeros(0), np.zeros((0, 0), dtype=bool)
+        never = _NEVER
         if pairs is None or self.checker == "exact" or len(pairs.moving) == 0:
             return never
         gaps = self._gaps_now
@@ -438,12 +440,9 @@ class RobotScene:
                           *((s.mid.copy(), s.half.copy()) if gaps is None else (s.mid, s.half)))
         if not any(turned):
             return never
-        movers = self._movers
-        turns = np.abs(np.asarray(turned, dtype=float))
-        bound = np.zeros(len(s.radii))
         thinnest = self._thinnest(objects)
-        linked, nl = self._link_pairs(pairs), len(self._link_ks)
-        terms = self._travel_table(frames) * turns                # (movers, joints), the fixed lengths
+        linked = self._link_pairs(pairs)
+        turns, terms, bound, relative, linking, top = self._fixed_lengths(frames, turned, linked)
         parts: tuple[np.ndarray, ...] | None = None
         links: tuple[np.ndarray, ...] | None = None
         # the fixed lengths first (one product): many steps are cleared by them, the bound
@@ -451,13 +450,11 @@ class RobotScene:
         for tight in (False, True):
             if tight:
                 terms = self._sweep_terms(frames, turns, terms)
-            bound[movers] = terms.sum(axis=1)
-            relative = linked[2] @ terms[:nl].ravel()           # link x link: the steps each needs
-            linking = float(relative.max(initial=0.0)) > 1.0
-            if float(bound.max()) <= thinnest and not linking:
+                bound, relative, linking, top = self._bounds(terms, linked)
+            if top <= thinnest and not linking:
                 return never              # nothing moves as far as the thinnest part is wide
             if parts is None:             # the pairs (and their gaps) the fixed lengths can reach
-                parts = self._part_pairs(float(bound.max()), objects, since, kept)
+                parts = self._part_pairs(top, objects, since, kept)
             if links is None and linking:
                 links = self._link_gaps(linked, since, kept)
             # a pair whose boxes can meet and that moves past its part's width needs moments
@@ -478,6 +475,37 @@ class RobotScene:
         _, moments, rows = _moments(np.ones((1, len(sel)), dtype=bool), sel, b0[None], both[None], reach[None],
                                     need[None], len(pairs.moving))
         return moments, rows
+
+    def _fixed_lengths(self, frames: np.ndarray, turned: Sequence[float], linked: tuple[np.ndarray, ...]
+                       ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, bool, float]:
+        """``swept``'s first pass, the bound from the fixed lengths: the joints' turns (absolute),
+        the travel terms, each body's bound, the link pairs' steps needed, whether one needs
+        more than one and the largest bound. The same for the same turns while the travel
+        table is the one kept (links only, on the thesis's axes): a path turns its joints
+        alike at every step, so the last step's are used again."""
+        table = self._travel_table(frames)
+        key = tuple(turned)
+        kept = self._fixed_kept
+        if kept is not None and kept[0] is table and kept[1] is linked and kept[2] == key:
+            return kept[3]
+        turns = np.absolute(turned, dtype=float)
+        terms = table * turns
+        found = (turns, terms, *self._bounds(terms, linked))
+        self._fixed_kept = (table, linked, key, found)
+        return found
+
+    def _bounds(self, terms: np.ndarray, linked: tuple[np.ndarray, ...]) -> tuple[np.ndarray, np.ndarray, bool, float]:
+        """From the (movers, joints) travel terms: each body's bound (0 for the still ones; with
+        nothing carried the movers are the links, the first rows, and theirs alone will do),
+        each link pair's steps needed, whether one needs more than one, the largest bound."""
+        movers, nl = self._movers, len(self._link_ks)
+        if len(movers) > nl:
+            bound = np.zeros(len(self._scene.radii))
+            bound[movers] = terms.sum(axis=1)
+        else:
+            bound = terms.sum(axis=1)
+        relative = linked[2] @ terms[:nl].ravel()           # link x link: the steps each needs
+        return bound, relative, float(relative.max(initial=0.0)) > 1.0, float(bound.max())
 
     # -- a whole path's steps together (issue 25, round 7) -------------------------------------
     def path_figures(self, count: int, since: object) -> PathFigures | None:
@@ -909,6 +937,11 @@ class RobotScene:
 
 
 _VERTICES = operator.attrgetter("vertices")
+
+# ``swept``'s answer when no moment is needed (empty: nothing can write into them)
+_NEVER = (np.zeros(0), np.zeros((0, 0), dtype=bool))
+for _empty in _NEVER:
+    _empty.flags.writeable = False
 
 # each joint's axis, a column of its frame's rotation (``kinematics.link_frames``): JT1 turns
 # about z of frame 1, JT2 and JT3 about y of frames 2 and 3, JT4 about z of frame 4, JT5
