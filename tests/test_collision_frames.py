@@ -7,6 +7,7 @@ objects per pose) into ``CollisionWorld.check``. The new path must give identica
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from valterm.core import resources
 from valterm.core.cell.polyhedron import Polyhedron
@@ -527,11 +528,16 @@ def test_each_movers_broad_phase_keeps_every_pair_the_coarse_test_finds():
     assert float(np.mean(picked)) < 0.05           # a few pairs of the 1000-odd each pose
 
 
-def test_steps_turning_alike_reuse_the_fixed_lengths_pass_with_the_same_moments():
-    """``swept``'s first pass (the fixed lengths' bound) is kept for the next step turning the
-    joints alike (a path's steps do): every step's moments and pairs are those of a scene that
-    works the pass out afresh at every step, through PROCESS's cell with moments on the way."""
-    sim = Simulator(read_setup(resources.data_path("cells", "PROCESS.SET")))
+@pytest.mark.parametrize("cell", ["PROCESS", "ring"])
+def test_steps_turning_alike_reuse_the_fixed_lengths_pass_with_the_same_moments(cell: str):
+    """``swept``'s first pass (the fixed lengths' bound, and which parts' pairs move past their
+    part's width) is kept for the next step turning the joints alike (a path's steps do): every
+    step's moments and pairs are those of a scene that works the pass out afresh at every step,
+    through PROCESS's cell (a broad phase) and the bench's ring of 30 parts (every pair's gaps
+    measured), with moments on the way."""
+    from valterm.bench.collision import ring_cell
+    sim = Simulator(read_setup(resources.data_path("cells", "PROCESS.SET")) if cell == "PROCESS"
+                    else WorkCell(objects=ring_cell(30)))
     kept = sim._collision_scene()
     fresh = RobotScene(sim.model.names, sim.model.frames.tolist())
     fresh.set_shapes(sim.model.shapes(sim.gap))
@@ -547,7 +553,7 @@ def test_steps_turning_alike_reuse_the_fixed_lengths_pass_with_the_same_moments(
             answers, before = [], kept._fixed_kept
             for scene in (kept, fresh):
                 scene.check(frames, sim.cell.objects)
-                fresh._fixed_kept = None
+                fresh._fixed_kept = fresh._past_kept = None
                 answers.append(scene.swept(frames, np.radians(turn).tolist(), sim.cell.objects,
                                            since=(start, n - 1), now=(start, n)))
             (m0, r0), (m1, r1) = answers

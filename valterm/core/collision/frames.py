@@ -99,6 +99,7 @@ class RobotScene:
         self._group_kept: tuple[object, float, np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None = None
         self._linked: tuple[_Pairs, tuple[np.ndarray, np.ndarray, np.ndarray]] | None = None   # _link_pairs'
         self._picks: dict[int, tuple[np.ndarray, np.ndarray]] = {}    # _path_picks'
+        self._past_kept: tuple[np.ndarray, ...] | None = None   # _past_width's
         self._fixed_kept: tuple[object, object, tuple[float, ...], tuple[np.ndarray, np.ndarray, np.ndarray,
                                 np.ndarray, bool, float]] | None = None   # _fixed_lengths'
 
@@ -453,19 +454,24 @@ class RobotScene:
                 bound, relative, linking, top = self._bounds(terms, linked)
             if top <= thinnest and not linking:
                 return never              # nothing moves as far as the thinnest part is wide
-            if parts is None:             # the pairs (and their gaps) the fixed lengths can reach
-                parts = self._part_pairs(top, objects, since, kept)
             if links is None and linking:
                 links = self._link_gaps(linked, since, kept)
             # a pair whose boxes can meet and that moves past its part's width needs moments
-            moved = bound.take(parts[1])
-            risky = bool(((parts[3] <= moved) & (moved > parts[4])).any())
+            if parts is None and gaps is not None:   # every pair's gaps measured: the few past theirs
+                risky = self._past_width(bound, objects, since, kept)
+            else:
+                if parts is None:         # the pairs (and their gaps) the fixed lengths can reach
+                    parts = self._part_pairs(top, objects, since, kept)
+                moved = bound.take(parts[1])
+                risky = bool(((parts[3] <= moved) & (moved > parts[4])).any())
             if links is not None:
                 closing = bound.take(links[1]) + bound.take(links[2])
                 risky = risky or bool(((links[3] <= closing) & (relative > 1.0)).any())
             if not risky:
                 return never
-        assert parts is not None
+        if parts is None:
+            parts = self._part_pairs(top, objects, since, kept)
+            moved = bound.take(parts[1])
         columns = [(parts[0], parts[5], parts[3], moved, moved / parts[4])]
         picks = [np.flatnonzero(parts[3] <= moved)]
         if links is not None:
@@ -784,6 +790,28 @@ class RobotScene:
             widths = np.maximum(self._widths(objects, st), 1.0)
         before = self._kept_gaps(kept, since, sel, m, st)
         return sel, m, st, before + after - 2.0 * EPS, widths, before
+
+    def _past_width(self, bound: np.ndarray, objects: Sequence[Polyhedron], since: object,
+                    kept: tuple[object, ...] | None) -> bool:
+        """``swept``'s test of the parts' pairs when every pair's box gaps were measured: does a
+        pair that moves past its part's width (``bound`` of its mover) have its boxes near enough
+        to meet? Only those pairs' gaps are looked at (the arithmetic of ``_part_pairs``); which
+        pairs they are is kept while the bounds are the ones kept (``_fixed_lengths``)."""
+        pairs, gaps = self._pairs_now, self._gaps_now
+        assert pairs is not None and gaps is not None
+        ruled = len(self._movers) * len(self._free)
+        widths = self._ruled_widths(objects, pairs.stationary[:ruled])
+        got = self._past_kept
+        if got is None or got[0] is not bound or got[1] is not widths:
+            moved = bound.take(pairs.moving[:ruled])
+            past = np.flatnonzero(moved > widths)
+            got = self._past_kept = (bound, widths, past, moved.take(past), pairs.moving.take(past),
+                                     pairs.stationary.take(past))
+        past, moved, m, st = got[2:]
+        if not len(past):
+            return False
+        both = self._kept_gaps(kept, since, past, m, st) + gaps.take(past) - 2.0 * EPS
+        return bool((both <= moved).any())
 
     def _ruled_widths(self, objects: Sequence[Polyhedron], st: np.ndarray) -> np.ndarray:
         """The widths (at least 1 mm) of the parts of the pairs whose parts are ``st``
