@@ -99,9 +99,9 @@ class RobotScene:
         self._group_kept: tuple[object, float, np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None = None
         self._linked: tuple[_Pairs, tuple[np.ndarray, np.ndarray, np.ndarray]] | None = None   # _link_pairs'
         self._picks: dict[int, tuple[np.ndarray, np.ndarray]] = {}    # _path_picks'
-        self._past_kept: tuple[np.ndarray, ...] | None = None   # _past_width's
-        self._fixed_kept: tuple[object, object, tuple[float, ...], tuple[np.ndarray, np.ndarray, np.ndarray,
-                                np.ndarray, bool, float]] | None = None   # _fixed_lengths'
+        self._past_kept: dict[int, tuple[np.ndarray, ...]] = {}   # _past_width's, by the bounds' id
+        self._fixed_kept: tuple[object, object, dict[tuple[float, ...], tuple[np.ndarray, np.ndarray, np.ndarray,
+                                np.ndarray, bool, float]]] | None = None   # _fixed_lengths'
 
     # -- what is built once ----------------------------------------------------------------
     def set_shapes(self, local: Sequence[np.ndarray]) -> None:
@@ -458,7 +458,7 @@ class RobotScene:
                 links = self._link_gaps(linked, since, kept)
             # a pair whose boxes can meet and that moves past its part's width needs moments
             if parts is None and gaps is not None:   # every pair's gaps measured: the few past theirs
-                risky = self._past_width(bound, objects, since, kept)
+                risky = self._past_width(bound, objects, since, kept, not tight)
             else:
                 if parts is None:         # the pairs (and their gaps) the fixed lengths can reach
                     parts = self._part_pairs(top, objects, since, kept)
@@ -490,14 +490,18 @@ class RobotScene:
         table is the one kept (links only, on the thesis's axes): a path turns its joints
         alike at every step, so the last step's are used again."""
         table = self._travel_table(frames)
-        key = tuple(turned)
         kept = self._fixed_kept
-        if kept is not None and kept[0] is table and kept[1] is linked and kept[2] == key:
-            return kept[3]
-        turns = np.absolute(turned, dtype=float)
-        terms = table * turns
-        found = (turns, terms, *self._bounds(terms, linked))
-        self._fixed_kept = (table, linked, key, found)
+        if kept is None or kept[0] is not table or kept[1] is not linked:
+            kept = self._fixed_kept = (table, linked, {})
+        key = tuple(turned)
+        found = kept[2].get(key)
+        if found is None:
+            turns = np.absolute(turned, dtype=float)
+            terms = table * turns
+            found = (turns, terms, *self._bounds(terms, linked))
+            if len(kept[2]) >= 16:         # a few turns at a time (a path's differ in the last bits)
+                kept[2].clear()
+            kept[2][key] = found
         return found
 
     def _bounds(self, terms: np.ndarray, linked: tuple[np.ndarray, ...]) -> tuple[np.ndarray, np.ndarray, bool, float]:
@@ -792,21 +796,24 @@ class RobotScene:
         return sel, m, st, before + after - 2.0 * EPS, widths, before
 
     def _past_width(self, bound: np.ndarray, objects: Sequence[Polyhedron], since: object,
-                    kept: tuple[object, ...] | None) -> bool:
+                    kept: tuple[object, ...] | None, keep: bool) -> bool:
         """``swept``'s test of the parts' pairs when every pair's box gaps were measured: does a
         pair that moves past its part's width (``bound`` of its mover) have its boxes near enough
         to meet? Only those pairs' gaps are looked at (the arithmetic of ``_part_pairs``); which
-        pairs they are is kept while the bounds are the ones kept (``_fixed_lengths``)."""
+        pairs they are is kept with the bounds kept (``_fixed_lengths``'s, ``keep``)."""
         pairs, gaps = self._pairs_now, self._gaps_now
         assert pairs is not None and gaps is not None
         ruled = len(self._movers) * len(self._free)
         widths = self._ruled_widths(objects, pairs.stationary[:ruled])
-        got = self._past_kept
+        got = self._past_kept.get(id(bound))
         if got is None or got[0] is not bound or got[1] is not widths:
             moved = bound.take(pairs.moving[:ruled])
             past = np.flatnonzero(moved > widths)
-            got = self._past_kept = (bound, widths, past, moved.take(past), pairs.moving.take(past),
-                                     pairs.stationary.take(past))
+            got = (bound, widths, past, moved.take(past), pairs.moving.take(past), pairs.stationary.take(past))
+            if keep:
+                if len(self._past_kept) >= 16:
+                    self._past_kept.clear()
+                self._past_kept[id(bound)] = got     # the entry holds the bound: its id stays its own
         past, moved, m, st = got[2:]
         if not len(past):
             return False
