@@ -564,3 +564,17 @@ def test_steps_turning_alike_reuse_the_fixed_lengths_pass_with_the_same_moments(
             q = q + turn
     assert steps_with_moments > 10, steps_with_moments    # the test saw steps needing moments
     assert reused > 100, reused                           # and the kept pass used again
+
+
+def test_the_frames_laid_out_in_one_call_are_those_of_stacked():
+    """``_update`` lays the frames out for its product with one ``take``: the same numbers as
+    ``_stacked``, for the simulator's seven frames and for a longer stack (its first frames)."""
+    from valterm.core.collision.frames import _stacked
+    sim = Simulator(WorkCell())
+    scene = sim._collision_scene()
+    rng = np.random.default_rng(7)
+    for _ in range(20):
+        frames = sim.model.link_frames(rng.uniform(-180.0, 180.0, 6).tolist())
+        longer = rng.normal(size=(scene._n_frames + 2, 4, 4))
+        for f in (frames, longer):
+            assert np.array_equal(f.take(scene._stack_pick), _stacked(f[: scene._n_frames]))

@@ -72,6 +72,9 @@ class RobotScene:
         self.thesis_axes = thesis_axes
         self.owners = np.asarray(owners, dtype=np.intp)
         self._n_frames = int(self.owners.max()) + 1 if len(self.owners) else 0   # the frames used
+        # flat indices into (links, 4, 4) frames of ``_stacked``'s (4, 3 x frames) layout
+        self._stack_pick = (np.arange(self._n_frames)[None, :, None] * 16 + np.arange(3)[None, None, :] * 4
+                            + np.arange(4)[:, None, None]).reshape(4, -1)
         self.checker = checker
         self._exact: FrameExact | None = None
         self._exact_pairs: tuple[_Pairs, list[int], dict[tuple[int, int], int]] | None = None
@@ -217,7 +220,7 @@ class RobotScene:
     def _update(self, frames: np.ndarray) -> np.ndarray:
         """Put the links where they are now; the indices of the moving polyhedra."""
         placed, centres, mid, half, starts, lo, hi = self._link_rows
-        stacked = _stacked(frames[: self._n_frames])
+        stacked = frames.take(self._stack_pick)      # ``_stacked`` in one call: (4, 3 x frames)
         # taken straight into the scene's arrays ("wrap": the indices are valid, and numpy
         # buffers a take into ``out`` in its default mode)
         every = self._local_all @ stacked
