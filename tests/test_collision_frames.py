@@ -7,6 +7,7 @@ objects per pose) into ``CollisionWorld.check``. The new path must give identica
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from valterm.core import resources
 from valterm.core.cell.polyhedron import Polyhedron
@@ -525,3 +526,55 @@ def test_each_movers_broad_phase_keeps_every_pair_the_coarse_test_finds():
         found += len(findings)
     assert near > 100 and found > 100, (near, found)   # the arm among the parts, not beside them
     assert float(np.mean(picked)) < 0.05           # a few pairs of the 1000-odd each pose
+
+
+@pytest.mark.parametrize("cell", ["PROCESS", "ring"])
+def test_steps_turning_alike_reuse_the_fixed_lengths_pass_with_the_same_moments(cell: str):
+    """``swept``'s first pass (the fixed lengths' bound, and which parts' pairs move past their
+    part's width) is kept for the next step turning the joints alike (a path's steps do): every
+    step's moments and pairs are those of a scene that works the pass out afresh at every step,
+    through PROCESS's cell (a broad phase) and the bench's ring of 30 parts (every pair's gaps
+    measured), with moments on the way."""
+    from valterm.bench.collision import ring_cell
+    sim = Simulator(read_setup(resources.data_path("cells", "PROCESS.SET")) if cell == "PROCESS"
+                    else WorkCell(objects=ring_cell(30)))
+    kept = sim._collision_scene()
+    fresh = RobotScene(sim.model.names, sim.model.frames.tolist())
+    fresh.set_shapes(sim.model.shapes(sim.gap))
+    rng = np.random.default_rng(29)
+    ready = np.asarray(sim.geometry.ready, dtype=float)
+    steps_with_moments = reused = 0
+    for start in range(6):
+        q = ready + rng.normal(0.0, 30.0, 6)
+        turn = rng.normal(0.0, 4.0, 6) * (rng.random(6) < 0.5)
+        turn[0] = 3.0
+        for n in range(25):
+            frames = sim.model.link_frames(q.tolist())
+            turned = np.radians(turn).tolist()
+            answers, known = [], kept._fixed_kept is not None and tuple(turned) in kept._fixed_kept[2]
+            for scene in (kept, fresh):
+                scene.check(frames, sim.cell.objects)
+                fresh._fixed_kept, fresh._past_kept = None, {}
+                answers.append(scene.swept(frames, turned, sim.cell.objects,
+                                           since=(start, n - 1), now=(start, n)))
+            (m0, r0), (m1, r1) = answers
+            assert np.array_equal(m0, m1) and np.array_equal(r0, r1), (start, n)
+            steps_with_moments += len(m0) > 0
+            reused += known
+            q = q + turn
+    assert steps_with_moments > 10, steps_with_moments    # the test saw steps needing moments
+    assert reused > 100, reused                           # and the kept pass used again
+
+
+def test_the_frames_laid_out_in_one_call_are_those_of_stacked():
+    """``_update`` lays the frames out for its product with one ``take``: the same numbers as
+    ``_stacked``, for the simulator's seven frames and for a longer stack (its first frames)."""
+    from valterm.core.collision.frames import _stacked
+    sim = Simulator(WorkCell())
+    scene = sim._collision_scene()
+    rng = np.random.default_rng(7)
+    for _ in range(20):
+        frames = sim.model.link_frames(rng.uniform(-180.0, 180.0, 6).tolist())
+        longer = rng.normal(size=(scene._n_frames + 2, 4, 4))
+        for f in (frames, longer):
+            assert np.array_equal(f.take(scene._stack_pick), _stacked(f[: scene._n_frames]))

@@ -604,7 +604,7 @@ class Simulator:
         # the way the joints turned: under the 1985 rules 179 -> -179 is a turn of 2 degrees
         # (six Python floats: cheaper than numpy for the most steps, which need no moment)
         turns = [(float(b) - float(a) + 180.0) % 360.0 - 180.0 for a, b in zip(previous, here)]
-        moments, rows = scene.swept(frames, [math.radians(t) for t in turns], self.cell.objects,
+        moments, rows = scene.swept(frames, list(map(math.radians, turns)), self.cell.objects,
                                     self._pose_key(previous), self._pose_key(here))
         if not len(moments):
             return []

@@ -72,6 +72,9 @@ class RobotScene:
         self.thesis_axes = thesis_axes
         self.owners = np.asarray(owners, dtype=np.intp)
         self._n_frames = int(self.owners.max()) + 1 if len(self.owners) else 0   # the frames used
+        # flat indices into (links, 4, 4) frames of ``_stacked``'s (4, 3 x frames) layout
+        self._stack_pick = (np.arange(self._n_frames)[None, :, None] * 16 + np.arange(3)[None, None, :] * 4
+                            + np.arange(4)[:, None, None]).reshape(4, -1)
         self.checker = checker
         self._exact: FrameExact | None = None
         self._exact_pairs: tuple[_Pairs, list[int], dict[tuple[int, int], int]] | None = None
@@ -99,6 +102,9 @@ class RobotScene:
         self._group_kept: tuple[object, float, np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None = None
         self._linked: tuple[_Pairs, tuple[np.ndarray, np.ndarray, np.ndarray]] | None = None   # _link_pairs'
         self._picks: dict[int, tuple[np.ndarray, np.ndarray]] = {}    # _path_picks'
+        self._past_kept: dict[int, tuple[np.ndarray, ...]] = {}   # _past_width's, by the bounds' id
+        self._fixed_kept: tuple[object, object, dict[tuple[float, ...], tuple[np.ndarray, np.ndarray, np.ndarray,
+                                np.ndarray, bool, float]]] | None = None   # _fixed_lengths'
 
     # -- what is built once ----------------------------------------------------------------
     def set_shapes(self, local: Sequence[np.ndarray]) -> None:
@@ -214,7 +220,7 @@ class RobotScene:
     def _update(self, frames: np.ndarray) -> np.ndarray:
         """Put the links where they are now; the indices of the moving polyhedra."""
         placed, centres, mid, half, starts, lo, hi = self._link_rows
-        stacked = _stacked(frames[: self._n_frames])
+        stacked = frames.take(self._stack_pick)      # ``_stacked`` in one call: (4, 3 x frames)
         # taken straight into the scene's arrays ("wrap": the indices are valid, and numpy
         # buffers a take into ``out`` in its default mode)
         every = self._local_all @ stacked
@@ -429,7 +435,7 @@ class RobotScene:
         """
         pairs, s = self._pairs_now, self._scene
         kept, self._ends = self._ends, None
-        never = np.zeros(0), np.zeros((0, 0), dtype=bool)
+        never = _NEVER
         if pairs is None or self.checker == "exact" or len(pairs.moving) == 0:
             return never
         gaps = self._gaps_now
@@ -438,12 +444,9 @@ class RobotScene:
                           *((s.mid.copy(), s.half.copy()) if gaps is None else (s.mid, s.half)))
         if not any(turned):
             return never
-        movers = self._movers
-        turns = np.abs(np.asarray(turned, dtype=float))
-        bound = np.zeros(len(s.radii))
         thinnest = self._thinnest(objects)
-        linked, nl = self._link_pairs(pairs), len(self._link_ks)
-        terms = self._travel_table(frames) * turns                # (movers, joints), the fixed lengths
+        linked = self._link_pairs(pairs)
+        turns, terms, bound, relative, linking, top = self._fixed_lengths(frames, turned, linked)
         parts: tuple[np.ndarray, ...] | None = None
         links: tuple[np.ndarray, ...] | None = None
         # the fixed lengths first (one product): many steps are cleared by them, the bound
@@ -451,24 +454,27 @@ class RobotScene:
         for tight in (False, True):
             if tight:
                 terms = self._sweep_terms(frames, turns, terms)
-            bound[movers] = terms.sum(axis=1)
-            relative = linked[2] @ terms[:nl].ravel()           # link x link: the steps each needs
-            linking = float(relative.max(initial=0.0)) > 1.0
-            if float(bound.max()) <= thinnest and not linking:
+                bound, relative, linking, top = self._bounds(terms, linked)
+            if top <= thinnest and not linking:
                 return never              # nothing moves as far as the thinnest part is wide
-            if parts is None:             # the pairs (and their gaps) the fixed lengths can reach
-                parts = self._part_pairs(float(bound.max()), objects, since, kept)
             if links is None and linking:
                 links = self._link_gaps(linked, since, kept)
             # a pair whose boxes can meet and that moves past its part's width needs moments
-            moved = bound.take(parts[1])
-            risky = bool(((parts[3] <= moved) & (moved > parts[4])).any())
+            if parts is None and gaps is not None:   # every pair's gaps measured: the few past theirs
+                risky = self._past_width(bound, objects, since, kept, not tight)
+            else:
+                if parts is None:         # the pairs (and their gaps) the fixed lengths can reach
+                    parts = self._part_pairs(top, objects, since, kept)
+                moved = bound.take(parts[1])
+                risky = bool(((parts[3] <= moved) & (moved > parts[4])).any())
             if links is not None:
                 closing = bound.take(links[1]) + bound.take(links[2])
                 risky = risky or bool(((links[3] <= closing) & (relative > 1.0)).any())
             if not risky:
                 return never
-        assert parts is not None
+        if parts is None:
+            parts = self._part_pairs(top, objects, since, kept)
+            moved = bound.take(parts[1])
         columns = [(parts[0], parts[5], parts[3], moved, moved / parts[4])]
         picks = [np.flatnonzero(parts[3] <= moved)]
         if links is not None:
@@ -478,6 +484,41 @@ class RobotScene:
         _, moments, rows = _moments(np.ones((1, len(sel)), dtype=bool), sel, b0[None], both[None], reach[None],
                                     need[None], len(pairs.moving))
         return moments, rows
+
+    def _fixed_lengths(self, frames: np.ndarray, turned: Sequence[float], linked: tuple[np.ndarray, ...]
+                       ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, bool, float]:
+        """``swept``'s first pass, the bound from the fixed lengths: the joints' turns (absolute),
+        the travel terms, each body's bound, the link pairs' steps needed, whether one needs
+        more than one and the largest bound. The same for the same turns while the travel
+        table is the one kept (links only, on the thesis's axes): a path turns its joints
+        alike at every step, so the last step's are used again."""
+        table = self._travel_table(frames)
+        kept = self._fixed_kept
+        if kept is None or kept[0] is not table or kept[1] is not linked:
+            kept = self._fixed_kept = (table, linked, {})
+        key = tuple(turned)
+        found = kept[2].get(key)
+        if found is None:
+            turns = np.absolute(turned, dtype=float)
+            terms = table * turns
+            found = (turns, terms, *self._bounds(terms, linked))
+            if len(kept[2]) >= 16:         # a few turns at a time (a path's differ in the last bits)
+                kept[2].clear()
+            kept[2][key] = found
+        return found
+
+    def _bounds(self, terms: np.ndarray, linked: tuple[np.ndarray, ...]) -> tuple[np.ndarray, np.ndarray, bool, float]:
+        """From the (movers, joints) travel terms: each body's bound (0 for the still ones; with
+        nothing carried the movers are the links, the first rows, and theirs alone will do),
+        each link pair's steps needed, whether one needs more than one, the largest bound."""
+        movers, nl = self._movers, len(self._link_ks)
+        if len(movers) > nl:
+            bound = np.zeros(len(self._scene.radii))
+            bound[movers] = terms.sum(axis=1)
+        else:
+            bound = terms.sum(axis=1)
+        relative = linked[2] @ terms[:nl].ravel()           # link x link: the steps each needs
+        return bound, relative, float(relative.max(initial=0.0)) > 1.0, float(bound.max())
 
     # -- a whole path's steps together (issue 25, round 7) -------------------------------------
     def path_figures(self, count: int, since: object) -> PathFigures | None:
@@ -757,6 +798,31 @@ class RobotScene:
         before = self._kept_gaps(kept, since, sel, m, st)
         return sel, m, st, before + after - 2.0 * EPS, widths, before
 
+    def _past_width(self, bound: np.ndarray, objects: Sequence[Polyhedron], since: object,
+                    kept: tuple[object, ...] | None, keep: bool) -> bool:
+        """``swept``'s test of the parts' pairs when every pair's box gaps were measured: does a
+        pair that moves past its part's width (``bound`` of its mover) have its boxes near enough
+        to meet? Only those pairs' gaps are looked at (the arithmetic of ``_part_pairs``); which
+        pairs they are is kept with the bounds kept (``_fixed_lengths``'s, ``keep``)."""
+        pairs, gaps = self._pairs_now, self._gaps_now
+        assert pairs is not None and gaps is not None
+        ruled = len(self._movers) * len(self._free)
+        widths = self._ruled_widths(objects, pairs.stationary[:ruled])
+        got = self._past_kept.get(id(bound))
+        if got is None or got[0] is not bound or got[1] is not widths:
+            moved = bound.take(pairs.moving[:ruled])
+            past = np.flatnonzero(moved > widths)
+            got = (bound, widths, past, moved.take(past), pairs.moving.take(past), pairs.stationary.take(past))
+            if keep:
+                if len(self._past_kept) >= 16:
+                    self._past_kept.clear()
+                self._past_kept[id(bound)] = got     # the entry holds the bound: its id stays its own
+        past, moved, m, st = got[2:]
+        if not len(past):
+            return False
+        both = self._kept_gaps(kept, since, past, m, st) + gaps.take(past) - 2.0 * EPS
+        return bool((both <= moved).any())
+
     def _ruled_widths(self, objects: Sequence[Polyhedron], st: np.ndarray) -> np.ndarray:
         """The widths (at least 1 mm) of the parts of the pairs whose parts are ``st``
         (rules 1 and 2, every pair), measured once per set of parts."""
@@ -909,6 +975,11 @@ class RobotScene:
 
 
 _VERTICES = operator.attrgetter("vertices")
+
+# ``swept``'s answer when no moment is needed (empty: nothing can write into them)
+_NEVER = (np.zeros(0), np.zeros((0, 0), dtype=bool))
+for _empty in _NEVER:
+    _empty.flags.writeable = False
 
 # each joint's axis, a column of its frame's rotation (``kinematics.link_frames``): JT1 turns
 # about z of frame 1, JT2 and JT3 about y of frames 2 and 3, JT4 about z of frame 4, JT5
