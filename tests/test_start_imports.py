@@ -3,6 +3,7 @@ load when first used; each is still there when asked for."""
 
 from __future__ import annotations
 
+import ast
 import json
 import os
 import subprocess
@@ -28,6 +29,27 @@ def test_the_app_and_its_session_start_without_the_heavy_modules() -> None:
     assert _loaded(code) == []
 
 
+def test_the_session_starts_without_json_and_the_collision_scene_and_each_loads_when_used() -> None:
+    """json (``run --json``) and the collision scene (the first check) are not loaded by the
+    app's modules and a session's start; each is there when first used."""
+    probe = ("import sys, tempfile\n"
+             "import valterm.cli, valterm.ui.app\n"
+             "from valterm.core.events import Message\n"
+             "from valterm.core.session import Session\n"
+             "s = Session(tempfile.mkdtemp(), setup='PROCESS')\n"
+             "s.simulator.robot_polyhedra()\n"
+             "before = sorted(m for m in ('json', 'valterm.core.collision.frames') if m in sys.modules)\n"
+             "line = Message('HELLO').json_line()\n"
+             "found = list(s.simulator.check_collisions())\n"
+             "after = sorted(m for m in ('json', 'valterm.core.collision.frames') if m in sys.modules)\n"
+             "print(repr((before, line, after)))")
+    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True)
+    before, line, after = ast.literal_eval(out.stdout.strip().splitlines()[-1])
+    assert before == []
+    assert json.loads(line) == {"event": "message", "text": "HELLO", "level": "info"}
+    assert after == ["json", "valterm.core.collision.frames"]
+
+
 def test_each_loads_when_first_used() -> None:
     code = ("import tempfile\n"
             "import valterm.core.cad as cad\n"
@@ -43,7 +65,7 @@ NOT_AT_MAIN_MENU = ("valterm.ui.screens.editor", "valterm.ui.screens.valmode", "
                     "valterm.ui.screens.start", "valterm.ui.hardcopy", "valterm.core.cad.export",
                     "valterm.core.cad.convert", "valterm.core.editor", "valterm.core.val.compiler",
                     "concurrent.futures.process", "valterm.core.files.vplus", "valterm.ui.widgets.transcript_log", "rich.pretty", "importlib.resources", "importlib.metadata",
-                    *HEAVY)
+                    "valterm.core.collision.frames", *HEAVY)
 
 MAIN_MENU_PROBE = """
 import asyncio, json, sys, tempfile

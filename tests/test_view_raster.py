@@ -441,3 +441,27 @@ def test_segments_with_ends_not_finite_are_left_out_of_the_frame() -> None:
                           unit_view(), 10, 10)
         assert (frame.chars == expected.chars).all(), bad
         assert (frame.colours == expected.colours).all(), bad
+
+
+def test_dot_and_pair_tables_are_each_dot_and_pair_as_defined() -> None:
+    """The start's two tables (issue 25, the start: built by broadcasts) hold what their
+    definitions say, dot by dot and pair by pair: dot (y, x) of a w x h canvas lies in cell
+    (y // 4, x // 2) of rows of w + 1, bit 2 * (y % 4) + x % 2 of the braille weights; the pair
+    of codes first + 256 * second is the first's character in the low half, the second's in the high."""
+    from valterm.core.render.raster import BRAILLE_WEIGHTS, _ascii_table, _dot_tables, _pair_table
+
+    for w, h in ((1, 1), (3, 2), (7, 5), (80, 24)):
+        cell, bit = _dot_tables(w, h)
+        assert cell.shape == bit.shape == (8 * w * h,)
+        for y in range(4 * h):
+            for x in range(2 * w):
+                expected_cell = (y // 4) * (w + 1) + x // 2
+                bit_number = int(BRAILLE_WEIGHTS[y % 4, x % 2]).bit_length() - 1  # weight 2 ** bit
+                assert cell[y * 2 * w + x] == expected_cell
+                assert bit[y * 2 * w + x] == expected_cell * 8 + bit_number
+    for ascii in (False, True):
+        chars = [int(c) for c in _ascii_table()] if ascii else [BRAILLE_BASE + c if c else 0x20 for c in range(256)]
+        pairs = _pair_table(ascii)
+        assert pairs.shape == (65536,) and pairs.dtype == np.dtype("<u4")
+        for first, second in ((0, 0), (1, 0), (0, 1), (255, 3), (17, 200), (255, 255)):
+            assert int(pairs[first + 256 * second]) == chars[first] | (chars[second] << 16)

@@ -7,7 +7,6 @@ Textual app, the headless ``valterm run`` and the tests all drive the same code.
 
 from __future__ import annotations
 
-import json
 from dataclasses import dataclass, field, fields, is_dataclass
 from functools import lru_cache
 from typing import Any, TypeAlias, cast
@@ -32,11 +31,15 @@ class Event:
 
     def json_line(self) -> str:
         """The line ``valterm run --json`` writes for this event (``json.dumps`` of ``to_json``)."""
+        import json  # with ``run --json``'s first line, not at the app's start (issue 25)
+
         return json.dumps(self.to_json())
 
 
 @lru_cache(maxsize=4096)
 def _step_line(program: str, step: int, text: str) -> str:
+    import json
+
     return json.dumps({"event": "step", "program": program, "step": step, "text": text})
 
 

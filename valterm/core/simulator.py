@@ -15,13 +15,12 @@ import itertools
 import math
 from collections.abc import Generator, Iterable, Iterator, Sequence
 from functools import lru_cache
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from valterm.core.cell.polyhedron import Polyhedron
 from valterm.core.cell.workcell import WorkCell
-from valterm.core.collision.frames import PathFigures, RobotScene
-from valterm.core.collision.world import Finding, Party
 from valterm.core.cycletime import joint_motion_seconds, robot_timing, straight_motion_seconds
 from valterm.core.errors import ValtermError
 from valterm.core.events import Collision, Event, Grasp, Hand, Message, Motion, PoseEvent, Release, Where
@@ -44,6 +43,10 @@ from valterm.core.motion import (
 )
 from valterm.core.robot import THESIS_ROBOT, RobotModel, load_model, load_robot_model
 from valterm.core.rules import CONTROLLER, RULES_1985, check_rules
+
+if TYPE_CHECKING:  # the collision checks load with the first check, not at every start (issue 25)
+    from valterm.core.collision.frames import PathFigures, RobotScene
+    from valterm.core.collision.world import Finding, Party
 
 GRASP_MESSAGE = "IT IS POSSIBLE TO GRASP THIS PART"
 
@@ -546,6 +549,8 @@ class Simulator:
     def _collision_scene(self) -> RobotScene:
         """The collision check fed by link frames, its link shapes set for the clamp gap."""
         if self._checker is None:
+            from valterm.core.collision.frames import RobotScene
+
             self._checker = RobotScene(self.model.names, self.model.frames.tolist(),
                                        thesis_axes=self.arm.key == THESIS_ROBOT)
         if self._checker_gap != self.gap:

@@ -639,9 +639,10 @@ def _dot_tables(w: int, h: int) -> tuple[np.ndarray, np.ndarray]:
     found = _DOT_TABLES.get((w, h))
     if found is not None:
         return found
-    y, x = np.divmod(np.arange(8 * w * h), 2 * w)
-    cell = (y >> 2) * (w + 1) + (x >> 1)
-    tables = (cell, cell * 8 + _BIT_NUMBER.take(((y & 3) << 1) | (x & 1)))
+    # a column of dot rows against a row of dot columns (a broadcast, not a divmod of every dot)
+    y, x = np.arange(4 * h)[:, None], np.arange(2 * w)[None, :]
+    cell = ((y >> 2) * (w + 1) + (x >> 1)).ravel()
+    tables = (cell, cell * 8 + _BIT_NUMBER.take(((y & 3) << 1) | (x & 1)).ravel())
     if len(_DOT_TABLES) >= 4:
         _DOT_TABLES.pop(next(iter(_DOT_TABLES)))
     _DOT_TABLES[(w, h)] = tables
@@ -697,8 +698,8 @@ def _chars(codes: np.ndarray, ascii: bool) -> np.ndarray:
 def _pair_table(ascii: bool) -> np.ndarray:
     """The characters of two neighbouring codes (first + 256 * second) as one 4-byte word."""
     table = (_ascii_units() if ascii else _BRAILLE_TABLE).astype("<u4")
-    pairs = np.arange(65536)
-    both: np.ndarray = table[pairs & 255] | (table[pairs >> 8] << np.uint32(16))
+    # row: the second code, column: the first (a broadcast of the 256 x 256, not two gathers)
+    both: np.ndarray = ((table[:, None] << np.uint32(16)) | table[None, :]).ravel()
     return both
 
 
