@@ -304,7 +304,7 @@ def _geometry_warnings(polyhedron: Polyhedron, warnings: list[str]) -> None:
     # the faces in two stacks, the end polygons (k corners) and the sides (4): a few numpy
     # calls a polyhedron instead of a few a face (this was most of a session's start, issue 25)
     faces = polyhedron.topology.faces
-    worst = max(_off_plane(v[np.stack(faces[:2])]), _off_plane(v[np.stack(faces[2:])]))
+    worst = float(max(_off_planes(v[np.stack(faces[:2])]).max(), _off_planes(v[np.stack(faces[2:])]).max()))
     if worst > tolerance:
         warnings.append(f"a face is not planar (off by {worst:.2f} mm)")
     convex = _convex(np.stack([v[: polyhedron.k], v[polyhedron.k :]]))
@@ -320,8 +320,8 @@ def _newell(pts: np.ndarray) -> np.ndarray:
 
 
 def _off_planes(faces: np.ndarray) -> np.ndarray:
-    """The farthest each of ``faces`` (n, corners, 3) has a corner from its plane, as
-    ``_off_plane`` measures it (0 for a face without a normal)."""
+    """The farthest each of ``faces`` (n, corners, 3) has a corner from its plane (through the
+    face's mean, along its Newell normal; 0 for a face without a normal)."""
     normals = _newell(faces)
     lengths = np.sqrt((normals * normals).sum(axis=-1))
     kept = lengths != 0.0
@@ -331,19 +331,6 @@ def _off_planes(faces: np.ndarray) -> np.ndarray:
         off = np.einsum("fcx,fx->fc", faces - faces.mean(axis=1, keepdims=True), units)
         worst[kept] = np.abs(off).max(axis=1)
     return worst
-
-
-def _off_plane(faces: np.ndarray) -> float:
-    """The farthest any corner of ``faces`` (n, corners, 3) lies from its face's plane
-    (through the face's mean, along its Newell normal); faces without a normal are skipped."""
-    normals = _newell(faces)
-    lengths = np.sqrt((normals * normals).sum(axis=-1))
-    kept = lengths != 0.0
-    if not kept.any():
-        return 0.0
-    faces, units = faces[kept], normals[kept] / lengths[kept, None]
-    off = np.einsum("fcx,fx->fc", faces - faces.mean(axis=1, keepdims=True), units)
-    return float(np.abs(off).max())
 
 
 def _convex(polygons: np.ndarray) -> np.ndarray:
