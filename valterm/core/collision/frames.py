@@ -28,8 +28,8 @@ from typing import TYPE_CHECKING, Collection, Literal, Sequence
 import numpy as np
 
 from valterm.core.cell.polyhedron import Polyhedron
-from valterm.core.collision.thesis import (CLEAR, COLLIDES, EPS, NEAR, SEPARATED, Layout, Scene, check_pairs,
-                                           face_planes, figures, largest_of_xyz, layout, margin)
+from valterm.core.collision.thesis import (CLEAR, COLLIDES, EPS, NEAR, SEPARATED, Layout, Scene, box_gaps,
+                                           check_pairs, face_planes, figures, largest_of_xyz, layout, margin)
 from valterm.core.collision.world import CollisionWorld, Finding, _Pairs
 
 if TYPE_CHECKING:
@@ -270,14 +270,12 @@ class RobotScene:
         return found
 
     def _candidates(self, movers: np.ndarray, grow: float) -> np.ndarray:
-        """Broad phase: positions among the free parts of those a mover could be near."""
+        """Broad phase: positions among the free parts of those a mover could be near
+        (``_candidates_batch`` at the pose now)."""
         s = self._scene
-        reach = float(s.radii[movers].max()) + grow
-        c = s.centres[movers]
-        cmin, cmax = c.min(axis=0) - reach, c.max(axis=0) + reach
-        # the box overlap on all three axes as the largest gap below zero (no bool reduction)
-        gap = np.maximum(self._free_lo - cmax, cmin - self._free_hi)
-        return np.flatnonzero(largest_of_xyz(gap) <= 0.0)
+        reach = np.array([float(s.radii[movers].max()) + grow])
+        near = _candidates_batch(s.centres[movers][None], reach, self._free_lo, self._free_hi)
+        return np.flatnonzero(near[0])
 
     def _near_pairs(self, movers: np.ndarray, grow: float, n_free: int) -> np.ndarray:
         """Broad phase, each mover on its own: the positions (rules 1 and 2) of the pairs of each
@@ -290,9 +288,7 @@ class RobotScene:
         np.subtract(mid, d, out=d)
         np.abs(d, out=d)
         d -= half
-        far = np.maximum(d[0], d[1])
-        np.maximum(far, d[2], out=far)
-        near: np.ndarray = at.take(np.flatnonzero(far <= reach), axis=0).ravel()
+        near: np.ndarray = at.take(np.flatnonzero(_largest_of(d) <= reach), axis=0).ravel()
         return near
 
     def _group_table(self, movers: np.ndarray, grow: float, n_free: int
@@ -1096,10 +1092,8 @@ def _largest_of(d: np.ndarray) -> np.ndarray:
 
 
 def _box_gaps(mid: np.ndarray, half: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """How far apart the boxes of bodies a[i] and b[i] are (their largest gap on an axis)."""
-    gap = np.abs(mid.take(a, axis=0) - mid.take(b, axis=0))
-    gap -= half.take(a, axis=0) + half.take(b, axis=0)
-    return largest_of_xyz(gap)
+    """How far apart the boxes of bodies a[i] and b[i] are (``box_gaps`` of the bodies' boxes)."""
+    return box_gaps(mid.take(a, axis=0), half.take(a, axis=0), mid.take(b, axis=0), half.take(b, axis=0))
 
 
 def _stacked(frames: np.ndarray) -> np.ndarray:

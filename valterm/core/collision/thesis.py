@@ -315,21 +315,24 @@ def check_pairs(scene: Scene, moving: np.ndarray, stationary: np.ndarray, grow: 
     # an edge can only cross a face where the two extreme boxes overlap: the fine test runs
     # on near pairs whose boxes meet (an exact shortcut, not a change to the 1985 answer)
     if gaps is not None:            # every pair's boxes: their gaps are asked for
-        gaps[:] = _box_gaps(scene, moving, mid_s, half_s)
+        gaps[:] = box_gaps(scene.mid.take(moving, axis=0), scene.half.take(moving, axis=0), mid_s, half_s)
         at = np.flatnonzero(near & (gaps <= EPS))
     else:                           # the near pairs' only: most poses have none
         at = np.flatnonzero(near)
         if len(at):
-            at = at[_box_gaps(scene, moving.take(at), mid_s[at], half_s[at]) <= EPS]
+            near_moving = moving.take(at)
+            at = at[box_gaps(scene.mid.take(near_moving, axis=0), scene.half.take(near_moving, axis=0),
+                             mid_s[at], half_s[at]) <= EPS]
     if len(at):
         codes[at[fine(scene, moving.take(at), stationary.take(at))]] = COLLIDES
     return codes
 
 
-def _box_gaps(scene: Scene, moving: np.ndarray, mid_s: np.ndarray, half_s: np.ndarray) -> np.ndarray:
-    """How far the boxes of the polyhedra ``moving`` are from the boxes given (largest axis gap)."""
-    apart = np.abs(scene.mid.take(moving, axis=0) - mid_s)
-    apart -= scene.half.take(moving, axis=0) + half_s
+def box_gaps(mid_a: np.ndarray, half_a: np.ndarray, mid_b: np.ndarray, half_b: np.ndarray) -> np.ndarray:
+    """How far apart boxes a[i] and b[i] are (given as middles and half sizes, (n, 3)): their
+    largest gap on an axis, below 0 where they overlap."""
+    apart = np.abs(mid_a - mid_b)
+    apart -= half_a + half_b
     return largest_of_xyz(apart)
 
 
