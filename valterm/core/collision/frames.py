@@ -749,16 +749,21 @@ class RobotScene:
 
     def _path_terms(self, frames: np.ndarray, turns: np.ndarray, far: np.ndarray, centres: np.ndarray,
                     radii: np.ndarray) -> np.ndarray:
-        """``_sweep_terms`` of several steps at once (their end poses' frames, the moving bodies'
-        centres and radii there)."""
+        """(steps, movers, joints): how far each joint's turn can carry each moving body over
+        each step, from its distance from the joint's axis at the step's end pose (``frames``
+        (steps, links, 4, 4), the bodies' ``centres`` and ``radii`` there), grown by what the
+        later joints can add (``far``: the same from the fixed lengths, ``_travel_table``
+        times the turns)."""
         if not self.thesis_axes:
             return far
         d = centres[:, :, None, :] - frames[:, None, 1: self._n_frames, :3, 3]
+        # the distance from each joint's axis (a point turns on a circle about it, not about
+        # the frame's origin): the part of d square to the axis
         axes = frames.reshape(len(frames), -1).take(_AXIS_FLAT, axis=1)  # (steps, joints, 3)
         along = np.einsum("smjk,sjk->smj", d, axes)
         square = np.maximum(np.einsum("smjk,smjk->smj", d, d) - along * along, 0.0)
         now = np.sqrt(square) + radii[:, :, None]
-        terms: np.ndarray = np.minimum(far, (now + far @ _LATER) * turns[:, None, :])
+        terms: np.ndarray = np.minimum(far, (now + far @ _LATER) * turns[:, None, :])  # far @ _LATER: the later joints
         return terms
 
     def _kept_gaps(self, kept: tuple[object, ...] | None, since: object, at: np.ndarray,
@@ -859,21 +864,13 @@ class RobotScene:
         return travel
 
     def _sweep_terms(self, frames: np.ndarray, turned: np.ndarray, far: np.ndarray) -> np.ndarray:
-        """(movers, joints): how far each joint's turn can carry each moving body over the step,
-        from its distance from the joint's axis now, grown by what the later joints can add
-        (``far``: the same from the fixed lengths, ``_travel_table`` times the turns)."""
+        """(movers, joints): ``_path_terms`` of the one step ending at ``frames`` (links, 4, 4),
+        the moving bodies where they are now."""
         if not self.thesis_axes:
             return far
         s, movers = self._scene, self._movers
-        d = s.centres.take(movers, axis=0)[:, None, :] - frames[None, 1: self._n_frames, :3, 3]
-        # the distance from each joint's axis (a point turns on a circle about it, not about
-        # the frame's origin): the part of d square to the axis
-        axes = frames[_AXIS_FRAMES, :3, _AXIS_COLUMNS]                                   # (joints, 3)
-        along = np.einsum("mjk,jk->mj", d, axes)
-        square = np.maximum(np.einsum("mjk,mjk->mj", d, d) - along * along, 0.0)
-        now = np.sqrt(square) + s.radii.take(movers)[:, None]                             # (movers, joints)
-        later = far @ _LATER                           # what the joints after j add
-        terms: np.ndarray = np.minimum(far, (now + later) * turned)
+        terms: np.ndarray = self._path_terms(frames[None], np.asarray(turned, dtype=float)[None], far[None],
+                                             s.centres.take(movers, axis=0)[None], s.radii.take(movers)[None])[0]
         return terms
 
     def _link_pairs(self, pairs: _Pairs) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
