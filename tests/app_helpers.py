@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import asyncio
 import math
 from pathlib import Path
 
@@ -27,6 +28,23 @@ def make_app(tmp_path: Path, *, rate: float = math.inf, clock=None, start: bool 
 def screen_text(app: ValtermApp) -> str:
     """What the terminal shows, as plain text (one line per row; public API only)."""
     return "\n".join(screen_rows(app))
+
+
+WAIT_LIMIT = 240.0  # seconds a test waits for the app before it fails (a guard, not a timing)
+
+
+async def until(pilot, condition, what: str, limit: float = WAIT_LIMIT) -> None:  # type: ignore[no-untyped-def]
+    """Let the app run until ``condition()``; fail (never hang) after ``limit`` seconds. A
+    program played at motion_rate inf still runs a few milliseconds a tick: on a loaded
+    machine it can outlast one Pilot key press."""
+    import pytest
+
+    loop = asyncio.get_running_loop()
+    end = loop.time() + limit
+    while not condition():
+        if loop.time() > end:
+            pytest.fail(f"the app never reached: {what}")
+        await pilot.pause(0.02)
 
 
 def sync(test):  # type: ignore[no-untyped-def]

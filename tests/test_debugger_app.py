@@ -9,7 +9,7 @@ from pathlib import Path
 
 from rich.text import Text
 
-from app_helpers import screen_text
+from app_helpers import screen_text, until
 from valterm.core.session import Session
 from valterm.ui.app import ValtermApp
 from valterm.ui.screens.valmode import ValModeScreen
@@ -70,6 +70,7 @@ def test_a_breakpoint_shows_the_listing_xstep_and_proceed_keys_and_the_watched_v
             assert "N = 7" in panel.text
 
             await pilot.press("ctrl+p")  # PROCEED
+            await until(pilot, lambda: not app.moving, "the end of PROCESS")
             assert screen.mode == "command"  # the command line stays open (issue 17)
             assert "WATCH N: UNDEFINED -> 7 (TYPED)" in screen.transcript
             assert screen.transcript[-1] == "PROGRAM PROCESS COMPLETED: 1 LOOP"

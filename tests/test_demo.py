@@ -12,13 +12,13 @@ from pathlib import Path
 
 import pytest
 
+from app_helpers import until
 from valterm.core.errors import ValtermError
 from valterm.core.files.demokeys import DemoScriptError, load_demo, parse_demo
 from valterm.ui.demo import DEMO_HINT, Caption, DemoApp
 
 ITEMS = load_demo()
 FAST = 1000.0  # the demo's speed factor in tests: pauses and gaps all but vanish
-LIMIT = 240.0  # seconds a test waits for the app before it fails (a guard, not a timing)
 
 SHORT = """@ Read the setup file PROCESS.
 E
@@ -30,15 +30,6 @@ R
 """
 HELD = SHORT + "PAUSE 300\n"  # the short script, then a long pause (30 s at speed 10)
 
-
-async def until(pilot, condition, what: str) -> None:  # type: ignore[no-untyped-def]
-    """Let the app run until ``condition()``; fail (never hang) after LIMIT seconds."""
-    loop = asyncio.get_running_loop()
-    end = loop.time() + LIMIT
-    while not condition():
-        if loop.time() > end:
-            pytest.fail(f"the demo app never reached: {what}")
-        await pilot.pause(0.02)
 
 
 # -- the key script -----------------------------------------------------------------------
