@@ -2,10 +2,17 @@
 
 from __future__ import annotations
 
+import asyncio
+from pathlib import Path
+
 from textual import events
 from textual.app import App, ComposeResult
+from textual.message import Message
 from textual.widgets import Input
 
+from app_helpers import sync, until
+from valterm.testing import Simulation
+from valterm.ui.screens.valmode import ValModeScreen
 from valterm.ui.widgets.prompt import type_ahead
 
 
@@ -44,3 +51,29 @@ async def test_keys_reach_an_unfocused_open_field_then_enter_submits() -> None:
         # a focused or closed field is left to Textual
         field.disabled = True
         assert not type_ahead(key("B", "B"), field)
+
+
+class Stall(Message):
+    """Holds the screen's queue for a moment, as a busy machine does."""
+
+
+class StallingValMode(ValModeScreen):
+    async def on_stall(self, message: Stall) -> None:
+        await asyncio.sleep(0.3)
+
+
+@sync
+async def test_return_in_the_line_is_taken_before_the_keys_typed_after_it(tmp_path: Path) -> None:
+    """RETURN in VAL-II mode's line bubbles to the screen, which takes the line: the keys
+    typed after it wait for that, even while the screen is slow to get to it (on a loaded
+    machine 18 of 25 probes ran ``TYPE AT`` and ``YPE B``)."""
+    async with Simulation(tmp_path / "ws") as sim:
+        screen = StallingValMode(show_menu=False)
+        await sim.app.push_screen(screen)
+        await sim.pilot.pause()
+        await sim.type("TYPE A")
+        screen.post_message(Stall())
+        await sim.burst("enter", *"TYPE B", "enter")
+        await until(sim.pilot, lambda: any(line.endswith("B") for line in screen.transcript),
+                    "the second line", limit=20.0)
+        assert [line for line in screen.transcript if line.startswith(". ")][-2:] == [". TYPE A", ". TYPE B"]

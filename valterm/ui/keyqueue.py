@@ -24,6 +24,7 @@ from typing import Any
 from textual import events
 from textual.app import App
 from textual.message_pump import MessagePump
+from textual.screen import Screen
 
 IMMEDIATE = frozenset({"ctrl+c"})  # keys that never wait
 CANCEL = "escape"  # waits only behind other keys
@@ -86,14 +87,29 @@ class KeyQueue:
         return True
 
     def handing_on(self, target: MessagePump) -> None:
-        """The app hands a key to ``target``: busy until ``target`` has handled it."""
+        """The app hands a key to ``target``: busy until ``target`` has handled it, and each
+        node up to its screen has handled it too. A key the target does not stop bubbles to
+        its parent's queue (a RETURN in VAL-II mode's line is the screen's to take): the next
+        key must wait for that, or it reaches the line first (on a busy machine, the T of
+        ``TYPE`` ran in the DRIVE line before its RETURN did)."""
         self._pending, self._pending_since = target, time.monotonic()
+        self._handled_here(target)
+
+    def _handled_here(self, node: MessagePump) -> None:
+        """When ``node`` has handled what it was sent so far, go on with its parent (queued
+        behind a key that bubbled there), up to the screen."""
 
         def handled() -> None:
-            if self._pending is target:
+            if self._pending is not node:
+                return  # a newer key is pending
+            parent = node.parent
+            if isinstance(node, Screen) or not isinstance(parent, MessagePump) or not parent.is_attached:
                 self._pending = None
+                return
+            self._pending = parent
+            self._handled_here(parent)
 
-        if not target.call_later(handled):
+        if not node.call_later(handled):
             self._pending = None
 
     def clear(self) -> None:
