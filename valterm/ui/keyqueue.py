@@ -23,6 +23,7 @@ from typing import Any
 
 from textual import events
 from textual.app import App
+from textual.dom import DOMNode
 from textual.message_pump import MessagePump
 from textual.screen import Screen
 
@@ -102,8 +103,8 @@ class KeyQueue:
         def handled() -> None:
             if self._pending is not node:
                 return  # a newer key is pending
-            parent = node.parent
-            if isinstance(node, Screen) or not isinstance(parent, MessagePump) or not parent.is_attached:
+            parent = node.parent if isinstance(node, DOMNode) else None
+            if isinstance(node, Screen) or not isinstance(parent, DOMNode) or not parent.is_attached:
                 self._pending = None
                 return
             self._pending = parent
