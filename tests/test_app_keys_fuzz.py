@@ -34,7 +34,7 @@ PASTES = ["MOVE A", "LISTF", "1", "HERE P1", "EDIT TEST", " 10 TYPE HELLO", "ZZZ
 OPENERS = {"main": (), "keyboard": ("K",), "pendant": ("P",), "manipulation": ("M",),
            "editor": ("E",), "help": ("question_mark",), "start": ("B",)}
 KEYS_PER_SCREEN = 80  # a fixed count: a seed replays exactly
-BUDGET = 60.0  # a safety cap only (a very slow machine); normally every key is pressed
+BUDGET = 240.0  # a safety cap only (a very slow machine, loaded); normally every key is pressed
 
 
 async def go_home(sim: Simulation, seed: int, where: str) -> None:

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from app_helpers import FakeClock, screen_text, sync
+from app_helpers import FakeClock, screen_text, sync, until
 from valterm.core.errors import ValtermError
 from valterm.core.events import Event, Message, TypeOut
 from valterm.core.session import Session
@@ -43,12 +43,10 @@ async def valmode(app: ValtermApp, pilot) -> ValModeScreen:  # type: ignore[no-u
     return screen
 
 
-async def run_until(pilot, done, rounds: int = 200) -> None:  # type: ignore[no-untyped-def]
-    for _ in range(rounds):
-        if done():
-            return
-        await pilot.pause(0.02)
-    raise AssertionError("the player did not get there")
+async def run_until(pilot, done) -> None:  # type: ignore[no-untyped-def]
+    """Until ``done()``: bounded by app_helpers.until's guard, not by a count of pauses (a
+    loaded machine needs more of them)."""
+    await until(pilot, done, "the player's state")
 
 
 def session_with(tmp_path: Path, programs: dict[str, str]) -> Session:
@@ -73,8 +71,7 @@ async def test_a_runaway_program_keeps_the_screen_alive_and_ctrl_c_stops_it(tmp_
         first = player.ticks
         # the pump hands the loop back to Textual tick after tick (a pump that did not would
         # never let this coroutine run again)
-        await run_until(pilot, lambda: player.ticks - first >= 5 and len(screen.transcript) == TRANSCRIPT_LINES,
-                        rounds=1000)
+        await run_until(pilot, lambda: player.ticks - first >= 5 and len(screen.transcript) == TRANSCRIPT_LINES)
         assert screen.mode == Mode.RUNNING and player.playing
         assert "SPIN" in screen_text(app) and "GOTO 10" in screen_text(app)  # the screen was drawn
         assert len(screen.transcript) == TRANSCRIPT_LINES  # capped: memory stays flat

@@ -9,6 +9,7 @@ from pathlib import Path
 
 import pytest
 
+from app_helpers import until
 from valterm.core.files.demokeys import load_demo, parse_demo
 
 ITEMS = load_demo()
@@ -61,6 +62,10 @@ def test_tables_c1_to_c3_key_for_key(tmp_path: Path) -> None:
                 if app.return_code is not None or not app.is_running:
                     break
                 await pilot.pause()
+            if app.is_running:  # the last RETURN started PROCESS: its transcript once it ends
+                await until(pilot, lambda: not app.moving and not app.keys_waiting, "the end of PROCESS")
+            if "valmode" in seen:  # kept by the screen, also once R has left it
+                seen["transcript"] = list(seen["valmode"].transcript)  # type: ignore[attr-defined]
 
     asyncio.run(body())
     if "editor" not in seen:

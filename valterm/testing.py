@@ -39,6 +39,7 @@ from __future__ import annotations
 import html
 import math
 import re
+import time
 from pathlib import Path
 from types import TracebackType
 from typing import Any, Self
@@ -48,6 +49,7 @@ from textual import events
 __all__ = ["ScriptClock", "Simulation", "screen_rows"]
 
 
+TAKE_LIMIT = 30.0  # seconds a key press waits for the app to take it (a guard on a loaded machine)
 _CHARACTERS = {"space": " ", "enter": "\r", "tab": "\t", "escape": "\x1b", "backspace": "\x7f",
                "question_mark": "?", "plus": "+", "minus": "-", "comma": ",", "full_stop": ".",
                "ctrl+c": "\x03"}
@@ -133,6 +135,7 @@ class Simulation:
         for key in keys:
             await self.pilot.press(key)
             await self.pilot.pause(pace or None)
+            await self._taken()
 
     async def burst(self, *keys: str) -> None:
         """Queue keys all at once, as a fast typist or a paste does, then wait for the app.
@@ -142,12 +145,23 @@ class Simulation:
         for key in keys:
             self.app.post_message(events.Key(key, _character(key)))
         await self.pilot.pause()
+        await self._taken()
 
     async def paste(self, text: str) -> None:
         """Paste ``text`` (bracketed paste) into whatever has the focus."""
         target = self.app.focused or self.screen
         target.post_message(events.Paste(text))
         await self.pilot.pause()
+        await self._taken()
+
+    async def _taken(self) -> None:
+        """Until the app has taken the keys: the screen on top mounted (a key may have opened
+        it) and the last key handed on handled. One Pilot pause is not always enough on a
+        loaded machine, and a script would then read a screen not yet built."""
+        queue = getattr(self.app, "key_queue", None)
+        end = time.monotonic() + TAKE_LIMIT
+        while queue is not None and self.app.is_running and queue.changing and time.monotonic() < end:
+            await self.pilot.pause(0.01)
 
     async def type(self, text: str, *, enter: bool = False, pace: float = 0.0) -> None:
         """Type ``text`` a character at a time (then RETURN when ``enter``)."""
