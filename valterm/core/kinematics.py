@@ -38,6 +38,22 @@ TIE_MM = 1e-6
 _FIT_TOL = 3.6e-10
 
 
+# ik's stop fit of one joint: low - tol, high + tol, low, high, angle - 360 / + 360 may fit
+_StopFit = tuple[float, float, float, float, bool, bool]
+# how far inside the edges _settled keeps: far beyond rounding (1e-13 degree), far below
+# anything that matters to the speed (the whole fit still runs on the angles left out)
+_SETTLED_MARGIN = 1e-6
+
+
+def _settled(lo: float, hi: float, low: float, high: float) -> tuple[float, float]:
+    """The angles ik's stop fit leaves as they are with no work: inside the stops and
+    (-180, 180] (nothing to clamp or wrap) and with no 360-degree equivalent inside [lo, hi]
+    (nothing to choose), each edge ``_SETTLED_MARGIN`` inside so that rounding in angle -+ 360
+    cannot matter. JT1 and JT5: their whole stops; JT4 and JT6: about +-94 degrees."""
+    return (max(low, -180.0 + _SETTLED_MARGIN, hi - 360.0 + _SETTLED_MARGIN),
+            min(high, 180.0, lo + 360.0 - _SETTLED_MARGIN))
+
+
 @dataclass(frozen=True)
 class RobotGeometry:
     """Link lengths, tool offsets and joint stops of the PUMA (from the robot model file)."""
@@ -53,15 +69,16 @@ class RobotGeometry:
     model_geometry: str = "PUMA.SET"
     name: str = "PUMA 600"  # as the robot file names it (STATUS, --json)
     stops_array: np.ndarray = field(init=False, repr=False, compare=False)
-    # ik's stop fit per joint (``_fit_turns``), made once: low - tol, high + tol, low, high,
-    # and whether angle - 360 / angle + 360 can fall inside at all (stops beyond -180 / 180)
-    fit_bounds: tuple[tuple[float, float, float, float, bool, bool], ...] = field(
-        init=False, repr=False, compare=False)
+    # ik's stop fit per joint (``_fit_turns``), made once: the angles that are their own fit
+    # (``_settled``), then the whole fit's low - tol, high + tol, low, high, and whether
+    # angle - 360 / angle + 360 can fall inside at all (stops beyond -180 / 180)
+    fit_bounds: tuple[tuple[float, float, _StopFit], ...] = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "stops_array", np.array(self.stops, dtype=float))
         object.__setattr__(self, "fit_bounds", tuple(
-            (low - _FIT_TOL, high + _FIT_TOL, low, high, low - _FIT_TOL <= -180.0, high + _FIT_TOL > 180.0)
+            (*_settled(low - _FIT_TOL, high + _FIT_TOL, low, high),
+             (low - _FIT_TOL, high + _FIT_TOL, low, high, low - _FIT_TOL <= -180.0, high + _FIT_TOL > 180.0))
             for low, high in self.stops))
 
     def point_offset(self, point: int) -> float:
@@ -717,22 +734,24 @@ _DEGREES = 180.0 / math.pi   # math.degrees(v) is exactly v * this
 
 
 def _fit_turns(radians: Sequence[float], current: Sequence[float] | None,
-               bounds: Sequence[tuple[float, float, float, float, bool, bool]]) -> list[float]:
+               bounds: Sequence[tuple[float, float, _StopFit]]) -> list[float]:
     """``fit_to_stops`` of ``ik_fast``'s angles wrapped to (-180, 180] (``_wrap_turn``), in
-    one pass with no call per joint (ik's hot path, issue 25): of the angle and its +-360
-    equivalents, the one inside the stops nearest the current angle, ties to the lower
-    (``equivalent_inside`` written out), clamped; BeyondStop when none is inside.
-    ``bounds`` is ``RobotGeometry.fit_bounds``."""
-    fitted = []
-    for joint, (turn, (lo, hi, low, high, below_may, above_may)) in enumerate(zip(radians, bounds), start=1):
-        angle = turn * _DEGREES
-        if angle > 180.0:
-            angle -= 360.0
-        elif angle <= -180.0:
-            angle += 360.0
+    one pass with no call per joint (ik's hot path, issue 25). Most angles are their own fit
+    (``_settled``: one comparison); for the rest, of the angle and its +-360 equivalents the
+    one inside the stops nearest the current angle, ties to the lower (``equivalent_inside``
+    written out), clamped; BeyondStop when none is inside. ``bounds`` is
+    ``RobotGeometry.fit_bounds``."""
+    j1, j2, j3, j4, j5, j6 = radians
+    # written out: a comprehension is a call of its own
+    fitted = [j1 * _DEGREES, j2 * _DEGREES, j3 * _DEGREES, j4 * _DEGREES, j5 * _DEGREES, j6 * _DEGREES]
+    for index, angle in enumerate(fitted):
+        settled_low, settled_high, stop = bounds[index]
+        if settled_low <= angle <= settled_high:
+            continue
+        lo, hi, low, high, below_may, above_may = stop
         if not -180.0 < angle <= 180.0:
-            angle = wrap180(angle)
-        near = angle if current is None else current[joint - 1]
+            angle = _wrap_turn(angle)
+        near = angle if current is None else current[index]
         best = None
         # angle - 360 <= -180 and angle + 360 > 180: each is tried only where the stops reach
         if below_may and lo <= (below := angle - 360.0) <= hi:
@@ -742,8 +761,8 @@ def _fit_turns(radians: Sequence[float], current: Sequence[float] | None,
         if above_may and lo <= (above := angle + 360.0) <= hi and (best is None or abs(above - near) < abs(best - near)):
             best = above
         if best is None:
-            raise BeyondStop(joint, angle, (low, high))
-        fitted.append(low if best < low else high if best > high else best)
+            raise BeyondStop(index + 1, angle, (low, high))
+        fitted[index] = low if best < low else high if best > high else best
     return fitted
 
 
