@@ -6,6 +6,8 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -104,3 +106,49 @@ def test_a_tie_between_two_equivalents_goes_to_the_lower_as_fit_to_stops_does() 
             fitted = K._fit_turns(radians, current, GEOMETRY.fit_bounds)
             assert fitted == fit_to_stops(wrapped_degrees(radians), current, GEOMETRY)
             assert fitted[joint] == min(angle, other)
+
+
+def radians_giving(degrees: float) -> float:
+    """A float whose degrees (as the fit turns them) are ``degrees`` exactly, where one is near."""
+    radians = degrees / K._DEGREES
+    for _ in range(4):
+        if radians * K._DEGREES == degrees:
+            break
+        radians = math.nextafter(radians, math.inf if radians * K._DEGREES < degrees else -math.inf)
+    return radians
+
+
+def test_a_settled_angle_is_its_own_fit_and_the_edges_around_it_are_fit_as_before() -> None:
+    """fit_bounds' settled range (an angle that needs no wrap, clamp or choice costs one
+    comparison): at its edges, one float either side of them and where the range meets the
+    stops, -180, 180 and +-94 (JT4, JT6), the fast fit gives what fit_to_stops gives."""
+    edges = {-180.0, 180.0, -94.0, 94.0}
+    for settled_low, settled_high, (_, _, low, high, _, _) in GEOMETRY.fit_bounds:
+        assert low <= settled_low <= settled_high <= high
+        assert -180.0 < settled_low <= settled_high <= 180.0
+        edges |= {settled_low, settled_high, low, high, low + 360.0, high - 360.0}
+    angles = {math.nextafter(edge, toward) for edge in edges for toward in (-math.inf, math.inf)} | edges
+    for angle in sorted(angles):
+        for joint in range(6):
+            radians = [0.0, -math.pi / 2, math.pi / 2, 0.0, 0.5, 0.0]
+            radians[joint] = radians_giving(angle)
+            for current in (None, [0.0, -90.0, 90.0, 0.0, 28.6, 0.0], [150.0, -200.0, 200.0, -250.0, 90.0, 250.0]):
+                expected = outcome(fit_to_stops, wrapped_degrees(radians), current, GEOMETRY)
+                assert outcome(K._fit_turns, radians, current, GEOMETRY.fit_bounds) == expected
+
+
+def test_ik_fast_refuses_a_coordinate_that_is_not_a_number() -> None:
+    """The finite check lives in ik_fast (on the rows it unpacks): NaN and inf anywhere in the
+    position or the rotation are refused there, before any arithmetic, as ik refused them."""
+    pose = K.fk([10.0, -100.0, 120.0, 130.0, 40.0, -150.0])
+    for bad in (math.nan, math.inf, -math.inf):
+        for where in range(12):
+            xyz, rotation = pose.xyz.tolist(), pose.rotation.tolist()
+            if where < 3:
+                xyz[where] = bad
+            else:
+                rotation[(where - 3) // 3][(where - 3) % 3] = bad
+            with pytest.raises(K.OutOfReach, match="not a finite number"):
+                K.ik_fast(*xyz, rotation, 1, 1, 1, 0.0, GEOMETRY)
+            with pytest.raises(K.OutOfReach, match="not a finite number"):
+                K.ik(np.array(xyz), np.array(rotation), K.Config(), None)

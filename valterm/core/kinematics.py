@@ -18,6 +18,8 @@ from typing import NamedTuple, Protocol, Sequence
 import numpy as np
 
 from functools import lru_cache
+# ik_fast calls these by their bare names: one lookup less a call on ik's hot path (issue 25)
+from math import asin, atan2, cos, hypot, isfinite, pi, sin, sqrt
 
 from valterm.core.errors import RefusedValue, ValtermError
 from valterm.core import resources
@@ -38,6 +40,22 @@ TIE_MM = 1e-6
 _FIT_TOL = 3.6e-10
 
 
+# ik's stop fit of one joint: low - tol, high + tol, low, high, angle - 360 / + 360 may fit
+_StopFit = tuple[float, float, float, float, bool, bool]
+# how far inside the edges _settled keeps: far beyond rounding (1e-13 degree), far below
+# anything that matters to the speed (the whole fit still runs on the angles left out)
+_SETTLED_MARGIN = 1e-6
+
+
+def _settled(lo: float, hi: float, low: float, high: float) -> tuple[float, float]:
+    """The angles ik's stop fit leaves as they are with no work: inside the stops and
+    (-180, 180] (nothing to clamp or wrap) and with no 360-degree equivalent inside [lo, hi]
+    (nothing to choose), each edge ``_SETTLED_MARGIN`` inside so that rounding in angle -+ 360
+    cannot matter. JT1 and JT5: their whole stops; JT4 and JT6: about +-94 degrees."""
+    return (max(low, -180.0 + _SETTLED_MARGIN, hi - 360.0 + _SETTLED_MARGIN),
+            min(high, 180.0, lo + 360.0 - _SETTLED_MARGIN))
+
+
 @dataclass(frozen=True)
 class RobotGeometry:
     """Link lengths, tool offsets and joint stops of the PUMA (from the robot model file)."""
@@ -53,15 +71,22 @@ class RobotGeometry:
     model_geometry: str = "PUMA.SET"
     name: str = "PUMA 600"  # as the robot file names it (STATUS, --json)
     stops_array: np.ndarray = field(init=False, repr=False, compare=False)
-    # ik's stop fit per joint (``_fit_turns``), made once: low - tol, high + tol, low, high,
-    # and whether angle - 360 / angle + 360 can fall inside at all (stops beyond -180 / 180)
-    fit_bounds: tuple[tuple[float, float, float, float, bool, bool], ...] = field(
+    # ik's stop fit per joint (``_fit_turns``), made once: the angles that are their own fit
+    # (``_settled``), then the whole fit's low - tol, high + tol, low, high, and whether
+    # angle - 360 / angle + 360 can fall inside at all (stops beyond -180 / 180)
+    fit_bounds: tuple[tuple[float, float, _StopFit], ...] = field(init=False, repr=False, compare=False)
+    # ik_fast's lengths in one tuple, made once: d2, a2, d4, d6 and the constant products of
+    # Lee's solution (d2^2, a2^2, d4^2, 2 a2 d4; the same floats as computed in place)
+    lee_terms: tuple[float, float, float, float, float, float, float, float] = field(
         init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "stops_array", np.array(self.stops, dtype=float))
+        d2, a2, d4 = self.d2, self.a2, self.d4
+        object.__setattr__(self, "lee_terms", (d2, a2, d4, self.d6, d2 * d2, a2 * a2, d4 * d4, 2.0 * a2 * d4))
         object.__setattr__(self, "fit_bounds", tuple(
-            (low - _FIT_TOL, high + _FIT_TOL, low, high, low - _FIT_TOL <= -180.0, high + _FIT_TOL > 180.0)
+            (*_settled(low - _FIT_TOL, high + _FIT_TOL, low, high),
+             (low - _FIT_TOL, high + _FIT_TOL, low, high, low - _FIT_TOL <= -180.0, high + _FIT_TOL > 180.0))
             for low, high in self.stops))
 
     def point_offset(self, point: int) -> float:
@@ -603,6 +628,9 @@ def indicators_batch(joints: np.ndarray, geometry: RobotGeometry | None = None) 
 # Inverse kinematics (Lee's geometric solution)
 # ---------------------------------------------------------------------------
 
+_HALF_PI = 0.5 * math.pi   # delta = 90 degrees - JT3 (exactly half of pi)
+
+
 def ik_fast(
     x: float, y: float, z: float, rotation: Sequence[Sequence[float]],
     arm: int, elbow: int, wrist: int,
@@ -610,66 +638,78 @@ def ik_fast(
 ) -> tuple[float, float, float, float, float, float]:
     """Lee's solution on radians for the TCS origin at (x, y, z) with the tool rotation given.
 
-    Returns JT1..JT6 in radians (not yet fitted to the stops); raises OutOfReach.
+    Returns JT1..JT6 in radians (not yet fitted to the stops); raises OutOfReach, also for
+    a coordinate that is not a finite number.
     ``j4_hint`` (radians) is JT4 to keep when the wrist is singular (JT5 = 0).
     """
     geometry = geometry or robot_geometry()
     # the rows once as plain names: indexing nested sequences costs more than the arithmetic
     (r00, r01, r02), (r10, r11, r12), (r20, r21, r22) = rotation
-    d6 = geometry.d6
+    # one sum is finite only when every term is (NaN and inf propagate; a sum that overflows
+    # holds a coordinate no robot reaches); a row at a time, as sum() of the rows added them
+    if not isfinite(x + y + z + (r00 + r01 + r02) + (r10 + r11 + r12) + (r20 + r21 + r22)):
+        raise OutOfReach("not a location: a coordinate is not a finite number")
+    d2, a2, d4, d6, d2_squared, a2_squared, d4_squared, twice_a2_d4 = geometry.lee_terms
     wx, wy, wz = x - d6 * r02, y - d6 * r12, z - d6 * r22
-    d2 = geometry.d2
-    planar2 = wx * wx + wy * wy - d2 * d2
+    planar2 = wx * wx + wy * wy - d2_squared
     if planar2 < -1e-9:
         raise OutOfReach("out of reach (inside the shoulder offset)")
-    reach = math.sqrt(planar2) if planar2 > 0.0 else 0.0
+    reach = sqrt(planar2) if planar2 > 0.0 else 0.0
     # in the waist frame the wrist is at (X, d2, wz); RIGHTY puts it behind the shoulder
     big_x = -reach if arm > 0 else reach
-    j1 = math.atan2(wy, wx) - math.atan2(d2, big_x)
-    a2, d4 = geometry.a2, geometry.d4
-    k = (big_x * big_x + wz * wz - a2 * a2 - d4 * d4) / (2.0 * a2 * d4)
+    j1 = atan2(wy, wx) - atan2(d2, big_x)
+    k = (big_x * big_x + wz * wz - a2_squared - d4_squared) / twice_a2_d4
     if k > 1.0 or k < -1.0:
         if abs(k) - 1.0 > 1e-12:
             raise OutOfReach()
         k = 1.0 if k > 0 else -1.0
-    asin_k = math.asin(k)
-    j3 = asin_k if arm * elbow > 0 else math.pi - asin_k
-    delta = 0.5 * math.pi - j3  # forearm relative to upper arm (e3 - e2)
-    e2 = math.atan2(wz, big_x) - math.atan2(d4 * math.sin(delta), a2 + d4 * math.cos(delta))
+    asin_k = asin(k)
+    j3 = asin_k if arm * elbow > 0 else pi - asin_k
+    delta = _HALF_PI - j3  # forearm relative to upper arm (e3 - e2)
+    e2 = atan2(wz, big_x) - atan2(d4 * sin(delta), a2 + d4 * cos(delta))
     j2 = -e2
     # M = (Rz1 Ry23)^T R ; rows of R03^T are the columns of R03:
     # col0 = (c1 c23, s1 c23, -s23), col1 = (-s1, c1, 0), col2 = (c1 s23, s1 s23, c23);
-    # m_ij = col_i . (column j of R), summed in that order (the 0 term kept: it can turn -0 to 0)
-    c1, s1 = math.cos(j1), math.sin(j1)
-    c23, s23 = math.cos(j2 + j3), math.sin(j2 + j3)
-    c1c23, s1c23, c1s23, s1s23 = c1 * c23, s1 * c23, c1 * s23, s1 * s23
-    m02 = c1c23 * r02 + s1c23 * r12 + -s23 * r22
-    m12 = -s1 * r02 + c1 * r12 + 0.0 * r22
+    # m_ij = col_i . (column j of R), summed in that order (the 0 term kept: it can turn -0 to 0;
+    # p + -q is written p - q and -p + q as q - p, the same floats)
+    c1, s1 = cos(j1), sin(j1)
+    j23 = j2 + j3
+    c23, s23 = cos(j23), sin(j23)
+    c1c23, s1c23 = c1 * c23, s1 * c23
+    c1s23, s1s23 = c1 * s23, s1 * s23
+    m02 = c1c23 * r02 + s1c23 * r12 - s23 * r22
+    m12 = c1 * r12 - s1 * r02 + 0.0 * r22
     m22 = c1s23 * r02 + s1s23 * r12 + c23 * r22
     m20 = c1s23 * r00 + s1s23 * r10 + c23 * r20
     m21 = c1s23 * r01 + s1s23 * r11 + c23 * r21
-    sin5 = math.hypot(m02, m12)
+    sin5 = hypot(m02, m12)
     if sin5 > WRIST_EPS:
-        j4 = math.atan2(m12, m02)
-        j5 = math.atan2(sin5, m22)
-        j6 = math.atan2(m21, -m20)
+        j4 = atan2(m12, m02)
+        j5 = atan2(sin5, m22)
+        j6 = atan2(m21, -m20)
     else:
         # singular wrist: JT5 = 0 (or 180); keep JT4, JT6 takes the rest of the turn
         j4 = j4_hint
-        j5 = 0.0 if m22 > 0 else math.pi
-        m00 = c1c23 * r00 + s1c23 * r10 + -s23 * r20
-        m10 = -s1 * r00 + c1 * r10 + 0.0 * r20
-        m01 = c1c23 * r01 + s1c23 * r11 + -s23 * r21
-        m11 = -s1 * r01 + c1 * r11 + 0.0 * r21
+        j5 = 0.0 if m22 > 0 else pi
+        m00 = c1c23 * r00 + s1c23 * r10 - s23 * r20
+        m10 = c1 * r10 - s1 * r00 + 0.0 * r20
+        m01 = c1c23 * r01 + s1c23 * r11 - s23 * r21
+        m11 = c1 * r11 - s1 * r01 + 0.0 * r21
         # N = Rz(-j4) M = Ry5 Rz6 ; Ry(0 or pi) leaves row 1 as (sin6, cos6, 0)
-        c4, s4 = math.cos(j4), math.sin(j4)
+        c4, s4 = cos(j4), sin(j4)
         n10 = -s4 * m00 + c4 * m10
         n11 = -s4 * m01 + c4 * m11
-        j6 = math.atan2(n10, n11)
-    c6 = math.cos(j6)
-    current_wrist = (1 if c6 > 0 else -1) if abs(c6) > 1e-12 else (1 if math.sin(j6) > 0 else -1)
+        j6 = atan2(n10, n11)
+    c6 = cos(j6)
+    # the wrist as solved: the sign of cos JT6 (of sin JT6 within 1e-12 of cos JT6 = 0)
+    if c6 > 1e-12:
+        current_wrist = 1
+    elif c6 < -1e-12:
+        current_wrist = -1
+    else:
+        current_wrist = 1 if sin(j6) > 0 else -1
     if current_wrist != wrist:
-        j4, j5, j6 = j4 + math.pi, -j5, j6 + math.pi
+        j4, j5, j6 = j4 + pi, -j5, j6 + pi
     return (j1, j2, j3, j4, j5, j6)
 
 
@@ -693,10 +733,7 @@ def ik(
     # Python floats on entry: math on numpy scalars is several times slower
     rot = rotation.tolist() if isinstance(rotation, np.ndarray) else rotation
     x, y, z = xyz.tolist() if isinstance(xyz, np.ndarray) else (float(v) for v in xyz)
-    # one sum is finite only when every term is (NaN and inf propagate; a sum that overflows
-    # holds a coordinate no robot reaches)
-    if not math.isfinite(x + y + z + sum(rot[0]) + sum(rot[1]) + sum(rot[2])):
-        raise OutOfReach("not a location: a coordinate is not a finite number")
+    # (ik_fast refuses a coordinate that is not a finite number)
     radians = ik_fast(x, y, z, rot, config.arm, config.elbow, config.wrist, hint, geometry)
     if not enforce_stops:
         return [_wrap_turn(math.degrees(v)) for v in radians]
@@ -717,22 +754,26 @@ _DEGREES = 180.0 / math.pi   # math.degrees(v) is exactly v * this
 
 
 def _fit_turns(radians: Sequence[float], current: Sequence[float] | None,
-               bounds: Sequence[tuple[float, float, float, float, bool, bool]]) -> list[float]:
+               bounds: Sequence[tuple[float, float, _StopFit]]) -> list[float]:
     """``fit_to_stops`` of ``ik_fast``'s angles wrapped to (-180, 180] (``_wrap_turn``), in
-    one pass with no call per joint (ik's hot path, issue 25): of the angle and its +-360
-    equivalents, the one inside the stops nearest the current angle, ties to the lower
-    (``equivalent_inside`` written out), clamped; BeyondStop when none is inside.
-    ``bounds`` is ``RobotGeometry.fit_bounds``."""
-    fitted = []
-    for joint, (turn, (lo, hi, low, high, below_may, above_may)) in enumerate(zip(radians, bounds), start=1):
-        angle = turn * _DEGREES
-        if angle > 180.0:
-            angle -= 360.0
-        elif angle <= -180.0:
-            angle += 360.0
+    one pass with no call per joint (ik's hot path, issue 25). Most angles are their own fit
+    (``_settled``: one comparison); for the rest, of the angle and its +-360 equivalents the
+    one inside the stops nearest the current angle, ties to the lower (``equivalent_inside``
+    written out), clamped; BeyondStop when none is inside. ``bounds`` is
+    ``RobotGeometry.fit_bounds``."""
+    j1, j2, j3, j4, j5, j6 = radians
+    # written out: a comprehension is a call of its own
+    fitted = [j1 * _DEGREES, j2 * _DEGREES, j3 * _DEGREES, j4 * _DEGREES, j5 * _DEGREES, j6 * _DEGREES]
+    index = -1
+    for settled_low, settled_high, stop in bounds:   # (a counter costs less than enumerate here)
+        index += 1
+        angle = fitted[index]
+        if settled_low <= angle <= settled_high:
+            continue
+        lo, hi, low, high, below_may, above_may = stop
         if not -180.0 < angle <= 180.0:
-            angle = wrap180(angle)
-        near = angle if current is None else current[joint - 1]
+            angle = _wrap_turn(angle)
+        near = angle if current is None else current[index]
         best = None
         # angle - 360 <= -180 and angle + 360 > 180: each is tried only where the stops reach
         if below_may and lo <= (below := angle - 360.0) <= hi:
@@ -742,8 +783,8 @@ def _fit_turns(radians: Sequence[float], current: Sequence[float] | None,
         if above_may and lo <= (above := angle + 360.0) <= hi and (best is None or abs(above - near) < abs(best - near)):
             best = above
         if best is None:
-            raise BeyondStop(joint, angle, (low, high))
-        fitted.append(low if best < low else high if best > high else best)
+            raise BeyondStop(index + 1, angle, (low, high))
+        fitted[index] = low if best < low else high if best > high else best
     return fitted
 
 
