@@ -65,7 +65,8 @@ NOT_AT_MAIN_MENU = ("valterm.ui.screens.editor", "valterm.ui.screens.valmode", "
                     "valterm.ui.screens.start", "valterm.ui.hardcopy", "valterm.core.cad.export",
                     "valterm.core.cad.convert", "valterm.core.editor", "valterm.core.val.compiler",
                     "concurrent.futures.process", "valterm.core.files.vplus", "valterm.ui.widgets.transcript_log", "rich.pretty", "importlib.resources", "importlib.metadata",
-                    "valterm.core.collision.frames", *HEAVY)
+                    "valterm.core.collision.frames", "valterm.core.collision.thesis", "valterm.core.collision.world",
+                    *HEAVY)
 
 MAIN_MENU_PROBE = """
 import asyncio, json, sys, tempfile
