@@ -12,7 +12,8 @@ import numpy as np
 import pytest
 
 from valterm.core.cell.polyhedron import Polyhedron
-from valterm.core.collision import CollisionWorld, check_pair
+from valterm.core.collision.thesis import check_pair
+from valterm.core.collision.world import CollisionWorld
 from valterm.bench.collision import bench_collision_step, demo_links, demo_objects
 from valterm.core.collision.exact import collides
 

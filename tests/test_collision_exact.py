@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from valterm.core.cell.polyhedron import Polyhedron
-from valterm.core.collision import CollisionWorld
+from valterm.core.collision.world import CollisionWorld
 from valterm.core.collision.exact import ExactChecker, collides, distance, outward_faces
 
 

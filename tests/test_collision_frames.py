@@ -12,7 +12,7 @@ import pytest
 from valterm.core import resources
 from valterm.core.cell.polyhedron import Polyhedron
 from valterm.core.cell.workcell import WorkCell
-from valterm.core.collision import CollisionWorld
+from valterm.core.collision.world import CollisionWorld
 from valterm.core.collision.frames import RobotScene, thickness
 from valterm.core.events import Collision
 from valterm.core.files.locations import read_locations

@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 from valterm.core.cell.polyhedron import Polyhedron
-from valterm.core.collision import CollisionWorld, Finding, check_pair, check_scene, default_skip, margin
+from valterm.core.collision.thesis import check_pair, margin
+from valterm.core.collision.world import CollisionWorld, Finding, check_scene, default_skip
 from valterm.core.collision.thesis import segment_hits_polyhedron
 from valterm.core.events import Collision, Near
 

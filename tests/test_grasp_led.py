@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from valterm.core.cell.polyhedron import Polyhedron
-from valterm.core.collision import led_hits
+from valterm.core.collision.grasp import led_hits
 
 
 def box(lo, hi) -> Polyhedron:

@@ -65,7 +65,8 @@ NOT_AT_MAIN_MENU = ("valterm.ui.screens.editor", "valterm.ui.screens.valmode", "
                     "valterm.ui.screens.start", "valterm.ui.hardcopy", "valterm.core.cad.export",
                     "valterm.core.cad.convert", "valterm.core.editor", "valterm.core.val.compiler",
                     "concurrent.futures.process", "valterm.core.files.vplus", "valterm.ui.widgets.transcript_log", "rich.pretty", "importlib.resources", "importlib.metadata",
-                    "valterm.core.collision.frames", *HEAVY)
+                    "valterm.core.collision.frames", "valterm.core.collision.thesis", "valterm.core.collision.world",
+                    *HEAVY)
 
 MAIN_MENU_PROBE = """
 import asyncio, json, sys, tempfile
@@ -311,3 +312,22 @@ async def test_the_prompts_parts_timer_does_nothing_on_a_screen_that_is_going(tm
         monkeypatch.setattr(prompt, "_closing", False)
         prompt.mount_parts()
         assert len(prompt.children) == 2
+
+
+def test_a_session_parses_the_robot_file_once() -> None:
+    """The robot file gives the geometry, the drawn model and the timing: one parse of it a
+    process (three at every start before, issue 25), and the same figures as a fresh parse."""
+    probe = ("import json, sys, tempfile, tomllib\n"
+             "parsed = []\n"
+             "loads = tomllib.loads\n"
+             "tomllib.loads = lambda text, **kw: parsed.append(text[:40]) or loads(text, **kw)\n"
+             "from valterm.core import resources\n"
+             "from valterm.core.session import Session\n"
+             "s = Session(tempfile.mkdtemp(), setup='PROCESS')\n"
+             "fresh = loads(resources.read_text('robot', 'PUMA.toml'))\n"
+             "sim = s.simulator\n"
+             "same = (list(sim.geometry.ready) == fresh['ready']['joints'] and sim.model.names == tuple(fresh['model']['names'])\n"
+             "        and list(sim.timing.joint_speed) == fresh['timing']['joint_speed'])\n"
+             "print(json.dumps([len(parsed), same]))")
+    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True)
+    assert json.loads(out.stdout.strip().splitlines()[-1]) == [1, True]

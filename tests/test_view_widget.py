@@ -6,6 +6,7 @@ import asyncio
 from typing import Any, Callable, Coroutine
 
 import numpy as np
+from rich.style import Style
 from textual.app import App, ComposeResult
 
 from valterm.core.cell.polyhedron import Polyhedron
@@ -122,3 +123,34 @@ async def test_resize_redraws_at_the_new_size() -> None:
         await pilot.pause()
         view = app.query_one(ModelView)
         assert view.frame is not None and view.frame.chars.shape == (20, 60)
+
+
+@sync
+async def test_the_widgets_own_style_is_read_once_for_all_colours() -> None:
+    """Each colour's style is the widget's own plus the colour: the widget's (``rich_style``,
+    a walk of its ancestors) is read once for them all, and again after a restyle (issue 25:
+    the first frame has about 25 colours)."""
+    reads = []
+    rich_style = ModelView.rich_style
+
+    class Counted(ModelView):
+        @property
+        def rich_style(self):  # type: ignore[no-untyped-def]
+            reads.append(1)
+            return rich_style.fget(self)  # type: ignore[attr-defined]
+
+    class CountedApp(App[None]):
+        def compose(self) -> ComposeResult:
+            yield Counted(two_boxes())
+
+    app = CountedApp()
+    async with app.run_test(size=(80, 24)) as pilot:
+        await pilot.pause()
+        view = app.query_one(Counted)
+        assert len(view._styles) >= 2 and len(reads) == 1
+        base = rich_style.fget(view)  # type: ignore[attr-defined]
+        assert all(style == base or style == base + Style(color=view._palette[colour])
+                   for colour, style in view._styles.items())
+        view.set_palette({1: "red"})
+        view.render_line(0)
+        assert len(reads) == 2

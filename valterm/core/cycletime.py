@@ -11,7 +11,6 @@ its own file's).
 from __future__ import annotations
 
 import math
-import tomllib
 from dataclasses import dataclass
 from functools import lru_cache
 
@@ -37,7 +36,7 @@ class Timing:
 def robot_timing(robot: str | None = None) -> Timing:
     """A bundled robot's timing parameters (the thesis's PUMA when None), read on first use."""
     file = ROBOT_FILE if robot is None else (ROBOT_FILE[0], f"{robot}.toml")
-    data = tomllib.loads(resources.read_text(*file))["timing"]
+    data = resources.read_toml(*file)["timing"]
     return Timing(
         joint_speed=tuple(float(v) for v in data["joint_speed"]),
         joint_accel=tuple(float(v) for v in data["joint_accel"]),

@@ -15,8 +15,14 @@ from typing import Any, TypeAlias, cast
 Json: TypeAlias = "str | int | float | bool | list[Json] | tuple[Json, ...] | dict[str, Json] | None"
 
 
-@dataclass(frozen=True)
+# Compared by identity (eq=False), but for the four that tests compare by value (Step, Pause,
+# Breakpoint, Monitor): nothing else compares or hashes an event (the whole suite, watched),
+# and a frozen dataclass's __eq__ and __hash__ are two of the six methods compiled for it at
+# import (issue 25, the start). A class to be compared by value says so: drop its eq=False.
+@dataclass(frozen=True, eq=False)
 class Event:
+    """One happening of the simulator core; ``event`` is its kind in ``run --json``."""
+
     event = "event"
 
     def to_json(self) -> dict[str, Json]:
@@ -84,7 +90,7 @@ class Step(Event):
         return _step_line(self.program, self.step, self.text)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class TypeOut(Event):
     """TYPE output and other lines a program prints."""
 
@@ -92,7 +98,7 @@ class TypeOut(Event):
     event = "type"
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Message(Event):
     """A simulator message: warnings, notices (`IT IS POSSIBLE TO GRASP THIS PART`)."""
 
@@ -101,7 +107,7 @@ class Message(Event):
     event = "message"
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class PoseEvent(Event):
     """One intermediate (or final) pose of a motion: draw the model here."""
 
@@ -114,7 +120,7 @@ class PoseEvent(Event):
     event = "pose"
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Motion(Event):
     """A finished motion: its kind, its number of steps and the final joints."""
 
@@ -125,7 +131,7 @@ class Motion(Event):
     event = "motion"
 
 
-@dataclass(frozen=True, kw_only=True)
+@dataclass(frozen=True, kw_only=True, eq=False)
 class Located(Event):
     """Where a program was when something happened to the clamp: the program and step
     (filled in by the interpreter; "" and 0 for a typed command or the pendant) and the
@@ -144,20 +150,24 @@ class Located(Event):
         return f" ({self.program} STEP {self.step}, CLAMP AT {at})" if at else f" ({self.program} STEP {self.step})"
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Grasp(Located):
+    """The clamp closed on part ``part`` (CLOSE, CLOSEI, GRASP): it is carried from now on."""
+
     part: int
     event = "grasp"
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Release(Event):
+    """The clamp let part ``part`` go where it is (``position``: its reference point, world mm)."""
+
     part: int
     position: tuple[float, float, float]
     event = "release"
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Hand(Event):
     """The clamp opened or closed (redraw the fingers at ``gap`` mm)."""
 
@@ -166,7 +176,7 @@ class Hand(Event):
     event = "hand"
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Contact(Located):
     """A finding of the collision check about two parties (a link or a part each)."""
 
@@ -175,21 +185,21 @@ class Contact(Located):
     text: str = ""
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Near(Contact):
     """The coarse check: something is inside another's grown box (`CLAMP IS NEAR PART 10`)."""
 
     event = "near"
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Collision(Contact):
     """The fine check found an edge through a face (`10 COLLIDES WITH 7`)."""
 
     event = "collision"
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Error(Event):
     """A run-time error, located by program and step (program "" for a typed command)."""
 
@@ -206,7 +216,7 @@ class Error(Event):
         return f"{self.program} STEP {self.step}: " if self.step else f"{self.program}: "
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class LimitReached(Error):
     """The run stopped at one of its limits (``valterm.core.val.limits``): ``limit`` is
     steps, seconds or lines, ``flag`` the command-line option that changes it."""
@@ -216,7 +226,7 @@ class LimitReached(Error):
     event = "limit"
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Where(Event):
     """The WHERE readout (Fig. 2-8)."""
 
@@ -245,7 +255,7 @@ class Pause(Event):
     event = "pause"
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class End(Event):
     """The end of a run: the final WHERE and the variables."""
 
@@ -261,7 +271,7 @@ class End(Event):
     event = "end"
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Delay(Event):
     """DELAY s: the app waits ``seconds`` in real time; headless runs skip or scale it."""
 
@@ -269,7 +279,7 @@ class Delay(Event):
     event = "delay"
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Signal(Event):
     """A binary signal of the I/O panel changed (V+ SIGNAL, a scripted or keyed input)."""
 
@@ -283,7 +293,7 @@ class Signal(Event):
         return f"SIGNAL {self.number} {'ON' if self.on else 'OFF'}"
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Status(Event):
     """STATUS (section 6.8.4): the speed, the program and its loops done and remaining."""
 
@@ -327,7 +337,7 @@ class Status(Event):
         return {**super().to_json(), "text": self.text}
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Help(Event):
     """HELP: the HELP MENU (topic "") or one topic of HELPER.DAT, as lines to show."""
 
@@ -354,7 +364,7 @@ class Breakpoint(Pause):
     event = "breakpoint"
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Watch(Event):
     """WATCH: a watched variable changed (``old`` None: it was not declared) at a step
     (program "" and step 0: typed while the program was paused)."""
@@ -367,7 +377,7 @@ class Watch(Event):
     event = "watch"
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Trace(Event):
     """TRACE ON: a step that was executed, with the variables it assigned and their values."""
 

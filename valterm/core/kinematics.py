@@ -102,8 +102,8 @@ class RobotGeometry:
 
 def load_robot(path: Path | None = None) -> RobotGeometry:
     """Read the robot model file (TOML); the bundled PUMA's when no path is given."""
+    data = resources.read_toml(*ROBOT_FILE) if path is None else tomllib.loads(path.read_text(encoding="utf-8"))
     path = path or resources.data_path(*ROBOT_FILE)
-    data = tomllib.loads(path.read_text(encoding="utf-8"))
     links, tool = data["links"], data["tool"]
     stops = tuple((float(lo), float(hi)) for lo, hi in data["stops"]["joints"])
     if len(stops) != 6 or any(lo >= hi for lo, hi in stops):

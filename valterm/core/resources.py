@@ -10,8 +10,10 @@ files wherever it is run from. Nothing here is read at import time.
 
 from __future__ import annotations
 
+import tomllib
+from functools import lru_cache
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
     from importlib.resources.abc import Traversable
@@ -46,6 +48,14 @@ def data_path(*parts: str) -> Path:
 def read_text(*parts: str) -> str:
     """The text of a bundled file (UTF-8)."""
     return data_root().joinpath(*parts).read_text(encoding="utf-8")
+
+
+@lru_cache(maxsize=8)
+def read_toml(*parts: str) -> dict[str, Any]:
+    """The tables of a bundled TOML file, parsed once a process: a session's start reads the
+    robot file for its geometry, its drawn model and its timing (three parses of one file,
+    issue 25). The tables are shared by every caller: read them, never change them."""
+    return tomllib.loads(read_text(*parts))
 
 
 def bundled_files(folder: str) -> list[Path]:

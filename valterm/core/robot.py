@@ -100,9 +100,8 @@ def load_model(path: Path | None = None, geometry: RobotGeometry | None = None) 
     geometry = geometry or robot_geometry()
     from valterm.core.files.setup import read_setup  # the same reader as any setup file
 
+    data = (resources.read_toml(*ROBOT_FILE) if path is None else tomllib.loads(path.read_text()))["model"]
     path = path or resources.data_path(*ROBOT_FILE)
-
-    data = tomllib.loads(path.read_text())["model"]
     cell = read_setup(path.parent / data["geometry"], checked=False)  # the links' vertices only
     names = tuple(data["names"])
     frames = np.asarray(data["frames"], dtype=int)
@@ -133,5 +132,5 @@ def load_robot_model(name: str = THESIS_ROBOT) -> RobotModel:
     path = resources.data_path(ROBOT_FOLDER, f"{name.upper()}.toml")
     geometry = RobotGeometry(a2=chain.a[1], d2=chain.d[2], d4=chain.d[3], d6=chain.d[5], led_sensor=0.0,
                              clamp_tip=0.0, stops=chain.stops, ready=chain.ready, name=chain.name,
-                             model_geometry=str(tomllib.loads(path.read_text(encoding="utf-8"))["model"]["geometry"]))
+                             model_geometry=str(resources.read_toml(ROBOT_FOLDER, f"{name.upper()}.toml")["model"]["geometry"]))
     return replace(load_model(path, geometry), arm=DHArm(chain, name.upper()))

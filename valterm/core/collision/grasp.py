@@ -13,7 +13,6 @@ from typing import Sequence
 import numpy as np
 
 from valterm.core.cell.polyhedron import Polyhedron
-from valterm.core.collision.thesis import segment_hits_polyhedron
 
 
 def led_hits(led_p0: np.ndarray, led_p1: np.ndarray, objects: Sequence[Polyhedron]) -> int | None:
@@ -25,6 +24,10 @@ def led_hits(led_p0: np.ndarray, led_p1: np.ndarray, objects: Sequence[Polyhedro
         lo, hi = poly.extreme_box
         if np.any(hi_seg < lo) or np.any(lo_seg > hi):
             continue  # the segment's box misses the object's: no need for the face test
+        # the fine check's module loads only when a box is met: the first picture asks the
+        # LED at the ready pose, where it meets none (issue 25, the start)
+        from valterm.core.collision.thesis import segment_hits_polyhedron
+
         if segment_hits_polyhedron(p0, p1, poly, solid=True):
             return number
     return None

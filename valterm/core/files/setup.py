@@ -165,7 +165,7 @@ def parse_setup(text: str, name: str | Path, *, checked: bool = True) -> WorkCel
             relative.append(_point(fields, where, line_number, f"object {part} vertex {index}"))
         try:
             with numpy_errors():
-                vertices = file_to_world(np.asarray(relative) + reference, units, system)
+                vertices = file_to_world(np.asarray(relative) + np.asarray(reference), units, system)
                 polyhedron = Polyhedron(vertices, name=lines.names.get(header_line, f"PART {part}"))
         except (FloatingPointError, ValueError) as error:
             raise FileFormatError(where, header_line, f"object {part}: unusable vertices ({error})") from None
@@ -212,11 +212,13 @@ def _shown(fields: list[str], separator: str = " ") -> str:
     return text if len(text) <= 40 else text[:40] + "..."
 
 
-def _point(fields: list[str], where: Path, line: int, what: str) -> np.ndarray:
+def _point(fields: list[str], where: Path, line: int, what: str) -> list[float]:
+    """X, Y, Z of a point's line, as floats: the object's points become one array together
+    (an array a point was a few hundred numpy calls a session's start, issue 25)."""
     if len(fields) != 3:
         raise FileFormatError(where, line,
                               f"{what}: expected 3 numbers (X, Y, Z), found {len(fields)}: {_shown(fields)!r}")
-    return np.array([parse_number(f, where, line, what) for f in fields])
+    return [parse_number(f, where, line, what) for f in fields]
 
 
 def _check_geometry(polyhedron: Polyhedron, part: int) -> list[str]:

@@ -116,6 +116,7 @@ class ModelView(Widget):
         self._palette = dict(DEFAULT_PALETTE if palette is None else palette)
         self.dot_aspect = dot_aspect
         self._styles: dict[int, Style] = {}
+        self._base_style: Style | None = None  # the widget's own (rich_style walks its ancestors)
         self._frame: Frame | None = None
         self._strips: list[Strip | None] = []
         self._drawn_key: tuple[object, ...] | None = None
@@ -240,6 +241,7 @@ class ModelView(Widget):
 
     def _restyle(self) -> None:
         self._styles.clear()
+        self._base_style = None
         self._strips = [None] * len(self._strips)
         if self.is_mounted:
             self.refresh()
@@ -247,7 +249,11 @@ class ModelView(Widget):
     def _style(self, colour: int) -> Style:
         style = self._styles.get(colour)
         if style is None:
-            base = self.rich_style
+            # the same for every colour until restyled: once, not once a colour (the first
+            # frame has about 25 colours, issue 25)
+            if self._base_style is None:
+                self._base_style = self.rich_style
+            base = self._base_style
             name = self._palette.get(colour)
             style = base + Style(color=name) if (colour and name) else base
             self._styles[colour] = style
