@@ -46,21 +46,3 @@ def test_a_step_line_is_kept_per_step_and_right_for_each() -> None:
     assert one.json_line() is Step("P", 1, 'TYPE "A"').json_line()       # made once
     assert json.loads(other.json_line())["step"] == 2
     assert TypeOut("Ü").json_line() == json.dumps({"event": "type", "text": "Ü"})
-
-
-def test_only_the_events_compared_by_value_make_eq_and_hash() -> None:
-    """Issue 25, the start: each frozen dataclass's __eq__ and __hash__ are compiled at import.
-    The four events the tests compare by value keep them; the others compare by identity
-    (nothing compares or hashes them), with Python's own hash."""
-    import dataclasses
-
-    from valterm.core import events
-
-    kinds = [k for k in vars(events).values() if isinstance(k, type) and issubclass(k, events.Event)]
-    by_value = sorted(k.__name__ for k in kinds if k.__dataclass_params__.eq)  # type: ignore[attr-defined]
-    assert by_value == ["Breakpoint", "Monitor", "Pause", "Step"]
-    assert all(dataclasses.is_dataclass(k) and k.__dataclass_params__.frozen for k in kinds)  # type: ignore[attr-defined]
-    assert events.Step("MAIN", 3, "K=K+1") == events.Step("MAIN", 3, "K=K+1")
-    assert events.Breakpoint("MAIN", 3, reason="BPT") != events.Breakpoint("MAIN", 3, reason="XSTEP")
-    said = events.Message("HELLO")
-    assert said == said and said != events.Message("HELLO") and hash(said) == object.__hash__(said)

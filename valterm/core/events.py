@@ -15,14 +15,8 @@ from typing import Any, TypeAlias, cast
 Json: TypeAlias = "str | int | float | bool | list[Json] | tuple[Json, ...] | dict[str, Json] | None"
 
 
-# Compared by identity (eq=False), but for the four that tests compare by value (Step, Pause,
-# Breakpoint, Monitor): nothing else compares or hashes an event (the whole suite, watched),
-# and a frozen dataclass's __eq__ and __hash__ are two of the six methods compiled for it at
-# import (issue 25, the start). A class to be compared by value says so: drop its eq=False.
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True)
 class Event:
-    """One happening of the simulator core; ``event`` is its kind in ``run --json``."""
-
     event = "event"
 
     def to_json(self) -> dict[str, Json]:
@@ -90,7 +84,7 @@ class Step(Event):
         return _step_line(self.program, self.step, self.text)
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True)
 class TypeOut(Event):
     """TYPE output and other lines a program prints."""
 
@@ -98,7 +92,7 @@ class TypeOut(Event):
     event = "type"
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True)
 class Message(Event):
     """A simulator message: warnings, notices (`IT IS POSSIBLE TO GRASP THIS PART`)."""
 
@@ -107,7 +101,7 @@ class Message(Event):
     event = "message"
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True)
 class PoseEvent(Event):
     """One intermediate (or final) pose of a motion: draw the model here."""
 
@@ -120,7 +114,7 @@ class PoseEvent(Event):
     event = "pose"
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True)
 class Motion(Event):
     """A finished motion: its kind, its number of steps and the final joints."""
 
@@ -131,7 +125,7 @@ class Motion(Event):
     event = "motion"
 
 
-@dataclass(frozen=True, kw_only=True, eq=False)
+@dataclass(frozen=True, kw_only=True)
 class Located(Event):
     """Where a program was when something happened to the clamp: the program and step
     (filled in by the interpreter; "" and 0 for a typed command or the pendant) and the
@@ -150,24 +144,20 @@ class Located(Event):
         return f" ({self.program} STEP {self.step}, CLAMP AT {at})" if at else f" ({self.program} STEP {self.step})"
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True)
 class Grasp(Located):
-    """The clamp closed on part ``part`` (CLOSE, CLOSEI, GRASP): it is carried from now on."""
-
     part: int
     event = "grasp"
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True)
 class Release(Event):
-    """The clamp let part ``part`` go where it is (``position``: its reference point, world mm)."""
-
     part: int
     position: tuple[float, float, float]
     event = "release"
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True)
 class Hand(Event):
     """The clamp opened or closed (redraw the fingers at ``gap`` mm)."""
 
@@ -176,7 +166,7 @@ class Hand(Event):
     event = "hand"
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True)
 class Contact(Located):
     """A finding of the collision check about two parties (a link or a part each)."""
 
@@ -185,21 +175,21 @@ class Contact(Located):
     text: str = ""
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True)
 class Near(Contact):
     """The coarse check: something is inside another's grown box (`CLAMP IS NEAR PART 10`)."""
 
     event = "near"
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True)
 class Collision(Contact):
     """The fine check found an edge through a face (`10 COLLIDES WITH 7`)."""
 
     event = "collision"
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True)
 class Error(Event):
     """A run-time error, located by program and step (program "" for a typed command)."""
 
@@ -216,7 +206,7 @@ class Error(Event):
         return f"{self.program} STEP {self.step}: " if self.step else f"{self.program}: "
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True)
 class LimitReached(Error):
     """The run stopped at one of its limits (``valterm.core.val.limits``): ``limit`` is
     steps, seconds or lines, ``flag`` the command-line option that changes it."""
@@ -226,7 +216,7 @@ class LimitReached(Error):
     event = "limit"
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True)
 class Where(Event):
     """The WHERE readout (Fig. 2-8)."""
 
@@ -255,7 +245,7 @@ class Pause(Event):
     event = "pause"
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True)
 class End(Event):
     """The end of a run: the final WHERE and the variables."""
 
@@ -271,7 +261,7 @@ class End(Event):
     event = "end"
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True)
 class Delay(Event):
     """DELAY s: the app waits ``seconds`` in real time; headless runs skip or scale it."""
 
@@ -279,7 +269,7 @@ class Delay(Event):
     event = "delay"
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True)
 class Signal(Event):
     """A binary signal of the I/O panel changed (V+ SIGNAL, a scripted or keyed input)."""
 
@@ -293,7 +283,7 @@ class Signal(Event):
         return f"SIGNAL {self.number} {'ON' if self.on else 'OFF'}"
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True)
 class Status(Event):
     """STATUS (section 6.8.4): the speed, the program and its loops done and remaining."""
 
@@ -337,7 +327,7 @@ class Status(Event):
         return {**super().to_json(), "text": self.text}
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True)
 class Help(Event):
     """HELP: the HELP MENU (topic "") or one topic of HELPER.DAT, as lines to show."""
 
@@ -364,7 +354,7 @@ class Breakpoint(Pause):
     event = "breakpoint"
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True)
 class Watch(Event):
     """WATCH: a watched variable changed (``old`` None: it was not declared) at a step
     (program "" and step 0: typed while the program was paused)."""
@@ -377,7 +367,7 @@ class Watch(Event):
     event = "watch"
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True)
 class Trace(Event):
     """TRACE ON: a step that was executed, with the variables it assigned and their values."""
 
