@@ -21,7 +21,7 @@ def _same(event: Event) -> None:
     if isinstance(event, Where) and event.ypr is None:
         del expected["ypr"]  # a 1985 WHERE is written without V+'s angles (issue 23)
     assert event.to_json() == expected
-    assert event.json_line() == json.dumps(expected)
+    assert event.json_line() == json.dumps(expected) + "\n"
 
 
 def test_every_event_of_the_process_run_is_written_as_before() -> None:
@@ -45,4 +45,4 @@ def test_a_step_line_is_kept_per_step_and_right_for_each() -> None:
     assert json.loads(one.json_line()) == {"event": "step", "program": "P", "step": 1, "text": 'TYPE "A"'}
     assert one.json_line() is Step("P", 1, 'TYPE "A"').json_line()       # made once
     assert json.loads(other.json_line())["step"] == 2
-    assert TypeOut("Ü").json_line() == json.dumps({"event": "type", "text": "Ü"})
+    assert TypeOut("Ü").json_line() == json.dumps({"event": "type", "text": "Ü"}) + "\n"

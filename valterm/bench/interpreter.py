@@ -57,7 +57,7 @@ def bench_run_json(passes: int = 50_000, repeat: int = 3) -> float:
             start = time.perf_counter()
             for event in interpreter.execute("BENCH"):
                 count += event.event == "step"
-                out.write(event.json_line() + "\n")
+                out.write(event.json_line())
             best = max(best, count / (time.perf_counter() - start))
     return best
 

@@ -33,7 +33,6 @@ Exit 0: the program ended normally; 1: a run-time error, a limit reached, or a b
 from __future__ import annotations
 
 import argparse
-import json
 import signal
 import sys
 from pathlib import Path
@@ -198,17 +197,18 @@ def run(args: argparse.Namespace) -> int:
 
     previous = signal.signal(signal.SIGINT, on_sigint)
     out = sys.stdout
+    write, as_json = out.write, args.json  # locals: a loop writes a line a statement (issue 25)
     try:
         for event in interpreter.execute(main.name, args.loops):
             if isinstance(event, Error):
                 errors += 1
-            if args.json:
-                out.write(event.json_line() + "\n")
+            if as_json:
+                write(event.json_line())
                 continue
             for line in event_lines(event):
-                out.write(line + "\n")
+                write(line + "\n")
             if isinstance(event, Pause):
-                out.write("(headless: PROCEED)\n")
+                write("(headless: PROCEED)\n")
         _write_end(args, sim, interpreter, out, main)
     finally:
         signal.signal(signal.SIGINT, previous)
@@ -234,7 +234,7 @@ def _write_end(args: argparse.Namespace, sim: Any, interpreter: Any, out: Any, m
               signals_on=tuple(panel.outputs_on() + panel.inputs_on()), parts=part_positions(sim),
               robot=sim.arm.name, robot_key=sim.arm.key)
     if args.json:
-        out.write(json.dumps(end.to_json()) + "\n")
+        out.write(end.json_line())
     else:
         out.write("\n".join(["", "WHERE", *where_lines(where)]) + "\n")
         if interpreter.variables:

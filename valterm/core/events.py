@@ -8,7 +8,7 @@ Textual app, the headless ``valterm run`` and the tests all drive the same code.
 from __future__ import annotations
 
 from dataclasses import dataclass, field, fields, is_dataclass
-from functools import lru_cache
+from functools import cached_property, lru_cache
 from typing import Any, TypeAlias, cast
 
 # A value json.dumps writes: what ``to_json()`` gives for ``valterm run --json``.
@@ -30,17 +30,18 @@ class Event:
         return out
 
     def json_line(self) -> str:
-        """The line ``valterm run --json`` writes for this event (``json.dumps`` of ``to_json``)."""
+        """The line ``valterm run --json`` writes for this event: ``json.dumps`` of ``to_json``
+        and its newline (as a file's ``readline`` gives a line: one write a line, issue 25)."""
         import json  # with ``run --json``'s first line, not at the app's start (issue 25)
 
-        return json.dumps(self.to_json())
+        return json.dumps(self.to_json()) + "\n"
 
 
 @lru_cache(maxsize=4096)
 def _step_line(program: str, step: int, text: str) -> str:
     import json
 
-    return json.dumps({"event": "step", "program": program, "step": step, "text": text})
+    return json.dumps({"event": "step", "program": program, "step": step, "text": text}) + "\n"
 
 
 _SCALARS = frozenset({str, int, float, bool, type(None)})
@@ -80,7 +81,12 @@ class Step(Event):
     event = "step"
 
     def json_line(self) -> str:
-        # a loop repeats its steps: each one's line is made once
+        return self._line
+
+    @cached_property
+    def _line(self) -> str:
+        # a loop repeats its steps: each one's line is made once, then read from the step itself
+        # (an attribute read, not a call of the cache: a run writes one per statement)
         return _step_line(self.program, self.step, self.text)
 
 

@@ -376,18 +376,20 @@ class Interpreter:
         """
         run = self._run = Run(main)
         prog, pc, V = main, start, self.variables
-        code, size = prog.code, len(prog.code)
+        code, steps = prog.code, prog.steps
         low, high = -MAX_NUMBER, MAX_NUMBER  # a number past these is refused, never inf or NaN
         # steps until the limits are looked at again (a local: the loop stays fast)
         budget = counted = self._budget()
         while True:
-            if pc >= size:
+            try:
+                op = code[pc]
+            except IndexError:  # past the last op (no test a step: the end is rare)
                 pc = run.leave()  # the end of a subroutine returns like RETURN
                 if run.ended:
                     self._spend(counted - budget)
                     return True
                 prog = run.program
-                code, size = prog.code, len(prog.code)
+                code, steps = prog.code, prog.steps
                 continue
             budget -= 1
             if budget < 0:
@@ -398,7 +400,6 @@ class Interpreter:
                 self._spend(counted - budget - 1)
                 yield self._stopped(prog.name, prog.step_number(pc))
                 return False
-            op = code[pc]
             hook = self.hook  # read each step: a breakpoint may be set while the program is paused
             if hook is not None:
                 yield from hook(prog, op)
@@ -406,10 +407,12 @@ class Interpreter:
                     self._spend(counted - budget - 1)
                     yield self._stopped(prog.name, op.step.step)
                     return False
-            yield op.step
-            if isinstance(op, Assign):
+            yield steps[pc]
+            # the plain ops are final classes: their type says which (cheaper than isinstance)
+            if type(op) is Assign:
                 try:
-                    value = op.value(V)
+                    evaluate = op.value  # a field read, then called (op.value(V) looks it up as a method)
+                    value = evaluate(V)
                     if low <= value <= high:
                         V[op.name] = value
                         pc = op.next
@@ -417,12 +420,13 @@ class Interpreter:
                         pc = yield from self._failed(op, f"NUMBER TOO LARGE: {op.name} WOULD BE {value:g}")
                 except (UndefinedVariable, ArithmeticError, ValueError) as error:
                     pc = yield from self._failed(op, _plain_reason(error))
-            elif isinstance(op, Branch):
+            elif type(op) is Branch:
                 try:
-                    pc = op.if_true if op.condition(V) else op.if_false
+                    condition = op.condition
+                    pc = op.if_true if condition(V) else op.if_false
                 except (UndefinedVariable, ArithmeticError, ValueError) as error:
                     pc = yield from self._failed(op, _plain_reason(error))
-            elif isinstance(op, Jump):
+            elif type(op) is Jump:
                 pc = op.next
             elif isinstance(op, Action):
                 pc = yield from self._act(op)
@@ -436,7 +440,7 @@ class Interpreter:
                     self._spend(counted - budget)
                     return not run.failed
                 prog = run.program
-                code, size = prog.code, len(prog.code)
+                code, steps = prog.code, prog.steps
 
     # -- the run's limits (valterm.core.val.limits) ----------------------------------
     SYNC = 1024  # steps between two looks at the limits: a local countdown in between

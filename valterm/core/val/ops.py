@@ -17,6 +17,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Generator
 from dataclasses import dataclass, field
+from typing import final
 
 from valterm.core.errors import ValtermError
 from valterm.core.events import Error, Event, Pause, Step, TypeOut
@@ -62,6 +63,7 @@ class Op:
     error: int
 
 
+@final  # the run loop tells the plain ops by their exact type
 @dataclass(frozen=True, slots=True)
 class Assign(Op):
     """VAR = expr (section 6.7)."""
@@ -70,6 +72,7 @@ class Assign(Op):
     value: Fn
 
 
+@final  # the run loop tells the plain ops by their exact type
 @dataclass(frozen=True, slots=True)
 class Branch(Op):
     """A condition choosing the next op: IF, WHILE, UNTIL, IF ... GOTO."""
@@ -79,6 +82,7 @@ class Branch(Op):
     if_false: int
 
 
+@final  # the run loop tells the plain ops by their exact type
 @dataclass(frozen=True, slots=True)
 class Jump(Op):
     """Control goes to ``next``: GOTO, ELSE, END, DO (``next`` is the target)."""
@@ -97,6 +101,12 @@ class CompiledProgram:
     analysis: Analysis
     code: list[Op]
     first: int = 0
+    # each op's Step event, by op index: the run loop yields ``steps[pc]``, read the same way
+    # whatever the op's type (``op.step`` is read from a different class each step: slower)
+    steps: list[Step] = field(init=False, repr=False)
+
+    def __post_init__(self) -> None:
+        self.steps = [op.step for op in self.code]
 
     def step_number(self, pc: int) -> int:
         if 0 <= pc < len(self.code):
