@@ -6,9 +6,7 @@ by its link frame at once (einsum), then split back into polyhedra.
 
 from __future__ import annotations
 
-import tomllib
 from dataclasses import dataclass, field, replace
-from pathlib import Path
 from typing import Sequence
 
 import numpy as np
@@ -95,13 +93,14 @@ class RobotModel:
         return ends[0, :3], ends[1, :3]
 
 
-def load_model(path: Path | None = None, geometry: RobotGeometry | None = None) -> RobotModel:
-    """Read the robot model file and its setup-form geometry."""
+def load_model(file: tuple[str, str] = ROBOT_FILE, geometry: RobotGeometry | None = None) -> RobotModel:
+    """Read a bundled robot file's model (``file``: its folder and name under the package
+    data, the thesis's PUMA by default) and its setup-form geometry."""
     geometry = geometry or robot_geometry()
     from valterm.core.files.setup import read_setup  # the same reader as any setup file
 
-    data = (resources.read_toml(*ROBOT_FILE) if path is None else tomllib.loads(path.read_text()))["model"]
-    path = path or resources.data_path(*ROBOT_FILE)
+    data = resources.read_toml(*file)["model"]
+    path = resources.data_path(*file)
     cell = read_setup(path.parent / data["geometry"], checked=False)  # the links' vertices only
     names = tuple(data["names"])
     frames = np.asarray(data["frames"], dtype=int)
@@ -129,8 +128,8 @@ def load_robot_model(name: str = THESIS_ROBOT) -> RobotModel:
     if name.upper() == THESIS_ROBOT:
         return load_model()
     chain = dh_robot(name.upper())
-    path = resources.data_path(ROBOT_FOLDER, f"{name.upper()}.toml")
+    file = (ROBOT_FOLDER, f"{name.upper()}.toml")
     geometry = RobotGeometry(a2=chain.a[1], d2=chain.d[2], d4=chain.d[3], d6=chain.d[5], led_sensor=0.0,
                              clamp_tip=0.0, stops=chain.stops, ready=chain.ready, name=chain.name,
-                             model_geometry=str(resources.read_toml(ROBOT_FOLDER, f"{name.upper()}.toml")["model"]["geometry"]))
-    return replace(load_model(path, geometry), arm=DHArm(chain, name.upper()))
+                             model_geometry=str(resources.read_toml(*file)["model"]["geometry"]))
+    return replace(load_model(file, geometry), arm=DHArm(chain, name.upper()))
