@@ -30,7 +30,7 @@ def fake_valterm(tmp_path: Path, body: str) -> Path:
 def on_terminal(argv: list[str], env: dict[str, str]) -> tuple[subprocess.Popen[bytes], int]:
     """``argv`` as an SSH session runs it: a new session whose controlling terminal is a pty."""
     master, slave = os.openpty()
-    process = subprocess.Popen(argv, env=env, preexec_fn=lambda: os.login_tty(slave), close_fds=True)  # noqa: PLW1509
+    process = subprocess.Popen(argv, env=env, preexec_fn=lambda: os.login_tty(slave), close_fds=True)
     os.close(slave)
     return process, master
 

@@ -19,7 +19,7 @@ README = Path(__file__).resolve().parent.parent / "README.md"
 def test_the_documented_example_runs_as_written(capsys) -> None:  # type: ignore[no-untyped-def]
     blocks = re.findall(r"```python\n(.*?)```", DOC.read_text(encoding="utf-8"), flags=re.DOTALL)
     assert blocks, "docs/TESTING.md has no python example"
-    exec(compile(blocks[0], str(DOC), "exec"), {"__name__": "__main__"})  # noqa: S102 - our own doc
+    exec(compile(blocks[0], str(DOC), "exec"), {"__name__": "__main__"})  # our own doc's example, run as a reader would
     printed = capsys.readouterr().out
     assert "JT 1" in printed and "8.00" in printed  # the Fig. 2-8 readout after joint 1 turned
 
@@ -27,7 +27,7 @@ def test_the_documented_example_runs_as_written(capsys) -> None:  # type: ignore
 def test_the_readme_example_runs_as_written(capsys) -> None:  # type: ignore[no-untyped-def]
     blocks = re.findall(r"```python\n(.*?)```", README.read_text(encoding="utf-8"), flags=re.DOTALL)
     assert blocks, "README.md has no python example"
-    exec(compile(blocks[0], str(README), "exec"), {"__name__": "__main__"})  # noqa: S102 - our own doc
+    exec(compile(blocks[0], str(README), "exec"), {"__name__": "__main__"})  # our own doc's example, run as a reader would
     printed = capsys.readouterr().out
     assert ". WHERE" in printed and "JT 1" in printed  # the screen's rows, VAL-II mode's WHERE
 
