@@ -32,9 +32,9 @@ from valterm.core.cell.polyhedron import Polyhedron
 from valterm.core.cell.workcell import WorkCell
 from valterm.core.files._text import (
     check_line_lengths,
+    decode_text,
     numbered_lines,
     parse_count,
-    decode_text,
     parse_number,
     read_bytes,
     split_fields,
