@@ -43,3 +43,29 @@ async def test_the_model_is_in_the_frame_that_first_paints_it(tmp_path: Path) ->
         rows = [view.render_line(y).text for y in range(view.size.height)]
         assert view.frame is not None and view.frame.height == view.size.height
         assert sum(1 for row in rows for ch in row if ord(ch) in BRAILLE) > 100
+
+
+async def test_a_pushed_screen_is_styled_at_its_mount_not_again_at_its_first_resume(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Textual restyles every widget of a screen when it resumes; a screen just pushed was
+    styled as it mounted, so its first resume does not (MAIN MENU was styled twice before
+    its first frame). A later resume that asks for it (a mode's switch) still restyles."""
+    from textual import events
+    from textual.screen import Screen
+
+    restyled: list[str] = []
+    update_node_styles = Screen.update_node_styles
+
+    def counted(self: Screen[object], animate: bool = True) -> None:
+        restyled.append(type(self).__name__)
+        update_node_styles(self, animate)
+
+    monkeypatch.setattr(Screen, "update_node_styles", counted)
+    app = ValtermApp(tmp_path, "PROCESS")
+    async with app.run_test(size=(160, 50)) as pilot:
+        await pilot.pause()
+        assert type(app.screen).__name__ == "MainMenuScreen"
+        assert "MainMenuScreen" not in restyled
+        app.screen.post_message(events.ScreenResume())  # as a mode's switch sends it
+        await pilot.pause()
+        assert restyled.count("MainMenuScreen") == 1

@@ -331,3 +331,29 @@ def test_a_session_parses_the_robot_file_once() -> None:
              "print(json.dumps([len(parsed), same]))")
     out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True)
     assert json.loads(out.stdout.strip().splitlines()[-1]) == [1, True]
+
+
+def test_a_sessions_setup_is_read_once_and_stamped_when_a_save_first_asks() -> None:
+    """Issue 25 (the start): NAME.SET is read once, its stamp taken from the bytes parsed when
+    first asked (a save), so hashlib (OpenSSL's library) is not loaded at the start; the stamp
+    is the file's, and a save by another session since is still told."""
+    probe = ("import sys, tempfile, subprocess\n"
+             "ws = tempfile.mkdtemp()\n"
+             "subprocess.run([sys.executable, '-c', f'from valterm.core.session import Session; Session({ws!r}, None)'], check=True)\n"
+             "import builtins, io\n"
+             "from valterm.core.session import Session\n"
+             "from pathlib import Path\n"
+             "opened = []\n"
+             "real = io.open\n"
+             "def counted(file, *a, **k):\n"
+             "    opened.append(Path(file).name)\n"
+             "    return real(file, *a, **k)\n"
+             "builtins.open = io.open = counted\n"
+             "s = Session(ws, 'PROCESS')\n"
+             "builtins.open = io.open = real\n"
+             "before = 'hashlib' in sys.modules\n"
+             "from valterm.core.files.atomic import file_stamp\n"
+             "same = s.setup_stamp == file_stamp(s.workspace.path('PROCESS', 'SET'))\n"
+             "print(repr((opened.count('PROCESS.SET'), before, same, 'hashlib' in sys.modules)))")
+    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True)
+    assert ast.literal_eval(out.stdout.strip().splitlines()[-1]) == (1, False, True, True)

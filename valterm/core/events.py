@@ -17,6 +17,8 @@ Json: TypeAlias = "str | int | float | bool | list[Json] | tuple[Json, ...] | di
 
 @dataclass(frozen=True)
 class Event:
+    """One happening of the simulator core; ``event`` is its kind in ``run --json``."""
+
     event = "event"
 
     def to_json(self) -> dict[str, Json]:
@@ -152,12 +154,16 @@ class Located(Event):
 
 @dataclass(frozen=True)
 class Grasp(Located):
+    """The clamp closed on part ``part`` (CLOSE, CLOSEI, GRASP): it is carried from now on."""
+
     part: int
     event = "grasp"
 
 
 @dataclass(frozen=True)
 class Release(Event):
+    """The clamp let part ``part`` go where it is (``position``: its reference point, world mm)."""
+
     part: int
     position: tuple[float, float, float]
     event = "release"

@@ -11,9 +11,9 @@ from typing import TYPE_CHECKING
 
 from valterm.core.cell.workcell import WorkCell
 from valterm.core.events import Event, Signal
-from valterm.core.files.atomic import text_stamp
+from valterm.core.files.atomic import bytes_stamp, text_stamp
 from valterm.core.files.locations import read_locations
-from valterm.core.files.setup import format_setup, read_setup, write_setup
+from valterm.core.files.setup import format_setup, read_setup_bytes, write_setup
 from valterm.core.kinematics import Location
 from valterm.core.simulator import Simulator
 from valterm.core.val.limits import RunLimits
@@ -33,7 +33,8 @@ class Session:
         self.workspace = Workspace.open(workspace_root)
         self.limits = limits or RunLimits()  # every EXECUTE's (valterm.core.val.limits)
         self.setup_name = ""
-        self.setup_stamp = ""  # NAME.SET as read: saving it again checks no other session saved it since
+        self._setup_stamp = ""  # see setup_stamp
+        self._setup_read: bytes | None = None  # NAME.SET's bytes as read, not stamped yet
         self.simulator = Simulator(robot=robot)  # robot: --robot's name (None: the thesis's)
         self._interpreter: Interpreter | None = None
         self._keyboard = False  # the app's keyboard sets inputs (take_inputs_from_keyboard)
@@ -44,13 +45,20 @@ class Session:
     def load_setup(self, name: str) -> WorkCell:
         """Read NAME.SET from the workspace into the simulator (FileFormatError if malformed)."""
         path = self.workspace.path(name, "SET")
-        stamp = self.workspace.stamp(name, "SET")  # before reading: a change meanwhile asks
-        cell = read_setup(path)
+        cell, self._setup_read = read_setup_bytes(path)  # one read: stamped as parsed
         self.simulator.cell = cell
         self.simulator.carried = None
         self.setup_name = path.stem
-        self.setup_stamp = stamp
         return cell
+
+    @property
+    def setup_stamp(self) -> str:
+        """NAME.SET as read ("" none): saving it again checks no other session saved it since.
+        Taken from the bytes parsed when first asked (a save), not at the start (issue 25:
+        hashlib loads OpenSSL, and the file was read a second time for it)."""
+        if self._setup_read is not None:
+            self._setup_stamp, self._setup_read = bytes_stamp(self._setup_read), None
+        return self._setup_stamp
 
     def save_setup(self, name: str | None = None, overwrite: bool = False) -> Path:
         """Write the cell as NAME.SET (default: the setup loaded). Saved again under its own
@@ -60,7 +68,7 @@ class Session:
         same = path.stem.upper() == self.setup_name.upper() and bool(self.setup_name)
         write_setup(path, self.simulator.cell, self.setup_stamp if same and not overwrite else None)
         self.setup_name = path.stem
-        self.setup_stamp = text_stamp(format_setup(self.simulator.cell))
+        self._setup_stamp, self._setup_read = text_stamp(format_setup(self.simulator.cell)), None
         return path
 
     def load_locations(self, name: str) -> int:

@@ -30,6 +30,13 @@ def read_text(path: str | Path, what: str, limit: int = MAX_FILE_BYTES, eight_bi
 
     ``eight_bit``: bytes that are not UTF-8 are read as latin-1 (V+ files written on a
     controller or an old PC carry comments in some 8-bit code page)."""
+    return decode_text(read_bytes(path, what, limit), path, what, eight_bit)
+
+
+def read_bytes(path: str | Path, what: str, limit: int = MAX_FILE_BYTES) -> bytes:
+    """The file's bytes, refused as ``read_text`` refuses them (missing, a folder, too large,
+    unreadable): for a reader that keeps the bytes too (a session stamps its set-up file from
+    the bytes it parsed, ``valterm.core.session``)."""
     path = Path(path)
     try:
         size = path.stat().st_size
@@ -48,7 +55,7 @@ def read_text(path: str | Path, what: str, limit: int = MAX_FILE_BYTES, eight_bi
         raise FileFormatError(path, 0, f"cannot read the {what} file: {error.strerror or error}") from None
     if len(data) > limit:
         raise FileFormatError(path, 0, f"too large for a {what} file (limit {_size(limit)})")
-    return decode_text(data, path, what, eight_bit)
+    return data
 
 
 def decode_text(data: bytes, path: str | Path, what: str, eight_bit: bool = False) -> str:

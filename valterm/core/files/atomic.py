@@ -24,7 +24,6 @@ so the UI can ask (overwrite / reload / save as) instead of losing the other ses
 
 from __future__ import annotations
 
-import hashlib
 import os
 import re
 import stat
@@ -83,7 +82,7 @@ def file_stamp(path: str | Path) -> str:
     time, are still told apart."""
     try:
         with open(path, "rb") as handle:
-            return hashlib.sha256(handle.read()).hexdigest()
+            return bytes_stamp(handle.read())
     except FileNotFoundError:
         return ""
     except OSError as error:
@@ -92,7 +91,14 @@ def file_stamp(path: str | Path) -> str:
 
 def text_stamp(text: str, encoding: str = "utf-8") -> str:
     """The :func:`file_stamp` a file holding ``text`` has (what a session just wrote)."""
-    return hashlib.sha256(text.encode(encoding)).hexdigest()
+    return bytes_stamp(text.encode(encoding))
+
+
+def bytes_stamp(data: bytes) -> str:
+    """The :func:`file_stamp` of a file holding ``data`` (what a session read)."""
+    import hashlib  # when a save first compares, not at every start (issue 25: OpenSSL's load)
+
+    return hashlib.sha256(data).hexdigest()
 
 
 @contextmanager

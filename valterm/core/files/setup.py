@@ -32,10 +32,11 @@ from valterm.core.cell.polyhedron import Polyhedron
 from valterm.core.cell.workcell import WorkCell
 from valterm.core.files._text import (
     check_line_lengths,
+    decode_text,
     numbered_lines,
     parse_count,
     parse_number,
-    read_text,
+    read_bytes,
     split_fields,
 )
 from valterm.core.files.atomic import write_text_atomic
@@ -115,8 +116,14 @@ class _Lines:
 
 def read_setup(path: str | Path, *, checked: bool = True) -> WorkCell:
     """Read a setup file into a WorkCell of world millimetres (FileFormatError if malformed)."""
+    return read_setup_bytes(path, checked=checked)[0]
+
+
+def read_setup_bytes(path: str | Path, *, checked: bool = True) -> tuple[WorkCell, bytes]:
+    """``read_setup``'s cell and the bytes it was parsed from (a session's stamp of the file)."""
     path = Path(path)
-    return parse_setup(read_text(path, "setup"), path, checked=checked)
+    data = read_bytes(path, "setup")
+    return parse_setup(decode_text(data, path, "setup"), path, checked=checked), data
 
 
 def parse_setup(text: str, name: str | Path, *, checked: bool = True) -> WorkCell:

@@ -187,14 +187,13 @@ def _index(ks: tuple[int, ...]) -> _Index:
     n_faces = 0
     for item, k in enumerate(ks):
         top = topology(k)
+        padded, polygon_edges, polygon_edge_face = _polygons(k, width)
         vertex_item.append(np.full(2 * k, item))
         edges.append(top.edges + offset)
         edge_item.append(np.full(len(top.edges), item))
-        for f, (face, fe) in enumerate(zip(top.faces, top.face_edges)):
-            # repeating the last vertex adds zero-length edges: harmless for Newell's normal
-            faces.append(np.concatenate([face, np.full(width - len(face), face[-1])]) + offset)
-            face_edges.append(fe + offset)
-            face_edge_face.append(np.full(len(fe), n_faces + f))
+        faces.append(padded + offset)
+        face_edges.append(polygon_edges + offset)
+        face_edge_face.append(polygon_edge_face + n_faces)
         face_item.append(np.full(len(top.faces), item))
         n_faces += len(top.faces)
         offset += 2 * k
@@ -203,10 +202,21 @@ def _index(ks: tuple[int, ...]) -> _Index:
         return np.concatenate(parts).astype(np.intp) if parts else np.zeros(shape, dtype=np.intp)
 
     return _Index(
-        cat(vertex_item, (0,)), cat(edges, (0, 2)), cat(edge_item, (0,)),
-        np.stack(faces).astype(np.intp) if faces else np.zeros((0, width), dtype=np.intp),
+        cat(vertex_item, (0,)), cat(edges, (0, 2)), cat(edge_item, (0,)), cat(faces, (0, width)),
         cat(face_item, (0,)), cat(face_edges, (0, 2)), cat(face_edge_face, (0,)),
     )
+
+
+@lru_cache(maxsize=64)
+def _polygons(k: int, width: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """One polyhedron of ``k`` vertices a polygon, numbered from 0: its faces padded to
+    ``width`` with their last vertex (zero-length edges: harmless for Newell's normal), its
+    polygon-by-polygon edges and the face of each. Once per size, not a few numpy calls a
+    face at every new scene (issue 25: the start's first picture)."""
+    top = topology(k)
+    padded = np.stack([np.concatenate([face, np.full(width - len(face), face[-1])]) for face in top.faces])
+    edge_face = np.concatenate([np.full(len(fe), f) for f, fe in enumerate(top.face_edges)])
+    return padded, np.concatenate(top.face_edges), edge_face
 
 
 @dataclass(frozen=True, eq=False)

@@ -70,6 +70,16 @@ class KeyedScreen(Guarded, Screen[ResultT]):
             self.call_later(self.after_first_frame)
 
     _first_frame_drawn = False
+    _styled_at_mount = True  # until the first resume (see _on_screen_resume)
+
+    def _on_screen_resume(self, event: events.ScreenResume) -> None:
+        # Textual (pinned 8.2) restyles every widget of a screen each time it resumes; a screen
+        # just pushed was styled as its widgets mounted, before this first resume, and nothing
+        # has changed since: MAIN MENU was styled twice before its first frame (issue 25, the
+        # start). Later resumes (a screen above it gone) restyle as Textual does.
+        if self._styled_at_mount:
+            self._styled_at_mount = False
+            event.refresh_styles = False
 
     def after_first_frame(self) -> None:
         """Once the screen's first frame is drawn: what it does not show yet (issue 25, the start)."""

@@ -261,8 +261,8 @@ class ModelView(Widget):
 
     def render_line(self, y: int) -> Strip:
         frame = self._frame
-        width = self.size.width
-        if frame is None or frame.width != width or frame.height != self.size.height:
+        width, height = self.size  # read once a line: a property that walks the layout (issue 25)
+        if frame is None or frame.width != width or frame.height != height:
             # a size came and on_resize has not run yet (the first frame): the picture now,
             # not a frame without it first (issue 25, the start)
             self._painting = True  # no repaint asked: this frame is being painted
