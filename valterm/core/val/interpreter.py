@@ -161,7 +161,7 @@ class Interpreter:
         self.commands = commands or default_commands()
         self.builders: dict[str, Builder] = dict(builders or BUILDERS)
         self.monitor: dict[str, MonitorCommand] = dict(monitor or MONITOR_COMMANDS)
-        self.hook: StepHook | None = None
+        self._hook: StepHook | None = None
         self.pass_end: Callable[[], Iterator[Event]] | None = None
         self.debugger: Debugger = Debugger(self)
         self._run: Run | None = None  # the pass being run (its CALL frames: call_depth)
@@ -171,6 +171,9 @@ class Interpreter:
         self._running = False
         self._paused = False
         self._abort = False
+        # whether the run must look before its next step: CTRL-C, a limit reached or a hook
+        # (one flag the loop reads a step, not both of them: issue 25)
+        self._watch = False
         self._cache: dict[str, CompiledProgram] = {}
 
     @classmethod
@@ -198,7 +201,17 @@ class Interpreter:
     def abort(self) -> None:
         """CTRL-C: stop the running program after the step being simulated (section 6.4.10)."""
         if self._running:
-            self._abort = True
+            self._abort = self._watch = True
+
+    @property
+    def hook(self) -> StepHook | None:
+        """Called before each step while set (the debugger's); may be set while the program is paused."""
+        return self._hook
+
+    @hook.setter
+    def hook(self, hook: StepHook | None) -> None:
+        self._hook = hook
+        self._watch = self._abort or hook is not None
 
     def proceed(self) -> bool:
         """PROCEED: the paused program may go on (the app pulls its generator again)."""
@@ -306,7 +319,7 @@ class Interpreter:
         name, main, start = ready
         total = FOREVER_LOOPS if int(loops) < 0 else max(1, int(loops))
         self.program, self.loops_total, self.loops_done = name, total, 0
-        self._running, self._paused, self._abort = True, False, False
+        self._running, self._paused, self._abort, self._watch = True, False, False, self._hook is not None
         self._steps_left, self._lines_left = self.limits.allowed("steps"), self.limits.allowed("lines")
         self._limit_hit = ""
         self._cycle_start, self._cycle_end = self.clock.seconds, None
@@ -337,15 +350,10 @@ class Interpreter:
                         self._spend(counted)
                         counted = self._budget()
                         budget = counted - 1  # this step is the first of the new count
-                    if self._abort:
-                        self._spend(counted - budget - 1)
-                        yield self._stopped(prog.name, prog.step_number(pc))
-                        finished = False
-                        break
-                    hook = self.hook  # read each step: a breakpoint may be set while the program is paused
-                    if hook is not None:
-                        yield from hook(prog, op)
-                        if self._abort:  # CTRL-C while the hook held the program paused
+                    if self._watch:  # read each step: a breakpoint may be set while the program is paused
+                        if not self._abort and self._hook is not None:
+                            yield from self._hook(prog, op)
+                        if self._abort:  # CTRL-C or a limit, maybe while the hook held the program paused
                             self._spend(counted - budget - 1)
                             yield self._stopped(prog.name, op.step.step)
                             finished = False
@@ -396,6 +404,7 @@ class Interpreter:
             yield Message(f"PROGRAM {name} COMPLETED: {self.loops_done} LOOP{plural}")
         finally:
             self._running = self._paused = self._abort = False
+            self._watch = self._hook is not None
             self._cycle_end = self.clock.seconds
             self._run = None
             self.debugger.run_ended()
@@ -463,7 +472,7 @@ class Interpreter:
         """The run stops at its next step, saying ``limit`` ended it."""
         if not self._limit_hit:
             self._limit_hit = limit
-        self._abort = True
+        self._abort = self._watch = True
 
     def _stopped(self, program: str, step: int) -> Error:
         """Why the run stops here: a limit it reached, else CTRL-C."""
