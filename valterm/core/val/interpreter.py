@@ -309,30 +309,20 @@ class Interpreter:
         """EXECUTE name,loops: run the program `loops` times (negative: 1000) as events.
 
         ``start_step``: the first pass starts at that step (XSTEP name,step), the others at the top.
-        Each pass runs its steps here, the plain ops (Assign, Branch, Jump) in place: the fast
-        path. (Not in a generator of its own: each event through a ``yield from`` costs, issue 25.)
+        A pass's steps run here, not in a generator of their own (a `yield from` a step, issue 25).
         """
         ready = self._ready(name, start_step)
         if isinstance(ready, list):  # it cannot run: why
             yield from ready
             return
         name, main, start = ready
-        total = FOREVER_LOOPS if int(loops) < 0 else max(1, int(loops))
-        self.program, self.loops_total, self.loops_done = name, total, 0
-        self._running, self._paused, self._abort, self._watch = True, False, False, self._hook is not None
-        self._steps_left, self._lines_left = self.limits.allowed("steps"), self.limits.allowed("lines")
-        self._limit_hit = ""
-        self._cycle_start, self._cycle_end = self.clock.seconds, None
-        V = self.variables
-        low, high = -MAX_NUMBER, MAX_NUMBER  # a number past these is refused, never inf or NaN
+        total = self._begin(name, loops)
+        V, low, high = self.variables, -MAX_NUMBER, MAX_NUMBER  # a number past these is refused, never inf or NaN
         try:
-            while self.loops_done < total:
-                # one execution pass from op `start`; `finished` when it ends normally (STOP, end, RETURN)
+            while self.loops_done < total:  # a pass from op `start`, `finished` when it ends normally
                 run = self._run = Run(main)
-                prog, pc = main, start
-                code, steps = prog.code, prog.steps
-                # steps until the limits are looked at again (a local: the loop stays fast)
-                budget = counted = self._budget()
+                prog, pc, code, steps = main, start, main.code, main.steps
+                budget = counted = self._budget()  # steps until the limits are looked at again
                 while True:
                     try:
                         op = code[pc]
@@ -342,22 +332,15 @@ class Interpreter:
                             self._spend(counted - budget)
                             finished = True
                             break
-                        prog = run.program
-                        code, steps = prog.code, prog.steps
+                        prog, code, steps = run.program, run.program.code, run.program.steps
                         continue
                     budget -= 1
                     if budget < 0:
-                        self._spend(counted)
-                        counted = self._budget()
-                        budget = counted - 1  # this step is the first of the new count
-                    if self._watch:  # read each step: a breakpoint may be set while the program is paused
-                        if not self._abort and self._hook is not None:
-                            yield from self._hook(prog, op)
-                        if self._abort:  # CTRL-C or a limit, maybe while the hook held the program paused
-                            self._spend(counted - budget - 1)
-                            yield self._stopped(prog.name, op.step.step)
-                            finished = False
-                            break
+                        budget, counted = self._recount(counted)
+                    # CTRL-C, a limit, a hook (one flag a step: a breakpoint may be set while paused)
+                    if self._watch and (yield from self._stops(prog, op, counted - budget - 1)):
+                        finished = False
+                        break
                     yield steps[pc]
                     # the plain ops are final classes: their type says which (cheaper than isinstance)
                     if type(op) is Assign:
@@ -392,23 +375,46 @@ class Interpreter:
                             self._spend(counted - budget)
                             finished = not run.failed
                             break
-                        prog = run.program
-                        code, steps = prog.code, prog.steps
+                        prog, code, steps = run.program, run.program.code, run.program.steps
                 start = 0
                 if self.pass_end is not None:
                     yield from self.pass_end()
                 if not finished:
                     return
                 self.loops_done += 1
-            plural = "S" if self.loops_done != 1 else ""
-            yield Message(f"PROGRAM {name} COMPLETED: {self.loops_done} LOOP{plural}")
+            yield Message(f"PROGRAM {name} COMPLETED: {self.loops_done} LOOP{'S' if self.loops_done != 1 else ''}")
         finally:
-            self._running = self._paused = self._abort = False
-            self._watch = self._hook is not None
-            self._cycle_end = self.clock.seconds
-            self._run = None
-            self.debugger.run_ended()
-            self._keep()
+            self._ended()
+
+    def _begin(self, name: str, loops: int) -> int:
+        """EXECUTE's state as its first pass begins; how many passes it runs."""
+        total = FOREVER_LOOPS if int(loops) < 0 else max(1, int(loops))
+        self.program, self.loops_total, self.loops_done = name, total, 0
+        self._running, self._paused, self._abort, self._watch = True, False, False, self._hook is not None
+        self._steps_left, self._lines_left = self.limits.allowed("steps"), self.limits.allowed("lines")
+        self._limit_hit = ""
+        self._cycle_start, self._cycle_end = self.clock.seconds, None
+        return total
+
+    def _ended(self) -> None:
+        """EXECUTE's end, however it ended: the variables are kept (CHECK.DAT)."""
+        self._running = self._paused = self._abort = False
+        self._watch = self._hook is not None
+        self._cycle_end = self.clock.seconds
+        self._run = None
+        self.debugger.run_ended()
+        self._keep()
+
+    def _stops(self, prog: CompiledProgram, op: Op, spent: int) -> Generator[Event, None, bool]:
+        """Before a step when the run must look (``_watch``): the hook's events, then whether the run
+        stops there (CTRL-C or a limit, maybe while the hook held the program paused)."""
+        if not self._abort and self._hook is not None:
+            yield from self._hook(prog, op)
+        if not self._abort:
+            return False
+        self._spend(spent)
+        yield self._stopped(prog.name, op.step.step)
+        return True
 
     def _ready(self, name: str, start_step: int) -> tuple[str, CompiledProgram, int] | list[Event]:
         """The program EXECUTE runs (its name, code and first op), or the errors saying why it cannot."""
@@ -462,6 +468,12 @@ class Interpreter:
             self._limit("steps" if self._steps_left <= 0 else "lines")
             return self.SYNC
         return int(min(left, self.SYNC))
+
+    def _recount(self, counted: int) -> tuple[int, int]:
+        """The `counted` steps are run: the budget left after this step, and the new count."""
+        self._spend(counted)
+        counted = self._budget()
+        return counted - 1, counted  # this step is the first of the new count
 
     def _spend(self, steps: int) -> None:
         """``steps`` were run: each is a step and a scrolled line of the transcript."""
