@@ -92,6 +92,34 @@ def test_a_dialect_adds_an_instruction_and_a_step_hook_sees_every_step() -> None
     assert seen == [("MAIN", 1), ("MAIN", 2)]
 
 
+def test_a_hook_set_or_removed_while_running_and_ctrl_c_in_it_count_from_the_next_step() -> None:
+    """The loop looks at one flag a step (issue 25): setting the hook, removing it and CTRL-C raise it."""
+    seen: list[int] = []
+
+    def hook(program, op) -> list[Event]:
+        seen.append(op.step.step)
+        if op.step.step == 4:
+            interpreter.hook = None
+        return []
+
+    interpreter = make({"MAIN": ["    X=1", "    X=2", "    X=3", "    X=4", "    X=5", "    X=6"]})
+    run = interpreter.execute("MAIN")
+    assert next(run) == Step("MAIN", 1, "X=1")
+    interpreter.hook = hook  # as the debugger sets a breakpoint while the program is paused
+    assert [e.step for e in run if isinstance(e, Step)] == [2, 3, 4, 5, 6]
+    assert seen == [2, 3, 4] and interpreter.hook is None
+
+    def aborting(program, op) -> list[Event]:
+        interpreter.abort()  # CTRL-C while the hook holds the program
+        return []
+
+    interpreter.hook = aborting
+    events = list(interpreter.execute("MAIN"))
+    assert [type(e).__name__ for e in events] == ["Error"] and events[0].step == 1
+    interpreter.hook = None
+    assert sum(isinstance(e, Step) for e in interpreter.execute("MAIN")) == 6  # nothing left raised
+
+
 # -- numbers that are not finite (issue 16) -------------------------------------------------
 
 @pytest.mark.parametrize("text", ["1E400", "1e400", "1E300*1E300", "-1E400"])

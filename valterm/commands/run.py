@@ -142,13 +142,12 @@ def _find(argument: str, ext: str, workspace: Any) -> Path:
 
 
 def run(args: argparse.Namespace) -> int:
-    from valterm.core.events import Error, Pause
     from valterm.core.files.errors import FileFormatError
     from valterm.core.files.locations import read_locations
     from valterm.core.files.setup import read_setup
     from valterm.core.rules import rules_of_dialect
     from valterm.core.simulator import Simulator
-    from valterm.core.text.transcript import event_lines
+    from valterm.core.text.transcript import write_events
     from valterm.core.val.interpreter import Interpreter
     from valterm.core.val.variables import VariableStore
     from valterm.core.workspace import Workspace, WorkspaceError
@@ -185,7 +184,6 @@ def run(args: argparse.Namespace) -> int:
         return fail(error, FAILURE)
     except RefusedValue as error:  # --config that names no indicators
         return fail(error, USAGE)
-    errors = 0
     aborted = False
 
     def on_sigint(signum: int, frame: Any) -> None:
@@ -197,18 +195,8 @@ def run(args: argparse.Namespace) -> int:
 
     previous = signal.signal(signal.SIGINT, on_sigint)
     out = sys.stdout
-    write, as_json = out.write, args.json  # locals: a loop writes a line a statement (issue 25)
     try:
-        for event in interpreter.execute(main.name, args.loops):
-            if isinstance(event, Error):
-                errors += 1
-            if as_json:
-                write(event.json_line())
-                continue
-            for line in event_lines(event):
-                write(line + "\n")
-            if isinstance(event, Pause):
-                write("(headless: PROCEED)\n")
+        errors = write_events(interpreter.execute(main.name, args.loops), out.write, args.json)
         _write_end(args, sim, interpreter, out, main)
     finally:
         signal.signal(signal.SIGINT, previous)

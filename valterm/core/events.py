@@ -8,7 +8,7 @@ Textual app, the headless ``valterm run`` and the tests all drive the same code.
 from __future__ import annotations
 
 from dataclasses import dataclass, field, fields, is_dataclass
-from functools import cached_property, lru_cache
+from functools import lru_cache
 from typing import Any, TypeAlias, cast
 
 # A value json.dumps writes: what ``to_json()`` gives for ``valterm run --json``.
@@ -53,7 +53,7 @@ _FIELDS: dict[type, tuple[str, ...]] = {}
 def _field_names(kind: type) -> tuple[str, ...]:
     names = _FIELDS.get(kind)
     if names is None:
-        names = _FIELDS[kind] = tuple(f.name for f in fields(kind))
+        names = _FIELDS[kind] = tuple(f.name for f in fields(kind) if f.init)  # Step.json is none
     return names
 
 
@@ -81,15 +81,15 @@ class Step(Event):
     step: int
     text: str
     event = "step"
+    # its line of ``valterm run --json`` once json_line() has made it ("" before): a loop
+    # repeats its steps, and run's loop reads it here, a plain attribute a statement (issue 25;
+    # a factory, not a default: a class attribute of that name would keep the read unspecialised)
+    json: str = field(default_factory=str, init=False, repr=False, compare=False)
 
     def json_line(self) -> str:
-        return self._line
-
-    @cached_property
-    def _line(self) -> str:
-        # a loop repeats its steps: each one's line is made once, then read from the step itself
-        # (an attribute read, not a call of the cache: a run writes one per statement)
-        return _step_line(self.program, self.step, self.text)
+        if not self.json:
+            object.__setattr__(self, "json", _step_line(self.program, self.step, self.text))
+        return self.json
 
 
 @dataclass(frozen=True)

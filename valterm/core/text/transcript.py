@@ -8,7 +8,7 @@ motions and the clamp's redraws have no line; HELP and the monitor commands (LIS
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Iterable, Sequence
 
 from valterm.core.events import (
     Breakpoint,
@@ -141,3 +141,39 @@ def event_lines(event: Event) -> list[str]:
     if isinstance(event, Monitor):
         return [f"{event.command} {event.argument}".rstrip()]
     return []  # PoseEvent, Motion, Hand, Grasp (its message says it), Delay, End
+
+
+HEADLESS_PROCEED = "(headless: PROCEED)"  # a run with no one to type PROCEED goes on by itself
+
+
+def write_events(events: Iterable[Event], write: Callable[[str], object], as_json: bool = False) -> int:
+    """Write a run's events as ``valterm run`` prints them, each line as soon as its event is
+    made (a terminal sees every step as it scrolls): their JSON lines, or the transcript's
+    lines. Returns how many of them were errors (the run's exit status).
+
+    ``valterm bench`` times this very loop (issue 25). A step, one a statement, is told by its
+    exact type and its line read from it; the rarer events go the general way."""
+    if not as_json:
+        return _write_transcript(events, write)
+    errors = 0
+    for event in events:
+        if type(event) is Step:
+            write(event.json or event.json_line())
+        else:
+            errors += isinstance(event, Error)
+            write(event.json_line())
+    return errors
+
+
+def _write_transcript(events: Iterable[Event], write: Callable[[str], object]) -> int:
+    errors = 0
+    for event in events:
+        if type(event) is Step:
+            write(step_line(event) + "\n")
+            continue
+        errors += isinstance(event, Error)
+        for line in event_lines(event):
+            write(line + "\n")
+        if isinstance(event, Pause):
+            write(HEADLESS_PROCEED + "\n")
+    return errors

@@ -107,8 +107,6 @@ StepHook = Callable[[CompiledProgram, Op], Iterator[Event]]
 MonitorCommand = Callable[["Interpreter", Statement], Iterator[Event]]
 """A command typed at the VAL-II prompt that is not a program statement (EXECUTE, HELP...)."""
 
-Ran = Generator[Event, None, bool]  # a pass: True when it ends normally
-
 
 class Interpreter:
     """Runs VAL-II programs and typed commands against a simulator.
@@ -163,7 +161,7 @@ class Interpreter:
         self.commands = commands or default_commands()
         self.builders: dict[str, Builder] = dict(builders or BUILDERS)
         self.monitor: dict[str, MonitorCommand] = dict(monitor or MONITOR_COMMANDS)
-        self.hook: StepHook | None = None
+        self._hook: StepHook | None = None
         self.pass_end: Callable[[], Iterator[Event]] | None = None
         self.debugger: Debugger = Debugger(self)
         self._run: Run | None = None  # the pass being run (its CALL frames: call_depth)
@@ -173,6 +171,9 @@ class Interpreter:
         self._running = False
         self._paused = False
         self._abort = False
+        # whether the run must look before its next step: CTRL-C, a limit reached or a hook
+        # (one flag the loop reads a step, not both of them: issue 25)
+        self._watch = False
         self._cache: dict[str, CompiledProgram] = {}
 
     @classmethod
@@ -200,7 +201,17 @@ class Interpreter:
     def abort(self) -> None:
         """CTRL-C: stop the running program after the step being simulated (section 6.4.10)."""
         if self._running:
-            self._abort = True
+            self._abort = self._watch = True
+
+    @property
+    def hook(self) -> StepHook | None:
+        """Called before each step while set (the debugger's); may be set while the program is paused."""
+        return self._hook
+
+    @hook.setter
+    def hook(self, hook: StepHook | None) -> None:
+        self._hook = hook
+        self._watch = self._abort or hook is not None
 
     def proceed(self) -> bool:
         """PROCEED: the paused program may go on (the app pulls its generator again)."""
@@ -298,54 +309,132 @@ class Interpreter:
         """EXECUTE name,loops: run the program `loops` times (negative: 1000) as events.
 
         ``start_step``: the first pass starts at that step (XSTEP name,step), the others at the top.
+        A pass's steps run here, not in a generator of their own (a `yield from` a step, issue 25).
         """
-        if self._running:
-            yield Error("", 0, f"A PROGRAM ({self.program}) IS ALREADY RUNNING")
+        ready = self._ready(name, start_step)
+        if isinstance(ready, list):  # it cannot run: why
+            yield from ready
             return
-        name = name.strip().upper()
-        name = name.removesuffix(".DAT")
-        loops = int(loops)
-        total = FOREVER_LOOPS if loops < 0 else max(1, loops)
-        self._cache.clear()  # programs are decoded once per EXECUTE: edits show next time
+        name, main, start = ready
+        total = self._begin(name, loops)
+        V, low, high = self.variables, -MAX_NUMBER, MAX_NUMBER  # a number past these is refused, never inf or NaN
         try:
-            main = self.compile(name)
-        except RunStop as stop:
-            yield Error(name, 0, stop.message)
-            return
-        if not main.analysis.structure_ok:
-            for diagnostic in main.analysis.fatal:
-                yield Error(name, diagnostic.step, diagnostic.message)
-            yield Error(name, 0, "THE PROGRAM CANNOT RUN (PASS 1 FOUND THE ERRORS ABOVE)")
-            return
-        start = 0
-        if start_step > 0:
-            found = next((pc for pc, op in enumerate(main.code) if op.step.step >= start_step), None)
-            if found is None:
-                yield Error("", 0, f"PROGRAM {name} HAS NO STEP {start_step} THAT CAN RUN")
-                return
-            start = found
-        self.program, self.loops_total, self.loops_done = name, total, 0
-        self._running, self._paused, self._abort = True, False, False
-        self._steps_left, self._lines_left = self.limits.allowed("steps"), self.limits.allowed("lines")
-        self._limit_hit = ""
-        self._cycle_start, self._cycle_end = self.clock.seconds, None
-        try:
-            while self.loops_done < total:
-                finished = yield from self._pass(main, start)
+            while self.loops_done < total:  # a pass from op `start`, `finished` when it ends normally
+                run = self._run = Run(main)
+                prog, pc, code, steps = main, start, main.code, main.steps
+                budget = counted = self._budget()  # steps until the limits are looked at again
+                while True:
+                    try:
+                        op = code[pc]
+                    except IndexError:  # past the last op (no test a step: the end is rare)
+                        pc = run.leave()  # the end of a subroutine returns like RETURN
+                        if run.ended:
+                            self._spend(counted - budget)
+                            finished = True
+                            break
+                        prog, code, steps = run.program, run.program.code, run.program.steps
+                        continue
+                    budget -= 1
+                    if budget < 0:
+                        budget, counted = self._recount(counted)
+                    # CTRL-C, a limit, a hook (one flag a step: a breakpoint may be set while paused)
+                    if self._watch and (yield from self._stops(prog, op, counted - budget - 1)):
+                        finished = False
+                        break
+                    yield steps[pc]
+                    # the plain ops are final classes: their type says which (cheaper than isinstance)
+                    if type(op) is Assign:
+                        try:
+                            evaluate = op.value  # a field read, then called (op.value(V) looks it up as a method)
+                            value = evaluate(V)
+                            if low <= value <= high:
+                                V[op.name] = value
+                                pc = op.next
+                            else:
+                                pc = yield from self._failed(op, f"NUMBER TOO LARGE: {op.name} WOULD BE {value:g}")
+                        except (UndefinedVariable, ArithmeticError, ValueError) as error:
+                            pc = yield from self._failed(op, _plain_reason(error))
+                    elif type(op) is Branch:
+                        try:
+                            condition = op.condition
+                            pc = op.if_true if condition(V) else op.if_false
+                        except (UndefinedVariable, ArithmeticError, ValueError) as error:
+                            pc = yield from self._failed(op, _plain_reason(error))
+                    elif type(op) is Jump:
+                        pc = op.next
+                    elif isinstance(op, Action):
+                        pc = yield from self._act(op)
+                        self._spend(counted - budget)  # the lines it printed are counted: look now
+                        if pc < 0:
+                            finished = False
+                            break
+                        budget = counted = self._budget()
+                    else:
+                        pc = yield from self._control(op, run)
+                        if run.failed or run.ended:
+                            self._spend(counted - budget)
+                            finished = not run.failed
+                            break
+                        prog, code, steps = run.program, run.program.code, run.program.steps
                 start = 0
                 if self.pass_end is not None:
                     yield from self.pass_end()
                 if not finished:
                     return
                 self.loops_done += 1
-            plural = "S" if self.loops_done != 1 else ""
-            yield Message(f"PROGRAM {name} COMPLETED: {self.loops_done} LOOP{plural}")
+            yield Message(f"PROGRAM {name} COMPLETED: {self.loops_done} LOOP{'S' if self.loops_done != 1 else ''}")
         finally:
-            self._running = self._paused = self._abort = False
-            self._cycle_end = self.clock.seconds
-            self._run = None
-            self.debugger.run_ended()
-            self._keep()
+            self._ended()
+
+    def _begin(self, name: str, loops: int) -> int:
+        """EXECUTE's state as its first pass begins; how many passes it runs."""
+        total = FOREVER_LOOPS if int(loops) < 0 else max(1, int(loops))
+        self.program, self.loops_total, self.loops_done = name, total, 0
+        self._running, self._paused, self._abort, self._watch = True, False, False, self._hook is not None
+        self._steps_left, self._lines_left = self.limits.allowed("steps"), self.limits.allowed("lines")
+        self._limit_hit = ""
+        self._cycle_start, self._cycle_end = self.clock.seconds, None
+        return total
+
+    def _ended(self) -> None:
+        """EXECUTE's end, however it ended: the variables are kept (CHECK.DAT)."""
+        self._running = self._paused = self._abort = False
+        self._watch = self._hook is not None
+        self._cycle_end = self.clock.seconds
+        self._run = None
+        self.debugger.run_ended()
+        self._keep()
+
+    def _stops(self, prog: CompiledProgram, op: Op, spent: int) -> Generator[Event, None, bool]:
+        """Before a step when the run must look (``_watch``): the hook's events, then whether the run
+        stops there (CTRL-C or a limit, maybe while the hook held the program paused)."""
+        if not self._abort and self._hook is not None:
+            yield from self._hook(prog, op)
+        if not self._abort:
+            return False
+        self._spend(spent)
+        yield self._stopped(prog.name, op.step.step)
+        return True
+
+    def _ready(self, name: str, start_step: int) -> tuple[str, CompiledProgram, int] | list[Event]:
+        """The program EXECUTE runs (its name, code and first op), or the errors saying why it cannot."""
+        if self._running:
+            return [Error("", 0, f"A PROGRAM ({self.program}) IS ALREADY RUNNING")]
+        name = name.strip().upper().removesuffix(".DAT")
+        self._cache.clear()  # programs are decoded once per EXECUTE: edits show next time
+        try:
+            main = self.compile(name)
+        except RunStop as stop:
+            return [Error(name, 0, stop.message)]
+        if not main.analysis.structure_ok:
+            return [*(Error(name, diagnostic.step, diagnostic.message) for diagnostic in main.analysis.fatal),
+                    Error(name, 0, "THE PROGRAM CANNOT RUN (PASS 1 FOUND THE ERRORS ABOVE)")]
+        if start_step <= 0:
+            return name, main, 0
+        found = next((pc for pc, op in enumerate(main.code) if op.step.step >= start_step), None)
+        if found is None:
+            return [Error("", 0, f"PROGRAM {name} HAS NO STEP {start_step} THAT CAN RUN")]
+        return name, main, found
 
     def _keep(self) -> None:
         if self.keep_batched:
@@ -369,79 +458,6 @@ class Interpreter:
         """Batched: a command changed what CHECK.DAT should hold since the last keep()."""
         return self._unkept
 
-    def _pass(self, main: CompiledProgram, start: int = 0) -> Ran:
-        """One execution pass from op `start`; returns True when it ends normally (STOP, end, RETURN).
-
-        The plain ops (Assign, Branch, Jump) run here in place: the fast path.
-        """
-        run = self._run = Run(main)
-        prog, pc, V = main, start, self.variables
-        code, steps = prog.code, prog.steps
-        low, high = -MAX_NUMBER, MAX_NUMBER  # a number past these is refused, never inf or NaN
-        # steps until the limits are looked at again (a local: the loop stays fast)
-        budget = counted = self._budget()
-        while True:
-            try:
-                op = code[pc]
-            except IndexError:  # past the last op (no test a step: the end is rare)
-                pc = run.leave()  # the end of a subroutine returns like RETURN
-                if run.ended:
-                    self._spend(counted - budget)
-                    return True
-                prog = run.program
-                code, steps = prog.code, prog.steps
-                continue
-            budget -= 1
-            if budget < 0:
-                self._spend(counted)
-                counted = self._budget()
-                budget = counted - 1  # this step is the first of the new count
-            if self._abort:
-                self._spend(counted - budget - 1)
-                yield self._stopped(prog.name, prog.step_number(pc))
-                return False
-            hook = self.hook  # read each step: a breakpoint may be set while the program is paused
-            if hook is not None:
-                yield from hook(prog, op)
-                if self._abort:  # CTRL-C while the hook held the program paused
-                    self._spend(counted - budget - 1)
-                    yield self._stopped(prog.name, op.step.step)
-                    return False
-            yield steps[pc]
-            # the plain ops are final classes: their type says which (cheaper than isinstance)
-            if type(op) is Assign:
-                try:
-                    evaluate = op.value  # a field read, then called (op.value(V) looks it up as a method)
-                    value = evaluate(V)
-                    if low <= value <= high:
-                        V[op.name] = value
-                        pc = op.next
-                    else:
-                        pc = yield from self._failed(op, f"NUMBER TOO LARGE: {op.name} WOULD BE {value:g}")
-                except (UndefinedVariable, ArithmeticError, ValueError) as error:
-                    pc = yield from self._failed(op, _plain_reason(error))
-            elif type(op) is Branch:
-                try:
-                    condition = op.condition
-                    pc = op.if_true if condition(V) else op.if_false
-                except (UndefinedVariable, ArithmeticError, ValueError) as error:
-                    pc = yield from self._failed(op, _plain_reason(error))
-            elif type(op) is Jump:
-                pc = op.next
-            elif isinstance(op, Action):
-                pc = yield from self._act(op)
-                self._spend(counted - budget)  # the lines it printed are counted: look now
-                if pc < 0:
-                    return False
-                budget = counted = self._budget()
-            else:
-                pc = yield from self._control(op, run)
-                if run.failed or run.ended:
-                    self._spend(counted - budget)
-                    return not run.failed
-                prog = run.program
-                code, steps = prog.code, prog.steps
-
     # -- the run's limits (valterm.core.val.limits) ----------------------------------
     SYNC = 1024  # steps between two looks at the limits: a local countdown in between
 
@@ -453,6 +469,12 @@ class Interpreter:
             return self.SYNC
         return int(min(left, self.SYNC))
 
+    def _recount(self, counted: int) -> tuple[int, int]:
+        """The `counted` steps are run: the budget left after this step, and the new count."""
+        self._spend(counted)
+        counted = self._budget()
+        return counted - 1, counted  # this step is the first of the new count
+
     def _spend(self, steps: int) -> None:
         """``steps`` were run: each is a step and a scrolled line of the transcript."""
         self._steps_left -= steps
@@ -462,7 +484,7 @@ class Interpreter:
         """The run stops at its next step, saying ``limit`` ended it."""
         if not self._limit_hit:
             self._limit_hit = limit
-        self._abort = True
+        self._abort = self._watch = True
 
     def _stopped(self, program: str, step: int) -> Error:
         """Why the run stops here: a limit it reached, else CTRL-C."""
