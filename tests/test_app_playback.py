@@ -210,3 +210,55 @@ async def test_a_command_at_a_menu_stops_a_running_loop_first(tmp_path: Path) ->
         said = [line for line, _ in screen.messages.lines]  # all of this turn; three show at once
         assert "*** SPIN STEP 1: ABORTED" in said and "NOFLIP" in said[-1]
         assert not app.session.program_running
+
+
+class _TickClocks:
+    """A tick's real time and CPU time, moved by the events the source makes (test_…_load)."""
+
+    def __init__(self) -> None:
+        self.real = self.cpu = 0.0
+
+
+class _Audience:
+    def __init__(self) -> None:
+        self.lines: list[str] = []
+        self.ended = False
+
+    def show_scene(self) -> None: ...
+    def show_picture(self) -> None: ...
+    def show_lines(self, lines: list[str]) -> None:
+        self.lines.extend(lines)
+    def take_event(self, event: Event) -> bool:
+        return False
+    def paused(self, pause: object) -> None: ...
+    def played(self, aborted: bool) -> None:
+        self.ended = True
+
+
+def _events_costing(clocks: _TickClocks, real: float, cpu: float, count: int) -> Iterator[Event]:
+    for i in range(count):
+        clocks.real += real
+        clocks.cpu += cpu
+        yield TypeOut(f"LINE {i}")
+
+
+@pytest.mark.parametrize(("cpu_share", "most_ticks", "fewest_ticks"), [(1.0, 54, 48), (0.05, 14, 10)])
+@sync
+async def test_a_tick_works_its_budget_of_cpu_whatever_the_load(tmp_path: Path, cpu_share: float,
+                                                                most_ticks: int, fewest_ticks: int) -> None:
+    """A tick's budget (5 ms) is the app's own CPU time: on a loaded machine, where other
+    processes take most of the real time, a tick still does its share of work (up to 25 ms of
+    real time), instead of ever more ticks, each with its redraw, doing ever less. 300 events of
+    1 ms real time each: with all of it CPU, a tick ends after 6 (the first past its 5 ms); with
+    5 % of it, after 26 (the first past 25 ms of real time): about 50 ticks against 12."""
+    from valterm.ui.playback import Player
+
+    app = Host(Session(workspace_root=tmp_path / "ws"), motion_rate=math.inf)
+    async with app.run_test(size=(80, 24)) as pilot:
+        clocks = _TickClocks()
+        player = Player(app, rate=math.inf, real_time=lambda: clocks.real, cpu_time=lambda: clocks.cpu)
+        audience = _Audience()
+        player.play(_events_costing(clocks, 0.001, 0.001 * cpu_share, 300), audience)
+        await run_until(pilot, lambda: not player.playing)
+        assert audience.ended and audience.lines == [f"LINE {i}" for i in range(300)]
+        assert fewest_ticks <= player.ticks <= most_ticks

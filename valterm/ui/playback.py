@@ -14,8 +14,10 @@ MOVE of D_DEFINE) and works through it in ticks on its host's timers:
   the picture: the simulator stands at the motion's own pose, and the verdicts and lines
   are those of its poses (the same as ``valterm run``);
 - whatever the program does (``10 GOTO 10`` has no motion and no DELAY) a tick works at
-  most ``budget`` seconds of real time, then hands control back to Textual, so the screen
-  updates and CTRL-C is seen at the next tick;
+  most ``budget`` seconds of the app's own CPU time and ``TICK_LIMIT`` of real time, then
+  hands control back to Textual, so the screen updates and CTRL-C is seen at the next tick
+  (CPU time: on a loaded machine, the time other processes take must not shrink each
+  tick's work, or ever more ticks, each with its redraw, would do ever less);
 - every other event becomes transcript lines through the core's one renderer
   (``core.text.transcript``), handed to the audience once a tick (at most
   ``TRANSCRIPT_LINES`` a tick: a runaway TYPE loop cannot flood memory);
@@ -56,7 +58,8 @@ from valterm.core.render.overlays import TRACE_POINTS
 from valterm.core.text.transcript import event_lines
 from valterm.ui.errors import problem_text
 
-TICK_BUDGET = 0.005  # seconds of work a tick, then Textual gets the loop back
+TICK_BUDGET = 0.005  # seconds of the app's CPU a tick, then Textual gets the loop back
+TICK_LIMIT = 0.025  # ... or this much real time, however little CPU it had (a file's fsync)
 YIELD = 0.001  # seconds the pump sleeps between busy ticks (keys and redraws run then)
 MAX_FPS = 60.0  # no more redraws a second than this while a motion is paced
 # in-between pictures a second while a motion is paced (the real PUMA's poses come 10-15 a
@@ -111,9 +114,13 @@ class Player:
     """Plays one event stream at a time on ``host``'s timers (see the module's docstring)."""
 
     def __init__(self, host: MessagePump, *, clock: Callable[[], float] = time.monotonic,
-                 rate: float = DEFAULT_RATE, budget: float = TICK_BUDGET) -> None:
+                 rate: float = DEFAULT_RATE, budget: float = TICK_BUDGET,
+                 real_time: Callable[[], float] = time.perf_counter,
+                 cpu_time: Callable[[], float] = time.thread_time) -> None:
         self.host = host
         self.clock = clock
+        # a tick's own clocks (tests give fakes): the real time it took, the CPU it had
+        self.real_time, self.cpu_time = real_time, cpu_time
         self.rate = rate
         self.budget = budget
         self.factor = 1.0  # the playback factor (FACTORS): real time x factor
@@ -143,7 +150,7 @@ class Player:
         self._passed: deque[tuple[float, ...]] = deque(maxlen=TRACE_POINTS)
         self._segment: tuple[tuple[float, ...], tuple[float, ...]] | None = None
         self._between: tuple[float, ...] | None = None
-        self._tick_start = 0.0  # perf_counter() when the tick began
+        self._tick_start = self._tick_cpu = 0.0  # real_time() and cpu_time() as the tick began
 
     # -- state -----------------------------------------------------------------------
     @property
@@ -245,8 +252,8 @@ class Player:
         if not self.playing:
             return
         self.ticks += 1
-        self._tick_start = time.perf_counter()
-        wait = self._guarded(time.perf_counter() + self.budget, pace=not math.isinf(self.rate))
+        self._tick_start, self._tick_cpu = self.real_time(), self.cpu_time()
+        wait = self._guarded(self._tick_start + self.budget, pace=not math.isinf(self.rate))
         self._flush()
         if wait is not None and self.playing and not self._paused:
             self._schedule(wait)
@@ -282,8 +289,11 @@ class Player:
                 if now < self._resume_at and not self._aborting:
                     return min(self._resume_at - now, 0.1)  # a fresh look at the clock
                 self._resume_at = None
-            if time.perf_counter() > deadline:
-                return 0.0
+            if self.real_time() > deadline:
+                later = self._more_time()
+                if later is None:
+                    return 0.0
+                deadline = later
             try:
                 event = next(self._source)  # type: ignore[arg-type]
             except StopIteration:
@@ -291,6 +301,16 @@ class Player:
                 return None
             self._take(event, pace)
         return None
+
+    def _more_time(self) -> float | None:
+        """The tick's real time is up: a later deadline when it has had less than ``budget`` of
+        CPU (other processes had the rest) and is within ``TICK_LIMIT``; None when it is over.
+        Looked at only then: the CPU clock is a system call, the real one is not."""
+        now = self.real_time()
+        left = self.budget - (self.cpu_time() - self._tick_cpu)
+        if left <= 0.0 or now - self._tick_start >= TICK_LIMIT:
+            return None
+        return now + left
 
     def _take(self, event: Event, pace: bool) -> None:
         if isinstance(event, _SCENE_EVENTS):
@@ -387,7 +407,7 @@ class Player:
             # at most 0.1 s without a fresh look at the clock (as for DELAY)
             wait = min(max(motion.next_due_in(), 1.0 / MAX_FPS), 0.1)
             # the next picture a frame after this tick began (the tick's own work included)
-            frame = 1.0 / DRAW_RATE - (time.perf_counter() - self._tick_start)
+            frame = 1.0 / DRAW_RATE - (self.real_time() - self._tick_start)
             return wait if between is None else min(wait, frame)
         self._motion, self._between, self._segment = None, None, None
         self._scene_changed = True
