@@ -108,11 +108,6 @@ class CompiledProgram:
     def __post_init__(self) -> None:
         self.steps = [op.step for op in self.code]
 
-    def step_number(self, pc: int) -> int:
-        if 0 <= pc < len(self.code):
-            return self.code[pc].step.step
-        return len(self.analysis.program.steps)
-
 
 @dataclass
 class Run:
