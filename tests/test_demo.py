@@ -12,7 +12,7 @@ from pathlib import Path
 
 import pytest
 
-from app_helpers import until
+from app_helpers import WAIT_LIMIT, until
 from valterm.core.errors import ValtermError
 from valterm.core.files.demokeys import DemoScriptError, load_demo, parse_demo
 from valterm.ui.demo import DEMO_HINT, Caption, DemoApp
@@ -82,7 +82,12 @@ async def test_demo_plays_the_whole_session_once_with_captions() -> None:
     program = ""
     async with app.run_test(size=(100, 40)) as pilot:
         await until(pilot, lambda: app.screen.query(Caption), "a caption on the start screen")
+        end = asyncio.get_running_loop().time() + WAIT_LIMIT  # a stuck demo fails, never hangs CI
         while app.is_running and app.return_code is None:
+            if asyncio.get_running_loop().time() > end:
+                pytest.fail(f"the demo never ended: {type(app.screen).__name__} on top, captions "
+                            f"{len(app.captions)} of the script's, playing {app.playing}, moving {app.moving}, "
+                            f"keys waiting {app.keys_waiting}, rounds {app.rounds}")
             test_dat = Path(str(app.workspace_root)) / "TEST.DAT"
             if test_dat.is_file():
                 program = test_dat.read_text()
