@@ -8,27 +8,11 @@ from typing import Callable
 
 import pytest
 
-from valterm.core.files import (
-    FileFormatError,
-    Program,
-    ProgramLine,
-    add_program_name,
-    format_locations,
-    format_program,
-    format_variables,
-    parse_datfiler,
-    parse_locations,
-    parse_program,
-    parse_variables,
-    read_datfiler,
-    read_locations,
-    read_program,
-    read_variables,
-    write_datfiler,
-    write_locations,
-    write_program,
-    write_variables,
-)
+from valterm.core.files.datfiler import add_program_name, parse_datfiler, read_datfiler, write_datfiler
+from valterm.core.files.errors import FileFormatError
+from valterm.core.files.locations import format_locations, parse_locations, read_locations, write_locations
+from valterm.core.files.programs import Program, ProgramLine, format_program, parse_program, read_program, write_program
+from valterm.core.files.variables import format_variables, parse_variables, read_variables, write_variables
 from valterm.core.files import atomic
 from valterm.core.files.programs import split_label
 from valterm.core.kinematics import Location

@@ -11,7 +11,8 @@ import pytest
 
 from valterm.core.cell.polyhedron import Polyhedron
 from valterm.core.cell.workcell import WorkCell
-from valterm.core.files import FileFormatError, format_setup, parse_setup, read_setup, write_setup
+from valterm.core.files.errors import FileFormatError
+from valterm.core.files.setup import format_setup, parse_setup, read_setup, write_setup
 from valterm.core.files import atomic
 
 REPO = Path(__file__).resolve().parent.parent / "valterm" / "data"  # the bundled data

@@ -14,7 +14,8 @@ import numpy as np
 import pytest
 
 from valterm.cli import main as cli
-from valterm.core.dh import RobotFileError, dh_robot, load_dh_robot, robot_names
+from valterm.core.dh import RobotFileError, dh_robot, load_dh_robot
+from valterm.core.robot_choice import robot_names
 from valterm.core.kinematics import oat_to_rotation, rotation_to_oat
 
 CONFIGS = [(arm, elbow, wrist) for arm in ("RIGHTY", "LEFTY") for elbow in ("ABOVE", "BELOW")

@@ -15,13 +15,9 @@ import pytest
 from valterm.cli import main
 from valterm.core import resources
 from valterm.core.errors import ValtermError
-from valterm.core.files import (
-    FileFormatError,
-    Program,
-    ProgramLine,
-    read_program,
-    read_setup,
-)
+from valterm.core.files.errors import FileFormatError
+from valterm.core.files.programs import Program, ProgramLine, read_program
+from valterm.core.files.setup import read_setup
 from valterm.core.files.atomic import (
     is_temporary,
     remove_stale_temporaries,

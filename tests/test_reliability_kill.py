@@ -17,13 +17,9 @@ from pathlib import Path
 
 import pytest
 
-from valterm.core.files import (
-    Program,
-    ProgramLine,
-    format_locations,
-    format_program,
-    format_variables,
-)
+from valterm.core.files.locations import format_locations
+from valterm.core.files.programs import Program, ProgramLine, format_program
+from valterm.core.files.variables import format_variables
 from valterm.core.files.atomic import is_temporary
 from valterm.core.kinematics import Location
 from valterm.core.workspace import Workspace, bundled_workspace_files

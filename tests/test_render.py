@@ -11,7 +11,8 @@ import pytest
 
 from valterm.cli import main
 from valterm.commands.render import draw
-from valterm.core.render.overlays import TRACE_COLOUR, Trace, cell_points, clamp_point
+from valterm.core.render.legend import TRACE_COLOUR
+from valterm.core.render.overlays import Trace, cell_points, clamp_point
 from valterm.core.render.raster import ViewTransform
 from valterm.core.render.views import (
     angles,

@@ -7,15 +7,9 @@ from pathlib import Path
 import numpy as np
 
 from valterm.core.events import PoseEvent
-from valterm.core.render.overlays import (
-    DIM_OFFSET,
-    GHOST_COLOUR,
-    SEEN_COLOUR,
-    Overlays,
-    clamp_point,
-    picture_scene,
-)
-from valterm.core.render.raster import HIGHLIGHT_COLOUR, object_colour
+from valterm.core.render.legend import DIM_OFFSET, GHOST_COLOUR, HIGHLIGHT_COLOUR, SEEN_COLOUR
+from valterm.core.render.overlays import Overlays, clamp_point, picture_scene
+from valterm.core.render.raster import object_colour
 from valterm.core.render.views import make_view, preset_angles
 from valterm.core.session import Session
 

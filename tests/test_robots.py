@@ -14,7 +14,8 @@ import numpy as np
 import pytest
 
 from valterm.cli import main
-from valterm.core.arms import DHArm, ThesisArm, arm_of, check_robot, thesis_arm
+from valterm.core.arms import DHArm, ThesisArm, arm_of, thesis_arm
+from valterm.core.robot_choice import check_robot
 from valterm.core.dh import dh_robot
 from valterm.core.errors import RefusedValue
 from valterm.core.grading import TaskError, grade, read_task

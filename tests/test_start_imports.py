@@ -171,8 +171,9 @@ def test_the_collector_waits_for_the_apps_first_frame_only() -> None:
 
 
 async def test_the_app_turns_the_collector_on_after_its_first_frame(tmp_path) -> None:  # type: ignore[no-untyped-def]
-    """On again after the first frame, with the start's objects frozen out of it: its first
-    pass would otherwise walk them all while the first frame waits to be written."""
+    """On again after the first frame (with --setup, the one with the picture, once the
+    set-up is read), with the start's objects frozen out of it: its first pass would
+    otherwise walk them all while the frame waits to be written."""
     import gc
 
     from valterm.ui.app import ValtermApp
@@ -183,9 +184,12 @@ async def test_the_app_turns_the_collector_on_after_its_first_frame(tmp_path) ->
     gc.disable()
     try:
         async with app.run_test(size=(160, 50)) as pilot:
-            await pilot.pause()
+            for _ in range(200):
+                if gc.isenabled():
+                    break
+                await pilot.pause(0.02)
             assert type(app.screen).__name__ == "MainMenuScreen"
-            assert gc.isenabled()
+            assert gc.isenabled() and app.session_read is not None
             frozen = gc.get_freeze_count()
             assert frozen > 10_000  # the start's objects (Textual's, the session's, the screen's)
             assert id(app.screen) not in {id(o) for o in gc.get_objects()}  # MAIN MENU is frozen
@@ -207,7 +211,8 @@ def test_the_workspace_knows_the_v_plus_files_without_their_reader() -> None:
 async def test_main_menu_draws_its_picture_once_each_time_it_is_shown_again(tmp_path, monkeypatch) -> None:  # type: ignore[no-untyped-def]
     """Textual runs every class's on_screen_resume along the MRO: MAIN MENU's own does not
     call MenuScreen's as well, and the mount leaves the drawing to the resume (the picture
-    was built three times at the start, issue 25)."""
+    was built three times at the start, issue 25). First shown, it is drawn blank by its
+    resume and with the picture once the set-up is read: one picture rasterized."""
     from valterm.ui.app import ValtermApp
     from valterm.ui.screens.base import MenuScreen
 
@@ -217,7 +222,8 @@ async def test_main_menu_draws_its_picture_once_each_time_it_is_shown_again(tmp_
     app = ValtermApp(tmp_path, "PROCESS")
     async with app.run_test(size=(160, 50)) as pilot:
         await pilot.pause()
-        assert drawn == ["MainMenuScreen"]  # first shown: by its resume, not by its mount as well
+        await pilot.pause()
+        assert drawn == ["MainMenuScreen"] * 2  # its resume (blank), the set-up read; not its mount
         assert app.screen.model_view.redraws == 1
         await pilot.press("k")
         await pilot.pause()
@@ -357,3 +363,92 @@ def test_a_sessions_setup_is_read_once_and_stamped_when_a_save_first_asks() -> N
              "print(repr((opened.count('PROCESS.SET'), before, same, 'hashlib' in sys.modules)))")
     out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True)
     assert ast.literal_eval(out.stdout.strip().splitlines()[-1]) == (1, False, True, True)
+
+
+FIRST_FRAME_PROBE = """
+import asyncio, json, sys, tempfile
+from valterm.ui.app import ValtermApp
+from valterm.testing import screen_rows
+
+first = []
+
+class Probe(ValtermApp):
+    def _display(self, screen, renderable):
+        if not first:
+            first.append(["numpy" in sys.modules, self.session_read is not None])
+        return super()._display(screen, renderable)
+
+async def main():
+    app = Probe(tempfile.mkdtemp(), "PROCESS")
+    async with app.run_test(size=(160, 50)) as pilot:
+        while app.session_read is None:
+            await pilot.pause(0.02)
+        await pilot.pause()
+        rows = screen_rows(app)
+        braille = any("\\u2801" <= ch <= "\\u28ff" for row in rows for ch in row)
+        print(json.dumps([first[0], braille, "\\n".join(rows)]))
+
+asyncio.run(main())
+"""
+
+
+def test_main_menu_is_drawn_before_the_setup_is_read_and_numpy_loads_then_its_picture() -> None:
+    """``--setup``: MAIN MENU's first frame comes before the set-up is read, so without numpy
+    and the core (issue 25, the start); the picture and the set-up's status come after it."""
+    out = subprocess.run([sys.executable, "-c", FIRST_FRAME_PROBE], capture_output=True, text=True, check=True)
+    (numpy_loaded, session_read), braille, screen = json.loads(out.stdout.strip().splitlines()[-1])
+    assert (numpy_loaded, session_read) == (False, False)
+    assert braille
+    assert "MAIN MENU" in screen and "PROCESS.SET SAVED" in screen
+    assert "SETUP FILE PROCESS.SET WITH 14 PARTS" in screen
+
+
+async def test_keys_typed_before_the_setup_is_read_wait_for_it(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    """A key typed at once (before the set-up is read after the first frame) is not lost and
+    finds the session read: K opens KEYBOARD on PROCESS."""
+    from valterm.ui.app import ValtermApp
+
+    app = ValtermApp(tmp_path, "PROCESS")
+    async with app.run_test(size=(80, 24)) as pilot:
+        assert app.reading_setup  # nothing has read it yet: the first frame is still to come
+        await pilot.press("k")
+        for _ in range(200):
+            if type(app.screen).__name__ == "KeyboardScreen":
+                break
+            await pilot.pause(0.02)
+        assert type(app.screen).__name__ == "KeyboardScreen"
+        assert app.session_read is not None and app.session_read.setup_name == "PROCESS"
+
+
+async def test_the_session_is_read_when_first_asked_for_before_the_first_frame(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    """Whatever asks for ``app.session`` before the set-up has been read gets it read then."""
+    from valterm.ui.app import ValtermApp
+
+    app = ValtermApp(tmp_path, "PROCESS")
+    async with app.run_test(size=(80, 24)):
+        assert app.session_read is None
+        session = app.session
+        assert session is not None and session.setup_name == "PROCESS"
+        assert app.session_read is session and not app.reading_setup
+
+
+async def test_a_setup_that_cannot_be_read_after_the_first_frame_shows_the_start_screen(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    """A malformed --setup file is read after MAIN MENU's first frame: the start screen then
+    says why, as it did when the set-up was read before."""
+    from valterm.core.workspace import Workspace
+    from valterm.ui.app import ValtermApp
+
+    workspace = Workspace.open(tmp_path)
+    (workspace.root / "BROKEN.SET").write_text("2\nMM\nnot a number\n")
+    app = ValtermApp(tmp_path, "BROKEN")
+    async with app.run_test(size=(80, 24)) as pilot:
+        for _ in range(200):
+            if type(app.screen).__name__ == "StartScreen":
+                break
+            await pilot.pause(0.02)
+        assert type(app.screen).__name__ == "StartScreen"
+        await pilot.pause()
+        from valterm.testing import screen_rows
+
+        assert "BROKEN.SET" in "\n".join(screen_rows(app))
+        assert app.session_read is None

@@ -12,8 +12,7 @@ import pytest
 from app_helpers import FakeClock, make_app, screen_text, sync
 from valterm.core.events import Motion
 from valterm.core.render import views
-from valterm.core.render.overlays import SEEN_COLOUR, TRACE_COLOUR
-from valterm.core.render.raster import LED_COLOUR
+from valterm.core.render.legend import LED_COLOUR, SEEN_COLOUR, TRACE_COLOUR
 from valterm.core.session import Session
 from valterm.ui.screens.main_menu import MainMenuScreen
 from valterm.ui.screens.manipulation import ManipulationScreen

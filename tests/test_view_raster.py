@@ -9,14 +9,8 @@ import pytest
 
 from valterm.core.cell.polyhedron import Polyhedron
 from valterm.bench.raster import bench_raster
-from valterm.core.render.raster import (
-    AXES_COLOUR,
-    BRAILLE_BASE,
-    Scene,
-    ViewTransform,
-    object_colour,
-    rasterize,
-)
+from valterm.core.render.legend import AXES_COLOUR
+from valterm.core.render.raster import BRAILLE_BASE, Scene, ViewTransform, object_colour, rasterize
 
 
 def unit_view() -> ViewTransform:

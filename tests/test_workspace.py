@@ -8,7 +8,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from valterm.core.files import FileFormatError, Program, ProgramLine
+from valterm.core.files.errors import FileFormatError
+from valterm.core.files.programs import Program, ProgramLine
 from valterm.core.kinematics import Location
 from valterm.core import resources
 from valterm.core.workspace import Workspace, WorkspaceError, check_name, default_root

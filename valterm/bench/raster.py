@@ -52,7 +52,8 @@ def process_scenes(width: int = 200, height: int = 60) -> tuple[Scene, Scene, Vi
     robot alone over the cell as a background (what each frame of a motion draws)."""
     from valterm.core import resources
     from valterm.core.files.setup import read_setup
-    from valterm.core.render.raster import LED_COLOUR, link_colour
+    from valterm.core.render.legend import LED_COLOUR
+    from valterm.core.render.raster import link_colour
     from valterm.core.simulator import Simulator
 
     sim = Simulator(read_setup(resources.data_path("cells", "PROCESS.SET")))

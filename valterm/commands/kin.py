@@ -29,7 +29,8 @@ import numpy as np
 from valterm.core.errors import RefusedValue
 from valterm.commands import FAILURE, OK, USAGE, say
 from valterm.commands.robots import add_robot_option, robot_from
-from valterm.core.arms import THESIS_ROBOT, Arm, arm_of
+from valterm.core.arms import Arm, arm_of
+from valterm.core.robot_choice import THESIS_ROBOT
 from valterm.core.dh import RobotFileError
 from valterm.core.kinematics import (
     BeyondStop,

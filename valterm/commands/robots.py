@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import argparse
 
-from valterm.core.arms import THESIS_ROBOT, check_robot, robot_keys
+from valterm.core.robot_choice import THESIS_ROBOT, check_robot, robot_keys
 from valterm.core.errors import RefusedValue
 
 

@@ -24,7 +24,7 @@ from typing import Protocol
 import numpy as np
 
 from valterm.core import kinematics
-from valterm.core.dh import DHRobot, dh_robot, robot_names
+from valterm.core.dh import DHRobot, dh_robot
 from valterm.core.errors import RefusedValue
 from valterm.core.kinematics import (
     OUT_OF_REACH,
@@ -35,8 +35,7 @@ from valterm.core.kinematics import (
     Pose,
     RobotGeometry,
 )
-
-THESIS_ROBOT = "PUMA"  # the thesis's own model (robot/PUMA.toml), the default robot
+from valterm.core.robot_choice import THESIS_ROBOT
 
 
 class Arm(Protocol):
@@ -240,20 +239,6 @@ def _keep_jt4(joints: list[float], jt4: float) -> list[float]:
 def thesis_arm() -> ThesisArm:
     """The thesis's robot (the default), on the bundled geometry."""
     return ThesisArm(kinematics.robot_geometry())
-
-
-def robot_keys() -> list[str]:
-    """What --robot takes: the thesis's robot first, then the bundled DH robot files."""
-    return [THESIS_ROBOT, *robot_names()]
-
-
-def check_robot(name: str) -> str:
-    """The robot's name as --robot and a task file spell it (PUMA560), or RefusedValue."""
-    key = name.strip().upper()
-    if key not in robot_keys():
-        raise RefusedValue(f"no robot {key!r}; the robots are {THESIS_ROBOT} (the thesis's, the default), "
-                           f"{', '.join(robot_names())}")
-    return key
 
 
 def arm_of(name: str | None = None) -> Arm:

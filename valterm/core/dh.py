@@ -34,8 +34,8 @@ import numpy as np
 from valterm.core import resources
 from valterm.core.errors import ValtermError
 from valterm.core.kinematics import Config, OutOfReach, wrap180
+from valterm.core.robot_choice import ROBOT_FOLDER, robot_names
 
-ROBOT_FOLDER = "robot"
 # the structure the closed-form inverse solves: the PUMA's twists, in degrees
 PUMA_TWISTS = (90.0, 0.0, -90.0, 90.0, -90.0, 0.0)
 SINGULAR = 1e-9  # below this sin JT5 the wrist is singular (JT4 kept at 0)
@@ -146,18 +146,6 @@ class DHRobot:
 def _wrap(angle: float) -> float:
     """Radians to (-pi, pi]."""
     return math.atan2(math.sin(angle), math.cos(angle))
-
-
-def robot_names() -> list[str]:
-    """The robots a user can choose with --robot: the bundled robot files with a DH table."""
-    return list(_bundled_dh_robots())
-
-
-@lru_cache(maxsize=1)
-def _bundled_dh_robots() -> tuple[str, ...]:
-    # read once: the command line's --robot help asks at every start, the bundle never changes
-    folder = resources.data_path(ROBOT_FOLDER)
-    return tuple(sorted(p.stem for p in folder.glob("*.toml") if "[dh]" in p.read_text(encoding="utf-8")))
 
 
 @lru_cache(maxsize=8)

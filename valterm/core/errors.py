@@ -16,3 +16,19 @@ class ValtermError(Exception):
 class RefusedValue(ValtermError, ValueError):
     """A value the user gave (an argument, a typed word, a name) that is refused: a
     ValtermError the edges show, and a ValueError where a parse is expected to fail."""
+
+
+class MotionRefused(ValtermError):
+    """A motion the controller will not make: nothing moves (``valterm.core.motion`` raises it;
+    it lives here so that what shows it needs no motion code).
+
+    ``reason`` names what is wrong, ``joint`` the joint (0 if none), ``step`` the step of a
+    straight line where it happens (0 for the goal itself).
+    """
+
+    def __init__(self, reason: str, joint: int = 0, step: int = 0) -> None:
+        self.reason = reason
+        self.joint = joint
+        self.step = step
+        where = f" at step {step} of the line" if step else ""
+        super().__init__(f"{reason}{where}")

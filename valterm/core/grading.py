@@ -23,7 +23,6 @@ from pathlib import Path
 from typing import Any
 
 from valterm.core import resources
-from valterm.core.arms import check_robot
 from valterm.core.errors import ValtermError
 from valterm.core.events import Collision, Error, Event, Grasp, Json, LimitReached, Message, Near
 from valterm.core.files.errors import FileFormatError
@@ -32,6 +31,7 @@ from valterm.core.files.programs import Program
 from valterm.core.files.setup import read_setup
 from valterm.core.files.vplus import EXTENSIONS as VPLUS_EXTENSIONS
 from valterm.core.files.vplus import read_program_file
+from valterm.core.robot_choice import check_robot
 from valterm.core.rules import check_rules, rules_of_dialect
 from valterm.core.simulator import Simulator
 from valterm.core.text.transcript import event_lines

@@ -14,7 +14,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from valterm.core.arms import Arm, as_arm
-from valterm.core.errors import ValtermError
+from valterm.core.errors import MotionRefused
 from valterm.core.kinematics import (
     BeyondStop,
     Config,
@@ -43,21 +43,6 @@ NEAR_WRIST = 10.0
 
 
 OUT_OF_REACH_REASON = "location out of reach"  # the 1985 wording (a robot file's robot names itself)
-
-
-class MotionRefused(ValtermError):
-    """A motion the controller will not make: nothing moves.
-
-    ``reason`` names what is wrong, ``joint`` the joint (0 if none), ``step`` the step of a
-    straight line where it happens (0 for the goal itself).
-    """
-
-    def __init__(self, reason: str, joint: int = 0, step: int = 0) -> None:
-        self.reason = reason
-        self.joint = joint
-        self.step = step
-        where = f" at step {step} of the line" if step else ""
-        super().__init__(f"{reason}{where}")
 
 
 def clamp_speed(speed: float) -> float:

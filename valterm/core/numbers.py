@@ -25,8 +25,6 @@ import re
 from collections.abc import Iterator
 from contextlib import contextmanager
 
-import numpy as np
-
 from valterm.core.errors import ValtermError
 
 MAX_NUMBER_CHARS = 64      # "-123456.789E+05" is 15; a double has 17 significant digits
@@ -79,6 +77,8 @@ def finite(value: float, limit: float = MAX_MAGNITUDE, written: str | None = Non
 def numpy_errors() -> Iterator[None]:
     """Inside: numpy's overflow, invalid and divide-by-zero raise FloatingPointError instead of
     printing a RuntimeWarning; the boundary that uses it turns that into a message."""
+    import numpy as np  # here: the command line and the app's first frame run without numpy
+
     with np.errstate(all="raise"):
         yield
 

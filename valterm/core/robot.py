@@ -13,9 +13,10 @@ import numpy as np
 
 from valterm.core.cell.polyhedron import Polyhedron
 from valterm.core import resources
-from valterm.core.arms import THESIS_ROBOT, Arm, DHArm, ThesisArm, thesis_arm
-from valterm.core.dh import ROBOT_FOLDER, DHRobot, dh_robot
+from valterm.core.arms import Arm, DHArm, ThesisArm, thesis_arm
+from valterm.core.dh import DHRobot, dh_robot
 from valterm.core.kinematics import ROBOT_FILE, RobotGeometry, robot_geometry
+from valterm.core.robot_choice import ROBOT_FOLDER, THESIS_ROBOT
 
 __all__ = ["THESIS_ROBOT", "RobotModel", "load_model", "load_robot_model"]
 

@@ -29,18 +29,21 @@ from types import ModuleType
 from typing import TYPE_CHECKING
 
 from valterm.core import resources
-from valterm.core.cell.workcell import WorkCell
 from valterm.core.errors import ValtermError
-from valterm.core.files import datfiler, locations, programs, setup, variables
+from valterm.core.files import datfiler, programs, variables
 from valterm.core.files.atomic import file_stamp, folder_lock, remove_stale_temporaries, write_bytes_atomic
 from valterm.core.files.datfiler import DATFILER
 from valterm.core.files.errors import shown_name
 from valterm.core.files.programs import Program
 from valterm.core.files.variables import CHECK
-from valterm.core.kinematics import Location
 
 if TYPE_CHECKING:
+    from valterm.core.cell.workcell import WorkCell
     from valterm.core.files.vplus import VplusData
+    from valterm.core.kinematics import Location
+
+# The set-up and location readers (numpy, the kinematics) load when a set-up or a location
+# file is first read: the command line and the app's first frame need neither (issue 25).
 
 ENV_VAR = "VALTERM_WORKSPACE"
 DEFAULT_ROOT = Path("~/valterm")
@@ -301,20 +304,28 @@ class Workspace:
 
     # -- setup files ------------------------------------------------------------
     def read_setup(self, name: str) -> WorkCell:
+        from valterm.core.files import setup
+
         return setup.read_setup(self.path(name, "SET"))
 
     def write_setup(self, name: str, cell: WorkCell, expected: str | None = None) -> Path:
         """Write NAME.SET; with ``expected`` (its stamp when read) FileChanged if it changed since."""
+        from valterm.core.files import setup
+
         path = self.path(name, "SET")
         setup.write_setup(path, cell, expected)
         return path
 
     # -- location files ----------------------------------------------------------
     def read_locations(self, name: str) -> dict[str, Location]:
+        from valterm.core.files import locations
+
         return locations.read_locations(self.path(name, "LOC"))
 
     def write_locations(self, name: str, points: dict[str, Location],
                         precision: dict[str, tuple[float, ...]] | None = None) -> Path:
+        from valterm.core.files import locations
+
         path = self.path(name, "LOC")
         locations.write_locations(path, points, precision)
         return path

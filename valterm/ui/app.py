@@ -13,6 +13,7 @@ import gc
 import sys
 import time
 from collections.abc import Callable, Iterable
+from functools import cached_property
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -23,13 +24,8 @@ from textual.app import App
 from valterm.core.crashlog import EXIT_BUG, crash_line, write_crash_log
 from valterm.core.errors import ValtermError
 from valterm.core.events import Event, Pause
-from valterm.core.render import views
 from valterm.core.render.clock import DEFAULT_RATE
-from valterm.core.render.overlays import Overlays, Trace, cell_points, clamp_point, picture_scene
-from valterm.core.render.raster import Scene, ViewTransform
-from valterm.core.session import Session
 from valterm.core.val.limits import RunLimits
-from valterm.core.workspace import Workspace
 from valterm.ui.bindings import APP_BINDINGS, load_user_keymap
 from valterm.ui.errors import bug_text, error_text
 from valterm.ui.keyqueue import KeyQueue
@@ -40,7 +36,11 @@ from valterm.ui.screens.main_menu import MainMenuScreen
 from valterm.ui.view.keys import ViewActions
 
 if TYPE_CHECKING:
+    from valterm.core.render.overlays import Trace
+    from valterm.core.render.raster import Scene, ViewTransform
+    from valterm.core.session import Session
     from valterm.core.simulator import Simulator
+    from valterm.core.workspace import Workspace
 
 RELEASE_EVERY = 10.0  # seconds between clearings of Textual's leaking style cache
 
@@ -96,13 +96,13 @@ class ValtermApp(Guarded, ViewActions, App[int]):
         self.limits = limits
         self.workspace_root = workspace
         self.initial_setup = setup
-        self.session: Session | None = session
+        self._session: Session | None = session
+        self._setup_to_open: str | None = None  # --setup's, read after the first frame (on_mount)
         self.ascii = ascii
-        # KEYBOARD mode's view options, shared by every model view
-        self.view_transform = ViewTransform()
+        # KEYBOARD mode's view options, shared by every model view (view_transform and trace:
+        # made when first asked, with the picture's modules)
         self.back_faces = False  # hidden surfaces removed until FACES (Table C-1)
         self.axes = False
-        self.trace = Trace()  # the clamp's path over the last motions (F5 shows or hides it)
         self.show_trace = True
         self.follow_clamp = False  # F4: the view follows the clamp
         self.player = Player(self, clock=clock, rate=motion_rate)
@@ -135,7 +135,10 @@ class ValtermApp(Guarded, ViewActions, App[int]):
 
     # -- keys: none dropped (ui.keyqueue) --------------------------------------------
     def _busy_playing(self) -> bool:
-        """Keys wait while a motion is drawn (1985: while anything plays, PAUSE aside)."""
+        """Keys wait while a motion is drawn (1985: while anything plays, PAUSE aside), and
+        while --setup's set-up is still to be read after the first frame."""
+        if self._setup_to_open is not None:
+            return True
         if self.keys_1985:
             return self.player.playing and not self.player.paused
         return self.player.drawing
@@ -172,7 +175,7 @@ class ValtermApp(Guarded, ViewActions, App[int]):
         self.say(line, "error")
 
     def on_mount(self) -> None:
-        if self.collect_after_first_frame:
+        if self.collect_after_first_frame and not (self._session is None and self.initial_setup):
             self.call_after_refresh(collect_from_now)  # after the first screen's frame (see run)
         self.set_interval(RELEASE_EVERY, release_styles_caches, name="release-styles-caches")
         try:
@@ -184,12 +187,13 @@ class ValtermApp(Guarded, ViewActions, App[int]):
             self.push_screen(MainMenuScreen())
             return
         if self.initial_setup:
-            try:
-                self.open_session(self.initial_setup)
-            except ValtermError as error:
-                self.push_screen(_start_screen(message=error_text(error)))
-                return
+            # MAIN MENU first, its picture once the set-up is read: reading it loads numpy and
+            # the core, which the menu does not need (issue 25, the start). A key typed
+            # meanwhile waits (_busy_playing); anything that asks for the session sooner
+            # reads it then (the session property).
+            self._setup_to_open = self.initial_setup
             self.push_screen(MainMenuScreen())
+            self.call_after_refresh(self._open_setup_to_open)
             return
         self.push_screen(_start_screen())
 
@@ -204,9 +208,56 @@ class ValtermApp(Guarded, ViewActions, App[int]):
         """B (BEGIN) at MAIN MENU: the start screen in its place."""
         self.switch_screen(_start_screen())
 
+    @property
+    def session(self) -> Session | None:
+        """The open session; the set-up ``--setup`` named is read now if it has not been yet."""
+        if self._setup_to_open is not None:
+            self._open_setup_to_open()
+        return self._session
+
+    @session.setter
+    def session(self, session: Session | None) -> None:
+        self._setup_to_open = None
+        self._session = session
+
+    @property
+    def session_read(self) -> Session | None:
+        """The session if one is open, without reading a set-up still to be read (what the
+        first frame shows: MAIN MENU before its picture)."""
+        return self._session
+
+    @property
+    def reading_setup(self) -> bool:
+        """--setup's set-up is still to be read (keys wait for it)."""
+        return self._setup_to_open is not None
+
+    def _open_setup_to_open(self) -> None:
+        """Read --setup's set-up (after MAIN MENU's first frame, or when first asked for): the
+        screen on top then draws the picture; a set-up that cannot be read shows the start
+        screen with the reason, as a bad --setup always has."""
+        setup, self._setup_to_open = self._setup_to_open, None
+        if setup is None:
+            return
+        if self.collect_after_first_frame:  # once the session is made too (see run)
+            self.call_after_refresh(collect_from_now)
+        try:
+            self.open_session(setup)
+        except ValtermError as error:
+            self.call_later(self.switch_screen, _start_screen(message=error_text(error)))
+            return
+        self.call_later(self._setup_read)
+
+    def _setup_read(self) -> None:
+        shown = getattr(self.screen, "setup_read", None) if self.screen_stack else None
+        if shown is not None and self.screen.is_mounted:
+            shown()
+
     def open_session(self, setup: str | None) -> Session:
         """A fresh session on ``setup`` (raises the core's errors for the caller to show)."""
-        root = self.workspace_root if self.session is None else self.session.workspace.root
+        from valterm.core.render.raster import ViewTransform
+        from valterm.core.session import Session
+
+        root = self.workspace_root if self._session is None else self._session.workspace.root
         session = Session(workspace_root=root, setup=setup, limits=self.limits, robot=self.robot)
         if self.rules is not None:
             session.simulator.set_rules(self.rules)
@@ -218,9 +269,26 @@ class ValtermApp(Guarded, ViewActions, App[int]):
         self.fit_view()
         return session
 
+    @cached_property
+    def view_transform(self) -> ViewTransform:
+        """ORIENT's view, shared by every model view (a new one with each session)."""
+        from valterm.core.render.raster import ViewTransform
+
+        return ViewTransform()
+
+    @cached_property
+    def trace(self) -> Trace:
+        """The clamp's path over the last motions (F5 shows or hides it)."""
+        from valterm.core.render.overlays import Trace
+
+        return Trace()
+
     def fit_view(self) -> None:
         """The first view: the oblique three-quarter view of the whole cell (ORIENT's H
         turns it to the thesis's side view of the same box)."""
+        from valterm.core.render import views
+        from valterm.core.render.overlays import cell_points
+
         view = views.orient(self.view_transform, *views.preset_angles(views.DEFAULT_VIEW))
         if self.session is not None:
             views.fit_points(view, cell_points(self.session.simulator))
@@ -230,6 +298,8 @@ class ValtermApp(Guarded, ViewActions, App[int]):
         if self.session is not None:
             return self.session.workspace
         if self._workspace is None:
+            from valterm.core.workspace import Workspace
+
             self._workspace = Workspace.open(self.workspace_root)
         return self._workspace
 
@@ -244,11 +314,14 @@ class ValtermApp(Guarded, ViewActions, App[int]):
         return self.active_session.simulator
 
     # -- the picture -----------------------------------------------------------------
-    def scene(self, part_axes: int | None = None) -> Scene:
-        """The picture: cell, robot, LED line and the overlays (trace, ghost, collisions, axes)."""
-        if self.session is None:
-            return Scene.build([])
-        sim = self.session.simulator
+    def scene(self, part_axes: int | None = None) -> Scene | None:
+        """The picture: cell, robot, LED line and the overlays (trace, ghost, collisions, axes);
+        None (a blank view) while no set-up has been read."""
+        if self._session is None:
+            return None
+        from valterm.core.render.overlays import Overlays, clamp_point, picture_scene
+
+        sim = self._session.simulator
         for joints in self.player.passed_poses():  # every pose the motion went through
             self.trace.add(clamp_point(sim, joints))
         self.trace.add(clamp_point(sim))

@@ -8,8 +8,7 @@ as one line that says where the details are. No built-in exception is taken for 
 from __future__ import annotations
 
 from valterm.core.crashlog import write_crash_log
-from valterm.core.errors import ValtermError
-from valterm.core.motion import MotionRefused
+from valterm.core.errors import MotionRefused, ValtermError
 
 
 def error_text(error: ValtermError) -> str:

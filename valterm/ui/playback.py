@@ -52,9 +52,8 @@ from valterm.core.events import (
     PoseEvent,
     Release,
 )
-from valterm.core.kinematics import joints_between
 from valterm.core.render.clock import DEFAULT_RATE, MotionPlayer
-from valterm.core.render.overlays import TRACE_POINTS
+from valterm.core.render.legend import TRACE_POINTS
 from valterm.core.text.transcript import event_lines
 from valterm.ui.errors import problem_text
 
@@ -390,6 +389,8 @@ class Player:
         fraction = (self.clock() - motion.start_time) * motion.rate - motion.index
         if fraction >= 1.0:
             return None
+        from valterm.core.kinematics import joints_between  # loaded with the session (the start)
+
         return joints_between(*self._segment, max(0.0, fraction))
 
     def _motion_step(self, pace: bool) -> float | None:

@@ -19,28 +19,22 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from valterm.core.cell.polyhedron import Polyhedron
-from valterm.core.render.raster import (
-    AXIS_LENGTH,
+from valterm.core.render.legend import (
+    DIM_OFFSET,
+    GHOST_COLOUR,
     HIGHLIGHT_COLOUR,
     LED_COLOUR,
-    Scene,
-    ViewTransform,
-    frame_lines,
-    link_colour,
-    object_colour,
+    SEEN_COLOUR,
+    TRACE_COLOUR,
+    TRACE_POINTS,
 )
+from valterm.core.render.raster import AXIS_LENGTH, Scene, ViewTransform, frame_lines, link_colour, object_colour
 
 if TYPE_CHECKING:
     from valterm.core.simulator import Simulator
 
-# colour indices added to raster's (0 empty, 1 axes, 2 LED, 3 highlight, 8.. links, 16.. objects)
-TRACE_COLOUR = 4
-GHOST_COLOUR = 5
-SEEN_COLOUR = 6  # the part the LED sensor sees
-DIM_OFFSET = 64  # colour + DIM_OFFSET: the same colour, dimmer (further from the viewer)
 DIM_FRACTION = 0.45  # polyhedra in the farthest 45 % of the depth range are dimmed
 
-TRACE_POINTS = 4000  # clamp positions kept by the trace
 TRACE_STEP = 0.5  # mm the clamp must move to add a point
 GHOST_LENGTH = 80.0  # mm, the axes of the target frame
 

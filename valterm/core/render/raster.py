@@ -23,6 +23,13 @@ from typing import Iterable, Sequence
 import numpy as np
 
 from valterm.core.cell.polyhedron import Polyhedron, topology
+from valterm.core.render.legend import (
+    AXES_COLOUR,
+    LED_COLOUR,
+    LINK_COLOUR_BASE,
+    N_OBJECT_COLOURS,
+    OBJECT_COLOUR_BASE,
+)
 
 # -- frames (SPEC §1) ------------------------------------------------------------------
 SCS_H = 26.0
@@ -35,14 +42,6 @@ DEFAULT_BOUNDS: tuple[np.ndarray, np.ndarray] = (
     np.array([-1000.0, -1000.0, -700.0]),
     np.array([1000.0, 1000.0, 1100.0]),
 )
-
-# -- colour indices (0 = empty cell); the widget maps them to terminal colours ----------
-AXES_COLOUR = 1
-LED_COLOUR = 2
-HIGHLIGHT_COLOUR = 3  # e.g. a part in collision
-LINK_COLOUR_BASE = 8  # robot links 0..7 -> 8..15
-OBJECT_COLOUR_BASE = 16  # objects 1..n -> 16..31 (cycling)
-N_OBJECT_COLOURS = 16
 
 
 def link_colour(link: int) -> int:

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from valterm.core.render.overlays import DIM_OFFSET
+from valterm.core.render.legend import DIM_OFFSET
 from valterm.core.render.raster import Scene, ViewTransform
 
 # colour index -> SVG colour, by range (robot warm, objects cool, overlays distinct)

@@ -18,12 +18,10 @@ from textual.widgets import Input
 
 from valterm.core.errors import ValtermError
 from valterm.core.events import Event, Help, Message, Monitor, Pause
-from valterm.core.monitor import listing_lines
 from valterm.ui import keymap
 from valterm.ui.errors import problem_text
 from valterm.ui.messages import SceneChanged
 from valterm.ui.screens.keyed import KeyedScreen, action_name
-from valterm.ui.screens.points import define_point
 from valterm.ui.view.model_view import ModelView
 from valterm.ui.widgets.cell_view import CellView
 from valterm.ui.widgets.menu_text import MenuText
@@ -104,7 +102,8 @@ class MenuScreen(KeyedScreen[None]):
 
     def on_mount(self) -> None:
         view = self.model_view
-        view.set_view(self.app.view_transform)
+        if self.app.session_read is not None:  # no view before a set-up is read (the start)
+            view.set_view(self.app.view_transform)
         view.ascii = self.app.ascii
         self._sync_view_options()
         self._layout(self.app.size.width)
@@ -112,10 +111,18 @@ class MenuScreen(KeyedScreen[None]):
         # draws it (the picture was built twice for every screen shown, issue 25)
 
     def on_screen_resume(self) -> None:
-        self.model_view.set_view(self.app.view_transform)
+        self._show_view()
+        self.call_later(self._say_unsaid)  # after the screen's own first words (also when first shown)
+
+    def setup_read(self) -> None:
+        """--setup's set-up has been read after the first frame: the picture and the status."""
+        self._show_view()
+
+    def _show_view(self) -> None:
+        if self.app.session_read is not None:  # no view before a set-up is read (the start)
+            self.model_view.set_view(self.app.view_transform)
         self._sync_view_options()
         self.redraw()
-        self.call_later(self._say_unsaid)  # after the screen's own first words (also when first shown)
 
     def _say_unsaid(self) -> None:
         """What was said while no screen could show it (the last one left mid-motion)."""
@@ -168,7 +175,7 @@ class MenuScreen(KeyedScreen[None]):
         if not self.is_attached:
             return  # left while a motion was drawn: the screen on top draws it
         self.model_view.update_scene(self.app.scene(self.part_axes))
-        if self.app.session is not None:  # none while the demo starts a fresh round
+        if self.app.session_read is not None:  # none at the first frame, or while the demo starts a round
             self.update_readout()
         self.update_status()
 
@@ -207,6 +214,9 @@ class MenuScreen(KeyedScreen[None]):
     def _monitor(self, command: str, argument: str) -> None:
         """LISTF, LISTL, LISTP, POINT and EDIT typed at a menu's V line (VAL-II mode's own
         transcript shows whole listings; three message lines show their gist here)."""
+        from valterm.core.monitor import listing_lines  # the session's: after the first frame
+        from valterm.ui.screens.points import define_point
+
         session = self.app.active_session
         try:
             if command == "LISTL":

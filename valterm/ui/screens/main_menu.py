@@ -37,10 +37,15 @@ class MainMenuScreen(MenuScreen):
         # along the MRO): calling it here too drew the picture twice (issue 25, the start)
         self._say_setup()  # first shown, or a save-as in MANIPULATION renamed the set-up
 
-    def _say_setup(self) -> None:
-        session = self.app.session
+    def setup_read(self) -> None:
+        super().setup_read()
+        self._say_setup(new_turn=False)  # beside what the start said (a bad keymap file)
+
+    def _say_setup(self, new_turn: bool = True) -> None:
+        session = self.app.session_read  # none yet at the first frame: setup_read says it
         if session is not None and session.setup_name:
-            self.messages.new_turn()
+            if new_turn:
+                self.messages.new_turn()
             state = " (NOT SAVED)" if self.app.setup_modified else ""
             self.say(f"SETUP FILE {session.setup_name}.SET WITH {len(session.simulator.cell.objects)} PARTS{state}")
 

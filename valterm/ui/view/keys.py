@@ -14,9 +14,10 @@ from __future__ import annotations
 
 from textual.binding import Binding
 
-from valterm.core.render import views
-from valterm.core.render.overlays import Trace, cell_points, clamp_points
 from valterm.ui.view.model_view import ModelView
+
+# The view maths (valterm.core.render.views, numpy) load with the first key that needs them:
+# the app's first frame is drawn without them (issue 25, the start).
 
 VIEW_BINDINGS = [
     Binding("left", "orbit(-1, 0)", "Turn left", show=False, id="view.left"),
@@ -46,7 +47,7 @@ class ViewActions:
     def check_action(self, action: str, parameters: tuple[object, ...]) -> bool | None:
         """View keys count only where a model is shown (else the key goes on as usual)."""
         if action in {"orbit", "zoom", "next_view", "frame_all", "follow_clamp", "toggle_trace"}:
-            return bool(self._model_views()) and getattr(self, "session", None) is not None
+            return bool(self._model_views()) and getattr(self, "session_read", None) is not None
         if action == "toggle_model":
             return callable(getattr(self.screen, "toggle_model", None))  # type: ignore[attr-defined]
         return True
@@ -70,21 +71,29 @@ class ViewActions:
                 return
 
     def action_orbit(self, d_azimuth: int, d_elevation: int) -> None:
+        from valterm.core.render import views
+
         views.orbit(self.view_transform, d_azimuth * views.ORBIT_STEP,  # type: ignore[attr-defined]
                     d_elevation * views.ORBIT_STEP)
         self._redraw_views()
 
     def action_zoom(self, direction: int) -> None:
+        from valterm.core.render import views
+
         views.zoom(self.view_transform, views.ZOOM_STEP ** direction)  # type: ignore[attr-defined]
         self._redraw_views()
 
     def action_next_view(self) -> None:
+        from valterm.core.render import views
+
         name = views.next_preset(self.view_transform)  # type: ignore[attr-defined]
         self.follow_clamp = False
         self.set_view_angles(*views.preset_angles(name))
         self._say(f"VIEW: {name.upper()}")
 
     def action_frame_all(self) -> None:
+        from valterm.core.render import views
+
         self.follow_clamp = False
         self.set_view_angles(*views.angles(self.view_transform))  # type: ignore[attr-defined]
         self._say("VIEW: THE WHOLE CELL")
@@ -111,6 +120,8 @@ class ViewActions:
 
     def view_caption(self) -> str:
         """The model view's status line: which view, following the clamp, the playback factor."""
+        from valterm.core.render import views
+
         azimuth, elevation = views.angles(self.view_transform)  # type: ignore[attr-defined]
         name = next((n.upper() for n, (az, el) in views.PRESETS.items()
                      if abs(el - elevation) < 0.5 and (abs(el) >= 89.5 or abs(az - azimuth) < 0.5)),
@@ -122,18 +133,23 @@ class ViewActions:
     # -- the shared view state ---------------------------------------------------------
     follow_clamp: bool = False
     show_trace: bool = True
-    trace: Trace
 
     def set_view_angles(self, azimuth: float, elevation: float) -> None:
         """Look from (azimuth, elevation) at the whole cell."""
+        from valterm.core.render import views
+        from valterm.core.render.overlays import cell_points
+
         view = views.orient(self.view_transform, azimuth, elevation)  # type: ignore[attr-defined]
         session = getattr(self, "session", None)
         if session is not None:
-            views.fit_points(view, cell_points(session.simulator, self.trace if self.show_trace else None))
+            views.fit_points(view, cell_points(session.simulator, self.trace if self.show_trace else None))  # type: ignore[attr-defined]
         self._redraw_views()
 
     def frame_clamp(self) -> None:
         """Fit the view on the clamp and the part under it, keeping the direction and zoom."""
+        from valterm.core.render import views
+        from valterm.core.render.overlays import clamp_points
+
         session = getattr(self, "session", None)
         if session is None:
             return

@@ -2,16 +2,16 @@
 
 It rasterizes only when the scene, a view option or its size changes, and then repaints
 only the row spans that differ from the previous frame, so one pose over SSH costs a few
-kilobytes.
+kilobytes. Without a scene it is blank and has loaded neither the raster nor numpy: the
+app's first frame is drawn before the session is read (issue 25, the start).
 """
 
 from __future__ import annotations
 
 import sys
 import time
-from typing import Mapping, Sequence
+from typing import TYPE_CHECKING, Mapping, Sequence
 
-import numpy as np
 from rich.color import Color
 from rich.segment import Segment
 from rich.style import Style
@@ -21,19 +21,21 @@ from textual.reactive import var
 from textual.strip import Strip
 from textual.widget import Widget
 
-from valterm.core.render.overlays import DIM_OFFSET, GHOST_COLOUR, SEEN_COLOUR, TRACE_COLOUR
-from valterm.core.render.raster import (
+from valterm.core.render.legend import (
     AXES_COLOUR,
+    DIM_OFFSET,
+    GHOST_COLOUR,
     HIGHLIGHT_COLOUR,
     LED_COLOUR,
     LINK_COLOUR_BASE,
     N_OBJECT_COLOURS,
     OBJECT_COLOUR_BASE,
-    Frame,
-    Scene,
-    ViewTransform,
-    rasterize,
+    SEEN_COLOUR,
+    TRACE_COLOUR,
 )
+
+if TYPE_CHECKING:
+    from valterm.core.render.raster import Frame, Scene, ViewTransform
 
 # Colour index -> terminal colour: warm tones for the robot, cool/bright ones for objects,
 # all light enough for dark backgrounds (256-colour names degrade well over SSH).
@@ -76,7 +78,7 @@ def braille_supported(stream: object = None) -> bool:
 class ModelView(Widget):
     """The robot and its work cell as a wireframe (§2.1-§2.3).
 
-    Feed it with :meth:`update_scene`; ORIENT goes through :meth:`rotate_by`,
+    Feed it with :meth:`update_scene` (None: blank); ORIENT goes through :meth:`rotate_by`,
     :meth:`scale_by`, :meth:`pan_by`, :meth:`reset_view` (or :meth:`set_view`).
     ``back_faces`` (FACES), ``axes`` (AXES) and ``ascii`` (no braille) are settable.
     """
@@ -111,8 +113,8 @@ class ModelView(Widget):
         self.set_reactive(ModelView.back_faces, back_faces)
         self.set_reactive(ModelView.axes, axes)
         self.set_reactive(ModelView.ascii, ascii)
-        self._scene = scene if scene is not None else Scene.build([])
-        self._view = view if view is not None else ViewTransform()
+        self._scene = scene
+        self._view = view
         self._palette = dict(DEFAULT_PALETTE if palette is None else palette)
         self.dot_aspect = dot_aspect
         self._styles: dict[int, Style] = {}
@@ -131,19 +133,23 @@ class ModelView(Widget):
 
     # -- inputs --------------------------------------------------------------------
     @property
-    def scene(self) -> Scene:
+    def scene(self) -> Scene | None:
         return self._scene
 
     @property
     def view(self) -> ViewTransform:
         """The current view transform (mutating it in place needs a :meth:`redraw`)."""
+        if self._view is None:
+            from valterm.core.render.raster import ViewTransform
+
+            self._view = ViewTransform()
         return self._view
 
     @property
     def frame(self) -> Frame | None:
         return self._frame
 
-    def update_scene(self, scene: Scene) -> None:
+    def update_scene(self, scene: Scene | None) -> None:
         if scene is not self._scene:
             self._scene = scene
             self._scene_version += 1
@@ -154,24 +160,26 @@ class ModelView(Widget):
         self.redraw()
 
     def rotate_by(self, axis: str, degrees: float) -> None:
-        self._view.rotate_by(axis, degrees)
+        self.view.rotate_by(axis, degrees)
         self.redraw()
 
     def scale_by(self, factor: float) -> None:
-        self._view.scale_by(factor)
+        self.view.scale_by(factor)
         self.redraw()
 
     def pan_by(self, dx: float, dy: float) -> None:
-        self._view.pan_by(dx, dy)
+        self.view.pan_by(dx, dy)
         self.redraw()
 
     def reset_view(self) -> None:
-        self._view.reset()
+        self.view.reset()
         self.redraw()
 
     def fit(self, bounds: tuple[Sequence[float], Sequence[float]] | None = None) -> None:
         """Fit the view to ``bounds`` (world lo, hi), by default the current scene's."""
-        self._view.fit(self._scene.bounds() if bounds is None else bounds)
+        if bounds is None and self._scene is None:
+            return
+        self.view.fit(self._scene.bounds() if bounds is None else bounds)  # type: ignore[union-attr]
         self.redraw()
 
     def set_palette(self, palette: Mapping[int, str]) -> None:
@@ -202,13 +210,18 @@ class ModelView(Widget):
         width, height = self.size
         if width <= 0 or height <= 0:
             return  # hidden (a narrow screen shows the menu): nothing to draw until a size comes
+        if self._scene is None:
+            self._blank()
+            return
         self._update_caption(height)
-        key = (self._scene_version, self._view.key(), self.back_faces, self.axes, self.ascii, width, height)
+        key = (self._scene_version, self.view.key(), self.back_faces, self.axes, self.ascii, width, height)
         if key == self._drawn_key and not force:
             return
         self._drawn_key = key
+        from valterm.core.render.raster import rasterize  # loaded with the first scene
+
         t0 = time.perf_counter()
-        frame = rasterize(self._scene, self._view, width, height, back_faces=self.back_faces,
+        frame = rasterize(self._scene, self.view, width, height, back_faces=self.back_faces,
                           axes=self.axes, ascii=self.ascii, dot_aspect=self.dot_aspect)
         self.last_raster_ms = (time.perf_counter() - t0) * 1000
         previous = self._frame
@@ -226,6 +239,14 @@ class ModelView(Widget):
             self._strips[r] = None
         if self.dirty_spans:
             self.refresh(*(Region(a, r, b - a, 1) for r, a, b in self.dirty_spans))
+
+    def _blank(self) -> None:
+        """No scene: no picture (the rows are painted blank)."""
+        if self._frame is None:
+            return
+        self._frame, self._drawn_key, self._strips = None, None, []
+        if not self._painting:
+            self.refresh()
 
     def _update_caption(self, height: int) -> None:
         """The status line in the picture's bottom right corner: the view and the playback
@@ -280,6 +301,8 @@ class ModelView(Widget):
 
     def _build_strip(self, frame: Frame, y: int) -> Strip:
         """One row as runs of equal colour (few segments per row: cheap to send)."""
+        import numpy as np  # loaded with the first scene (see the module's docstring)
+
         colours = frame.colours[y]
         text = frame.row_text(y)
         caption = f" {self.caption} " if self.caption and y == frame.height - 1 else ""

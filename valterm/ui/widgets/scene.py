@@ -7,7 +7,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from valterm.core.render.raster import LED_COLOUR, Scene, frame_lines, link_colour, object_colour
+from valterm.core.render.legend import LED_COLOUR
+from valterm.core.render.raster import Scene, frame_lines, link_colour, object_colour
 
 
 def simulator_scene(simulator, part_axes: int | None = None) -> Scene:  # type: ignore[no-untyped-def]

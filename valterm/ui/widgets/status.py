@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from textual.widgets import Static
 
-from valterm.core.arms import THESIS_ROBOT
+from valterm.core.robot_choice import THESIS_ROBOT
 from valterm.ui.keymap import HELP_HINT
 
 
@@ -20,7 +20,7 @@ def _short(word: str) -> str:
 
 def status_fields(app) -> list[tuple[str, str]]:  # type: ignore[no-untyped-def]
     """(long, short) texts of each field, in the order shown."""
-    session = getattr(app, "session", None)
+    session = getattr(app, "session_read", None)  # never reads --setup's set-up (the first frame)
     fields: list[tuple[str, str]] = []
     if session is None:
         return [("NO SET-UP FILE READ", "NO SET-UP"), (HELP_HINT, "? HELP")]
