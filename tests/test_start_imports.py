@@ -375,7 +375,8 @@ first = []
 class Probe(ValtermApp):
     def _display(self, screen, renderable):
         if not first:
-            first.append(["numpy" in sys.modules, self.session_read is not None])
+            first.append(["numpy" in sys.modules, self.session_read is not None,
+                          "READING THE SET-UP FILE" in "\\n".join(screen_rows(self))])
         return super()._display(screen, renderable)
 
 async def main():
@@ -396,8 +397,8 @@ def test_main_menu_is_drawn_before_the_setup_is_read_and_numpy_loads_then_its_pi
     """``--setup``: MAIN MENU's first frame comes before the set-up is read, so without numpy
     and the core (issue 25, the start); the picture and the set-up's status come after it."""
     out = subprocess.run([sys.executable, "-c", FIRST_FRAME_PROBE], capture_output=True, text=True, check=True)
-    (numpy_loaded, session_read), braille, screen = json.loads(out.stdout.strip().splitlines()[-1])
-    assert (numpy_loaded, session_read) == (False, False)
+    (numpy_loaded, session_read, reading_said), braille, screen = json.loads(out.stdout.strip().splitlines()[-1])
+    assert (numpy_loaded, session_read, reading_said) == (False, False, True)
     assert braille
     assert "MAIN MENU" in screen and "PROCESS.SET SAVED" in screen
     assert "SETUP FILE PROCESS.SET WITH 14 PARTS" in screen

@@ -23,6 +23,8 @@ def status_fields(app) -> list[tuple[str, str]]:  # type: ignore[no-untyped-def]
     session = getattr(app, "session_read", None)  # never reads --setup's set-up (the first frame)
     fields: list[tuple[str, str]] = []
     if session is None:
+        if getattr(app, "reading_setup", False):  # the moment after the first frame (--setup)
+            return [("READING THE SET-UP FILE", "READING SET-UP"), (HELP_HINT, "? HELP")]
         return [("NO SET-UP FILE READ", "NO SET-UP"), (HELP_HINT, "? HELP")]
     sim = session.simulator
     name = f"{session.setup_name}.SET" if session.setup_name else "(NO NAME)"
