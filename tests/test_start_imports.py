@@ -320,6 +320,23 @@ async def test_the_prompts_parts_timer_does_nothing_on_a_screen_that_is_going(tm
         assert len(prompt.children) == 2
 
 
+async def test_the_prompts_parts_timer_does_nothing_on_a_prompt_already_gone(tmp_path, monkeypatch) -> None:  # type: ignore[no-untyped-def]
+    """... nor once the prompt is detached, its screen gone (CI: MountError as the demo's
+    hand-over test closed the app)."""
+    from valterm.ui.app import ValtermApp
+    from valterm.ui.screens import base
+    from valterm.ui.widgets.prompt import Prompt
+
+    monkeypatch.setattr(base, "PROMPT_PARTS_AFTER", 3600.0)
+    app = ValtermApp(tmp_path, "PROCESS")
+    async with app.run_test(size=(160, 50)) as pilot:
+        await pilot.pause()
+        gone = Prompt()  # detached, and no longer flagged as closing: as the app closed in CI
+        assert not gone.is_attached and not gone._closing
+        gone.mount_parts()
+        assert not gone.children
+
+
 def test_a_session_parses_the_robot_file_once() -> None:
     """The robot file gives the geometry, the drawn model and the timing: one parse of it a
     process (three at every start before, issue 25), and the same figures as a fresh parse."""

@@ -26,7 +26,9 @@ class Prompt(Horizontal):
     """
 
     def mount_parts(self) -> None:
-        if not (self._closing or self._pruning):  # Textual mounts nothing on a widget that is going
+        # Textual mounts nothing on a widget that is going or gone: the screen's timer can
+        # fire as the app closes, the prompt already detached (CI, test_demo's hand-over)
+        if self.is_attached and not (self._closing or self._pruning):
             self._parts()
 
     def _parts(self) -> tuple[Label, Input]:
