@@ -492,23 +492,58 @@ def _clip(a: np.ndarray, b: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.
         return a + t0[:, None] * d, a + t1[:, None] * d, keep
 
 
-_DOT_MAPS: dict[tuple[bytes, float, int, int, float], tuple[np.ndarray, ...]] = {}
+class _Canvas:
+    """What every frame of one view state on one w x h canvas uses, made once and kept (a
+    motion's frames share it; a frame finds it with one lookup, ``_canvas``): ``_to_dots``'
+    maps, the world -> dot projection (``_projection``) with its offset repeated (x, y, x, y
+    ...) for the flattened products of the points, the dots' bit table (``_dot_tables``) and
+    the samples' t table (``_fractions``)."""
+
+    __slots__ = ("fractions", "lit_of_dot", "maps", "offsets", "past_row", "project")
+    maps: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]
+    project: np.ndarray
+    offsets: np.ndarray
+    lit_of_dot: np.ndarray
+    fractions: np.ndarray
+    past_row: np.ndarray
+
+    def __init__(self, view: ViewTransform, w: int, h: int, dot_aspect: float) -> None:
+        self.maps = _make_dot_maps(view, 2 * w, 4 * h, dot_aspect)
+        self.project, offset = _projection(self.maps)
+        self.offsets = np.tile(offset, 1024)
+        self.lit_of_dot = _dot_tables(w, h)[1]
+        self.fractions, self.past_row = _fractions(max(2 * w, 4 * h))
+
+    def offsets_for(self, n_points: int) -> np.ndarray:
+        """The offset repeated for the flattened products of ``n_points`` points (made longer
+        for a scene with more points than any before)."""
+        if len(self.offsets) < 2 * n_points:
+            self.offsets = np.tile(self.offsets[:2], n_points)
+        return self.offsets[:2 * n_points]
+
+
+_CANVASES: dict[tuple[bytes, float, int, int, float], _Canvas] = {}
+
+
+def _canvas(view: ViewTransform, w: int, h: int, dot_aspect: float) -> _Canvas:
+    """The kept ``_Canvas`` of this view state and w x h canvas (a few: the app, a hardcopy,
+    a bench)."""
+    assert view.pivot is not None and view.half_extent is not None
+    key = (view.rotation.tobytes() + view.pan.tobytes() + view.pivot.tobytes() + view.half_extent.tobytes(),
+           view.scale, w, h, dot_aspect)
+    found = _CANVASES.get(key)
+    if found is None:
+        if len(_CANVASES) >= 8:
+            _CANVASES.pop(next(iter(_CANVASES)))
+        found = _CANVASES[key] = _Canvas(view, w, h, dot_aspect)
+    return found
 
 
 def _to_dots(view: ViewTransform, wd: int, hd: int, dot_aspect: float
              ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """The view's affine map and the view-mm -> dot map (to_dots, centre) for this canvas
-    (kept per view state and canvas: a motion's frames share them)."""
-    assert view.pivot is not None and view.half_extent is not None
-    key = (view.rotation.tobytes() + view.pan.tobytes() + view.pivot.tobytes() + view.half_extent.tobytes(),
-           view.scale, wd, hd, dot_aspect)
-    found = _DOT_MAPS.get(key)
-    if found is None:
-        if len(_DOT_MAPS) >= 8:
-            _DOT_MAPS.pop(next(iter(_DOT_MAPS)))
-        found = _DOT_MAPS[key] = _make_dot_maps(view, wd, hd, dot_aspect)
-    a_mat, b_vec, to_dots, centre = found[:4]
-    return a_mat, b_vec, to_dots, centre
+    """The view's affine map and the view-mm -> dot map (to_dots, centre) for a canvas of
+    wd x hd dots (2 x 4 a cell), kept with its ``_canvas``."""
+    return _canvas(view, wd // 2, hd // 4, dot_aspect).maps
 
 
 def _projection(maps: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
@@ -541,26 +576,26 @@ def _dot_samples(pts: np.ndarray, prio: np.ndarray, w: int, h: int) -> tuple[np.
     """``_samples`` of segments already in continuous dot coordinates (S, 2, 2)."""
     per = np.empty((5, len(pts)))
     per[1:] = pts.reshape(-1, 4).T
-    return _end_samples(per, prio, w, h)
+    return _end_samples(per, prio, w, h, _dot_tables(w, h)[1], *_fractions(max(2 * w, 4 * h)))
 
 
-def _end_samples(per: np.ndarray, prio: np.ndarray, w: int, h: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _end_samples(per: np.ndarray, prio: np.ndarray, w: int, h: int, lit_of_dot: np.ndarray,
+                 fractions: np.ndarray, past_row: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``_dot_samples`` of the segments' ends in rows 1-4 of ``per`` (first x, first y, last
     x, last y; row 0 free, every row overwritten): every pass below runs on contiguous rows
     (a reduction or an op along an axis of 2 costs several times more). The third result is
-    ``prio`` (a value per segment) per sample."""
+    ``prio`` (a value per segment) per sample. The tables: ``_dot_tables(w, h)[1]`` and
+    ``_fractions`` of at least the canvas's longest side in dots."""
     wd, hd = 2 * w, 4 * h
     if not per.shape[1]:
         return _NO_SAMPLES
-    # rows: the steps, start (2), direction (2). The ufuncs' own reductions and the arrays'
-    # own methods: numpy's wrappers cost a call each, and at this size calls count
+    # rows: the steps, start (2), direction (2). The ufuncs' own reductions, the arrays' own
+    # methods, arguments by place and numpy operands (no keyword parsing, no conversion of
+    # a Python number): every call's own cost counts at this size, as every line's does
     ends = per[1:]
-    x0, y0, x1, y1 = _MAX(ends, axis=1).tolist()
-    if _MIN(ends, axis=None) >= 0.0 and max(x0, x1) <= wd - 1e-6 and max(y0, y1) <= hd - 1e-6:
-        clipped = False                   # all inside (the usual frame): nothing to clip
-        np.subtract(per[3:], per[1:3], out=per[3:])
-    else:
-        clipped = True
+    x0, y0, x1, y1 = _MAX(ends, 1).tolist()
+    clipped = not (_MIN(ends, None) >= 0.0 and max(x0, x1) <= wd - 1e-6 and max(y0, y1) <= hd - 1e-6)
+    if clipped:
         a, b, keep = _clip(per[1:3].T, per[3:].T, np.array([wd - 1e-6, hd - 1e-6]))
         per = per[:, keep]
         if not per.shape[1]:
@@ -568,28 +603,32 @@ def _end_samples(per: np.ndarray, prio: np.ndarray, w: int, h: int) -> tuple[np.
         per[1:3] = a[keep].T
         per[3:] = (b[keep] - a[keep]).T
         prio = prio[keep]
+    else:                                 # all inside (the usual frame): nothing to clip
+        direction = per[3:]
+        direction -= per[1:3]
     # samples per edge from its length in dots: consecutive samples <= 1 dot apart, at
     # t = k / max(steps, 1), k = 0 .. steps
     size = np.abs(per[3:])
     steps = np.maximum(size[0], size[1], out=per[0])   # (a ufunc call costs less than a reduction)
-    np.ceil(steps, out=steps)
+    _CEIL(steps, steps)
     whole = steps.astype(np.intp)         # whole steps (clipped or inside: at most the canvas)
-    n = whole + 1
+    n = whole + _ONE
     past = _ACCUMULATE(n)
     total = int(past[-1])
-    fractions, past_row = _fractions(max(wd, hd))
     # each sample's t looked up (no division): its segment's row of the table, less the
     # samples before it, plus the running count. Lookups whose places are in range by
     # construction take mode 'wrap': cheaper than 'raise', numpy's default (issue 25, round 8)
     at = past_row.take(whole)
     at -= past
     at = at.repeat(n)
-    at += _counting(total)
-    t = fractions.take(at, mode="wrap")
+    counting = _COUNTING[0]
+    at += counting[:total] if len(counting) >= total else _counting(total)
+    t = fractions.take(at, None, None, "wrap")
     # the four rows repeated to their samples in one call (contiguous rows: no strided
     # passes), then every pass in place in that copy
-    each = per[1:].repeat(n, axis=1)
-    xy = np.multiply(each[2:], t, out=each[2:])
+    each = per[1:].repeat(n, 1)
+    xy = each[2:]
+    xy *= t
     xy += each[:2]
     dots = xy.astype(np.int32)      # (a canvas of 2 ** 28 cells would need a 16 GB table)
     if clipped:      # inside, samples lie between two in-range ends: no clamping needed
@@ -598,11 +637,14 @@ def _end_samples(per: np.ndarray, prio: np.ndarray, w: int, h: int) -> tuple[np.
     at32 = dots[1]
     at32 *= wd
     at32 += dots[0]
-    lit = _dot_tables(w, h)[1].take(at32, mode="wrap")
-    return lit >> 3, lit, prio.repeat(n)    # a dot's bit index is its cell * 8 + its bit
+    lit = lit_of_dot.take(at32, None, None, "wrap")
+    return lit >> _THREE, lit, prio.repeat(n)    # a dot's bit index is its cell * 8 + its bit
 
 
 _MAX = np.maximum.reduce
+_CEIL = np.ceil
+_ONE = np.ones((), dtype=np.intp)
+_THREE = np.full((), 3, dtype=np.intp)
 _ACCUMULATE = np.add.accumulate
 _MIN = np.minimum.reduce
 _NO_SAMPLES = (np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp))
@@ -661,9 +703,9 @@ def _dot_tables(w: int, h: int) -> tuple[np.ndarray, np.ndarray]:
 def _dots_to_codes(lit: np.ndarray, n_cells: int) -> np.ndarray:
     """Braille codes per cell from the lit dots (``_dot_tables``' bit index of each): each
     dot set in a bit map and the map packed, eight bits a cell (cheaper than an OR per dot)."""
-    bitmap = np.zeros(n_cells * 8, dtype=bool)
+    bitmap = np.zeros(n_cells * 8, np.bool_)
     bitmap[lit] = True
-    codes: np.ndarray = np.packbits(bitmap, bitorder="little")
+    codes: np.ndarray = np.packbits(bitmap, None, "little")
     return codes
 _BACKGROUNDS: dict[tuple[int, bytes, int, int, bool, float], tuple[Scene, np.ndarray, np.ndarray]] = {}
 
@@ -699,7 +741,7 @@ def _chars(codes: np.ndarray, ascii: bool) -> np.ndarray:
     if len(codes) % 2 or not codes.flags.c_contiguous:
         chars = (_ascii_units() if ascii else _BRAILLE_TABLE).take(codes)
     else:
-        chars = _pair_table(ascii).take(codes.view("<u2"), mode="wrap").view("<u2")  # (any two codes: a row)
+        chars = _pair_table(ascii).take(codes.view(_UNITS), None, None, "wrap").view(_UNITS)  # (any two codes: a row)
     return chars
 
 
@@ -718,6 +760,9 @@ def _ascii_units() -> np.ndarray:
     return _ascii_table().astype("<u2")
 
 
+_UNITS = np.dtype("<u2")   # a UTF-16 unit (a dtype made once: a string is parsed at every use)
+_NEWLINE = np.full((), ord("\n"), dtype=_UNITS)
+
 # the character of each braille code: U+2800 + code, blank for none (UTF-16 units)
 _BRAILLE_TABLE = np.where(np.arange(256) > 0, BRAILLE_BASE + np.arange(256), 0x20).astype("<u2")
 
@@ -726,7 +771,7 @@ def _text_grid(codes: np.ndarray, ascii: bool, w: int) -> np.ndarray:
     """The characters of the codes of a frame's cells in rows of w + 1 (``_dot_tables``), the
     last cell of every row a newline: the frame's text as UTF-16 units (``Frame.text``)."""
     grid = _chars(codes, ascii)
-    grid[w::w + 1] = ord("\n")
+    grid[w::w + 1] = _NEWLINE
     return grid
 
 
@@ -765,17 +810,19 @@ def rasterize(
     w, h = max(int(width_cells), 0), max(int(height_cells), 0)
     if w == 0 or h == 0:
         return empty_frame(w, h)
-    maps = _to_dots(view, 2 * w, 4 * h, dot_aspect)
+    canvas = _canvas(view, w, h, dot_aspect)
     # each segment's colour repeated to its samples (not each sample's priority looked up)
-    cells, lit, painted = _end_samples(*_scene_dots(scene, view, back_faces, axes, maps), w, h)
+    per, paint = _scene_dots(scene, view, back_faces, axes, canvas)
+    cells, lit, painted = _end_samples(per, paint, w, h, canvas.lit_of_dot, canvas.fractions, canvas.past_row)
     colours: np.ndarray
     # cells in rows of w + 1, the last a newline: the characters are the text's own units
-    codes = _dots_to_codes(lit, h * (w + 1))
+    n_cells = h * (w + 1)
+    codes = _dots_to_codes(lit, n_cells)
     if scene.background is None:
-        colours = np.zeros(h * (w + 1), dtype=np.uint8)
+        colours = np.zeros(n_cells, np.uint8)
         grid = _text_grid(codes, ascii, w)
     else:
-        static_codes, static_colours = _background(scene.background, view, w, h, back_faces, dot_aspect, maps)
+        static_codes, static_colours = _background(scene.background, view, w, h, back_faces, dot_aspect, canvas.maps)
         codes |= static_codes
         colours = static_colours.copy()
         # only the cells this frame touched change character: the rest are the background's
@@ -786,27 +833,26 @@ def rasterize(
     colours = colours.reshape(h, w + 1)[:, :w]
 
     if axes:
-        a_mat, b_vec, to_dots, centre = maps
+        a_mat, b_vec, to_dots, centre = canvas.maps
         _label_axes(chars, colours, a_mat, b_vec, to_dots, centre)
     return Frame(chars, colours, grid)
 
 
-def _scene_dots(scene: Scene, view: ViewTransform, back_faces: bool, axes: bool,
-                maps: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+def _scene_dots(scene: Scene, view: ViewTransform, back_faces: bool, axes: bool, canvas: _Canvas
+                ) -> tuple[np.ndarray, np.ndarray]:
     """The scene's segments' ends in dot coordinates, as ``_end_samples`` takes them (rows
     1-4 of five), and their colours: each point projected once, then paired into segments."""
-    points = scene.drawn_points(axes)
-    project, offsets = _kept_projection(maps, len(points))
+    points = scene._drawn_points[axes]
     if back_faces:        # every edge: where its ends lie and its colour kept with the scene
-        at, paint = scene._every_end_at[int(axes)], scene._every_paint[int(axes)]
+        at, paint = scene._every_end_at[axes], scene._every_paint[axes]
     else:
         pairs, prio = scene.drawn_pairs(view, back_faces, axes)
         at, paint = _end_at(pairs), scene._palette_with_axes.take(prio)
     # the offset added to the flat (x, y, x, y ...) products in one contiguous pass (the same
     # sums as ``points @ project + offset``), then one take (a fancy index costs several times more)
-    flat = (points @ project).ravel()
-    flat += offsets
-    per: np.ndarray = flat.take(at, mode="wrap")   # (every place a point's coordinate: in range)
+    flat = (points @ canvas.project).ravel()
+    flat += canvas.offsets_for(len(points))
+    per: np.ndarray = flat.take(at, None, None, "wrap")   # (every place a point's coordinate: in range)
     return per, paint
 
 
@@ -818,23 +864,6 @@ def _end_at(pairs: np.ndarray) -> np.ndarray:
     at[1::2] = 2 * pairs.T
     at[2::2] = at[1::2] + 1
     return at
-
-
-_PROJECTIONS: dict[int, tuple[np.ndarray, np.ndarray, np.ndarray]] = {}
-
-
-def _kept_projection(maps: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray], n_points: int
-                     ) -> tuple[np.ndarray, np.ndarray]:
-    """``_projection`` of ``_to_dots``' kept maps, its offset repeated (x, y, x, y ...) for the
-    flattened products of ``n_points`` points: made once per view state and canvas, as the
-    maps are (and made longer for a scene with more points)."""
-    found = _PROJECTIONS.get(id(maps[2]))
-    if found is None or found[0] is not maps[2] or len(found[2]) < 2 * n_points:
-        if found is None and len(_PROJECTIONS) >= 8:
-            _PROJECTIONS.pop(next(iter(_PROJECTIONS)))
-        project, offset = _projection(maps)
-        found = _PROJECTIONS[id(maps[2])] = (maps[2], project, np.tile(offset, max(n_points, 1024)))
-    return found[1], found[2][:2 * n_points]
 
 
 def _label_axes(chars: np.ndarray, colours: np.ndarray, a_mat: np.ndarray, b_vec: np.ndarray,
