@@ -402,11 +402,13 @@ class Frame:
     def text(self) -> str:
         """The rows joined by newlines: one decode of the whole grid with a newline column
         (not a decode and a join per row)."""
+        units = self.text_units
+        if units is not None:     # drawn as text already (rows of w + 1): less the last newline
+            text: str = codecs.utf_16_le_decode(units[:-1].data)[0]
+            return text
         h, w = self.chars.shape
         if h == 0:
             return ""
-        if self.text_units is not None:     # drawn as text already: less the last newline
-            return str(codecs.utf_16_le_decode(self.text_units[:-1].data)[0])
         # braille and ASCII lie below the surrogates: two bytes a character decode in half the time
         narrow = w == 0 or int(_MAX(self.chars, axis=None)) < 0xD800
         flat = np.empty(h * (w + 1), dtype="<u2" if narrow else "<u4")
@@ -736,9 +738,10 @@ def _chars(codes: np.ndarray, ascii: bool) -> np.ndarray:
     """Character per braille pattern, as UTF-16 units (every one lies below the surrogates):
     the U+2800 block (blank for none), or the ASCII stand-in.
 
-    Two cells at a time where they pair up (a table of the 65536 pairs: half the lookups)."""
+    Two cells at a time where they pair up (a table of the 65536 pairs: half the lookups);
+    ``codes`` contiguous (packed from a bit map, or taken from such codes)."""
     chars: np.ndarray
-    if len(codes) % 2 or not codes.flags.c_contiguous:
+    if len(codes) % 2:
         chars = (_ascii_units() if ascii else _BRAILLE_TABLE).take(codes)
     else:
         chars = _pair_table(ascii).take(codes.view(_UNITS), None, None, "wrap").view(_UNITS)  # (any two codes: a row)
