@@ -616,16 +616,16 @@ def _end_samples(per: np.ndarray, prio: np.ndarray, w: int, h: int, lit_of_dot: 
     whole = steps.astype(np.intp)         # whole steps (clipped or inside: at most the canvas)
     n = whole + _ONE
     past = _ACCUMULATE(n)
-    total = int(past[-1])
     # each sample's t looked up (no division): its segment's row of the table, less the
     # samples before it, plus the running count. Lookups whose places are in range by
-    # construction take mode 'wrap': cheaper than 'raise', numpy's default (issue 25, round 8)
-    at = past_row.take(whole)
+    # construction take mode 'clip': for such places the same as 'wrap' (round 8) and 'raise'
+    # (numpy's default), and the cheapest of the three (a clamp, not a loop or a check)
+    at = past_row.take(whole, None, None, "clip")
     at -= past
     at = at.repeat(n)
-    counting = _COUNTING[0]
+    counting, total = _COUNTING[0], len(at)
     at += counting[:total] if len(counting) >= total else _counting(total)
-    t = fractions.take(at, None, None, "wrap")
+    t = fractions.take(at, None, None, "clip")
     # the four rows repeated to their samples in one call (contiguous rows: no strided
     # passes), then every pass in place in that copy
     each = per[1:].repeat(n, 1)
@@ -639,7 +639,7 @@ def _end_samples(per: np.ndarray, prio: np.ndarray, w: int, h: int, lit_of_dot: 
     at32 = dots[1]
     at32 *= wd
     at32 += dots[0]
-    lit = lit_of_dot.take(at32, None, None, "wrap")
+    lit = lit_of_dot.take(at32, None, None, "clip")
     return lit >> _THREE, lit, prio.repeat(n)    # a dot's bit index is its cell * 8 + its bit
 
 
@@ -744,7 +744,7 @@ def _chars(codes: np.ndarray, ascii: bool) -> np.ndarray:
     if len(codes) % 2:
         chars = (_ascii_units() if ascii else _BRAILLE_TABLE).take(codes)
     else:
-        chars = _pair_table(ascii).take(codes.view(_UNITS), None, None, "wrap").view(_UNITS)  # (any two codes: a row)
+        chars = _pair_table(ascii).take(codes.view(_UNITS), None, None, "clip").view(_UNITS)  # (any two codes: a row)
     return chars
 
 
@@ -855,7 +855,7 @@ def _scene_dots(scene: Scene, view: ViewTransform, back_faces: bool, axes: bool,
     # sums as ``points @ project + offset``), then one take (a fancy index costs several times more)
     flat = (points @ canvas.project).ravel()
     flat += canvas.offsets_for(len(points))
-    per: np.ndarray = flat.take(at, None, None, "wrap")   # (every place a point's coordinate: in range)
+    per: np.ndarray = flat.take(at, None, None, "clip")   # (every place a point's coordinate: in range)
     return per, paint
 
 
