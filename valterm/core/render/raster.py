@@ -702,11 +702,14 @@ def _dot_tables(w: int, h: int) -> tuple[np.ndarray, np.ndarray]:
     return tables
 
 
+_LIT = np.True_    # (a numpy scalar: no Python bool converted at every frame)
+
+
 def _dots_to_codes(lit: np.ndarray, n_cells: int) -> np.ndarray:
     """Braille codes per cell from the lit dots (``_dot_tables``' bit index of each): each
     dot set in a bit map and the map packed, eight bits a cell (cheaper than an OR per dot)."""
     bitmap = np.zeros(n_cells * 8, np.bool_)
-    bitmap[lit] = True
+    bitmap[lit] = _LIT
     codes: np.ndarray = np.packbits(bitmap, None, "little")
     return codes
 _BACKGROUNDS: dict[tuple[int, bytes, int, int, bool, float], tuple[Scene, np.ndarray, np.ndarray]] = {}
