@@ -605,12 +605,13 @@ def _end_samples(per: np.ndarray, prio: np.ndarray, w: int, h: int, lit_of_dot: 
         per[1:3] = a[keep].T
         per[3:] = (b[keep] - a[keep]).T
         prio = prio[keep]
+        ends, direction = per[1:], per[3:]
     else:                                 # all inside (the usual frame): nothing to clip
         direction = per[3:]
         direction -= per[1:3]
     # samples per edge from its length in dots: consecutive samples <= 1 dot apart, at
     # t = k / max(steps, 1), k = 0 .. steps
-    size = np.abs(per[3:])
+    size = np.abs(direction)
     steps = np.maximum(size[0], size[1], out=per[0])   # (a ufunc call costs less than a reduction)
     _CEIL(steps, steps)
     whole = steps.astype(np.intp)         # whole steps (clipped or inside: at most the canvas)
@@ -628,7 +629,7 @@ def _end_samples(per: np.ndarray, prio: np.ndarray, w: int, h: int, lit_of_dot: 
     t = fractions.take(at, None, None, "clip")
     # the four rows repeated to their samples in one call (contiguous rows: no strided
     # passes), then every pass in place in that copy
-    each = per[1:].repeat(n, 1)
+    each = ends.repeat(n, 1)
     xy = each[2:]
     xy *= t
     xy += each[:2]
