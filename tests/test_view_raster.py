@@ -425,6 +425,32 @@ def test_a_scene_of_many_points_keeps_its_offsets_long_enough() -> None:
         assert (codes > 0).sum() > 200
 
 
+def test_the_kept_canvas_follows_every_change_of_the_view() -> None:
+    """One record per view state and canvas, found by one lookup a frame (round 11): the
+    same state finds the same record; a turn, a zoom, a pan, a refit, another size or dot
+    aspect finds another, and draws the frame drawn with every kept record dropped."""
+    from valterm.core.render import raster
+
+    scene = Scene.build([(Polyhedron.box(np.array([0.0, 0, 0]), np.array([300.0, 200, 100])), 3),
+                         (Polyhedron.box(np.array([-400.0, 50, 0]), np.array([-300.0, 90, 500])), 5)])
+    view = ViewTransform().rotate_by("y", 20)
+    first = raster._canvas(view, 80, 24, 1.0)
+    assert raster._canvas(view.copy(), 80, 24, 1.0) is first
+    changes = [
+        (view.copy().rotate_by("x", 5), 80, 24, 1.0), (view.copy().scale_by(1.5), 80, 24, 1.0),
+        (view.copy().pan_by(40, 0), 80, 24, 1.0), (view.copy().fit(scene.bounds()), 80, 24, 1.0),
+        (view, 81, 24, 1.0), (view, 80, 25, 1.0), (view, 80, 24, 1.2),
+    ]
+    for changed, w, h, aspect in changes:
+        rasterize(scene, view, 80, 24)              # the record of the view before the change
+        assert raster._canvas(changed, w, h, aspect) is not first
+        kept = rasterize(scene, changed, w, h, dot_aspect=aspect)
+        raster._CANVASES.clear()
+        fresh = rasterize(scene, changed, w, h, dot_aspect=aspect)
+        assert kept.text() == fresh.text() and np.array_equal(kept.colours, fresh.colours)
+        assert kept.text() != rasterize(scene, view, 80, 24).text() or (w, h) != (80, 24)
+
+
 # projecting an infinite end warns (inf times 0 in the matrix product) before the clip drops it
 @pytest.mark.filterwarnings("ignore:invalid value encountered in matmul:RuntimeWarning")
 def test_segments_with_ends_not_finite_are_left_out_of_the_frame() -> None:
