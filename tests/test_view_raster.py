@@ -19,12 +19,12 @@ def unit_view() -> ViewTransform:
 
 
 def cell_codes(lit: np.ndarray, w: int, h: int) -> np.ndarray:
-    """The braille code of each of the w x h cells from the lit dots (``_dot_tables``' bit
-    index of each); the sampling numbers cells in rows of w + 1 (the last, never lit, is
+    """The braille code of each of the w x h cells from the lit dots (their bits in the bit
+    map, ``_row_bits``); the sampling numbers cells in rows of w + 1 (the last, never lit, is
     where the text's newline goes)."""
-    from valterm.core.render.raster import _dots_to_codes
+    from valterm.core.render.raster import _PACKED_TO_BRAILLE, _dots_to_codes
 
-    codes: np.ndarray = _dots_to_codes(lit, h * (w + 1)).reshape(h, w + 1)
+    codes: np.ndarray = _PACKED_TO_BRAILLE.take(_dots_to_codes(lit, h * (w + 1))).reshape(h, w + 1)
     assert not codes[:, w].any()
     return codes[:, :w]
 
@@ -244,7 +244,7 @@ def test_static_background_draws_the_same_frame_as_one_scene() -> None:
 def test_each_point_projected_once_lights_the_dots_of_the_world_segments() -> None:
     """``rasterize`` projects each vertex once and pairs the points into edges; the dots it
     lights are those of the scene's world segments sampled one by one (``_samples``)."""
-    from valterm.core.render.raster import _dot_tables, _samples, _to_dots, link_colour
+    from valterm.core.render.raster import _row_bits, _samples, _to_dots, link_colour
 
     rng = np.random.default_rng(11)
     for trial in range(12):
@@ -265,7 +265,7 @@ def test_each_point_projected_once_lights_the_dots_of_the_world_segments() -> No
             assert np.array_equal(frame.chars != 0x20, codes != 0)
             assert np.array_equal(frame.chars[codes != 0] - 0x2800, codes[codes != 0])
             assert len(np.unique(cells)) > 100
-    assert _dot_tables(80, 24)[0].shape == (8 * 80 * 24,)
+    assert _row_bits(80, 24).shape == (4 * 24,)
 
 
 def test_frame_text_and_lines_are_its_rows() -> None:
@@ -302,7 +302,7 @@ def _reference_dot_samples(pts: np.ndarray, prio: np.ndarray, w: int, h: int) ->
     """The sampling as it was before issue 25's third pass (kept here to compare against):
     per segment n = ceil(longest side) + 1 samples at t = k / max(n - 1, 1), each dot the
     truncation of start + t * direction, clipped segments clamped to the canvas."""
-    from valterm.core.render.raster import _clip, _dot_tables
+    from valterm.core.render.raster import _clip
 
     wd, hd = 2 * w, 4 * h
     hi = np.array([wd - 1e-6, hd - 1e-6])
@@ -320,7 +320,9 @@ def _reference_dot_samples(pts: np.ndarray, prio: np.ndarray, w: int, h: int) ->
     y = (np.repeat(a[:, 1], n) + t * np.repeat(d[:, 1], n)).astype(np.intp)
     if not inside:
         x, y = np.clip(x, 0, wd - 1), np.clip(y, 0, hd - 1)
-    lit = _dot_tables(w, h)[1][y * wd + x]
+    # bit 4 c + r (column c, row r in the cell) of the cell's byte (round 11; the braille
+    # weights' bit before: the same dots, ``_PACKED_TO_BRAILLE`` maps one to the other)
+    lit = ((y >> 2) * (w + 1) + (x >> 1)) * 8 + 4 * (x & 1) + (y & 3)
     return lit >> 3, lit, np.repeat(p, n)
 
 
@@ -378,10 +380,10 @@ def test_frames_are_those_of_the_earlier_sampling() -> None:
 def test_characters_two_cells_a_lookup_and_text_beyond_the_braille_block() -> None:
     """Odd and even cell counts give the characters of one lookup per cell; a frame holding
     characters above the surrogates still makes its text (UTF-32, not UTF-16)."""
-    from valterm.core.render.raster import _BRAILLE_TABLE, Frame, _ascii_table, _chars
+    from valterm.core.render.raster import _BRAILLE_TABLE, _PACKED_TO_BRAILLE, Frame, _ascii_table, _chars
 
     codes = np.random.default_rng(3).integers(0, 256, 101).astype(np.uint8)
-    for ascii, table in ((False, _BRAILLE_TABLE), (True, _ascii_table())):
+    for ascii, table in ((False, _BRAILLE_TABLE), (True, _ascii_table().take(_PACKED_TO_BRAILLE))):
         for part in (codes, codes[:100], codes[1:], codes[::2]):
             assert np.array_equal(_chars(part, ascii), table[part])
     wide = np.array([[0x1F916, 0x2800 + 7], [0x41, 0xFFFF]], dtype=np.uint32)
@@ -463,24 +465,30 @@ def test_segments_with_ends_not_finite_are_left_out_of_the_frame() -> None:
         assert (frame.colours == expected.colours).all(), bad
 
 
-def test_dot_and_pair_tables_are_each_dot_and_pair_as_defined() -> None:
-    """The start's two tables (issue 25, the start: built by broadcasts) hold what their
-    definitions say, dot by dot and pair by pair: dot (y, x) of a w x h canvas lies in cell
-    (y // 4, x // 2) of rows of w + 1, bit 2 * (y % 4) + x % 2 of the braille weights; the pair
-    of codes first + 256 * second is the first's character in the low half, the second's in the high."""
-    from valterm.core.render.raster import BRAILLE_WEIGHTS, _ascii_table, _dot_tables, _pair_table
+def test_row_bits_and_pair_tables_are_each_dot_and_pair_as_defined() -> None:
+    """The bit map's layout and the character tables hold what their definitions say, dot
+    by dot and pair by pair: dot (y, x) of a w x h canvas lies in cell (y // 4, x // 2) of
+    rows of w + 1, bit 4 * (x % 2) + y % 4 of its byte (``_row_bits``: its row's bit plus
+    4 x), and that byte's bits are the braille weights of the same dots (``_PACKED_TO_BRAILLE``);
+    the pair of packed codes first + 256 * second is the first's character in the low half,
+    the second's in the high."""
+    from valterm.core.render.raster import BRAILLE_WEIGHTS, _PACKED_TO_BRAILLE, _ascii_table, _pair_table, _row_bits
 
     for w, h in ((1, 1), (3, 2), (7, 5), (80, 24)):
-        cell, bit = _dot_tables(w, h)
-        assert cell.shape == bit.shape == (8 * w * h,)
+        rows = _row_bits(w, h)
+        assert rows.shape == (4 * h,)
         for y in range(4 * h):
             for x in range(2 * w):
                 expected_cell = (y // 4) * (w + 1) + x // 2
-                bit_number = int(BRAILLE_WEIGHTS[y % 4, x % 2]).bit_length() - 1  # weight 2 ** bit
-                assert cell[y * 2 * w + x] == expected_cell
-                assert bit[y * 2 * w + x] == expected_cell * 8 + bit_number
+                assert rows[y] + 4 * x == expected_cell * 8 + 4 * (x % 2) + y % 4
+    for row in range(4):
+        for column in range(2):      # the one dot of bit 4 c + r is braille's dot (r, c)
+            assert _PACKED_TO_BRAILLE[1 << (4 * column + row)] == BRAILLE_WEIGHTS[row, column]
+    assert sorted(_PACKED_TO_BRAILLE) == list(range(256))
     for ascii in (False, True):
-        chars = [int(c) for c in _ascii_table()] if ascii else [BRAILLE_BASE + c if c else 0x20 for c in range(256)]
+        braille = [int(b) for b in _PACKED_TO_BRAILLE]
+        chars = ([int(_ascii_table()[b]) for b in braille] if ascii
+                 else [BRAILLE_BASE + b if b else 0x20 for b in braille])
         pairs = _pair_table(ascii)
         assert pairs.shape == (65536,) and pairs.dtype == np.dtype("<u4")
         for first, second in ((0, 0), (1, 0), (0, 1), (255, 3), (17, 200), (255, 255)):

@@ -498,14 +498,14 @@ class _Canvas:
     """What every frame of one view state on one w x h canvas uses, made once and kept (a
     motion's frames share it; a frame finds it with one lookup, ``_canvas``): ``_to_dots``'
     maps, the world -> dot projection (``_projection``) with its offset repeated (x, y, x, y
-    ...) for the flattened products of the points, the dots' bit table (``_dot_tables``) and
+    ...) for the flattened products of the points, the dot rows' bits (``_row_bits``) and
     the samples' t table (``_fractions``)."""
 
-    __slots__ = ("fractions", "lit_of_dot", "maps", "offsets", "past_row", "project")
+    __slots__ = ("fractions", "maps", "offsets", "past_row", "project", "row_bits")
     maps: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]
     project: np.ndarray
     offsets: np.ndarray
-    lit_of_dot: np.ndarray
+    row_bits: np.ndarray
     fractions: np.ndarray
     past_row: np.ndarray
 
@@ -513,7 +513,7 @@ class _Canvas:
         self.maps = _make_dot_maps(view, 2 * w, 4 * h, dot_aspect)
         self.project, offset = _projection(self.maps)
         self.offsets = np.tile(offset, 1024)
-        self.lit_of_dot = _dot_tables(w, h)[1]
+        self.row_bits = _row_bits(w, h)
         self.fractions, self.past_row = _fractions(max(2 * w, 4 * h))
 
     def offsets_for(self, n_points: int) -> np.ndarray:
@@ -567,7 +567,7 @@ def _make_dot_maps(view: ViewTransform, wd: int, hd: int, dot_aspect: float
 def _samples(segs: np.ndarray, prio: np.ndarray, maps: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray],
              w: int, h: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The dots that world segments (S, 2, 3) light: per sample its cell (flat index), its
-    bit in the packed bit map (``_dot_tables``) and the priority of its segment, in drawing order."""
+    bit in the packed bit map (``_row_bits``) and the priority of its segment, in drawing order."""
     if len(segs) == 0:
         return _dot_samples(np.zeros((0, 2, 2)), prio, w, h)
     project, offset = _projection(maps)   # world -> view mm -> dots, every endpoint in one product
@@ -578,15 +578,15 @@ def _dot_samples(pts: np.ndarray, prio: np.ndarray, w: int, h: int) -> tuple[np.
     """``_samples`` of segments already in continuous dot coordinates (S, 2, 2)."""
     per = np.empty((5, len(pts)))
     per[1:] = pts.reshape(-1, 4).T
-    return _end_samples(per, prio, w, h, _dot_tables(w, h)[1], *_fractions(max(2 * w, 4 * h)))
+    return _end_samples(per, prio, w, h, _row_bits(w, h), *_fractions(max(2 * w, 4 * h)))
 
 
-def _end_samples(per: np.ndarray, prio: np.ndarray, w: int, h: int, lit_of_dot: np.ndarray,
+def _end_samples(per: np.ndarray, prio: np.ndarray, w: int, h: int, row_bits: np.ndarray,
                  fractions: np.ndarray, past_row: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``_dot_samples`` of the segments' ends in rows 1-4 of ``per`` (first x, first y, last
     x, last y; row 0 free, every row overwritten): every pass below runs on contiguous rows
     (a reduction or an op along an axis of 2 costs several times more). The third result is
-    ``prio`` (a value per segment) per sample. The tables: ``_dot_tables(w, h)[1]`` and
+    ``prio`` (a value per segment) per sample. The tables: ``_row_bits(w, h)`` and
     ``_fractions`` of at least the canvas's longest side in dots."""
     wd, hd = 2 * w, 4 * h
     if not per.shape[1]:
@@ -637,16 +637,18 @@ def _end_samples(per: np.ndarray, prio: np.ndarray, w: int, h: int, lit_of_dot: 
     if clipped:      # inside, samples lie between two in-range ends: no clamping needed
         np.clip(dots[0], 0, wd - 1, out=dots[0])
         np.clip(dots[1], 0, hd - 1, out=dots[1])
-    at32 = dots[1]
-    at32 *= wd
-    at32 += dots[0]
-    lit = lit_of_dot.take(at32, None, None, "clip")
-    return lit >> _THREE, lit, prio.repeat(n)    # a dot's bit index is its cell * 8 + its bit
+    # a dot's bit: its row's (``_row_bits``) plus 4 x (its cell * 8 + 4 c + r)
+    lit = row_bits.take(dots[1], None, None, "clip")
+    column = dots[0]
+    column <<= _TWO
+    lit += column
+    return lit >> _THREE, lit, prio.repeat(n)    # the cell: the bit's byte
 
 
 _MAX = np.maximum.reduce
 _CEIL = np.ceil
 _ONE = np.ones((), dtype=np.intp)
+_TWO = np.full((), 2, dtype=np.int32)
 _THREE = np.full((), 3, dtype=np.intp)
 _ACCUMULATE = np.add.accumulate
 _MIN = np.minimum.reduce
@@ -677,38 +679,40 @@ def _fractions(longest: int) -> tuple[np.ndarray, np.ndarray]:
     return _FRACTIONS[0]
 
 
-# the number of the bit (0..7) of dot (row, col) at 2 * row + col
-_BIT_NUMBER = np.log2(BRAILLE_WEIGHTS.ravel()).astype(np.intp)
+_ROW_BITS: dict[tuple[int, int], np.ndarray] = {}
 
 
-_DOT_TABLES: dict[tuple[int, int], tuple[np.ndarray, np.ndarray]] = {}
-
-
-def _dot_tables(w: int, h: int) -> tuple[np.ndarray, np.ndarray]:
-    """Per dot (y * 2w + x) of a w x h canvas: its cell, and its bit in the packed bit map
-    (cell * 8 + bit number). Two lookups per sample instead of a dozen shifts and masks.
+def _row_bits(w: int, h: int) -> np.ndarray:
+    """Per dot row y of a w x h canvas, the bit in the packed bit map of its dot in column 0:
+    the dot in column x is bit ``(y >> 2) * 8 (w + 1) + (y & 3) + 4 x``, that is bit 4 c + r
+    (c, r: its column and row in its cell) of byte ``cell = (y >> 2) (w + 1) + (x >> 1)``.
+    One lookup in a table of 4 h places and a shift per sample (round 11: the earlier table
+    of every dot, 8 bytes a dot, was 768 KB at 200x60 and a lookup spread over all of it);
+    ``_PACKED_TO_BRAILLE`` turns the packed codes into braille codes.
 
     Cells are numbered in rows of w + 1 (``row * (w + 1) + column``): the last cell of each
     row, which no dot lights, is where the frame's text puts its newline (``_text_grid``)."""
-    found = _DOT_TABLES.get((w, h))
-    if found is not None:
-        return found
-    # a column of dot rows against a row of dot columns (a broadcast, not a divmod of every dot)
-    y, x = np.arange(4 * h)[:, None], np.arange(2 * w)[None, :]
-    cell = ((y >> 2) * (w + 1) + (x >> 1)).ravel()
-    tables = (cell, cell * 8 + _BIT_NUMBER.take(((y & 3) << 1) | (x & 1)).ravel())
-    if len(_DOT_TABLES) >= 4:
-        _DOT_TABLES.pop(next(iter(_DOT_TABLES)))
-    _DOT_TABLES[(w, h)] = tables
-    return tables
+    found = _ROW_BITS.get((w, h))
+    if found is None:
+        if len(_ROW_BITS) >= 8:
+            _ROW_BITS.pop(next(iter(_ROW_BITS)))
+        y = np.arange(4 * h)
+        found = _ROW_BITS[(w, h)] = (y >> 2) * 8 * (w + 1) + (y & 3)
+    return found
+
+
+# the braille code (``BRAILLE_WEIGHTS``) of each packed code: bit 4 c + r is the dot in row r,
+# column c of its cell
+_PACKED_TO_BRAILLE = (((np.arange(256)[:, None] >> np.arange(8)) & 1) * BRAILLE_WEIGHTS.T.ravel()).sum(axis=1)
 
 
 _LIT = np.True_    # (a numpy scalar: no Python bool converted at every frame)
 
 
 def _dots_to_codes(lit: np.ndarray, n_cells: int) -> np.ndarray:
-    """Braille codes per cell from the lit dots (``_dot_tables``' bit index of each): each
-    dot set in a bit map and the map packed, eight bits a cell (cheaper than an OR per dot)."""
+    """Packed codes per cell from the lit dots (their bits in the bit map, ``_row_bits``):
+    each dot set in a bit map and the map packed, eight bits a cell (cheaper than an OR per
+    dot). ``_PACKED_TO_BRAILLE`` maps a code to braille, the character tables include it."""
     bitmap = np.zeros(n_cells * 8, np.bool_)
     bitmap[lit] = _LIT
     codes: np.ndarray = np.packbits(bitmap, None, "little")
@@ -729,7 +733,7 @@ def _background(scene: Scene, view: ViewTransform, w: int, h: int, back_faces: b
     segs, prio = scene.segments(view, back_faces)
     polys = len(prio) - len(scene.lines)
     cells, lit, painted = _samples(segs[:polys], scene.colours.take(prio[:polys] - 1), maps, w, h)
-    codes = _dots_to_codes(lit, h * (w + 1))   # cells in rows of w + 1 (``_dot_tables``)
+    codes = _dots_to_codes(lit, h * (w + 1))   # cells in rows of w + 1 (``_row_bits``)
     colours = np.zeros(h * (w + 1), dtype=np.uint8)
     colours[cells] = painted     # samples in priority order: the last wins
     if len(_BACKGROUNDS) >= 8:          # a few views and sizes (the app, a hardcopy, a bench)
@@ -739,8 +743,9 @@ def _background(scene: Scene, view: ViewTransform, w: int, h: int, back_faces: b
 
 
 def _chars(codes: np.ndarray, ascii: bool) -> np.ndarray:
-    """Character per braille pattern, as UTF-16 units (every one lies below the surrogates):
-    the U+2800 block (blank for none), or the ASCII stand-in.
+    """Character per packed code (``_dots_to_codes``), as UTF-16 units (every one lies below
+    the surrogates): its braille pattern's in the U+2800 block (blank for none), or the ASCII
+    stand-in.
 
     Two cells at a time where they pair up (a table of the 65536 pairs: half the lookups);
     ``codes`` contiguous (packed from a bit map, or taken from such codes)."""
@@ -763,19 +768,20 @@ def _pair_table(ascii: bool) -> np.ndarray:
 
 @lru_cache(maxsize=1)
 def _ascii_units() -> np.ndarray:
-    """``_ascii_table`` as UTF-16 units."""
-    return _ascii_table().astype("<u2")
+    """``_ascii_table`` by packed code (``_PACKED_TO_BRAILLE``), as UTF-16 units."""
+    units: np.ndarray = _ascii_table().take(_PACKED_TO_BRAILLE).astype("<u2")
+    return units
 
 
 _UNITS = np.dtype("<u2")   # a UTF-16 unit (a dtype made once: a string is parsed at every use)
 _NEWLINE = np.full((), ord("\n"), dtype=_UNITS)
 
-# the character of each braille code: U+2800 + code, blank for none (UTF-16 units)
-_BRAILLE_TABLE = np.where(np.arange(256) > 0, BRAILLE_BASE + np.arange(256), 0x20).astype("<u2")
+# the character of each packed code: U+2800 + its braille code, blank for none (UTF-16 units)
+_BRAILLE_TABLE = np.where(_PACKED_TO_BRAILLE > 0, BRAILLE_BASE + _PACKED_TO_BRAILLE, 0x20).astype("<u2")
 
 
 def _text_grid(codes: np.ndarray, ascii: bool, w: int) -> np.ndarray:
-    """The characters of the codes of a frame's cells in rows of w + 1 (``_dot_tables``), the
+    """The characters of the codes of a frame's cells in rows of w + 1 (``_row_bits``), the
     last cell of every row a newline: the frame's text as UTF-16 units (``Frame.text``)."""
     grid = _chars(codes, ascii)
     grid[w::w + 1] = _NEWLINE
@@ -820,7 +826,7 @@ def rasterize(
     canvas = _canvas(view, w, h, dot_aspect)
     # each segment's colour repeated to its samples (not each sample's priority looked up)
     per, paint = _scene_dots(scene, view, back_faces, axes, canvas)
-    cells, lit, painted = _end_samples(per, paint, w, h, canvas.lit_of_dot, canvas.fractions, canvas.past_row)
+    cells, lit, painted = _end_samples(per, paint, w, h, canvas.row_bits, canvas.fractions, canvas.past_row)
     colours: np.ndarray
     # cells in rows of w + 1, the last a newline: the characters are the text's own units
     n_cells = h * (w + 1)
