@@ -58,6 +58,11 @@ PEERS = {
     "collision_check_vs_fcl_x_300parts": ("collision_check_fcl_us_300parts", "python-fcl, µs per pose"),
 }
 
+# a figure without a goal shown beside a goal's row in ``--md``, so the two are read together
+BESIDE = {
+    "app_start_vs_bare_x": ("app_start_picture_vs_bare_x", "the model's picture beside the menu, x (no goal)"),
+}
+
 ROUNDS = 7
 
 
@@ -286,6 +291,8 @@ def markdown(entries: dict[str, Any]) -> str:
         peer = ""
         if key in PEERS and PEERS[key][0] in entries:
             peer = f"{PEERS[key][1]}: {_fmt(entries[PEERS[key][0]])}"
+        if key in BESIDE and BESIDE[key][0] in entries:
+            peer = "; ".join(filter(None, [peer, f"{BESIDE[key][1]}: {_fmt(entries[BESIDE[key][0]])}"]))
         met = _met(value, op, goal)
         lines.append(f"| `{key}` | {_fmt(value)} | {op} {goal:g} | {'yes' if met else '**no**'} | {peer} |")
     for line in entries.get("missing", []):
