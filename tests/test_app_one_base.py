@@ -127,3 +127,17 @@ async def test_here_typed_at_the_pendant_without_v_is_one_command(tmp_path: Path
         assert type(app.screen).__name__ == "PendantScreen"
         assert "P2" in app.session.simulator.locations
         assert "LOCATION P2 TAUGHT HERE" in screen_text(app)
+
+
+@sync
+async def test_a_menu_screens_mount_handled_after_its_widgets_went_does_nothing(tmp_path: Path) -> None:
+    """A screen never reaches for a widget that may be gone: CI saw KEYBOARD's mount handled
+    as the kiosk test's app closed, its widgets already removed (NoMatches '#model')."""
+    from valterm.ui.screens.keyboard import KeyboardScreen
+
+    app = ValtermApp(tmp_path / "ws", "PROCESS", motion_rate=math.inf)
+    async with app.run_test(size=(80, 24)) as pilot:
+        await pilot.pause()
+        gone = KeyboardScreen()  # composed never: no model view, as after the removal
+        gone.on_mount()
+        assert not app.survived and app.crash is None

@@ -101,7 +101,9 @@ class MenuScreen(KeyedScreen[None]):
         return iter(())
 
     def on_mount(self) -> None:
-        view = self.model_view
+        view = self.query_one_optional("#model", ModelView)
+        if view is None:  # the app is closing: its widgets went before this mount was handled (CI)
+            return
         if self.app.session_read is not None:  # no view before a set-up is read (the start)
             view.set_view(self.app.view_transform)
         view.ascii = self.app.ascii
