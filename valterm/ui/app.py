@@ -137,7 +137,7 @@ class ValtermApp(Guarded, ViewActions, App[int]):
     def _busy_playing(self) -> bool:
         """Keys wait while a motion is drawn (1985: while anything plays, PAUSE aside), and
         while --setup's set-up is still to be read after the first frame."""
-        if self._setup_to_open is not None:
+        if self.reading_setup:
             return True
         if self.keys_1985:
             return self.player.playing and not self.player.paused
@@ -175,23 +175,24 @@ class ValtermApp(Guarded, ViewActions, App[int]):
         self.say(line, "error")
 
     def on_mount(self) -> None:
-        if self.collect_after_first_frame and not (self._session is None and self.initial_setup):
+        if self._session is None and self.initial_setup:
+            # MAIN MENU first, its picture once the set-up is read: reading it loads numpy and
+            # the core, which the menu does not need (issue 25, the start). A key typed
+            # meanwhile waits (_busy_playing); anything that asks for the session sooner
+            # reads it then (the session property).
+            self._setup_to_open = self.initial_setup
+        if self.collect_after_first_frame and not self.reading_setup:  # else once it is read
             self.call_after_refresh(collect_from_now)  # after the first screen's frame (see run)
         self.set_interval(RELEASE_EVERY, release_styles_caches, name="release-styles-caches")
         try:
             self.set_keymap(load_user_keymap())  # the user's rebindings, on every screen
         except ValtermError as error:  # a bad keymap file: said, the default keys kept
             self.say(f"KEYMAP: {error_text(error)}", "error")
-        if self.session is not None:
+        if self._session is not None:
             self.fit_view()
             self.push_screen(MainMenuScreen())
             return
-        if self.initial_setup:
-            # MAIN MENU first, its picture once the set-up is read: reading it loads numpy and
-            # the core, which the menu does not need (issue 25, the start). A key typed
-            # meanwhile waits (_busy_playing); anything that asks for the session sooner
-            # reads it then (the session property).
-            self._setup_to_open = self.initial_setup
+        if self.reading_setup:
             self.push_screen(MainMenuScreen())
             self.call_after_refresh(self._open_setup_to_open)
             return

@@ -177,9 +177,12 @@ class ModelView(Widget):
 
     def fit(self, bounds: tuple[Sequence[float], Sequence[float]] | None = None) -> None:
         """Fit the view to ``bounds`` (world lo, hi), by default the current scene's."""
-        if bounds is None and self._scene is None:
-            return
-        self.view.fit(self._scene.bounds() if bounds is None else bounds)  # type: ignore[union-attr]
+        if bounds is not None:
+            self.view.fit(bounds)
+        elif self._scene is not None:
+            self.view.fit(self._scene.bounds())
+        else:
+            return  # no scene, nothing to fit
         self.redraw()
 
     def set_palette(self, palette: Mapping[int, str]) -> None:
