@@ -9,7 +9,8 @@ import numpy as np
 import pytest
 import trimesh
 
-from valterm.core.cad import export_scene, import_cad, polyhedron_mesh
+from valterm.core.cad.convert import import_cad
+from valterm.core.cad.export import export_scene, polyhedron_mesh
 from valterm.core.cell.polyhedron import Polyhedron
 from valterm.core.cell.workcell import WorkCell
 

@@ -9,7 +9,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from valterm.core.cad import CadImportError, import_cad, read_iges
+from valterm.core.cad.convert import import_cad
+from valterm.core.cad.errors import CadImportError
+from valterm.core.cad.iges import read_iges
 from valterm.core.cad.iges_geometry import bspline_basis
 
 # ../shared/iges-samples beside the checkout (a worktree sits one folder deeper)

@@ -6,7 +6,9 @@ import numpy as np
 import pytest
 import trimesh
 
-from valterm.core.cad import CadImportError, import_cad, read_mesh_parts
+from valterm.core.cad.convert import import_cad
+from valterm.core.cad.errors import CadImportError
+from valterm.core.cad.mesh import read_mesh_parts
 
 
 def extents(cell) -> np.ndarray:

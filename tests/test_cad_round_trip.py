@@ -15,7 +15,9 @@ import trimesh
 from app_helpers import sync
 
 from valterm.cli import main as cli
-from valterm.core.cad import CadImportError, export_scene, import_cad
+from valterm.core.cad.convert import import_cad
+from valterm.core.cad.errors import CadImportError
+from valterm.core.cad.export import export_scene
 from valterm.core.cad import mesh as mesh_module
 from valterm.core.cad.axes import gltf_to_world, world_to_gltf
 from valterm.core.cad.mesh import distinct, read_mesh_parts

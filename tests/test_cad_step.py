@@ -16,7 +16,8 @@ import pytest
 from app_helpers import sync
 
 from valterm.cli import main as cli
-from valterm.core.cad import CadImportError, import_cad, native_units
+from valterm.core.cad.convert import import_cad, native_units
+from valterm.core.cad.errors import CadImportError
 from valterm.core.cad.step import step_mm_per_unit
 from valterm.core.files.setup import read_setup
 

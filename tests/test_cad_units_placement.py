@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 import trimesh
 
-from valterm.core.cad import import_cad
+from valterm.core.cad.convert import import_cad
 from valterm.core.cad.convert import native_units
 from valterm.core.cad.placement import TOOL_DOWN_OAT, reachable, robot_at_ready
 from valterm.core.cell.polyhedron import Polyhedron
