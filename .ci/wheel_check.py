@@ -1,9 +1,10 @@
 """CI: valterm as a user installs it. Builds the sdist and, from it, the wheel; checks both
 carry the bundled data; installs the wheel into a fresh venv outside the checkout; then,
 from another folder, runs the subcommands and the app and the museum demo under a
-pseudo-terminal for a few seconds (they must still be running, no traceback).
+pseudo-terminal for a few seconds (they must still be running, no traceback). With --suite it
+also runs the whole test suite from the unpacked sdist against that wheel (CI does).
 
-Usage: python .ci/wheel_check.py [--keep]   (python needs the ``build`` package: the
+Usage: python .ci/wheel_check.py [--keep] [--suite]   (python needs the ``build`` package: the
 ``test`` extra has it). Exit 0 when every check passed, 1 otherwise.
 """
 
@@ -45,14 +46,25 @@ def sh(*argv: str | Path, cwd: Path, env: dict[str, str] | None = None, timeout:
                           timeout=timeout, stdin=subprocess.DEVNULL)
 
 
+DATA_FOLDERS = ("assets", "cells", "programs")  # the top level's data (valterm/core/resources.py)
+
+
 def bundled_files() -> list[str]:
-    """Every file the package must carry besides its modules (paths inside the package)."""
-    package = CHECKOUT / "valterm"
-    # valterm/data's folders are links to the top level's assets/, cells/ and programs/
-    data = [Path(folder) / name for folder, _, names in os.walk(package / "data", followlinks=True)
-            for name in names if "__pycache__" not in folder]
-    styles = list(package.rglob("*.tcss"))
-    return sorted(str(p.relative_to(CHECKOUT)) for p in data + styles)
+    """Every file the wheel must carry besides its modules (paths inside the wheel): the top
+    level's data under valterm/data/ (setup.py copies it there) and the styles."""
+    data = [f"valterm/data/{p.relative_to(CHECKOUT)}" for folder in DATA_FOLDERS
+            for p in (CHECKOUT / folder).rglob("*") if p.is_file() and "__pycache__" not in p.parts]
+    styles = [str(p.relative_to(CHECKOUT)) for p in (CHECKOUT / "valterm").rglob("*.tcss")]
+    return sorted(data + styles)
+
+
+def repository_files() -> list[str]:
+    """Every file the sdist must carry: it is the repository (data, docs, tests, CI)."""
+    listed = subprocess.run(["git", "ls-files"], cwd=CHECKOUT, capture_output=True, text=True)
+    if listed.returncode != 0:  # not a git checkout: the folders themselves
+        return sorted(str(p.relative_to(CHECKOUT)) for folder in ("valterm", "tests", "docs", *DATA_FOLDERS)
+                      for p in (CHECKOUT / folder).rglob("*") if p.is_file() and "__pycache__" not in p.parts)
+    return sorted(name for name in listed.stdout.splitlines() if not name.startswith(".git"))
 
 
 def build(dist: Path) -> tuple[Path, Path]:
@@ -71,12 +83,33 @@ def check_archives(sdist: Path, wheel: Path) -> None:
     check(len(wanted) > 10 and any(w.endswith("PUMA.toml") for w in wanted), "the checkout has its data files")
     with tarfile.open(sdist) as tar:
         in_sdist = {name.split("/", 1)[1] for name in tar.getnames() if "/" in name}
-    missing = [w for w in wanted if w not in in_sdist]
-    check(not missing, f"the sdist holds valterm/data and the styles ({len(wanted)} files)", "missing: " + " ".join(missing))
+    missing = [w for w in repository_files() if w not in in_sdist]
+    check(not missing, "the sdist is the repository (every file git tracks)", "missing: " + " ".join(missing))
     with zipfile.ZipFile(wheel) as whl:
         in_wheel = set(whl.namelist())
     missing = [w for w in wanted if w not in in_wheel]
     check(not missing, f"the wheel holds valterm/data and the styles ({len(wanted)} files)", "missing: " + " ".join(missing))
+
+
+def check_sdist_suite(sdist: Path, wheel: Path, top: Path) -> None:
+    """The whole suite from the unpacked sdist, against the wheel built from it installed in a
+    fresh venv with the test extras (issue 37: the sdist is the repository)."""
+    with tarfile.open(sdist) as tar:
+        tar.extractall(top / "sdist", filter="data")
+    (source,) = (top / "sdist").iterdir()
+    venv = top / "venv-tests"
+    result = sh(sys.executable, "-m", "venv", venv, cwd=top)
+    check(result.returncode == 0, "a fresh venv for the sdist's suite", result.stderr)
+    result = sh(venv / "bin" / "python", "-m", "pip", "install", "-q", f"{wheel}[test]", cwd=top, timeout=1200)
+    check(result.returncode == 0, "pip install the wheel with its test extras", result.stdout[-2000:] + result.stderr[-3000:])
+    env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "VIRTUAL_ENV")}
+    chosen = os.environ.get("VALTERM_SDIST_TESTS", "").split()  # a few test files, to try this step alone
+    result = sh(venv / "bin" / "python", "-I", "-m", "pytest", "-p", "no:cacheprovider", *chosen, cwd=source, env=env,
+                timeout=2400)
+    tail = "\n".join(result.stdout.splitlines()[-15:])
+    print(f"the sdist's suite: {result.stdout.splitlines()[-1] if result.stdout else '(no output)'}", flush=True)
+    check(result.returncode == 0, "the whole suite passes from the unpacked sdist (the wheel installed)",
+          tail + result.stderr[-2000:])
 
 
 def install(wheel: Path, venv: Path) -> Path:
@@ -246,6 +279,8 @@ def main() -> int:
         (top / "elsewhere").mkdir()
         sdist, wheel = build(top / "dist")
         check_archives(sdist, wheel)
+        if "--suite" in sys.argv[1:]:
+            check_sdist_suite(sdist, wheel, top)
         valterm = install(wheel, top / "venv")
         env = user_env(top / "home")
         if valterm.exists():

@@ -17,7 +17,7 @@ from valterm.core.motion import MotionRefused
 from valterm.core.session import Session
 from valterm.core.simulator import Simulator
 
-ROOT = Path(__file__).resolve().parent.parent / "valterm" / "data"  # the bundled data
+ROOT = Path(__file__).resolve().parent.parent  # the repository: the bundled data (cells/, programs/)
 def run(workspace: Path, *argv: str) -> subprocess.CompletedProcess[str]:
     return subprocess.run([sys.executable, "-m", "valterm", "--workspace", str(workspace), "run", *argv],
                           capture_output=True, text=True, timeout=120)

@@ -9,7 +9,7 @@ import pytest
 
 from valterm.cli import main
 
-REPO = Path(__file__).resolve().parent.parent / "valterm" / "data"  # the bundled data
+REPO = Path(__file__).resolve().parent.parent  # the repository: the bundled data (cells/, programs/)
 def test_json_of_the_process_cell(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["--workspace", str(tmp_path), "cell", "show", "PROCESS.SET", "--json"]) == 0
     data = json.loads(capsys.readouterr().out)

@@ -17,7 +17,7 @@ from valterm.core.collision.world import CollisionWorld
 from valterm.bench.collision import bench_collision_step, demo_links, demo_objects
 from valterm.core.collision.exact import collides
 
-CELLS = Path(__file__).resolve().parent.parent / "valterm" / "data" / "cells"
+CELLS = Path(__file__).resolve().parent.parent / "cells"
 BAND = 0.05  # mm
 
 

@@ -17,7 +17,7 @@ from valterm.core.files import atomic
 from valterm.core.files.programs import split_label
 from valterm.core.kinematics import Location
 
-REPO = Path(__file__).resolve().parent.parent / "valterm" / "data"  # the bundled data
+REPO = Path(__file__).resolve().parent.parent  # the repository: the bundled data (cells/, programs/)
 PROGRAMS = REPO / "programs"
 
 

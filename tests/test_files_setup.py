@@ -15,7 +15,7 @@ from valterm.core.files.errors import FileFormatError
 from valterm.core.files.setup import format_setup, parse_setup, read_setup, write_setup
 from valterm.core.files import atomic
 
-REPO = Path(__file__).resolve().parent.parent / "valterm" / "data"  # the bundled data
+REPO = Path(__file__).resolve().parent.parent  # the repository: the bundled data (cells/, programs/)
 CELLS = REPO / "cells"
 
 # Fig. 7-1, object 1: reference point 440, -50, -320 and its eight relative vertices.

@@ -14,7 +14,7 @@ from valterm.core.kinematics import Location, fk
 from valterm.core.motion import MotionRefused
 from valterm.core.simulator import GRASP_MESSAGE, Simulator, UndefinedLocation
 
-ROOT = Path(__file__).resolve().parent.parent / "valterm" / "data"  # the bundled data
+ROOT = Path(__file__).resolve().parent.parent  # the repository: the bundled data (cells/, programs/)
 @pytest.fixture
 def process() -> Simulator:
     sim = Simulator(read_setup(ROOT / "cells" / "PROCESS.SET"))

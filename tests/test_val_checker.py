@@ -10,7 +10,7 @@ from valterm.cli import main
 from valterm.core.files.programs import parse_program, read_program
 from valterm.core.val.checker import check_program, check_statement
 
-REPO = Path(__file__).resolve().parent.parent / "valterm" / "data"  # the bundled data
+REPO = Path(__file__).resolve().parent.parent  # the repository: the bundled data (cells/, programs/)
 PROGRAMS = REPO / "programs"
 
 

@@ -29,7 +29,7 @@ from valterm.core.simulator import UndefinedLocation
 from valterm.core.val.interpreter import FOREVER_LOOPS, MAX_CALL_DEPTH, Interpreter, program_from_lines
 from valterm.core.val.limits import RunLimits
 
-REPO = Path(__file__).resolve().parent.parent / "valterm" / "data"  # the bundled data
+REPO = Path(__file__).resolve().parent.parent  # the repository: the bundled data (cells/, programs/)
 PROGRAMS = REPO / "programs"
 
 

@@ -23,7 +23,7 @@ from valterm.core.simulator import Simulator
 from valterm.core.val.checker import check_program
 from valterm.core.val.interpreter import Interpreter, check_dialect, program_from_lines
 
-PROGRAMS = Path(__file__).resolve().parent.parent / "valterm" / "data" / "programs"
+PROGRAMS = Path(__file__).resolve().parent.parent / "programs"
 
 
 def vplus(text: str, sim: Simulator | None = None) -> tuple[Interpreter, list[Event]]:

@@ -1,11 +1,13 @@
-"""The one place that finds bundled data: everything under ``valterm/data`` in the package.
+"""The one place that finds bundled data.
 
 The data lives at the repository's top level, where users and contributors look for it:
 ``assets/`` (the robot files, COMMAND.DAT, HELPER.DAT, DEMO.KEYS, the served page),
-``cells/`` and ``programs/``. ``valterm/data``'s entries are links to them: an editable
-checkout reads through the links, and the build copies what they point at into the sdist
-and the wheel (``[tool.setuptools.package-data]``), so an installed wheel finds the same
-files wherever it is run from. Nothing here is read at import time.
+``cells/`` and ``programs/``. The build copies those three folders into the package as
+``valterm/data/`` (``setup.py``: a build-time mapping, no links), so an installed wheel finds
+them inside itself wherever it is run from; a checkout (an editable install) has no
+``valterm/data`` and reads the top level itself. Callers name a file as the package holds
+it (``robot/PUMA.toml``, ``COMMAND.DAT``, ``cells/PROCESS.SET``); which folder of the two
+layouts holds it is decided here alone. Nothing here is read at import time.
 """
 
 from __future__ import annotations
@@ -20,6 +22,8 @@ if TYPE_CHECKING:
 
 PACKAGE = "valterm"
 DATA = "data"
+# the top-level folders that hold the data, in the repository and in the package's data
+DATA_FOLDERS = ("assets", "cells", "programs")
 # The package's folder: what ``importlib.resources.files(PACKAGE)`` gives for a package on
 # disk (a wheel unpacked, a checkout), without importlib.resources' readers and zipfile
 # (about 8 ms of every start, issue 25).
@@ -31,8 +35,18 @@ PROGRAMS = "programs"
 
 
 def data_root() -> Traversable:
-    """The package's data folder."""
-    return PACKAGE_DIR / DATA
+    """The folder holding ``assets``, ``cells`` and ``programs``: the package's data folder
+    when installed from a wheel, else the checkout's top level."""
+    installed = PACKAGE_DIR / DATA
+    return installed if installed.is_dir() else PACKAGE_DIR.parent
+
+
+def _place(parts: tuple[str, ...]) -> tuple[str, ...]:
+    """Where a bundled name lives under the data root: cells and programs have folders of
+    their own, everything else is an asset."""
+    if parts and parts[0] in (CELLS, PROGRAMS):
+        return parts
+    return ("assets", *parts)
 
 
 def data_path(*parts: str) -> Path:
@@ -41,13 +55,13 @@ def data_path(*parts: str) -> Path:
     pip, pipx and uv unpack wheels onto disk, so the resource is a real path; a zipped
     import (which none of them makes) would fail here loudly rather than half-work.
     """
-    found = data_root().joinpath(*parts)
+    found = data_root().joinpath(*_place(parts))
     return Path(str(found))
 
 
 def read_text(*parts: str) -> str:
     """The text of a bundled file (UTF-8)."""
-    return data_root().joinpath(*parts).read_text(encoding="utf-8")
+    return data_root().joinpath(*_place(parts)).read_text(encoding="utf-8")
 
 
 @lru_cache(maxsize=8)
