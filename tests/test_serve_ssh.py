@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import os
 import select
+import signal
 import subprocess
 import sys
 import time
@@ -27,10 +28,17 @@ def fake_valterm(tmp_path: Path, body: str) -> Path:
     return script
 
 
-def on_terminal(argv: list[str], env: dict[str, str]) -> tuple[subprocess.Popen[bytes], int]:
-    """``argv`` as an SSH session runs it: a new session whose controlling terminal is a pty."""
+def on_terminal(argv: list[str], env: dict[str, str], hangup_ignored: bool = False) -> tuple[subprocess.Popen[bytes], int]:
+    """``argv`` as an SSH session runs it: a new session whose controlling terminal is a pty
+    (``hangup_ignored``: started by a parent that ignores SIGHUP, which exec passes on)."""
     master, slave = os.openpty()
-    process = subprocess.Popen(argv, env=env, preexec_fn=lambda: os.login_tty(slave), close_fds=True)
+
+    def session() -> None:
+        if hangup_ignored:
+            signal.signal(signal.SIGHUP, signal.SIG_IGN)
+        os.login_tty(slave)
+
+    process = subprocess.Popen(argv, env=env, preexec_fn=session, close_fds=True)
     os.close(slave)
     return process, master
 
@@ -72,10 +80,13 @@ def test_starts_the_simulator_on_the_users_workspace(tmp_path: Path) -> None:
     assert seen.read_text().split() == ["--workspace", f"{tmp_path}/valterm", "0077", "20"]
 
 
-def test_the_simulator_ends_when_the_client_leaves(tmp_path: Path) -> None:
+# an abandoned simulator must end even under a parent that ignores SIGHUP (nohup, supervisors,
+# some CI runners): it did not (Textual's input thread then reads end-of-file for ever)
+@pytest.mark.parametrize("hangup_ignored", [False, True], ids=["plain", "hangup-ignored-by-parent"])
+def test_the_simulator_ends_when_the_client_leaves(tmp_path: Path, hangup_ignored: bool) -> None:
     valterm = fake_valterm(tmp_path, f'exec env PYTHONPATH={ROOT} {sys.executable} -m valterm "$@"')
     env = dict(os.environ, HOME=str(tmp_path), VALTERM=str(valterm), TERM="xterm-256color")
-    process, master = on_terminal([str(WRAPPER)], env)
+    process, master = on_terminal([str(WRAPPER)], env, hangup_ignored)
     try:
         read_until(master, b"COPYRIGHT")  # the start screen is up
         time.sleep(0.5)

@@ -10,6 +10,7 @@ module: they reach the app's state through ``self.app``.
 from __future__ import annotations
 
 import gc
+import signal
 import sys
 import time
 from collections.abc import Callable, Iterable
@@ -463,8 +464,18 @@ def run(workspace: str | Path | None = None, setup: str | None = None, ascii: bo
     screen is drawn."""
     app = ValtermApp(workspace, setup, ascii=ascii, rules=rules, limits=limits, keys=keys, robot=robot)
     app.collect_after_first_frame = collect_after_first_frame
+    end_on_hangup()
     result = app.run()
     return exit_status(app, result)
+
+
+def end_on_hangup() -> None:
+    """A terminal that hangs up (an SSH client gone) ends the simulator, even when whatever
+    started it ignored SIGHUP (nohup, some supervisors and CI runners: the ignoring is inherited
+    through exec). Then Textual's input thread reads end-of-file for ever, a core busy, and an
+    abandoned simulator never ends (issue 37: the SSH cleanup test under such a parent)."""
+    if hasattr(signal, "SIGHUP"):
+        signal.signal(signal.SIGHUP, signal.SIG_DFL)
 
 
 def exit_status(app: ValtermApp, result: object) -> int:

@@ -29,7 +29,7 @@ from textual.widgets import Static
 from valterm.core.files.demokeys import DemoItem, DemoScriptError, load_demo
 from valterm.core.render.clock import DEFAULT_RATE
 from valterm.core.render.raster import ViewTransform
-from valterm.ui.app import ValtermApp
+from valterm.ui.app import ValtermApp, end_on_hangup
 
 KEY_GAP = 0.6      # seconds between single keys (before the speed factor)
 CHAR_GAP = 0.09    # seconds between typed characters
@@ -301,6 +301,8 @@ def run_demo(*, speed: float = 1.0, once: bool = False, kiosk: bool = False, idl
         print(f"valterm: demo: {error}", file=sys.stderr)
         return 1
     app = DemoApp(items, speed=speed, once=once, kiosk=kiosk, idle=idle, ascii=ascii)
+    if not headless:
+        end_on_hangup()
     app.run(headless=headless)
     if app.return_code:
         print("valterm: demo: the demonstration stopped on an error (shown above)", file=sys.stderr)
