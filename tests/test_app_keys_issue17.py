@@ -319,8 +319,7 @@ def test_here_confirms_and_configuration_change_is_announced(tmp_path: Path) -> 
             await sim.press("P", "V")
             await sim.type("HERE SPOT", enter=True)
             assert any(line.startswith("LOCATION SPOT TAUGHT HERE (") for line in sim.messages())
-            sim.simulator.joints[0] = 0.0
-            sim.simulator.joints[1] = -60.0  # shoulder forward: RIGHTY at a joint move away
+            sim.simulator.stand_at([0.0, -60.0, *sim.simulator.joints[2:]])  # shoulder forward: RIGHTY at a joint move away
             before = sim.status()
             await sim.press("N")
             for _ in range(12):

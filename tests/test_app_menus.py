@@ -119,7 +119,7 @@ async def test_main_menu_model_beside_menu_when_wide(tmp_path: Path) -> None:
 async def test_main_menu_initialize_and_begin(tmp_path: Path) -> None:
     app = make_app(tmp_path)
     async with app.run_test(size=(80, 24)) as pilot:
-        app.session.simulator.joints[0] = 40.0
+        app.session.simulator.stand_at([40.0, *app.session.simulator.joints[1:]])
         await pilot.press("I")
         await pilot.pause()
         assert app.session.simulator.joints[0] == 0.0

@@ -73,7 +73,7 @@ async def test_an_in_between_pose_across_180_degrees_turns_2_degrees(tmp_path: P
     async with app.run_test(size=(120, 40)) as pilot:
         await pilot.press("K")
         simulator = app.session.simulator
-        simulator.joints[5] = 170.0
+        simulator.stand_at([*simulator.joints[:5], 170.0])
         app.changed()
         await pilot.pause()
         assert app.player.drawn(simulator.joints) is None  # at rest: the simulator's pose
@@ -187,7 +187,7 @@ async def test_the_first_picture_starts_where_the_robot_is(tmp_path: Path) -> No
     async with app.run_test(size=(120, 40)) as pilot:
         await pilot.press("K")
         simulator = app.session.simulator
-        simulator.joints[0] = 40.0  # no redraw: the last picture still shows JT1 at 0
+        simulator.stand_at([40.0, *simulator.joints[1:]])  # no redraw: the last picture still shows JT1 at 0
         app.run_events(simulator.drive(1, 24.0))  # poses at 52 and 64
         await pilot.pause()
         motion = app.player._motion

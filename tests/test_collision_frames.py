@@ -41,7 +41,7 @@ def test_frames_path_matches_the_polyhedra_path_over_random_poses():
             joints = ready + rng.normal(0.0, 40.0, 6)
         else:
             joints = rng.uniform(stops[:, 0], stops[:, 1])
-        sim.joints = [float(v) for v in joints]
+        sim.stand_at([float(v) for v in np.clip(joints, stops[:, 0], stops[:, 1])])  # the arm stays inside its stops
         if n % 50 == 0:
             sim.gap = float(rng.choice([sim.model.open_gap, sim.model.closed_gap, 35.0]))
         carried: tuple[int, ...] = ()
@@ -188,15 +188,15 @@ def _plate_across_the_fingers(sim: Simulator, degrees: float, width: float = 3.0
 
 def test_a_step_straddling_a_thin_part_is_reported():
     sim = Simulator(WorkCell())
-    sim.joints = list(ARM_OUT)
+    sim.stand_at(list(ARM_OUT))
     sim.cell.objects.append(_plate_across_the_fingers(sim, 6.0))
     world = CollisionWorld(sim.model.names)
     start = list(sim.joints)
     # both ends of the one 12-degree step are clear of the plate: only the path meets it
     assert not any(f.b == 1 and f.kind == "collides" for f in _old(sim, world, (), 100.0))
-    sim.joints = [start[0] + 12.0, *start[1:]]
+    sim.stand_at([start[0] + 12.0, *start[1:]])
     assert not any(f.b == 1 and f.kind == "collides" for f in _old(sim, world, (), 100.0))
-    sim.joints = start
+    sim.stand_at(start)
     sim.collision_checks = True
     events = list(sim.drive(1, 12.0))
     assert sum(type(e).__name__ == "PoseEvent" for e in events) == 1
@@ -214,7 +214,7 @@ def _swept(sim: Simulator, turn: float) -> tuple[np.ndarray, np.ndarray]:
 
 def test_no_substeps_when_no_part_is_near_the_path():
     sim = Simulator(WorkCell())
-    sim.joints = list(ARM_OUT)
+    sim.stand_at(list(ARM_OUT))
     far = Polyhedron.box(np.array([3000.0, 3000, 0]), np.array([3001.0, 3100, 100]))  # thin, far away
     sim.cell.objects.append(far)
     moments, rows = _swept(sim, 12.0)
@@ -230,7 +230,7 @@ def test_no_substeps_when_no_part_is_near_the_path():
 def test_a_far_part_costs_no_substep_checks():
     """A motion past a thin part out of reach is checked once a pose, as with no part at all."""
     sim = Simulator(WorkCell())
-    sim.joints = list(ARM_OUT)
+    sim.stand_at(list(ARM_OUT))
     sim.cell.objects.append(Polyhedron.box(np.array([1500.0, -500, -300]), np.array([1502.0, 500, 300])))
     sim.collision_checks = True
     scene = sim._collision_scene()
@@ -240,7 +240,7 @@ def test_a_far_part_costs_no_substep_checks():
     poses = sum(type(e).__name__ == "PoseEvent" for e in sim.drive(1, 90.0))
     assert poses >= 5 and len(calls) == 0
     # the same plate across the fingers' path: substeps, and the finger is found in it
-    sim.joints = list(ARM_OUT)
+    sim.stand_at(list(ARM_OUT))
     sim.cell.objects[0] = _plate_across_the_fingers(sim, 45.0, width=2.0)
     calls.clear()
     events = list(sim.drive(1, 90.0))
@@ -254,7 +254,7 @@ def test_a_thin_part_straddled_with_a_carried_part_and_every_joint_turning():
     sim = Simulator(WorkCell())
     start = [10.0, -40.0, 120.0, 20.0, 30.0, 10.0]
     end = [-10.0, -44.0, 126.0, 28.0, 22.0, 40.0]
-    sim.joints = list(start)
+    sim.stand_at(list(start))
     frame = sim.model.clamp_frame(sim.joints, sim.base)
     sim.carried = 1
     sim._carried_local = np.array([[-15.0, -15, 250], [15, -15, 250], [15, 15, 250], [-15, 15, 250],
@@ -262,7 +262,7 @@ def test_a_thin_part_straddled_with_a_carried_part_and_every_joint_turning():
     sim.cell.objects.append(Polyhedron.box(np.zeros(3), np.ones(3)))     # the carried part
     sim._follow_clamp()
     a = sim.cell.objects[0].centre
-    sim.joints = list(end)
+    sim.stand_at(list(end))
     sim._follow_clamp()
     b = sim.cell.objects[0].centre
     # a 2 mm plate across the carried part's path, half way, square to it
@@ -275,16 +275,16 @@ def test_a_thin_part_straddled_with_a_carried_part_and_every_joint_turning():
     sim.cell.objects.append(Polyhedron(np.array(corners)))
     world = CollisionWorld(sim.model.names)
     for pose in (start, end):
-        sim.joints = list(pose)
+        sim.stand_at(list(pose))
         sim._follow_clamp()
         assert not any(f.b == 2 and f.a == 1 for f in _old(sim, world, (1,), 100.0)), pose
-    sim.joints = list(start)
+    sim.stand_at(list(start))
     sim._follow_clamp()
     sim.clamp_closed = True
     sim.collision_checks = True
     sim._findings = set()
     found = list(sim.check_collisions())        # the start pose, as the motion before left it
-    sim.joints = list(end)
+    sim.stand_at(list(end))
     sim._follow_clamp()
     found = [e.text for e in sim.check_collisions(start) if isinstance(e, Collision)]
     assert "1 COLLIDES WITH 2" in found, found
@@ -346,10 +346,11 @@ def test_exact_from_frames_matches_the_exact_checker_on_polyhedra():
     held = (sim.cell.objects[0].vertices - frame[:3, 3]) @ frame[:3, :3]
     for n in range(200):
         near = ready + rng.normal(0.0, 50.0, 6)
-        sim.joints = [float(v) for v in (near if n % 2 else rng.uniform(stops[:, 0], stops[:, 1]))]
+        pose = near if n % 2 else rng.uniform(stops[:, 0], stops[:, 1])
+        sim.stand_at([float(v) for v in np.clip(pose, stops[:, 0], stops[:, 1])])  # the arm stays inside its stops
         carried: tuple[int, ...] = ()
         if n % 4 == 0:                  # part 1 held as grasped at A, the arm a few degrees off
-            sim.joints = [float(v) for v in at_a + rng.normal(0.0, 4.0, 6)]
+            sim.stand_at([float(v) for v in np.clip(at_a + rng.normal(0.0, 4.0, 6), stops[:, 0], stops[:, 1])])
             sim.carried, sim._carried_local = 1, held
             sim._follow_clamp()
             carried = (1,)
@@ -397,14 +398,14 @@ def test_the_sweep_bound_holds_the_path_of_every_vertex():
     ratios = []
     for n in range(60):
         q0 = rng.uniform(stops[:, 0], stops[:, 1])
-        q1 = q0 + rng.normal(0.0, 10.0, 6)
-        sim.joints = q0.tolist()
+        q1 = np.clip(q0 + rng.normal(0.0, 10.0, 6), stops[:, 0], stops[:, 1])  # the arm stays inside its stops
+        sim.stand_at(q0.tolist())
         sim.carried, sim._carried_local = 1, np.array([[-20.0, -10, 140], [20, -10, 140], [20, 10, 140],
                                                        [-20, 10, 140], [-20, -10, 300], [20, -10, 300],
                                                        [20, 10, 300], [-20, 10, 300]])
         path = []
         for t in np.linspace(0.0, 1.0, 200):
-            sim.joints = (q0 + (q1 - q0) * t).tolist()
+            sim.stand_at((q0 + (q1 - q0) * t).tolist())
             sim._follow_clamp()
             path.append(np.concatenate([scene.place(sim.model.link_frames(sim.joints)),
                                         sim.cell.objects[0].vertices]))
@@ -428,14 +429,14 @@ def test_the_arm_passing_through_itself_between_two_poses_is_reported():
     end = [115.7, 37.7, 198.7, 166.5, -84.3, -246.6]
     world = CollisionWorld(sim.model.names)
     for pose in (start, end):
-        sim.joints = list(pose)
+        sim.stand_at(list(pose))
         assert not [f for f in _old(sim, world, (), 100.0) if f.kind == "collides"], pose
-    sim.joints = [start[0], start[1], (start[2] + end[2]) / 2, *start[3:]]
+    sim.stand_at([start[0], start[1], (start[2] + end[2]) / 2, *start[3:]])
     assert ("FINGER", "BASE") in {(f.a, f.b) for f in _old(sim, world, (), 100.0) if f.kind == "collides"}
-    sim.joints = list(start)
+    sim.stand_at(list(start))
     sim.collision_checks = True
     list(sim.check_collisions())                 # the start pose, as the motion before left it
-    sim.joints = list(end)
+    sim.stand_at(list(end))
     found = [e.text for e in sim.check_collisions(start) if isinstance(e, Collision)]
     assert {"FINGER COLLIDES WITH BASE", "CLAMP COLLIDES WITH BASE"} <= set(found), found
 
@@ -445,13 +446,13 @@ def test_a_step_that_bends_no_joint_between_two_links_costs_them_no_moments():
     width, yet relative to the upper arm and forearm they do not move, so no link x link
     pair of theirs is checked between the poses (counted, not timed)."""
     sim = Simulator(WorkCell())
-    sim.joints = list(ARM_OUT)
+    sim.stand_at(list(ARM_OUT))
     moments, rows = _swept(sim, 30.0)
     pairs = sim._collision_scene().world.pairs(0)
     at_risk = {(pairs.a[i], pairs.b[i]) for i in np.flatnonzero(rows.any(axis=0)).tolist()} if rows.size else set()
     assert not {p for p in at_risk if p[1] in ("UPPER ARM", "FOREARM")}, at_risk
     # the JT3 step above does put the fingers against the base at risk
-    sim.joints = [115.7, 37.7, 155.0, 166.5, -84.3, -246.6]
+    sim.stand_at([115.7, 37.7, 155.0, 166.5, -84.3, -246.6])
     scene = sim._collision_scene()
     after = sim.model.link_frames([115.7, 37.7, 198.7, 166.5, -84.3, -246.6], sim.base)
     scene.check(after, sim.cell.objects)
@@ -466,7 +467,7 @@ def test_a_far_part_costs_no_substeps_when_every_joint_turns():
     same motion with the part across the fingers' path checks moments and finds it."""
     sim = Simulator(WorkCell())
     goal = [60.0, -20.0, 110.0, 30.0, 20.0, 40.0]
-    sim.joints = list(ARM_OUT)
+    sim.stand_at(list(ARM_OUT))
     sim.cell.objects.append(Polyhedron.box(np.array([2500.0, -500, -300]), np.array([2502.0, 500, 300])))
     sim.collision_checks = True
     scene = sim._collision_scene()
@@ -480,7 +481,7 @@ def test_a_far_part_costs_no_substeps_when_every_joint_turns():
     path = [e.joints for e in events if type(e).__name__ == "PoseEvent"]
     c = sim.model.place([(a + b) / 2 for a, b in zip(path[0], path[1])], sim.gap, sim.base)[-1].centre
     sim.cell.objects[0] = Polyhedron.box(c - np.array([1.0, 60, 60]), c + np.array([1.0, 60, 60]))
-    sim.joints = list(ARM_OUT)
+    sim.stand_at(list(ARM_OUT))
     calls.clear()
     sim._findings = set()
     events = list(sim.move_joints(goal))
@@ -505,7 +506,7 @@ def test_each_movers_broad_phase_keeps_every_pair_the_coarse_test_finds():
     rng = np.random.default_rng(25)
     picked, near, found = [], 0, 0
     for n, joints in enumerate(_poses(move_program(40), sim)):     # the hand among the parts
-        sim.joints = joints
+        sim.stand_at(joints)
         frames = sim.model.link_frames(sim.joints, sim.base)
         objects, held = parts, ()
         if n % 3 == 0:                       # a box in the clamp, checked against the parts

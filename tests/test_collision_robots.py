@@ -34,7 +34,7 @@ def _worst_ratio(robot: str, thesis_axes: bool | None = None, trials: int = 40) 
         bound = terms.sum(axis=1)[: len(scene._link_ks)]
 
         def placed(joints: np.ndarray) -> list[np.ndarray]:
-            sim.joints = list(joints)
+            sim.stand_at(list(joints))
             return [p.vertices for p in sim.robot_polyhedra()]
 
         there = placed(end)

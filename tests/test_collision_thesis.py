@@ -87,7 +87,7 @@ def test_finger_inside_base_collides():
     from valterm.core.simulator import Simulator
 
     sim = Simulator()
-    sim.joints = [27.96, -203.01, -28.29, 138.39, -59.53, 154.18]
+    sim.stand_at([27.96, -203.01, -28.29, 138.39, -59.53, 154.18])
     sim.collision_checks = True
     texts = [e.text for e in sim.check_collisions()]
     assert "FINGER COLLIDES WITH BASE" in texts

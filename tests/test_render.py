@@ -144,7 +144,7 @@ def test_the_clamp_point_follows_the_robot() -> None:
     sim = session.simulator
     start = clamp_point(sim)
     trace = Trace([start])
-    sim.joints = [30.0, -90.0, 90.0, 0.0, 0.0, 0.0]
+    sim.stand_at([30.0, -90.0, 90.0, 0.0, 0.0, 0.0])
     trace.add(clamp_point(sim))
     trace.add(clamp_point(sim))  # no move: no point
     assert len(trace) == 2 and trace.segments().shape == (1, 2, 3)

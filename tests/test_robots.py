@@ -94,7 +94,7 @@ def test_an_unknown_robot_is_a_usage_error_naming_the_robots(capsys: pytest.Capt
 
 def test_motions_on_the_560_go_through_its_own_kinematics() -> None:
     sim = Simulator(robot="PUMA560")
-    assert isinstance(sim.arm, DHArm) and sim.joints == [0.0, 90.0, -90.0, 0.0, 0.0, 0.0]
+    assert isinstance(sim.arm, DHArm) and sim.joints == (0.0, 90.0, -90.0, 0.0, 0.0, 0.0)
     chain = dh_robot("PUMA560")
     goal = [20.0, 60.0, -120.0, 30.0, -40.0, 50.0]
     tool = chain.fk(goal)
@@ -230,7 +230,7 @@ def test_a_singular_wrist_on_the_560_keeps_jt4() -> None:
         assert np.allclose(again.xyz, pose.xyz, atol=1e-9) and np.allclose(again.rotation, pose.rotation, atol=1e-9)
     # at a singular wrist (JT5 = 0, JT4 30) a joint move to a pose turned about the tool's axis keeps JT4
     sim = Simulator(robot="PUMA560")
-    sim.joints = [0.0, 90.0, -90.0, 30.0, 0.0, -30.0]
+    sim.stand_at([0.0, 90.0, -90.0, 30.0, 0.0, -30.0])
     here = sim.arm.fk(sim.joints)
     turned = sim.arm.fk([0.0, 90.0, -90.0, 0.0, 0.0, 40.0])
     list(sim.move(Location(tuple(float(v) for v in here.xyz - [0, 0, 671.83]),  # type: ignore[arg-type]

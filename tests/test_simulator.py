@@ -85,7 +85,7 @@ def test_close_over_nothing_latches_nothing(process: Simulator) -> None:
 
 def test_refused_motion_moves_nothing(process: Simulator) -> None:
     process.locations["FAR"] = Location((3000.0, 0.0, 0.0), (0.0, 90.0, 0.0))
-    before = list(process.joints)
+    before = process.joints
     with pytest.raises(MotionRefused):
         drain(process.move("FAR"))
     assert process.joints == before

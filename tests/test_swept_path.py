@@ -30,7 +30,7 @@ class PoseByPose(Simulator):
         steps = len(path)
         for index, pose in enumerate(path, start=1):
             previous = self.joints
-            self.joints = self._settled(pose)
+            self.stand_at(self._settled(pose))
             self._follow_clamp()
             yield PoseEvent(tuple(self.joints), index, steps)
             if self.collision_checks:
@@ -46,7 +46,7 @@ def _said(sim: Simulator, moves: int, seed: int = 25, pause: bool = False) -> li
     goals = move_program(moves, seed=seed)
     stops = np.array(sim.arm.stops)
     goals = np.clip(goals, stops[:, 0] + 5.0, stops[:, 1] - 5.0)
-    sim.joints = [float(v) for v in goals[0]]
+    sim.stand_at([float(v) for v in goals[0]])
     out: list[str] = []
     for n, goal in enumerate(goals[1:]):
         try:
@@ -88,7 +88,7 @@ def test_a_path_checked_at_once_says_what_the_pose_by_pose_check_says():
 def test_the_same_with_a_part_carried_and_the_robot_stopping_at_a_collision():
     batched, reference = _pair()
     for sim in (batched, reference):
-        sim.joints = [float(v) for v in move_program(1)[0]]
+        sim.stand_at([float(v) for v in move_program(1)[0]])
         _cell_with_a_part_in_hand(sim)
         assert sim.carried is not None
         sim.stop_on_collision = True
@@ -110,7 +110,7 @@ def test_a_motion_dropped_half_way_leaves_the_next_step_starting_where_it_stoppe
     goals = move_program(12, seed=11)
     out: dict[Simulator, list[str]] = {batched: [], reference: []}
     for sim in (batched, reference):
-        sim.joints = [float(v) for v in goals[0]]
+        sim.stand_at([float(v) for v in goals[0]])
         for n, goal in enumerate(goals[1:]):
             motion = sim.move_joints(goal)
             for index, event in enumerate(motion):
@@ -149,7 +149,7 @@ def test_only_moments_whose_boxes_meet_can_collide():
     scene: RobotScene = sim._collision_scene()
     rng = np.random.default_rng(4)
     goals = move_program(40, seed=13)
-    sim.joints = [float(v) for v in goals[0]]
+    sim.stand_at([float(v) for v in goals[0]])
     list(sim.check_collisions())
     pairs = scene._pairs_now
     assert pairs is not None
@@ -205,7 +205,7 @@ def test_a_paths_poses_checked_together_are_checked_as_one_by_one(robot: str | N
 
 def test_a_path_with_a_part_carried_is_checked_pose_by_pose():
     sim = Simulator(WorkCell(objects=list(dense_cell(30))))
-    sim.joints = [float(v) for v in move_program(1)[0]]
+    sim.stand_at([float(v) for v in move_program(1)[0]])
     _cell_with_a_part_in_hand(sim)
     scene: RobotScene = sim._collision_scene()
     frames = sim.model.link_frames_batch(np.asarray([sim.joints] * 3), sim.base)
@@ -223,7 +223,7 @@ def test_a_part_moved_between_motions_is_checked_where_it_is_now():
     goals = move_program(24, seed=17)
     out: dict[Simulator, list[str]] = {batched: [], reference: []}
     for sim in (batched, reference):
-        sim.joints = [float(v) for v in goals[0]]
+        sim.stand_at([float(v) for v in goals[0]])
         for n, goal in enumerate(goals[1:]):
             for event in sim.move_joints(goal):
                 if isinstance(event, (Collision, Near)):

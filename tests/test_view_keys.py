@@ -40,7 +40,7 @@ async def test_arrows_turn_the_view_and_never_the_world(tmp_path: Path, keys, sc
         view = app.screen.query_one(ModelView)
         assert views.angles(app.view_transform) == pytest.approx(views.preset_angles("iso"))
         world = [o.vertices.copy() for o in app.session.simulator.cell.objects]
-        joints = list(app.session.simulator.joints)
+        joints = app.session.simulator.joints
         before = view.frame.text()
         await pilot.press("right", "up")
         await pilot.pause()

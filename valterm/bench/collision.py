@@ -119,9 +119,10 @@ def sweep_path(poses: int = 120) -> np.ndarray:
                             np.zeros(poses), np.full(poses, 40.0), np.zeros(poses)])
 
 
-def _old_check(sim: "Simulator", world: CollisionWorld, said: set[tuple[str, object, object]]) -> int:
+def _old_check(sim: "Simulator", pose: list[float], world: CollisionWorld,
+               said: set[tuple[str, object, object]]) -> int:
     """The pre-issue-15 path: ten Polyhedron objects per pose, the whole scene concatenated."""
-    findings = world.check(sim.robot_polyhedra(), sim.cell.objects, (), sim.speed)
+    findings = world.check(sim.model.place(pose, sim.gap, sim.base), sim.cell.objects, (), sim.speed)
     now = {(f.kind, f.a, f.b) for f in findings}
     events = [f.event() for f in findings if (f.kind, f.a, f.b) not in said]
     said.clear()
@@ -144,16 +145,14 @@ def bench_collision_per_pose(n_parts: int = 30, rounds: int = 5) -> dict[str, fl
         count = 0
         previous = path[0]
         for pose in path:
-            sim.joints = pose
-            count += sum(1 for _ in sim.check_collisions(previous))
+            count += sum(1 for _ in sim.check_collisions(previous, at=pose))
             previous = pose
         return count
 
     def old() -> int:
         count = 0
         for pose in path:
-            sim.joints = pose
-            count += _old_check(sim, world, said)
+            count += _old_check(sim, pose, world, said)
         return count
 
     times: dict[str, list[float]] = {"new": [], "old": []}
@@ -194,12 +193,12 @@ def bench_puma_step(n_parts: int = 30, rounds: int = 5, steps: int = 60, carried
     held = tuple(range(n_parts + 1, n_parts + carried + 1))     # object numbers, 1-based
     frames, polys, objects = [], [], []
     for pose in sweep_path(steps):
-        sim.joints = [float(v) for v in pose]
-        f = sim.model.link_frames(sim.joints, sim.base)
+        joints = [float(v) for v in pose]
+        f = sim.model.link_frames(joints, sim.base)
         flange = f[-1]
         boxes = [box.transformed(flange[:3, :3], flange[:3, 3]) for box in carried_boxes(carried)]
         frames.append(f)
-        polys.append(sim.robot_polyhedra())
+        polys.append(sim.model.place(joints, sim.gap, sim.base))
         objects.append([*parts, *boxes])
     scenes = {}
     for kind in ("thesis", "exact"):
@@ -320,7 +319,7 @@ def bench_dense_run(n_parts: int = 30, moves: int = 600, rounds: int = 3) -> dic
 
     def program(checks: bool) -> tuple[int, int, list[np.ndarray]]:
         sim = Simulator(WorkCell(objects=list(parts)))
-        sim.joints = [float(v) for v in goals[0]]
+        sim.stand_at(goals[0])
         sim.collision_checks = checks
         poses = found = 0
         frames: list[np.ndarray] = []
@@ -391,8 +390,7 @@ def bench_dense_check(n_parts: int, moves: int = 100, rounds: int = 3) -> dict[s
     def run(swept: bool) -> None:
         previous = poses[0]
         for pose in poses:
-            sim.joints = pose
-            for _ in sim.check_collisions(previous if swept else None):
+            for _ in sim.check_collisions(previous if swept else None, at=pose):
                 pass
             previous = pose
 

@@ -156,7 +156,7 @@ def _place(session: Any, args: argparse.Namespace) -> Any:
                 elif isinstance(event, Error):
                     raise RenderFailed(f"{event.program or args.trace}, step {event.step}: {event.message}")
         if args.joints is not None:
-            sim.joints = [float(j) for j in args.joints]
+            sim.stand_at([float(j) for j in args.joints])
         elif args.at is not None:
             sim.autoconfig = True  # a picture of the location, in whichever configuration reaches it
             for _ in sim.move(args.at.upper()):

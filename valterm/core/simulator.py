@@ -106,7 +106,9 @@ class Simulator:
         # the cycle-time figures of the robot's own file (core/cycletime.py)
         self.timing = robot_timing(None if self.arm.key == THESIS_ROBOT else self.arm.key)
         self.cell = cell if cell is not None else WorkCell()
-        self.joints: list[float] = list(self.arm.ready)
+        # the joint state: written here alone, through the rules (``_settled``, ``stand_at``);
+        # everyone else reads the ``joints`` tuple
+        self._joints: tuple[float, ...] = tuple(float(v) for v in self.arm.ready)
         self.config = Config(1, 1, 1)  # the user's indicators: RIGHTY ABOVE NOFLIP
         # the joint-state rules (SPEC §3a, core/rules.py): the thesis's or the real controller's
         self.rules = RULES_1985
@@ -132,6 +134,19 @@ class Simulator:
         self._findings: set[tuple[str, Party, Party]] = set()
         self._checker: RobotScene | None = None
         self._checker_gap: float | None = None
+
+    @property
+    def joints(self) -> tuple[float, ...]:
+        """The joint angles now, degrees (read-only: motions, ``stand_at`` and the rules set them)."""
+        return self._joints
+
+    def stand_at(self, joints: Sequence[float]) -> None:
+        """The arm at ``joints`` without a motion (a picture, a bench, a test's start): the stops
+        checked and the angles settled by the rules in force; a carried part follows."""
+        goal = [float(v) for v in joints]
+        check_joint_goal(goal, self.arm)
+        self._joints = tuple(self._settled(goal))
+        self._follow_clamp()
 
     # -- readouts ------------------------------------------------------------
     def robot_polyhedra(self) -> list[Polyhedron]:
@@ -180,7 +195,7 @@ class Simulator:
         self.rules = check_rules(name)
         self._asked.clear()
         if self.rules == RULES_1985:
-            self.joints = self._settled(self.joints)
+            self._joints = tuple(self._settled(self._joints))
         return self.rules
 
     def set_indicator(self, word: str) -> None:
@@ -413,7 +428,7 @@ class Simulator:
         try:
             for index, pose in enumerate(path, start=1):
                 previous = self.joints
-                self.joints = self._settled(pose) if checks is None else checks.settled(index, pose)
+                self._joints = tuple(self._settled(pose) if checks is None else checks.settled(index, pose))
                 self._follow_clamp()
                 yield PoseEvent(tuple(self.joints), index, steps, round(seconds, 6), goal)
                 if not self.collision_checks:
@@ -523,10 +538,12 @@ class Simulator:
             yield Release(part, _rounded(corner))
         yield Hand(closed=False, gap=self.gap)
 
-    def _follow_clamp(self) -> None:
+    def _follow_clamp(self, joints: Sequence[float] | None = None) -> None:
+        """The carried part placed in the clamp at ``joints`` (where the arm is, by default): the
+        collision checks place it at the poses they look at, and back, without moving the arm."""
         if self.carried is None or self._carried_local is None:
             return
-        frame = self.model.clamp_frame(self.joints, self.base)
+        frame = self.model.clamp_frame(self.joints if joints is None else joints, self.base)
         part = self.cell.objects[self.carried - 1]
         part.vertices = self._carried_local @ frame[:3, :3].T + frame[:3, 3]
 
@@ -563,26 +580,36 @@ class Simulator:
         # the base frame as built (identity, no BASE given): skip a product that changes nothing
         return self.model.link_frames(joints, None if self.base is self._home_base else self.base)
 
-    def check_collisions(self, previous: Sequence[float] | None = None) -> Iterator[Event]:
+    def check_collisions(self, previous: Sequence[float] | None = None,
+                         at: Sequence[float] | None = None) -> Iterator[Event]:
         """The thesis's coarse and fine checks at this pose; each finding is said as it starts.
 
         With ``previous`` (the pose before, on the same path) the step between is checked too
         (issue 13: a thin part straddled by two consecutive poses is reported), where a part
-        is near enough to be reached (issue 25).
+        is near enough to be reached (issue 25). With ``at``, that pose is checked instead of
+        the arm's (a value: the arm does not move; a carried part is looked at there).
         """
-        yield from self._said(self._findings_here(previous))
+        if at is None:
+            yield from self._said(self._findings_here(previous, self.joints))
+            return
+        try:
+            self._follow_clamp(at)
+            found = self._findings_here(previous, at)
+        finally:
+            self._follow_clamp()
+        yield from self._said(found)
 
-    def _findings_here(self, previous: Sequence[float] | None) -> list[Finding]:
-        """The findings of the pose now and (with ``previous``) of the step to it, in order."""
+    def _findings_here(self, previous: Sequence[float] | None, here: Sequence[float]) -> list[Finding]:
+        """The findings of the pose ``here`` and (with ``previous``) of the step to it, in order."""
         scene = self._collision_scene()
         carried = () if self.carried is None else (self.carried,)
         objects = self.cell.objects
-        frames = self._frames_at(self.joints)
+        frames = self._frames_at(here)
         findings = scene.check(frames, objects, carried, self.speed)
         if previous is None:
-            scene.swept(frames, (), objects, now=self._pose_key(self.joints))   # the boxes a step starts from
+            scene.swept(frames, (), objects, now=self._pose_key(here))   # the boxes a step starts from
         else:
-            findings = self._swept(scene, previous, frames, carried) + findings
+            findings = self._swept(scene, previous, here, frames, carried) + findings
         return findings
 
     def _said(self, findings: list[Finding]) -> Iterator[Event]:
@@ -600,12 +627,11 @@ class Simulator:
         """What names a pose for the swept check: the joints and the base frame."""
         return (*joints, self.base.tobytes())
 
-    def _swept(self, scene: RobotScene, previous: Sequence[float], frames: np.ndarray,
+    def _swept(self, scene: RobotScene, previous: Sequence[float], here: Sequence[float], frames: np.ndarray,
                carried: tuple[int, ...]) -> list[Finding]:
-        """Collisions between ``previous`` and the pose now: at the moments ``RobotScene.swept``
+        """Collisions between ``previous`` and the pose ``here``: at the moments ``RobotScene.swept``
         names, the pairs it finds there at risk (nothing when no part can be reached and no link
         turns against another past its width): parts and the arm against itself."""
-        here = self.joints
         # the way the joints turned: under the 1985 rules 179 -> -179 is a turn of 2 degrees
         # (six Python floats: cheaper than numpy for the most steps, which need no moment)
         turns = [(float(b) - float(a) + 180.0) % 360.0 - 180.0 for a, b in zip(previous, here)]
@@ -633,15 +659,15 @@ class Simulator:
             clamp = frames[:, 6]
             held = self._carried_local @ clamp[:, :3, :3].transpose(0, 2, 1) + clamp[:, None, :3, 3]
         found: list[list[Finding]] = [[] for _ in q0]
+        moved = False
         try:
             for k in np.flatnonzero(scene.meeting(frames, rows, held)).tolist():
-                self.joints = [float(v) for v in joints[k]]
-                self._follow_clamp()
+                self._follow_clamp(joints[k])
+                moved = True
                 found[int(step_of[k])] += scene.collisions_between(frames[k], self.cell.objects,
                                                                    np.flatnonzero(rows[k]), self.speed)
         finally:
-            if self.joints is not here:
-                self.joints = here
+            if moved:
                 self._follow_clamp()
         return found
 
@@ -679,7 +705,6 @@ class _PathChecks:
             self._poses_checked(sim, start, frames)
             self._steps(sim, np.asarray([start, *self.poses], dtype=float), frames)
         finally:
-            sim.joints = here
             sim._follow_clamp()
 
     def _poses_checked(self, sim: Simulator, start: Sequence[float], frames: np.ndarray) -> None:
@@ -696,8 +721,7 @@ class _PathChecks:
         for k, (joints, at) in enumerate(zip(self.poses, frames)):
             found = None if told is None else told[k]
             if found is None:
-                sim.joints = joints
-                sim._follow_clamp()
+                sim._follow_clamp(joints)
                 found = scene.check(at, objects, carried, sim.speed)
                 if told is None:                      # pose by pose, or the first pose setting up
                     if k == 0:
@@ -734,7 +758,7 @@ class _PathChecks:
             self.next += 1
             return found
         self.dropped()
-        return self.sim._findings_here(previous)
+        return self.sim._findings_here(previous, self.sim.joints)
 
     def dropped(self) -> None:
         """The checks stop here: the next step starts from the last pose checked."""
