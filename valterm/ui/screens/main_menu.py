@@ -100,7 +100,7 @@ class MainMenuScreen(MenuScreen):
 
     def _begin(self, reset: list[str]) -> None:
         # said on the start screen: the next set-up read starts without them
-        self.app.show_start("A NEW SESSION: " + ", ".join(reset) if reset else "")
+        self.app.show_start("THE NEXT SET-UP STARTS AFRESH: " + ", ".join(reset) if reset else "")
 
     def action_initialize(self) -> None:
         self._ask_first("INITIALIZE", lambda _: self._initialize())
