@@ -206,9 +206,9 @@ class ValtermApp(Guarded, ViewActions, App[int]):
         """The start screen's way on: MAIN MENU in its place."""
         self.switch_screen(MainMenuScreen())
 
-    def show_start(self) -> None:
-        """B (BEGIN) at MAIN MENU: the start screen in its place."""
-        self.switch_screen(_start_screen())
+    def show_start(self, note: str = "") -> None:
+        """B (BEGIN) at MAIN MENU: the start screen in its place (``note``: what it says first)."""
+        self.switch_screen(_start_screen(note=note))
 
     @property
     def session(self) -> Session | None:
@@ -374,12 +374,12 @@ class ValtermApp(Guarded, ViewActions, App[int]):
         self.player.skip_to_end()
 
 
-def _start_screen(message: str = "") -> Any:
+def _start_screen(message: str = "", note: str = "") -> Any:
     """The start screen, its module loaded when it is first shown (``--setup`` goes straight
-    to MAIN MENU without it: issue 25)."""
+    to MAIN MENU without it: issue 25); ``message`` an error, ``note`` information."""
     from valterm.ui.screens.start import StartScreen
 
-    return StartScreen(message=message)
+    return StartScreen(message=message, note=note)
 
 
 class Relay:

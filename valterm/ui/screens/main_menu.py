@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from pathlib import Path
 
 from textual.binding import Binding
@@ -53,13 +54,15 @@ class MainMenuScreen(MenuScreen):
         leave = "" if getattr(self.app, "kiosk", False) else "S TO EXIT, "  # the museum's S is off
         self.say(f"THIS IS THE MAIN MENU: {leave}? OR F1 FOR HELP")
 
-    def _unsaved_then(self, what: str, then) -> None:  # type: ignore[no-untyped-def]
-        """B, I and S throw the moved layout away: ask first when it is not saved."""
-        if not self.app.setup_modified:
-            then()
-            return
-        self.ask_key(f"THE SET-UP IS NOT SAVED. {what} ANYWAY (Y/N) ?:",
-                     lambda k: then() if k == "Y" else self.say("SESSION CONTINUES"))
+    def _ask_first(self, what: str, then: Callable[[list[str]], None]) -> None:
+        """B and I start a fresh session: ask first when taught locations, a moved set-up or
+        edits would be lost (the CTRL-Q question), naming what goes back to its start too."""
+        from valterm.ui.screens.quit import ask_first, fresh_simulator, resets
+
+        reset = resets(self.app.active_session.simulator, fresh_simulator(self.app))
+        # after MAIN MENU's resume (the question closed), which says the set-up afresh
+        ask_first(self.app, what, lambda: self.call_later(then, reset), reset,
+                  cancelled=lambda: self.call_later(self.say, f"{what} CANCELLED: NOTHING LOST, NOTHING RESET"))
 
     # -- to the modes ---------------------------------------------------------------
     def action_keyboard(self) -> None:
@@ -93,20 +96,29 @@ class MainMenuScreen(MenuScreen):
 
     # -- the session ------------------------------------------------------------------
     def action_begin(self) -> None:
-        self._unsaved_then("START OVER", self.app.show_start)
+        self._ask_first("BEGIN", self._begin)
+
+    def _begin(self, reset: list[str]) -> None:
+        # said on the start screen: the next set-up read starts without them
+        self.app.show_start("THE NEXT SET-UP STARTS AFRESH: " + ", ".join(reset) if reset else "")
 
     def action_initialize(self) -> None:
-        self._unsaved_then("INITIALIZE", self._initialize)
+        self._ask_first("INITIALIZE", lambda _: self._initialize())
 
     def _initialize(self) -> None:
-        name = self.app.active_session.setup_name if self.app.session else ""
+        from valterm.ui.screens.quit import resets
+
+        before = self.app.active_session.simulator
+        name = self.app.active_session.setup_name
         try:
             self.app.open_session(name or None)
         except Exception as error:
             self.say(problem_text(error), "error")
             return
+        reset = resets(before, self.app.active_session.simulator)  # what did go back to its start
         self.messages.clear()
-        self.say(f"INITIALIZED WITH {name}.SET" if name else "INITIALIZED")
+        said = f"INITIALIZED WITH {name}.SET" if name else "INITIALIZED"
+        self.say(f"{said}: {', '.join(reset)}" if reset else said)
         self.redraw()
 
     def action_stop(self) -> None:

@@ -50,15 +50,18 @@ class StartScreen(MenuScreen):
         Binding("question_mark", "help", "Help", id="start.help"),
     ]
 
-    def __init__(self, message: str = "") -> None:
+    def __init__(self, message: str = "", note: str = "") -> None:
         super().__init__()
         self._first_message = message
+        self._note = note  # B_BEGIN: what the next set-up read starts without
 
     def on_mount(self) -> None:
         super().on_mount()
         self.add_class("-start")
         if self._first_message:
             self.say(self._first_message, "error")
+        if self._note:
+            self.say(self._note)
 
     def escape_menu(self) -> None:
         self.say('PRESS "I", "U" OR "E" (RETURN THEN READS PROCESS); ? OR F1 FOR HELP')

@@ -466,7 +466,7 @@ class ValModeScreen(KeyedScreen[None]):
         if self._defining or self._defined:  # reading a .LOC file: what was accepted stays
             self.log_line(f"LOCATIONS DEFINED: {', '.join(self._defined) or 'NONE'}")
         self._defining, self._defined, self._answer_ahead = [], [], ""
-        self._lines_ahead.clear()
+        self._discard_queued()
         self._show_menu(self.page)
 
     def _typed(self) -> str:
@@ -480,7 +480,7 @@ class ValModeScreen(KeyedScreen[None]):
         field.value = typed_after(field, text)  # keys typed after RETURN start the next line
         field.cursor_position = len(field.value)
         if self.mode == Mode.RUNNING:
-            self._lines_ahead.append(text)  # entered while a command plays: run when it has ended
+            self._queue(text)
             return
         if self.mode == Mode.DEFINE_FILE:
             self._define_from_file(text)
@@ -531,6 +531,28 @@ class ValModeScreen(KeyedScreen[None]):
             self._keys(THEN_PRESS)
         else:
             self.to_command()
+            self._run_queued()
+
+    # -- commands typed while one plays -----------------------------------------------------
+    def _queue(self, text: str) -> None:
+        """A line entered while a command or a program plays: said, and run when it has ended."""
+        if text.strip():
+            self._lines_ahead.append(text)
+            self.log_line(f"QUEUED: {text}")
+
+    def _run_queued(self) -> None:
+        """The lines queued meanwhile, in order, once the line is open again."""
+        while self._lines_ahead and self.mode == Mode.COMMAND:
+            self.run_command(self._lines_ahead.pop(0))
+
+    def _discard_queued(self) -> None:
+        """An abort (CTRL-C, ESC, F9) drops the queued lines, and says which: what was typed
+        to follow the program's end must not run after the user stopped it (a MOVE would move
+        the arm right after the stop), as a terminal drops its type-ahead at CTRL-C."""
+        lines, self._lines_ahead = self._lines_ahead, []
+        if lines:
+            many = "S" if len(lines) > 1 else ""
+            self.log_line(f"{len(lines)} QUEUED COMMAND{many} DISCARDED: {', '.join(line.strip() for line in lines)}")
 
     # -- playing events (the player's audience) --------------------------------------------
     def run_events(self, events: Iterator[Event], after: Callable[[], None] | None = None) -> None:
@@ -605,8 +627,8 @@ class ValModeScreen(KeyedScreen[None]):
         self.query_one(DebugPanel).hide()
         self.redraw()
         after, self._after_run = self._after_run, None
-        if aborted:  # CTRL-C or ESC: what was typed ahead goes too (as on a terminal)
-            self._lines_ahead.clear()
+        if aborted:  # CTRL-C or ESC: what was typed ahead goes too, said (as on a terminal)
+            self._discard_queued()
         if self._to_menu:  # ESC (or F9) stopped it: the VAL-II menu
             self._to_menu = False
             self._cancel_to_menu()
@@ -614,8 +636,7 @@ class ValModeScreen(KeyedScreen[None]):
             after()
         else:
             self.to_command(self._typed())  # what is being typed stays in the line
-            while self._lines_ahead and self.mode == Mode.COMMAND:
-                self.run_command(self._lines_ahead.pop(0))
+            self._run_queued()
 
     def _monitor(self, event: Monitor) -> None:
         workspace = self.session.workspace
