@@ -99,6 +99,7 @@ __all__ = [
     "StepHook", "UndefinedVariable", "program_from_lines",
 ]
 
+STOPS_RUN = -1  # an op's error index that ends the run (V+: the controller stops at the step)
 FOREVER_LOOPS = 1000  # EXECUTE name,-n: "the simulator repeats the program 1000 times"
 
 StepHook = Callable[[CompiledProgram, Op], Iterator[Event]]
@@ -298,6 +299,8 @@ class Interpreter:
                 code.append(failed(context, analysis.syntax[index]))
             else:
                 code.append(build(context, statement, builders))
+        if vplus:  # the controller stops a program at a step that fails (no "report and go on")
+            code = [replace(op, error=STOPS_RUN) for op in code]
         return CompiledProgram(program.name, analysis, code)
 
     def _context(self, step: Step, index: int, analysis: Analysis | None, op_index: list[int]) -> Build:
@@ -352,14 +355,23 @@ class Interpreter:
                                 pc = op.next
                             else:
                                 pc = yield from self._failed(op, f"NUMBER TOO LARGE: {op.name} WOULD BE {value:g}")
+                                if pc < 0:  # a V+ step's error stops the program
+                                    finished = False
+                                    break
                         except (UndefinedVariable, ArithmeticError, ValueError) as error:
                             pc = yield from self._failed(op, _plain_reason(error))
+                            if pc < 0:
+                                finished = False
+                                break
                     elif type(op) is Branch:
                         try:
                             condition = op.condition
                             pc = op.if_true if condition(V) else op.if_false
                         except (UndefinedVariable, ArithmeticError, ValueError) as error:
                             pc = yield from self._failed(op, _plain_reason(error))
+                            if pc < 0:
+                                finished = False
+                                break
                     elif type(op) is Jump:
                         pc = op.next
                     elif isinstance(op, Action):

@@ -43,7 +43,6 @@ from valterm.core.val.expr import (
     Expr,
     ExprError,
     Fn,
-    Logical,
     Neg,
     Node,
     Not,
@@ -244,13 +243,21 @@ class _Compiler:
             if op is None:
                 return left
             right = self.conjunction()
-            left = Logical("OR", left, right) if op == "OR" else self.arith("XOR", left, right)
+            left = self.logical("OR", left, right) if op == "OR" else self.arith("XOR", left, right)
 
     def conjunction(self) -> Node:
         left = self.negation()
         while self.tokens.take("AND"):
-            left = Logical("AND", left, self.negation())
+            left = self.logical("AND", left, self.negation())
         return left
+
+    def logical(self, op: str, left: Node, right: Node) -> Node:
+        """AND / OR give TRUE (-1) or FALSE (0), never an operand (V+: ``6 AND 10`` is -1)."""
+        f, g = left.closure(), right.closure()
+        text = f"({self.src(left)} {op} {self.src(right)})"
+        if op == "AND":
+            return Opaque(text, lambda V: _truth(bool(f(V)) and bool(g(V))))
+        return Opaque(text, lambda V: _truth(bool(f(V)) or bool(g(V))))
 
     def negation(self) -> Node:
         if self.tokens.take("NOT"):

@@ -169,8 +169,8 @@ def _value_kind(text: str) -> str:
 
 def parse_vplus(text: str) -> Statement:
     """One V+ statement (no label; a ``;`` comment is dropped) or ValSyntaxError."""
-    original = strip_comment(text)
-    upper = original.upper()
+    original = strip_comment(text, quoted=True)
+    upper = upper_outside_quotes(original)  # names are case-insensitive; quoted text keeps its case
     if not upper:
         return Statement("", (), "")
     try:
@@ -179,6 +179,12 @@ def parse_vplus(text: str) -> Statement:
         raise ControllerOnly(_named(upper, str(error))) from None
     except (ExprError, ValSyntaxError, ValtermError, ValueError) as error:
         raise ValSyntaxError(_named(upper, str(error))) from None
+
+
+def upper_outside_quotes(text: str) -> str:
+    """The text with everything but quoted text in upper case."""
+    parts = text.split('"')
+    return '"'.join(part if index % 2 else part.upper() for index, part in enumerate(parts))
 
 
 def _named(upper: str, message: str) -> str:
