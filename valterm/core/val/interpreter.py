@@ -82,7 +82,7 @@ from valterm.core.val.parser import Statement, ValSyntaxError, parse_statement
 from valterm.core.val.protocol import Simulator
 from valterm.core.val.variables import VariableStore
 from valterm.core.val.vplus import DIALECT as VPLUS
-from valterm.core.val.vplus import VPLUS_BUILDERS, parse_vplus, signal_line
+from valterm.core.val.vplus import VPLUS_BUILDERS, parse_vplus, signal_line, typed_rest
 
 DIALECTS = ("1985", VPLUS)
 
@@ -389,6 +389,7 @@ class Interpreter:
                             break
                         prog, code, steps = run.program, run.program.code, run.program.steps
                 start = 0
+                yield from typed_rest(self.machine)  # a line TYPE ..., /S left open
                 if self.pass_end is not None:
                     yield from self.pass_end()
                 if not finished:

@@ -43,7 +43,7 @@ from valterm.core.val import builders as b85
 from valterm.core.val.builders import Build, Builder
 from valterm.core.val.compiler import Analysis
 from valterm.core.val.expr import ControllerFunction, ExprError, Fn, Values
-from valterm.core.val.machine import Machine, MachineError
+from valterm.core.val.machine import TICK, Machine, MachineError
 from valterm.core.val.ops import (
     Action,
     Assign,
@@ -64,6 +64,7 @@ from valterm.core.val.parser import (
     ValSyntaxError,
     strip_comment,
 )
+from valterm.core.val.typeout import NO_LINE_END
 from valterm.core.val.vexpr import (
     NAME,
     array_key,
@@ -79,7 +80,7 @@ T = TypeVar("T")
 DIALECT = "v+"
 MAX_CALL_DEPTH = 20
 WAIT_POLL = 0.1  # seconds between two looks at a WAIT condition (simulated time)
-MAJOR_CYCLE = 0.016  # seconds: V+'s trajectory cycle, the time a WAIT with no condition lets pass
+MAJOR_CYCLE = TICK  # seconds: V+'s trajectory cycle, the time a WAIT with no condition lets pass
 WAIT_LIMIT = 3600.0  # a WAIT longer than this (simulated) is reported and the program stopped
 
 _N = NAME
@@ -323,6 +324,10 @@ def _command(upper: str, original: str) -> Statement | None:
                 return Statement("DECOMPOSE", (groups[0], _check("N", groups[1] or "0"),
                                                _check("L", groups[2])), original)
             if special is _TIMER:
+                number = compile_number(_check("N", groups[0])).const
+                if number is not None and int(number) <= 0:
+                    raise ValSyntaxError(f"TIMER {int(number)} IS THE SYSTEM CLOCK'S: IT CANNOT BE SET "
+                                         "(TIMERS 1 AND UP CAN)")
                 return Statement("TIMER", (_check("N", groups[0]), _check("N", groups[1])), original)
             return Statement("PARAMETER", (groups[0], _check("N", groups[1])), original)
     match = _WORD.match(upper)
@@ -1031,13 +1036,25 @@ def _tool(c: Build, st: Statement) -> Op:
 
 
 def _type(c: Build, st: Statement) -> Op:
-    items = output_list(st.args[0], _machine(c))
+    machine = _machine(c)
+    items = output_list(st.args[0], machine)
+    open_line = any(fn is None and fmt == NO_LINE_END for _text, fn, fmt in items)  # TYPE ..., /S
 
     def run() -> Events:
-        for line in render_output(items, c.variables).split("\n"):
+        lines = (machine.typed + render_output(items, c.variables)).split("\n")
+        machine.typed = lines.pop() if open_line else ""
+        for line in lines:
             yield TypeOut(line)
         return c.next
     return c.action(run)
+
+
+def typed_rest(machine: Machine) -> Events:
+    """The line a TYPE ..., /S left open, typed when the run ends (nothing typed is lost)."""
+    if machine.typed:
+        yield TypeOut(machine.typed)
+        machine.typed = ""
+    return 0
 
 
 def _signal(c: Build, st: Statement) -> Op:
@@ -1215,7 +1232,7 @@ def _timer(c: Build, st: Statement) -> Op:
     machine = _machine(c)
 
     def run() -> Events:
-        machine.timers[int(number(c.variables))] = machine.time - float(value(c.variables))
+        machine.set_timer(number(c.variables), float(value(c.variables)))
         return c.next
         yield
     return c.action(run)
