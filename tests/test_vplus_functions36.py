@@ -114,6 +114,16 @@ def test_inrange_names_the_joints_beyond_their_stops(joints: tuple[float, ...]) 
     assert [numbers(line) for line in typed(events)] == [[_beyond(joints)], [_beyond(joints)]]
 
 
+def test_inrange_under_the_controller_rules_uses_the_configuration_asked_for() -> None:
+    arm, sim = thesis_arm(), Simulator(None)
+    sim.set_rules("controller")
+    joints = (0.0, -90.0, 90.0, 0.0, 120.0, 0.0)  # RIGHTY,ABOVE,NOFLIP with JT5 past its stop
+    pose = arm.fk(list(joints))
+    sim.locations["P"] = Location(tuple(float(v) for v in pose.xyz), rotation_to_oat(np.asarray(pose.rotation)))
+    _, events = vplus(body("RIGHTY", "ABOVE", "NOFLIP", "TYPE INRANGE(p)"), sim)
+    assert numbers(typed(events)[0]) == [_beyond(joints)] == [16]
+
+
 def test_inrange_of_a_location_out_of_reach() -> None:
     _, events = vplus(body("TYPE INRANGE(TRANS(5000, 0, 0, 0, 180, 0))", "TYPE INRANGE(HERE)"))
     far, here = (numbers(line)[0] for line in typed(events))
