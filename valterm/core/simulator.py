@@ -24,7 +24,7 @@ from valterm.core.cell.workcell import WorkCell
 from valterm.core.cycletime import joint_motion_seconds, robot_timing, straight_motion_seconds
 from valterm.core.errors import ValtermError
 from valterm.core.events import Collision, Event, Grasp, Hand, Message, Motion, PoseEvent, Release, Where
-from valterm.core.kinematics import Config, Location, indicator_kind, rotation_to_oat
+from valterm.core.kinematics import Config, IKError, Location, indicator_kind, rotation_to_oat
 from valterm.core.motion import (
     OUT_OF_REACH_REASON,
     PENDANT_INCREMENT,
@@ -250,6 +250,20 @@ class Simulator:
         inv = self.base[:3, :3].T
         xyz = inv @ (np.asarray(location.xyz, dtype=float) - self.base[:3, 3])
         return xyz, inv @ location.rotation, location
+
+    def in_range(self, location: Location) -> tuple[int, ...] | None:
+        """V+ INRANGE: the joints a motion to ``location`` would need beyond their stops (in
+        the configuration the motion would use; a joint may turn by a whole 360), or None
+        when no joint values reach it."""
+        xyz, rotation, _ = self._resolve(location)
+        config = (self._asked_over(location.config or self.arm.indicators(self.joints))
+                  if self.rules == CONTROLLER else self.config)
+        try:
+            angles = self.arm.ik(xyz, rotation, config, self.joints, enforce_stops=False)
+        except IKError:
+            return None
+        return tuple(joint for joint, (angle, (low, high)) in enumerate(zip(angles, self.arm.stops), start=1)
+                     if not any(low - 1e-9 <= angle + turn <= high + 1e-9 for turn in (-360.0, 0.0, 360.0)))
 
     # -- motions ---------------------------------------------------------------
     def move(self, target: str | Location, straight: bool = False) -> Iterator[Event]:

@@ -188,3 +188,24 @@ def frame(l1: Transform, l2: Transform, l3: Transform, l4: Transform) -> Transfo
 def distance(a: Transform, b: Transform) -> float:
     """DISTANCE(a, b): between the two positions, mm."""
     return float(np.linalg.norm(a.matrix[:3, 3] - b.matrix[:3, 3]))
+
+
+def scale(transform: Transform, factor: float) -> Transform:
+    """SCALE(a BY s): the position multiplied by s, the orientation kept (V+)."""
+    return Transform(_homogeneous(transform.rotation, transform.matrix[:3, 3] * factor))
+
+
+def normalized(transform: Transform) -> Transform:
+    """NORM(a): the rotation made orthonormal again (V+), the position kept: the approach
+    vector a keeps its direction, o is made perpendicular to it in the plane of o and a,
+    and n = o x a completes the right-handed frame."""
+    approach, orientation = transform.rotation[:, 2], transform.rotation[:, 1]
+    size = np.linalg.norm(approach)
+    if size < 1e-12:
+        raise TransformError("NORM needs a transformation with an approach vector")
+    a = approach / size
+    o = orientation - np.dot(orientation, a) * a
+    if np.linalg.norm(o) < 1e-12:
+        raise TransformError("NORM needs an orientation vector off the approach vector")
+    o = o / np.linalg.norm(o)
+    return Transform(_homogeneous(np.column_stack([np.cross(o, a), o, a]), transform.matrix[:3, 3]))

@@ -290,5 +290,5 @@ def _jump_label(statement: Statement) -> int | None:
 def step_text(program: Program, index: int) -> str:
     """A step as it scrolls on the screen: its label, then the statement without comment."""
     step = program.steps[index]
-    statement = strip_comment(step.text)
+    statement = strip_comment(step.text, quoted=program.dialect == "v+")
     return f"{step.label} {statement}" if step.label is not None else statement

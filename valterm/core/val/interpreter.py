@@ -82,7 +82,7 @@ from valterm.core.val.parser import Statement, ValSyntaxError, parse_statement
 from valterm.core.val.protocol import Simulator
 from valterm.core.val.variables import VariableStore
 from valterm.core.val.vplus import DIALECT as VPLUS
-from valterm.core.val.vplus import VPLUS_BUILDERS, parse_vplus, signal_line
+from valterm.core.val.vplus import VPLUS_BUILDERS, parse_vplus, signal_line, typed_rest
 
 DIALECTS = ("1985", VPLUS)
 
@@ -99,6 +99,7 @@ __all__ = [
     "StepHook", "UndefinedVariable", "program_from_lines",
 ]
 
+STOPS_RUN = -1  # an op's error index that ends the run (V+: the controller stops at the step)
 FOREVER_LOOPS = 1000  # EXECUTE name,-n: "the simulator repeats the program 1000 times"
 
 StepHook = Callable[[CompiledProgram, Op], Iterator[Event]]
@@ -298,6 +299,8 @@ class Interpreter:
                 code.append(failed(context, analysis.syntax[index]))
             else:
                 code.append(build(context, statement, builders))
+        if vplus:  # the controller stops a program at a step that fails (no "report and go on")
+            code = [replace(op, error=STOPS_RUN) for op in code]
         return CompiledProgram(program.name, analysis, code)
 
     def _context(self, step: Step, index: int, analysis: Analysis | None, op_index: list[int]) -> Build:
@@ -306,11 +309,9 @@ class Interpreter:
 
     # -- pass 2 ------------------------------------------------------------------
     def execute(self, name: str, loops: int = 1, start_step: int = 0) -> Generator[Event, None, None]:
-        """EXECUTE name,loops: run the program `loops` times (negative: 1000) as events.
-
-        ``start_step``: the first pass starts at that step (XSTEP name,step), the others at the top.
-        A pass's steps run here, not in a generator of their own (a `yield from` a step, issue 25).
-        """
+        """EXECUTE name,loops: run the program `loops` times (negative: 1000) as events; ``start_step``:
+        the first pass starts at that step (XSTEP name,step), the others at the top. A pass's steps
+        run here, not in a generator of their own (a `yield from` a step, issue 25)."""
         ready = self._ready(name, start_step)
         if isinstance(ready, list):  # it cannot run: why
             yield from ready
@@ -323,6 +324,7 @@ class Interpreter:
                 run = self._run = Run(main)
                 prog, pc, code, steps = main, start, main.code, main.steps
                 budget = counted = self._budget()  # steps until the limits are looked at again
+                finished = False  # until the pass ends normally
                 while True:
                     try:
                         op = code[pc]
@@ -339,7 +341,6 @@ class Interpreter:
                         budget, counted = self._recount(counted)
                     # CTRL-C, a limit, a hook (one flag a step: a breakpoint may be set while paused)
                     if self._watch and (yield from self._stops(prog, op, counted - budget - 1)):
-                        finished = False
                         break
                     yield steps[pc]
                     # the plain ops are final classes: their type says which (cheaper than isinstance)
@@ -347,26 +348,28 @@ class Interpreter:
                         try:
                             evaluate = op.value  # a field read, then called (op.value(V) looks it up as a method)
                             value = evaluate(V)
-                            if low <= value <= high:
-                                V[op.name] = value
-                                pc = op.next
-                            else:
-                                pc = yield from self._failed(op, f"NUMBER TOO LARGE: {op.name} WOULD BE {value:g}")
+                            if not low <= value <= high:
+                                raise NumberTooLarge(f"NUMBER TOO LARGE: {op.name} WOULD BE {value:g}")
+                            V[op.name] = value
+                            pc = op.next
                         except (UndefinedVariable, ArithmeticError, ValueError) as error:
                             pc = yield from self._failed(op, _plain_reason(error))
+                            if pc < 0:  # a V+ step's error stops the program
+                                break
                     elif type(op) is Branch:
                         try:
                             condition = op.condition
                             pc = op.if_true if condition(V) else op.if_false
                         except (UndefinedVariable, ArithmeticError, ValueError) as error:
                             pc = yield from self._failed(op, _plain_reason(error))
+                            if pc < 0:
+                                break
                     elif type(op) is Jump:
                         pc = op.next
                     elif isinstance(op, Action):
                         pc = yield from self._act(op)
                         self._spend(counted - budget)  # the lines it printed are counted: look now
                         if pc < 0:
-                            finished = False
                             break
                         budget = counted = self._budget()
                     else:
@@ -377,14 +380,19 @@ class Interpreter:
                             break
                         prog, code, steps = run.program, run.program.code, run.program.steps
                 start = 0
-                if self.pass_end is not None:
-                    yield from self.pass_end()
+                yield from self._pass_ended()
                 if not finished:
                     return
                 self.loops_done += 1
             yield Message(f"PROGRAM {name} COMPLETED: {self.loops_done} LOOP{'S' if self.loops_done != 1 else ''}")
         finally:
             self._ended()
+
+    def _pass_ended(self) -> Generator[Event, None, None]:
+        """A pass's end, however it ended: the line a TYPE ..., /S left open, then the hook."""
+        yield from typed_rest(self.machine)
+        if self.pass_end is not None:
+            yield from self.pass_end()
 
     def _begin(self, name: str, loops: int) -> int:
         """EXECUTE's state as its first pass begins; how many passes it runs."""
@@ -676,9 +684,13 @@ MONITOR_COMMANDS: dict[str, MonitorCommand] = {
 }
 
 
+class NumberTooLarge(ArithmeticError):
+    """A value past +-MAX_NUMBER given to a variable (refused: never inf or NaN); says which."""
+
+
 def _plain_reason(error: UndefinedVariable | ArithmeticError | ValueError) -> str:
-    if isinstance(error, UndefinedVariable):
-        return error.message
+    if isinstance(error, (UndefinedVariable, NumberTooLarge)):
+        return error.message if isinstance(error, UndefinedVariable) else str(error)
     if isinstance(error, ZeroDivisionError):
         return "DIVISION BY ZERO"
     if isinstance(error, OverflowError):

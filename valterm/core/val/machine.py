@@ -14,6 +14,7 @@ and changes scripted inputs (``run --inputs``) when the clock passes their time.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Generator, Iterator
 from dataclasses import dataclass, field
 
@@ -30,6 +31,8 @@ from valterm.core.val.ops import ProgramError
 from valterm.core.val.protocol import Simulator
 
 JOINTS = 6
+TICK = 0.016  # seconds: one tick of the controller's system clock, its 16 ms major cycle (TPS 62.5)
+OUT_OF_REACH = -1.0  # INRANGE of a location no joint values reach (beyond the arm's reach)
 
 
 class MachineError(ProgramError):
@@ -56,6 +59,7 @@ class Machine:
     # then waits for the user (in real time, Delay polls) until this says the run is stopping.
     keyboard: bool = False
     stopping: Callable[[], bool] = field(default=lambda: False, repr=False)
+    typed: str = ""  # TYPE ..., /S: the line typed so far, its end not yet typed
 
     @property
     def time(self) -> float:
@@ -149,7 +153,36 @@ class Machine:
         return -1.0 if all(self.signals.sig(int(n)) for n in signed) else 0.0
 
     def timer(self, number: float) -> float:
-        return self.time - self.timers.get(int(number), 0.0)
+        """TIMER(n): seconds since TIMER n was set; TIMER(0) the system clock's seconds,
+        TIMER(-1) its ticks (TICK each), TIMER(-2) its whole milliseconds."""
+        timer = int(number)
+        if timer > 0:
+            return self.time - self.timers.get(timer, 0.0)
+        if timer == 0:
+            return self.time
+        if timer == -1:
+            return float(math.floor(self.time / TICK + 1e-9))
+        if timer == -2:
+            return float(math.floor(self.time * 1000.0 + 1e-6))
+        raise MachineError(f"TIMER({timer}): NOT A TIMER (1 AND UP, OR 0, -1, -2)")
+
+    def set_timer(self, number: float, value: float) -> None:
+        """TIMER n = value; timer 0 and the special timers are the system clock's: read only."""
+        timer = int(number)
+        if timer <= 0:
+            raise MachineError(f"TIMER {timer} IS THE SYSTEM CLOCK'S: IT CANNOT BE SET (TIMERS 1 AND UP CAN)")
+        self.timers[timer] = self.time - value
+
+    def inrange(self, target: Transform) -> float:
+        """INRANGE(l): 0 when the tool can reach l in the configuration a motion would use;
+        else bit n (value 2^(n-1)) for each joint n l needs beyond its stop, or OUT_OF_REACH."""
+        in_range = getattr(self.sim, "in_range", None)
+        if in_range is None:
+            raise MachineError("INRANGE NEEDS THE SIMULATOR")
+        beyond: tuple[int, ...] | None = in_range(self.through_tool(target).location())
+        if beyond is None:
+            return OUT_OF_REACH
+        return float(sum(1 << (joint - 1) for joint in beyond))
 
     def string(self, name: str) -> str:
         try:

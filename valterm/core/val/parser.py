@@ -90,8 +90,16 @@ class Statement:
                      if isinstance(item, Literal) and item.options[0].isalpha())
 
 
-def strip_comment(text: str) -> str:
-    """The statement without its `;` comment."""
+def strip_comment(text: str, quoted: bool = False) -> str:
+    """The statement without its `;` comment (``quoted``: V+, where a `;` inside quotes is text)."""
+    if quoted:
+        inside = False
+        for index, ch in enumerate(text):
+            if ch == '"':
+                inside = not inside
+            elif ch == ";" and not inside:
+                return text[:index].strip()
+        return text.strip()
     return text.split(";", 1)[0].strip()
 
 

@@ -8,8 +8,9 @@ the values after it are written:
 
 - ``/Fw.d`` fixed point, ``/Ew.d`` exponent, ``/Iw`` whole number, ``/Hw`` hexadecimal,
   ``/D`` back to the default (w is the width, right-aligned);
-- ``/Xn`` n blanks, ``/Cn`` n line breaks, ``/S`` no line break at the end, ``/Un`` n lines
-  up, ``/Bn`` n beeps (the last three ignored: the transcript is line based and silent).
+- ``/Xn`` n blanks, ``/Cn`` n line breaks, ``/S`` no line break at the end (V+: the next
+  TYPE goes on on the same line), ``/Un`` n lines up, ``/Bn`` n beeps (the last two ignored:
+  the transcript is line based and silent).
 
 In the v+ dialect (``vexpr.render_output``) two values typed one after the other in the
 default format are separated by a blank (``TYPE a, b`` types ``1 2``, never ``12``).
@@ -99,6 +100,8 @@ def parse_items(text: str, compile_value: Callable[[str], object]) -> list[Item]
                 fmt = f"{kind}{width}{'.' + digits if digits else ''}"
             elif kind == "D":
                 fmt = "D"
+            elif kind == "S":
+                items.append(Item(fmt=NO_LINE_END))  # no text: the TYPE leaves its line open
             continue
         if word.startswith("/"):
             raise TypeListError(f"TYPE: {word} IS NOT A FORMAT (/Fw.d /Ew.d /Iw /Hw /D /Xn /Cn /S)")
@@ -106,7 +109,10 @@ def parse_items(text: str, compile_value: Callable[[str], object]) -> list[Item]
     return items
 
 
-TINY = 5e-10  # below this a value is rounding noise (COS(90) = 6.1e-17) and is typed as 0
+NO_LINE_END = "S"  # the format of the item /S leaves: the line is not ended
+# Below this a value is rounding noise of millimetre-sized arithmetic (1000 mm x 1.1e-16 per
+# operation) and is typed as 0; SIN/COS/TAN are exact at whole multiples of 90 degrees
+TINY = 1e-12
 
 
 def format_number(value: float, fmt: str = "D") -> str:

@@ -30,9 +30,11 @@ from valterm.core.transform import (
     distance,
     frame,
     inverse,
+    normalized,
     rx,
     ry,
     rz,
+    scale,
     shift,
     trans,
     translation,
@@ -43,7 +45,6 @@ from valterm.core.val.expr import (
     Expr,
     ExprError,
     Fn,
-    Logical,
     Neg,
     Node,
     Not,
@@ -54,7 +55,7 @@ from valterm.core.val.expr import (
     Var,
     finite,
 )
-from valterm.core.val.machine import Machine, MachineError
+from valterm.core.val.machine import TICK, Machine, MachineError
 
 MAX_VNAME = 15
 NAME = r"[A-Z][A-Z0-9_]*(?:\.[A-Z0-9_]+)*"
@@ -77,10 +78,20 @@ _CONSTANTS = {"TRUE": -1.0, "FALSE": 0.0, "ON": -1.0, "OFF": 0.0, "PI": math.pi}
 LocFn = Callable[[Values], Transform]
 StrFn = Callable[[Values], str]
 
+def _sin(degrees: float) -> float:
+    """SIN in degrees, exactly 0 at whole multiples of 180 (never 1.2e-16)."""
+    return 0.0 if degrees % 180.0 == 0.0 else math.sin(math.radians(degrees))
+
+
+def _cos(degrees: float) -> float:
+    """COS in degrees, exactly 0 at 90 plus whole multiples of 180 (never 6.1e-17)."""
+    return 0.0 if (degrees - 90.0) % 180.0 == 0.0 else math.cos(math.radians(degrees))
+
+
 _MATH: dict[str, tuple[int, int, Callable[..., float]]] = {  # name: (min args, max args, function)
-    "SIN": (1, 1, lambda d: math.sin(math.radians(d))),
-    "COS": (1, 1, lambda d: math.cos(math.radians(d))),
-    "TAN": (1, 1, lambda d: math.tan(math.radians(d))),
+    "SIN": (1, 1, _sin),
+    "COS": (1, 1, _cos),
+    "TAN": (1, 1, lambda d: 0.0 if d % 180.0 == 0.0 else math.tan(math.radians(d))),
     "ATAN2": (2, 2, lambda y, x: math.degrees(math.atan2(y, x))),
     "ASIN": (1, 1, lambda v: math.degrees(math.asin(v))),
     "ACOS": (1, 1, lambda v: math.degrees(math.acos(v))),
@@ -94,8 +105,9 @@ _MATH: dict[str, tuple[int, int, Callable[..., float]]] = {  # name: (min args, 
     "MAX": (1, 99, max),
     "MIN": (1, 99, min),
     "BMASK": (1, 32, lambda *bits: _bmask(*bits)),
+    "TPS": (0, 0, lambda: 1.0 / TICK),  # ticks of the system clock per second (TIMER(-1) counts them)
 }
-_LOC_FUNCTIONS = ("DISTANCE", "DX", "DY", "DZ")
+_LOC_FUNCTIONS = ("DISTANCE", "DX", "DY", "DZ", "INRANGE")
 _STRING_NUMBERS = ("LEN", "VAL", "ASC")
 _CONTROLLER_ONLY = {  # V+ functions of what only a real controller has (check names them as such)
     **dict.fromkeys(("IOSTAT", "GETC", "FEMPTY"), "the I/O devices (disk, network, serial lines)"),
@@ -244,13 +256,21 @@ class _Compiler:
             if op is None:
                 return left
             right = self.conjunction()
-            left = Logical("OR", left, right) if op == "OR" else self.arith("XOR", left, right)
+            left = self.logical("OR", left, right) if op == "OR" else self.arith("XOR", left, right)
 
     def conjunction(self) -> Node:
         left = self.negation()
         while self.tokens.take("AND"):
-            left = Logical("AND", left, self.negation())
+            left = self.logical("AND", left, self.negation())
         return left
+
+    def logical(self, op: str, left: Node, right: Node) -> Node:
+        """AND / OR give TRUE (-1) or FALSE (0), never an operand (V+: ``6 AND 10`` is -1)."""
+        f, g = left.closure(), right.closure()
+        text = f"({self.src(left)} {op} {self.src(right)})"
+        if op == "AND":
+            return Opaque(text, lambda V: _truth(bool(f(V)) and bool(g(V))))
+        return Opaque(text, lambda V: _truth(bool(f(V)) or bool(g(V))))
 
     def negation(self) -> Node:
         if self.tokens.take("NOT"):
@@ -503,6 +523,9 @@ class _Compiler:
             self.tokens.expect(")")
             return Opaque("DISTANCE(...)", lambda V: distance(first(V), second(V)))
         self.tokens.expect(")")
+        if name == "INRANGE":  # 0: reachable; else why not (Machine.inrange)
+            get = self.get_machine("INRANGE()")
+            return Opaque("INRANGE(...)", lambda V: get().inrange(first(V)))
         axis = "XYZ".index(name[1])
         return Opaque(f"{name}(...)", lambda V: first(V).xyz[axis])
 
@@ -583,6 +606,19 @@ class _Compiler:
                 points.append(self.location())
             self.tokens.expect(")")
             return lambda V: frame(*(p(V) for p in points))
+        if name == "NORM":
+            self.tokens.expect("(")
+            inner = self.location()
+            self.tokens.expect(")")
+            return lambda V: normalized(inner(V))
+        if name == "SCALE":  # SCALE(l BY factor): the position scaled, the orientation kept
+            self.tokens.expect("(")
+            scaled = self.location()
+            if not self._by():
+                raise ExprError("expected SCALE(<location> BY <factor>)")
+            factor = self.sum().closure()
+            self.tokens.expect(")")
+            return lambda V: scale(scaled(V), factor(V))
         if name == "SHIFT":
             self.tokens.expect("(")
             base = self.location()
@@ -610,6 +646,14 @@ class _Compiler:
         if name == "TRANS" and len(args) <= 3:
             make = translation  # no angles: an offset, no rotation
         return lambda V: make(*(a(V) for a in args))
+
+    def _by(self) -> bool:
+        """The keyword BY (a name token) is next: taken."""
+        token = self.tokens.peek()
+        if token is None or token[1] != "BY":
+            return False
+        self.tokens.pos += 1
+        return True
 
     # -- strings --------------------------------------------------------------------
     def string(self) -> StrFn:

@@ -43,7 +43,7 @@ from valterm.core.val import builders as b85
 from valterm.core.val.builders import Build, Builder
 from valterm.core.val.compiler import Analysis
 from valterm.core.val.expr import ControllerFunction, ExprError, Fn, Values
-from valterm.core.val.machine import Machine, MachineError
+from valterm.core.val.machine import TICK, Machine, MachineError
 from valterm.core.val.ops import (
     Action,
     Assign,
@@ -64,6 +64,7 @@ from valterm.core.val.parser import (
     ValSyntaxError,
     strip_comment,
 )
+from valterm.core.val.typeout import NO_LINE_END
 from valterm.core.val.vexpr import (
     NAME,
     array_key,
@@ -79,7 +80,7 @@ T = TypeVar("T")
 DIALECT = "v+"
 MAX_CALL_DEPTH = 20
 WAIT_POLL = 0.1  # seconds between two looks at a WAIT condition (simulated time)
-MAJOR_CYCLE = 0.016  # seconds: V+'s trajectory cycle, the time a WAIT with no condition lets pass
+MAJOR_CYCLE = TICK  # seconds: V+'s trajectory cycle, the time a WAIT with no condition lets pass
 WAIT_LIMIT = 3600.0  # a WAIT longer than this (simulated) is reported and the program stopped
 
 _N = NAME
@@ -107,7 +108,7 @@ _MOTIONS = ("MOVE", "MOVES", "MOVET", "MOVEST")
 # How the real arm accelerates and settles: the simulated motion is the same (accepted, no effect)
 _TUNING = ("ACCEL", "DURATION", "COARSE", "FINE", "NONULL", "NULL", "SINGLE", "MULTIPLE")
 COMMANDS = (*_NO_ARGS, *_TEXT_ARGS, *_ONE_VALUE, *_HAND, *_MOTIONS, "APPRO", "APPROS", "DRIVE", "DRAW",
-            "FOR", "CASE", "VALUE", "WHILE", "UNTIL", "IF", "GOTO", "CALL", "AUTO", "LOCAL", "GLOBAL",
+            "FOR", "CASE", "VALUE", "WHILE", "UNTIL", "IF", "GOTO", "CALL", "CALLS", "AUTO", "LOCAL", "GLOBAL",
             "SPEED", "PARAMETER", "HERE", "SET", "DECOMPOSE", "TOOL", "TYPE", "SIGNAL", "WAIT",
             "WAIT.EVENT", "REACT", "REACTI", "IGNORE", "TIMER", "ENABLE", "DISABLE", "BASE", "EXIT", "NEXT",
             "BITS",
@@ -169,8 +170,8 @@ def _value_kind(text: str) -> str:
 
 def parse_vplus(text: str) -> Statement:
     """One V+ statement (no label; a ``;`` comment is dropped) or ValSyntaxError."""
-    original = strip_comment(text)
-    upper = original.upper()
+    original = strip_comment(text, quoted=True)
+    upper = upper_outside_quotes(original)  # names are case-insensitive; quoted text keeps its case
     if not upper:
         return Statement("", (), "")
     try:
@@ -179,6 +180,12 @@ def parse_vplus(text: str) -> Statement:
         raise ControllerOnly(_named(upper, str(error))) from None
     except (ExprError, ValSyntaxError, ValtermError, ValueError) as error:
         raise ValSyntaxError(_named(upper, str(error))) from None
+
+
+def upper_outside_quotes(text: str) -> str:
+    """The text with everything but quoted text in upper case."""
+    parts = text.split('"')
+    return '"'.join(part if index % 2 else part.upper() for index, part in enumerate(parts))
 
 
 def _named(upper: str, message: str) -> str:
@@ -263,12 +270,40 @@ def _structure(upper: str, original: str) -> Statement | None:
     if match := re.fullmatch(r"GOTO\s+(\d+)", upper):
         return Statement("GOTO", (int(match.group(1)),), original)
     if match := _CALL.match(upper):
-        args = tuple(split_top(match.group(2) or ""))
-        for arg in args:
-            if arg and not arg.endswith("[]"):
-                _argument_kind(arg)
-        return Statement("CALL", (match.group(1), args), original)
+        return Statement("CALL", (match.group(1), _call_arguments(match.group(2) or "")), original)
+    if match := re.fullmatch(r"CALLS\s+(.+)", upper, re.DOTALL):
+        name, args = _calls_parts(match.group(1).strip())
+        return Statement("CALLS", (_check("S", name), _call_arguments(args)), original)
     return None
+
+
+def _call_arguments(text: str) -> tuple[str, ...]:
+    args = tuple(split_top(text))
+    for arg in args:
+        if arg and not arg.endswith("[]"):
+            _argument_kind(arg)
+    return args
+
+
+def _calls_parts(text: str) -> tuple[str, str]:
+    """CALLS $name(a, b): the string naming the program, and the argument list (the last
+    bracketed group, when what is before it is a string by itself)."""
+    if text.endswith(")"):
+        depth, quoted = 0, False
+        for index in range(len(text) - 1, -1, -1):
+            ch = text[index]
+            quoted = quoted != (ch == '"')
+            if quoted:
+                continue
+            depth += (ch == ")") - (ch == "(")
+            if depth == 0:
+                name = text[:index].strip()
+                try:
+                    compile_string(name)
+                except (ExprError, ValtermError):
+                    break  # $MID($a, 1, 3): the brackets are the string's own
+                return name, text[index + 1:-1]
+    return text, ""
 
 
 def _argument_kind(text: str) -> str:
@@ -317,6 +352,10 @@ def _command(upper: str, original: str) -> Statement | None:
                 return Statement("DECOMPOSE", (groups[0], _check("N", groups[1] or "0"),
                                                _check("L", groups[2])), original)
             if special is _TIMER:
+                number = compile_number(_check("N", groups[0])).const
+                if number is not None and int(number) <= 0:
+                    raise ValSyntaxError(f"TIMER {int(number)} IS THE SYSTEM CLOCK'S: IT CANNOT BE SET "
+                                         "(TIMERS 1 AND UP CAN)")
                 return Statement("TIMER", (_check("N", groups[0]), _check("N", groups[1])), original)
             return Statement("PARAMETER", (groups[0], _check("N", groups[1])), original)
     match = _WORD.match(upper)
@@ -636,21 +675,24 @@ class VCall(Control):
     variables: dict[str, float] = field(default_factory=dict, repr=False)
     locations: dict[str, Location] = field(default_factory=dict, repr=False)
 
+    def callee(self) -> str:
+        return self.program
+
     def control(self, run: Run, call: Callable[[str], CompiledProgram]) -> Events:
-        caller = run.program.name
+        caller, program = run.program.name, self.callee()
         if len(run.frames) >= MAX_CALL_DEPTH:
-            raise RunStop(f"CALL {self.program}: MORE THAN {MAX_CALL_DEPTH} NESTED CALLS", caller, self.step.step)
+            raise RunStop(f"CALL {program}: MORE THAN {MAX_CALL_DEPTH} NESTED CALLS", caller, self.step.step)
         try:
-            sub = call(self.program)
+            sub = call(program)
         except RunStop as stop:
-            raise RunStop(f"CALL {self.program}: {stop.message}", caller, self.step.step) from None
+            raise RunStop(f"CALL {program}: {stop.message}", caller, self.step.step) from None
         if not sub.analysis.structure_ok:
             for diagnostic in sub.analysis.fatal:
                 yield Error(sub.name, diagnostic.step, diagnostic.message)
-            raise RunStop(f"CALL {self.program}: THE PROGRAM CANNOT RUN", caller, self.step.step)
+            raise RunStop(f"CALL {program}: THE PROGRAM CANNOT RUN", caller, self.step.step)
         parameters = list(sub.analysis.program.parameters)
         if len(self.arguments) > len(parameters):
-            raise RunStop(f"CALL {self.program}: {len(self.arguments)} ARGUMENTS FOR "
+            raise RunStop(f"CALL {program}: {len(self.arguments)} ARGUMENTS FOR "
                           f"{len(parameters)} PARAMETERS", caller, self.step.step)
         values = [argument() for argument in self.arguments]  # in the caller's scope
         restore = self._bind(parameters, values, sub.analysis.autos)
@@ -710,6 +752,19 @@ class VCall(Control):
                 if result is not None and argument.write_back is not None:
                     argument.write_back(result)
         return restore
+
+
+@dataclass(frozen=True, slots=True)
+class VCallS(VCall):
+    """CALLS $name(args): CALL of the program whose name is the string's value as the step runs."""
+
+    named: Callable[[Values], str] = field(default=lambda V: "", repr=False)
+
+    def callee(self) -> str:
+        name = self.named(self.variables).strip().upper()
+        if not re.fullmatch(_N, name):
+            raise RunStop(f"CALLS: {name!r} IS NOT A PROGRAM NAME", self.step.program, self.step.step)
+        return name
 
 
 def _put(store: dict[str, T], name: str, old: T | None) -> None:
@@ -804,6 +859,10 @@ def _try_location(text: str, machine: Machine) -> Callable[[Values], Transform] 
 def _call(c: Build, st: Statement) -> Op:
     name, texts = st.args
     arguments = tuple(_argument(c, t) for t in texts if t)
+    if st.command == "CALLS":  # the program a string names when the step runs
+        named = compile_string(name, _machine(c))
+        return VCallS(c.step, c.next, c.next, "", arguments, _machine(c), c.variables, c.sim.locations,
+                      named)
     return VCall(c.step, c.next, c.next, name, arguments, _machine(c), c.variables,
                  c.sim.locations)
 
@@ -1025,13 +1084,25 @@ def _tool(c: Build, st: Statement) -> Op:
 
 
 def _type(c: Build, st: Statement) -> Op:
-    items = output_list(st.args[0], _machine(c))
+    machine = _machine(c)
+    items = output_list(st.args[0], machine)
+    open_line = any(fn is None and fmt == NO_LINE_END for _text, fn, fmt in items)  # TYPE ..., /S
 
     def run() -> Events:
-        for line in render_output(items, c.variables).split("\n"):
+        lines = (machine.typed + render_output(items, c.variables)).split("\n")
+        machine.typed = lines.pop() if open_line else ""
+        for line in lines:
             yield TypeOut(line)
         return c.next
     return c.action(run)
+
+
+def typed_rest(machine: Machine) -> Events:
+    """The line a TYPE ..., /S left open, typed when the run ends (nothing typed is lost)."""
+    if machine.typed:
+        yield TypeOut(machine.typed)
+        machine.typed = ""
+    return 0
 
 
 def _signal(c: Build, st: Statement) -> Op:
@@ -1209,7 +1280,7 @@ def _timer(c: Build, st: Statement) -> Op:
     machine = _machine(c)
 
     def run() -> Events:
-        machine.timers[int(number(c.variables))] = machine.time - float(value(c.variables))
+        machine.set_timer(number(c.variables), float(value(c.variables)))
         return c.next
         yield
     return c.action(run)
@@ -1258,6 +1329,7 @@ VPLUS_BUILDERS: dict[str, Builder] = {
     **b85.BUILDERS,
     ASSIGN: _assign, "FOR": _for, "END": _end, "CASE": _case, "VALUE": _value_or_any, "ANY": _value_or_any,
     "IF": _if, "WHILE": _while, "UNTIL": _until, "CALL": _call, "EXIT": _exit_or_next, "NEXT": _exit_or_next,
+    "CALLS": _call,
     "AUTO": _nothing, "GLOBAL": _nothing, "BREAK": _nothing, **{word: _nothing for word in _TUNING},
     "MOVE": _move, "MOVES": _move, "MOVET": _move, "MOVEST": _move, "APPRO": _appro, "APPROS": _appro,
     "DEPART": _depart, "DEPARTS": _depart, **{word: _hand for word in _HAND}, "DELAY": _delay,
