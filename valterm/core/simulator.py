@@ -664,7 +664,6 @@ class Simulator:
         by step: the link frames of every moment at once, then the pairs at risk checked at the
         moments where their boxes can meet (``RobotScene.meeting``; nowhere else can the fine
         test find one)."""
-        here = self.joints
         step_of, t, rows = moments
         joints = q0[step_of] + (q1[step_of] - q0[step_of]) * t[:, None]
         frames = self.model.link_frames_batch(joints, self.base)
