@@ -59,9 +59,9 @@ def typed_examples(topic: HelpTopic) -> list[str]:
     """What a user could type from the topic's SYNTAX lines (group-of-steps lines skipped)."""
     lines = []
     for syntax in topic.syntax:
-        if syntax.startswith(" ") or syntax.strip().strip("{}").startswith("<"):
-            if "=" not in syntax:  # `<variable> = <expression>` is a line; `<group of steps>` is not
-                continue
+        # `<group of steps>` is no line to type; `<variable> = <expression>` is one
+        if (syntax.startswith(" ") or syntax.strip().strip("{}").startswith("<")) and "=" not in syntax:
+            continue
         lines += [filled(text.replace("{", "").replace("}", "")) for text in expansions(syntax.strip())]
     return lines
 
