@@ -34,7 +34,7 @@ TYPED = {
     "BPT": "BPT T1, 1", "XSTEP": "XSTEP", "SSTEP": "SSTEP", "WATCH": "WATCH X", "TRACE": "TRACE OFF",
     "AUTOCONFIG": "AUTOCONFIG OFF",
     # the robot's state (issue 22)
-    "STOREL": "STOREL T1", "RULES": "RULES 1985",
+    "STOREL": "STOREL T1", "LOAD": "LOAD T1", "RULES": "RULES 1985",
 }
 
 

@@ -61,3 +61,31 @@ async def test_define_s_stores_the_locations_and_quit_asks_only_before(tmp_path:
         await sim.press("ctrl+q")
         assert "NOT SAVED" not in sim.text()
         assert sim.app.return_code == 0 or not sim.app.is_running
+
+
+async def test_storel_over_the_thesis_file_is_refused_on_the_val_ii_screen_then_replaced(tmp_path: Path) -> None:
+    """Issue 35: STOREL PROCESS in a fresh session keeps the thesis's PROCESS.LOC and says how to
+    replace it; the same STOREL again replaces it; another session's store since is told."""
+    async with Simulation(tmp_path, setup="PROCESS", size=(80, 24)) as sim:
+        thesis = (tmp_path / "PROCESS.LOC").read_bytes()
+        await to_val_line(sim)
+        for line in ("STOREL PROCESS", "HERE P1", "STOREL PROCESS"):
+            await sim.type(line, enter=True)
+            await sim.settle()
+        text = " ".join(sim.transcript())
+        assert "NO LOCATIONS ARE DEFINED: PROCESS.LOC (6 LOCATIONS) IS KEPT AS IT IS" in text
+        assert ("PROCESS.LOC (6 LOCATIONS) WAS NOT STORED BY THIS SESSION: NOTHING WRITTEN. "
+                "STOREL PROCESS AGAIN REPLACES IT") in text
+        assert (tmp_path / "PROCESS.LOC").read_bytes() == thesis
+        await sim.type("STOREL PROCESS", enter=True)
+        await sim.settle()
+        assert sim.transcript()[-1] == "1 LOCATION STORED IN PROCESS.LOC"
+        assert list(read_locations(tmp_path / "PROCESS.LOC")) == ["P1"]
+        (tmp_path / "PROCESS.LOC").write_text("POINT Q, 1, 2, 3, 4, 5, 6\n")  # another session stores
+        await sim.type("STOREL PROCESS", enter=True)
+        await sim.settle()
+        assert "PROCESS.LOC CHANGED ON DISK SINCE THIS SESSION LAST SAW IT" in " ".join(sim.transcript()[-3:])
+        assert list(read_locations(tmp_path / "PROCESS.LOC")) == ["Q"]
+        await sim.type("LOAD PROCESS.LOC", enter=True)
+        await sim.settle()
+        assert "1 LOCATION READ FROM PROCESS.LOC: Q" in sim.transcript()

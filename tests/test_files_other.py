@@ -47,7 +47,10 @@ def test_locations_round_trip(tmp_path: Path) -> None:
     points = read_locations(PROGRAMS / "CONV.LOC")
     points["Q9"] = Location((1 / 3, -2.0, 1e-7), (179.999999, -0.5, 12.25))
     write_locations(tmp_path / "T.LOC", points)
-    assert read_locations(tmp_path / "T.LOC") == points
+    back = read_locations(tmp_path / "T.LOC")
+    assert {k: v for k, v in back.items() if k != "Q9"} == {k: v for k, v in points.items() if k != "Q9"}
+    # the thesis's 2 decimals (issue 35): what is not a hundredth is rounded to one
+    assert back["Q9"] == Location((0.33, -2.0, 0.0), (180.0, -0.5, 12.25))
     assert format_locations(points).splitlines()[0] == "POINT A, -215.78, 534.31, -105.29, -174.00, 56.00, 0.00"
     write_locations(tmp_path / "E.LOC", {})
     assert read_locations(tmp_path / "E.LOC") == {}

@@ -36,6 +36,12 @@ WRIST_EPS = 1e-9
 # Within these of a boundary an indicator is tied and reads positive (SPEC §2, READY).
 TIE = 1e-9
 TIE_MM = 1e-6
+# How far past full stretch (or full fold) the elbow equation may be and still count as it:
+# 1e-4 of k is about 0.02 mm of the PUMA 560's reach. A point taught with the arm stretched
+# (READY, then DRIVE 1 or 2) and stored in a .LOC file's 2 decimals lies up to 0.01 mm
+# beyond the reach (and the orientation's 2 decimals move the wrist 0.005 mm): it is reached.
+REACH_SLACK = 1e-4
+
 # ik's stop fit: fit_to_stops' tolerance on the whole-turn count (1e-12 turn), in degrees
 _FIT_TOL = 3.6e-10
 
@@ -660,7 +666,7 @@ def ik_fast(
     j1 = atan2(wy, wx) - atan2(d2, big_x)
     k = (big_x * big_x + wz * wz - a2_squared - d4_squared) / twice_a2_d4
     if k > 1.0 or k < -1.0:
-        if abs(k) - 1.0 > 1e-12:
+        if abs(k) - 1.0 > REACH_SLACK:
             raise OutOfReach()
         k = 1.0 if k > 0 else -1.0
     asin_k = asin(k)
@@ -845,7 +851,7 @@ def _ik_chunk(p: np.ndarray, r: np.ndarray, cfg: np.ndarray, geometry: RobotGeom
     j1 = np.arctan2(w[:, 1], w[:, 0]) - np.arctan2(geometry.d2, big_x)
     a2, d4 = geometry.a2, geometry.d4
     k = (big_x ** 2 + w[:, 2] ** 2 - a2 * a2 - d4 * d4) / (2.0 * a2 * d4)
-    status = np.where((np.abs(k) - 1.0 > 1e-12) & (status == 0), OUT_OF_REACH, status)
+    status = np.where((np.abs(k) - 1.0 > REACH_SLACK) & (status == 0), OUT_OF_REACH, status)
     asin_k = np.arcsin(np.clip(k, -1.0, 1.0))
     j3 = np.where(arm * elbow > 0, asin_k, np.pi - asin_k)
     delta = 0.5 * np.pi - j3

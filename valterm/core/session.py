@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING
 from valterm.core.cell.workcell import WorkCell
 from valterm.core.events import Event, Signal
 from valterm.core.files.atomic import bytes_stamp, text_stamp
-from valterm.core.files.locations import read_locations
+from valterm.core.files.locations import location_files_now, read_locations
 from valterm.core.files.setup import format_setup, read_setup_bytes, write_setup
 from valterm.core.kinematics import Location
 from valterm.core.simulator import Simulator
@@ -31,6 +31,8 @@ class Session:
     def __init__(self, workspace_root: str | Path | None = None, setup: str | None = DEFAULT_SETUP,
                  limits: RunLimits | None = None, robot: str | None = None) -> None:
         self.workspace = Workspace.open(workspace_root)
+        # the .LOC files as this session begins: STOREL says when another session stored one since
+        self._loc_at_start = location_files_now(self.workspace.root)
         self.limits = limits or RunLimits()  # every EXECUTE's (valterm.core.val.limits)
         self.setup_name = ""
         self._setup_stamp = ""  # see setup_stamp
@@ -98,6 +100,8 @@ class Session:
             from valterm.core.val.interpreter import Interpreter
 
             self._interpreter = Interpreter.for_workspace(self.simulator, self.workspace)
+            if self._interpreter.location_files is not None:  # STOREL: what changed since we began
+                self._interpreter.location_files.at_start = self._loc_at_start
             self._interpreter.limits = self.limits
             self._interpreter.machine.keyboard = self._keyboard
         return self._interpreter

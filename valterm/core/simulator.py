@@ -49,6 +49,10 @@ if TYPE_CHECKING:  # the collision checks load with the first check, not at ever
     from valterm.core.collision.world import Finding, Party
 
 GRASP_MESSAGE = "IT IS POSSIBLE TO GRASP THIS PART"
+# how close a taught location's joint angles must put the tool to its pose to be its goal:
+# 0.01 mm and about 0.03 degrees (a .LOC file's 2 decimals, with room for the sum of three)
+TAUGHT_MM = 0.01
+TAUGHT_ROTATION = 5e-4
 
 
 @lru_cache(maxsize=1)
@@ -269,7 +273,25 @@ class Simulator:
     def move(self, target: str | Location, straight: bool = False) -> Iterator[Event]:
         xyz, rotation, location = self._resolve(target)
         config = yield from self._config_for(target, location)
-        yield from self._go(xyz, rotation, straight, config, _goal_name(target))
+        taught = None if straight else self._taught_goal(location, config, xyz, rotation)
+        yield from self._go(xyz, rotation, straight, config, _goal_name(target), taught)
+
+    def _taught_goal(self, location: Location, config: Config, xyz: np.ndarray,
+                     rotation: np.ndarray) -> list[float] | None:
+        """1985 rules: the joint angles HERE kept with a location (§6.1.1) are its goal when
+        they still make its pose: a .LOC file's 2 decimals move the pose by 0.005, and near a
+        singular wrist solving that pose again could turn JT4 and JT6 far apart."""
+        if self.rules == CONTROLLER or location.joints is None or location.config != config:
+            return None
+        try:
+            joints = self.arm.canonical_joints(location.joints)
+        except ValtermError:
+            return None
+        pose = self.arm.fk(joints, 1)
+        if (np.abs(pose.xyz - xyz).max() > TAUGHT_MM
+                or np.abs(pose.rotation - rotation).max() > TAUGHT_ROTATION):
+            return None
+        return joints
 
     def appro(self, target: str | Location, distance: float, straight: bool = False) -> Iterator[Event]:
         xyz, rotation, location = self._resolve(target)
@@ -367,13 +389,13 @@ class Simulator:
         yield from self._go(here.xyz, rotation, False, self._config_for_here())
 
     def _go(self, xyz: np.ndarray, rotation: np.ndarray, straight: bool, config: Config,
-            goal: str = "the goal") -> Iterator[Event]:
+            goal: str = "the goal", taught: list[float] | None = None) -> Iterator[Event]:
         try:
             if straight:
                 path = straight_path(self.joints, xyz, rotation, config, straight_increment(self.speed),
                                      self.arm, self.rules)
             else:
-                joints = yield from self._joint_goal(xyz, rotation, config)
+                joints = taught if taught is not None else (yield from self._joint_goal(xyz, rotation, config))
                 path = joint_path(self.joints, joints, joint_increment(self.speed))
         except MotionRefused as refused:
             raise self._on_this_robot(refused, goal) from None

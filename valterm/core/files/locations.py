@@ -20,21 +20,21 @@ poses (every Location keeps O A T) and ``format_locations(..., YPR)`` writes one
 
 from __future__ import annotations
 
+import os
 import re
 from pathlib import Path
 
 from valterm.core.errors import ValtermError
 from valterm.core.files._text import (
     check_line_lengths,
-    format_number,
     numbered_lines,
     parse_number,
     read_text,
     split_fields,
 )
 from valterm.core.files.atomic import write_text_atomic
-from valterm.core.files.errors import BadName, FileFormatError, shown_name
-from valterm.core.files.limits import MAX_LOCATIONS
+from valterm.core.files.errors import BadName, FileFormatError, FileWriteError, shown_name
+from valterm.core.files.limits import MAX_FILE_BYTES, MAX_LOCATIONS
 from valterm.core.kinematics import Config, Location
 from valterm.core.transform import convert_orientation
 
@@ -156,28 +156,98 @@ def format_locations(locations: dict[str, Location],
                      points: dict[str, tuple[float, ...]] | None = None, convention: str = "OAT") -> str:
     """Location-file text, one ``POINT`` line per location (with its configuration and joints
     when it keeps them), in the order given; then the precision points (#name) if any.
+    The thesis's numbers (Figs. 7-3, C-21): X Y Z O A T to 2 decimals; joint angles with
+    enough digits that the pose they make reads back within 0.01 mm (``format_joint``).
     ``convention`` "YPR" writes V+'s yaw pitch roll (the file says so on its first line)."""
     lines = [VPLUS_ANGLES] if convention == "YPR" else []
     for name, location in locations.items():
         point = _file_name(name)
         angles = convert_orientation(location.oat, "OAT", "YPR") if convention == "YPR" else location.oat
-        numbers = ", ".join(format_number(v) for v in (*location.xyz, *angles))
+        numbers = ", ".join(format_coordinate(v) for v in (*location.xyz, *angles))
         if location.config is not None:
             numbers += ", " + " ".join(location.config.words)
             if location.joints is not None:
-                numbers += ", " + ", ".join(format_number(v) for v in location.joints)
+                numbers += ", " + ", ".join(format_joint(v) for v in location.joints)
         lines.append(f"POINT {point}, {numbers}")
     for name, joints in (points or {}).items():
-        lines.append(f"POINT {_file_name(name)}, " + ", ".join(format_number(v) for v in joints))
+        lines.append(f"POINT {_file_name(name)}, " + ", ".join(format_joint(v) for v in joints))
     if not lines:
         lines.append("; NO LOCATIONS")  # an empty file reads as damaged, so say it is empty
     return "\n".join(lines) + "\n"
 
 
+# A joint angle's decimals: 0.000005 degrees at most off, times a PUMA's reach (under 1.5 m)
+# and six joints, moves the tool under 0.001 mm; the thesis's 2 decimals (0.005 degrees)
+# could move it 0.1 mm.
+JOINT_DECIMALS = 5
+
+
+def format_coordinate(value: float) -> str:
+    """X, Y, Z (mm) or an orientation angle as the thesis's files write it: 2 decimals."""
+    text = f"{float(value):.2f}"
+    return "0.00" if float(text) == 0 else text  # no "-0.00"
+
+
+def format_joint(value: float) -> str:
+    """A joint angle: 2 decimals when they hold it exactly (``10.00``), else up to
+    JOINT_DECIMALS, trailing zeros dropped."""
+    text = f"{float(value):.{JOINT_DECIMALS}f}".rstrip("0")
+    whole, _, decimals = text.partition(".")
+    text = f"{whole}.{decimals:0<2}"
+    return "0.00" if float(text) == 0 else text
+
+
+def checked_location_text(path: str | Path, locations: dict[str, Location],
+                          points: dict[str, tuple[float, ...]] | None = None) -> str:
+    """The text ``write_locations`` would write, checked as the reader will check it: more
+    locations than a file may hold, or anything ``read_location_file`` would refuse, is a
+    FileWriteError (nothing written) instead of a file the simulator cannot read back."""
+    where = Path(path)
+    if len(locations) > MAX_LOCATIONS:
+        raise FileWriteError(where, f"{len(locations)} locations are more than one location file "
+                                    f"holds ({MAX_LOCATIONS}); nothing written")
+    text = format_locations(locations, points)
+    if len(text.encode()) > MAX_FILE_BYTES:
+        raise FileWriteError(where, f"the locations would make a file larger than {MAX_FILE_BYTES} bytes, "
+                                    "the most a location file may hold; nothing written")
+    try:
+        parse_locations(text, where, {})
+    except FileFormatError as error:
+        raise FileWriteError(where, f"the simulator could not read it back ({error}); nothing written") from None
+    return text
+
+
 def write_locations(path: str | Path, locations: dict[str, Location],
-                    points: dict[str, tuple[float, ...]] | None = None) -> None:
-    """Write the locations (and precision points) atomically."""
-    write_text_atomic(path, format_locations(locations, points))
+                    points: dict[str, tuple[float, ...]] | None = None, expected: str | None = None) -> str:
+    """Write the locations (and precision points) atomically; returns the text written.
+    FileWriteError for a set the reader would refuse; with ``expected`` (the file's stamp as
+    this session knew it, "" for none) FileChanged, nothing written, when it differs now."""
+    text = checked_location_text(path, locations, points)
+    write_text_atomic(path, text, expected=expected)
+    return text
+
+
+# a file's modification time (ns) and size: STOREL tells a file another session stored since
+FileState = tuple[int, int]
+
+
+def file_state(path: Path) -> FileState | None:
+    """What ``at_start`` keeps of a file (None: there is none)."""
+    try:
+        info = path.stat()
+    except OSError:
+        return None
+    return info.st_mtime_ns, info.st_size
+
+
+def location_files_now(folder: Path) -> dict[str, FileState]:
+    """The state of every .LOC file of ``folder`` (a stat each: no file is read)."""
+    try:
+        names = [entry for entry in os.scandir(folder) if entry.name.upper().endswith(".LOC")]
+    except OSError:
+        return {}
+    found = {entry.name.upper(): file_state(Path(entry.path)) for entry in names}
+    return {name: state for name, state in found.items() if state is not None}
 
 
 def _shorten(text: str, limit: int = 40) -> str:

@@ -63,7 +63,7 @@ from valterm.core.val.compiler import Analysis, analyse, step_text
 from valterm.core.val.debugger import DEBUG_COMMANDS, Debugger
 from valterm.core.val.expr import MAX_NUMBER
 from valterm.core.val.limits import RunLimits
-from valterm.core.val.locstore import StoreLocations, rules, storel
+from valterm.core.val.locstore import LocationFiles, load, rules, storel
 from valterm.core.val.machine import Machine
 from valterm.core.val.ops import (
     Action,
@@ -126,7 +126,7 @@ class Interpreter:
                  builders: Mapping[str, Builder] | None = None,
                  monitor: Mapping[str, MonitorCommand] | None = None,
                  dialect: str = "1985", limits: RunLimits | None = None,
-                 store_locations: StoreLocations | None = None) -> None:
+                 location_files: LocationFiles | None = None) -> None:
         self.sim = sim
         # how far one EXECUTE may go (steps, robot seconds, lines): a runaway ends by itself
         self.limits = limits or RunLimits()
@@ -146,7 +146,7 @@ class Interpreter:
         # CHECK.DAT is written when a program or a typed command ends (section 6.7), not per
         # assignment: a 100 000-pass loop must not write a file 100 000 times
         self.keep_variables = keep_variables
-        self.store_locations = store_locations  # STOREL: NAME.LOC in the workspace
+        self.location_files = location_files  # STOREL and LOAD: NAME.LOC in the workspace
         # batched (valterm monitor): a typed command only marks the variables to keep; keep()
         # writes them once per batch of input lines
         self.keep_batched = False
@@ -186,7 +186,7 @@ class Interpreter:
         """
         variables = VariableStore(workspace.read_variables())
         interpreter = cls(sim, workspace.read_program, variables, keep_variables=workspace.merge_variables,
-                          store_locations=workspace.write_locations)
+                          location_files=LocationFiles(workspace))
         interpreter.load_data = workspace.vplus_data
         return interpreter
 
@@ -636,7 +636,7 @@ class _Workspace(Protocol):  # what for_workspace reads from a Workspace
     def read_variables(self) -> dict[str, float]: ...
     def read_program(self, name: str) -> Program: ...
     def merge_variables(self, values: dict[str, float]) -> dict[str, float]: ...
-    def write_locations(self, name: str, points: dict, precision: dict) -> Path: ...  # type: ignore[type-arg]
+    def path(self, name: str, ext: str) -> Path: ...
     def vplus_data(self, name: str) -> tuple[str, VplusData] | None: ...
 
 
@@ -680,7 +680,7 @@ MONITOR_COMMANDS: dict[str, MonitorCommand] = {
     "EXECUTE": _execute, "HELP": _help, **DEBUG_COMMANDS,  # PROCEED is the debugger's
     **{name: _monitor_event for name in ("LISTP", "LISTF", "LISTL", "EDIT", "POINT")},
     "STOP": _stop_typed, "HALT": _stop_typed, "STATUS": _status_typed,
-    "STOREL": storel, "RULES": rules,
+    "STOREL": storel, "LOAD": load, "RULES": rules,
 }
 
 
