@@ -268,9 +268,16 @@ class Simulator:
         yield from self._play(joint_path(self.joints, goal, increment), "joint")
 
     def move_joints(self, goal: Sequence[float]) -> Iterator[Event]:
-        """A joint-coordinated motion to six joint angles (a V+ precision point, #name): each
-        joint to its equivalent inside the stops nearest where it is."""
-        fitted = fit_precision_point(goal, self.joints, self.arm)
+        """A joint-coordinated motion to six joint angles (a V+ precision point, #name).
+
+        Controller rules: a precision point is its joints (SPEC §3a), each angle exactly as given,
+        refused naming the joint when one is beyond its stop. 1985 rules: each joint to its
+        equivalent inside the stops nearest where it is."""
+        if self.rules == CONTROLLER:
+            fitted = [float(v) for v in goal]
+            check_joint_goal(fitted, self.arm)
+        else:
+            fitted = fit_precision_point(goal, self.joints, self.arm)
         yield from self._play(joint_path(self.joints, fitted, joint_increment(self.speed)), "joint")
 
     def ready(self) -> Iterator[Event]:

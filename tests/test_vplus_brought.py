@@ -1,0 +1,83 @@
+"""The programs people bring (issue 36, items 4-6): precision points under the controller rules,
+the main program of a file, V+ names, software signals, SPEED ... MMPS ALWAYS, waits within the run
+limits, a file checked whole, export-program --out, and other VAL descendants named."""
+
+from __future__ import annotations
+
+import pytest
+
+from valterm.core.events import Error, Event, Message
+from valterm.core.files.vplus import parse_vplus
+from valterm.core.kinematics import indicators, robot_geometry
+from valterm.core.rules import CONTROLLER
+from valterm.core.simulator import Simulator
+from valterm.core.val.interpreter import Interpreter
+
+STOPS = robot_geometry().stops
+
+
+def controller_run(*lines: str) -> tuple[Simulator, list[Event]]:
+    """One V+ program run under the controller rules (a real PUMA), as `valterm run` sets them."""
+    text = ".PROGRAM t()\n" + "\n".join(f"    {line}" for line in lines) + "\n.END\n"
+    programs = {b.program.name: b.program for b in parse_vplus(text, "T.v2")}
+    sim = Simulator(None)
+    sim.set_rules(CONTROLLER)
+    interpreter = Interpreter(sim, lambda name: programs[name], {})
+    return sim, list(interpreter.execute("T"))
+
+
+def error_texts(events: list[Event]) -> list[str]:
+    return [e.message for e in events if isinstance(e, Error)]
+
+
+# -- item 4: a precision point is its joints (SPEC §3a, controller rules) -----------------------
+
+def test_a_precision_point_with_wrist_angles_past_180_ends_exactly_there() -> None:
+    # V+: #PPOINT's values are the joint positions themselves; 250 is inside JT4's and JT6's -266..266
+    sim, events = controller_run("MOVE #PPOINT(0,-90,60,250,40,250)")
+    assert not error_texts(events)
+    assert sim.joints == pytest.approx([0, -90, 60, 250, 40, 250])
+    assert sim.where().joints == pytest.approx((0, -90, 60, 250, 40, 250))
+
+
+def _near_stop(joint: int, side: int, margin: float) -> list[float]:
+    goal = [0.0, -90.0, 90.0, 0.0, 0.0, 0.0]
+    low, high = STOPS[joint]
+    goal[joint] = high - margin if side > 0 else low + margin
+    return goal
+
+
+@pytest.mark.parametrize("joint", range(6))
+@pytest.mark.parametrize("side", [-1, 1])
+def test_each_joint_one_degree_inside_its_stop_ends_exactly_there(joint: int, side: int) -> None:
+    goal = _near_stop(joint, side, 1.0)
+    sim, events = controller_run(f"MOVE #PPOINT({','.join(f'{v:g}' for v in goal)})")
+    assert not error_texts(events)
+    assert sim.joints == pytest.approx(goal, abs=1e-9)
+
+
+@pytest.mark.parametrize("joint", range(6))
+@pytest.mark.parametrize("side", [-1, 1])
+def test_a_precision_point_beyond_a_stop_is_refused_naming_the_joint(joint: int, side: int) -> None:
+    goal = _near_stop(joint, side, -1.0)  # one degree past the stop
+    sim, events = controller_run(f"MOVE #PPOINT({','.join(f'{v:g}' for v in goal)})")
+    errors = error_texts(events)
+    assert errors and f"joint {joint + 1} beyond its stop" in errors[0].lower()
+    assert sim.joints == pytest.approx(list(robot_geometry().ready))  # nothing moved
+
+
+def test_the_1985_rules_still_take_the_equivalent_nearest_where_the_joint_is() -> None:
+    sim = Simulator(None)
+    list(sim.move_joints([0, -90, 60, 250, 40, 250]))
+    assert sim.joints == pytest.approx([0, -90, 60, -110, 40, -110])
+
+
+def test_a_transformation_keeps_the_arms_configuration() -> None:
+    # LEFTY by a precision point, then a transformation: the arm stays LEFTY (SPEC §3a)
+    sim, events = controller_run("MOVE #PPOINT(10,-40,120,0,20,0)", "HERE p", "MOVE #PPOINT(-20,-40,120,0,20,0)",
+                                 "DECOMPOSE v[1] = p", "MOVE TRANS(v[1],v[2],v[3],v[4],v[5],v[6])")
+    assert not error_texts(events)
+    assert indicators(sim.joints).arm == -1
+    assert sim.joints == pytest.approx([10, -40, 120, 0, 20, 0], abs=1e-6)
+    changes = [e.text for e in events if isinstance(e, Message) and "CHANGED" in e.text]
+    assert changes == ["ARM CONFIGURATION CHANGED: RIGHTY TO LEFTY"]  # the first precision point only
