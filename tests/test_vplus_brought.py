@@ -4,7 +4,13 @@ limits, a file checked whole, export-program --out, and other VAL descendants na
 
 from __future__ import annotations
 
+import io
+from contextlib import redirect_stderr, redirect_stdout
+from pathlib import Path
+
 import pytest
+
+from valterm.cli import main
 
 from valterm.core.events import Error, Event, Message
 from valterm.core.files.vplus import parse_vplus
@@ -81,3 +87,54 @@ def test_a_transformation_keeps_the_arms_configuration() -> None:
     assert sim.joints == pytest.approx([10, -40, 120, 0, 20, 0], abs=1e-6)
     changes = [e.text for e in events if isinstance(e, Message) and "CHANGED" in e.text]
     assert changes == ["ARM CONFIGURATION CHANGED: RIGHTY TO LEFTY"]  # the first precision point only
+
+
+# -- item 5: the main program of a file is the one no other program CALLs ----------------------
+
+def run_cli(tmp_path: Path, text: str, *options: str, name: str = "cell.v2") -> tuple[int, str, str]:
+    """`valterm run FILE` on a file of ``text``; exit status, stdout and stderr."""
+    path = tmp_path / name
+    path.write_text(text)
+    out, err = io.StringIO(), io.StringIO()
+    with redirect_stdout(out), redirect_stderr(err):
+        status = main(["--workspace", str(tmp_path / "ws"), "run", str(path), *options])
+    return status, out.getvalue(), err.getvalue()
+
+
+SUBROUTINE_FIRST = """\
+.PROGRAM pen.up()
+    TYPE "PEN UP"
+.END
+.PROGRAM drawing()
+    CALL pen.up()
+    TYPE "DRAWN"
+.END
+"""
+
+
+def test_the_main_program_is_the_one_no_other_program_calls(tmp_path: Path) -> None:
+    status, out, _ = run_cli(tmp_path, SUBROUTINE_FIRST)
+    assert status == 0
+    assert "PROGRAM DRAWING COMPLETED" in out
+    assert out.index("PEN UP") < out.index("DRAWN")
+
+
+TWO_MAINS = SUBROUTINE_FIRST + """\
+.PROGRAM test.pen()
+    CALL pen.up()
+    TYPE "TESTED"
+.END
+"""
+
+
+def test_several_candidates_are_listed_and_none_runs(tmp_path: Path) -> None:
+    status, out, err = run_cli(tmp_path, TWO_MAINS)
+    assert status == 1 and "PEN UP" not in out
+    assert "DRAWING" in err and "TEST.PEN" in err and "--program" in err and "PEN.UP" not in err.split(":")[-1]
+
+
+def test_program_chooses_the_main_program(tmp_path: Path) -> None:
+    status, out, _ = run_cli(tmp_path, TWO_MAINS, "--program", "test.pen")
+    assert status == 0 and "TESTED" in out and "DRAWN" not in out
+    status, _, err = run_cli(tmp_path, TWO_MAINS, "--program", "nothing")
+    assert status == 1 and "NOTHING" in err and "DRAWING" in err

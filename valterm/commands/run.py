@@ -60,6 +60,8 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) ->
                              "docs/MOTION.md)")
     parser.add_argument("--config", metavar="LEFTY,ABOVE,NOFLIP",
                         help="the user's configuration indicators at the start (default RIGHTY,ABOVE,NOFLIP)")
+    parser.add_argument("--program", metavar="NAME", dest="main_program",
+                        help="the main program of a V+ file (default: the one no other program CALLs)")
     parser.add_argument("--inputs", metavar="FILE",
                         help='input signals scripted as "TIME SIGNAL VALUE" lines (V+ SIG, WAIT)')
     add_robot_option(parser)
@@ -99,9 +101,10 @@ def _vplus_data(path: Path, sim: Any, interpreter: Any) -> None:
         print(f"valterm: warning: {problem}", file=sys.stderr)
 
 
-def _locate(argument: str, workspace: Any) -> tuple[Path, Any, dict[str, Any]]:
-    """The program file, its main program and the file's programs: a path, NAME.DAT, or a
-    program of one of the workspace's V+ files (any name LISTF lists; EXECUTE finds the same)."""
+def _locate(argument: str, workspace: Any, chosen: str | None = None) -> tuple[Path, Any, dict[str, Any]]:
+    """The program file, its main program (``chosen``, else the one no other program CALLs) and
+    the file's programs: a path, NAME.DAT, or a program of one of the workspace's V+ files (any
+    name LISTF lists; EXECUTE finds the same)."""
     from valterm.core.files.vplus import read_program_file
 
     try:
@@ -111,9 +114,9 @@ def _locate(argument: str, workspace: Any) -> tuple[Path, Any, dict[str, Any]]:
         if found is None:
             raise
         program, path = found
-        _first, in_file = read_program_file(path)
+        in_file = {p.name: p for p in read_program_file(path, program.name)[1].values()}
         return path, in_file.get(program.name, program), in_file
-    main, in_file = read_program_file(path)
+    main, in_file = read_program_file(path, chosen)
     return path, main, in_file
 
 
@@ -154,7 +157,7 @@ def run(args: argparse.Namespace) -> int:
 
     try:
         workspace = Workspace.open(getattr(args, "workspace", None))
-        program_path, main, in_file = _locate(args.program, workspace)
+        program_path, main, in_file = _locate(args.program, workspace, getattr(args, "main_program", None))
         cell_name = args.cell or (main.name if _in_workspace(workspace, main.name, "SET") else None)
         cell = read_setup(_find(cell_name, "SET", workspace)) if cell_name else None
         sim = Simulator(cell, robot=robot_from(args))
