@@ -13,6 +13,8 @@ import pytest
 from valterm.cli import main
 
 from valterm.core.events import Error, Event, Message
+from valterm.core.files.errors import FileFormatError
+from valterm.core.files.locations import read_location_file
 from valterm.core.files.vplus import parse_vplus
 from valterm.core.kinematics import indicators, robot_geometry
 from valterm.core.rules import CONTROLLER
@@ -138,3 +140,32 @@ def test_program_chooses_the_main_program(tmp_path: Path) -> None:
     assert status == 0 and "TESTED" in out and "DRAWN" not in out
     status, _, err = run_cli(tmp_path, TWO_MAINS, "--program", "nothing")
     assert status == 1 and "NOTHING" in err and "DRAWING" in err
+
+
+# -- item 5: V+ names in .LOC files (a letter, then letters, digits, '_' or '.', at most 15) -----
+
+def test_a_loc_file_accepts_v_plus_names_with_underscores(tmp_path: Path) -> None:
+    path = tmp_path / "CELL.LOC"
+    path.write_text("POINT l_storage, 400, 0, 300, 90, 90, 0\nPOINT Pick_2.a, 400, 100, 300, 90, 90, 0\n"
+                    "POINT #safe_1, 0, -90, 90, 0, 0, 0\nPOINT abcdefghijklmno, 1, 2, 3, 0, 0, 0\n")
+    locations, points = read_location_file(path)
+    assert set(locations) == {"L_STORAGE", "PICK_2.A", "ABCDEFGHIJKLMNO"}
+    assert locations["L_STORAGE"].xyz == (400.0, 0.0, 300.0)
+    assert points["#SAFE_1"] == (0.0, -90.0, 90.0, 0.0, 0.0, 0.0)
+
+
+@pytest.mark.parametrize("name", ["abcdefghijklmnop", "1abc", "_abc", "pick-1"])
+def test_a_name_no_rule_allows_is_refused_stating_the_rules(tmp_path: Path, name: str) -> None:
+    path = tmp_path / "CELL.LOC"
+    path.write_text(f"POINT {name}, 400, 0, 300, 90, 90, 0\n")
+    with pytest.raises(FileFormatError) as refused:
+        read_location_file(path)
+    text = str(refused.value)
+    assert "CELL.LOC:1" in text and "15" in text and "'_'" in text and "'.'" in text and "V+" in text
+
+
+def test_a_program_runs_with_a_loc_file_of_v_plus_names(tmp_path: Path) -> None:
+    (tmp_path / "L.LOC").write_text("POINT l_storage, 400, 100, 300, 90, 90, 0\n")
+    status, out, err = run_cli(tmp_path, ".PROGRAM t()\n    MOVE l_storage\n.END\n", "--loc", str(tmp_path / "L.LOC"))
+    assert status == 0, err
+    assert "PROGRAM T COMPLETED" in out
