@@ -12,14 +12,17 @@ import pytest
 
 from valterm.cli import main
 
+from valterm.core.errors import ValtermError
 from valterm.core.events import Error, Event, Message
 from valterm.core.files.errors import FileFormatError
 from valterm.core.files.locations import read_location_file
 from valterm.core.files.vplus import parse_vplus
 from valterm.core.kinematics import indicators, robot_geometry
 from valterm.core.rules import CONTROLLER
+from valterm.core.signals import SignalPanel
 from valterm.core.simulator import Simulator
 from valterm.core.val.interpreter import Interpreter
+from valterm.ui.screens.signals import parse_input_command
 
 STOPS = robot_geometry().stops
 
@@ -169,3 +172,36 @@ def test_a_program_runs_with_a_loc_file_of_v_plus_names(tmp_path: Path) -> None:
     status, out, err = run_cli(tmp_path, ".PROGRAM t()\n    MOVE l_storage\n.END\n", "--loc", str(tmp_path / "L.LOC"))
     assert status == 0, err
     assert "PROGRAM T COMPLETED" in out
+
+
+# -- item 5: software signals 2001-2512 (V+: set by programs and read like inputs) --------------
+
+MENU = """\
+.PROGRAM menu()
+    WAIT SIG(2001)
+    TYPE "CHOICE 1 AT ", TIMER(1)
+.END
+"""
+
+
+def test_an_inputs_script_sets_a_software_signal(tmp_path: Path) -> None:
+    (tmp_path / "in.txt").write_text("0 2001 0\n1.5 2001 ON\n")
+    status, out, err = run_cli(tmp_path, MENU, "--inputs", str(tmp_path / "in.txt"))
+    assert status == 0, err
+    assert "SIGNAL 2001 ON" in out and "PROGRAM MENU COMPLETED" in out
+
+
+def test_an_inputs_script_still_refuses_an_output(tmp_path: Path) -> None:
+    (tmp_path / "in.txt").write_text("1.5 7 ON\n")
+    status, _, err = run_cli(tmp_path, MENU, "--inputs", str(tmp_path / "in.txt"))
+    assert status == 1 and "in.txt:1" in err and "2001-2512" in err and "1001-1512" in err
+
+
+def test_the_panel_takes_a_software_signal() -> None:
+    panel = SignalPanel()
+    assert parse_input_command("2001", panel) == (2001, True)
+    assert parse_input_command("2512 on", panel) == (2512, True)
+    panel.set_input(2001, True)
+    assert panel.sig(2001) == -1.0
+    with pytest.raises(ValtermError, match="2001-2512"):
+        parse_input_command("2513", panel)
