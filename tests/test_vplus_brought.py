@@ -13,7 +13,8 @@ import pytest
 from valterm.cli import main
 
 from valterm.core.errors import ValtermError
-from valterm.core.events import Error, Event, Message
+from valterm.core.cycletime import robot_timing
+from valterm.core.events import Error, Event, Message, Motion
 from valterm.core.files.errors import FileFormatError
 from valterm.core.files.locations import read_location_file
 from valterm.core.files.vplus import parse_vplus
@@ -205,3 +206,43 @@ def test_the_panel_takes_a_software_signal() -> None:
     assert panel.sig(2001) == -1.0
     with pytest.raises(ValtermError, match="2001-2512"):
         parse_input_command("2513", panel)
+
+
+# -- item 5: SPEED n MMPS / IPS, ALWAYS (V+ reference: SPEED speed_factor, r_speed_factor units ALWAYS)
+
+def motion_seconds(events: list[Event]) -> list[float]:
+    return [e.seconds for e in events if isinstance(e, Motion)]
+
+
+LINE = ("MOVE TRANS(-150, 400, 300, 0, 180, 0)", "MOVES TRANS(150, 400, 300, 0, 180, 0)")  # 300 mm straight
+
+
+@pytest.mark.parametrize("speed, mm_per_s", [("100 MMPS", 100.0), ("2 IPS", 50.8), ("250 MMPS", 250.0)])
+def test_speed_in_mmps_is_the_tool_tip_speed_of_a_straight_line(speed: str, mm_per_s: float) -> None:
+    # the reference: with MMPS or IPS the value is the linear tool tip speed; the line starts and
+    # ends at rest, accelerating at the robot file's tool acceleration (a trapezoid)
+    accel = robot_timing().tool_accel
+    _, events = controller_run(LINE[0], f"SPEED {speed} ALWAYS", LINE[1])
+    assert not error_texts(events)
+    assert motion_seconds(events)[-1] == pytest.approx(300.0 / mm_per_s + mm_per_s / accel, rel=1e-4)
+
+
+def test_speed_without_always_is_for_the_next_motion_only() -> None:
+    there, back = "MOVE #PPOINT(40,-90,90,0,0,0)", "MOVE #PPOINT(0,-90,90,0,0,0)"
+    _, events = controller_run(there, back, "SPEED 50", there, back, "SPEED 50 ALWAYS", there, back)
+    full, _, half, after, slow, slow_back = motion_seconds(events)
+    assert half == pytest.approx(2 * full) and after == pytest.approx(full)  # only the next motion
+    assert slow == pytest.approx(2 * full) and slow_back == pytest.approx(2 * full)  # ALWAYS: in force
+
+
+def test_speed_with_a_rotation_factor_and_always_is_accepted() -> None:
+    _, events = controller_run("SPEED 100 MMPS ALWAYS", "SPEED 40, 20 ALWAYS", "SPEED 100, 100 MMPS", *LINE)
+    assert not error_texts(events)
+
+
+def test_a_tool_speed_beyond_the_robots_is_said_and_held_at_its_maximum() -> None:
+    top = robot_timing().tool_speed
+    _, events = controller_run(LINE[0], "SPEED 100 IPS ALWAYS", LINE[1])
+    said = [e.text for e in events if isinstance(e, Message) and "SPEED" in e.text]
+    assert said and f"{top:g} MM/S" in said[0]
+    assert motion_seconds(events)[-1] == pytest.approx(300.0 / top + top / robot_timing().tool_accel, rel=1e-4)
