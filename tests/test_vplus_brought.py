@@ -14,7 +14,7 @@ from valterm.cli import main
 
 from valterm.core.errors import ValtermError
 from valterm.core.cycletime import robot_timing
-from valterm.core.events import Error, Event, Message, Motion
+from valterm.core.events import Error, Event, Message, Motion, TypeOut
 from valterm.core.files.errors import FileFormatError
 from valterm.core.files.locations import read_location_file
 from valterm.core.files.vplus import parse_vplus
@@ -246,3 +246,26 @@ def test_a_tool_speed_beyond_the_robots_is_said_and_held_at_its_maximum() -> Non
     said = [e.text for e in events if isinstance(e, Message) and "SPEED" in e.text]
     assert said and f"{top:g} MM/S" in said[0]
     assert motion_seconds(events)[-1] == pytest.approx(300.0 / top + top / robot_timing().tool_accel, rel=1e-4)
+
+
+# -- item 5: waits are bounded by the run limits (no hidden 3600 s) ------------------------------
+
+def test_a_wait_of_two_hours_ends_when_the_timer_gets_there() -> None:
+    _, events = controller_run("TIMER 1 = 0", "WAIT TIMER(1) > 7200", 'TYPE "WAITED"')
+    assert not error_texts(events)
+    assert any(isinstance(e, TypeOut) and e.text == "WAITED" for e in events)
+
+
+def test_a_wait_past_the_run_limit_stops_naming_the_limit(tmp_path: Path) -> None:
+    text = '.PROGRAM t()\n    TIMER 1 = 0\n    WAIT TIMER(1) > 200\n    TYPE "WAITED"\n.END\n'
+    status, out, _ = run_cli(tmp_path, text, "--max-seconds", "100")
+    assert status == 1 and "WAITED" not in out
+    said = next(line for line in out.splitlines() if line.startswith("***"))
+    assert "100 SECONDS" in said and "--max-seconds" in said.lower()
+    assert "CYCLE TIME 100.00 S" in out  # the robot waited up to the limit
+
+
+def test_the_default_limit_is_the_one_a_wait_meets() -> None:
+    _, events = controller_run("TIMER 1 = 0", "WAIT TIMER(1) > 90000")
+    errors = error_texts(events)
+    assert errors and "86400 SECONDS" in errors[0]

@@ -56,6 +56,9 @@ class Machine:
     # then waits for the user (in real time, Delay polls) until this says the run is stopping.
     keyboard: bool = False
     stopping: Callable[[], bool] = field(default=lambda: False, repr=False)
+    # The run's limit of robot time (limits.py): a WAIT goes no further, and says which limit.
+    deadline: float = float("inf")
+    deadline_said: str = "NO RUN LIMIT"
 
     @property
     def time(self) -> float:

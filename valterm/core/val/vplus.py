@@ -80,7 +80,7 @@ DIALECT = "v+"
 MAX_CALL_DEPTH = 20
 WAIT_POLL = 0.1  # seconds between two looks at a WAIT condition (simulated time)
 MAJOR_CYCLE = 0.016  # seconds: V+'s trajectory cycle, the time a WAIT with no condition lets pass
-WAIT_LIMIT = 3600.0  # a WAIT longer than this (simulated) is reported and the program stopped
+NEVER_AFTER = 1e9  # seconds: a WAIT with no run limit looks no further (the clock's own horizon)
 
 _N = NAME
 _ASSIGN = re.compile(rf"^(?:(SET)\s+)?([$#]?{_N})\s*(\[(.*)\])?\s*=(?!=)\s*(.*)$", re.DOTALL)
@@ -1121,15 +1121,16 @@ def _wait(c: Build, st: Statement) -> Op:
                 continue
             if coming is None and machine.keyboard:
                 return c.next  # CTRL-C: the run stops after this step
-            limit = started + WAIT_LIMIT
+            limit = min(machine.deadline, started + NEVER_AFTER)  # the run's limit of robot time
             until = limit if coming is None else min(coming, limit)
             when = first_true(machine, holds, until)
             if when is not None:  # the clock makes it true before any input changes
                 yield from machine.wait(when - machine.time)
-            elif coming is None and first_true(machine, holds, 1e9, 1e9) is None:
+            elif coming is None and first_true(machine, holds, NEVER_AFTER, NEVER_AFTER) is None:
                 raise ProgramError(f"WAIT {text}: IT NEVER BECOMES TRUE (NO MORE INPUTS ARE SCRIPTED)")
             elif coming is None or coming > limit:
-                raise ProgramError(f"WAIT {text}: STILL FALSE AFTER {WAIT_LIMIT:g} S")
+                yield from machine.wait(max(0.0, limit - machine.time))  # the robot waited up to the limit
+                raise ProgramError(f"WAIT {text}: STILL FALSE AT THE LIMIT: {machine.deadline_said}")
             else:
                 yield from machine.wait(coming - machine.time)  # the input changes now
             if machine.pending:  # a REACT program runs first, then this WAIT looks again
