@@ -269,3 +269,54 @@ def test_the_default_limit_is_the_one_a_wait_meets() -> None:
     _, events = controller_run("TIMER 1 = 0", "WAIT TIMER(1) > 90000")
     errors = error_texts(events)
     assert errors and "86400 SECONDS" in errors[0]
+
+
+# -- item 5: a file is checked whole before any step runs ----------------------------------------
+
+BAD_IN_A_CALLED_PROGRAM = """\
+.PROGRAM main()
+    TYPE "STARTED"
+    CALL sub()
+.END
+.PROGRAM sub()
+    MOVE
+    TYPE "IN SUB"
+    FOO BAR
+.END
+"""
+
+
+def test_a_file_with_bad_steps_is_refused_before_any_step_runs(tmp_path: Path) -> None:
+    status, out, err = run_cli(tmp_path, BAD_IN_A_CALLED_PROGRAM)
+    assert status == 1
+    assert "STARTED" not in out and "MAIN        1" not in out  # no step ran
+    lines = [line for line in err.splitlines() if line.startswith("cell.v2:")]
+    assert [line.split(":")[1] for line in lines] == ["6", "8"]  # every error, with its line
+    assert "SUB step 1" in lines[0] and "SUB step 3" in lines[1]
+
+
+def test_a_bad_step_of_the_main_program_is_refused_up_front_too(tmp_path: Path) -> None:
+    status, out, err = run_cli(tmp_path, '.PROGRAM t()\n    TYPE "STARTED"\n    FOO BAR\n.END\n')
+    assert status == 1 and "STARTED" not in out and "cell.v2:3:" in err
+
+
+def test_a_step_only_the_controller_runs_is_no_reason_to_refuse_the_file(tmp_path: Path) -> None:
+    status, out, _ = run_cli(tmp_path, '.PROGRAM t()\n    TYPE "STARTED"\n    IF 0 THEN\n'
+                                       '        ATTACH (lun, 4) "TCP"\n    END\n.END\n')
+    assert status == 0 and "STARTED" in out
+
+
+# -- item 5: export-program --out is relative to the current folder ------------------------------
+
+def test_export_program_out_is_relative_to_the_current_folder(tmp_path: Path,
+                                                              monkeypatch: pytest.MonkeyPatch) -> None:
+    workspace, here = tmp_path / "ws", tmp_path / "here"
+    workspace.mkdir()
+    here.mkdir()
+    (workspace / "P1.DAT").write_text("1 TYPE HELLO\n")
+    monkeypatch.chdir(here)
+    out, err = io.StringIO(), io.StringIO()
+    with redirect_stdout(out), redirect_stderr(err):
+        assert main(["--workspace", str(workspace), "export-program", "P1", "--out", "p1.v2"]) == 0
+    assert (here / "p1.v2").is_file() and not (workspace / "p1.v2").exists()
+    assert "PROGRAM p1" in (here / "p1.v2").read_text().replace("P1", "p1")

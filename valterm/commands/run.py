@@ -11,8 +11,10 @@ read from the program's folder first, then the workspace. CHECK.DAT's variables 
 and, when the program ends, written back as EXECUTE does (section 6.7: an assignment
 updates CHECK.DAT, so variables are kept across sessions). DELAY is not waited.
 
-A V+ file (``.v2``/``.pg``, ``.PROGRAM`` blocks) runs its first program; every program of
-the file can be CALLed, and they are v+ (``--dialect v+`` makes .DAT programs v+ too).
+A V+ file (``.v2``/``.pg``, ``.PROGRAM`` blocks) runs its main program, the one no other
+program of the file CALLs (several: they are listed; ``--program NAME`` chooses); every program of
+the file can be CALLed; the file is checked whole first (a bad step anywhere: every error with its
+line, exit 1, no step run), and they are v+ (``--dialect v+`` makes .DAT programs v+ too).
 ``--rules 1985|controller`` picks the joint-state rules (SPEC §3a, docs/MOTION.md; by default
 the dialect's: 1985 for .DAT programs, controller for v+); ``--config LEFTY,BELOW`` sets the
 user's indicators first; ``--inputs FILE`` scripts the
@@ -101,6 +103,22 @@ def _vplus_data(path: Path, sim: Any, interpreter: Any) -> None:
         print(f"valterm: warning: {problem}", file=sys.stderr)
 
 
+def _errors_of_file(path: Path, in_file: dict[str, Any], dialect: str | None) -> list[str]:
+    """Every error of the file's programs, located (``FILE:LINE: PROG step N: reason``), as
+    ``check`` reports them: a bad step or .PROGRAM header. Warnings (a step only the real
+    controller runs, a CALL of a missing program) are no reason to refuse the file."""
+    from valterm.core.files.vplus import EXTENSIONS, read_vplus_file
+    from valterm.core.val.checker import check_program
+
+    found: list[str] = []
+    if path.suffix.upper() in EXTENSIONS:
+        found += [block.problem for block in read_vplus_file(path).blocks if block.problem]
+    for program in in_file.values():
+        for diagnostic in check_program(program, dialect=dialect).errors:
+            found.append(f"{path.name}:{diagnostic.line}: {diagnostic}" if diagnostic.line else str(diagnostic))
+    return found
+
+
 def _locate(argument: str, workspace: Any, chosen: str | None = None) -> tuple[Path, Any, dict[str, Any]]:
     """The program file, its main program (``chosen``, else the one no other program CALLs) and
     the file's programs: a path, NAME.DAT, or a program of one of the workspace's V+ files (any
@@ -180,6 +198,14 @@ def run(args: argparse.Namespace) -> int:
 
     interpreter = Interpreter(sim, load_program, variables, keep_variables=workspace.merge_variables,
                               dialect=args.dialect or "1985", limits=limits_from(args))
+    try:
+        refused = _errors_of_file(program_path, in_file, args.dialect)
+    except (FileFormatError, OSError) as error:
+        return fail(error, FAILURE)
+    if refused:  # checked whole before any step runs (as the controller's LOAD would refuse it)
+        print("\n".join(refused), file=sys.stderr)
+        return fail(f"{program_path.name}: {len(refused)} error{'s' if len(refused) != 1 else ''}: "
+                    "no step was run (valterm check lists them too)", FAILURE)
     try:
         _vplus_data(program_path, sim, interpreter)
         _vplus_setup(args, sim, interpreter, loc_paths)
