@@ -320,3 +320,63 @@ def test_export_program_out_is_relative_to_the_current_folder(tmp_path: Path,
         assert main(["--workspace", str(workspace), "export-program", "P1", "--out", "p1.v2"]) == 0
     assert (here / "p1.v2").is_file() and not (workspace / "p1.v2").exists()
     assert "PROGRAM p1" in (here / "p1.v2").read_text().replace("P1", "p1")
+
+
+# -- item 6: another VAL descendant is named in one message ---------------------------------------
+
+KAWASAKI = """\
+.PROGRAM pick()
+  SPEED 50 ALWAYS
+  JMOVE #home
+  LAPPRO part, 100
+  LMOVE part
+  TWAIT 0.5
+  LDEPART 100
+.END
+"""
+VAL3 = """\
+<?xml version="1.0" encoding="utf-8"?>
+<Programs xmlns="http://www.staubli.com/robotics/VAL3/Program/2">
+  <Program name="start">
+    <Code><![CDATA[begin
+  movej(jHome, tTool, mNomSpeed)
+  movel(pPick, tTool, mNomSpeed)
+end]]></Code>
+  </Program>
+</Programs>
+"""
+
+
+@pytest.mark.parametrize("text, name, language, line", [
+    (KAWASAKI, "pick.as", "a Kawasaki AS program", 3),
+    (KAWASAKI, "pick.pg", "a Kawasaki AS program", 3),
+    (".PROGRAM main()#0\n  HOME\n.END\n.TRANS\npart 400 0 300 0 180 0\n.END\n", "main.as", "a Kawasaki AS program", 1),
+    (VAL3, "start.pgx", "a Staubli VAL3 program", 2),
+    ("begin\n  movej(jHome, tTool, mNomSpeed)\nend\n", "start.DAT", "a Staubli VAL3 program", 2),
+])
+@pytest.mark.parametrize("command", ["run", "check"])
+def test_another_val_descendant_is_named_in_one_message(tmp_path: Path, text: str, name: str, language: str,
+                                                        line: int, command: str) -> None:
+    path = tmp_path / name
+    path.write_text(text)
+    out, err = io.StringIO(), io.StringIO()
+    with redirect_stdout(out), redirect_stderr(err):
+        status = main(["--workspace", str(tmp_path / "ws"), command, str(path)])
+    said = (out.getvalue() + err.getvalue()).strip().splitlines()
+    assert status == 1
+    assert said == [f"valterm: {name}:{line}: {said[0].split(': ', 2)[2]}"]  # one message, located
+    assert f"{language} (" in said[0] and said[0].endswith("valterm runs VAL-II and V+")
+
+
+def test_the_workspace_names_the_language_of_a_program_it_is_asked_for(tmp_path: Path) -> None:
+    from valterm.core.workspace import Workspace
+
+    workspace = Workspace(tmp_path)
+    (tmp_path / "KAWA.DAT").write_text("JMOVE #home\nTWAIT 1\n")
+    with pytest.raises(FileFormatError, match="a Kawasaki AS program"):
+        workspace.read_program("KAWA")
+
+
+def test_a_v_plus_program_using_such_a_word_as_a_variable_is_still_v_plus() -> None:
+    _, events = controller_run("twait = 2", "accuracy = twait*2", "TYPE accuracy")
+    assert not error_texts(events)

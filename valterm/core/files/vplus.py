@@ -45,6 +45,7 @@ from valterm.core import numbers
 from valterm.core.errors import ValtermError
 from valterm.core.files._text import numbered_lines, read_text, split_fields
 from valterm.core.files.errors import FileFormatError
+from valterm.core.files.foreign import refuse_foreign
 from valterm.core.files.programs import MAX_LINE, Program, ProgramLine, read_program, split_label
 from valterm.core.kinematics import Location
 from valterm.core.transform import convert_orientation
@@ -151,6 +152,7 @@ def parse_vplus(text: str, path: str | Path) -> list[VplusProgram]:
 def parse_vplus_file(text: str, path: str | Path) -> VplusFile:
     """The ``.PROGRAM`` blocks of a V+ file in file order, and its data sections."""
     where = Path(path)
+    refuse_foreign(text, where)  # a Kawasaki AS or VAL3 file: one message, not one a line
     found: list[VplusProgram] = []
     data = VplusData()
     current: VplusProgram | None = None

@@ -25,7 +25,7 @@ from valterm.ui.screens.keyed import KeyedModalScreen
 SHOWN = 24  # lamps drawn per kind: two rows of 12 (the panel fits an 80 x 24 terminal)
 ROW = 12
 LOOK_EVERY = 0.1  # seconds between two looks at the panel
-KEYS = "1001-1512 OR 2001-2512, ENTER: TOGGLE IT   1001 ON / OFF: SET IT   ESC: RETURN"
+KEYS = "1001-1512, 2001-2512, ENTER: TOGGLE   1001 ON / OFF: SET   ESC: RETURN"
 
 
 def lamp_rows(panel: SignalPanel, first: int, label: str) -> list[str]:
