@@ -23,9 +23,9 @@ from pathlib import Path
 
 from valterm.core.files import limits
 from valterm.core.files._text import numbered_lines, read_text
-from valterm.core.files.foreign import refuse_foreign
 from valterm.core.files.atomic import write_text_atomic
 from valterm.core.files.errors import FileFormatError, FileWriteError
+from valterm.core.files.foreign import refuse_foreign
 from valterm.core.files.limits import MAX_STEPS
 from valterm.core.numbers import NumberError, parse_count
 
