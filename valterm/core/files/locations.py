@@ -46,8 +46,8 @@ LOCATION_NAME = re.compile(r"[A-Z][A-Z0-9]{0,8}")
 VPLUS_LOCATION_NAME = re.compile(r"[A-Z][A-Z0-9_.]{0,14}")
 PRECISION_NAME = re.compile(r"#[A-Z][A-Z0-9_.]{0,14}")
 MAX_VPLUS_NAME = 15
-RULE_1985 = "the 1985 rule (§7.3): a letter then up to 8 letters or digits (at most 9 characters)"
-RULE_VPLUS = "V+'s rule: a letter then letters, digits, '_' or '.' (at most 15 characters)"
+RULE_1985 = "a letter then up to 8 letters or digits (the 1985 rule, §7.3)"
+RULE_VPLUS = "a letter then letters, digits, '_' or '.', at most 15 characters (V+'s rule)"
 
 _POINT = re.compile(r"POINT(?![A-Z0-9])[\s,]*(.*)", re.IGNORECASE)
 
@@ -72,9 +72,9 @@ def _file_name(text: str) -> str:
     upper = text.strip().upper()
     if PRECISION_NAME.fullmatch(upper) or VPLUS_LOCATION_NAME.fullmatch(upper):
         return upper
-    raise BadName(f"{shown_name(text)!r} is not a location name: {RULE_VPLUS} "
-                  f"({'a precision point: #, then such a name; ' if upper.startswith('#') else ''}"
-                  f"a 1985 program's names follow {RULE_1985})")
+    point = "# then " if upper.startswith("#") else ""
+    raise BadName(f"{shown_name(text)!r} is not a location name: {point}{RULE_VPLUS}; "
+                  f"a 1985 program's: {RULE_1985}")
 
 
 def read_locations(path: str | Path) -> dict[str, Location]:
