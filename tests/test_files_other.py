@@ -63,7 +63,7 @@ LOC_MALFORMED = [
     ("POINT A, 1, 2, 3, 4, 5, 6\nPOINT B, 1, 2, x3, 4, 5, 6\n", 2, "'x3' is not a number"),
     ("PIONT A, 1, 2, 3, 4, 5, 6\n", 1, "expected 'POINT"),
     ("POINT\n", 1, "without a location name"),
-    ("POINT TOOLONGNAME, 1, 2, 3, 4, 5, 6\n", 1, "not a location name"),
+    ("POINT TOOLONGNAME123456, 1, 2, 3, 4, 5, 6\n", 1, "not a location name"),  # V+: at most 15
     ("POINT 9A, 1, 2, 3, 4, 5, 6\n", 1, "not a location name"),
     ("POINT A, 1, 2, 3, 4, 5, 6,\n1, 2\n", 2, "expected 'POINT"),
 ]

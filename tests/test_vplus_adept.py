@@ -189,7 +189,8 @@ def test_a_wait_ends_at_an_input_or_a_timer_whichever_comes_first() -> None:
     events = list(interpreter.execute("T"))
     assert typed(events) == ["  2.00", "  5.00"]
     errors = [e.message for e in events if e.event == "error"]
-    assert errors == ["WAIT TIMER(1) > 3600+10: STILL FALSE AFTER 3600 S"]
+    assert errors == []  # no hidden limit: 3610 s is inside the run's limit of robot time (one day)
+    assert interpreter.cycle_seconds == pytest.approx(3610.0, abs=1e-3)
 
 
 def test_a_wait_nothing_can_end_stops_at_once() -> None:

@@ -241,7 +241,9 @@ def test_location_files_hold_dotted_names_and_precision_points(tmp_path: Path) -
         parse_locations("POINT #P, 1, 2\n", "Z.LOC")
 
 
-def test_export_program_round_trips_and_runs_the_same(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+def test_export_program_round_trips_and_runs_the_same(capsys: pytest.CaptureFixture[str], tmp_path: Path,
+                                                     monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.chdir(tmp_path)  # --out is relative to the current folder
     assert main(["--workspace", str(tmp_path), "export-program", "CONV1", "--with-calls", "--out", "conv.v2"]) == 0
     assert "2 program(s) written (CONV1, CONV2)" in capsys.readouterr().out
     blocks = read_vplus(tmp_path / "conv.v2")

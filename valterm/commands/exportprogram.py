@@ -2,8 +2,8 @@
 
 Each program NAME.DAT of the workspace (or a .DAT path) is written as a ``.PROGRAM name()``
 ... ``.END`` block, its steps as they are (labels kept), in the order given, so V+ tools
-and ``valterm check``/``run`` read them back. A bare FILE goes into the workspace, a path
-where it says; the file is written atomically (nothing half-written). ``--with-calls``
+and ``valterm check``/``run`` read them back. FILE is a path as any command takes one (a
+bare name is in the current folder); the file is written atomically (nothing half-written). ``--with-calls``
 adds the programs the named ones CALL (found in the workspace), once each. ``--loc X.LOC``
 (may repeat) writes those locations and precision points into a ``.LOCATIONS`` section (in
 V+'s X Y Z yaw pitch roll), ``--with-variables`` the workspace's variables (CHECK.DAT) into
@@ -56,8 +56,6 @@ def run(args: argparse.Namespace) -> int:
     try:
         workspace = Workspace.open(getattr(args, "workspace", None))
         programs = _collect(args.names, workspace, args.with_calls)
-        if not any(sep in args.out for sep in ("/", "\\")):
-            out = workspace.root / out.name
         blocks = [VplusProgram(program, list(program.parameters)) for program in programs]
         write_text_atomic(out, format_vplus(blocks, _data(args, workspace)))
     except (ValtermError, OSError) as error:

@@ -11,8 +11,10 @@ read from the program's folder first, then the workspace. CHECK.DAT's variables 
 and, when the program ends, written back as EXECUTE does (section 6.7: an assignment
 updates CHECK.DAT, so variables are kept across sessions). DELAY is not waited.
 
-A V+ file (``.v2``/``.pg``, ``.PROGRAM`` blocks) runs its first program; every program of
-the file can be CALLed, and they are v+ (``--dialect v+`` makes .DAT programs v+ too).
+A V+ file (``.v2``/``.pg``, ``.PROGRAM`` blocks) runs its main program, the one no other
+program of the file CALLs (several: they are listed; ``--program NAME`` chooses); every program of
+the file can be CALLed; the file is checked whole first (a bad step anywhere: every error with its
+line, exit 1, no step run), and they are v+ (``--dialect v+`` makes .DAT programs v+ too).
 ``--rules 1985|controller`` picks the joint-state rules (SPEC §3a, docs/MOTION.md; by default
 the dialect's: 1985 for .DAT programs, controller for v+); ``--config LEFTY,BELOW`` sets the
 user's indicators first; ``--inputs FILE`` scripts the
@@ -60,6 +62,8 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) ->
                              "docs/MOTION.md)")
     parser.add_argument("--config", metavar="LEFTY,ABOVE,NOFLIP",
                         help="the user's configuration indicators at the start (default RIGHTY,ABOVE,NOFLIP)")
+    parser.add_argument("--program", metavar="NAME", dest="main_program",
+                        help="the main program of a V+ file (default: the one no other program CALLs)")
     parser.add_argument("--inputs", metavar="FILE",
                         help='input signals scripted as "TIME SIGNAL VALUE" lines (V+ SIG, WAIT)')
     add_robot_option(parser)
@@ -99,9 +103,26 @@ def _vplus_data(path: Path, sim: Any, interpreter: Any) -> None:
         print(f"valterm: warning: {problem}", file=sys.stderr)
 
 
-def _locate(argument: str, workspace: Any) -> tuple[Path, Any, dict[str, Any]]:
-    """The program file, its main program and the file's programs: a path, NAME.DAT, or a
-    program of one of the workspace's V+ files (any name LISTF lists; EXECUTE finds the same)."""
+def _errors_of_file(path: Path, in_file: dict[str, Any], dialect: str | None) -> list[str]:
+    """Every error of the file's programs, located (``FILE:LINE: PROG step N: reason``), as
+    ``check`` reports them: a bad step or .PROGRAM header. Warnings (a step only the real
+    controller runs, a CALL of a missing program) are no reason to refuse the file."""
+    from valterm.core.files.vplus import EXTENSIONS, read_vplus_file
+    from valterm.core.val.checker import check_program
+
+    found: list[str] = []
+    if path.suffix.upper() in EXTENSIONS:
+        found += [block.problem for block in read_vplus_file(path).blocks if block.problem]
+    for program in in_file.values():
+        for diagnostic in check_program(program, dialect=dialect).errors:
+            found.append(f"{path.name}:{diagnostic.line}: {diagnostic}" if diagnostic.line else str(diagnostic))
+    return found
+
+
+def _locate(argument: str, workspace: Any, chosen: str | None = None) -> tuple[Path, Any, dict[str, Any]]:
+    """The program file, its main program (``chosen``, else the one no other program CALLs) and
+    the file's programs: a path, NAME.DAT, or a program of one of the workspace's V+ files (any
+    name LISTF lists; EXECUTE finds the same)."""
     from valterm.core.files.vplus import read_program_file
 
     try:
@@ -111,9 +132,9 @@ def _locate(argument: str, workspace: Any) -> tuple[Path, Any, dict[str, Any]]:
         if found is None:
             raise
         program, path = found
-        _first, in_file = read_program_file(path)
+        in_file = {p.name: p for p in read_program_file(path, program.name)[1].values()}
         return path, in_file.get(program.name, program), in_file
-    main, in_file = read_program_file(path)
+    main, in_file = read_program_file(path, chosen)
     return path, main, in_file
 
 
@@ -154,7 +175,7 @@ def run(args: argparse.Namespace) -> int:
 
     try:
         workspace = Workspace.open(getattr(args, "workspace", None))
-        program_path, main, in_file = _locate(args.program, workspace)
+        program_path, main, in_file = _locate(args.program, workspace, getattr(args, "main_program", None))
         cell_name = args.cell or (main.name if _in_workspace(workspace, main.name, "SET") else None)
         cell = read_setup(_find(cell_name, "SET", workspace)) if cell_name else None
         sim = Simulator(cell, robot=robot_from(args))
@@ -177,6 +198,14 @@ def run(args: argparse.Namespace) -> int:
 
     interpreter = Interpreter(sim, load_program, variables, keep_variables=workspace.merge_variables,
                               dialect=args.dialect or "1985", limits=limits_from(args))
+    try:
+        refused = _errors_of_file(program_path, in_file, args.dialect)
+    except (FileFormatError, OSError) as error:
+        return fail(error, FAILURE)
+    if refused:  # checked whole before any step runs (as the controller's LOAD would refuse it)
+        print("\n".join(refused), file=sys.stderr)
+        return fail(f"{program_path.name}: {len(refused)} error{'s' if len(refused) != 1 else ''}: "
+                    "no step was run (valterm check lists them too)", FAILURE)
     try:
         _vplus_data(program_path, sim, interpreter)
         _vplus_setup(args, sim, interpreter, loc_paths)

@@ -70,12 +70,17 @@ def joint_motion_seconds(start: np.ndarray, goal: np.ndarray, speed_percent: flo
 
 
 def straight_motion_seconds(length_mm: float, turn_deg: float, speed_percent: float,
-                            timing: Timing | None = None) -> float:
-    """A straight line: the tool path at the tool speed, or the turn at the wrist's, if slower."""
+                            timing: Timing | None = None, tool_mm_per_s: float | None = None) -> float:
+    """A straight line: the tool path at the tool speed, or the turn at the wrist's, if slower.
+
+    ``tool_mm_per_s`` (V+ ``SPEED n MMPS``): the tool tip cruises at that speed, accelerating at
+    the robot's tool acceleration; the turn keeps the percent speed."""
     timing = timing or robot_timing()
-    along = trapezoid_seconds(length_mm, timing.tool_speed, timing.tool_accel)
-    turn = trapezoid_seconds(turn_deg, timing.joint_speed[3], timing.joint_accel[3])
-    return max(along, turn) * 100.0 / speed_percent
+    scale = 100.0 / speed_percent
+    turn = trapezoid_seconds(turn_deg, timing.joint_speed[3], timing.joint_accel[3]) * scale
+    if tool_mm_per_s is not None:
+        return max(trapezoid_seconds(length_mm, tool_mm_per_s, timing.tool_accel), turn)
+    return max(trapezoid_seconds(length_mm, timing.tool_speed, timing.tool_accel) * scale, turn)
 
 
 class CycleClock:

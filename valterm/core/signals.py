@@ -1,12 +1,12 @@
 """The I/O panel: the robot controller's binary signals, simulated (V+ numbering).
 
 Outputs are 1..512 (set by ``SIGNAL n`` / ``SIGNAL -n``), inputs 1001..1512 (set by the
-user from the keyboard, or scripted with ``run --inputs FILE``), internal (soft) signals
-2001..2512 (set by programs, read like inputs). ``SIG(n)`` is TRUE (-1, as in V+) when
+user from the keyboard, or scripted with ``run --inputs FILE``), internal (software) signals
+2001..2512 (set by programs, the keyboard or a script, read like inputs). ``SIG(n)`` is TRUE (-1, as in V+) when
 signal n is on; ``SIG(-n)`` when it is off.
 
 An inputs script has one change a line: ``TIME SIGNAL VALUE`` (seconds since the run
-started, an input number, 1/0 or ON/OFF); blank and ``#`` lines are skipped.
+started, an input or software signal number, 1/0 or ON/OFF); blank and ``#`` lines are skipped.
 """
 
 from __future__ import annotations
@@ -22,6 +22,7 @@ OUTPUTS = range(1, 513)
 INPUTS = range(1001, 1513)
 INTERNAL = range(2001, 2513)
 TRUE, FALSE = -1.0, 0.0  # V+ truth values
+SETTABLE = "inputs are 1001-1512, software signals 2001-2512"  # what the keyboard and a script set
 
 
 class SignalError(ValtermError):
@@ -59,9 +60,9 @@ class SignalPanel:
         return number
 
     def set_input(self, number: int, on: bool) -> None:
-        """The keyboard or an inputs script sets input ``number``."""
-        if _kind(number) != "input":
-            raise SignalError(f"signal {number} is not an input (inputs are 1001-1512)")
+        """The keyboard or an inputs script sets input or software signal ``number``."""
+        if number not in INPUTS and number not in INTERNAL:
+            raise SignalError(f"signal {number} is not an input or a software signal ({SETTABLE})")
         self._set(number, on)
 
     def sig(self, signed: int) -> float:
@@ -100,8 +101,9 @@ def parse_inputs(text: str, where: str | Path) -> list[InputChange]:
         value = words[2].upper()
         if value not in ("1", "0", "ON", "OFF") or not 0.0 <= time < 1e9:
             raise FileFormatError(where, number, "VALUE is 1, 0, ON or OFF and TIME a number of seconds >= 0")
-        if signal not in INPUTS:
-            raise FileFormatError(where, number, f"signal {signal} is not an input (inputs are 1001-1512)")
+        if signal not in INPUTS and signal not in INTERNAL:
+            raise FileFormatError(where, number, f"signal {signal} is not an input or a software "
+                                                 f"signal ({SETTABLE})")
         changes.append(InputChange(time, signal, value in ("1", "ON")))
     return sorted(changes, key=lambda change: change.time)
 

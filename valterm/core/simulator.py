@@ -119,6 +119,8 @@ class Simulator:
         # controller rules: the indicators asked for since the last motion (kind -> +1/-1)
         self._asked: dict[str, int] = {}
         self.speed = 100.0
+        self.tool_mm_per_s: float | None = None  # V+ SPEED n MMPS: straight lines' tool speed
+        self._speed_after: tuple[float, float | None] | None = None  # SPEED without ALWAYS: then this
         self.clamp_closed = False
         self.gap = self.model.open_gap
         self.carried: int | None = None
@@ -192,7 +194,26 @@ class Simulator:
     # -- settings ------------------------------------------------------------
     def set_speed(self, percent: float) -> float:
         self.speed = clamp_speed(percent)
+        self.tool_mm_per_s = None
         return self.speed
+
+    def _straight_percent(self) -> float:
+        """The SPEED a straight line's steps are drawn at: SPEED n MMPS as a share of the robot's."""
+        if self.tool_mm_per_s is None:
+            return self.speed
+        return clamp_speed(100.0 * self.tool_mm_per_s / self.timing.tool_speed)
+
+    def set_program_speed(self, value: float, mm_per_s: bool, always: bool) -> float:
+        """V+ SPEED: ``value`` percent, or (``mm_per_s``) the tool tip's speed on straight lines,
+        held at the robot's; without ALWAYS for the next motion only. Returns what is in force."""
+        if always:
+            self._speed_after = None
+        elif self._speed_after is None:
+            self._speed_after = (self.speed, self.tool_mm_per_s)
+        if not mm_per_s:
+            return self.set_speed(value)
+        self.tool_mm_per_s = min(max(value, 1e-3), self.timing.tool_speed)
+        return self.tool_mm_per_s
 
     def set_rules(self, name: str) -> str:
         """The joint-state rules: ``1985`` or ``controller`` (RefusedValue otherwise)."""
@@ -319,9 +340,16 @@ class Simulator:
         yield from self._play(joint_path(self.joints, goal, increment), "joint")
 
     def move_joints(self, goal: Sequence[float]) -> Iterator[Event]:
-        """A joint-coordinated motion to six joint angles (a V+ precision point, #name): each
-        joint to its equivalent inside the stops nearest where it is."""
-        fitted = fit_precision_point(goal, self.joints, self.arm)
+        """A joint-coordinated motion to six joint angles (a V+ precision point, #name).
+
+        Controller rules: a precision point is its joints (SPEC §3a), each angle exactly as given,
+        refused naming the joint when one is beyond its stop. 1985 rules: each joint to its
+        equivalent inside the stops nearest where it is."""
+        if self.rules == CONTROLLER:
+            fitted = [float(v) for v in goal]
+            check_joint_goal(fitted, self.arm)
+        else:
+            fitted = fit_precision_point(goal, self.joints, self.arm)
         yield from self._play(joint_path(self.joints, fitted, joint_increment(self.speed)), "joint")
 
     def ready(self) -> Iterator[Event]:
@@ -392,7 +420,7 @@ class Simulator:
             goal: str = "the goal", taught: list[float] | None = None) -> Iterator[Event]:
         try:
             if straight:
-                path = straight_path(self.joints, xyz, rotation, config, straight_increment(self.speed),
+                path = straight_path(self.joints, xyz, rotation, config, straight_increment(self._straight_percent()),
                                      self.arm, self.rules)
             else:
                 joints = taught if taught is not None else (yield from self._joint_goal(xyz, rotation, config))
@@ -457,6 +485,8 @@ class Simulator:
         (``_PathChecks``) and each pose's findings said as it is shown."""
         steps = len(path)
         seconds = self._motion_seconds(path, kind)
+        if self._speed_after is not None:  # a V+ SPEED without ALWAYS was for this motion only
+            (self.speed, self.tool_mm_per_s), self._speed_after = self._speed_after, None
         before = self.arm.indicators(self.joints)
         goal = tuple(self._settled(path[-1])) if steps else ()
         self._asked.clear()
@@ -500,7 +530,7 @@ class Simulator:
         length = float(np.linalg.norm(after.xyz - before.xyz))
         cos = (np.trace(before.rotation.T @ after.rotation) - 1.0) / 2.0
         turn = math.degrees(math.acos(max(-1.0, min(1.0, float(cos)))))
-        return straight_motion_seconds(length, turn, self.speed, self.timing)
+        return straight_motion_seconds(length, turn, self.speed, self.timing, self.tool_mm_per_s)
 
     # -- pendant (Chapter 3) ---------------------------------------------------
     def pendant_joint(self, joint: int) -> Iterator[Event]:

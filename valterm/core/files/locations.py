@@ -41,10 +41,13 @@ from valterm.core.transform import convert_orientation
 # A location name: a letter then up to 8 letters or digits (§7.3: "up to 9 characters").
 LOCATION_NAME = re.compile(r"[A-Z][A-Z0-9]{0,8}")
 
-# A V+ location name (dotted, up to 15 characters) and a precision point name (#name).
-VPLUS_LOCATION_NAME = re.compile(r"[A-Z][A-Z0-9_]*(?:\.[A-Z0-9_]+)+")
+# A V+ name (the V+ reference: a letter, then letters, digits, '_' or '.', at most 15 characters)
+# and a precision point name (#name).
+VPLUS_LOCATION_NAME = re.compile(r"[A-Z][A-Z0-9_.]{0,14}")
 PRECISION_NAME = re.compile(r"#[A-Z][A-Z0-9_.]{0,14}")
 MAX_VPLUS_NAME = 15
+RULE_1985 = "a letter then up to 8 letters or digits (the 1985 rule, §7.3)"
+RULE_VPLUS = "a letter then letters, digits, '_' or '.', at most 15 characters (V+'s rule)"
 
 _POINT = re.compile(r"POINT(?![A-Z0-9])[\s,]*(.*)", re.IGNORECASE)
 
@@ -58,19 +61,20 @@ def check_location_name(name: str) -> str:
     upper = name.strip().upper()
     if not LOCATION_NAME.fullmatch(upper):
         raise BadName(
-            f"{shown_name(name)!r} is not a location name: "
-            "a letter then up to 8 letters or digits (at most 9 characters)"
+            f"{shown_name(name)!r} is not a location name: {RULE_1985}"
         )
     return upper
 
 
 def _file_name(text: str) -> str:
-    """A name as a location file may hold it: 1985, dotted V+, or a #precision point."""
+    """A name as a location file may hold it: a V+ name (every 1985 name is one too), or a
+    #precision point; BadName stating both rules."""
     upper = text.strip().upper()
-    vplus_name = PRECISION_NAME.fullmatch(upper) or VPLUS_LOCATION_NAME.fullmatch(upper)
-    if vplus_name and len(upper.lstrip("#")) <= MAX_VPLUS_NAME:
+    if PRECISION_NAME.fullmatch(upper) or VPLUS_LOCATION_NAME.fullmatch(upper):
         return upper
-    return check_location_name(text)
+    point = "# then " if upper.startswith("#") else ""
+    raise BadName(f"{shown_name(text)!r} is not a location name: {point}{RULE_VPLUS}; "
+                  f"a 1985 program's: {RULE_1985}")
 
 
 def read_locations(path: str | Path) -> dict[str, Location]:

@@ -25,6 +25,7 @@ from valterm.core.files import limits
 from valterm.core.files._text import numbered_lines, read_text
 from valterm.core.files.atomic import write_text_atomic
 from valterm.core.files.errors import FileFormatError, FileWriteError
+from valterm.core.files.foreign import refuse_foreign
 from valterm.core.files.limits import MAX_STEPS
 from valterm.core.numbers import NumberError, parse_count
 
@@ -103,6 +104,7 @@ def parse_program(text: str, name: str, path: str | Path | None = None) -> Progr
     where = Path(path) if path is not None else Path(f"{name.upper()}.DAT")
     if not text.strip():
         raise FileFormatError(where, 0, "the program file is empty")
+    refuse_foreign(text, where)  # a Kawasaki AS or VAL3 file: one message, not one a line
     program = Program(name.upper())
     for number, line in numbered_lines(text):
         if not line.strip():

@@ -45,6 +45,7 @@ from valterm.core import numbers
 from valterm.core.errors import ValtermError
 from valterm.core.files._text import numbered_lines, read_text, split_fields
 from valterm.core.files.errors import FileFormatError
+from valterm.core.files.foreign import refuse_foreign
 from valterm.core.files.programs import MAX_LINE, Program, ProgramLine, read_program, split_label
 from valterm.core.kinematics import Location
 from valterm.core.transform import convert_orientation
@@ -151,6 +152,7 @@ def parse_vplus(text: str, path: str | Path) -> list[VplusProgram]:
 def parse_vplus_file(text: str, path: str | Path) -> VplusFile:
     """The ``.PROGRAM`` blocks of a V+ file in file order, and its data sections."""
     where = Path(path)
+    refuse_foreign(text, where)  # a Kawasaki AS or VAL3 file: one message, not one a line
     found: list[VplusProgram] = []
     data = VplusData()
     current: VplusProgram | None = None
@@ -216,12 +218,42 @@ def read_vplus(path: str | Path) -> list[VplusProgram]:
     return read_vplus_file(path).blocks
 
 
-def read_program_file(path: str | Path) -> tuple[Program, dict[str, Program]]:
+# CALL name, and the program a reaction CALLs (REACT/REACTI signal, name)
+_CALLED = re.compile(r"^\s*(?:CALL\s+|REACTI?\s+[^,]+,\s*)([A-Z][A-Z0-9._]*)", re.IGNORECASE)
+
+
+def called_names(program: Program) -> set[str]:
+    """The names of the programs ``program`` CALLs (or arms a reaction to), upper-cased."""
+    found = (_CALLED.match(line.text) for line in program.steps)
+    return {match.group(1).upper() for match in found if match}
+
+
+def main_program(programs: list[Program], path: str | Path, chosen: str | None = None) -> Program:
+    """The main program of a V+ file: ``chosen`` (``--program NAME``), else the one no other
+    program of the file CALLs (all CALLed, a cycle: the first). FileFormatError when the file
+    has no ``chosen``, or several programs no other CALLs (listed: choose one)."""
+    names = [p.name for p in programs]
+    if chosen is not None:
+        for program in programs:
+            if program.name == chosen.strip().upper():
+                return program
+        raise FileFormatError(path, 0, f"no program {chosen.strip().upper()} in the file (it holds "
+                                       f"{', '.join(names)})")
+    called = {name for p in programs for name in called_names(p) - {p.name}}
+    candidates = [p for p in programs if p.name not in called]
+    if len(candidates) > 1:
+        raise FileFormatError(path, 0, f"{len(candidates)} programs that no other program CALLs: "
+                                       f"{', '.join(p.name for p in candidates)}; choose the main one "
+                                       "with --program NAME")
+    return (candidates or programs)[0]
+
+
+def read_program_file(path: str | Path, chosen: str | None = None) -> tuple[Program, dict[str, Program]]:
     """The main program of a program file and every program it holds, by name: a V+ file
-    (``.v2``/``.pg``) holds several, the first is the main one; a ``.DAT`` file holds one."""
+    (``.v2``/``.pg``) holds several (the main one: ``main_program``); a ``.DAT`` file holds one."""
     if Path(path).suffix.upper() in EXTENSIONS:
         programs = [block.program for block in read_vplus(path)]
-        return programs[0], {p.name: p for p in programs}
+        return main_program(programs, path, chosen), {p.name: p for p in programs}
     main = read_program(path)
     return main, {main.name: main}
 

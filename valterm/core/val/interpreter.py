@@ -402,6 +402,8 @@ class Interpreter:
         self._steps_left, self._lines_left = self.limits.allowed("steps"), self.limits.allowed("lines")
         self._limit_hit = ""
         self._cycle_start, self._cycle_end = self.clock.seconds, None
+        self.machine.deadline = self._cycle_start + self.limits.allowed("seconds")
+        self.machine.deadline_said = f"{self.limits.message('seconds')} ({self.limits.flag('seconds')})"
         return total
 
     def _ended(self) -> None:

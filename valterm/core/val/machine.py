@@ -60,6 +60,9 @@ class Machine:
     keyboard: bool = False
     stopping: Callable[[], bool] = field(default=lambda: False, repr=False)
     typed: str = ""  # TYPE ..., /S: the line typed so far, its end not yet typed
+    # The run's limit of robot time (limits.py): a WAIT goes no further, and says which limit.
+    deadline: float = float("inf")
+    deadline_said: str = "NO RUN LIMIT"
 
     @property
     def time(self) -> float:

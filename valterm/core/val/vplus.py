@@ -81,7 +81,7 @@ DIALECT = "v+"
 MAX_CALL_DEPTH = 20
 WAIT_POLL = 0.1  # seconds between two looks at a WAIT condition (simulated time)
 MAJOR_CYCLE = TICK  # seconds: V+'s trajectory cycle, the time a WAIT with no condition lets pass
-WAIT_LIMIT = 3600.0  # a WAIT longer than this (simulated) is reported and the program stopped
+NEVER_AFTER = 1e9  # seconds: a WAIT with no run limit looks no further (the clock's own horizon)
 
 _N = NAME
 _ASSIGN = re.compile(rf"^(?:(SET)\s+)?([$#]?{_N})\s*(\[(.*)\])?\s*=(?!=)\s*(.*)$", re.DOTALL)
@@ -413,9 +413,7 @@ def _with_arguments(word: str, rest: str, parts: list[str], original: str) -> St
         _count(word, tuning, 0, 2 if word in ("ACCEL", "FINE", "COARSE") else 1, "{<value>} {ALWAYS}")
         return Statement(word, tuple(_check("N", v) for v in tuning), original)
     if word == "SPEED":
-        always = bool(re.search(r"\s(ALWAYS|MONITOR)\s*$", rest))
-        value = re.sub(r"(\s+(ALWAYS|MONITOR))+\s*$", "", rest)
-        return Statement("SPEED", (_check("N", value), always), original)
+        return _speed_statement(rest, original)
     if word in ("HERE", "TOOL"):
         _count(word, parts, 1, 1, "<location>")
         target = parts[0]
@@ -1004,14 +1002,37 @@ def _with_numbers(c: Build, st: Statement) -> Op:
     return _reacting(c, run)
 
 
+_SPEED_UNITS = {"MMPS": 1.0, "IPS": 25.4}  # tool tip speed units, in mm/s
+
+
+def _speed_statement(rest: str, original: str) -> Statement:
+    """SPEED speed {, rotation} {MMPS | IPS | MONITOR} {ALWAYS} (the V+ reference); MONITOR, the
+    monitor's speed, stays in force. Args: speed, ALWAYS, mm/s per unit (0: percent)."""
+    words = rest.split()
+    always = bool(words) and words[-1].upper() == "ALWAYS"
+    words = words[:-1] if always else words
+    unit = words[-1].upper() if words and words[-1].upper() in (*_SPEED_UNITS, "MONITOR") else ""
+    values = split_top(" ".join(words[:-1] if unit else words))
+    _count("SPEED", values, 1, 2, "<speed> {, <rotation speed>} {MMPS | IPS} {ALWAYS}")
+    for value in values[1:]:
+        _check("N", value)  # the rotation factor of straight lines: checked, not modelled
+    return Statement("SPEED", (_check("N", values[0]), always or unit == "MONITOR", _SPEED_UNITS.get(unit, 0.0)),
+                     original)
+
+
 def _speed(c: Build, st: Statement) -> Op:
-    speed = _num(c, st.args[0])
+    speed, always, per_unit = _num(c, st.args[0]), bool(st.args[1]), float(st.args[2])
+    set_program_speed = getattr(c.sim, "set_program_speed", None)
 
     def run() -> Events:
-        wanted = float(speed(c.variables))
-        got = c.sim.set_speed(wanted)
+        wanted = float(speed(c.variables)) * (per_unit or 1.0)
+        if set_program_speed is None:  # a stand-in simulator: the 1985 SPEED
+            got = c.sim.set_speed(wanted)
+        else:
+            got = set_program_speed(wanted, bool(per_unit), always)
         if got != wanted:
-            yield Message(f"SPEED SET TO {b85.format_value(got)} (10 TO 100)", "warning")
+            range_said = "(10 TO 100)" if not per_unit else "MM/S (THE ROBOT'S TOOL SPEED)"
+            yield Message(f"SPEED SET TO {b85.format_value(got)} {range_said}", "warning")
         return c.next
     return c.action(run)
 
@@ -1171,15 +1192,16 @@ def _wait(c: Build, st: Statement) -> Op:
                 continue
             if coming is None and machine.keyboard:
                 return c.next  # CTRL-C: the run stops after this step
-            limit = started + WAIT_LIMIT
+            limit = min(machine.deadline, started + NEVER_AFTER)  # the run's limit of robot time
             until = limit if coming is None else min(coming, limit)
             when = first_true(machine, holds, until)
             if when is not None:  # the clock makes it true before any input changes
                 yield from machine.wait(when - machine.time)
-            elif coming is None and first_true(machine, holds, 1e9, 1e9) is None:
+            elif coming is None and first_true(machine, holds, NEVER_AFTER, NEVER_AFTER) is None:
                 raise ProgramError(f"WAIT {text}: IT NEVER BECOMES TRUE (NO MORE INPUTS ARE SCRIPTED)")
             elif coming is None or coming > limit:
-                raise ProgramError(f"WAIT {text}: STILL FALSE AFTER {WAIT_LIMIT:g} S")
+                yield from machine.wait(max(0.0, limit - machine.time))  # the robot waited up to the limit
+                raise ProgramError(f"WAIT {text}: STILL FALSE AT THE LIMIT: {machine.deadline_said}")
             else:
                 yield from machine.wait(coming - machine.time)  # the input changes now
             if machine.pending:  # a REACT program runs first, then this WAIT looks again

@@ -2,8 +2,8 @@
 
 Reached from VAL-II mode by F10, also while a program runs (the program goes on beneath).
 Outputs 1-24 and inputs 1001-1024 are drawn as lamps (``*`` on, ``.`` off); any other
-signal that is on is listed. The user sets inputs from the keyboard: ``1001`` ENTER
-toggles input 1001, ``1001 ON`` / ``1001 OFF`` set it; a program's ``WAIT SIG(1001)``
+signal that is on is listed. The user sets inputs and software signals (2001-2512) from the
+keyboard: ``1001`` ENTER toggles input 1001, ``1001 ON`` / ``1001 OFF`` set it; a program's ``WAIT SIG(1001)``
 sees the change at its next look. ESC returns to VAL-II mode.
 
 The lamps follow the session's ``SignalPanel`` (``valterm.core.signals``), looked at a few
@@ -19,13 +19,13 @@ from textual.widgets import Input, Static
 
 from valterm.core.errors import RefusedValue, ValtermError
 from valterm.core.session import Session
-from valterm.core.signals import INPUTS, INTERNAL, OUTPUTS, SignalPanel
+from valterm.core.signals import INPUTS, INTERNAL, OUTPUTS, SETTABLE, SignalPanel
 from valterm.ui.screens.keyed import KeyedModalScreen
 
 SHOWN = 24  # lamps drawn per kind: two rows of 12 (the panel fits an 80 x 24 terminal)
 ROW = 12
 LOOK_EVERY = 0.1  # seconds between two looks at the panel
-KEYS = "INPUT NUMBER, ENTER: TOGGLE IT   1001 ON / 1001 OFF: SET IT   ESC: RETURN"
+KEYS = "1001-1512, 2001-2512, ENTER: TOGGLE   1001 ON / OFF: SET   ESC: RETURN"
 
 
 def lamp_rows(panel: SignalPanel, first: int, label: str) -> list[str]:
@@ -54,15 +54,17 @@ def panel_lines(panel: SignalPanel) -> list[str]:
 
 
 def parse_input_command(typed: str, panel: SignalPanel) -> tuple[int, bool]:
-    """``1001`` (toggle), ``1001 ON`` or ``1001 OFF`` -> (input, new state); RefusedValue says why."""
+    """``1001`` (toggle), ``1001 ON`` or ``1001 OFF`` -> (input or software signal, new state);
+    RefusedValue says why."""
     words = typed.replace(",", " ").upper().split()
     if words and words[0] in ("INPUT", "SIG", "SIGNAL"):
         words = words[1:]
     if not words or len(words) > 2 or not words[0].lstrip("-").isdigit():
-        raise RefusedValue("TYPE AN INPUT NUMBER (1001-1512), THEN ENTER; OR 1001 ON / 1001 OFF")
+        raise RefusedValue("TYPE AN INPUT NUMBER (1001-1512) OR A SOFTWARE SIGNAL (2001-2512), THEN ENTER;"
+                           " OR 1001 ON / 1001 OFF")
     number = int(words[0])
-    if number not in INPUTS:
-        raise RefusedValue(f"{number} IS NOT AN INPUT: INPUTS ARE {INPUTS.start}-{INPUTS.stop - 1}")
+    if number not in INPUTS and number not in INTERNAL:
+        raise RefusedValue(f"{number} IS NOT AN INPUT: {SETTABLE.upper()}")
     if len(words) == 1:
         return number, number not in panel.on
     if words[1] not in ("ON", "OFF", "1", "0"):
@@ -101,7 +103,7 @@ class SignalsScreen(KeyedModalScreen[None]):
             yield Static("", id="io-state")
             yield Static("", id="io-message")
             yield Static(KEYS, id="io-keys")
-            yield Input(id="io-line", placeholder="INPUT NUMBER, e.g. 1001 (TYPE HERE)")
+            yield Input(id="io-line", placeholder="INPUT OR SOFTWARE SIGNAL, e.g. 1001 or 2001 (TYPE HERE)")
 
     def on_mount(self) -> None:
         self.look()
@@ -150,7 +152,8 @@ class SignalsScreen(KeyedModalScreen[None]):
         except ValtermError as error:
             return f"*** {str(error).upper()}"
         self.look()
-        return f"INPUT {number} {'ON' if on else 'OFF'}"
+        kind = "INPUT" if number in INPUTS else "SOFTWARE SIGNAL"
+        return f"{kind} {number} {'ON' if on else 'OFF'}"
 
     def line_taking_keys(self) -> Input:
         return self.query_one("#io-line", Input)  # the panel's one line (typed ahead too)
