@@ -9,7 +9,7 @@ import math
 import numpy as np
 import pytest
 
-from tests.test_vplus_lang import body, check_errors, completed, errors, typed, vplus
+from test_vplus_lang import body, check_errors, completed, errors, typed, vplus
 from valterm.core.arms import thesis_arm
 from valterm.core.kinematics import Location, rotation_to_oat
 from valterm.core.simulator import Simulator

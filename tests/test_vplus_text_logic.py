@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from tests.test_vplus_lang import body, completed, errors, typed, vplus
+from test_vplus_lang import body, completed, errors, typed, vplus
 from valterm.cli import main
 from valterm.core.events import Step
 
