@@ -8,6 +8,7 @@ motions and the clamp's redraws have no line; HELP and the monitor commands (LIS
 
 from __future__ import annotations
 
+import textwrap
 from collections.abc import Callable, Iterable, Sequence
 
 from valterm.core.events import (
@@ -177,3 +178,12 @@ def _write_transcript(events: Iterable[Event], write: Callable[[str], object]) -
         if isinstance(event, Pause):
             write(HEADLESS_PROCEED + "\n")
     return errors
+
+
+def wrap_line(line: str, width: int) -> list[str]:
+    """A transcript line as the rows of a log ``width`` columns wide: broken at spaces where it
+    can be (a word longer than the room left is cut at the edge), never cropped; the spaces at
+    a break go, every other character stays, in order. A line that fits is returned as it is."""
+    if len(line) <= width and "\t" not in line:
+        return [line]
+    return textwrap.wrap(line, max(width, 1), break_on_hyphens=False) or [""]

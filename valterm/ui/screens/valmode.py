@@ -575,7 +575,7 @@ class ValModeScreen(KeyedScreen[None]):
             return  # a command with nothing to say (PROCEED) leaves no blank line
         self.transcript.extend(lines)
         # one write a tick, of what a screen can show: a TYPE loop scrolls, it does not stall
-        self.query_one("#val-log", RichLog).write("\n".join(lines[-LOG_WRITE:]))
+        self.query_one("#val-log", TranscriptLog).write_lines(lines[-LOG_WRITE:])
 
     def take_event(self, event: Event) -> bool:
         if isinstance(event, Help):
