@@ -62,6 +62,7 @@ RUNAWAY = "10  TYPE HELLO\n    GOTO 10\n"
 REACH = "    APPRO P2, 80\n"  # refused in a program: the line names the program and step too
 REFUSAL = ("*** REACH STEP 1: LOCATION P2 IS LEFTY,ABOVE,NOFLIP BUT THE INDICATORS ARE RIGHTY,ABOVE,NOFLIP"
            " (TYPE LEFTY OR TEACH IT AGAIN)")
+UNKNOWN = "*** WHEREABOUTS IS NOT A COMMAND THE SIMULATOR ACCEPTS (SEE COMMAND.DAT)"
 LIMIT = "*** LOOP STEP 2: RUN LIMIT REACHED: 40 LINES OF OUTPUT (raise it with --max-lines)"
 
 
@@ -96,6 +97,8 @@ async def test_the_lefty_refusal_and_the_run_limit_are_whole_beside_the_picture(
         await run_lines(sim, "LEFTY", "DRIVE 2,60,100", "HERE P2", "READY", "EXEC REACH")
         assert REFUSAL in sim.transcript()
         assert shows_whole(sim, REFUSAL), log_rows(sim)
+        await run_lines(sim, "WHEREABOUTS X")  # issue 39: the refusal was cut at `(SEE COMM`
+        assert shows_whole(sim, UNKNOWN), log_rows(sim)
         await run_lines(sim, "EXEC LOOP")
         assert LIMIT in sim.transcript()
         assert shows_whole(sim, LIMIT), log_rows(sim)
