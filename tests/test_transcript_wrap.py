@@ -12,10 +12,12 @@ from pathlib import Path
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from textual.app import App, ComposeResult
 
 from valterm.core.text.transcript import wrap_line
 from valterm.core.val.limits import RunLimits
-from valterm.testing import Simulation
+from valterm.testing import Simulation, screen_rows
+from valterm.ui.widgets.transcript_log import TranscriptLog
 
 # -- the wrapping function, any width, any message ----------------------------------------
 
@@ -119,3 +121,39 @@ async def test_the_transcript_is_wrapped_again_when_the_terminal_is_resized(tmp_
             assert shows_whole(sim, status), (size, log_rows(sim))
             room = sim.screen.query_one("#val-log").content_region.width
             assert max(map(len, log_rows(sim))) <= room < max(map(len, sim.transcript()))
+
+
+# -- the widget alone ---------------------------------------------------------------------
+
+class LogHost(App[None]):
+    CSS = """TranscriptLog { width: 30; height: 12; border: round white; padding: 0 1;
+                             scrollbar-visibility: hidden; }"""
+
+    def compose(self) -> ComposeResult:
+        yield TranscriptLog(id="log")
+
+
+def widget_rows(app: LogHost) -> list[str]:
+    region = app.query_one(TranscriptLog).content_region
+    rows = screen_rows(app)
+    return [rows[y][region.x:region.right].rstrip() for y in range(region.y, region.bottom)]
+
+
+async def test_the_log_wraps_wide_glyphs_too_and_a_wipe_forgets_what_it_held() -> None:
+    app = LogHost()
+    async with app.run_test(size=(60, 14)) as pilot:
+        log = app.query_one(TranscriptLog)
+        wide = "TYPE " + "\u65e5\u672c" * 10  # 20 double-width glyphs: 45 cells, 25 characters
+        log.write_lines(["A" * 60, wide])
+        await pilot.pause()
+        assert log.room == 24  # inside the border, the padding and the (unseen) scroll bar's gutter
+        rows = widget_rows(app)
+        assert rows[4:6] == ["\u65e5\u672c" * 6, "\u65e5\u672c" * 4]  # folded at 24 cells, not cut
+        assert "".join(rows).replace(" ", "") == ("A" * 60 + wide).replace(" ", ""), rows
+        log.clear()  # W_WIPE
+        log.write_lines(["AFTER THE WIPE"])
+        log.styles.width = 40  # wider: wrapped again, the wiped lines stay gone
+        await pilot.pause()
+        await pilot.pause()
+        assert log.room == 34
+        assert [row for row in widget_rows(app) if row] == ["AFTER THE WIPE"]

@@ -50,9 +50,10 @@ class TranscriptLog(RichLog):
             self._show(new[-LOG_LINES:])
 
     def _show(self, lines: Iterable[str]) -> None:
-        rows = [row for line in lines for row in wrap_line(line, self.room)]
-        if rows:
-            self.write("\n".join(rows), width=self.room)
+        room = self.room
+        rows = [row for line in lines for row in wrap_line(line, room)]
+        if rows:  # at exactly the room: rich wraps again only what wrap_line counted short (wide glyphs)
+            self.write("\n".join(rows), width=room)
 
     def _rewrap(self) -> None:
         super().clear()
