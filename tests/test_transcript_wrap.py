@@ -35,15 +35,17 @@ def pieces_reproduce(message: str, pieces: list[str]) -> bool:
 
 
 @settings(max_examples=400, deadline=None)
-@given(message=MESSAGE, width=st.integers(40, 240))
-def test_every_character_arrives_in_order_within_the_width(message: str, width: int) -> None:
-    pieces = wrap_line(message, width)
+@given(message=MESSAGE, width=st.integers(40, 240), indent=st.sampled_from(["", "  ", "      "]))
+def test_every_character_arrives_in_order_within_the_width(message: str, width: int, indent: str) -> None:
+    pieces = wrap_line(message, width, indent)
     assert pieces, "a line is at least one row, an empty one too"
     assert all(len(piece) <= width for piece in pieces)
-    assert pieces_reproduce(message, pieces), (message, pieces)
-    for piece, after in itertools.pairwise(pieces):
-        if piece and after and not piece[-1].isspace() and not after[0].isspace() and piece + after in message:  # a token broken only where it was longer than the room left
-            assert len(piece) == width, (piece, after)
+    assert all(piece.startswith(indent) for piece in pieces[1:])  # a menu's hanging indent
+    text = [pieces[0], *(piece.removeprefix(indent) for piece in pieces[1:])]
+    assert pieces_reproduce(message, text), (message, pieces)
+    for piece, after in itertools.pairwise(text):
+        if piece and after and not piece[-1].isspace() and not after[0].isspace() and piece + after in message:
+            assert len(piece) + (0 if piece is text[0] else len(indent)) == width, (piece, after)  # a long token
 
 
 @pytest.mark.parametrize(("line", "width", "rows"), [
@@ -56,6 +58,15 @@ def test_every_character_arrives_in_order_within_the_width(message: str, width: 
 def test_wrap_line_breaks_at_spaces_and_keeps_a_short_line_as_it_is(line: str, width: int,
                                                                   rows: list[str]) -> None:
     assert wrap_line(line, width) == rows
+
+
+def test_a_menu_row_hangs_under_its_description() -> None:
+    row = "TYPE X=          - TYPES THE VALUE OF A VARIABLE ON THE TERMINAL"
+    assert wrap_line(row, 40, " " * 19) == ["TYPE X=          - TYPES THE VALUE OF A",
+                                            "                   VARIABLE ON THE",
+                                            "                   TERMINAL"]
+    assert wrap_line(row, 30, " " * 19) == ["TYPE X=          - TYPES THE", "VALUE OF A VARIABLE ON THE",
+                                            "TERMINAL"]  # an indent of half the width or more: none
 
 
 # -- the app: read back from the screen ---------------------------------------------------
