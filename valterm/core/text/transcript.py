@@ -8,6 +8,7 @@ motions and the clamp's redraws have no line; HELP and the monitor commands (LIS
 
 from __future__ import annotations
 
+import textwrap
 from collections.abc import Callable, Iterable, Sequence
 
 from valterm.core.events import (
@@ -177,3 +178,16 @@ def _write_transcript(events: Iterable[Event], write: Callable[[str], object]) -
         if isinstance(event, Pause):
             write(HEADLESS_PROCEED + "\n")
     return errors
+
+
+def wrap_line(line: str, width: int, indent: str = "") -> list[str]:
+    """A line as the rows of a text ``width`` columns wide: broken at spaces where it can be (a
+    word longer than the room left is cut at the edge, never at a hyphen), never cropped; the
+    spaces at a break go, every other character stays, in order. A line that fits is returned
+    as it is; the rows after the first start with ``indent`` (a menu's hanging indent) when
+    it leaves them room. The one wrapping of the transcript, the menus and the listings."""
+    if len(line) <= width and "\t" not in line:
+        return [line]
+    width = max(width, 1)
+    indent = indent if len(indent) < width // 2 else ""
+    return textwrap.wrap(line, width, subsequent_indent=indent, break_on_hyphens=False) or [""]

@@ -3,12 +3,11 @@ faces, ORIENT, axes, the model, one VAL-II command."""
 
 from __future__ import annotations
 
-import textwrap
-
 from textual import events
 from textual.app import ComposeResult
 from textual.binding import Binding
 
+from valterm.core.text.transcript import wrap_line
 from valterm.ui.errors import Refusal, problem_text
 from valterm.ui.screens.base import MENU, MenuScreen
 from valterm.ui.widgets.menus import KEYBOARD_MENU, ORIENT_MENU
@@ -108,8 +107,7 @@ class KeyboardScreen(MenuScreen):
             self.say(problem_text(error), "error")
             return
         width = max(min(self.app.size.width - 4, 74), 20)  # long lines wrap, never cut (issue 17)
-        wrapped = [part for line in lines
-                   for part in (textwrap.wrap(line, width, subsequent_indent="      ") or [""])]
+        wrapped = [part for line in lines for part in wrap_line(line, width, "      ")]
         self.menu.set_text("\n".join([*wrapped, "", "PRESS ANY KEY FOR THE MENU"]))
         self.listing = True
         self.show_model(False)

@@ -38,7 +38,6 @@ highlighted, and the watched variables; CTRL-P PROCEED, CTRL-O XSTEP, CTRL-S SST
 from __future__ import annotations
 
 import re
-import textwrap
 from collections.abc import Callable, Iterator, Mapping
 from enum import StrEnum
 from typing import ClassVar
@@ -55,7 +54,7 @@ from valterm.core.files.locations import format_locations
 from valterm.core.kinematics import Location
 from valterm.core.monitor import listing_lines
 from valterm.core.session import Session
-from valterm.core.text.transcript import where_lines
+from valterm.core.text.transcript import where_lines, wrap_line
 from valterm.ui import keymap
 from valterm.ui.errors import problem_text
 from valterm.ui.playback import Player, Transcript, show_at_once
@@ -114,7 +113,7 @@ def wrap_menu(text: str, width: int) -> str:
     for line in text.splitlines():
         head = _MENU_ROW.match(line)
         indent = " " * (len(head.group(1)) if head and len(head.group(1)) < width // 2 else 2)
-        rows.extend(textwrap.wrap(line, width, subsequent_indent=indent, break_on_hyphens=False) or [""])
+        rows.extend(wrap_line(line, width, indent))
     return "\n".join(rows)
 
 
@@ -597,7 +596,7 @@ class ValModeScreen(KeyedScreen[None]):
             return  # a command with nothing to say (PROCEED) leaves no blank line
         self.transcript.extend(lines)
         # one write a tick, of what a screen can show: a TYPE loop scrolls, it does not stall
-        self.query_one("#val-log", RichLog).write("\n".join(lines[-LOG_WRITE:]))
+        self.query_one("#val-log", TranscriptLog).write_lines(lines[-LOG_WRITE:])
 
     def take_event(self, event: Event) -> bool:
         if isinstance(event, Help):
