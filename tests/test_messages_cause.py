@@ -6,11 +6,13 @@ hint is one that is true for the refusal."""
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import pytest
 
 from valterm.core.files.locations import format_locations
+from valterm.core.errors import MotionRefused
 from valterm.core.kinematics import Config
 from valterm.core.simulator import ConfigMismatch, Simulator
 from valterm.testing import Simulation
@@ -61,3 +63,63 @@ async def test_d_define_reading_a_file_says_mismatch_not_cannot_reach(tmp_path: 
         assert "CANNOT REACH" not in text and "LOCATION THE LOCATION" not in text, transcript[-6:]
         assert "*** " + MISMATCH in transcript, transcript[-6:]
         assert "P1: A_ACCEPT AND CONTINUE" in sim.text()  # the question goes on: R rejects it
+
+
+# -- a joint beyond its stop on a WORLD/TOOL step (1985 rules) ----------------------------------
+# JT3 at 223.60, as the readout shows it (its (-180, 180] equivalent -136.40 is outside -45..225):
+# a 32-degree (32 mm) TOOL X step would carry it past 225.
+NEAR_JT3_STOP = [-136.95, -31.19, 223.6, 33.55, -19.15, -118.67]
+STOP_ANGLE = re.compile(r"JOINT 3 BEYOND ITS STOP \((-?\d+\.\d+) DEG, STOP -45\.\.225\)")
+
+
+def near_the_stop() -> Simulator:
+    sim = Simulator()
+    sim.joints = list(NEAR_JT3_STOP)
+    sim.change_pendant_increment("I")
+    sim.change_pendant_increment("I")  # 32 degrees, 32 mm
+    return sim
+
+
+def test_a_tool_step_past_a_stop_gives_the_angle_the_joint_would_need() -> None:
+    sim = near_the_stop()
+    assert sim.where().joints[2] == pytest.approx(223.6)  # what the screen shows
+    with pytest.raises(MotionRefused) as refused:
+        drain(sim.pendant_tool(0))
+    assert refused.value.joint == 3
+    found = STOP_ANGLE.search(str(refused.value).upper())
+    assert found, str(refused.value)
+    needed = float(found.group(1))
+    # beside the stop it passes, within one step of where the joint is (not its -131-odd equivalent)
+    assert 225.0 < needed < 223.6 + 32.0
+    assert sim.joints == NEAR_JT3_STOP  # nothing moved
+
+
+def test_the_controller_rules_show_the_wound_angle_too() -> None:
+    sim = near_the_stop()
+    sim.set_rules("CONTROLLER")
+    with pytest.raises(MotionRefused) as refused:
+        drain(sim.pendant_tool(0))
+    found = STOP_ANGLE.search(str(refused.value).upper())
+    assert found and 225.0 < float(found.group(1)) < 223.6 + 32.0, str(refused.value)
+
+
+async def test_the_pendant_shows_the_needed_angle_and_no_bend_the_arm_hint(tmp_path: Path) -> None:
+    async with Simulation(tmp_path, setup="PROCESS", size=(120, 40)) as sim:
+        sim.simulator.joints = list(NEAR_JT3_STOP)
+        await sim.press("P", "I", "I", "T", "X")  # PENDANT, increment 32, TOOL X
+        messages = sim.messages()
+        text = " ".join(messages)
+        assert "223.60" in " ".join(sim.readout())  # JT3 as the readout shows it
+        found = STOP_ANGLE.search(text)
+        assert found and 225.0 < float(found.group(1)) < 255.6, messages
+        assert "BEND IT" not in text and "STRETCHED" not in text, messages  # the elbow is bent
+        assert "HINT: THE STEP WOULD TURN JOINT 3 PAST ITS STOP AT 225" in text, messages  # the hint that is true
+        assert sim.simulator.joints == NEAR_JT3_STOP
+
+
+async def test_the_stretched_arm_hint_stays_where_it_is_true(tmp_path: Path) -> None:
+    async with Simulation(tmp_path, setup="PROCESS", size=(120, 40)) as sim:
+        await sim.press("P", "W", "X")  # WORLD X at READY: the arm straight up, JT5 = 0
+        text = " ".join(sim.messages())
+        assert "MOTION REFUSED" in text and "SINGULARITY" in text, text
+        assert "BEND IT FIRST" in text, text
