@@ -13,8 +13,8 @@ from collections.abc import Iterator
 from textual.app import ComposeResult
 from textual.binding import Binding
 
-from valterm.core.events import Event, Message
 from valterm.core.errors import JointAtStop
+from valterm.core.events import Event, Message
 from valterm.core.motion import OUT_OF_REACH_REASON, PENDANT_INCREMENT, PENDANT_STEP, MotionRefused
 from valterm.ui.errors import error_text
 from valterm.ui.screens.base import MenuScreen
