@@ -9,6 +9,7 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from valterm.core.files.locations import format_locations
@@ -123,3 +124,32 @@ async def test_the_stretched_arm_hint_stays_where_it_is_true(tmp_path: Path) -> 
         text = " ".join(sim.messages())
         assert "MOTION REFUSED" in text and "SINGULARITY" in text, text
         assert "BEND IT FIRST" in text, text
+
+
+# -- the PUMA 560: WHERE (the cell's frame) and kin fk (the robot's base frame) -------------------
+Q560 = (10.0, 45.0, -60.0, 20.0, 30.0, -15.0)
+
+
+def test_where_and_kin_fk_on_the_560_each_name_their_frame(capsys: pytest.CaptureFixture[str]) -> None:
+    """The toolbox's fkine, computed here, is kin's (frame 0: the 560's base on its mounting
+    surface); WHERE is the cell's, whose robot origin is the shoulder, d1 above that base."""
+    from valterm.cli import main as cli
+
+    models = pytest.importorskip("roboticstoolbox.models.DH")
+    puma = models.Puma560()
+    tool = puma.fkine(np.radians(Q560)).A
+    base_xyz = tool[:3, 3] * 1000.0
+    d1 = puma.links[0].d * 1000.0  # 671.83 mm: the pedestal
+    sim = Simulator(robot="PUMA560")
+    drain(sim.move_joints(Q560))
+    assert np.allclose(sim.where().xyz, base_xyz - [0.0, 0.0, d1], atol=1e-6)  # WHERE: the cell's
+    capsys.readouterr()
+    assert cli(["kin", "fk", "--robot", "PUMA560", *map(str, Q560)]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    # kin names its frame and how WHERE's follows from it, and its columns are not WHERE's
+    assert lines[0] == f"PUMA 560 BASE FRAME (FRAME 0, OF ITS DH TABLE): WHERE IN THE CELL HAS ZW = Z0 - {d1:.2f}"
+    assert lines[1].split()[1:4] == ["X0", "Y0", "Z0"]
+    assert np.allclose([float(v) for v in lines[2].split()[1:4]], base_xyz, atol=0.006)
+    # the thesis's robot: one frame, the readout as in Fig. 2-8
+    assert cli(["kin", "fk", "0", "-90", "90", "0", "0", "0"]) == 0
+    assert capsys.readouterr().out.splitlines()[0].split()[1:4] == ["XW", "YW", "ZW"]
