@@ -147,7 +147,7 @@ def test_where_and_kin_fk_on_the_560_each_name_their_frame(capsys: pytest.Captur
     assert cli(["kin", "fk", "--robot", "PUMA560", *map(str, Q560)]) == 0
     lines = capsys.readouterr().out.splitlines()
     # kin names its frame and how WHERE's follows from it, and its columns are not WHERE's
-    assert lines[0] == f"PUMA 560 BASE FRAME (FRAME 0, OF ITS DH TABLE): WHERE IN THE CELL HAS ZW = Z0 - {d1:.2f}"
+    assert lines[0] == f"PUMA 560 BASE FRAME (FRAME 0 OF ITS DH TABLE): WHERE IN THE CELL HAS ZW = Z0 - {d1:.2f}"
     assert lines[1].split()[1:4] == ["X0", "Y0", "Z0"]
     assert np.allclose([float(v) for v in lines[2].split()[1:4]], base_xyz, atol=0.006)
     # the thesis's robot: one frame, the readout as in Fig. 2-8

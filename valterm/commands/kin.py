@@ -168,7 +168,7 @@ def frame_line(robot: Arm) -> str:
     offsets = [f"{axis}W = {axis}0 {'+' if v > 0 else '-'} {abs(v):.2f}"
                for axis, v in zip("XYZ", robot.mount[:3, 3]) if abs(v) >= 0.005]
     where = f": WHERE IN THE CELL HAS {', '.join(offsets)}" if offsets else ""
-    return f"{robot.name} BASE FRAME (FRAME 0, OF ITS DH TABLE){where}"
+    return f"{robot.name} BASE FRAME (FRAME 0 OF ITS DH TABLE){where}"
 
 
 def _table(xyz: Sequence[float], oat: Sequence[float], config: Config, joints: Sequence[float], clamp: str = "OPENED",
