@@ -153,3 +153,11 @@ def test_where_and_kin_fk_on_the_560_each_name_their_frame(capsys: pytest.Captur
     # the thesis's robot: one frame, the readout as in Fig. 2-8
     assert cli(["kin", "fk", "0", "-90", "90", "0", "0", "0"]) == 0
     assert capsys.readouterr().out.splitlines()[0].split()[1:4] == ["XW", "YW", "ZW"]
+
+
+def test_a_typed_joint_angle_past_its_stop_is_named_as_typed() -> None:
+    """A precision point with JT3 230 (stop 225): the refusal says 230.00, not its -130.00."""
+    sim = Simulator()
+    with pytest.raises(MotionRefused) as refused:
+        drain(sim.move_joints([0.0, -90.0, 230.0, 0.0, 0.0, 0.0]))
+    assert "joint 3 beyond its stop (230.00 deg, stop -45..225)" in str(refused.value)
