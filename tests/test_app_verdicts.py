@@ -39,7 +39,8 @@ async def test_a_location_taught_lefty_is_refused_after_ready_naming_both(tmp_pa
         text = " ".join(sim.transcript())
         assert "READY: CONFIGURATION INDICATORS LEFTY TO RIGHTY" in text
         assert "ARM CONFIGURATION CHANGED: LEFTY TO RIGHTY" in text  # READY, said
-        assert "LOCATION P2 IS LEFTY,ABOVE,NOFLIP BUT THE INDICATORS ARE RIGHTY,ABOVE,NOFLIP" in text
+        assert ("CONFIGURATION MISMATCH: P2 WAS TAUGHT LEFTY ABOVE NOFLIP, THE INDICATORS ARE RIGHTY ABOVE NOFLIP"
+                " (TYPE LEFTY, OR TEACH P2 AGAIN)") in text
         assert "RULES 1985 (THE THESIS" in text
         assert sim.where().config["arm"] == "RIGHTY"  # nothing moved
 

@@ -8,6 +8,7 @@ import asyncio
 import functools
 import math
 import random
+import re
 from pathlib import Path
 
 import pytest
@@ -15,7 +16,7 @@ import pytest
 from app_helpers import WAIT_LIMIT, until
 from valterm.core.errors import ValtermError
 from valterm.core.files.demokeys import DemoScriptError, load_demo, parse_demo
-from valterm.ui.demo import DEMO_HINT, Caption, DemoApp
+from valterm.ui.demo import DEMO_HINT, Caption, DemoApp, Stage
 
 ITEMS = load_demo()
 FAST = 1000.0  # the demo's speed factor in tests: pauses and gaps all but vanish
@@ -59,6 +60,49 @@ def test_every_phase_has_a_caption_that_fits_two_lines() -> None:
         elif item.kind in ("key", "text") and not item.replay_only:
             keys_since_caption += 1
             assert keys_since_caption <= 20, f"DEMO.KEYS:{item.line}: a phase without a caption"
+
+
+# -- each caption against what its stage printed ---------------------------------------------
+SAYS_STOP = re.compile(r"\b(stops?|stopped|refuses?|refused)\b", re.IGNORECASE)
+OUTCOME = re.compile(r"^(PROGRAM \S+ COMPLETED|\*\*\*|MOTION REFUSED)")
+
+
+def caption_faults(stage: Stage) -> list[str]:
+    """Where a caption is not what its stage printed: a claim (``= TEXT``) no line holds, a
+    stop or refusal it announces that did not happen or one that happened unannounced, and a
+    program's outcome (COMPLETED, an error) no claim of it checks."""
+    printed = [line.upper() for line in stage.printed]
+    faults = [f"claims {claim!r}, which it never printed" for claim in stage.claims
+              if not any(claim in line for line in printed)]
+    refused = [line for line in printed if line.startswith(("***", "MOTION REFUSED"))]
+    if SAYS_STOP.search(stage.caption) and not refused:
+        completed = [line for line in printed if " COMPLETED" in line]
+        faults.append(f"announces a stop, but nothing stopped {completed}")
+    if refused and not SAYS_STOP.search(stage.caption):
+        faults.append(f"says nothing of {refused[0]!r}")
+    faults += [f"prints {line!r}, which no claim checks" for line in printed
+               if OUTCOME.match(line) and not any(claim in line for claim in stage.claims)]
+    return faults
+
+
+def test_the_caption_check_finds_a_stop_that_never_came() -> None:
+    """The CONV1 caption as it was: it announced a stop at joint 4; the run said COMPLETED."""
+    old = Stage("CONV1 runs. In CONV2 the wrist would pass its joint 4 stop: the simulator stops there, "
+                "as the PUMA would.", (), ("CONV1      55  RETURN", "PROGRAM CONV1 COMPLETED: 1 LOOP"))
+    assert [fault.split(",")[0] for fault in caption_faults(old)] == ["announces a stop", "prints 'PROGRAM CONV1 COMPLETED: 1 LOOP'"]
+    unsaid = Stage("I makes each turn larger.", ("CLAMP IS NEAR PART 10",),
+                   ("CLAMP IS NEAR PART 10", "MOTION REFUSED: JOINT 3 BEYOND ITS STOP (258.00 DEG, STOP -45..225)"))
+    assert len(caption_faults(unsaid)) == 2  # the refusal unsaid, and unclaimed
+    assert caption_faults(Stage("CONV1 runs to its end.", ("COMPLETED",), ("PROGRAM CONV1 COMPLETED: 1 LOOP",))) == []
+    missing = Stage("PROCESS runs once.", ("PROGRAM PROCESS COMPLETED",), ("*** PROCESS STEP 6: OUT OF REACH",))
+    assert len(caption_faults(missing)) == 3
+
+
+def test_claims_are_read_from_the_script() -> None:
+    items = parse_demo('@ CONV1 runs.\n= program conv1 completed\n"EXEC CONV1"\n=\n')
+    assert [(item.kind, item.value) for item in items] == [
+        ("caption", "CONV1 runs."), ("claim", "PROGRAM CONV1 COMPLETED"), ("text", "EXEC CONV1"), ("key", "=")]
+    assert sum(item.kind == "claim" for item in ITEMS) >= 10
 
 
 # -- the demo app ---------------------------------------------------------------------------
@@ -105,6 +149,12 @@ async def test_demo_plays_the_whole_session_once_with_captions() -> None:
     assert program.split() == ["MOVE", "A", "MOVE", "B", "MOVE", "E", "STOP"]
     assert sum(any(c in s for s in shown) for c in script) >= 10
     assert len(poses) >= 5  # jogging and two programs moved the robot
+    # every stage played, and each caption says what its stage printed (issue 35 item 7)
+    assert [stage.caption for stage in app.stages] == script
+    faults = {stage.caption: caption_faults(stage) for stage in app.stages if caption_faults(stage)}
+    assert not faults, faults
+    conv1 = next(stage for stage in app.stages if stage.caption.startswith("CONV1 runs"))
+    assert "PROGRAM CONV1 COMPLETED: 1 LOOP" in conv1.printed and "stop" not in conv1.caption
 
 
 @sync

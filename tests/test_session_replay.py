@@ -17,7 +17,7 @@ ITEMS = load_demo()
 
 def test_demo_script_parses() -> None:
     kinds = {item.kind for item in ITEMS}
-    assert kinds == {"key", "text", "pause", "caption"}
+    assert kinds == {"key", "text", "pause", "caption", "claim"}
     texts = [item.value for item in ITEMS if item.kind == "text"]
     assert texts[:2] == ["DEMO3.SET", "1"]
     assert " CLOSEI 50" in texts and "EXEC PROCESS,1" in texts and "EXEC CONV1,1" in texts

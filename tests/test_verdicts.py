@@ -127,7 +127,7 @@ def test_1985_rules_refuse_a_location_taught_in_another_configuration_naming_bot
     with pytest.raises(MotionRefused) as refused:
         list(sim.appro("P2", 80.0))
     text = str(refused.value)
-    assert "LEFTY,ABOVE,NOFLIP" in text and "RIGHTY,ABOVE,NOFLIP" in text and "P2" in text
+    assert "LEFTY ABOVE NOFLIP" in text and "RIGHTY ABOVE NOFLIP" in text and "P2" in text
     assert sim.joints == tuple(robot_geometry().ready)  # nothing moved
     sim.set_indicator("LEFTY")
     events = list(sim.appro("P2", 80.0))

@@ -13,7 +13,10 @@ by a warning on standard error; motions still refuse such poses.
 
 ``--robot PUMA560`` takes the PUMA 560 of the robotics courses (``robot/PUMA560.toml``, its
 standard DH table, ``valterm.core.dh``) instead of the thesis's robot: joint angles with
-that table's zero (Corke's Robotics Toolbox ``Puma560``), positions of its frame 6 in mm.
+that table's zero (Corke's Robotics Toolbox ``Puma560``), positions of its frame 6 in mm, in
+its base frame (frame 0, the toolbox's), which the table names X0 Y0 Z0 under a line saying how
+the cell's frame of WHERE follows (the 560's ZW = Z0 - 671.83): the same pose never reads two
+ways under one heading.
 """
 
 from __future__ import annotations
@@ -61,7 +64,8 @@ def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
 
     ik_parser = kin_sub.add_parser("ik", help="XW YW ZW O A T -> JT1..JT6")
     ik_parser.add_argument("pose", nargs="*", metavar="V",
-                           help="X Y Z (mm) O A T (degrees); none: one pose a line on stdin")
+                           help="X Y Z (mm) O A T (degrees), on another --robot in its base frame "
+                                "(frame 0, as kin fk prints it); none: one pose a line on stdin")
     ik_parser.add_argument("--config", default="RIGHTY,ABOVE,NOFLIP",
                            help="configuration indicators, e.g. LEFTY,ABOVE,NOFLIP")
     ik_parser.add_argument("--json", action="store_true", help="one JSON object per result")
@@ -158,12 +162,21 @@ def _finite(values: Sequence[float]) -> list[float]:
     return list(values)
 
 
+def frame_line(robot: Arm) -> str:
+    """Another robot's positions are in its own base frame (frame 0), not the cell's that WHERE
+    shows: say so, and how WHERE's follow (the mount: the 560's base d1 below the shoulder)."""
+    offsets = [f"{axis}W = {axis}0 {'+' if v > 0 else '-'} {abs(v):.2f}"
+               for axis, v in zip("XYZ", robot.mount[:3, 3]) if abs(v) >= 0.005]
+    where = f": WHERE IN THE CELL HAS {', '.join(offsets)}" if offsets else ""
+    return f"{robot.name} BASE FRAME (FRAME 0 OF ITS DH TABLE){where}"
+
+
 def _table(xyz: Sequence[float], oat: Sequence[float], config: Config, joints: Sequence[float], clamp: str = "OPENED",
-           stops: HasStops | None = None) -> str:
-    """The Fig. 2-8 readout."""
+           stops: HasStops | None = None, frame: str = "W") -> str:
+    """The Fig. 2-8 readout; ``frame`` names the axes' frame (W: the world's, 0: a robot's base)."""
     arm, elbow, wrist = config.words
     row = "{:<7}" + "{:>9}" * 6
-    head = row.format(clamp, "XW", "YW", "ZW", "O", "A", "T")
+    head = row.format(clamp, f"X{frame}", f"Y{frame}", f"Z{frame}", "O", "A", "T")
     values = row.format(arm, *(f"{v:.2f}" for v in (*xyz, *oat)))
     head2 = row.format(elbow, "JT1", "JT2", "JT3", "JT4", "JT5", "JT6")
     values2 = row.format(wrist, *(f"{v:.2f}" for v in readout_joints(joints, stops)))
@@ -205,8 +218,11 @@ def run_fk(args: argparse.Namespace) -> int:
         if args.json:
             print(json.dumps({"xyz": xyz, "oat": oat, "config": config.as_dict(), "joints": shown,
                               "robot": stops.name}))
-        else:
+        elif robot.key == THESIS_ROBOT:  # the cell's frame is the robot's own (Fig. 2-8)
             print(_table(xyz, oat, config, joints, stops=stops))
+        else:
+            print(frame_line(robot))
+            print(_table(xyz, oat, config, joints, stops=stops, frame="0"))
 
     return _each(args, args.joints, solve)
 

@@ -32,3 +32,12 @@ class MotionRefused(ValtermError):
         self.step = step
         where = f" at step {step} of the line" if step else ""
         super().__init__(f"{reason}{where}")
+
+
+class JointAtStop(MotionRefused):
+    """A motion refused because joint ``joint`` would pass its stop ``low..high``; ``angle`` is
+    the angle it would need, as the readout would show it (so a hint can say what is true)."""
+
+    def __init__(self, reason: str, joint: int, angle: float, low: float, high: float, step: int = 0) -> None:
+        self.angle, self.low, self.high = angle, low, high
+        super().__init__(reason, joint, step)

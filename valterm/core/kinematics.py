@@ -283,8 +283,8 @@ def fit_to_stops(
         # candidates angle + 360k inside [low, high]
         k_low = math.ceil((low - angle) / 360.0 - 1e-12)
         k_high = math.floor((high - angle) / 360.0 + 1e-12)
-        if k_low > k_high:
-            raise BeyondStop(index + 1, wrap180(angle), (low, high))
+        if k_low > k_high:  # named as given (230 typed beside the stop 225, not -130)
+            raise BeyondStop(index + 1, angle if abs(angle) <= 360.0 else wrap180(angle), (low, high))
         best = None
         for k in range(k_low, k_high + 1):
             candidate = angle + 360.0 * k

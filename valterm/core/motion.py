@@ -14,7 +14,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from valterm.core.arms import Arm, as_arm
-from valterm.core.errors import MotionRefused
+from valterm.core.errors import JointAtStop, MotionRefused
 from valterm.core.kinematics import (
     BeyondStop,
     Config,
@@ -116,8 +116,10 @@ def _slerp(r0: np.ndarray, r1: np.ndarray, fractions: np.ndarray) -> np.ndarray:
 
 
 def _refusal(error: IKError, step: int) -> MotionRefused:
+    if isinstance(error, BeyondStop) and error.stop is not None:
+        return beyond_stop(error.joint, error.angle, *error.stop, step)  # names the angle and the stop
     if isinstance(error, BeyondStop):
-        return MotionRefused(str(error), error.joint, step)  # names the angle and the stop
+        return MotionRefused(str(error), error.joint, step)
     return MotionRefused(OUT_OF_REACH_REASON, 0, step)
 
 
@@ -241,6 +243,19 @@ def beyond_stop_message(joint: int, angle: float, low: float, high: float) -> st
     return f"joint {joint} beyond its stop ({shown} deg, stop {low:g}..{high:g})"
 
 
+def beyond_stop(joint: int, angle: float, low: float, high: float, step: int = 0) -> JointAtStop:
+    """The refusal of a joint beyond its stop, at ``angle`` as the readout shows it."""
+    return JointAtStop(beyond_stop_message(joint, angle, low, high), joint, angle, low, high, step)
+
+
+def needed_angle(angle: float, low: float, high: float) -> float:
+    """1985 rules: the angle a joint beyond its stops would need, as the readout shows a joint:
+    of its 360-degree equivalents the one nearest the stops (228.39 beside the stop 225, not
+    its -131.61, which lies 86 degrees from the other stop)."""
+    wrapped = wrap180(angle)
+    return min((wrapped, wrapped - 360.0, wrapped + 360.0), key=lambda a: max(low - a, a - high, 0.0))
+
+
 def _refuse_jumps(best: np.ndarray, previous: np.ndarray, robot: Arm, step: int,
                   wound: bool = False) -> None:
     """A step beyond a stop, or one that jumps (a configuration change or a wrist twirl)."""
@@ -249,8 +264,8 @@ def _refuse_jumps(best: np.ndarray, previous: np.ndarray, robot: Arm, step: int,
         # under the 1985 rules the angle is a function of the pose: an equivalent inside will do
         inside = low - 1e-9 <= angle <= high + 1e-9 if wound else canonical_angle(angle, low, high) is not None
         if not inside:
-            shown = angle if wound else wrap180(angle)
-            raise MotionRefused(beyond_stop_message(joint, shown, low, high), joint, step)
+            shown = angle if wound else needed_angle(angle, low, high)
+            raise beyond_stop(joint, shown, low, high, step)
     jumps = np.abs(best - previous)
     if float(jumps[:3].max()) > CONFIG_JUMP:
         if jumps[0] >= max(jumps[1], jumps[2]):
@@ -300,7 +315,7 @@ def check_joint_goal(goal: Sequence[float], robot: Robot = None) -> None:
     _refuse_not_finite(goal)
     for joint, (angle, (low, high)) in enumerate(zip(goal, robot.stops), start=1):
         if not low - 1e-9 <= angle <= high + 1e-9:
-            raise MotionRefused(beyond_stop_message(joint, angle, low, high), joint)
+            raise beyond_stop(joint, angle, low, high)
 
 
 def _refuse_not_finite(angles: Sequence[float]) -> None:
@@ -374,6 +389,7 @@ __all__ = [
     "PENDANT_STEP",
     "MotionRefused",
     "approach_point",
+    "beyond_stop",
     "beyond_stop_message",
     "check_joint_goal",
     "clamp_speed",
@@ -381,6 +397,7 @@ __all__ = [
     "joint_goal",
     "joint_increment",
     "joint_path",
+    "needed_angle",
     "pendant_straight",
     "straight_increment",
     "straight_path",

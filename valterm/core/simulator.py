@@ -89,6 +89,18 @@ def _goal_name(target: str | Location) -> str:
     return f"location {target.upper()}" if isinstance(target, str) else "the location"
 
 
+class ConfigMismatch(MotionRefused):
+    """1985 rules (§6.2.1): a location taught in a configuration other than the user's
+    indicators; the message says so and names both, and the words that would take it."""
+
+    def __init__(self, name: str | None, taught: Config, indicators: Config) -> None:
+        self.name, self.taught, self.indicators = name, taught, indicators
+        what, again = (name, name) if name else ("the location", "it")
+        super().__init__(f"configuration mismatch: {what} was taught {' '.join(taught.words)}, the indicators "
+                         f"are {' '.join(indicators.words)} (type {_words_to_type(indicators, taught)}, "
+                         f"or teach {again} again)")
+
+
 class UndefinedLocation(ValtermError, KeyError):
     def __init__(self, name: str) -> None:
         super().__init__(name)
@@ -291,9 +303,10 @@ class Simulator:
                      if not any(low - 1e-9 <= angle + turn <= high + 1e-9 for turn in (-360.0, 0.0, 360.0)))
 
     # -- motions ---------------------------------------------------------------
-    def move(self, target: str | Location, straight: bool = False) -> Iterator[Event]:
+    def move(self, target: str | Location, straight: bool = False, *, name: str | None = None) -> Iterator[Event]:
+        """MOVE / MOVES; ``name`` names a location given by value (D_DEFINE reading a file)."""
         xyz, rotation, location = self._resolve(target)
-        config = yield from self._config_for(target, location)
+        config = yield from self._config_for(name or target, location)
         taught = None if straight else self._taught_goal(location, config, xyz, rotation)
         yield from self._go(xyz, rotation, straight, config, _goal_name(target), taught)
 
@@ -376,12 +389,11 @@ class Simulator:
             return self._asked_over(stored or self.arm.indicators(self.joints))
         if stored is None or stored == self.config:
             return self.config
-        name = target.upper() if isinstance(target, str) else "THE LOCATION"
+        name = target.upper() if isinstance(target, str) else None
         if not self.autoconfig:
-            raise MotionRefused(f"location {name} is {stored} but the indicators are {self.config}"
-                                f" (type {_words_to_type(self.config, stored)} or teach it again)")
+            raise ConfigMismatch(name, stored, self.config)
         self.config = stored
-        yield Message(f"AUTOCONFIG: USING {stored} (THE CONFIGURATION OF {name})", "warning")
+        yield Message(f"AUTOCONFIG: USING {stored} (THE CONFIGURATION OF {name or 'THE LOCATION'})", "warning")
         return stored
 
     def _config_for_here(self) -> Config:

@@ -15,7 +15,8 @@ import tempfile
 import time
 import unicodedata
 from collections import deque
-from collections.abc import Callable
+from collections.abc import Callable, Iterable, Iterator
+from dataclasses import dataclass
 from pathlib import Path
 
 from rich.text import Text
@@ -26,10 +27,15 @@ from textual.message_pump import MessagePump
 from textual.screen import Screen
 from textual.widgets import Static
 
+from valterm.core.errors import ValtermError
+from valterm.core.events import Event
 from valterm.core.files.demokeys import DemoItem, DemoScriptError, load_demo
 from valterm.core.render.clock import DEFAULT_RATE
 from valterm.core.render.raster import ViewTransform
+from valterm.core.text.transcript import event_lines
 from valterm.ui.app import ValtermApp, end_on_hangup
+from valterm.ui.errors import error_text
+from valterm.ui.playback import Audience
 
 KEY_GAP = 0.6      # seconds between single keys (before the speed factor)
 CHAR_GAP = 0.09    # seconds between typed characters
@@ -40,12 +46,24 @@ SETTLE_LIMIT = 120.0  # seconds a motion may hold the next key back (a program t
 DEMO_HINT = "Press any key to try it yourself."
 QUIT_KEYS = ("ctrl+q",)  # Textual's quit; the MAIN MENU's S (STOP) is handled apart
 CAPTIONS_KEPT = 1000  # a kiosk runs for months: only the last ones
+STAGE_LINES_KEPT = 500  # of what one stage printed: its last lines
 DEMO_TAG = "_valterm_demo"  # set on the key events the demo itself presses
 
 
 def visitor_text(idle: float) -> str:
     return (f"Your turn: the menu on the screen says which key does what. "
             f"The demonstration starts again after {idle:g} s without a key.")
+
+
+@dataclass(frozen=True)
+class Stage:
+    """One caption's stage of a round: the caption, the ``=`` claims the script makes about it,
+    and what the stage printed (every line its motions and programs printed, and what the
+    VAL-II transcript gained), so a test checks the caption against the run."""
+
+    caption: str
+    claims: tuple[str, ...]
+    printed: tuple[str, ...]
 
 
 class Caption(Static):
@@ -84,6 +102,11 @@ class DemoApp(ValtermApp):
         self.rounds = 0        # rounds started
         self.caption = ""
         self.captions: deque[str] = deque(maxlen=CAPTIONS_KEPT)  # the captions shown, in order (tests)
+        self.stages: deque[Stage] = deque(maxlen=CAPTIONS_KEPT)  # each caption's stage, once over (tests)
+        self._printed: deque[str] = deque(maxlen=STAGE_LINES_KEPT)
+        self._claims: list[str] = []
+        self._stage_caption = ""
+        self._transcript_at: tuple[object, int] = (None, 0)
         self._last_key = time.monotonic()
         self._leaving = False
         self._forwarded: asyncio.Future[DOMNode] | None = None
@@ -166,7 +189,10 @@ class DemoApp(ValtermApp):
                 await self._wait(START_DELAY)  # the first caption is read before the first key
                 started = True
             if item.kind == "caption":
+                await self._settle()  # the stage before it is over
                 self.show_caption(item.value)
+            elif item.kind == "claim":
+                self._claims.append(item.value)
             elif item.kind == "pause":
                 await self._settle()
                 await self._wait(item.seconds)
@@ -177,6 +203,7 @@ class DemoApp(ValtermApp):
                     await self.press_demo_key(key)
                     await self._wait(gap)
         await self._settle()
+        self._stage_over()
         await self._wait(START_DELAY)
         self._round_over()
 
@@ -263,8 +290,48 @@ class DemoApp(ValtermApp):
         self.playing = True  # no second restart while this one is under way
         self.call_later(self._fresh_round)
 
+    # -- what each stage printed ------------------------------------------------------------
+    def run_events(self, events: Iterable[Event], audience: Audience | None = None) -> None:
+        super().run_events(self._recorded(events), audience)
+
+    def _recorded(self, events: Iterable[Event]) -> Iterator[Event]:
+        """The events as played, each one's lines (the one renderer's) kept for the stage."""
+        source = iter(events)
+        try:
+            for event in source:
+                self._printed.extend(event_lines(event))
+                yield event
+        except ValtermError as error:  # a refusal: the player shows it, the stage keeps it
+            self._printed.append(error_text(error))
+            raise
+        finally:
+            close = getattr(source, "close", None)
+            if close is not None:
+                close()  # an aborted motion ends where it stood, as the player would end it
+
+    def _transcript(self) -> tuple[object, list[str]]:
+        screen = self.screen if self.screen_stack else None
+        lines = getattr(screen, "transcript", None)
+        return screen, [str(line) for line in lines] if isinstance(lines, deque) else []
+
+    def _stage_over(self) -> None:
+        """The stage of the caption shown is over: keep what it printed."""
+        screen, lines = self._transcript()
+        was, length = self._transcript_at
+        gained = lines[length:] if screen is was and len(lines) >= length else lines
+        if self._stage_caption:
+            played = set(self._printed)  # the transcript shows the events' lines again
+            printed = (*self._printed, *(line for line in gained if line not in played))
+            self.stages.append(Stage(self._stage_caption, tuple(self._claims), printed))
+        self._stage_caption = ""
+        self._printed.clear()
+        self._claims = []
+        self._transcript_at = (screen, len(lines))
+
     # -- the caption line -----------------------------------------------------------------
     def show_caption(self, text: str) -> None:
+        self._stage_over()
+        self._stage_caption = text if self.playing else ""  # the visitor's turn is no stage
         self.caption = text
         self.captions.append(text)
         self._update_caption(self.screen)

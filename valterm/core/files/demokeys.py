@@ -1,8 +1,10 @@
 """DEMO.KEYS: the key script of the museum demo (the example session of App. C, key by key).
 
 One item a line: a key (``E``, ``RETURN``), a typed text (``"DEMO3.SET"``), ``PAUSE n``,
-``@ caption`` for the visitor, and ``%`` before an item of the full replay only. The script
-is data the demo app plays and the replay test checks; it is read here, with no UI import.
+``@ caption`` for the visitor, ``= TEXT`` a claim of the caption above it (its stage prints a
+line holding TEXT: tests/test_demo_captions.py plays each stage and checks), and ``%`` before
+an item of the full replay only. The script is data the demo app plays and the replay test
+checks; it is read here, with no UI import.
 """
 
 from __future__ import annotations
@@ -18,7 +20,7 @@ DEMO_NAME = "DEMO.KEYS"
 # Named keys of the script -> the key names the app's key events use.
 NAMED_KEYS = {"RETURN": "enter", "TAB": "tab", "ESC": "escape", "SPACE": "space", "CTRL-C": "ctrl+c"}
 
-KINDS = ("key", "text", "pause", "caption")
+KINDS = ("key", "text", "pause", "caption", "claim")
 
 
 class DemoScriptError(FileFormatError):
@@ -27,7 +29,8 @@ class DemoScriptError(FileFormatError):
 
 @dataclass(frozen=True)
 class DemoItem:
-    """One item of the script: ``kind`` is key | text | pause | caption; ``replay_only`` for % items."""
+    """One item of the script: ``kind`` is key | text | pause | caption | claim; ``replay_only``
+    for % items."""
 
     kind: str
     value: str
@@ -50,6 +53,8 @@ class DemoItem:
 def _item(line: str, number: int, replay_only: bool, path: str | Path) -> DemoItem:
     if line.startswith("@"):
         return DemoItem("caption", line[1:].strip(), number, replay_only)
+    if line.startswith("=") and line[1:].strip():
+        return DemoItem("claim", line[1:].strip().upper(), number, replay_only)
     if line.startswith('"'):
         if len(line) < 2 or not line.endswith('"'):
             raise DemoScriptError(path, number, "a typed text ends with a quote")
@@ -64,7 +69,7 @@ def _item(line: str, number: int, replay_only: bool, path: str | Path) -> DemoIt
         return DemoItem("pause", str(seconds), number, replay_only)
     if line.upper() in NAMED_KEYS or len(line) == 1:
         return DemoItem("key", line.upper() if len(line) > 1 else line, number, replay_only)
-    raise DemoScriptError(path, number, f'{line!r} is not a key, "text", PAUSE n or @ caption')
+    raise DemoScriptError(path, number, f'{line!r} is not a key, "text", PAUSE n, @ caption or = claim')
 
 
 def parse_demo(text: str, path: str | Path = DEMO_NAME) -> list[DemoItem]:

@@ -13,8 +13,9 @@ from collections.abc import Iterator
 from textual.app import ComposeResult
 from textual.binding import Binding
 
+from valterm.core.errors import JointAtStop
 from valterm.core.events import Event, Message
-from valterm.core.motion import PENDANT_INCREMENT, PENDANT_STEP, MotionRefused
+from valterm.core.motion import OUT_OF_REACH_REASON, PENDANT_INCREMENT, PENDANT_STEP, MotionRefused
 from valterm.ui.errors import error_text
 from valterm.ui.screens.base import MenuScreen
 from valterm.ui.widgets.menus import PENDANT_MENU
@@ -62,7 +63,7 @@ class PendantScreen(MenuScreen):
     def _move(self, events) -> None:  # type: ignore[no-untyped-def]
         # messages stay: a collision is reported once, when it starts (Fig. C-12 a-d)
         self.show_model_if_narrow()
-        self.app.run_events(events, self)
+        self.app.run_events(_with_hint(events), self)
 
     def action_joint(self, joint: int) -> None:
         self._move(self.app.simulator.pendant_joint(joint))
@@ -102,9 +103,25 @@ class PendantScreen(MenuScreen):
 
 
 def _with_hint(events: Iterator[Event]) -> Iterator[Event]:
-    """A WORLD/TOOL step's events; a refusal is said with what to do about it."""
+    """A pendant step's events; a refusal is said with what to do about it, where that is known."""
     try:
         yield from events
     except MotionRefused as refusal:
         yield Message(error_text(refusal), "error")
-        yield Message(SINGULAR_HINT, "warning")
+        hint = refusal_hint(refusal)
+        if hint:
+            yield Message(hint, "warning")
+
+
+def refusal_hint(refusal: MotionRefused) -> str:
+    """The hint that is true for this refusal: a stop is passed by turning back; a step out of
+    reach (the arm stretched), a singularity or a change of the indicators (which happens at
+    one) by bending the arm; none for the rest."""
+    if isinstance(refusal, JointAtStop):
+        stop = refusal.high if refusal.angle > refusal.high else refusal.low
+        return (f"HINT: THE STEP WOULD TURN JOINT {refusal.joint} PAST ITS STOP AT {stop:g}: "
+                "N REVERSES IT, OR TRY ANOTHER KEY")
+    if (refusal.reason.startswith(OUT_OF_REACH_REASON) or "singularity" in refusal.reason
+            or "configuration indicators" in refusal.reason):
+        return SINGULAR_HINT
+    return ""

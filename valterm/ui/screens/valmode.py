@@ -54,6 +54,7 @@ from valterm.core.files.locations import format_locations
 from valterm.core.kinematics import Location
 from valterm.core.monitor import listing_lines
 from valterm.core.session import Session
+from valterm.core.simulator import ConfigMismatch
 from valterm.core.text.transcript import where_lines, wrap_line
 from valterm.ui import keymap
 from valterm.ui.errors import problem_text
@@ -688,7 +689,9 @@ class ValModeScreen(KeyedScreen[None]):
 
         def motion() -> Iterator[Event]:
             try:
-                yield from self.simulator.move(location)
+                yield from self.simulator.move(location, name=name)
+            except ConfigMismatch as error:  # reachable, in the other configuration: say that
+                yield Error("", 0, str(error))
             except ValtermError as error:
                 yield Error("", 0, f"THE ROBOT CANNOT REACH {name}: {error}")
 
