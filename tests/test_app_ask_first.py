@@ -172,3 +172,22 @@ async def test_escape_aborting_a_program_says_the_queued_command_is_discarded(tm
         await pilot.press("escape")
         await until(pilot, lambda: screen.mode == Mode.MENU, "ESC aborts to the VAL-II menu")
         assert "1 QUEUED COMMAND DISCARDED: WHERE" in screen.transcript
+
+
+@sync
+async def test_under_the_1985_keyboard_initialize_acts_at_once_and_says_what_it_dropped(tmp_path: Path) -> None:
+    """--keys 1985: Tables C-1..C-3 typed as printed have no answer to a question, so I acts
+    at once as the 1985 program did, and the message names the locations it dropped."""
+    from valterm.ui.app import ValtermApp
+
+    app = ValtermApp(tmp_path, "PROCESS", motion_rate=float("inf"), keys="1985")
+    async with app.run_test(size=(80, 24)) as pilot:
+        await until(pilot, lambda: isinstance(app.screen, MainMenuScreen) and app.session is not None, "MAIN MENU")
+        teach(app)
+        before = app.session
+        await pilot.press("I")
+        await pilot.pause()
+        assert isinstance(app.screen, MainMenuScreen)  # no question
+        assert app.session is not before and app.session.simulator.locations == {}
+        text = screen_text(app)
+        assert "2 LOCATIONS (P1, PICK) DISCARDED" in text and "SPEED 50 BACK TO 100" in text

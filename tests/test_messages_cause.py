@@ -75,7 +75,7 @@ STOP_ANGLE = re.compile(r"JOINT 3 BEYOND ITS STOP \((-?\d+\.\d+) DEG, STOP -45\.
 
 def near_the_stop() -> Simulator:
     sim = Simulator()
-    sim.joints = list(NEAR_JT3_STOP)
+    sim.stand_at(NEAR_JT3_STOP)
     sim.change_pendant_increment("I")
     sim.change_pendant_increment("I")  # 32 degrees, 32 mm
     return sim
@@ -92,7 +92,7 @@ def test_a_tool_step_past_a_stop_gives_the_angle_the_joint_would_need() -> None:
     needed = float(found.group(1))
     # beside the stop it passes, within one step of where the joint is (not its -131-odd equivalent)
     assert 225.0 < needed < 223.6 + 32.0
-    assert sim.joints == NEAR_JT3_STOP  # nothing moved
+    assert sim.joints == tuple(NEAR_JT3_STOP)  # nothing moved
 
 
 def test_the_controller_rules_show_the_wound_angle_too() -> None:
@@ -106,7 +106,7 @@ def test_the_controller_rules_show_the_wound_angle_too() -> None:
 
 async def test_the_pendant_shows_the_needed_angle_and_no_bend_the_arm_hint(tmp_path: Path) -> None:
     async with Simulation(tmp_path, setup="PROCESS", size=(120, 40)) as sim:
-        sim.simulator.joints = list(NEAR_JT3_STOP)
+        sim.simulator.stand_at(NEAR_JT3_STOP)
         await sim.press("P", "I", "I", "T", "X")  # PENDANT, increment 32, TOOL X
         messages = sim.messages()
         text = " ".join(messages)
@@ -115,7 +115,7 @@ async def test_the_pendant_shows_the_needed_angle_and_no_bend_the_arm_hint(tmp_p
         assert found and 225.0 < float(found.group(1)) < 255.6, messages
         assert "BEND IT" not in text and "STRETCHED" not in text, messages  # the elbow is bent
         assert "HINT: THE STEP WOULD TURN JOINT 3 PAST ITS STOP AT 225" in text, messages  # the hint that is true
-        assert sim.simulator.joints == NEAR_JT3_STOP
+        assert sim.simulator.joints == tuple(NEAR_JT3_STOP)
 
 
 async def test_the_stretched_arm_hint_stays_where_it_is_true(tmp_path: Path) -> None:

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from pathlib import Path
 
 from textual.binding import Binding
@@ -57,9 +57,15 @@ class MainMenuScreen(MenuScreen):
     def _ask_first(self, what: str, then: Callable[[list[str]], None]) -> None:
         """B and I start a fresh session: ask first when taught locations, a moved set-up or
         edits would be lost (the CTRL-Q question), naming what goes back to its start too."""
-        from valterm.ui.screens.quit import ask_first, fresh_simulator, resets
+        from valterm.ui.screens.quit import ask_first, fresh_simulator, resets, unsaved_work
 
         reset = resets(self.app.active_session.simulator, fresh_simulator(self.app))
+        if self.app.keys_1985:
+            # the thesis's keyboard: B and I act at once as in 1985, so Tables C-1..C-3 typed as
+            # printed replay; what they drop is said (never silent), not asked
+            lost = unsaved_work(self.app)
+            then([*reset, *(f"{item.split(':')[0]} DISCARDED" for item in lost)])
+            return
         # after MAIN MENU's resume (the question closed), which says the set-up afresh
         ask_first(self.app, what, lambda: self.call_later(then, reset), reset,
                   cancelled=lambda: self.call_later(self.say, f"{what} CANCELLED: NOTHING LOST, NOTHING RESET"))
@@ -103,9 +109,9 @@ class MainMenuScreen(MenuScreen):
         self.app.show_start("THE NEXT SET-UP STARTS AFRESH: " + ", ".join(reset) if reset else "")
 
     def action_initialize(self) -> None:
-        self._ask_first("INITIALIZE", lambda _: self._initialize())
+        self._ask_first("INITIALIZE", lambda said: self._initialize([s for s in said if s.endswith("DISCARDED")]))
 
-    def _initialize(self) -> None:
+    def _initialize(self, dropped: Sequence[str] = ()) -> None:
         from valterm.ui.screens.quit import resets
 
         before = self.app.active_session.simulator
@@ -115,7 +121,7 @@ class MainMenuScreen(MenuScreen):
         except Exception as error:
             self.say(problem_text(error), "error")
             return
-        reset = resets(before, self.app.active_session.simulator)  # what did go back to its start
+        reset = [*resets(before, self.app.active_session.simulator), *dropped]  # what went back to its start
         self.messages.clear()
         said = f"INITIALIZED WITH {name}.SET" if name else "INITIALIZED"
         self.say(f"{said}: {', '.join(reset)}" if reset else said)
