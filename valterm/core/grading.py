@@ -302,7 +302,7 @@ def find_students(arguments: Iterable[str | Path]) -> list[Submission]:
 
 def _students_in(path: Path, depth: int) -> list[Path]:
     if path.is_symlink() or not path.is_dir():
-        return [path] if depth == 0 or path.is_symlink() or _is_program(path.name) else []
+        return [path] if path.is_symlink() or _is_program(path.name) else []  # a README is no student
     entries = _entries(path)
     if any(_is_program(e.name) and not e.is_dir(follow_symlinks=False) for e in entries) or depth >= _MAX_DEPTH:
         return [path]
@@ -399,8 +399,8 @@ class _Programs:
         if len(roots) == 1:
             return roots[0]
         if not files:
-            why = "0 program files: nothing to run"
-        elif not roots:
+            raise FileFormatError(self.folder, 0, f"0 program files ({', '.join(PROGRAM_EXTENSIONS)}): nothing to run")
+        if not roots:
             why = "every program is CALLed by another"
         else:
             why = f"{len(roots)} programs that no other CALLs ({', '.join(self.files[p].name for p in roots)})"
