@@ -117,7 +117,7 @@ def test_a_runaway_student_fails_at_the_limit(tmp_path: Path) -> None:
 
     verdict = grade(task, tmp_path / "LOOP.DAT", RunLimits(steps=50))
     assert verdict.first is not None and verdict.first.kind == "limit"
-    assert verdict.first.message == "LOOP STEP 1: RUN LIMIT REACHED: 50 STEPS (raise it with --max-steps)"
+    assert verdict.first.message == "LOOP STEP 1: DID NOT FINISH WITHIN 50 STEPS: AN ENDLESS LOOP?"
 
 
 def test_a_folder_submission_calls_its_own_subprograms(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:

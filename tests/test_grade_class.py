@@ -215,3 +215,55 @@ def test_the_off_target_message_gives_the_target(capsys: pytest.CaptureFixture[s
     (result,) = json.loads(capsys.readouterr().out)["results"]
     assert result["failures"][0]["message"].startswith(
         "PART 1 IS AT 440.0, -50.0, -320.0, NOT AT -174.6, 576.4, -279.6: 878.5 MM AWAY (TOLERANCE 5 MM)")
+
+
+# -- limits from the task -------------------------------------------------------------------
+
+def loop_task(tmp_path: Path, extra: str) -> Path:
+    task = tmp_path / "T.toml"
+    task.write_text(BASE + extra)
+    return task
+
+
+def test_the_task_sets_the_limits_and_the_command_line_overrides_them(tmp_path: Path) -> None:
+    from valterm.core.grading import grade
+    from valterm.core.val.limits import RunLimits
+
+    (tmp_path / "LOOP.DAT").write_text("10  X = 1\n    GOTO 10\n")  # silent: no output, no robot time
+    task = read_task(loop_task(tmp_path, "max_steps = 50\n"))
+    verdict = grade(task, tmp_path / "LOOP.DAT")
+    assert [(f.kind, f.message) for f in verdict.failures] == [
+        ("limit", "LOOP STEP 1: DID NOT FINISH WITHIN 50 STEPS: AN ENDLESS LOOP?")]
+    from valterm.core.grading import run_limits
+
+    assert run_limits(task, steps=70) == RunLimits(steps=70)
+    assert run_limits(read_task(loop_task(tmp_path, "max_lines = 9\nmax_seconds = 0\n"))) == RunLimits(
+        lines=9, seconds=0)
+
+
+def test_by_default_a_run_is_cut_at_ten_times_the_cycle_time(tmp_path: Path,
+                                                              capsys: pytest.CaptureFixture[str]) -> None:
+    (tmp_path / "LOOP.DAT").write_text("10  DELAY 1\n    GOTO 10\n")
+    (tmp_path / "LATE.DAT").write_text("    READY\n    DELAY 100000\n")
+    task = loop_task(tmp_path, "cycle_time = 2\n")
+    assert main(["grade", str(task), str(tmp_path / "LOOP.DAT"), str(tmp_path / "LATE.DAT"), "--json", "-"]) == 1
+    found = {r["student"]: r for r in json.loads(capsys.readouterr().out)["results"]}
+    assert found["LOOP"]["failures"][0] == {
+        "kind": "limit", "message": "LOOP STEP 2: DID NOT FINISH WITHIN 20 S OF ROBOT TIME: AN ENDLESS LOOP?"}
+    assert 20 < found["LOOP"]["cycle_time_s"] <= 21.5
+    assert found["LATE"]["failures"][0] == {
+        "kind": "limit", "message": "LATE STEP 2: DID NOT FINISH WITHIN 20 S OF ROBOT TIME: AN ENDLESS LOOP?"}
+    # the instructor's --max-seconds wins over the default, for a last DELAY too
+    assert main(["grade", str(task), str(tmp_path / "LATE.DAT"), "--max-seconds", "60", "--json", "-"]) == 1
+    (late,) = json.loads(capsys.readouterr().out)["results"]
+    assert late["failures"][0]["message"] == "LATE STEP 2: DID NOT FINISH WITHIN 60 S OF ROBOT TIME: AN ENDLESS LOOP?"
+
+
+@pytest.mark.parametrize("text, reason", [
+    ("max_steps = -1\n", "T.toml: max_steps: -1 must be a whole number, 0 (no limit) or more"),
+    ("max_seconds = -2\n", "T.toml: max_seconds: -2 must be 0 (no limit) or more"),
+    ("max_lines = 2.5\n", "T.toml: max_lines: 2.5 must be a whole number, 0 (no limit) or more"),
+])
+def test_a_wrong_limit_in_the_task_is_refused_by_key(tmp_path: Path, text: str, reason: str) -> None:
+    with pytest.raises(TaskError, match=reason.replace("(", r"\(").replace(")", r"\)")):
+        read_task(loop_task(tmp_path, text))

@@ -29,7 +29,7 @@ from pathlib import Path
 from typing import Any
 
 from valterm.commands import FAILURE, OK, USAGE, fail
-from valterm.commands.limits import add_limit_flags, limits_from
+from valterm.commands.limits import add_limit_flags
 
 
 def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
@@ -47,7 +47,7 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) ->
 
 def run(args: argparse.Namespace) -> int:
     from valterm.core.errors import ValtermError
-    from valterm.core.grading import check_task, find_students, read_task
+    from valterm.core.grading import check_task, find_students, read_task, run_limits
 
     if args.jobs < 0:
         return fail("grade: --jobs must be 0 (one per CPU) or more", USAGE)
@@ -62,7 +62,9 @@ def run(args: argparse.Namespace) -> int:
     if not found:
         return fail("grade: no program files or folders to grade", FAILURE)
     started = time.perf_counter()
-    verdicts = _grade_all(task, found, limits_from(args), args.jobs or os.cpu_count() or 1)
+    limits = run_limits(task, getattr(args, "max_steps", None), getattr(args, "max_seconds", None),
+                        getattr(args, "max_lines", None))  # the flags given, else the task's
+    verdicts = _grade_all(task, found, limits, args.jobs or os.cpu_count() or 1)
     elapsed = time.perf_counter() - started
     try:
         _report(args, task, verdicts, elapsed)

@@ -21,7 +21,7 @@ import tomllib
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, TypeVar
 
 from valterm.core import resources
 from valterm.core.errors import ValtermError
@@ -46,9 +46,12 @@ PROGRAM_EXTENSIONS = (".DAT", *VPLUS_EXTENSIONS)
 KINDS = ("file", "syntax", "error", "limit", "collision", "part", "cycle-time")
 
 _TASK_KEYS = {"name", "cell", "locations", "program", "cycle_time", "collisions", "loops", "dialect", "rules",
-              "robot", "part"}
+              "robot", "part", "max_steps", "max_seconds", "max_lines"}
+# with a cycle time and no max_seconds, a run is cut at this many times the cycle time
+CYCLES_ALLOWED = 10
 _PART_KEYS = {"number", "position", "tolerance", "held"}
 MAX_TASK_BYTES = 64 * 1024
+_N = TypeVar("_N", int, float)
 
 
 class TaskError(FileFormatError):
@@ -76,6 +79,9 @@ class Task:
     rules: str = ""  # the joint-state rules (docs/MOTION.md); "": the dialect's
     robot: str = ""  # the robot graded on (--robot's names, core/arms.py); "": the thesis's
     parts: tuple[ExpectedPart, ...] = ()
+    max_steps: int | None = None  # the run limits (core/val/limits.py; 0: none); None: the default
+    max_seconds: float | None = None
+    max_lines: int | None = None
 
 
 @dataclass(frozen=True)
@@ -151,7 +157,40 @@ def read_task(path: str | Path) -> Task:
         rules=_setting(data, "rules", "", check_rules, path),
         robot=_setting(data, "robot", "", check_robot, path),
         parts=_parts(_list(data.get("part", []), path, "part"), path),
+        max_steps=_limit(data, "max_steps", path),
+        max_seconds=None if "max_seconds" not in data else _at_least_0(data["max_seconds"], path, "max_seconds"),
+        max_lines=_limit(data, "max_lines", path),
     )
+
+
+def run_limits(task: Task, steps: int | None = None, seconds: float | None = None,
+               lines: int | None = None) -> RunLimits:
+    """Each student's run limits: the command line's (the arguments), else the task's, else the
+    defaults, where the robot time's is CYCLES_ALLOWED times the task's cycle time when it has one."""
+    default = RunLimits()
+    by_cycle = default.seconds if task.cycle_time is None else CYCLES_ALLOWED * task.cycle_time
+    return RunLimits(_first(steps, task.max_steps, default.steps), _first(seconds, task.max_seconds, by_cycle),
+                     _first(lines, task.max_lines, default.lines))
+
+
+def _first(given: _N | None, tasks: _N | None, default: _N) -> _N:
+    return given if given is not None else tasks if tasks is not None else default
+
+
+def _limit(data: dict[str, object], key: str, path: Path) -> int | None:
+    if key not in data:
+        return None
+    number = _number(data[key], path, key)
+    if number < 0 or not number.is_integer():
+        raise TaskError(path, 0, f"{key}: {number:g} must be a whole number, 0 (no limit) or more")
+    return int(number)
+
+
+def _at_least_0(value: object, path: Path, key: str) -> float:
+    number = _number(value, path, key)
+    if number < 0:
+        raise TaskError(path, 0, f"{key}: {number:g} must be 0 (no limit) or more")
+    return number
 
 
 def _parts(entries: list[Any], path: Path) -> tuple[ExpectedPart, ...]:
@@ -442,7 +481,7 @@ def grade(task: Task, submission: str | Path, limits: RunLimits | None = None, s
         return verdict
     _syntax(verdict, main, task)
     if not verdict.failures:  # a program pass 1 refuses is not run
-        _run(verdict, task, main, programs, limits or RunLimits())
+        _run(verdict, task, main, programs, limits or run_limits(task))
     verdict.seconds = time.perf_counter() - started
     return verdict
 
@@ -467,13 +506,13 @@ def _run(verdict: Verdict, task: Task, main: Program, programs: _Programs, limit
     # CALLed programs come from the submission, read as its main program was; nothing is written
     interpreter = Interpreter(sim, programs.load, {}, dialect=task.dialect, limits=limits)
     interpreter.machine.precision.update(precision)
-    _observe(verdict, task, interpreter.execute(main.name, task.loops))
+    _observe(verdict, task, interpreter.execute(main.name, task.loops), limits)
     verdict.cycle_time = interpreter.cycle_seconds
     verdict.parts = part_positions(sim)
     _check_end(verdict, task, sim)
 
 
-def _observe(verdict: Verdict, task: Task, events: Iterable[Event]) -> None:
+def _observe(verdict: Verdict, task: Task, events: Iterable[Event], limits: RunLimits) -> None:
     """The failures and findings of the run's events."""
     for event in events:
         if isinstance(event, Collision):
@@ -483,7 +522,7 @@ def _observe(verdict: Verdict, task: Task, events: Iterable[Event]) -> None:
         elif isinstance(event, Near):
             verdict.near_misses += 1
         elif isinstance(event, LimitReached):
-            verdict.failures.append(Failure("limit", event_lines(event)[0].removeprefix("*** ")))
+            verdict.failures.append(Failure("limit", _unfinished(event, limits)))
         elif isinstance(event, Error):
             verdict.failures.append(Failure("error", event_lines(event)[0].removeprefix("*** ")))
         elif isinstance(event, Grasp):
@@ -492,6 +531,15 @@ def _observe(verdict: Verdict, task: Task, events: Iterable[Event]) -> None:
         elif not (isinstance(event, Message) and event.level == "warning"):  # CLOSE on air, AUTOCONFIG
             continue
         verdict.findings.extend(event_lines(event))
+
+
+def _unfinished(stop: LimitReached, limits: RunLimits) -> str:
+    """A limit's stop as the student reads it (not the instructor's flag that raises it)."""
+    value = float(getattr(limits, stop.limit))
+    shown = f"{value:g}" if value < 1e15 else str(int(value))
+    within = {"steps": f"WITHIN {shown} STEPS", "seconds": f"WITHIN {shown} S OF ROBOT TIME",
+              "lines": f"WITHIN {shown} LINES OF OUTPUT"}.get(stop.limit, stop.message)
+    return f"{stop.program} STEP {stop.step}: DID NOT FINISH {within}: AN ENDLESS LOOP?"
 
 
 def _check_end(verdict: Verdict, task: Task, sim: Simulator) -> None:
