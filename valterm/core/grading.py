@@ -538,7 +538,7 @@ def _unfinished(stop: LimitReached, limits: RunLimits) -> str:
     value = float(getattr(limits, stop.limit))
     shown = f"{value:g}" if value < 1e15 else str(int(value))
     within = {"steps": f"WITHIN {shown} STEPS", "seconds": f"WITHIN {shown} S OF ROBOT TIME",
-              "lines": f"WITHIN {shown} LINES OF OUTPUT"}.get(stop.limit, stop.message)
+              "lines": f"WITHIN {shown} LINES OF TRANSCRIPT"}.get(stop.limit, stop.message)
     return f"{stop.program} STEP {stop.step}: DID NOT FINISH {within}: AN ENDLESS LOOP?"
 
 
