@@ -381,10 +381,7 @@ class Interpreter:
                             break
                         prog, code, steps = run.program, run.program.code, run.program.steps
                 start = 0
-                if finished and self._limit_at is not None:  # the last step passed a limit: it still stops
-                    yield self._stopped(*self._limit_at)
-                    finished = False
-                yield from self._pass_ended()
+                finished = yield from self._pass_ended(finished)
                 if not finished:
                     return
                 self.loops_done += 1
@@ -392,11 +389,16 @@ class Interpreter:
         finally:
             self._ended()
 
-    def _pass_ended(self) -> Generator[Event, None, None]:
-        """A pass's end, however it ended: the line a TYPE ..., /S left open, then the hook."""
+    def _pass_ended(self, finished: bool) -> Generator[Event, None, bool]:
+        """A pass's end, however it ended: the stop of a last step that passed the robot-time
+        limit, the line a TYPE ..., /S left open, then the hook; whether the pass finished."""
+        if finished and self._limit_at is not None:
+            yield self._stopped(*self._limit_at)
+            finished = False
         yield from typed_rest(self.machine)
         if self.pass_end is not None:
             yield from self.pass_end()
+        return finished
 
     def _begin(self, name: str, loops: int) -> int:
         """EXECUTE's state as its first pass begins; how many passes it runs."""
