@@ -105,6 +105,17 @@ def test_a_called_program_linked_outside_or_a_fifo_is_refused(tmp_path: Path, ou
     assert "PICKIT.DAT: is a link" in results(everything)["bob"]["failures"][0]["message"]
 
 
+def test_a_hard_link_is_the_file_itself_and_is_read(tmp_path: Path, outside: Path,
+                                                    capsys: pytest.CaptureFixture[str]) -> None:
+    """The documented choice: a hard link is a regular file in the submission (a link to a
+    file the student cannot write is stopped by the system's protected_hardlinks)."""
+    subs = tmp_path / "subs"
+    (subs / "alice").mkdir(parents=True)
+    os.link(outside / "GOOD.DAT", subs / "alice" / "MAIN.DAT")
+    status, everything = grade_all(capsys, subs)
+    assert status == 0 and results(everything)["alice"]["passed"]
+
+
 @pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="no FIFOs here")
 @pytest.mark.parametrize("name", ["MAIN.DAT", "PICKIT.DAT"])
 def test_a_fifo_named_like_a_program_fails_at_once_never_blocking(tmp_path: Path, name: str) -> None:

@@ -351,13 +351,16 @@ def _students_in(path: Path, depth: int) -> list[Path]:
     return [student for e in entries for student in _students_in(path / e.name, depth + 1)]
 
 
-def _entries(folder: Path) -> list[os.DirEntry[str]]:
-    """The folder's entries, hidden ones left out, in name order."""
+def _entries(folder: Path, strict: bool = False) -> list[os.DirEntry[str]]:
+    """The folder's entries, hidden ones left out, in name order; an unreadable folder has
+    none (a student then: its grading, ``strict``, says why)."""
     try:
         with os.scandir(folder) as listing:
             return sorted((e for e in listing if not e.name.startswith(".")), key=lambda e: e.name)
-    except OSError:
-        return []  # an unreadable folder: the student's grading says why
+    except OSError as error:
+        if strict:
+            raise FileFormatError(folder, 0, f"cannot read the folder: {error.strerror or error}") from None
+        return []
 
 
 def _is_program(name: str) -> bool:
@@ -367,10 +370,13 @@ def _is_program(name: str) -> bool:
 def _names(paths: list[str]) -> list[str]:
     """Each student's path less the folder all of them share (the parent of a lone one), a
     program file's extension left off when that stays unique."""
-    base = os.path.commonpath(paths) if paths else ""
+    try:
+        base = os.path.commonpath(paths) if paths else ""
+    except ValueError:  # Windows: paths on two drives share nothing
+        base = ""
     if base in paths:
         base = os.path.dirname(base)
-    full = [Path(os.path.relpath(p, base)).as_posix() for p in paths]
+    full = [Path(os.path.relpath(p, base) if base else p).as_posix() for p in paths]
     short = [name[: -len(Path(name).suffix)] if _is_program(name) else name for name in full]
     return [s if short.count(s) == 1 else f for s, f in zip(short, full, strict=True)]
 
@@ -388,7 +394,7 @@ class _Programs:
         self.files: dict[Path, Program] = {}  # each file's main program
         self.by_name: dict[str, Program] = {}  # every program, by name (a V+ file holds several)
         if submission.is_dir():
-            for entry in _entries(submission):
+            for entry in _entries(submission, strict=True):
                 if _is_program(entry.name) and not entry.is_dir(follow_symlinks=False):
                     self.read(submission / entry.name)
         else:
