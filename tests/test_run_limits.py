@@ -153,3 +153,12 @@ def test_the_app_stops_a_runaway_at_its_limit_and_the_prompt_answers(tmp_path: P
             assert not screen.interpreter.running
 
     asyncio.run(body())
+
+
+@pytest.mark.parametrize("lines", [["    DELAY 100000"], ["    READY", "    DELAY 100000"]])
+def test_a_last_step_past_the_robot_time_limit_does_not_escape_it(lines: list[str]) -> None:
+    events = list(interpreter(lines, RunLimits(seconds=60)).execute("LOOP"))
+    stop = events[-1]
+    assert isinstance(stop, LimitReached) and stop.limit == "seconds"
+    assert (stop.program, stop.step) == ("LOOP", len(lines))  # the step that passed it
+    assert not any("COMPLETED" in getattr(e, "text", "") for e in events)

@@ -2,9 +2,10 @@
 
 Grades students' programs against a task file the instructor writes (docs/GRADING.md): the
 cell, the location files, where parts must end up (with a tolerance), the cycle time
-allowed, whether collisions are allowed. Each SUBMISSION is a program file, or a folder of
-submissions: every program file in it is one student, every folder in it one student (its
-program, and the programs it CALLs, in that folder). Submissions run in parallel, one
+allowed, whether collisions are allowed. Each SUBMISSION is a student's program file or
+folder (its program, and the programs it CALLs), or a class: a folder of students' folders
+(``grade TASK subs`` and ``grade TASK subs/*`` grade the same students, core/grading.py's
+find_students). A submission is read only inside itself, never through a link. Students run in parallel, one
 process each (``--jobs``, default: the number of CPUs), each on its own fresh cell and
 variables; nothing is written to any workspace.
 
@@ -28,14 +29,14 @@ from pathlib import Path
 from typing import Any
 
 from valterm.commands import FAILURE, OK, USAGE, fail
-from valterm.commands.limits import add_limit_flags, limits_from
+from valterm.commands.limits import add_limit_flags
 
 
 def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     parser = subparsers.add_parser("grade", help="grade students' programs against a task file (table, JSON, JUnit XML)")
     parser.add_argument("task", metavar="TASK.toml", help="the task file (docs/GRADING.md)")
     parser.add_argument("submissions", metavar="SUBMISSION", nargs="+",
-                        help="a program file, or a folder of submissions (files or folders, one a student)")
+                        help="a student's program file or folder, or a class: a folder of students' folders")
     parser.add_argument("--jobs", type=int, default=0, metavar="N",
                         help="programs graded at once, one process each (default: the number of CPUs)")
     parser.add_argument("--json", metavar="FILE", help="write the results as JSON (- for standard output)")
@@ -44,27 +45,9 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) ->
     parser.set_defaults(func=run)
 
 
-def submissions(arguments: list[str]) -> list[Path]:
-    """Each argument's submissions: a file is one; a folder holds one a program file or folder."""
-    from valterm.core.files.errors import FileFormatError
-    from valterm.core.grading import PROGRAM_EXTENSIONS
-
-    found: list[Path] = []
-    for argument in arguments:
-        path = Path(argument).expanduser()
-        if path.is_file():
-            found.append(path)
-        elif path.is_dir():
-            found += sorted(p for p in path.iterdir() if p.is_dir() and not p.name.startswith(".")
-                            or p.is_file() and p.suffix.upper() in PROGRAM_EXTENSIONS)
-        else:
-            raise FileFormatError(path, 0, "no such program file or folder")
-    return found
-
-
 def run(args: argparse.Namespace) -> int:
     from valterm.core.errors import ValtermError
-    from valterm.core.grading import check_task, read_task
+    from valterm.core.grading import check_task, find_students, read_task, run_limits
 
     if args.jobs < 0:
         return fail("grade: --jobs must be 0 (one per CPU) or more", USAGE)
@@ -73,13 +56,15 @@ def run(args: argparse.Namespace) -> int:
     try:
         task = read_task(args.task)
         check_task(task)
-        found = submissions(args.submissions)
+        found = find_students(args.submissions)
     except (ValtermError, OSError) as error:
         return fail(error, FAILURE)
     if not found:
         return fail("grade: no program files or folders to grade", FAILURE)
     started = time.perf_counter()
-    verdicts = _grade_all(task, found, limits_from(args), args.jobs or os.cpu_count() or 1)
+    limits = run_limits(task, getattr(args, "max_steps", None), getattr(args, "max_seconds", None),
+                        getattr(args, "max_lines", None))  # the flags given, else the task's
+    verdicts = _grade_all(task, found, limits, args.jobs or os.cpu_count() or 1)
     elapsed = time.perf_counter() - started
     try:
         _report(args, task, verdicts, elapsed)
@@ -88,13 +73,13 @@ def run(args: argparse.Namespace) -> int:
     return OK if all(v.passed for v in verdicts) else FAILURE
 
 
-def _grade_all(task: Any, found: list[Path], limits: Any, jobs: int) -> list[Any]:
-    """Every submission's verdict, in the order given; in parallel processes when there are several."""
+def _grade_all(task: Any, found: list[Any], limits: Any, jobs: int) -> list[Any]:
+    """Every student's verdict, in the order found; in parallel processes when there are several."""
     from concurrent.futures import ProcessPoolExecutor  # here: multiprocessing is no part of a start
 
-    from valterm.core.grading import grade
+    from valterm.core.grading import grade_student
 
-    one = partial(grade, task, limits=limits)
+    one = partial(grade_student, task, limits)
     jobs = min(jobs, len(found))
     if jobs <= 1:
         return [one(path) for path in found]

@@ -15,12 +15,13 @@ from or written to a workspace (no CHECK.DAT), so submissions cannot disturb eac
 from __future__ import annotations
 
 import math
+import os
 import time
 import tomllib
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, TypeVar
 
 from valterm.core import resources
 from valterm.core.errors import ValtermError
@@ -30,7 +31,6 @@ from valterm.core.files.locations import read_location_file, read_locations
 from valterm.core.files.programs import Program
 from valterm.core.files.setup import read_setup
 from valterm.core.files.vplus import EXTENSIONS as VPLUS_EXTENSIONS
-from valterm.core.files.vplus import read_program_file
 from valterm.core.robot_choice import check_robot
 from valterm.core.rules import check_rules, rules_of_dialect
 from valterm.core.simulator import Simulator
@@ -39,7 +39,6 @@ from valterm.core.val.builders import CLOSED_ON_AIR
 from valterm.core.val.checker import check_program
 from valterm.core.val.interpreter import Interpreter, check_dialect
 from valterm.core.val.limits import RunLimits
-from valterm.core.workspace import Workspace
 
 PROGRAM_EXTENSIONS = (".DAT", *VPLUS_EXTENSIONS)
 
@@ -47,9 +46,12 @@ PROGRAM_EXTENSIONS = (".DAT", *VPLUS_EXTENSIONS)
 KINDS = ("file", "syntax", "error", "limit", "collision", "part", "cycle-time")
 
 _TASK_KEYS = {"name", "cell", "locations", "program", "cycle_time", "collisions", "loops", "dialect", "rules",
-              "robot", "part"}
+              "robot", "part", "max_steps", "max_seconds", "max_lines"}
+# with a cycle time and no max_seconds, a run is cut at this many times the cycle time
+CYCLES_ALLOWED = 10
 _PART_KEYS = {"number", "position", "tolerance", "held"}
 MAX_TASK_BYTES = 64 * 1024
+_N = TypeVar("_N", int, float)
 
 
 class TaskError(FileFormatError):
@@ -77,6 +79,9 @@ class Task:
     rules: str = ""  # the joint-state rules (docs/MOTION.md); "": the dialect's
     robot: str = ""  # the robot graded on (--robot's names, core/arms.py); "": the thesis's
     parts: tuple[ExpectedPart, ...] = ()
+    max_steps: int | None = None  # the run limits (core/val/limits.py; 0: none); None: the default
+    max_seconds: float | None = None
+    max_lines: int | None = None
 
 
 @dataclass(frozen=True)
@@ -129,6 +134,8 @@ def read_task(path: str | Path) -> Task:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as error:
         raise TaskError(path, 0, f"not a TOML file: {error}") from None
+    except ValueError:  # Python's limit on reading a whole number (TOMLDecodeError is one too: caught above)
+        raise TaskError(path, 0, "a number of more than 4300 digits: not a number a task needs") from None
     unknown = sorted(set(data) - _TASK_KEYS)
     if unknown:
         raise TaskError(path, 0, f"unknown key {unknown[0]!r} (the keys are {', '.join(sorted(_TASK_KEYS))})")
@@ -143,14 +150,56 @@ def read_task(path: str | Path) -> Task:
         locations=tuple(_data_file(path, _text(name, path, "locations"), "LOC")
                         for name in _list(locations, path, "locations")),
         program=_text(data.get("program", ""), path, "program").upper(),
-        cycle_time=None if "cycle_time" not in data else _number(data["cycle_time"], path, "cycle_time"),
+        cycle_time=None if "cycle_time" not in data else _positive(data["cycle_time"], path, "cycle_time"),
         collisions=_flag(data.get("collisions", False), path, "collisions"),
-        loops=int(_number(data.get("loops", 1), path, "loops")),
+        loops=_count(data.get("loops", 1), path, "loops"),
         dialect=_setting(data, "dialect", "1985", check_dialect, path),
         rules=_setting(data, "rules", "", check_rules, path),
         robot=_setting(data, "robot", "", check_robot, path),
-        parts=tuple(_part(entry, path) for entry in _list(data.get("part", []), path, "part")),
+        parts=_parts(_list(data.get("part", []), path, "part"), path),
+        max_steps=_limit(data, "max_steps", path),
+        max_seconds=None if "max_seconds" not in data else _at_least_0(data["max_seconds"], path, "max_seconds"),
+        max_lines=_limit(data, "max_lines", path),
     )
+
+
+def run_limits(task: Task, steps: int | None = None, seconds: float | None = None,
+               lines: int | None = None) -> RunLimits:
+    """Each student's run limits: the command line's (the arguments), else the task's, else the
+    defaults, where the robot time's is CYCLES_ALLOWED times the task's cycle time when it has one."""
+    default = RunLimits()
+    by_cycle = default.seconds if task.cycle_time is None else CYCLES_ALLOWED * task.cycle_time
+    return RunLimits(_first(steps, task.max_steps, default.steps), _first(seconds, task.max_seconds, by_cycle),
+                     _first(lines, task.max_lines, default.lines))
+
+
+def _first(given: _N | None, tasks: _N | None, default: _N) -> _N:
+    return given if given is not None else tasks if tasks is not None else default
+
+
+def _limit(data: dict[str, object], key: str, path: Path) -> int | None:
+    if key not in data:
+        return None
+    number = _number(data[key], path, key)
+    if number < 0 or not number.is_integer():
+        raise TaskError(path, 0, f"{key}: {number:g} must be a whole number, 0 (no limit) or more")
+    return int(number)
+
+
+def _at_least_0(value: object, path: Path, key: str) -> float:
+    number = _number(value, path, key)
+    if number < 0:
+        raise TaskError(path, 0, f"{key}: {number:g} must be 0 (no limit) or more")
+    return number
+
+
+def _parts(entries: list[Any], path: Path) -> tuple[ExpectedPart, ...]:
+    parts = tuple(_part(entry, path) for entry in entries)
+    numbers = [part.number for part in parts]
+    twice = next((n for n in numbers if numbers.count(n) > 1), None)
+    if twice is not None:
+        raise TaskError(path, 0, f"part {twice}: two [[part]] tables for one part (one says where it must end)")
+    return parts
 
 
 def _part(entry: object, path: Path) -> ExpectedPart:
@@ -168,6 +217,8 @@ def _part(entry: object, path: Path) -> ExpectedPart:
         raise TaskError(path, 0, f"{where}: position needs 3 numbers [x, y, z] in mm")
     x, y, z = (_number(v, path, f"{where} position") for v in position)
     tolerance = _number(entry.get("tolerance", 5.0), path, f"{where} tolerance")
+    if tolerance < 0:
+        raise TaskError(path, 0, f"{where} tolerance: {tolerance:g} must be 0 or more (mm)")
     held = entry.get("held")
     return ExpectedPart(number, (x, y, z), tolerance, None if held is None else _flag(held, path, f"{where} held"))
 
@@ -196,7 +247,24 @@ def _list(value: object, path: Path, key: str) -> list[Any]:
     return value
 
 
+def _positive(value: object, path: Path, key: str) -> float:
+    number = _number(value, path, key)
+    if number <= 0:
+        raise TaskError(path, 0, f"{key}: {number:g} must be more than 0")
+    return number
+
+
+def _count(value: object, path: Path, key: str) -> int:
+    number = _number(value, path, key)
+    if number < 1 or not number.is_integer():
+        raise TaskError(path, 0, f"{key}: {number:g} must be a whole number, 1 or more")
+    return int(number)
+
+
 def _number(value: object, path: Path, key: str) -> float:
+    if isinstance(value, int) and not isinstance(value, bool) and abs(value) > 10**15:  # no float holds some
+        digits = len(str(abs(value)))
+        raise TaskError(path, 0, f"{key}: a {digits}-digit number is out of range (at most 1e+15 in size)")
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) or value < -1e15:
         raise TaskError(path, 0, f"{key} must be a finite number")
     if abs(value) > 1e15:
@@ -239,42 +307,187 @@ def check_task(task: Task) -> None:
             raise TaskError(task.cell, 0, f"the task names part {expected.number}; the cell has {len(cell.objects)}")
 
 
+# -- a class of submissions -----------------------------------------------------------------
+
+LINK = "is a link; a submission is read only inside itself, never through a link"
+_MAX_DEPTH = 4  # classes within classes (a course, its sections, their students)
+
+
+@dataclass(frozen=True)
+class Submission:
+    """One student: a program file, or a folder holding the student's programs."""
+
+    student: str  # unique among the students graded together
+    path: Path
+
+
+def find_students(arguments: Iterable[str | Path]) -> list[Submission]:
+    """The students in the paths named (docs/GRADING.md): a folder holding program files is
+    one student; a folder holding folders is a class (each folder in it, and each program file
+    beside them, a student); a folder holding neither is a student with nothing to run; a
+    link is a student whose submission is refused. ``subs`` and ``subs/*`` find the same
+    students: each is named by its path less the folder all of them share.
+    FileFormatError for a path that is not there."""
+    found: dict[str, Path] = {}
+    for argument in arguments:
+        path = Path(os.path.normpath(os.path.expanduser(str(argument))))
+        if not os.path.lexists(path):
+            raise FileFormatError(path, 0, "no such program file or folder")
+        for student in _students_in(path, 0):
+            found.setdefault(os.path.abspath(student), student)  # a student named twice is graded once
+    names = _names(list(found))
+    return [Submission(name, path) for name, path in zip(names, found.values(), strict=True)]
+
+
+def _students_in(path: Path, depth: int) -> list[Path]:
+    if path.is_symlink() or not path.is_dir():
+        return [path] if path.is_symlink() or _is_program(path.name) else []  # a README is no student
+    entries = _entries(path)
+    if any(_is_program(e.name) and not e.is_dir(follow_symlinks=False) for e in entries) or depth >= _MAX_DEPTH:
+        return [path]
+    folders = [e for e in entries if e.is_dir(follow_symlinks=False) or e.is_symlink()]
+    if not folders:
+        return [path]  # nothing to run: a FAIL row, never dropped
+    return [student for e in entries for student in _students_in(path / e.name, depth + 1)]
+
+
+def _entries(folder: Path, strict: bool = False) -> list[os.DirEntry[str]]:
+    """The folder's entries, hidden ones left out, in name order; an unreadable folder has
+    none (a student then: its grading, ``strict``, says why)."""
+    try:
+        with os.scandir(folder) as listing:
+            return sorted((e for e in listing if not e.name.startswith(".")), key=lambda e: e.name)
+    except OSError as error:
+        if strict:
+            raise FileFormatError(folder, 0, f"cannot read the folder: {error.strerror or error}") from None
+        return []
+
+
+def _is_program(name: str) -> bool:
+    return Path(name).suffix.upper() in PROGRAM_EXTENSIONS
+
+
+def _names(paths: list[str]) -> list[str]:
+    """Each student's path less the folder all of them share (the parent of a lone one), a
+    program file's extension left off when that stays unique."""
+    try:
+        base = os.path.commonpath(paths) if paths else ""
+    except ValueError:  # Windows: paths on two drives share nothing
+        base = ""
+    if base in paths:
+        base = os.path.dirname(base)
+    full = [Path(os.path.relpath(p, base) if base else p).as_posix() for p in paths]
+    short = [name[: -len(Path(name).suffix)] if _is_program(name) else name for name in full]
+    return [s if short.count(s) == 1 else f for s, f in zip(short, full, strict=True)]
+
+
 # -- one submission --------------------------------------------------------------------------
 
-def main_program(submission: Path, task: Task) -> Path:
-    """The program file of a submission: the file itself, or in a folder the task's program
-    (else the folder's only program). FileFormatError when there is none to run."""
-    if not submission.is_dir():
-        return submission
-    files = sorted(p for p in submission.iterdir() if p.suffix.upper() in PROGRAM_EXTENSIONS and p.is_file())
-    if task.program:
-        found = [p for p in files if p.stem.upper() == task.program]
-        if found:
+class _Programs:
+    """A submission's programs, read only as regular files inside it (never through a link,
+    never a FIFO or a device): the file given, or every program file of the folder given."""
+
+    def __init__(self, submission: Path) -> None:
+        if submission.is_symlink():
+            raise FileFormatError(submission, 0, LINK)
+        self.folder = submission if submission.is_dir() else submission.parent
+        self.files: dict[Path, Program] = {}  # each file's main program
+        self.by_name: dict[str, Program] = {}  # every program, by name (a V+ file holds several)
+        if submission.is_dir():
+            for entry in _entries(submission, strict=True):
+                if _is_program(entry.name) and not entry.is_dir(follow_symlinks=False):
+                    self.read(submission / entry.name)
+        else:
+            self.read(submission)
+
+    def read(self, path: Path) -> Program:
+        from valterm.core.files._text import decode_text, read_bytes
+        from valterm.core.files.programs import parse_program
+        from valterm.core.files.vplus import parse_vplus_file
+
+        try:
+            data = read_bytes(path, "program", links=False)
+        except FileFormatError as error:
+            if "is a link" in error.reason:
+                raise FileFormatError(path, 0, LINK) from None
+            raise
+        if path.suffix.upper() in VPLUS_EXTENSIONS:
+            text = decode_text(data, path, "V+ program", eight_bit=True)
+            programs = [block.program for block in parse_vplus_file(text, path).blocks]
+        else:
+            programs = [parse_program(decode_text(data, path, "program"), path.stem.upper(), path)]
+        self.files[path] = programs[0]
+        for program in programs:
+            self.by_name.setdefault(program.name, program)
+        return programs[0]
+
+    def load(self, name: str) -> Program:
+        """A CALLed program: of the submission, else (a program file given alone) NAME.DAT beside it."""
+        name = name.strip().upper()
+        if name not in self.by_name:
+            beside = [self.folder / e.name for e in _entries(self.folder) if e.name.upper() == f"{name}.DAT"]
+            if not beside:
+                raise FileFormatError(self.folder / f"{name}.DAT", 0, "no such program in the submission")
+            self.read(beside[0])
+        return self.by_name[name]
+
+    def main(self, task: Task) -> Path:
+        """The program file to run: the task's program, else the one no other program CALLs."""
+        files = sorted(self.files, key=lambda p: p.name)
+        if task.program:
+            found = [p for p in files if p.stem.upper() == task.program]
+            if not found:
+                raise FileFormatError(self.folder, 0, f"no program {task.program}.DAT in the submission")
             return found[0]
-        raise FileFormatError(submission, 0, f"no program {task.program}.DAT in the submission")
-    if len(files) != 1:
-        raise FileFormatError(submission, 0, f"{len(files)} program files: name the one to run "
-                                             "(program = \"NAME\" in the task)")
-    return files[0]
+        called = {name for program in self.by_name.values() for name in calls(program, task) if name != program.name}
+        roots = [p for p in files if self.files[p].name not in called]
+        if len(roots) == 1:
+            return roots[0]
+        if not files:
+            raise FileFormatError(self.folder, 0, f"0 program files ({', '.join(PROGRAM_EXTENSIONS)}): nothing to run")
+        if not roots:
+            why = "every program is CALLed by another"
+        else:
+            why = f"{len(roots)} programs that no other CALLs ({', '.join(self.files[p].name for p in roots)})"
+        raise FileFormatError(self.folder, 0, f"{why}: name the one to run (program = \"NAME\" in the task)")
 
 
-def grade(task: Task, submission: str | Path, limits: RunLimits | None = None) -> Verdict:
+def calls(program: Program, task: Task) -> set[str]:
+    """The names of the programs ``program`` CALLs (the syntax checker's CALL test records them)."""
+    called: set[str] = set()
+
+    def record(name: str) -> bool:
+        called.add(name.upper())
+        return True  # no warning: only the names are wanted
+
+    check_program(program, program_exists=record, dialect="v+" if task.dialect == "v+" else None)
+    return called
+
+
+def grade_student(task: Task, limits: RunLimits | None, submission: Submission) -> Verdict:
+    """``grade`` for one of :func:`find_students`' students (what the parallel workers run)."""
+    return grade(task, submission.path, limits, submission.student)
+
+
+def grade(task: Task, submission: str | Path, limits: RunLimits | None = None, student: str = "") -> Verdict:
     """Run ``submission`` (a program file, or a folder with the program and what it CALLs)
-    against ``task``; never raises for the student's mistakes: they are failures."""
+    against ``task``; never raises for the student's mistakes: they are failures. Its files
+    are read only as regular files inside it: a link or a FIFO is the student's failure."""
     started = time.perf_counter()
     submission = Path(submission)
-    verdict = Verdict(student=submission.stem if submission.is_file() else submission.name, program="")
+    verdict = Verdict(student=student or (submission.name if submission.is_dir() else submission.stem), program="")
     try:
-        path = main_program(submission, task)
+        programs = _Programs(submission)
+        path = programs.main(task)
         verdict.program = path.name
-        main, in_file = read_program_file(path)
+        main = programs.files[path]
     except (FileFormatError, OSError, ValtermError) as error:
         verdict.failures.append(Failure("file", str(error)))
         verdict.seconds = time.perf_counter() - started
         return verdict
     _syntax(verdict, main, task)
     if not verdict.failures:  # a program pass 1 refuses is not run
-        _run(verdict, task, path, main, in_file, limits or RunLimits())
+        _run(verdict, task, main, programs, limits or run_limits(task))
     verdict.seconds = time.perf_counter() - started
     return verdict
 
@@ -286,8 +499,7 @@ def _syntax(verdict: Verdict, main: Program, task: Task) -> None:
         verdict.failures.append(Failure("syntax", f"{main.name} STEP {diagnostic.step}: {diagnostic.message}"))
 
 
-def _run(verdict: Verdict, task: Task, path: Path, main: Program, in_file: dict[str, Program],
-         limits: RunLimits) -> None:
+def _run(verdict: Verdict, task: Task, main: Program, programs: _Programs, limits: RunLimits) -> None:
     sim = Simulator(read_setup(task.cell), robot=task.robot or None)  # check_task has read them once already
     precision: dict[str, tuple[float, ...]] = {}
     for location_file in task.locations:
@@ -297,21 +509,16 @@ def _run(verdict: Verdict, task: Task, path: Path, main: Program, in_file: dict[
     sim.collision_checks = True
     vplus = "v+" in (task.dialect, main.dialect)
     sim.set_rules(task.rules or rules_of_dialect("v+" if vplus else "1985"))  # as run does
-    # the submission's folder is its workspace: CALLed programs come from there, nothing is written
-    load_called = Workspace(path.parent).program_loader(path.parent)
-
-    def load_program(name: str) -> Program:
-        return in_file[name] if name in in_file else load_called(name)
-
-    interpreter = Interpreter(sim, load_program, {}, dialect=task.dialect, limits=limits)
+    # CALLed programs come from the submission, read as its main program was; nothing is written
+    interpreter = Interpreter(sim, programs.load, {}, dialect=task.dialect, limits=limits)
     interpreter.machine.precision.update(precision)
-    _observe(verdict, task, interpreter.execute(main.name, task.loops))
+    _observe(verdict, task, interpreter.execute(main.name, task.loops), limits)
     verdict.cycle_time = interpreter.cycle_seconds
     verdict.parts = part_positions(sim)
     _check_end(verdict, task, sim)
 
 
-def _observe(verdict: Verdict, task: Task, events: Iterable[Event]) -> None:
+def _observe(verdict: Verdict, task: Task, events: Iterable[Event], limits: RunLimits) -> None:
     """The failures and findings of the run's events."""
     for event in events:
         if isinstance(event, Collision):
@@ -321,7 +528,7 @@ def _observe(verdict: Verdict, task: Task, events: Iterable[Event]) -> None:
         elif isinstance(event, Near):
             verdict.near_misses += 1
         elif isinstance(event, LimitReached):
-            verdict.failures.append(Failure("limit", event_lines(event)[0].removeprefix("*** ")))
+            verdict.failures.append(Failure("limit", _unfinished(event, limits)))
         elif isinstance(event, Error):
             verdict.failures.append(Failure("error", event_lines(event)[0].removeprefix("*** ")))
         elif isinstance(event, Grasp):
@@ -330,6 +537,15 @@ def _observe(verdict: Verdict, task: Task, events: Iterable[Event]) -> None:
         elif not (isinstance(event, Message) and event.level == "warning"):  # CLOSE on air, AUTOCONFIG
             continue
         verdict.findings.extend(event_lines(event))
+
+
+def _unfinished(stop: LimitReached, limits: RunLimits) -> str:
+    """A limit's stop as the student reads it (not the instructor's flag that raises it)."""
+    value = float(getattr(limits, stop.limit))
+    shown = f"{value:g}" if value < 1e15 else str(int(value))
+    within = {"steps": f"WITHIN {shown} STEPS", "seconds": f"WITHIN {shown} S OF ROBOT TIME",
+              "lines": f"WITHIN {shown} LINES OF TRANSCRIPT"}.get(stop.limit, stop.message)
+    return f"{stop.program} STEP {stop.step}: DID NOT FINISH {within}: AN ENDLESS LOOP?"
 
 
 def _check_end(verdict: Verdict, task: Task, sim: Simulator) -> None:
@@ -342,8 +558,9 @@ def _check_end(verdict: Verdict, task: Task, sim: Simulator) -> None:
         if off > expected.tolerance:
             shown = ", ".join(f"{v:.1f}" for v in at)
             why = f" ({air[0]})" if air else ""
-            verdict.failures.append(Failure("part", f"PART {expected.number} IS AT {shown}: {off:.1f} MM FROM WHERE "
-                                                    f"IT SHOULD BE (TOLERANCE {expected.tolerance:g} MM){why}"))
+            target = ", ".join(f"{v:.1f}" for v in expected.position)
+            verdict.failures.append(Failure("part", f"PART {expected.number} IS AT {shown}, NOT AT {target}: "
+                                                    f"{off:.1f} MM AWAY (TOLERANCE {expected.tolerance:g} MM){why}"))
         elif expected.held is not None and held != expected.held:
             state = "HELD" if held else "NOT HELD"
             verdict.failures.append(Failure("part", f"PART {expected.number} IS {state} AT THE END"))

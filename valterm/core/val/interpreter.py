@@ -132,6 +132,7 @@ class Interpreter:
         self.limits = limits or RunLimits()
         self._steps_left = self._lines_left = 0.0  # counted down during an EXECUTE
         self._limit_hit = ""  # the limit that stopped the run ("" when none)
+        self._limit_at: tuple[str, int] | None = None  # the step whose robot time passed the limit
         # "1985" (COMMAND.DAT, the thesis) or "v+": the dialect of programs that do not say
         # (a program read from a V+ file is v+ whatever this says)
         self.dialect = check_dialect(dialect)
@@ -380,7 +381,7 @@ class Interpreter:
                             break
                         prog, code, steps = run.program, run.program.code, run.program.steps
                 start = 0
-                yield from self._pass_ended()
+                finished = yield from self._pass_ended(finished)
                 if not finished:
                     return
                 self.loops_done += 1
@@ -388,11 +389,16 @@ class Interpreter:
         finally:
             self._ended()
 
-    def _pass_ended(self) -> Generator[Event, None, None]:
-        """A pass's end, however it ended: the line a TYPE ..., /S left open, then the hook."""
+    def _pass_ended(self, finished: bool) -> Generator[Event, None, bool]:
+        """A pass's end, however it ended: the stop of a last step that passed the robot-time
+        limit, the line a TYPE ..., /S left open, then the hook; whether the pass finished."""
+        if finished and self._limit_at is not None:
+            yield self._stopped(*self._limit_at)
+            finished = False
         yield from typed_rest(self.machine)
         if self.pass_end is not None:
             yield from self.pass_end()
+        return finished
 
     def _begin(self, name: str, loops: int) -> int:
         """EXECUTE's state as its first pass begins; how many passes it runs."""
@@ -400,7 +406,7 @@ class Interpreter:
         self.program, self.loops_total, self.loops_done = name, total, 0
         self._running, self._paused, self._abort, self._watch = True, False, False, self._hook is not None
         self._steps_left, self._lines_left = self.limits.allowed("steps"), self.limits.allowed("lines")
-        self._limit_hit = ""
+        self._limit_hit, self._limit_at = "", None
         self._cycle_start, self._cycle_end = self.clock.seconds, None
         self.machine.deadline = self._cycle_start + self.limits.allowed("seconds")
         self.machine.deadline_said = f"{self.limits.message('seconds')} ({self.limits.flag('seconds')})"
@@ -545,6 +551,8 @@ class Interpreter:
             except StopIteration as done:
                 if self._running and self.clock.seconds - self._cycle_start > self.limits.allowed("seconds"):
                     self._limit("seconds")
+                    if step is not None and self._limit_at is None:
+                        self._limit_at = (step.program, step.step)
                 return int(done.value)
             observe(event)
             if not isinstance(event, PoseEvent):  # the many poses go straight through
