@@ -1,0 +1,140 @@
+"""Issue 35, item 2: every finding of a motion is in view (the pendant's 64-degree JT2 move
+into PROCESS's parts), the picture marks the colliding bodies, and a refusal goes with the
+next good move."""
+
+from __future__ import annotations
+
+import asyncio
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from valterm.cli import main
+from valterm.core.events import Collision, Near
+from valterm.core.render.legend import HIGHLIGHT_COLOUR
+from valterm.core.session import Session
+from valterm.core.text.transcript import finding_line
+from valterm.testing import Simulation
+from valterm.ui.screens.pendant import PendantScreen
+
+# increment 8: JT5 +16; then JT3 +16, +32, +64 (I doubles it); then JT2 +64 into parts 2, 8, 11
+KEYS_BEFORE = ("5", "5", "I", "3", "I", "3", "I", "3")
+MOVE = "2"
+
+
+def run(coro) -> None:  # type: ignore[no-untyped-def]
+    asyncio.run(coro)
+
+
+def _core_findings(workspace: Path) -> tuple[list[str], list[str]]:
+    """The last motion's COLLIDES and NEAR lines, from the core alone (the same keys)."""
+    simulator = Session(workspace, "PROCESS").simulator
+    simulator.collision_checks = True
+    for key in KEYS_BEFORE:
+        if key == "I":
+            simulator.change_pendant_increment(key)
+        else:
+            list(simulator.pendant_joint(int(key)))
+    events = list(simulator.pendant_joint(int(MOVE)))
+    collides = [finding_line(e) for e in events if isinstance(e, Collision)]
+    near = [finding_line(e) for e in events if isinstance(e, Near)]
+    return collides, near
+
+
+def _run_collides(workspace: Path, capsys: pytest.CaptureFixture[str]) -> set[str]:
+    """The COLLIDES findings `valterm run --collisions` reports for the same move (DRIVEs)."""
+    program = workspace / "JT2.DAT"
+    program.write_text("    DRIVE 5,16,100\n    DRIVE 3,112,100\n    DRIVE 2,64,100\n    STOP\n")
+    capsys.readouterr()
+    assert main(["--workspace", str(workspace), "run", "--collisions", "--json",
+                 "--cell", "PROCESS", str(program)]) == 0
+    events = [json.loads(line) for line in capsys.readouterr().out.splitlines() if line.startswith("{")]
+    return {e["text"] for e in events if e.get("event") == "collision" and e.get("step") == 3}
+
+
+async def _to_pendant_with_checks(sim: Simulation) -> None:
+    await sim.press("K", "S", "R", "P")
+    assert isinstance(sim.screen, PendantScreen)
+    assert sim.simulator.collision_checks
+
+
+def _row_of(rows: list[str], line: str) -> int:
+    found = [i for i, row in enumerate(rows) if row.strip().startswith(line)]
+    assert found, f"{line!r} is not on the screen:\n" + "\n".join(rows)
+    return found[0]
+
+
+def test_the_pendant_shows_every_finding_of_the_jt2_move(tmp_path: Path,
+                                                          capsys: pytest.CaptureFixture[str]) -> None:
+    collides, near = _core_findings(tmp_path)
+    assert len(collides) >= 6 and len(near) >= 3  # the move is the one the issue saw
+    assert set(collides) == _run_collides(tmp_path, capsys)  # the run path says the same
+
+    async def body() -> None:
+        async with Simulation(tmp_path, size=(120, 40)) as sim:
+            await _to_pendant_with_checks(sim)
+            await sim.press(*KEYS_BEFORE)
+            await sim.press(MOVE)
+            rows = sim.rows()
+            count = _row_of(rows, f"{len(collides)} COLLISIONS, {len(near)} NEAR")
+            collide_rows = [_row_of(rows, line) for line in collides]
+            near_rows = [_row_of(rows, line) for line in near]
+            assert count < min(collide_rows)
+            assert max(collide_rows) < min(near_rows)  # collisions before near misses
+            assert collide_rows == sorted(collide_rows)  # in the order found
+
+    run(body())
+
+
+def test_at_80x24_the_collisions_are_in_view_and_the_rest_a_key_away(tmp_path: Path) -> None:
+    collides, near = _core_findings(tmp_path)
+
+    async def body() -> None:
+        async with Simulation(tmp_path, size=(80, 24)) as sim:
+            await _to_pendant_with_checks(sim)
+            await sim.press(*KEYS_BEFORE)
+            await sim.press(MOVE)
+            rows = sim.rows()
+            count = _row_of(rows, f"{len(collides)} COLLISIONS, {len(near)} NEAR")
+            assert "SHIFT+DOWN" in rows[count]  # the legend of the key that scrolls them
+            for line in collides:
+                _row_of(rows, line)
+            await sim.press("shift+down")
+            rows = sim.rows()
+            for line in near:  # scrolled on: the near misses are in view
+                _row_of(rows, line)
+
+    run(body())
+
+
+def test_the_picture_marks_the_colliding_bodies(tmp_path: Path) -> None:
+    async def body() -> None:
+        async with Simulation(tmp_path, size=(120, 40)) as sim:
+            await _to_pendant_with_checks(sim)
+            await sim.press(*KEYS_BEFORE)
+            view = sim.screen.model_view
+            assert not np.any(view.frame.colours == HIGHLIGHT_COLOUR)  # nothing collides yet
+            await sim.press(MOVE)
+            assert np.any(sim.screen.model_view.frame.colours == HIGHLIGHT_COLOUR)
+
+    run(body())
+
+
+def test_a_refusal_and_its_hint_go_with_the_next_good_move(tmp_path: Path) -> None:
+    async def body() -> None:
+        async with Simulation(tmp_path, size=(80, 24)) as sim:
+            await sim.press("P", "W", "X")  # WORLD X at READY: refused, with what to do
+            assert any(line.startswith("MOTION REFUSED") for line in sim.messages()), sim.messages()
+            assert any(line.startswith("HINT") for line in sim.messages()), sim.messages()
+            await sim.press("1")  # a good move that says nothing
+            assert sim.where().joints[0] == pytest.approx(8.0)
+            shown = "\n".join(sim.rows())
+            assert "REFUSED" not in shown and "HINT" not in shown, shown
+            await sim.press("I", "I", "I", "3", "3", "3")  # JT3 90 -> 154 -> 218 -> beyond its stop
+            assert any("BEYOND ITS STOP" in line for line in sim.messages()), sim.messages()
+            await sim.press("2")
+            assert "BEYOND ITS STOP" not in "\n".join(sim.rows())
+
+    run(body())
