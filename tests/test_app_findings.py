@@ -138,3 +138,50 @@ def test_a_refusal_and_its_hint_go_with_the_next_good_move(tmp_path: Path) -> No
             assert "BEYOND ITS STOP" not in "\n".join(sim.rows())
 
     run(body())
+
+
+def _step_findings(workspace: Path, before: tuple[float, ...], increment: float, joint: int) -> set[str]:
+    """Every finding of one pendant step from ``before``, by a simulator that said none yet
+    (the app's says each once, as it starts)."""
+    simulator = Session(workspace, "PROCESS").simulator
+    simulator.collision_checks = True
+    simulator.joints = list(before)
+    simulator.pendant_increment = increment
+    return {finding_line(e) for e in simulator.pendant_joint(joint) if isinstance(e, (Near, Collision))}
+
+
+def _shown_findings(sim: Simulation) -> set[str]:
+    return {line for line in sim.messages() if " COLLIDES WITH " in line or " IS NEAR " in line}
+
+
+def test_a_move_that_stays_in_collision_still_lists_its_collisions(tmp_path: Path) -> None:
+    async def body() -> None:
+        async with Simulation(tmp_path, size=(120, 40)) as sim:
+            await _to_pendant_with_checks(sim)
+            await sim.press(*KEYS_BEFORE, MOVE, "D", "D", "D")
+            before = tuple(sim.where().joints)
+            await sim.press("6")  # 8 degrees of the clamp, still in the parts: the core says none again
+            expected = _step_findings(tmp_path, before, 8.0, 6)
+            collides = {line for line in expected if " COLLIDES WITH " in line}
+            assert len(collides) >= 4
+            assert _shown_findings(sim) == expected
+            _row_of(sim.rows(), f"{len(collides)} COLLISIONS, {len(expected) - len(collides)} NEAR")
+            assert np.any(sim.screen.model_view.frame.colours == HIGHLIGHT_COLOUR)
+
+    run(body())
+
+
+def test_a_move_out_of_the_parts_clears_their_findings(tmp_path: Path) -> None:
+    async def body() -> None:
+        async with Simulation(tmp_path, size=(120, 40)) as sim:
+            await _to_pendant_with_checks(sim)
+            await sim.press(*KEYS_BEFORE, MOVE, "N", "2")  # back up through the parts
+            before = tuple(sim.where().joints)
+            await sim.press("2")  # on, away from them
+            expected = _step_findings(tmp_path, before, -64.0, 2)
+            assert not any(" COLLIDES WITH " in line for line in expected)
+            assert _shown_findings(sim) == expected
+            assert "COLLIDES" not in "\n".join(sim.rows())
+            assert not np.any(sim.screen.model_view.frame.colours == HIGHLIGHT_COLOUR)
+
+    run(body())

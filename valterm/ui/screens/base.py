@@ -80,6 +80,7 @@ class MenuScreen(KeyedScreen[None]):
         super().__init__()
         self.question: Question | None = None  # the screen's state: at its menu, or asking this
         self.part_axes: int | None = None  # a part whose frame is drawn (MANIPULATION)
+        self._moved = False  # the robot or the cell changed in the stream now playing
 
     # -- layout ----------------------------------------------------------------------
     def compose(self) -> ComposeResult:
@@ -197,10 +198,12 @@ class MenuScreen(KeyedScreen[None]):
 
     # -- the player's audience (valterm.ui.playback) -------------------------------------
     def show_scene(self) -> None:
+        self._moved = True
         self.redraw()
 
     def show_picture(self) -> None:
         """A pose between two of a motion's: the model alone (the readout says the poses')."""
+        self._moved = True
         if self.is_attached:
             self.model_view.update_scene(self.app.scene(self.part_axes))
 
@@ -254,12 +257,21 @@ class MenuScreen(KeyedScreen[None]):
         self.app.player.resume()
 
     def played(self, aborted: bool) -> None:
+        moved, self._moved = self._moved, False
         if self.is_attached:
-            self.messages.end_turn()
+            self.messages.end_turn(self._findings_holding() if moved else None)
         self.redraw()
         if aborted:
             self.say("*** ABORTED ***", "warning")
         self.after_motion(aborted)
+
+    def _findings_holding(self) -> list[tuple[str, str]]:
+        """The findings (line, level) that hold where the motion left the robot; the bodies
+        of those that collide stay marked in the picture (the core said them once, before)."""
+        found = self.app.simulator.findings_now()
+        self.app.player.collided.update(party for event in found if isinstance(event, Collision)
+                                        for party in (event.a, event.b))
+        return [(finding_line(event), COLLISION if isinstance(event, Collision) else NEAR) for event in found]
 
     def after_motion(self, aborted: bool) -> None:
         """Subclasses' hook after a motion (or a command) ends."""

@@ -90,12 +90,19 @@ class MessageLog(VerticalScroll):
         """A key was pressed: the next message replaces what is shown."""
         self._fresh = True
 
-    def end_turn(self) -> None:
-        """A motion or a command ended having said nothing: the last key's refusals, hints
+    def end_turn(self, still: list[tuple[str, str]] | None = None) -> None:
+        """A motion or a command ended. Having said nothing, the last key's refusals, hints
         and other lines go (an old MOTION REFUSED must not stand beside a move that was
-        made); findings stay, as the core says a collision that goes on once."""
+        made). ``still``: after a motion, the findings (line, level) of its last step; the
+        core says each once, as it starts, so those it did not say again are added (None:
+        the findings shown stay)."""
         if self._fresh:
-            self.lines = [(line, level) for line, level in self.lines if level in FINDINGS]
+            kept = [item for item in self.lines if item[1] in FINDINGS] if still is None else []
+        else:
+            kept = list(self.lines)
+        kept += [item for item in still or () if item not in kept]
+        if kept != self.lines or self._fresh:
+            self.lines = kept
             self._show()
 
     def say(self, line: str, level: str = "info") -> None:
