@@ -118,6 +118,10 @@ def test_the_picture_marks_the_colliding_bodies(tmp_path: Path) -> None:
             assert not np.any(view.frame.colours == HIGHLIGHT_COLOUR)  # nothing collides yet
             await sim.press(MOVE)
             assert np.any(sim.screen.model_view.frame.colours == HIGHLIGHT_COLOUR)
+            # the bodies marked are those the move's collisions name (parts by number)
+            collides, _ = _core_findings(tmp_path)
+            named = {word for line in collides for word in line.split(" COLLIDES WITH ")}
+            assert sim.app.player.collided == named
 
     run(body())
 
