@@ -2,8 +2,9 @@
 
 The tool-path trace of the last motions, the LED sensor line with the part it sees, the
 target of the current motion as a small frame (the "ghost"), the parts and links in collision
-in a colour of their own, drawn over everything else, the WORLD axes, and a depth cue (polyhedra further away take a dimmer
-colour index, which the view maps to a darker shade where the terminal has colour).
+in a colour of their own, drawn over everything else, the WORLD axes, and a depth cue
+(polyhedra further away take a dimmer colour index, which the view maps to a darker shade
+where the terminal has colour).
 
 Everything here is extra coloured segments and per-polyhedron colour indices handed to
 ``Scene.build``; the rasterizer itself is untouched.
