@@ -189,3 +189,26 @@ def test_a_move_out_of_the_parts_clears_their_findings(tmp_path: Path) -> None:
             assert not np.any(sim.screen.model_view.frame.colours == HIGHLIGHT_COLOUR)
 
     run(body())
+
+
+def test_the_keyboard_shows_every_finding_of_a_typed_drive(tmp_path: Path,
+                                                          capsys: pytest.CaptureFixture[str]) -> None:
+    expected = _run_collides(tmp_path, capsys)  # DRIVE 5,16 / DRIVE 3,112 / DRIVE 2,64 through `run`
+
+    async def body() -> None:
+        async with Simulation(tmp_path, size=(120, 40)) as sim:
+            await sim.press("K", "S")
+            assert sim.simulator.collision_checks
+            for command in ("DRIVE 5,16,100", "DRIVE 3,112,100", "DRIVE 2,64,100"):
+                await sim.press("V")
+                await sim.type(command, enter=True)
+            rows = sim.rows()
+            shown = {line for line in sim.messages() if " COLLIDES WITH " in line}
+            assert expected <= shown
+            near = [line for line in sim.messages() if " IS NEAR " in line]
+            count = _row_of(rows, f"{len(shown)} COLLISIONS, {len(near)} NEAR")
+            assert count < min(_row_of(rows, line) for line in shown)  # in view, under the count
+            lines = sim.messages()  # the area's lines, those scrolled out of view too
+            assert max(lines.index(line) for line in shown) < min(lines.index(line) for line in near)
+
+    run(body())
