@@ -196,7 +196,7 @@ def test_the_keyboard_shows_every_finding_of_a_typed_drive(tmp_path: Path,
     expected = _run_collides(tmp_path, capsys)  # DRIVE 5,16 / DRIVE 3,112 / DRIVE 2,64 through `run`
 
     async def body() -> None:
-        async with Simulation(tmp_path, size=(120, 40)) as sim:
+        async with Simulation(tmp_path, size=(80, 24)) as sim:  # the collisions fit even here
             await sim.press("K", "S")
             assert sim.simulator.collision_checks
             for command in ("DRIVE 5,16,100", "DRIVE 3,112,100", "DRIVE 2,64,100"):

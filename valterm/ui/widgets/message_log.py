@@ -8,9 +8,9 @@ repeated (a collision pair found again at every step of a motion).
 
 A motion's collision findings are the answer this program exists to give (Fig. C-12): every
 one of them is kept, collisions before near misses under a count (``8 COLLISIONS, 3 NEAR``);
-of the other lines the last ``max_lines`` are shown. The area grows to fit, up to a share of
-the screen (the model keeps the rest), and scrolls when they do not fit (the count line then
-names the keys that scroll it). Long lines wrap.
+of the other lines the last ``max_lines`` are shown after them. The area grows to fit, up to
+a share of the screen (the model keeps the rest), and scrolls when they do not fit (the count
+line then names the keys that scroll it). Long lines wrap.
 """
 
 from __future__ import annotations
@@ -67,20 +67,16 @@ class MessageLog(VerticalScroll):
         return "\n".join(line for line, _ in self.shown())
 
     def shown(self) -> list[tuple[str, str]]:
-        """(line, level) in the order shown: the other lines said before the first finding,
-        the count, the collisions, the near misses, then the other lines said after."""
-        first = next((i for i, (_, level) in enumerate(self.lines) if level in FINDINGS), None)
-        if first is None:
-            return self._others(self.lines)
+        """(line, level) in the order shown: the count, the collisions, the near misses (each
+        in the order found), then the other lines (the command typed, a refusal)."""
         collisions = [item for item in self.lines if item[1] == COLLISION]
         near = [item for item in self.lines if item[1] == NEAR]
+        if not collisions and not near:
+            return self._others(self.lines)
         count = count_line(len(collisions), len(near))
         if self._legend and (keys := self.scroll_keys()):
             count = f"{count}   {keys}: SCROLL THE MESSAGES"
-        level = "error" if collisions else "warning"
-        before = self._others(self.lines[:first])
-        after = self._others(self.lines[first:])
-        return [*before, (count, level), *collisions, *near, *after]
+        return [(count, "error" if collisions else "warning"), *collisions, *near, *self._others(self.lines)]
 
     def _others(self, lines: list[tuple[str, str]]) -> list[tuple[str, str]]:
         others = [item for item in lines if item[1] not in FINDINGS]
