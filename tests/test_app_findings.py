@@ -98,10 +98,13 @@ def test_at_80x24_the_collisions_are_in_view_and_the_rest_a_key_away(tmp_path: P
             await sim.press(MOVE)
             rows = sim.rows()
             count = _row_of(rows, f"{len(collides)} COLLISIONS, {len(near)} NEAR")
-            assert "SHIFT+DOWN" in rows[count]  # the legend of the key that scrolls them
+            assert "SHIFT+UP/SHIFT+DOWN: SCROLL" in rows[count]  # the keys that scroll them
             for line in collides:
                 _row_of(rows, line)
-            await sim.press("shift+down")
+            sim.app.set_keymap({"menu.messages_on": "ctrl+down"})  # the user's keymap file
+            await sim.press("N", MOVE, "N", MOVE)  # back, and into the parts again
+            assert sim.rows()[count].strip() == f"{len(collides)} COLLISIONS, {len(near)} NEAR   SHIFT+UP/CTRL+DOWN: SCROLL THE MESSAGES"
+            await sim.press("ctrl+down")
             rows = sim.rows()
             for line in near:  # scrolled on: the near misses are in view
                 _row_of(rows, line)
@@ -210,5 +213,14 @@ def test_the_keyboard_shows_every_finding_of_a_typed_drive(tmp_path: Path,
             assert count < min(_row_of(rows, line) for line in shown)  # in view, under the count
             lines = sim.messages()  # the area's lines, those scrolled out of view too
             assert max(lines.index(line) for line in shown) < min(lines.index(line) for line in near)
+
+    run(body())
+
+
+def test_help_names_the_keys_that_scroll_the_messages(tmp_path: Path) -> None:
+    async def body() -> None:
+        async with Simulation(tmp_path, size=(120, 40)) as sim:
+            await sim.press("P", "question_mark")
+            assert "SHIFT+UP/SHIFT+DOWN" in sim.text() and "SCROLL THE MESSAGES" in sim.text()
 
     run(body())

@@ -312,7 +312,10 @@ class MenuScreen(KeyedScreen[None]):
         from valterm.ui.screens.help import HelpScreen  # on first use (issue 25: start)
 
         title = self.SCREEN_NAME or (self.MENU.splitlines()[0] if self.MENU else "")
-        self.app.push_screen(HelpScreen(screen=title, keys=keymap.legend(self)))
+        keys = keymap.legend(self)
+        if scroll := keymap.keys_of(self, ("menu.messages_back", "menu.messages_on")):
+            keys.append((scroll, "SCROLL THE MESSAGES (EVERY FINDING OF A MOTION)"))
+        self.app.push_screen(HelpScreen(screen=title, keys=keys))
 
     # -- questions --------------------------------------------------------------------
     @property
