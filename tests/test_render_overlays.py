@@ -9,7 +9,7 @@ import numpy as np
 from valterm.core.events import PoseEvent
 from valterm.core.render.legend import DIM_OFFSET, GHOST_COLOUR, HIGHLIGHT_COLOUR, SEEN_COLOUR
 from valterm.core.render.overlays import Overlays, clamp_point, picture_scene
-from valterm.core.render.raster import object_colour
+from valterm.core.render.raster import link_colour, object_colour
 from valterm.core.render.views import make_view, preset_angles
 from valterm.core.session import Session
 
@@ -29,14 +29,21 @@ def test_the_ghost_is_a_frame_at_the_motions_target(tmp_path: Path) -> None:
     assert np.allclose(ghost[0, 0], sim.model.clamp_frame(sim.joints, sim.base)[:3, 3], atol=1e-6)
 
 
-def test_collided_parts_and_links_take_the_highlight(tmp_path: Path) -> None:
+def test_collided_parts_and_links_take_the_highlight_and_are_drawn_last(tmp_path: Path) -> None:
     sim = Session(tmp_path).simulator
     scene = picture_scene(sim, Overlays(collided=frozenset({"8", "CLAMP"})))
-    n = len(sim.cell.objects)
-    assert scene.colours[7] == HIGHLIGHT_COLOUR and scene.colours[0] == object_colour(1)
     names = sim.model.names
-    links = scene.colours[n:n + len(names)]
-    assert [c == HIGHLIGHT_COLOUR for c in links] == [name == "CLAMP" for name in names]
+    n = len(sim.cell.objects)
+    assert scene.n_polyhedra == n + len(names)
+    # the others in their order and colours, then part 8 and the clamp on top of them
+    others = [object_colour(k) for k in range(1, n + 1) if k != 8]
+    others += [link_colour(i) for i, name in enumerate(names) if name != "CLAMP"]
+    assert list(scene.colours[:-2]) == others
+    assert list(scene.colours[-2:]) == [HIGHLIGHT_COLOUR, HIGHLIGHT_COLOUR]
+    clamp = sim.model.place(sim.joints, sim.gap, sim.base)[names.index("CLAMP")]
+    part = sim.cell.objects[7]
+    tail = scene.vertices[-(len(part.vertices) + len(clamp.vertices)):]
+    assert np.allclose(tail, np.concatenate([part.vertices, clamp.vertices]))
 
 
 def test_the_part_the_led_sees_is_highlighted(tmp_path: Path) -> None:

@@ -213,7 +213,7 @@ class Simulation:
         return self._widget_text("#status")
 
     def messages(self) -> list[str]:
-        """The message lines shown under the menu."""
+        """The message lines under the menu, top to bottom (those scrolled out of view too)."""
         log = self.screen.query("#messages")
         if log:
             text: str = log.first().text

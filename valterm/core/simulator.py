@@ -23,7 +23,7 @@ from valterm.core.cell.polyhedron import Polyhedron
 from valterm.core.cell.workcell import WorkCell
 from valterm.core.cycletime import joint_motion_seconds, robot_timing, straight_motion_seconds
 from valterm.core.errors import ValtermError
-from valterm.core.events import Collision, Event, Grasp, Hand, Message, Motion, PoseEvent, Release, Where
+from valterm.core.events import Collision, Event, Grasp, Hand, Message, Motion, Near, PoseEvent, Release, Where
 from valterm.core.kinematics import Config, IKError, Location, indicator_kind, rotation_to_oat
 from valterm.core.motion import (
     OUT_OF_REACH_REASON,
@@ -676,6 +676,16 @@ class Simulator:
         finally:
             self._follow_clamp()
         yield from self._said(found)
+
+    def findings_now(self) -> list[Near | Collision]:
+        """The collision checks' findings of the last step checked, the pose and the way to
+        it (none with the checks off), as events: each is said once, as it starts, so a
+        motion may not say one of these again."""
+        if not self.collision_checks:
+            return []
+        from valterm.core.collision.world import Finding  # loaded with the checks
+
+        return [Finding(kind, a, b).event() for kind, a, b in sorted(self._findings, key=str)]  # type: ignore[arg-type]
 
     def _findings_here(self, previous: Sequence[float] | None, here: Sequence[float]) -> list[Finding]:
         """The findings of the pose ``here`` and (with ``previous``) of the step to it, in order."""

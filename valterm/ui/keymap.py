@@ -63,3 +63,13 @@ def legend(node) -> list[tuple[str, str]]:  # type: ignore[no-untyped-def]
     rows += [("ESC", "CANCEL THE PROMPT; AT A MENU: BACK TO THE MAIN MENU"), ("? F1", "THIS HELP"),
              ("CTRL-C", "ABORT A MOTION OR PROGRAM"), ("CTRL-Q", "LEAVE (ASKS WHEN WORK IS NOT SAVED)")]
     return rows
+
+
+def keys_of(screen, binding_ids: tuple[str, ...]) -> str:  # type: ignore[no-untyped-def]
+    """The keys bound now (the user's keymap applied) to these bindings of ``screen``, as a
+    legend says them: ``SHIFT+UP/SHIFT+DOWN``; "" when none is bound."""
+    found: dict[str, list[str]] = {binding_id: [] for binding_id in binding_ids}
+    for key, active in screen.active_bindings.items():
+        if active.binding.id in found:
+            found[active.binding.id].append(key.upper().replace("QUESTION_MARK", "?"))
+    return "/".join(key for binding_id in binding_ids for key in found[binding_id])

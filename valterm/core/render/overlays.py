@@ -1,9 +1,10 @@
 """What the user needs to judge a program, drawn over the cell and the robot.
 
 The tool-path trace of the last motions, the LED sensor line with the part it sees, the
-target of the current motion as a small frame (the "ghost"), the parts in collision in a
-colour of their own, the WORLD axes, and a depth cue (polyhedra further away take a dimmer
-colour index, which the view maps to a darker shade where the terminal has colour).
+target of the current motion as a small frame (the "ghost"), the parts and links in collision
+in a colour of their own, drawn over everything else, the WORLD axes, and a depth cue
+(polyhedra further away take a dimmer colour index, which the view maps to a darker shade
+where the terminal has colour).
 
 Everything here is extra coloured segments and per-polyhedron colour indices handed to
 ``Scene.build``; the rasterizer itself is untouched.
@@ -128,6 +129,9 @@ def picture_scene(simulator: Simulator, overlays: Overlays | None = None) -> Sce
     if carried is not None and 1 <= carried <= len(objects):
         poly, colour, keep = object_item(carried)
         items.append((poly if ov.drawn is None else _carried_at(simulator, poly, joints), colour, keep))
+    if ov.collided:  # the colliding bodies are drawn last: what overlaps them never hides them
+        items = [item for item in items if item[1] != HIGHLIGHT_COLOUR] + \
+                [item for item in items if item[1] == HIGHLIGHT_COLOUR]
     polys = [p for p, _, _ in items]
     colours = [c for _, c, _ in items]
     if ov.depth is not None:

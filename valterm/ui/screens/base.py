@@ -17,7 +17,8 @@ from textual.containers import Horizontal
 from textual.widgets import Input
 
 from valterm.core.errors import ValtermError
-from valterm.core.events import Event, Help, Message, Monitor, Pause
+from valterm.core.events import Collision, Contact, Event, Help, Message, Monitor, Pause
+from valterm.core.text.transcript import finding_line
 from valterm.ui import keymap
 from valterm.ui.errors import problem_text
 from valterm.ui.messages import SceneChanged
@@ -25,7 +26,7 @@ from valterm.ui.screens.keyed import KeyedScreen, action_name
 from valterm.ui.view.model_view import ModelView
 from valterm.ui.widgets.cell_view import CellView
 from valterm.ui.widgets.menu_text import MenuText
-from valterm.ui.widgets.message_log import MessageLog
+from valterm.ui.widgets.message_log import COLLISION, NEAR, MessageLog
 from valterm.ui.widgets.prompt import Prompt
 from valterm.ui.widgets.status import StatusLine
 
@@ -62,6 +63,9 @@ class MenuScreen(KeyedScreen[None]):
         Binding("escape", "cancel", "Back", show=False, id="menu.cancel"),
         Binding("pagedown", "page(1)", "More of the menu", show=False, id="menu.page_down"),
         Binding("pageup", "page(-1)", "Back in the menu", show=False, id="menu.page_up"),
+        # a motion's findings that do not fit the message area (VAL-II mode's transcript keys)
+        Binding("shift+up", "messages(-1)", "Back a page in the messages", show=False, id="menu.messages_back"),
+        Binding("shift+down", "messages(1)", "On a page in the messages", show=False, id="menu.messages_on"),
     ]
     ANY_STATE: ClassVar[frozenset[str]] = frozenset({"cancel", "help"})  # ESC, ? and F1
 
@@ -76,6 +80,7 @@ class MenuScreen(KeyedScreen[None]):
         super().__init__()
         self.question: Question | None = None  # the screen's state: at its menu, or asking this
         self.part_axes: int | None = None  # a part whose frame is drawn (MANIPULATION)
+        self._moved = False  # the robot or the cell changed in the stream now playing
 
     # -- layout ----------------------------------------------------------------------
     def compose(self) -> ComposeResult:
@@ -86,7 +91,9 @@ class MenuScreen(KeyedScreen[None]):
             yield MenuText(self.MENU, id="menu")
             yield CellView(id="model")
         yield from self.compose_readout()
-        yield MessageLog(id="messages")
+        log = MessageLog(id="messages")
+        log.scroll_keys = lambda: keymap.keys_of(self, ("menu.messages_back", "menu.messages_on"))
+        yield log
         yield Prompt(id="prompt")
         yield StatusLine(id="status")
 
@@ -191,10 +198,12 @@ class MenuScreen(KeyedScreen[None]):
 
     # -- the player's audience (valterm.ui.playback) -------------------------------------
     def show_scene(self) -> None:
+        self._moved = True
         self.redraw()
 
     def show_picture(self) -> None:
         """A pose between two of a motion's: the model alone (the readout says the poses')."""
+        self._moved = True
         if self.is_attached:
             self.model_view.update_scene(self.app.scene(self.part_axes))
 
@@ -203,6 +212,9 @@ class MenuScreen(KeyedScreen[None]):
             self.say(line, "error" if line.startswith("***") else "info")
 
     def take_event(self, event: Event) -> bool:
+        if isinstance(event, Contact):  # a finding: kept with the motion's others, by kind
+            self.say(finding_line(event), COLLISION if isinstance(event, Collision) else NEAR)
+            return True
         if isinstance(event, Help):
             from valterm.ui.screens.help import HelpScreen  # on first use (issue 25: start)
 
@@ -245,12 +257,21 @@ class MenuScreen(KeyedScreen[None]):
         self.app.player.resume()
 
     def played(self, aborted: bool) -> None:
+        moved, self._moved = self._moved, False
         if self.is_attached:
-            self.messages.end_turn()
+            self.messages.end_turn(self._findings_holding() if moved else None)
         self.redraw()
         if aborted:
             self.say("*** ABORTED ***", "warning")
         self.after_motion(aborted)
+
+    def _findings_holding(self) -> list[tuple[str, str]]:
+        """The findings (line, level) that hold where the motion left the robot; the bodies
+        of those that collide stay marked in the picture (the core said them once, before)."""
+        found = self.app.simulator.findings_now()
+        self.app.player.collided.update(party for event in found if isinstance(event, Collision)
+                                        for party in (event.a, event.b))
+        return [(finding_line(event), COLLISION if isinstance(event, Collision) else NEAR) for event in found]
 
     def after_motion(self, aborted: bool) -> None:
         """Subclasses' hook after a motion (or a command) ends."""
@@ -291,7 +312,10 @@ class MenuScreen(KeyedScreen[None]):
         from valterm.ui.screens.help import HelpScreen  # on first use (issue 25: start)
 
         title = self.SCREEN_NAME or (self.MENU.splitlines()[0] if self.MENU else "")
-        self.app.push_screen(HelpScreen(screen=title, keys=keymap.legend(self)))
+        keys = keymap.legend(self)
+        if scroll := keymap.keys_of(self, ("menu.messages_back", "menu.messages_on")):
+            keys.append((scroll, "SCROLL THE MESSAGES (EVERY FINDING OF A MOTION)"))
+        self.app.push_screen(HelpScreen(screen=title, keys=keys))
 
     # -- questions --------------------------------------------------------------------
     @property
@@ -371,6 +395,10 @@ class MenuScreen(KeyedScreen[None]):
             return
         self._close_prompt()
         (question.cancel or self.prompt_cancelled)()
+
+    def action_messages(self, direction: int) -> None:
+        """SHIFT+UP / SHIFT+DOWN: the message lines a page back or on (a motion's findings)."""
+        self.messages.page(direction)
 
     def action_page(self, direction: int) -> None:
         """PGDN / PGUP: the rest of a menu that does not fit (80x24)."""

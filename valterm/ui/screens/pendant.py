@@ -61,7 +61,8 @@ class PendantScreen(MenuScreen):
             f"JOINT INCREMENT {increment:+.2f} DEG   WORLD/TOOL STEP {world_step(increment):+.2f} MM")
 
     def _move(self, events) -> None:  # type: ignore[no-untyped-def]
-        # messages stay: a collision is reported once, when it starts (Fig. C-12 a-d)
+        # the move's findings replace the last key's lines; those the core said before and
+        # that still hold are listed again when it ends (MenuScreen.played, Fig. C-12 a-d)
         self.show_model_if_narrow()
         self.app.run_events(_with_hint(events), self)
 
