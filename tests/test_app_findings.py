@@ -152,7 +152,7 @@ def _step_findings(workspace: Path, before: tuple[float, ...], increment: float,
     (the app's says each once, as it starts)."""
     simulator = Session(workspace, "PROCESS").simulator
     simulator.collision_checks = True
-    simulator.joints = list(before)
+    simulator.stand_at(before)
     simulator.pendant_increment = increment
     return {finding_line(e) for e in simulator.pendant_joint(joint) if isinstance(e, (Near, Collision))}
 
