@@ -113,6 +113,7 @@ class ValtermApp(Guarded, ViewActions, App[int]):
         # 1985: VAL-II mode and the editor go back to their menus after each command or
         # step, and keys typed while anything plays wait for it (the VS11's type-ahead)
         self.keys_1985 = keyboard_of(keys) == "1985"
+        self.keymap_in_force: dict[str, str] = {}  # the keymap file's rebindings, by binding id
         # keys typed while a motion is drawn or a screen changes wait here
         self.key_queue = KeyQueue(self, self._busy_playing)
         self.unsaid: list[tuple[str, str]] = []  # messages no screen could show yet (the next one does)
@@ -185,7 +186,8 @@ class ValtermApp(Guarded, ViewActions, App[int]):
             self.call_after_refresh(collect_from_now)  # after the first screen's frame (see run)
         self.set_interval(RELEASE_EVERY, release_styles_caches, name="release-styles-caches")
         try:
-            self.set_keymap(load_user_keymap())  # the user's rebindings, on every screen
+            self.keymap_in_force = load_user_keymap()  # the legends read it (ui/legends.py)
+            self.set_keymap(self.keymap_in_force)  # the user's rebindings, on every screen
         except ValtermError as error:  # a bad keymap file: said, the default keys kept
             self.say(f"KEYMAP: {error_text(error)}", "error")
         if self._session is not None:

@@ -17,7 +17,6 @@ from __future__ import annotations
 
 from textual import events
 
-HELP_KEYS = frozenset({"question_mark", "f1"})
 CANCEL_KEY = "escape"
 HELP_HINT = "? OR F1: HELP"
 # keys that never get the "not a key" answer: modifiers and focus moves Textual handles
@@ -32,34 +31,19 @@ def key_name(event: events.Key) -> str:
     return event.key.upper().replace("_", " ")
 
 
-def is_help(event: events.Key) -> bool:
-    return event.key in HELP_KEYS
-
-
 def is_silent(event: events.Key) -> bool:
     """Keys that get no answer at a menu (modifiers alone, focus keys, pasted whitespace)."""
     return event.key in _SILENT or (event.character is not None and event.character.isspace()
                                     and event.key not in ("enter", "space"))
 
 
-def unknown_key(event: events.Key, hint: str = "") -> str:
-    """The one-line answer to a key that means nothing at this menu (with the screen's hint)."""
-    return f"'{key_name(event)}' IS NOT A KEY OF THIS MENU; {hint + '; ' if hint else ''}{HELP_HINT}"
+def unknown_key(event: events.Key, hint: str = "", help_hint: str = HELP_HINT) -> str:
+    """The one-line answer to a key that means nothing at this menu (with the screen's hint
+    and the help key as it is bound now: ``legends.help_hint``)."""
+    return f"'{key_name(event)}' IS NOT A KEY OF THIS MENU; {hint + '; ' if hint else ''}{help_hint}"
 
 
 def wrong_answer(event: events.Key, keys: str) -> str:
     """The one-line answer to a key that is not one of a question's answers."""
     choices = ", ".join(k for k in keys if k.isprintable() and k.strip())
     return f"'{key_name(event)}' IS NOT AN ANSWER: PRESS {choices} (ESC CANCELS)"
-
-
-def legend(node) -> list[tuple[str, str]]:  # type: ignore[no-untyped-def]
-    """(keys, what they do) of a screen's bindings, for HELP's key legend."""
-    rows: list[tuple[str, str]] = []
-    for binding in getattr(node, "BINDINGS", []):
-        key, description = (binding.key, binding.description) if hasattr(binding, "key") else (binding[0], binding[2])
-        shown = sorted({k.strip().upper().replace("QUESTION_MARK", "?") for k in key.split(",")})
-        rows.append(("/".join(shown), description.upper()))
-    rows += [("ESC", "CANCEL THE PROMPT; AT A MENU: BACK TO THE MAIN MENU"), ("? F1", "THIS HELP"),
-             ("CTRL-C", "ABORT A MOTION OR PROGRAM"), ("CTRL-Q", "LEAVE (ASKS WHEN WORK IS NOT SAVED)")]
-    return rows

@@ -31,7 +31,7 @@ from valterm.core.editor import EDITOR_MENU, EditorError, ProgramEditor
 from valterm.core.errors import ValtermError
 from valterm.core.files.errors import FileChanged
 from valterm.core.files.programs import LABEL_COLUMNS
-from valterm.ui import keymap
+from valterm.ui import keymap, legends
 from valterm.ui.screens.keyed import KeyedScreen
 from valterm.ui.widgets.prompt import typed_after
 from valterm.ui.widgets.status import StatusLine
@@ -245,7 +245,7 @@ class EditorScreen(KeyedScreen[None]):
             super().wrong_key(event)
             return
         try:
-            self.say(self.editor.wrong_key(keymap.key_name(event)), keymap.HELP_HINT)
+            self.say(self.editor.wrong_key(keymap.key_name(event)), legends.help_hint(self))
         except FileChanged:  # §5.2 saves at once: another session saved it meanwhile
             self.ask_changed()
         self._refresh_listing()
@@ -349,7 +349,7 @@ class EditorScreen(KeyedScreen[None]):
     def action_help(self) -> None:
         from valterm.ui.screens.help import HelpScreen
 
-        self.app.push_screen(HelpScreen(screen="EDITOR", keys=keymap.legend(self)))
+        self.app.push_screen(HelpScreen(screen="EDITOR", keys=legends.legend(self)))
 
     def action_cancel(self) -> None:
         """ESC: the open line closes (editor menu); at the menu ESC is E_XIT."""

@@ -7,6 +7,7 @@ from pathlib import Path
 from textual.binding import Binding
 
 from valterm.core.errors import ValtermError
+from valterm.ui import legends
 from valterm.ui.errors import problem_text
 from valterm.ui.screens.base import MenuScreen
 from valterm.ui.widgets.menus import MAIN_MENU
@@ -29,7 +30,6 @@ class MainMenuScreen(MenuScreen):
         Binding("s,S", "stop", "Stop", id="main.stop"),
         Binding("h,H", "hardcopy", "Hardcopy", id="main.hardcopy"),
         Binding("g,G", "generate", "Generate", id="main.generate"),
-        Binding("question_mark", "help", "Help", id="main.help"),
     ]
 
     def on_screen_resume(self) -> None:
@@ -50,8 +50,9 @@ class MainMenuScreen(MenuScreen):
             self.say(f"SETUP FILE {session.setup_name}.SET WITH {len(session.simulator.cell.objects)} PARTS{state}")
 
     def escape_menu(self) -> None:
-        leave = "" if getattr(self.app, "kiosk", False) else "S TO EXIT, "  # the museum's S is off
-        self.say(f"THIS IS THE MAIN MENU: {leave}? OR F1 FOR HELP")
+        stop = legends.key_for(self, "stop", "")
+        leave = "" if getattr(self.app, "kiosk", False) or not stop else f"{stop} TO EXIT, "  # the museum's S is off
+        self.say(f"THIS IS THE MAIN MENU: {leave}{legends.shown(self, legends.HELP, ' OR ')} FOR HELP")
 
     def _unsaved_then(self, what: str, then) -> None:  # type: ignore[no-untyped-def]
         """B, I and S throw the moved layout away: ask first when it is not saved."""

@@ -52,6 +52,7 @@ def parse_triple(text: str) -> tuple[float, float, float]:
 
 class ManipulationScreen(MenuScreen):
     MENU = MANIPULATION_CHOICE
+    MENU_KEYS_BOUND = False  # I, K, R answer a question (not rebound); K_EYBOARD's menu is bound
     BINDINGS = [
         Binding("u,U", "step('U')", "Upward", id="manipulation.up"),
         Binding("d,D", "step('D')", "Downward", id="manipulation.down"),
@@ -65,7 +66,6 @@ class ManipulationScreen(MenuScreen):
         Binding("a,A", "axes", "Axes", id="manipulation.axes"),
         Binding("s,S", "stop", "Stop", id="manipulation.stop"),
         Binding("m,M", "model", "Model", id="manipulation.model"),
-        Binding("question_mark", "help", "Help", id="manipulation.help"),
     ]
 
     def __init__(self) -> None:
@@ -138,7 +138,7 @@ class ManipulationScreen(MenuScreen):
         self.mode = key if key in "IK" else ""
         if key == "K":
             self.keyboard = True
-            self.menu.set_text(MANIPULATION_MENU)
+            self.menu.set_text(self.live_menu(MANIPULATION_MENU))
         elif key == "I":
             self.ask_key("COORDINATE AXES DISPLAY ON (Y/N) ?:", self._increments_axes)
         else:

@@ -56,7 +56,7 @@ from valterm.core.kinematics import Location
 from valterm.core.monitor import listing_lines
 from valterm.core.session import Session
 from valterm.core.text.transcript import where_lines
-from valterm.ui import keymap
+from valterm.ui import legends
 from valterm.ui.errors import problem_text
 from valterm.ui.playback import Player, Transcript, show_at_once
 from valterm.ui.screens.editor import EditorScreen, StepInput
@@ -148,7 +148,6 @@ class ValModeScreen(KeyedScreen[None]):
         Binding("ctrl+t", "define", "Define", id="valmode.define"),
         Binding("ctrl+n", "menu", "Menu", id="valmode.menu"),
         Binding("f9", "leave", "Return", id="valmode.leave"),
-        Binding("f1", "help", "Help", id="valmode.help"),
         # while a program is paused (the line has the focus: these keys pass it)
         Binding("ctrl+p", "paused_command('PROCEED')", "Proceed", show=False, id="valmode.proceed"),
         Binding("ctrl+o", "paused_command('XSTEP')", "Xstep", show=False, id="valmode.xstep"),
@@ -402,7 +401,7 @@ class ValModeScreen(KeyedScreen[None]):
 
     def action_help(self) -> None:
         """? (at the menu and its questions) and F1 (everywhere): this screen's keys, then HELP."""
-        self.app.push_screen(HelpScreen(screen="VAL-II MODE", keys=keymap.legend(self)))
+        self.app.push_screen(HelpScreen(screen="VAL-II MODE", keys=legends.legend(self)))
 
     def toggle_model(self) -> None:
         """F8, the model key of every screen."""
