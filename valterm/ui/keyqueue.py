@@ -33,6 +33,13 @@ KEPT = 10_000       # keys kept waiting at most (a cat on the keyboard during a 
 POLL = 0.01         # seconds between looks at a busy app
 HANDLED_LIMIT = 5.0  # seconds a key may take to be handled before the next goes anyway
 QUEUED = "_valterm_queued"  # set on a key handed on from the queue
+TYPED_AT = "_valterm_typed_at"  # when a key that waited was typed (time.monotonic)
+
+
+def typed_at(event: events.Key) -> float:
+    """When ``event`` was typed: a key that waited keeps its time (--keys 1985: letters typed
+    while a command played belong to the line being typed, not to the menu shown after it)."""
+    return float(getattr(event, TYPED_AT, time.monotonic()))
 
 
 class KeyQueue:
@@ -81,6 +88,7 @@ class KeyQueue:
             return False
         if not self.keys and not (self.changing if event.key == CANCEL else self.busy):
             return False
+        setattr(event, TYPED_AT, time.monotonic())
         self.keys.append(event)
         if not self._draining:
             self._draining = True

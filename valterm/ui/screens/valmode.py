@@ -39,6 +39,7 @@ from __future__ import annotations
 
 import re
 import textwrap
+import time
 from collections.abc import Callable, Iterator, Mapping
 from enum import StrEnum
 from typing import ClassVar
@@ -57,6 +58,7 @@ from valterm.core.monitor import listing_lines
 from valterm.core.session import Session
 from valterm.core.text.transcript import where_lines
 from valterm.ui import legends
+from valterm.ui.keyqueue import typed_at
 from valterm.ui.errors import problem_text
 from valterm.ui.playback import Player, Transcript, show_at_once
 from valterm.ui.screens.editor import EditorScreen, StepInput
@@ -204,6 +206,7 @@ class ValModeScreen(KeyedScreen[None]):
         self._to_menu = False  # ESC aborted what played: the VAL-II menu when it has ended
         self._pause: Pause | None = None  # what the paused program stopped at (the debugger's panel)
         self._model_for_motion = False  # the model was brought up by a motion (80x24)
+        self._menu_since: float | None = None  # --keys 1985: the menu came back after a typed command
         self.transcript = Transcript()  # the last lines the log showed (tests, the demo)
 
     # -- layout ---------------------------------------------------------------------
@@ -512,7 +515,7 @@ class ValModeScreen(KeyedScreen[None]):
             return
         self.log_line(f". {text}")
         if self.keys_1985:  # the VAL-II menu after it (Fig. C-13): C continues on the line
-            self.run_events(self.session.command(text), after=self._after_command)
+            self.run_events(self.session.command(text), after=self._menu_after_command)
         else:
             self.run_events(self.session.command(text))
 
@@ -520,6 +523,26 @@ class ValModeScreen(KeyedScreen[None]):
     def keys_1985(self) -> bool:
         """The thesis's keyboard (``valterm --keys 1985``): the menu after each command."""
         return bool(getattr(self.app, "keys_1985", False))
+
+    def _menu_after_command(self) -> None:
+        """--keys 1985: the menu after a typed command; what was typed while it played is the
+        next line's (``on_key``)."""
+        self._after_command()
+        self._menu_since = time.monotonic()
+
+    def on_key(self, event: Key) -> None:
+        """--keys 1985: a letter typed while the command played, before the menu came back
+        (READY typed at once), opens the line with it; the rest follows it there (issue 35).
+        Any other key goes the one key path (KeyedScreen.on_key)."""
+        since = self._menu_since
+        if since is None or self.mode != Mode.MENU or not event.is_printable or not event.character:
+            return
+        if typed_at(event) >= since:
+            self._menu_since = None  # typed at the menu: the menu's keys
+            return
+        event.stop()
+        event.prevent_default()
+        self.to_command(event.character)
 
     def _after_command(self) -> None:
         """A command, a POINT or the .LOC file's locations are done: the line again (1985:
