@@ -58,8 +58,8 @@ from valterm.core.monitor import listing_lines
 from valterm.core.session import Session
 from valterm.core.text.transcript import where_lines
 from valterm.ui import legends
-from valterm.ui.keyqueue import typed_at
 from valterm.ui.errors import problem_text
+from valterm.ui.keyqueue import typed_at
 from valterm.ui.playback import Player, Transcript, show_at_once
 from valterm.ui.screens.editor import EditorScreen, StepInput
 from valterm.ui.screens.help import HelpScreen
