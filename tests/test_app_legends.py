@@ -91,7 +91,7 @@ async def test_the_help_key_and_esc_are_rebound_and_shown(tmp_path: Path, monkey
         await pilot.pause()
         assert type(app.screen).__name__ == "HelpScreen"
         keys = dict(app.screen.keys)
-        assert keys.get("CTRL-B") == "BACK" and "ESC" not in keys and "F12" in keys, keys
+        assert keys.get("CTRL-B") == "CANCEL THE PROMPT; AT THE MENU: BACK" and "ESC" not in keys and "F12" in keys, keys
         await pilot.press("escape")  # HELP's own return is still ESC
         await pilot.pause()
         await pilot.press("escape")  # PENDANT's back is CTRL-B now
@@ -138,3 +138,31 @@ async def test_keys_1985_ready_typed_during_a_command_reaches_the_line(tmp_path:
         await pilot.press("r")  # typed at the menu now: R is RETURN
         await settle(pilot, app, clock)
         assert type(app.screen).__name__ == "MainMenuScreen"
+
+
+@sync
+async def test_a_rebound_esc_stops_a_motion_without_waiting_for_it(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """valmode.escape on CTRL-B: CTRL-B during DRIVE aborts it (it does not wait behind the
+    motion, as ESC does not), the key line says CTRL-B, and ESC is no key of VAL-II mode."""
+    keymap_file(tmp_path, monkeypatch, '"valmode.escape" = "ctrl+b"\n')
+    clock = FakeClock()
+    app = ValtermApp(tmp_path / "ws", "PROCESS", clock=clock, motion_rate=10.0)
+    async with app.run_test(size=(120, 40)) as pilot:
+        await pilot.pause()
+        await pilot.press("v")
+        await pilot.pause()
+        screen = app.screen
+        assert "R/CTRL-B RETURN" in screen.keys_text, screen.keys_text
+        await pilot.press("v", *"DRIVE 1,90,100", "enter")
+        await pilot.pause()
+        assert app.moving and "CTRL-C OR CTRL-B: ABORT" in screen.keys_text, screen.keys_text
+        start = app.session.simulator.joints[0]
+        await pilot.press("ctrl+b")
+        await settle(pilot, app, clock)
+        assert abs(app.session.simulator.joints[0] - start) < 45.0  # stopped short of 90 degrees
+        assert screen.mode == "menu" and type(app.screen).__name__ == "ValModeScreen"
+        await pilot.press("escape")
+        await pilot.pause()
+        assert type(app.screen).__name__ == "ValModeScreen"
+        assert "'ESCAPE' IS NOT A KEY OF THIS MENU" in screen.keys_text, screen.keys_text

@@ -12,6 +12,7 @@ from pathlib import Path
 from textual.binding import Binding, BindingType
 
 from valterm.core.files.keymapfile import read_keymap
+from valterm.ui.keyqueue import CANCEL
 from valterm.ui.legends import HELP
 from valterm.ui.view.keys import VIEW_BINDINGS
 
@@ -101,6 +102,18 @@ def load_user_keymap() -> dict[str, str]:
         return keymap
     defaults = {str(binding.id): binding.key.split(",") for _, binding in all_bindings()}
     return {binding_id: _both_cases(keys, defaults.get(binding_id, [])) for binding_id, keys in keymap.items()}
+
+
+def cancel_keys(keymap: dict[str, str]) -> frozenset[str]:
+    """The keys of the bindings on ESC alone (menu.cancel, valmode.escape ...) under ``keymap``:
+    they do not wait behind a motion (ui/keyqueue.py)."""
+    if not keymap:
+        return CANCEL  # no keymap file: the screens' modules need not load (issue 25)
+    keys: set[str] = set()
+    for _, binding in all_bindings():
+        if binding.key == "escape":
+            keys.update(key.strip() for key in keymap.get(str(binding.id), binding.key).split(","))
+    return frozenset(keys)
 
 
 def _both_cases(keys: str, default: list[str]) -> str:

@@ -130,6 +130,35 @@ def legend(node: Any, extra: list[tuple[str, str]] | None = None) -> list[tuple[
             ("CTRL-Q", "LEAVE (ASKS WHEN WORK IS NOT SAVED)")]
 
 
+# a key line's field: {binding.id}, {binding.id|C} (C when it is still bound), {binding.id:^} (^L)
+_FIELD = re.compile(r"\{([a-z0-9_.]+)(:\^)?(?:\|([^}]+))?\}")
+
+
+def fill(node: Any, template: str) -> str:
+    """A line of keys with each ``{binding.id}`` field as the binding's key now (VAL-II mode's
+    key lines: ``{valmode.wipe:^} W_WIPE`` is ``^L W_WIPE`` until the keymap file moves it)."""
+    if "{" not in template:
+        return template
+    by_id = {str(binding.id): binding for binding in (*bindings_of(node), *bindings_of(_app(node)))}
+
+    def one(field: re.Match[str]) -> str:
+        binding = by_id.get(field.group(1))
+        now = labels(node, binding) if binding is not None else []
+        if not now:
+            return "(NO KEY)"
+        label = field.group(3) if field.group(3) in now else now[0]
+        return label.replace("CTRL-", "^") if field.group(2) else label
+
+    return _FIELD.sub(one, template)
+
+
+def _app(node: Any) -> Any:
+    try:
+        return node.app
+    except Exception:  # no app running
+        return None
+
+
 # a menu line's key: "K_KEYBOARD", "- 1 - (JOINT 1)", "- W WORLD", "+ / - :"
 MENU_KEY = re.compile(r"^(-? ?)(F\d{1,2}|CTRL-[A-Z]|SHIFT-[A-Z]|[A-Z0-9+?])(_| - |\s)")
 

@@ -60,7 +60,7 @@ class MenuScreen(KeyedScreen[None]):
     LETTERS_START_A_COMMAND = False  # a letter that is no menu key opens V's command line with it
     MENU_KEYS_BOUND = True  # MENU's key letters are this screen's bindings (shown as bound now)
     BINDINGS = [
-        Binding("escape", "cancel", "Back", show=False, id="menu.cancel"),
+        Binding("escape", "cancel", "Cancel the prompt; at the menu: back", show=False, id="menu.cancel"),
         Binding("pagedown", "page(1)", "More of the menu", show=False, id="menu.page_down"),
         Binding("pageup", "page(-1)", "Back in the menu", show=False, id="menu.page_up"),
     ]
