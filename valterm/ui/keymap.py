@@ -6,7 +6,9 @@
 2. ESC cancels the innermost prompt and returns to that screen's menu. At a mode's menu
    (no prompt open) ESC returns to the MAIN MENU, like R. Nothing typed into the cell is
    lost by ESC: an unsaved set-up stays in the session and the status line says NOT SAVED.
-3. ``?`` and F1 open HELP for the current screen (at a menu; in a prompt ``?`` is text).
+3. ``?`` and F1 open HELP for the current screen (at a menu; in a prompt ``?`` is text): one
+   binding, ``screen.help`` (ui/legends.py), that a keymap file moves like any other; what
+   the screens say about keys is built from the live bindings there.
 4. A key that means nothing where it is pressed gets a one-line answer naming ``?``; at the
    KEYBOARD and PENDANT menus a letter that is no menu key opens V's command line with it typed.
 5. CTRL-C aborts a running motion or program; CTRL-Q leaves the program, asking first when
