@@ -166,3 +166,22 @@ async def test_a_rebound_esc_stops_a_motion_without_waiting_for_it(
         await pilot.pause()
         assert type(app.screen).__name__ == "ValModeScreen"
         assert "'ESCAPE' IS NOT A KEY OF THIS MENU" in screen.keys_text, screen.keys_text
+
+
+@sync
+async def test_questions_and_the_editor_name_their_keys_as_bound(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """menu.cancel on CTRL-B: a wrong answer says CTRL-B CANCELS; editor.create on K: the
+    editor's key line says K CONTINUE."""
+    keymap_file(tmp_path, monkeypatch, '"menu.cancel" = "ctrl+b"\n"editor.create" = "k"\n')
+    app = ValtermApp(tmp_path / "ws", "PROCESS", motion_rate=math.inf)
+    async with app.run_test(size=(120, 40)) as pilot:
+        await pilot.pause()
+        await pilot.press("s", "q")
+        await pilot.pause()
+        assert "'Q' IS NOT AN ANSWER: PRESS Y, N (CTRL-B CANCELS)" in screen_text(app)
+        await pilot.press("ctrl+b", "e", *"T1", "enter")
+        await pilot.pause()
+        assert type(app.screen).__name__ == "EditorScreen"
+        assert "K CONTINUE  I INSERT  D DELETE  S SAVE  E EXIT  ? HELP" in screen_text(app)
+        assert "PRESS K TO TYPE THE FIRST STEP" in screen_text(app)

@@ -364,7 +364,7 @@ class MenuScreen(KeyedScreen[None]):
             self._close_prompt()
             question.then(char)
         elif not keymap.is_silent(event) and event.key != "ctrl+c":
-            self.say(keymap.wrong_answer(event, keys), "warning")
+            self.say(keymap.wrong_answer(event, keys, legends.key_for(self, "cancel", "ESC")), "warning")
 
     def say_wrong_key(self, text: str) -> None:
         self.say(text, "warning")

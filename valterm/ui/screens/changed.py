@@ -15,7 +15,7 @@ from textual.binding import Binding
 from textual.containers import Vertical
 from textual.widgets import Input, Static
 
-from valterm.ui import keymap
+from valterm.ui import keymap, legends
 from valterm.ui.screens.keyed import KeyedModalScreen
 
 Answer = tuple[str, str] | None
@@ -87,7 +87,8 @@ class FileChangedScreen(KeyedModalScreen[Answer]):
             self.close(None)
 
     def wrong_key(self, event: events.Key) -> None:
-        self.query_one("#changed-question", Static).update(f"{QUESTION}\n{keymap.wrong_answer(event, 'ORA')}")
+        cancel = legends.key_for(self, 'cancel', 'ESC')
+        self.query_one("#changed-question", Static).update(f"{QUESTION}\n{keymap.wrong_answer(event, 'ORA', cancel)}")
 
     def on_input_submitted(self, event: Input.Submitted) -> None:
         event.stop()

@@ -70,6 +70,11 @@ TEXT_MODES = frozenset({EditorMode.NAME, EditorMode.LINE, EditorMode.DELETE, Edi
                         EditorMode.INSERT_LINE})
 
 
+
+# the editor menu's keys as they are bound now (ui/legends.fill)
+MENU_KEYS = ("{editor.create} CONTINUE  {editor.insert} INSERT  {editor.delete} DELETE  {editor.save} SAVE  "
+             "{editor.exit} EXIT  {screen.help} HELP")
+
 class EditorScreen(KeyedScreen[None]):
     """The Editor of VAL-II SIMULATOR (EVS)."""
 
@@ -188,7 +193,7 @@ class EditorScreen(KeyedScreen[None]):
         state += " (NOT SAVED)" if editor.dirty else ""
         shown = f"{editor.name} ({editor.path.name}, READ ONLY)" if editor.read_only else f"{editor.name}.DAT"
         self.query_one("#editor-title", Static).update(f"EDIT {shown}{state}")
-        lines = editor.listing() or ["(NO STEPS YET: PRESS C TO TYPE THE FIRST STEP)"]
+        lines = editor.listing() or [legends.fill(self, "(NO STEPS YET: PRESS {editor.create} TO TYPE THE FIRST STEP)")]
         self.query_one("#editor-listing", Static).update("\n".join(lines))
         scroll = self.query_one("#editor-scroll", VerticalScroll)
         if changed is None or changed >= len(editor.steps):
@@ -205,7 +210,7 @@ class EditorScreen(KeyedScreen[None]):
             self._prompt("name", "EDIT", "PROGRAM NAME, e.g. TEST.DAT")
             return False
         self.say(*(self.editor.messages or [f"{self.editor.name}.DAT: {len(self.editor.steps)} STEPS"]),
-                 "C CONTINUE  I INSERT  D DELETE  S SAVE  E EXIT  ? HELP")
+                 legends.fill(self, MENU_KEYS))
         self._refresh_listing()
         self._menu()
         return True
@@ -224,7 +229,7 @@ class EditorScreen(KeyedScreen[None]):
         if self.mode == EditorMode.SAVE:
             if not keymap.is_silent(event) and event.key != "ctrl+c":
                 self.say(f"SAVE THE CHANGES TO {self.editor.name}.DAT (Y/N) ?",  # type: ignore[union-attr]
-                         keymap.wrong_answer(event, "YN"))
+                         keymap.wrong_answer(event, "YN", legends.key_for(self, "cancel", "ESC")))
             return True
         if self.mode != EditorMode.MENU:
             return False
@@ -354,7 +359,7 @@ class EditorScreen(KeyedScreen[None]):
     def action_cancel(self) -> None:
         """ESC: the open line closes (editor menu); at the menu ESC is E_XIT."""
         if self.mode in ("line", "insert", "delete", "insert-line") and self.editor is not None:
-            self.say("LINE CLOSED: C CONTINUE  I INSERT  D DELETE  S SAVE  E EXIT  ? HELP")
+            self.say(legends.fill(self, f"LINE CLOSED: {MENU_KEYS}"))
             self._menu()
         elif self.mode == "save?":
             self._menu()

@@ -8,7 +8,7 @@ from textual.binding import Binding
 from textual.containers import Vertical
 from textual.widgets import Static
 
-from valterm.ui import keymap
+from valterm.ui import keymap, legends
 from valterm.ui.screens.keyed import KeyedModalScreen
 
 
@@ -76,7 +76,7 @@ class QuitScreen(KeyedModalScreen[None]):
 
     def wrong_key(self, event: events.Key) -> None:
         self.query_one("#quit-question", Static).update(
-            f"EXIT WITHOUT SAVING (Y/N) ?  {keymap.wrong_answer(event, 'YN')}")
+            f"EXIT WITHOUT SAVING (Y/N) ?  {keymap.wrong_answer(event, 'YN', legends.key_for(self, 'stay', 'ESC'))}")
 
     def close(self) -> None:
         """Dismiss this screen if it is still the one on top: keys typed ahead reach a screen's
