@@ -134,6 +134,11 @@ async def test_keys_1985_ready_typed_during_a_command_reaches_the_line(tmp_path:
         assert type(screen).__name__ == "ValModeScreen", type(screen).__name__
         assert ". READY" in screen.transcript, list(screen.transcript)[-5:]
         assert not (tmp_path / "ADY.DAT").exists()
+        for _ in range(400):  # READY plays on the stepped clock (settle may look before it starts)
+            if screen.keys_text.startswith("THEN PRESS: C CONTINUE"):
+                break
+            clock.advance(0.5)
+            await pilot.pause(0.01)
         assert screen.keys_text.startswith("THEN PRESS: C CONTINUE")  # READY ran: the menu again
         await pilot.press("r")  # typed at the menu now: R is RETURN
         await settle(pilot, app, clock)

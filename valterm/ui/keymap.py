@@ -45,7 +45,7 @@ def unknown_key(event: events.Key, hint: str = "", help_hint: str = HELP_HINT) -
     return f"'{key_name(event)}' IS NOT A KEY OF THIS MENU; {hint + '; ' if hint else ''}{help_hint}"
 
 
-def wrong_answer(event: events.Key, keys: str, cancel: str = "ESC") -> str:
+def wrong_answer(event: events.Key, keys: str | list[str], cancel: str = "ESC") -> str:
     """The one-line answer to a key that is not one of a question's answers (``cancel``: the
     key that cancels the question as it is bound now, ``legends.key_for``)."""
     choices = ", ".join(k for k in keys if k.isprintable() and k.strip())

@@ -139,7 +139,7 @@ def fill(node: Any, template: str) -> str:
     key lines: ``{valmode.wipe:^} W_WIPE`` is ``^L W_WIPE`` until the keymap file moves it)."""
     if "{" not in template:
         return template
-    by_id = {str(binding.id): binding for binding in (*bindings_of(node), *bindings_of(_app(node)))}
+    by_id = _by_id(node)
 
     def one(field: re.Match[str]) -> str:
         binding = by_id.get(field.group(1))
@@ -150,6 +150,17 @@ def fill(node: Any, template: str) -> str:
         return label.replace("CTRL-", "^") if field.group(2) else label
 
     return _FIELD.sub(one, template)
+
+
+def _by_id(node: Any) -> dict[str, Binding]:
+    return {str(binding.id): binding for binding in (*bindings_of(node), *bindings_of(_app(node)))}
+
+
+def keys_of(node: Any, *binding_ids: str) -> list[str]:
+    """The first key of each binding now, as shown (a question's answers: quit.yes, quit.no)."""
+    by_id = _by_id(node)
+    found = [labels(node, by_id[binding_id]) if binding_id in by_id else [] for binding_id in binding_ids]
+    return [keys[0] for keys in found if keys]
 
 
 def _app(node: Any) -> Any:

@@ -74,6 +74,7 @@ TEXT_MODES = frozenset({EditorMode.NAME, EditorMode.LINE, EditorMode.DELETE, Edi
 # the editor menu's keys as they are bound now (ui/legends.fill)
 MENU_KEYS = ("{editor.create} CONTINUE  {editor.insert} INSERT  {editor.delete} DELETE  {editor.save} SAVE  "
              "{editor.exit} EXIT  {screen.help} HELP")
+STEP_END = "({editor.cancel} OR AN EMPTY LINE: EDITOR MENU)"
 
 class EditorScreen(KeyedScreen[None]):
     """The Editor of VAL-II SIMULATOR (EVS)."""
@@ -229,7 +230,8 @@ class EditorScreen(KeyedScreen[None]):
         if self.mode == EditorMode.SAVE:
             if not keymap.is_silent(event) and event.key != "ctrl+c":
                 self.say(f"SAVE THE CHANGES TO {self.editor.name}.DAT (Y/N) ?",  # type: ignore[union-attr]
-                         keymap.wrong_answer(event, "YN", legends.key_for(self, "cancel", "ESC")))
+                         keymap.wrong_answer(event, legends.keys_of(self, "editor.save_yes", "editor.save_no"),
+                                             legends.key_for(self, "cancel", "ESC")))
             return True
         if self.mode != EditorMode.MENU:
             return False
@@ -385,7 +387,7 @@ class EditorScreen(KeyedScreen[None]):
                     self.action_cancel()  # RETURN on an empty line: back to the menu
                     return
                 number = editor.append(typed)
-                self.say(f"STEP {number} ACCEPTED (ESC OR AN EMPTY LINE: EDITOR MENU)")
+                self.say(legends.fill(self, f"STEP {number} ACCEPTED {STEP_END}"))
                 self._refresh_listing(number)
                 if getattr(self.app, "keys_1985", False):
                     self._menu()  # 1985 (Fig. C-8): the menu; a space or a digit starts the next step
@@ -408,7 +410,7 @@ class EditorScreen(KeyedScreen[None]):
                     self.action_cancel()
                     return
                 number = editor.insert(self.insert_at, typed)
-                self.say(f"STEP {number} INSERTED (ESC OR AN EMPTY LINE: EDITOR MENU)")
+                self.say(legends.fill(self, f"STEP {number} INSERTED {STEP_END}"))
                 self._refresh_listing(number)
                 self.insert_at = number + 1  # the next line goes in after it
                 if getattr(self.app, "keys_1985", False):

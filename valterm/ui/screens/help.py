@@ -126,7 +126,8 @@ class HelpScreen(KeyedScreen[None]):
         return event.key in self.SCROLL_KEYS  # the help text's scroll keys
 
     def wrong_key(self, event: Key) -> None:
-        answer = keymap.wrong_answer(event, 'YN', legends.key_for(self, 'leave', 'ESC'))
+        answers = legends.keys_of(self, "help.yes", "help.no")
+        answer = keymap.wrong_answer(event, answers, legends.key_for(self, "leave", "ESC"))
         self.query_one("#help-question", Static).update(f"{self.question.splitlines()[0]}\n{answer}")
 
     def action_answer(self, key: str) -> None:

@@ -9,6 +9,7 @@ from textual import events
 from textual.app import ComposeResult
 from textual.binding import Binding
 
+from valterm.ui import legends
 from valterm.ui.errors import Refusal, problem_text
 from valterm.ui.screens.base import MENU, MenuScreen
 from valterm.ui.widgets.menus import KEYBOARD_MENU, ORIENT_MENU
@@ -135,7 +136,9 @@ class KeyboardScreen(MenuScreen):
 
     def other_key(self, event: events.Key) -> bool:
         if self.key_state == "orient":
-            self.say("ORIENT1: + - ARROWS X Y Z H OR R", "warning")
+            keys = ("ORIENT1: {keyboard.orient.zoom_in|+} {keyboard.orient.zoom_out|-} ARROWS X Y Z "
+                    "{keyboard.orient.home} OR {keyboard.orient.return}")
+            self.say(legends.fill(self, keys), "warning")
             return True
         return super().other_key(event)
 

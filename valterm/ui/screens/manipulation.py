@@ -18,6 +18,7 @@ from textual.binding import Binding
 
 from valterm.core.errors import ValtermError
 from valterm.core.files.errors import FileChanged
+from valterm.ui import legends
 from valterm.ui.errors import Refusal, problem_text
 from valterm.ui.screens.base import MenuScreen
 from valterm.ui.widgets.menus import MANIPULATION_CHOICE, MANIPULATION_MENU
@@ -246,7 +247,8 @@ class ManipulationScreen(MenuScreen):
                      lambda k: self._ask_name() if k == "Y" else self._back(), cancel=self._not_saved)
 
     def _not_saved(self) -> None:
-        self.say("THE NEW SET-UP IS NOT SAVED: ESC ASKS AGAIN (Y SAVES IT, N LEAVES IT UNSAVED)", "warning")
+        again = "THE NEW SET-UP IS NOT SAVED: {menu.cancel} ASKS AGAIN (Y SAVES IT, N LEAVES IT UNSAVED)"
+        self.say(legends.fill(self, again), "warning")
         self.prompt_cancelled()
 
     def _ask_name(self) -> None:

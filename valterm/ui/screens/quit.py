@@ -75,8 +75,9 @@ class QuitScreen(KeyedModalScreen[None]):
         self.close()
 
     def wrong_key(self, event: events.Key) -> None:
-        self.query_one("#quit-question", Static).update(
-            f"EXIT WITHOUT SAVING (Y/N) ?  {keymap.wrong_answer(event, 'YN', legends.key_for(self, 'stay', 'ESC'))}")
+        answers = legends.keys_of(self, "quit.yes", "quit.no")
+        wrong = keymap.wrong_answer(event, answers, legends.fill(self, "{quit.no|ESC}"))
+        self.query_one("#quit-question", Static).update(f"EXIT WITHOUT SAVING (Y/N) ?  {wrong}")
 
     def close(self) -> None:
         """Dismiss this screen if it is still the one on top: keys typed ahead reach a screen's

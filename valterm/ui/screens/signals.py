@@ -20,12 +20,13 @@ from textual.widgets import Input, Static
 from valterm.core.errors import RefusedValue, ValtermError
 from valterm.core.session import Session
 from valterm.core.signals import INPUTS, INTERNAL, OUTPUTS, SignalPanel
+from valterm.ui import legends
 from valterm.ui.screens.keyed import KeyedModalScreen
 
 SHOWN = 24  # lamps drawn per kind: two rows of 12 (the panel fits an 80 x 24 terminal)
 ROW = 12
 LOOK_EVERY = 0.1  # seconds between two looks at the panel
-KEYS = "INPUT NUMBER, ENTER: TOGGLE IT   1001 ON / 1001 OFF: SET IT   ESC: RETURN"
+KEYS = "INPUT NUMBER, ENTER: TOGGLE IT   1001 ON / 1001 OFF: SET IT   {signals.escape}: RETURN"  # legends.fill
 
 
 def lamp_rows(panel: SignalPanel, first: int, label: str) -> list[str]:
@@ -100,7 +101,7 @@ class SignalsScreen(KeyedModalScreen[None]):
             yield Static("", id="io-lamps")
             yield Static("", id="io-state")
             yield Static("", id="io-message")
-            yield Static(KEYS, id="io-keys")
+            yield Static(legends.fill(self, KEYS), id="io-keys")
             yield Input(id="io-line", placeholder="INPUT NUMBER, e.g. 1001 (TYPE HERE)")
 
     def on_mount(self) -> None:
