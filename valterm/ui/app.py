@@ -27,9 +27,9 @@ from valterm.core.errors import ValtermError
 from valterm.core.events import Event, Pause
 from valterm.core.render.clock import DEFAULT_RATE
 from valterm.core.val.limits import RunLimits
-from valterm.ui.bindings import APP_BINDINGS, load_user_keymap
+from valterm.ui.bindings import APP_BINDINGS, cancel_keys, load_user_keymap
 from valterm.ui.errors import bug_text, error_text
-from valterm.ui.keyqueue import KeyQueue
+from valterm.ui.keyqueue import CANCEL, KeyQueue
 from valterm.ui.messages import SceneChanged
 from valterm.ui.playback import Audience, Player
 from valterm.ui.screens.guard import Guarded
@@ -114,8 +114,10 @@ class ValtermApp(Guarded, ViewActions, App[int]):
         # 1985: VAL-II mode and the editor go back to their menus after each command or
         # step, and keys typed while anything plays wait for it (the VS11's type-ahead)
         self.keys_1985 = keyboard_of(keys) == "1985"
+        self.keymap_in_force: dict[str, str] = {}  # the keymap file's rebindings, by binding id
         # keys typed while a motion is drawn or a screen changes wait here
-        self.key_queue = KeyQueue(self, self._busy_playing)
+        self.cancel_keys = CANCEL  # ESC, or the keys the keymap file put the ESC bindings on
+        self.key_queue = KeyQueue(self, self._busy_playing, lambda: self.cancel_keys)
         self.unsaid: list[tuple[str, str]] = []  # messages no screen could show yet (the next one does)
         self.survived: list[str] = []  # the bugs the app lived through (their lines, tests)
         self.collect_after_first_frame = False  # the collector waits for the first screen (run)
@@ -186,7 +188,9 @@ class ValtermApp(Guarded, ViewActions, App[int]):
             self.call_after_refresh(collect_from_now)  # after the first screen's frame (see run)
         self.set_interval(RELEASE_EVERY, release_styles_caches, name="release-styles-caches")
         try:
-            self.set_keymap(load_user_keymap())  # the user's rebindings, on every screen
+            self.keymap_in_force = load_user_keymap()  # the legends read it (ui/legends.py)
+            self.set_keymap(self.keymap_in_force)  # the user's rebindings, on every screen
+            self.cancel_keys = cancel_keys(self.keymap_in_force)
         except ValtermError as error:  # a bad keymap file: said, the default keys kept
             self.say(f"KEYMAP: {error_text(error)}", "error")
         if self._session is not None:

@@ -12,6 +12,8 @@ from pathlib import Path
 from textual.binding import Binding, BindingType
 
 from valterm.core.files.keymapfile import read_keymap
+from valterm.ui.keyqueue import CANCEL
+from valterm.ui.legends import HELP
 from valterm.ui.view.keys import VIEW_BINDINGS
 
 # the app's own: CTRL-C and the view keys (valterm.ui.view.keys)
@@ -40,6 +42,7 @@ def places() -> tuple[tuple[str, Iterable[BindingType]], ...]:
     from valterm.ui.screens.valmode import ValModeScreen
 
     return (
+        ("every screen", [HELP]),
         ("every screen with the model", VIEW_BINDINGS),
         ("every menu screen", MenuScreen.BINDINGS),
         ("start", StartScreen.BINDINGS),
@@ -91,8 +94,35 @@ class _KnownIds:
 
 
 def load_user_keymap() -> dict[str, str]:
-    """The keymap file's rebindings (FileProblem when it is bad)."""
-    return read_keymap(known=_KnownIds())
+    """The keymap file's rebindings (FileProblem when it is bad). A letter given for a
+    binding whose own keys take both cases (``p,P``) takes both too: ``"j"`` is the J key,
+    as the menus show it."""
+    keymap = read_keymap(known=_KnownIds())
+    if not keymap:
+        return keymap
+    defaults = {str(binding.id): binding.key.split(",") for _, binding in all_bindings()}
+    return {binding_id: _both_cases(keys, defaults.get(binding_id, [])) for binding_id, keys in keymap.items()}
+
+
+def cancel_keys(keymap: dict[str, str]) -> frozenset[str]:
+    """The keys of the bindings on ESC alone (menu.cancel, valmode.escape ...) under ``keymap``:
+    they do not wait behind a motion (ui/keyqueue.py)."""
+    if not keymap:
+        return CANCEL  # no keymap file: the screens' modules need not load (issue 25)
+    keys: set[str] = set()
+    for _, binding in all_bindings():
+        if binding.key == "escape":
+            keys.update(key.strip() for key in keymap.get(str(binding.id), binding.key).split(","))
+    return frozenset(keys)
+
+
+def _both_cases(keys: str, default: list[str]) -> str:
+    letters = {key.strip() for key in default if len(key.strip()) == 1 and key.strip().isalpha()}
+    if not any(letter.swapcase() in letters for letter in letters):
+        return keys  # the binding tells the cases apart (ORIENT1's x and X)
+    chosen = [key.strip() for key in keys.split(",")]
+    more = [key.swapcase() for key in chosen if len(key) == 1 and key.isalpha() and key.swapcase() not in chosen]
+    return ",".join([*chosen, *more])
 
 
 def _shown(keys: str) -> str:

@@ -28,19 +28,28 @@ from textual.message_pump import MessagePump
 from textual.screen import Screen
 
 IMMEDIATE = frozenset({"ctrl+c"})  # keys that never wait
-CANCEL = "escape"  # waits only behind other keys
+CANCEL = frozenset({"escape"})  # waits only behind other keys (or what the keymap file put ESC on)
 KEPT = 10_000       # keys kept waiting at most (a cat on the keyboard during a long program)
 POLL = 0.01         # seconds between looks at a busy app
 HANDLED_LIMIT = 5.0  # seconds a key may take to be handled before the next goes anyway
 QUEUED = "_valterm_queued"  # set on a key handed on from the queue
+TYPED_AT = "_valterm_typed_at"  # when a key that waited was typed (time.monotonic)
+
+
+def typed_at(event: events.Key) -> float:
+    """When ``event`` was typed: a key that waited keeps its time (--keys 1985: letters typed
+    while a command played belong to the line being typed, not to the menu shown after it)."""
+    return float(getattr(event, TYPED_AT, time.monotonic()))
 
 
 class KeyQueue:
     """The keys typed while the app was busy, handed on in order when it is free."""
 
-    def __init__(self, app: App[Any], drawing: Callable[[], bool]) -> None:
+    def __init__(self, app: App[Any], drawing: Callable[[], bool],
+                 cancel: Callable[[], frozenset[str]] = lambda: CANCEL) -> None:
         self.app = app
         self.drawing = drawing  # a motion is being drawn (the app's player)
+        self.cancel = cancel  # ESC's keys as bound now
         self.keys: deque[events.Key] = deque(maxlen=KEPT)
         self._pending: MessagePump | None = None  # the node the last key went to, until handled
         self._pending_since = 0.0
@@ -79,8 +88,9 @@ class KeyQueue:
         if event.key in IMMEDIATE:
             self.keys.clear()
             return False
-        if not self.keys and not (self.changing if event.key == CANCEL else self.busy):
+        if not self.keys and not (self.changing if event.key in self.cancel() else self.busy):
             return False
+        setattr(event, TYPED_AT, time.monotonic())
         self.keys.append(event)
         if not self._draining:
             self._draining = True

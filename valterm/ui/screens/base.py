@@ -19,7 +19,7 @@ from textual.widgets import Input
 from valterm.core.errors import ValtermError
 from valterm.core.events import Collision, Contact, Event, Help, Message, Monitor, Pause
 from valterm.core.text.transcript import finding_line
-from valterm.ui import keymap
+from valterm.ui import keymap, legends
 from valterm.ui.errors import problem_text
 from valterm.ui.messages import SceneChanged
 from valterm.ui.screens.keyed import KeyedScreen, action_name
@@ -59,8 +59,9 @@ class MenuScreen(KeyedScreen[None]):
     MENU = ""
     SCREEN_NAME = ""  # HELP's name for the screen (the menu's title when empty)
     LETTERS_START_A_COMMAND = False  # a letter that is no menu key opens V's command line with it
+    MENU_KEYS_BOUND = True  # MENU's key letters are this screen's bindings (shown as bound now)
     BINDINGS = [
-        Binding("escape", "cancel", "Back", show=False, id="menu.cancel"),
+        Binding("escape", "cancel", "Cancel the prompt; at the menu: back", show=False, id="menu.cancel"),
         Binding("pagedown", "page(1)", "More of the menu", show=False, id="menu.page_down"),
         Binding("pageup", "page(-1)", "Back in the menu", show=False, id="menu.page_up"),
         # a motion's findings that do not fit the message area (VAL-II mode's transcript keys)
@@ -88,11 +89,11 @@ class MenuScreen(KeyedScreen[None]):
         # it (issue 25, the start)
         self._layout(self.app.size.width, update=False)
         with Horizontal(id="body"):  # no pane around either: each is a widget less to draw (issue 25)
-            yield MenuText(self.MENU, id="menu")
+            yield MenuText(self.live_menu(self.MENU) if self.MENU_KEYS_BOUND else self.MENU, id="menu")
             yield CellView(id="model")
         yield from self.compose_readout()
         log = MessageLog(id="messages")
-        log.scroll_keys = lambda: keymap.keys_of(self, ("menu.messages_back", "menu.messages_on"))
+        log.scroll_keys = lambda: "/".join(legends.keys_of(self, "menu.messages_back", "menu.messages_on"))
         yield log
         yield Prompt(id="prompt")
         yield StatusLine(id="status")
@@ -102,6 +103,11 @@ class MenuScreen(KeyedScreen[None]):
         # the interpreter while Textual's output thread was still writing the first frame
         # (8 ms more before it was all on the terminal, issue 25); a question mounts them sooner
         self.set_timer(PROMPT_PARTS_AFTER, self.query_one(Prompt).mount_parts, name="prompt parts")
+
+    def live_menu(self, text: str, state: str | None = None) -> str:
+        """A menu of the thesis with its keys as they are bound now (the keymap file), as
+        they work in ``state`` (the menu's, by default)."""
+        return legends.live_menu(self, text, state or MENU)  # MENU: the state, not the class's text
 
     def compose_readout(self) -> ComposeResult:
         """The readout under the body (none by default)."""
@@ -312,10 +318,7 @@ class MenuScreen(KeyedScreen[None]):
         from valterm.ui.screens.help import HelpScreen  # on first use (issue 25: start)
 
         title = self.SCREEN_NAME or (self.MENU.splitlines()[0] if self.MENU else "")
-        keys = keymap.legend(self)
-        if scroll := keymap.keys_of(self, ("menu.messages_back", "menu.messages_on")):
-            keys.append((scroll, "SCROLL THE MESSAGES (EVERY FINDING OF A MOTION)"))
-        self.app.push_screen(HelpScreen(screen=title, keys=keys))
+        self.app.push_screen(HelpScreen(screen=title, keys=legends.legend(self)))
 
     # -- questions --------------------------------------------------------------------
     @property
@@ -382,7 +385,7 @@ class MenuScreen(KeyedScreen[None]):
             self._close_prompt()
             question.then(char)
         elif not keymap.is_silent(event) and event.key != "ctrl+c":
-            self.say(keymap.wrong_answer(event, keys), "warning")
+            self.say(keymap.wrong_answer(event, keys, legends.key_for(self, "cancel", "ESC")), "warning")
 
     def say_wrong_key(self, text: str) -> None:
         self.say(text, "warning")

@@ -15,12 +15,13 @@ from textual.binding import Binding
 from textual.containers import Vertical
 from textual.widgets import Input, Static
 
-from valterm.ui import keymap
+from valterm.ui import keymap, legends
 from valterm.ui.screens.keyed import KeyedModalScreen
 
 Answer = tuple[str, str] | None
 
-QUESTION = "O OVERWRITE IT   R RELOAD IT (YOUR CHANGES GO)   A SAVE AS ANOTHER NAME   ESC NOT NOW"
+QUESTION = ("{changed.overwrite} OVERWRITE IT   {changed.reload} RELOAD IT (YOUR CHANGES GO)   "
+            "{changed.save_as} SAVE AS ANOTHER NAME   {changed.cancel} NOT NOW")  # keys as bound now
 
 
 class FileChangedScreen(KeyedModalScreen[Answer]):
@@ -52,7 +53,7 @@ class FileChangedScreen(KeyedModalScreen[Answer]):
         with Vertical():
             yield Static(f"{self.file_name} CHANGED ON DISK SINCE YOU READ IT: ANOTHER SESSION SAVED IT.\n"
                          f"SAVING NOW WOULD LOSE ITS CHANGES.", id="changed-what")
-            yield Static(QUESTION, id="changed-question")
+            yield Static(legends.fill(self, QUESTION), id="changed-question")
             yield Input(placeholder=f"NEW {self.kind.upper()} NAME, RETURN TO SAVE", id="changed-name")
 
     @property
@@ -74,20 +75,22 @@ class FileChangedScreen(KeyedModalScreen[Answer]):
         name = self.query_one("#changed-name", Input)
         name.add_class("asking")
         name.focus()
-        self.query_one("#changed-question", Static).update(f"SAVE AS: TYPE A NEW {self.kind.upper()} NAME "
-                                                           "(ESC: BACK TO THE QUESTION)")
+        back = legends.fill(self, "({changed.cancel}: BACK TO THE QUESTION)")
+        self.query_one("#changed-question", Static).update(f"SAVE AS: TYPE A NEW {self.kind.upper()} NAME {back}")
 
     def action_cancel(self) -> None:
         name = self.query_one("#changed-name", Input)
         if name.has_class("asking"):
             name.remove_class("asking")
             self.set_focus(None)
-            self.query_one("#changed-question", Static).update(QUESTION)
+            self.query_one("#changed-question", Static).update(legends.fill(self, QUESTION))
         else:
             self.close(None)
 
     def wrong_key(self, event: events.Key) -> None:
-        self.query_one("#changed-question", Static).update(f"{QUESTION}\n{keymap.wrong_answer(event, 'ORA')}")
+        answers = legends.keys_of(self, "changed.overwrite", "changed.reload", "changed.save_as")
+        wrong = keymap.wrong_answer(event, answers, legends.key_for(self, "cancel", "ESC"))
+        self.query_one("#changed-question", Static).update(f"{legends.fill(self, QUESTION)}\n{wrong}")
 
     def on_input_submitted(self, event: Input.Submitted) -> None:
         event.stop()

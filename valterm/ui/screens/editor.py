@@ -31,7 +31,7 @@ from valterm.core.editor import EDITOR_MENU, EditorError, ProgramEditor
 from valterm.core.errors import ValtermError
 from valterm.core.files.errors import FileChanged
 from valterm.core.files.programs import LABEL_COLUMNS
-from valterm.ui import keymap
+from valterm.ui import keymap, legends
 from valterm.ui.screens.keyed import KeyedScreen
 from valterm.ui.widgets.prompt import typed_after
 from valterm.ui.widgets.status import StatusLine
@@ -69,6 +69,12 @@ class EditorMode(StrEnum):
 TEXT_MODES = frozenset({EditorMode.NAME, EditorMode.LINE, EditorMode.DELETE, EditorMode.INSERT,
                         EditorMode.INSERT_LINE})
 
+
+
+# the editor menu's keys as they are bound now (ui/legends.fill)
+MENU_KEYS = ("{editor.create} CONTINUE  {editor.insert} INSERT  {editor.delete} DELETE  {editor.save} SAVE  "
+             "{editor.exit} EXIT  {screen.help} HELP")
+STEP_END = "({editor.cancel} OR AN EMPTY LINE: EDITOR MENU)"
 
 class EditorScreen(KeyedScreen[None]):
     """The Editor of VAL-II SIMULATOR (EVS)."""
@@ -188,7 +194,7 @@ class EditorScreen(KeyedScreen[None]):
         state += " (NOT SAVED)" if editor.dirty else ""
         shown = f"{editor.name} ({editor.path.name}, READ ONLY)" if editor.read_only else f"{editor.name}.DAT"
         self.query_one("#editor-title", Static).update(f"EDIT {shown}{state}")
-        lines = editor.listing() or ["(NO STEPS YET: PRESS C TO TYPE THE FIRST STEP)"]
+        lines = editor.listing() or [legends.fill(self, "(NO STEPS YET: PRESS {editor.create} TO TYPE THE FIRST STEP)")]
         self.query_one("#editor-listing", Static).update("\n".join(lines))
         scroll = self.query_one("#editor-scroll", VerticalScroll)
         if changed is None or changed >= len(editor.steps):
@@ -205,7 +211,7 @@ class EditorScreen(KeyedScreen[None]):
             self._prompt("name", "EDIT", "PROGRAM NAME, e.g. TEST.DAT")
             return False
         self.say(*(self.editor.messages or [f"{self.editor.name}.DAT: {len(self.editor.steps)} STEPS"]),
-                 "C CONTINUE  I INSERT  D DELETE  S SAVE  E EXIT  ? HELP")
+                 legends.fill(self, MENU_KEYS))
         self._refresh_listing()
         self._menu()
         return True
@@ -224,7 +230,8 @@ class EditorScreen(KeyedScreen[None]):
         if self.mode == EditorMode.SAVE:
             if not keymap.is_silent(event) and event.key != "ctrl+c":
                 self.say(f"SAVE THE CHANGES TO {self.editor.name}.DAT (Y/N) ?",  # type: ignore[union-attr]
-                         keymap.wrong_answer(event, "YN"))
+                         keymap.wrong_answer(event, legends.keys_of(self, "editor.save_yes", "editor.save_no"),
+                                             legends.key_for(self, "cancel", "ESC")))
             return True
         if self.mode != EditorMode.MENU:
             return False
@@ -245,7 +252,7 @@ class EditorScreen(KeyedScreen[None]):
             super().wrong_key(event)
             return
         try:
-            self.say(self.editor.wrong_key(keymap.key_name(event)), keymap.HELP_HINT)
+            self.say(self.editor.wrong_key(keymap.key_name(event)), legends.help_hint(self))
         except FileChanged:  # §5.2 saves at once: another session saved it meanwhile
             self.ask_changed()
         self._refresh_listing()
@@ -349,12 +356,12 @@ class EditorScreen(KeyedScreen[None]):
     def action_help(self) -> None:
         from valterm.ui.screens.help import HelpScreen
 
-        self.app.push_screen(HelpScreen(screen="EDITOR", keys=keymap.legend(self)))
+        self.app.push_screen(HelpScreen(screen="EDITOR", keys=legends.legend(self)))
 
     def action_cancel(self) -> None:
         """ESC: the open line closes (editor menu); at the menu ESC is E_XIT."""
         if self.mode in ("line", "insert", "delete", "insert-line") and self.editor is not None:
-            self.say("LINE CLOSED: C CONTINUE  I INSERT  D DELETE  S SAVE  E EXIT  ? HELP")
+            self.say(legends.fill(self, f"LINE CLOSED: {MENU_KEYS}"))
             self._menu()
         elif self.mode == "save?":
             self._menu()
@@ -380,7 +387,7 @@ class EditorScreen(KeyedScreen[None]):
                     self.action_cancel()  # RETURN on an empty line: back to the menu
                     return
                 number = editor.append(typed)
-                self.say(f"STEP {number} ACCEPTED (ESC OR AN EMPTY LINE: EDITOR MENU)")
+                self.say(legends.fill(self, f"STEP {number} ACCEPTED {STEP_END}"))
                 self._refresh_listing(number)
                 if getattr(self.app, "keys_1985", False):
                     self._menu()  # 1985 (Fig. C-8): the menu; a space or a digit starts the next step
@@ -403,7 +410,7 @@ class EditorScreen(KeyedScreen[None]):
                     self.action_cancel()
                     return
                 number = editor.insert(self.insert_at, typed)
-                self.say(f"STEP {number} INSERTED (ESC OR AN EMPTY LINE: EDITOR MENU)")
+                self.say(legends.fill(self, f"STEP {number} INSERTED {STEP_END}"))
                 self._refresh_listing(number)
                 self.insert_at = number + 1  # the next line goes in after it
                 if getattr(self.app, "keys_1985", False):

@@ -14,7 +14,7 @@ from textual.events import Key
 from textual.widgets import Input, Static
 
 from valterm.core.files.helpfile import HelpTopics, NoHelpTopic, default_help
-from valterm.ui import keymap
+from valterm.ui import keymap, legends
 from valterm.ui.screens.keyed import KeyedScreen
 from valterm.ui.widgets.status import StatusLine
 
@@ -126,8 +126,9 @@ class HelpScreen(KeyedScreen[None]):
         return event.key in self.SCROLL_KEYS  # the help text's scroll keys
 
     def wrong_key(self, event: Key) -> None:
-        self.query_one("#help-question", Static).update(
-            f"{self.question.splitlines()[0]}\n{keymap.wrong_answer(event, 'YN')}")
+        answers = legends.keys_of(self, "help.yes", "help.no")
+        answer = keymap.wrong_answer(event, answers, legends.key_for(self, "leave", "ESC"))
+        self.query_one("#help-question", Static).update(f"{self.question.splitlines()[0]}\n{answer}")
 
     def action_answer(self, key: str) -> None:
         if self.state == "topic?":

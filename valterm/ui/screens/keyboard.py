@@ -8,6 +8,7 @@ from textual.app import ComposeResult
 from textual.binding import Binding
 
 from valterm.core.text.transcript import wrap_line
+from valterm.ui import legends
 from valterm.ui.errors import Refusal, problem_text
 from valterm.ui.screens.base import MENU, MenuScreen
 from valterm.ui.widgets.menus import KEYBOARD_MENU, ORIENT_MENU
@@ -54,7 +55,7 @@ class KeyboardScreen(MenuScreen):
     # the thesis takes V before a command; a person types HERE P1 as at the real terminal:
     # a letter that is no menu key starts the command line, other keys get the hint
     LETTERS_START_A_COMMAND = True
-    UNKNOWN_KEY_HINT = "V FIRST TO TYPE A VAL-II COMMAND"
+    UNKNOWN_KEY_HINT = "{val} FIRST TO TYPE A VAL-II COMMAND"  # V as bound now
     BINDINGS = [
         Binding("l,L", "list", "List", id="keyboard.list"),
         Binding("p,P", "position", "Position", id="keyboard.position"),
@@ -65,7 +66,6 @@ class KeyboardScreen(MenuScreen):
         Binding("r,R", "return", "Return", id="keyboard.return"),
         Binding("m,M", "model", "Model", id="keyboard.model"),
         Binding("v,V", "val", "VAL-II command", id="keyboard.val"),
-        Binding("question_mark", "help", "Help", id="keyboard.help"),
         # ORIENT1's keys (Fig. 2-3): the view only
         Binding("plus,equals_sign", "orient_key('zoom_in')", "Scale up", show=False, id="keyboard.orient.zoom_in"),
         Binding("minus,underscore", "orient_key('zoom_out')", "Scale down", show=False, id="keyboard.orient.zoom_out"),
@@ -114,7 +114,7 @@ class KeyboardScreen(MenuScreen):
 
     def _restore_menu(self) -> None:
         self.listing = self.orienting = False
-        self.menu.set_text(KEYBOARD_MENU)
+        self.menu.set_text(self.live_menu(KEYBOARD_MENU))
 
     @property
     def key_state(self) -> str:
@@ -134,7 +134,9 @@ class KeyboardScreen(MenuScreen):
 
     def other_key(self, event: events.Key) -> bool:
         if self.key_state == "orient":
-            self.say("ORIENT1: + - ARROWS X Y Z H OR R", "warning")
+            keys = ("ORIENT1: {keyboard.orient.zoom_in|+} {keyboard.orient.zoom_out|-} ARROWS X Y Z "
+                    "{keyboard.orient.home} OR {keyboard.orient.return}")
+            self.say(legends.fill(self, keys), "warning")
             return True
         return super().other_key(event)
 
@@ -171,7 +173,7 @@ class KeyboardScreen(MenuScreen):
     # -- ORIENT1 --------------------------------------------------------------------------
     def action_orient(self) -> None:
         self.orienting = True
-        self.menu.set_text(ORIENT_MENU)
+        self.menu.set_text(self.live_menu(ORIENT_MENU, "orient"))
         self.say("ORIENT1: THE VIEW ONLY; WORLD DATA ARE NOT CHANGED")
 
     def action_orient_key(self, what: str) -> None:

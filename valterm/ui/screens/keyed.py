@@ -7,8 +7,9 @@ One key path for all of them, ``on_key``:
    has the focus is text, not the view's zoom).
 2. A key bound (by id, as the keymap file has it) and switched on in the screen's present
    state is let through: the app runs its binding after this handler.
-3. F1 is help in every state; ``?`` is help wherever no line takes text; any other key is
-   the open line's business (nothing more happens).
+3. ``?`` and F1 are a binding like the rest (``screen.help``, rebindable): HELP in every
+   state, ``?`` only where no line takes it as text; any other key is the open line's
+   business (nothing more happens).
 4. What is left goes to the screen's ``other_key`` (a letter that opens the command line,
    the editor's TAB); a key nobody took gets the one wrong-key message (``keymap.unknown_key``)
    through ``say_wrong_key`` (the editor also saves the program then, §5.2: ``wrong_key``).
@@ -25,11 +26,10 @@ from collections.abc import Mapping
 from typing import TYPE_CHECKING, ClassVar, TypeVar
 
 from textual import events
-from textual.binding import Binding
 from textual.screen import ModalScreen, Screen
 from textual.widgets import Input
 
-from valterm.ui import keymap
+from valterm.ui import keymap, legends
 from valterm.ui.screens.guard import Guarded
 from valterm.ui.widgets.prompt import type_ahead
 
@@ -41,14 +41,13 @@ if TYPE_CHECKING:
 ResultT = TypeVar("ResultT")
 
 
-def action_name(binding: Binding) -> str:
-    """The action a binding runs, without its arguments (``joint(1)`` -> ``joint``)."""
-    return binding.action.partition("(")[0]
+action_name = legends.action_name  # the action a binding runs, without its arguments
 
 
 class KeyedScreen(Guarded, Screen[ResultT]):
     """A screen of valterm: a typed app, one key path, bindings switched on per state."""
 
+    BINDINGS = [legends.HELP]  # ? and F1 (rebindable as screen.help): HELP in every state
     STATES: ClassVar[Mapping[str, frozenset[str]]] = {}  # action -> the states it works in
     UNKNOWN_KEY_HINT = ""  # what a key that is no key here may have meant
 
@@ -107,16 +106,12 @@ class KeyedScreen(Guarded, Screen[ResultT]):
         if line is not None and type_ahead(event, line):
             return  # text, RETURN or BACKSPACE: the line's, in the order typed
         if self.bound_here(event.key):
-            return  # the app runs the binding
-        if event.key == "f1" or (keymap.is_help(event) and line is None):
-            self._take(event)
-            self.action_help()
-            return
+            return  # the app runs the binding (HELP's too: screen.help)
         if line is not None:
             return  # a key the open line has no use for (TAB, a function key bound nowhere)
         if self.other_key(event):
             self._take(event)
-        elif not keymap.is_silent(event) and event.key not in ("ctrl+c", keymap.CANCEL_KEY):
+        elif not keymap.is_silent(event) and event.key != "ctrl+c":
             self._take(event)
             self.wrong_key(event)
 
@@ -138,7 +133,11 @@ class KeyedScreen(Guarded, Screen[ResultT]):
 
     def wrong_key(self, event: events.Key) -> None:
         """A key that means nothing here: the one wrong-key message."""
-        self.say_wrong_key(keymap.unknown_key(event, self.UNKNOWN_KEY_HINT))
+        self.say_wrong_key(keymap.unknown_key(event, self.unknown_key_hint(), legends.help_hint(self)))
+
+    def unknown_key_hint(self) -> str:
+        """What a key that is no key here may have meant (with the keys bound now)."""
+        return self.UNKNOWN_KEY_HINT.format(val=legends.key_for(self, "val", "V"))
 
     def say_wrong_key(self, text: str) -> None:
         """The one wrong-key message, where this screen shows messages."""

@@ -8,6 +8,7 @@ from pathlib import Path
 from textual.binding import Binding
 
 from valterm.core.errors import ValtermError
+from valterm.ui import legends
 from valterm.ui.errors import problem_text
 from valterm.ui.screens.base import MenuScreen
 from valterm.ui.widgets.menus import MAIN_MENU
@@ -30,7 +31,6 @@ class MainMenuScreen(MenuScreen):
         Binding("s,S", "stop", "Stop", id="main.stop"),
         Binding("h,H", "hardcopy", "Hardcopy", id="main.hardcopy"),
         Binding("g,G", "generate", "Generate", id="main.generate"),
-        Binding("question_mark", "help", "Help", id="main.help"),
     ]
 
     def on_screen_resume(self) -> None:
@@ -51,8 +51,9 @@ class MainMenuScreen(MenuScreen):
             self.say(f"SETUP FILE {session.setup_name}.SET WITH {len(session.simulator.cell.objects)} PARTS{state}")
 
     def escape_menu(self) -> None:
-        leave = "" if getattr(self.app, "kiosk", False) else "S TO EXIT, "  # the museum's S is off
-        self.say(f"THIS IS THE MAIN MENU: {leave}? OR F1 FOR HELP")
+        stop = legends.key_for(self, "stop", "")
+        leave = "" if getattr(self.app, "kiosk", False) or not stop else f"{stop} TO EXIT, "  # the museum's S is off
+        self.say(f"THIS IS THE MAIN MENU: {leave}{legends.shown(self, legends.HELP, ' OR ')} FOR HELP")
 
     def _ask_first(self, what: str, then: Callable[[list[str]], None]) -> None:
         """B and I start a fresh session: ask first when taught locations, a moved set-up or

@@ -18,6 +18,7 @@ from textual.binding import Binding
 
 from valterm.core.errors import ValtermError
 from valterm.core.files.errors import FileChanged
+from valterm.ui import legends
 from valterm.ui.errors import Refusal, problem_text
 from valterm.ui.screens.base import MenuScreen
 from valterm.ui.widgets.menus import MANIPULATION_CHOICE, MANIPULATION_MENU
@@ -52,6 +53,7 @@ def parse_triple(text: str) -> tuple[float, float, float]:
 
 class ManipulationScreen(MenuScreen):
     MENU = MANIPULATION_CHOICE
+    MENU_KEYS_BOUND = False  # I, K, R answer a question (not rebound); K_EYBOARD's menu is bound
     BINDINGS = [
         Binding("u,U", "step('U')", "Upward", id="manipulation.up"),
         Binding("d,D", "step('D')", "Downward", id="manipulation.down"),
@@ -65,7 +67,6 @@ class ManipulationScreen(MenuScreen):
         Binding("a,A", "axes", "Axes", id="manipulation.axes"),
         Binding("s,S", "stop", "Stop", id="manipulation.stop"),
         Binding("m,M", "model", "Model", id="manipulation.model"),
-        Binding("question_mark", "help", "Help", id="manipulation.help"),
     ]
 
     def __init__(self) -> None:
@@ -138,7 +139,7 @@ class ManipulationScreen(MenuScreen):
         self.mode = key if key in "IK" else ""
         if key == "K":
             self.keyboard = True
-            self.menu.set_text(MANIPULATION_MENU)
+            self.menu.set_text(self.live_menu(MANIPULATION_MENU))
         elif key == "I":
             self.ask_key("COORDINATE AXES DISPLAY ON (Y/N) ?:", self._increments_axes)
         else:
@@ -246,7 +247,8 @@ class ManipulationScreen(MenuScreen):
                      lambda k: self._ask_name() if k == "Y" else self._back(), cancel=self._not_saved)
 
     def _not_saved(self) -> None:
-        self.say("THE NEW SET-UP IS NOT SAVED: ESC ASKS AGAIN (Y SAVES IT, N LEAVES IT UNSAVED)", "warning")
+        again = "THE NEW SET-UP IS NOT SAVED: {menu.cancel} ASKS AGAIN (Y SAVES IT, N LEAVES IT UNSAVED)"
+        self.say(legends.fill(self, again), "warning")
         self.prompt_cancelled()
 
     def _ask_name(self) -> None:

@@ -34,7 +34,7 @@ def world_step(increment: float) -> float:
 class PendantScreen(MenuScreen):
     MENU = PENDANT_MENU
     LETTERS_START_A_COMMAND = True  # HERE P2 typed without V: H is no pendant key, the line takes it
-    UNKNOWN_KEY_HINT = "V FIRST TO TYPE A VAL-II COMMAND"
+    UNKNOWN_KEY_HINT = "{val} FIRST TO TYPE A VAL-II COMMAND"  # V as bound now
     BINDINGS = [
         *(Binding(str(j), f"joint({j})", f"Joint {j}", id=f"pendant.joint{j}") for j in range(1, 7)),
         Binding("o,O", "open", "Open", id="pendant.open"),
@@ -47,7 +47,6 @@ class PendantScreen(MenuScreen):
         Binding("r,R", "return", "Return", id="pendant.return"),
         Binding("m,M", "model", "Model", id="pendant.model"),
         Binding("v,V", "val", "VAL-II command", id="pendant.val"),
-        Binding("question_mark", "help", "Help", id="pendant.help"),
     ]
 
     def compose_readout(self) -> ComposeResult:

@@ -13,7 +13,7 @@ from textual.binding import Binding
 from textual.containers import Vertical
 from textual.widgets import Static
 
-from valterm.ui import keymap
+from valterm.ui import keymap, legends
 from valterm.ui.screens.keyed import KeyedModalScreen
 
 if TYPE_CHECKING:
@@ -137,7 +137,9 @@ class QuitScreen(KeyedModalScreen[bool]):
         self.close(False)
 
     def wrong_key(self, event: events.Key) -> None:
-        self.query_one("#quit-question", Static).update(f"{self.question}  {keymap.wrong_answer(event, 'YN')}")
+        answers = legends.keys_of(self, "quit.yes", "quit.no")
+        wrong = keymap.wrong_answer(event, answers, legends.fill(self, "{quit.no|ESC}"))
+        self.query_one("#quit-question", Static).update(f"{self.question}  {wrong}")
 
     def close(self, yes: bool = False) -> None:
         """Dismiss this screen if it is still the one on top: keys typed ahead reach a screen's

@@ -20,12 +20,13 @@ from textual.widgets import Input, Static
 from valterm.core.errors import RefusedValue, ValtermError
 from valterm.core.session import Session
 from valterm.core.signals import INPUTS, INTERNAL, OUTPUTS, SETTABLE, SignalPanel
+from valterm.ui import legends
 from valterm.ui.screens.keyed import KeyedModalScreen
 
 SHOWN = 24  # lamps drawn per kind: two rows of 12 (the panel fits an 80 x 24 terminal)
 ROW = 12
 LOOK_EVERY = 0.1  # seconds between two looks at the panel
-KEYS = "1001-1512, 2001-2512, ENTER: TOGGLE   1001 ON / OFF: SET   ESC: RETURN"
+KEYS = "1001-1512, 2001-2512, ENTER: TOGGLE   1001 ON / OFF: SET   {signals.escape}: RETURN"  # legends.fill
 
 
 def lamp_rows(panel: SignalPanel, first: int, label: str) -> list[str]:
@@ -102,7 +103,7 @@ class SignalsScreen(KeyedModalScreen[None]):
             yield Static("", id="io-lamps")
             yield Static("", id="io-state")
             yield Static("", id="io-message")
-            yield Static(KEYS, id="io-keys")
+            yield Static(legends.fill(self, KEYS), id="io-keys")
             yield Input(id="io-line", placeholder="INPUT OR SOFTWARE SIGNAL, e.g. 1001 or 2001 (TYPE HERE)")
 
     def on_mount(self) -> None:

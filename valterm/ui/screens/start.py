@@ -18,6 +18,7 @@ from valterm.core.cad.convert import add_parts, import_cad, native_units
 from valterm.core.errors import ValtermError
 from valterm.core.files.errors import shown_name
 from valterm.core.workspace import check_name
+from valterm.ui import legends
 from valterm.ui.errors import Refusal, problem_text
 from valterm.ui.screens.base import MenuScreen
 from valterm.ui.widgets.menus import COPYRIGHT, START_MENU, TITLE
@@ -47,7 +48,6 @@ class StartScreen(MenuScreen):
         Binding("i,I", "iges", "IGES file", id="start.iges"),
         Binding("u,U", "ugii", "UGII file", id="start.ugii"),
         Binding("e,E", "existing", "Existing file", id="start.existing"),
-        Binding("question_mark", "help", "Help", id="start.help"),
     ]
 
     def __init__(self, message: str = "", note: str = "") -> None:
@@ -64,7 +64,10 @@ class StartScreen(MenuScreen):
             self.say(self._note)
 
     def escape_menu(self) -> None:
-        self.say('PRESS "I", "U" OR "E" (RETURN THEN READS PROCESS); ? OR F1 FOR HELP')
+        keys = ", ".join(f'"{legends.key_for(self, action, action[0].upper())}"' for action in ("iges", "ugii"))
+        existing = legends.key_for(self, "existing", "E")
+        helps = legends.shown(self, legends.HELP, " OR ")
+        self.say(f'PRESS {keys} OR "{existing}" (RETURN THEN READS PROCESS); {helps} FOR HELP')
 
     # -- E_XISTING FILE ---------------------------------------------------------------
     def action_existing(self) -> None:

@@ -38,6 +38,7 @@ highlighted, and the watched variables; CTRL-P PROCEED, CTRL-O XSTEP, CTRL-S SST
 from __future__ import annotations
 
 import re
+import time
 from collections.abc import Callable, Iterator, Mapping
 from enum import StrEnum
 from typing import ClassVar
@@ -56,8 +57,9 @@ from valterm.core.monitor import listing_lines
 from valterm.core.session import Session
 from valterm.core.simulator import ConfigMismatch
 from valterm.core.text.transcript import where_lines, wrap_line
-from valterm.ui import keymap
+from valterm.ui import legends
 from valterm.ui.errors import problem_text
+from valterm.ui.keyqueue import typed_at
 from valterm.ui.playback import Player, Transcript, show_at_once
 from valterm.ui.screens.editor import EditorScreen, StepInput
 from valterm.ui.screens.help import HelpScreen
@@ -65,13 +67,8 @@ from valterm.ui.screens.keyed import KeyedScreen
 from valterm.ui.screens.points import define_point
 from valterm.ui.screens.signals import SignalsScreen
 from valterm.ui.view.model_view import ModelView
-from valterm.ui.widgets.debugpanel import PAUSED_KEYS, DebugPanel
-from valterm.ui.widgets.menus import (
-    DEFINE_EACH,
-    DEFINE_HOW,
-    VAL_MENU_1,
-    VAL_MENU_2,
-)
+from valterm.ui.widgets.debugpanel import DebugPanel
+from valterm.ui.widgets.menus import VAL_MENU_1, VAL_MENU_2
 from valterm.ui.widgets.prompt import typed_after
 from valterm.ui.widgets.status import StatusLine
 from valterm.ui.widgets.transcript_log import TranscriptLog
@@ -96,12 +93,25 @@ LEFT_WIDTH = 72  # columns of the text side when the model is shown beside it
 WIDE = LEFT_WIDTH + 40  # narrower than this, the model is toggled instead (80x24)
 MENU_FRAME = 6  # the menu's border, padding and scroll bar, in columns
 
-# the key legend under the log, one per mode (F-keys work wherever the line is open)
-LINE_KEYS = "^L W_WIPE  F8 M_MODEL  ^T D_DEFINE  ^N MENU  F9 R_RETURN  F10 I/O  F1 HELP  ESC: MENU"
-MENU_KEYS = "N PAGE  V LINE  W WIPE  M MODEL  D DEFINE  R/ESC RETURN  PGUP/PGDN SCROLL  F10 I/O  ? HELP"
-RUNNING_KEYS = "RUNNING   CTRL-C OR ESC: ABORT   F10: I/O PANEL   (KEYS TYPED NOW GO TO THE LINE)"
-DEFINE_KEYS = f"{DEFINE_HOW}  ESC: MENU"
-THEN_PRESS = "THEN PRESS: C CONTINUE  W WIPE  R RETURN  M MODEL  D DEFINE  N VAL-II MENU  ? HELP"
+# the key legend under the log, one per mode (F-keys work wherever the line is open); each
+# {binding.id} is the key bound now (ui/legends.fill): the keymap file's, else these
+LINE_KEYS = ("{valmode.wipe:^} W_WIPE  {view.model} M_MODEL  {valmode.define:^} D_DEFINE  {valmode.menu:^} MENU  "
+             "{valmode.leave} R_RETURN  {valmode.io} I/O  {screen.help|F1} HELP  {valmode.escape}: MENU")
+MENU_KEYS = ("{valmode.menu.page} PAGE  {valmode.menu.line} LINE  {valmode.menu.wipe} WIPE  "
+             "{valmode.menu.model} MODEL  {valmode.menu.define} DEFINE  {valmode.menu.return}/{valmode.escape} RETURN  "
+             "{valmode.menu.page_up}/{valmode.menu.page_down} SCROLL  {valmode.io} I/O  {screen.help} HELP")
+RUNNING_KEYS = ("RUNNING   {app.abort} OR {valmode.escape}: ABORT   {valmode.io}: I/O PANEL   "
+                "(KEYS TYPED NOW GO TO THE LINE)")
+# D_DEFINE's question and its answers for each location (menus.DEFINE_HOW, DEFINE_EACH)
+DEFINE_KEYS = ("{valmode.define.file}_DATA FILE (.LOC)  {valmode.define.point}_POINT TYPED IN  "
+               "{valmode.define.store}_STORE (STOREL)  {valmode.define.line}_RETURN  {valmode.escape}: MENU")
+EACH_KEYS = ("{valmode.each.accept}_ACCEPT AND CONTINUE  {valmode.each.reject}_REJECT  "
+             "{valmode.each.end}_ACCEPT AND END  {valmode.escape}: MENU")
+THEN_PRESS = ("THEN PRESS: {valmode.menu.line|C} CONTINUE  {valmode.menu.wipe} WIPE  "
+              "{valmode.menu.return} RETURN  {valmode.menu.model} MODEL  {valmode.menu.define} DEFINE  "
+              "{valmode.menu.page} VAL-II MENU  {screen.help} HELP")
+PAUSED_KEYS = ("PAUSED: TYPE COMMANDS, {valmode.escape} TO ABORT  {valmode.proceed:^} PROCEED  "
+               "{valmode.xstep:^} XSTEP  {valmode.sstep:^} SSTEP  {app.abort} ABORT")
 
 _MENU_ROW = re.compile(r"^(\S.*?\s+[-:] )")  # "TYPE X=          - " : the description column
 
@@ -148,7 +158,6 @@ class ValModeScreen(KeyedScreen[None]):
         Binding("ctrl+t", "define", "Define", id="valmode.define"),
         Binding("ctrl+n", "menu", "Menu", id="valmode.menu"),
         Binding("f9", "leave", "Return", id="valmode.leave"),
-        Binding("f1", "help", "Help", id="valmode.help"),
         # while a program is paused (the line has the focus: these keys pass it)
         Binding("ctrl+p", "paused_command('PROCEED')", "Proceed", show=False, id="valmode.proceed"),
         Binding("ctrl+o", "paused_command('XSTEP')", "Xstep", show=False, id="valmode.xstep"),
@@ -205,6 +214,7 @@ class ValModeScreen(KeyedScreen[None]):
         self._to_menu = False  # ESC aborted what played: the VAL-II menu when it has ended
         self._pause: Pause | None = None  # what the paused program stopped at (the debugger's panel)
         self._model_for_motion = False  # the model was brought up by a motion (80x24)
+        self._menu_since: float | None = None  # --keys 1985: the menu came back after a typed command
         self.transcript = Transcript()  # the last lines the log showed (tests, the demo)
 
     # -- layout ---------------------------------------------------------------------
@@ -297,12 +307,18 @@ class ValModeScreen(KeyedScreen[None]):
         self.query_one("#val-where", Static).update("\n".join(where_lines(self.simulator.where())))
 
     def _keys(self, text: str) -> None:
+        text = legends.fill(self, text)  # the keys as they are bound now
         self._legend = text
         self.query_one("#val-keys", Static).update(text)
 
     def _render_menu(self) -> None:
         width = (self.app.size.width if self.has_class("narrow") else LEFT_WIDTH) - MENU_FRAME
-        self.query_one("#val-menu", Static).update(wrap_menu(VAL_MENU_1 if self.page == 1 else VAL_MENU_2, width))
+        menu = legends.live_menu(self, VAL_MENU_1 if self.page == 1 else VAL_MENU_2, Mode.MENU)  # keys bound now
+        for page in ("NEXT", "FIRST"):  # the pages' last line: "N: NEXT PAGE   V: TO VAL-II MODE   R: RETURN"
+            menu = menu.replace(f"N: {page} PAGE   V: TO VAL-II MODE   R: RETURN", legends.fill(self, (
+                f"{{valmode.menu.page}}: {page} PAGE   {{valmode.menu.line}}: TO VAL-II MODE   "
+                "{valmode.menu.return}: RETURN")))
+        self.query_one("#val-menu", Static).update(wrap_menu(menu, width))
 
     def _show_menu(self, page: int) -> None:
         self.mode, self.page = Mode.MENU, page
@@ -383,13 +399,13 @@ class ValModeScreen(KeyedScreen[None]):
         """D_DEFINE's answer: a .LOC file, a typed POINT, STOREL, or the line again."""
         if how == "store":  # the locations to a .LOC file: STOREL on the line, the name to type
             self.to_command("STOREL ")
-            self._keys("TYPE THE .LOC FILE NAME, RETURN (STOREL NAME WRITES NAME.LOC)   ESC: MENU")
+            self._keys("TYPE THE .LOC FILE NAME, RETURN (STOREL NAME WRITES NAME.LOC)   {valmode.escape}: MENU")
         elif how == "file":
             self._open_line(Mode.DEFINE_FILE, "LOCATION FILE NAME:", "", "e.g. PROCESS.LOC")
-            self._keys("TYPE THE .LOC FILE NAME, RETURN   ESC: MENU")
+            self._keys("TYPE THE .LOC FILE NAME, RETURN   {valmode.escape}: MENU")
         elif how == "point":
             self._open_line(Mode.POINT, "POINT", "", "NAME, X, Y, Z, O, A, T")
-            self._keys("TYPE NAME, X, Y, Z, O, A, T   RETURN   ESC: MENU")
+            self._keys("TYPE NAME, X, Y, Z, O, A, T   RETURN   {valmode.escape}: MENU")
         else:
             self.to_command()
 
@@ -402,7 +418,7 @@ class ValModeScreen(KeyedScreen[None]):
 
     def action_help(self) -> None:
         """? (at the menu and its questions) and F1 (everywhere): this screen's keys, then HELP."""
-        self.app.push_screen(HelpScreen(screen="VAL-II MODE", keys=keymap.legend(self)))
+        self.app.push_screen(HelpScreen(screen="VAL-II MODE", keys=legends.legend(self)))
 
     def toggle_model(self) -> None:
         """F8, the model key of every screen."""
@@ -513,7 +529,7 @@ class ValModeScreen(KeyedScreen[None]):
             return
         self.log_line(f". {text}")
         if self.keys_1985:  # the VAL-II menu after it (Fig. C-13): C continues on the line
-            self.run_events(self.session.command(text), after=self._after_command)
+            self.run_events(self.session.command(text), after=self._menu_after_command)
         else:
             self.run_events(self.session.command(text))
 
@@ -521,6 +537,26 @@ class ValModeScreen(KeyedScreen[None]):
     def keys_1985(self) -> bool:
         """The thesis's keyboard (``valterm --keys 1985``): the menu after each command."""
         return bool(getattr(self.app, "keys_1985", False))
+
+    def _menu_after_command(self) -> None:
+        """--keys 1985: the menu after a typed command; what was typed while it played is the
+        next line's (``on_key``)."""
+        self._after_command()
+        self._menu_since = time.monotonic()
+
+    def on_key(self, event: Key) -> None:
+        """--keys 1985: a letter typed while the command played, before the menu came back
+        (READY typed at once), opens the line with it; the rest follows it there (issue 35).
+        Any other key goes the one key path (KeyedScreen.on_key)."""
+        since = self._menu_since
+        if since is None or self.mode != Mode.MENU or not event.is_printable or not event.character:
+            return
+        if typed_at(event) >= since:
+            self._menu_since = None  # typed at the menu: the menu's keys
+            return
+        event.stop()
+        event.prevent_default()
+        self.to_command(event.character)
 
     def _after_command(self) -> None:
         """A command, a POINT or the .LOC file's locations are done: the line again (1985:
@@ -610,7 +646,7 @@ class ValModeScreen(KeyedScreen[None]):
 
     def paused(self, pause: Pause) -> None:
         self._text_after_motion()
-        self._keys(f"PAUSED: TYPE COMMANDS, ESC TO ABORT  {PAUSED_KEYS}")
+        self._keys(PAUSED_KEYS)
         self._open_line(Mode.PAUSED, "PAUSED .", self._typed())
         self._pause = pause
         self._show_pause(pause)
@@ -652,7 +688,7 @@ class ValModeScreen(KeyedScreen[None]):
             elif command == "POINT":
                 self._after_run = lambda: self._open_line(Mode.POINT, "POINT", f"{argument}, " if argument else "",
                                                           "NAME, X, Y, Z, O, A, T")
-                self._keys("TYPE NAME, X, Y, Z, O, A, T   RETURN   ESC: MENU")
+                self._keys("TYPE NAME, X, Y, Z, O, A, T   RETURN   {valmode.escape}: MENU")
         except Exception as error:  # a missing or damaged file: say so, stay in VAL-II mode
             self.log_line(problem_text(error))
 
@@ -682,7 +718,7 @@ class ValModeScreen(KeyedScreen[None]):
 
         def moved() -> None:
             self.mode = Mode.DEFINE_EACH
-            self._keys(f"{name}: {DEFINE_EACH}  ESC: MENU")
+            self._keys(f"{name}: {EACH_KEYS}")
             ahead, self._answer_ahead = self._answer_ahead, ""
             if ahead:
                 self._define_answer(ahead)

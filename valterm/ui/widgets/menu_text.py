@@ -3,13 +3,13 @@ and paged (PGUP / PGDN) when even the squeezed menu does not fit (80x24, issue 1
 
 from __future__ import annotations
 
-import re
-
 from rich.text import Text
 from textual.geometry import Size
 from textual.widget import Widget
 
-_KEY = re.compile(r"^(-? ?)([A-Z0-9+])(_| - |\s)")
+from valterm.ui.legends import MENU_KEY
+
+_KEY = MENU_KEY  # a line's key: one letter, or a rebound F12, CTRL-B ...
 MORE = "-- MORE: PGDN (PGUP BACK) --"
 
 

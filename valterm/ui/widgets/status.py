@@ -8,24 +8,27 @@ words.
 
 from __future__ import annotations
 
+from textual.dom import DOMNode
 from textual.widgets import Static
 
 from valterm.core.robot_choice import THESIS_ROBOT
-from valterm.ui.keymap import HELP_HINT
+from valterm.ui.legends import help_hint, short_help_hint
 
 
 def _short(word: str) -> str:
     return word[0] if word else "?"
 
 
-def status_fields(app) -> list[tuple[str, str]]:  # type: ignore[no-untyped-def]
-    """(long, short) texts of each field, in the order shown."""
+def status_fields(app, node: DOMNode | None = None) -> list[tuple[str, str]]:  # type: ignore[no-untyped-def]
+    """(long, short) texts of each field, in the order shown (the help key as ``node``'s
+    app has it bound now)."""
     session = getattr(app, "session_read", None)  # never reads --setup's set-up (the first frame)
     fields: list[tuple[str, str]] = []
+    helps = (help_hint(node), short_help_hint(node))
     if session is None:
         if getattr(app, "reading_setup", False):  # the moment after the first frame (--setup)
-            return [("READING THE SET-UP FILE", "READING SET-UP"), (HELP_HINT, "? HELP")]
-        return [("NO SET-UP FILE READ", "NO SET-UP"), (HELP_HINT, "? HELP")]
+            return [("READING THE SET-UP FILE", "READING SET-UP"), helps]
+        return [("NO SET-UP FILE READ", "NO SET-UP"), *_keys_1985(app), helps]
     sim = session.simulator
     name = f"{session.setup_name}.SET" if session.setup_name else "(NO NAME)"
     saved = "NOT SAVED" if getattr(app, "setup_modified", False) else "SAVED"
@@ -43,11 +46,17 @@ def status_fields(app) -> list[tuple[str, str]]:  # type: ignore[no-untyped-def]
     fields.append((f"ARM {' '.join(arm)}", "ARM " + "".join(_short(w) for w in arm)))
     rules = "CONTROLLER" if getattr(sim, "rules", "1985") == "controller" else "1985"
     fields.append((f"RULES {rules}", f"R {rules[:4]}"))
+    fields += _keys_1985(app)
     robot = getattr(sim, "arm", None)
     if robot is not None and robot.key != THESIS_ROBOT:  # the thesis's robot, the default, goes unsaid
         fields.append((f"ROBOT {robot.name}", f"RB {robot.key}"))
-    fields.append((HELP_HINT, "? HELP"))
+    fields.append(helps)
     return fields
+
+
+def _keys_1985(app) -> list[tuple[str, str]]:  # type: ignore[no-untyped-def]
+    """``--keys 1985`` in force (the thesis's keyboard: docs/KEYBOARD.md); the modern one goes unsaid."""
+    return [("KEYS 1985", "K 1985")] if getattr(app, "keys_1985", False) else []
 
 
 def arm_configuration(sim) -> tuple[str, str, str]:  # type: ignore[no-untyped-def]
@@ -56,13 +65,24 @@ def arm_configuration(sim) -> tuple[str, str, str]:  # type: ignore[no-untyped-d
     return words
 
 
-def status_text(app, width: int) -> str:  # type: ignore[no-untyped-def]
-    """The line for ``width`` columns: long words if they fit, else the short ones."""
-    fields = status_fields(app)
+# what goes first when even the short words do not fit (80 columns, a set-up NOT SAVED)
+DROPPED_FIRST = ("FACES ", "AXES ", "CFG ")
+
+
+def status_text(app, width: int, node: DOMNode | None = None) -> str:  # type: ignore[no-untyped-def]
+    """The line for ``width`` columns: long words if they fit, else the short ones, else the
+    short ones without back faces, axes and the asked configuration (the rules, the keyboard
+    and the help key stay)."""
+    fields = status_fields(app, node)
     long = "  ".join(f for f, _ in fields)
     if len(long) <= width:
         return long
-    return " ".join(s for _, s in fields)[:max(width, 0)]
+    short = [s for _, s in fields]
+    for prefix in DROPPED_FIRST:
+        if len(" ".join(short)) <= width:
+            break
+        short = [s for s in short if not s.startswith(prefix)]
+    return " ".join(short)[:max(width, 0)]
 
 
 class StatusLine(Static):
@@ -70,7 +90,7 @@ class StatusLine(Static):
 
     @property
     def text(self) -> str:
-        return status_text(self.app, max(self.size.width, 20))
+        return status_text(self.app, max(self.size.width, 20), self)
 
     def render(self) -> str:
         return self.text
