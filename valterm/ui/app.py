@@ -21,6 +21,7 @@ from typing import TYPE_CHECKING, Any
 from textual import events
 from textual._styles_cache import StylesCache
 from textual.app import App
+from textual.binding import Keymap
 
 from valterm.core.crashlog import EXIT_BUG, crash_line, write_crash_log
 from valterm.core.errors import ValtermError
@@ -177,6 +178,13 @@ class ValtermApp(Guarded, ViewActions, App[int]):
         self.survived.append(line)
         self.say(line, "error")
 
+    def set_keymap(self, keymap: Keymap) -> None:
+        """Textual's, and the record the legends read (ui/legends.py) and the key queue's
+        cancel keys: whoever rebinds (the keymap file, a script), every legend follows."""
+        self.keymap_in_force = dict(keymap)
+        self.cancel_keys = cancel_keys(self.keymap_in_force)
+        super().set_keymap(keymap)
+
     def on_mount(self) -> None:
         if self._session is None and self.initial_setup:
             # MAIN MENU first, its picture once the set-up is read: reading it loads numpy and
@@ -188,9 +196,7 @@ class ValtermApp(Guarded, ViewActions, App[int]):
             self.call_after_refresh(collect_from_now)  # after the first screen's frame (see run)
         self.set_interval(RELEASE_EVERY, release_styles_caches, name="release-styles-caches")
         try:
-            self.keymap_in_force = load_user_keymap()  # the legends read it (ui/legends.py)
-            self.set_keymap(self.keymap_in_force)  # the user's rebindings, on every screen
-            self.cancel_keys = cancel_keys(self.keymap_in_force)
+            self.set_keymap(load_user_keymap())  # the user's rebindings, on every screen
         except ValtermError as error:  # a bad keymap file: said, the default keys kept
             self.say(f"KEYMAP: {error_text(error)}", "error")
         if self._session is not None:
