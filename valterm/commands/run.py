@@ -242,7 +242,7 @@ def _write_end(args: argparse.Namespace, sim: Any, interpreter: Any, out: Any, m
 
     where = sim.where()
     if "v+" in (main.dialect, interpreter.dialect):
-        from valterm.core.val.vplus import vplus_where
+        from valterm.core.val.dialects.vplus.settings import vplus_where
 
         where = vplus_where(where)  # a V+ program's readout: X Y Z yaw pitch roll
     panel = interpreter.machine.signals

@@ -50,7 +50,7 @@ def check_program(program: Program, table: CommandTable | None = None,
     """
     dialect = dialect or program.dialect
     if dialect == "v+":
-        from valterm.core.val.vplus import parse_vplus
+        from valterm.core.val.dialects.vplus.statements import parse_vplus
 
         analysis = analyse(program, table or default_commands(), parse_vplus, "v+")
     else:

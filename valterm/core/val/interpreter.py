@@ -50,7 +50,6 @@ from valterm.core.files.variables import VARIABLE_NAME
 from valterm.core.files.vplus import VplusData
 from valterm.core.motion import MotionRefused
 from valterm.core.val.builders import (
-    BUILDERS,
     MAX_CALL_DEPTH,
     Build,
     Builder,
@@ -61,10 +60,13 @@ from valterm.core.val.builders import (
 )
 from valterm.core.val.compiler import Analysis, analyse, step_text
 from valterm.core.val.debugger import DEBUG_COMMANDS, Debugger
+from valterm.core.val.dialects.val1985.builders import BUILDERS
+from valterm.core.val.dialects.vplus.builders import VPLUS_BUILDERS
+from valterm.core.val.dialects.vplus.statements import parse_vplus
 from valterm.core.val.expr import MAX_NUMBER
 from valterm.core.val.limits import RunLimits
 from valterm.core.val.locstore import LocationFiles, load, rules, storel
-from valterm.core.val.machine import Machine
+from valterm.core.val.machine import Machine, signal_line, typed_rest
 from valterm.core.val.ops import (
     Action,
     Assign,
@@ -81,9 +83,8 @@ from valterm.core.val.ops import (
 from valterm.core.val.parser import Statement, ValSyntaxError, parse_statement
 from valterm.core.val.protocol import Simulator
 from valterm.core.val.variables import VariableStore
-from valterm.core.val.vplus import DIALECT as VPLUS
-from valterm.core.val.vplus import VPLUS_BUILDERS, parse_vplus, signal_line, typed_rest
 
+VPLUS = "v+"
 DIALECTS = ("1985", VPLUS)
 
 
