@@ -44,6 +44,7 @@ from valterm.core.errors import RefusedValue
 from valterm.commands import FAILURE, OK, USAGE, fail
 from valterm.commands.limits import add_limit_flags, limits_from
 from valterm.commands.robots import add_robot_option, robot_from
+from valterm.core.val import dialects
 
 
 def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
@@ -55,7 +56,7 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) ->
                         help="execution passes (EXECUTE name,N; negative = 1000)")
     parser.add_argument("--json", action="store_true", help="JSON lines, one event each")
     parser.add_argument("--collisions", action="store_true", help="check collisions at every motion step")
-    parser.add_argument("--dialect", choices=("1985", "v+"), default=None,
+    parser.add_argument("--dialect", choices=dialects.NAMES, default=None,
                         help="the language of .DAT programs (default 1985; a .v2/.pg file is always v+)")
     parser.add_argument("--rules", choices=("1985", "controller"), default=argparse.SUPPRESS,
                         help="the joint-state rules (default: 1985 for the 1985 dialect, controller for v+; "

@@ -36,8 +36,9 @@ from valterm.core.rules import check_rules, rules_of_dialect
 from valterm.core.simulator import Simulator
 from valterm.core.text.transcript import event_lines
 from valterm.core.val.checker import check_program
+from valterm.core.val.dialects import check_dialect
 from valterm.core.val.dialects.val1985.builders import CLOSED_ON_AIR
-from valterm.core.val.interpreter import Interpreter, check_dialect
+from valterm.core.val.interpreter import Interpreter
 from valterm.core.val.limits import RunLimits
 from valterm.core.workspace import Workspace
 

@@ -31,8 +31,6 @@ from valterm.core.val.ops import (
 from valterm.core.val.parser import Statement
 from valterm.core.val.protocol import Simulator
 
-MAX_CALL_DEPTH = 20   # nested CALLs before "CALL DEPTH" stops the program
-
 
 @dataclass(frozen=True)
 class Build:
@@ -165,7 +163,7 @@ def goto(c: Build, st: Statement) -> Op:
 
 
 def call(c: Build, st: Statement) -> Op:
-    return Call(c.step, c.next, c.next, st.args[0], MAX_CALL_DEPTH)
+    return Call(c.step, c.next, c.next, st.args[0])
 
 
 def return_op(c: Build, st: Statement) -> Op:

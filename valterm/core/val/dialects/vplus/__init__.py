@@ -22,3 +22,17 @@ V+ semantics (Adept V+ Language Reference) where the thesis is silent:
 - ``WAIT cond`` lets simulated time pass until cond holds (``first_true``);
 - ``EXIT n`` / ``NEXT n`` leave or continue the n-th enclosing FOR, WHILE or DO loop.
 """
+
+from __future__ import annotations
+
+from valterm.core.val.compiler import Grammar
+from valterm.core.val.dialect import Dialect
+from valterm.core.val.dialects.vplus.builders import VPLUS_BUILDERS
+from valterm.core.val.dialects.vplus.statements import block_opened, parse_vplus
+
+DIALECT = Dialect(
+    Grammar("v+", parse_vplus, block_opened, ends_close="IF, WHILE, FOR or CASE", quoted_comments=True),
+    "V+ (ADEPT V+ REFERENCE)", VPLUS_BUILDERS,
+    stops_at_error=True,  # the controller stops a program at a step that fails
+    missing_program="in the file or the workspace",  # V+ programs live in files (docs/VPLUS.md)
+    signals_in_status=True, data_sections=True)

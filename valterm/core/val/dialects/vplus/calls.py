@@ -9,7 +9,6 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import TypeVar
 
-from valterm.core.events import Error
 from valterm.core.kinematics import Location
 from valterm.core.transform import Transform
 from valterm.core.val.builders import Build, Builder
@@ -27,8 +26,8 @@ from valterm.core.val.dialects.vplus.expr import (
 from valterm.core.val.expr import ExprError, Fn, Values
 from valterm.core.val.machine import Machine, MachineError
 from valterm.core.val.ops import (
+    Call,
     CompiledProgram,
-    Control,
     Events,
     Op,
     ProgramError,
@@ -40,7 +39,6 @@ from valterm.core.val.parser import (
 )
 
 T = TypeVar("T")
-MAX_CALL_DEPTH = 20
 _N = NAME
 
 # -- CALL with arguments --------------------------------------------------------------------
@@ -55,10 +53,9 @@ class Argument:
 
 
 @dataclass(frozen=True, slots=True)
-class VCall(Control):
+class VCall(Call):
     """CALL name(args): parameters and AUTO variables saved, bound, restored on return."""
 
-    program: str = ""
     arguments: tuple[Callable[[], Argument], ...] = ()
     machine: Machine | None = field(default=None, repr=False)
     variables: dict[str, float] = field(default_factory=dict, repr=False)
@@ -68,21 +65,12 @@ class VCall(Control):
         return self.program
 
     def control(self, run: Run, call: Callable[[str], CompiledProgram]) -> Events:
-        caller, program = run.program.name, self.callee()
-        if len(run.frames) >= MAX_CALL_DEPTH:
-            raise RunStop(f"CALL {program}: MORE THAN {MAX_CALL_DEPTH} NESTED CALLS", caller, self.step.step)
-        try:
-            sub = call(program)
-        except RunStop as stop:
-            raise RunStop(f"CALL {program}: {stop.message}", caller, self.step.step) from None
-        if not sub.analysis.structure_ok:
-            for diagnostic in sub.analysis.fatal:
-                yield Error(sub.name, diagnostic.step, diagnostic.message)
-            raise RunStop(f"CALL {program}: THE PROGRAM CANNOT RUN", caller, self.step.step)
+        program = self.callee()
+        sub = yield from self.called(run, call, program)
         parameters = list(sub.analysis.program.parameters)
         if len(self.arguments) > len(parameters):
             raise RunStop(f"CALL {program}: {len(self.arguments)} ARGUMENTS FOR "
-                          f"{len(parameters)} PARAMETERS", caller, self.step.step)
+                          f"{len(parameters)} PARAMETERS", run.program.name, self.step.step)
         values = [argument() for argument in self.arguments]  # in the caller's scope
         restore = self._bind(parameters, values, sub.analysis.autos)
         return run.enter(sub, self.next, restore)
@@ -250,11 +238,10 @@ def _call(c: Build, st: Statement) -> Op:
     arguments = tuple(_argument(c, t) for t in texts if t)
     if st.command == "CALLS":  # the program a string names when the step runs
         named = compile_string(name, controller_of(c))
-        return VCallS(c.step, c.next, c.next, "", arguments, controller_of(c), c.variables, c.sim.locations,
-                      named)
-    return VCall(c.step, c.next, c.next, name, arguments, controller_of(c), c.variables,
-                 c.sim.locations)
-
+        return VCallS(c.step, c.next, c.next, "", arguments=arguments, machine=controller_of(c),
+                      variables=c.variables, locations=c.sim.locations, named=named)
+    return VCall(c.step, c.next, c.next, name, arguments=arguments, machine=controller_of(c), variables=c.variables,
+                 locations=c.sim.locations)
 
 
 CALLS: dict[str, Builder] = {"CALL": _call, "CALLS": _call}

@@ -436,3 +436,14 @@ def _speed_statement(rest: str, original: str) -> Statement:
     return Statement("SPEED", (_check("N", values[0]), always or unit == "MONITOR", _SPEED_UNITS.get(unit, 0.0)),
                      original)
 
+
+
+def block_opened(text: str) -> str | None:
+    """FOR, CASE, WHILE, DO or IF (with THEN) when a step that failed to decode starts with one:
+    the block is still open (its END is not a stray one)."""
+    words = strip_comment(text).upper().replace(",", " ").split()
+    if not words:
+        return None
+    if words[0] in ("FOR", "CASE", "WHILE", "DO"):
+        return words[0]
+    return "IF" if words[0] == "IF" and "GOTO" not in words else None
