@@ -10,6 +10,7 @@ compiled again by the builder against the interpreter's ``Machine``.
 from __future__ import annotations
 
 import re
+from collections.abc import Callable
 
 from valterm.core.errors import ValtermError
 from valterm.core.files.commandfile import CommandSpec, default_commands
@@ -163,7 +164,7 @@ _ROBOT_ATTACH = re.compile(r"^(ATTACH|DETACH)\s*(?:\(\s*0?\s*\))?\s*$")
 
 
 def _decode(upper: str, original: str) -> Statement:
-    for decoder in (_structure, _assignment, _command, _robot_selection):
+    for decoder in (_block_statement, _assignment, _command, _robot_selection):
         found = decoder(upper, original)
         if found is not None:
             return found
@@ -186,7 +187,9 @@ def _robot_selection(upper: str, original: str) -> Statement | None:
     return None
 
 
-def _structure(upper: str, original: str) -> Statement | None:
+def _block_statement(upper: str, original: str) -> Statement | None:
+    """FOR, CASE, VALUE, ANY, WHILE, IF, UNTIL, EXIT, NEXT, GOTO, CALL, CALLS: the block
+    structure and CALL, as V+ writes them (pass 1 matches the blocks: ``compiler``)."""
     if match := _FOR.match(upper):
         var, start, stop, step = match.groups()
         return Statement("FOR", (var, _check("N", start), _check("N", stop),
@@ -330,77 +333,128 @@ def _count(word: str, parts: list[str], low: int, high: int, usage: str) -> None
 
 
 def _with_arguments(word: str, rest: str, parts: list[str], original: str) -> Statement:
-    if word in _ONE_VALUE:
-        _count(word, parts, 1, 1, "<value>")
-        return Statement(word, (_check("N", parts[0]),), original)
-    if word in HAND:
-        _count(word, parts, 0, 1, "{<value>}")
-        return Statement(word, (_check("N", parts[0]) if parts else None,), original)
-    if word in _MOTIONS:
-        with_hand = word.endswith("T")
-        _count(word, parts, 2 if with_hand else 1, 2 if with_hand else 1,
-               "<location>, <hand>" if with_hand else "<location>")
-        return Statement(word, (_check("L", parts[0]), _check("N", parts[1]) if with_hand else None), original)
-    if word in ("APPRO", "APPROS"):
-        _count(word, parts, 2, 2, "<location>, <distance>")
-        return Statement(word, (_check("L", parts[0]), _check("N", parts[1])), original)
-    if word in ("DRIVE", "DRAW", "BASE"):
-        _count(word, parts, 3 if word == "DRIVE" else 0, 4 if word == "BASE" else 3, "<values>")
-        values = tuple(_check("N", p) if p else None for p in parts)
-        if word == "DRIVE":
-            joint = compile_number(values[0] or "0").const
-            if joint is not None and (joint != int(joint) or not 1 <= joint <= 6):
-                raise ValSyntaxError(f"DRIVE: JOINT NUMBER {joint:g} IS NOT 1 TO 6")
-        return Statement(word, values, original)
-    if word in ("AUTO", "LOCAL", "GLOBAL"):
-        return Statement("AUTO" if word != "GLOBAL" else "GLOBAL", (_declared(word, rest),), original)
-    if word in TUNING:
-        profile = re.match(r"\s*\(([^()]*)\)\s*(?=[^,\s])", rest) if word == "ACCEL" else None
-        if profile is not None:  # ACCEL (profile) acc, dec: the profile number is checked, not modelled
-            _check("N", profile.group(1))
-            rest = rest[profile.end():]
-        tuning = [p for p in split_top(re.sub(r"\bALWAYS\s*$", "", rest).strip()) if p]
-        _count(word, tuning, 0, 2 if word in ("ACCEL", "FINE", "COARSE") else 1, "{<value>} {ALWAYS}")
-        return Statement(word, tuple(_check("N", v) for v in tuning), original)
-    if word == "SPEED":
-        return _speed_statement(rest, original)
-    if word in ("HERE", "TOOL"):
-        _count(word, parts, 1, 1, "<location>")
-        target = parts[0]
-        element = re.fullmatch(rf"({_N})\s*\[(.+)\]", target)
-        if word == "HERE" and element is not None:
-            for index in split_top(element.group(2)):
-                _check("N", index)
-        elif word == "HERE" and not re.fullmatch(rf"#?{_N}", target):
-            raise ValSyntaxError(f"HERE: {target} IS NOT A LOCATION NAME")
-        return Statement(word, (target if word == "HERE" else _check("L", target),), original)
-    if word == "TYPE":
-        try:
-            output_list(original[4:], None)
-        except ControllerFunction as error:
-            raise ControllerOnly(str(error)) from None
-        except (ExprError, ValtermError, ValueError) as error:
-            raise ValSyntaxError(str(error)) from None
-        return Statement("TYPE", (original[4:].strip(),), original, None, 1)
-    if word == "SIGNAL":
-        _count(word, parts, 1, 64, "<signal>, ...")
-        return Statement("SIGNAL", tuple(_check("N", p) for p in parts), original)
-    if word == "WAIT":
-        return Statement("WAIT", (_check("N", rest) if rest else None,), original)
-    if word == "WAIT.EVENT":
-        seconds = parts[-1] if len(parts) == 2 else ""
-        if len(parts) != 2 or not seconds:
-            raise ValSyntaxError("WAIT.EVENT: EXPECTED WAIT.EVENT , <seconds>")
-        return Statement(word, (_check("N", seconds),), original)
-    if word in ("REACT", "REACTI", "IGNORE"):
-        _count(word, parts, 1, 3, "<signal>, <program>")
-        return Statement(word, (_check("N", parts[0]), *parts[1:]), original)
-    if word in ("ENABLE", "DISABLE"):
-        _count(word, parts, 1, 32, "<switch>, ...")
-        return Statement(word, tuple(p for p in parts), original)
-    if word == "SET":
-        raise ValSyntaxError("SET: EXPECTED SET <location> = <location expression>")
-    raise ValSyntaxError(f"{word}: NOT UNDERSTOOD")
+    shape = _SHAPES.get(word)
+    if shape is None:
+        raise ValSyntaxError(f"{word}: NOT UNDERSTOOD")
+    return shape(word, rest, parts, original)
+
+
+def _one_value(word: str, rest: str, parts: list[str], original: str) -> Statement:
+    _count(word, parts, 1, 1, "<value>")
+    return Statement(word, (_check("N", parts[0]),), original)
+
+
+def _hand_value(word: str, rest: str, parts: list[str], original: str) -> Statement:
+    _count(word, parts, 0, 1, "{<value>}")
+    return Statement(word, (_check("N", parts[0]) if parts else None,), original)
+
+
+def _motion(word: str, rest: str, parts: list[str], original: str) -> Statement:
+    with_hand = word.endswith("T")
+    _count(word, parts, 2 if with_hand else 1, 2 if with_hand else 1,
+           "<location>, <hand>" if with_hand else "<location>")
+    return Statement(word, (_check("L", parts[0]), _check("N", parts[1]) if with_hand else None), original)
+
+
+def _approach(word: str, rest: str, parts: list[str], original: str) -> Statement:
+    _count(word, parts, 2, 2, "<location>, <distance>")
+    return Statement(word, (_check("L", parts[0]), _check("N", parts[1])), original)
+
+
+def _values(word: str, rest: str, parts: list[str], original: str) -> Statement:
+    """DRIVE, DRAW, BASE."""
+    _count(word, parts, 3 if word == "DRIVE" else 0, 4 if word == "BASE" else 3, "<values>")
+    values = tuple(_check("N", p) if p else None for p in parts)
+    if word == "DRIVE":
+        joint = compile_number(values[0] or "0").const
+        if joint is not None and (joint != int(joint) or not 1 <= joint <= 6):
+            raise ValSyntaxError(f"DRIVE: JOINT NUMBER {joint:g} IS NOT 1 TO 6")
+    return Statement(word, values, original)
+
+
+def _declaration(word: str, rest: str, parts: list[str], original: str) -> Statement:
+    return Statement("AUTO" if word != "GLOBAL" else "GLOBAL", (_declared(word, rest),), original)
+
+
+def _tuning(word: str, rest: str, parts: list[str], original: str) -> Statement:
+    profile = re.match(r"\s*\(([^()]*)\)\s*(?=[^,\s])", rest) if word == "ACCEL" else None
+    if profile is not None:  # ACCEL (profile) acc, dec: the profile number is checked, not modelled
+        _check("N", profile.group(1))
+        rest = rest[profile.end():]
+    tuning = [p for p in split_top(re.sub(r"\bALWAYS\s*$", "", rest).strip()) if p]
+    _count(word, tuning, 0, 2 if word in ("ACCEL", "FINE", "COARSE") else 1, "{<value>} {ALWAYS}")
+    return Statement(word, tuple(_check("N", v) for v in tuning), original)
+
+
+def _speed(word: str, rest: str, parts: list[str], original: str) -> Statement:
+    return _speed_statement(rest, original)
+
+
+def _location_target(word: str, rest: str, parts: list[str], original: str) -> Statement:
+    """HERE name (loc[i], #point), TOOL location."""
+    _count(word, parts, 1, 1, "<location>")
+    target = parts[0]
+    element = re.fullmatch(rf"({_N})\s*\[(.+)\]", target)
+    if word == "HERE" and element is not None:
+        for index in split_top(element.group(2)):
+            _check("N", index)
+    elif word == "HERE" and not re.fullmatch(rf"#?{_N}", target):
+        raise ValSyntaxError(f"HERE: {target} IS NOT A LOCATION NAME")
+    return Statement(word, (target if word == "HERE" else _check("L", target),), original)
+
+
+def _type_list(word: str, rest: str, parts: list[str], original: str) -> Statement:
+    try:
+        output_list(original[4:], None)
+    except ControllerFunction as error:
+        raise ControllerOnly(str(error)) from None
+    except (ExprError, ValtermError, ValueError) as error:
+        raise ValSyntaxError(str(error)) from None
+    return Statement("TYPE", (original[4:].strip(),), original, None, 1)
+
+
+def _signals(word: str, rest: str, parts: list[str], original: str) -> Statement:
+    _count(word, parts, 1, 64, "<signal>, ...")
+    return Statement("SIGNAL", tuple(_check("N", p) for p in parts), original)
+
+
+def _wait(word: str, rest: str, parts: list[str], original: str) -> Statement:
+    return Statement("WAIT", (_check("N", rest) if rest else None,), original)
+
+
+def _wait_event(word: str, rest: str, parts: list[str], original: str) -> Statement:
+    seconds = parts[-1] if len(parts) == 2 else ""
+    if len(parts) != 2 or not seconds:
+        raise ValSyntaxError("WAIT.EVENT: EXPECTED WAIT.EVENT , <seconds>")
+    return Statement(word, (_check("N", seconds),), original)
+
+
+def _reaction(word: str, rest: str, parts: list[str], original: str) -> Statement:
+    _count(word, parts, 1, 3, "<signal>, <program>")
+    return Statement(word, (_check("N", parts[0]), *parts[1:]), original)
+
+
+def _switches(word: str, rest: str, parts: list[str], original: str) -> Statement:
+    _count(word, parts, 1, 32, "<switch>, ...")
+    return Statement(word, tuple(p for p in parts), original)
+
+
+def _set_alone(word: str, rest: str, parts: list[str], original: str) -> Statement:
+    raise ValSyntaxError("SET: EXPECTED SET <location> = <location expression>")
+
+
+_Shape = Callable[[str, str, list[str], str], Statement]
+_SHAPES: dict[str, _Shape] = {
+    **{word: _one_value for word in _ONE_VALUE}, **{word: _hand_value for word in HAND},
+    **{word: _motion for word in _MOTIONS}, "APPRO": _approach, "APPROS": _approach,
+    "DRIVE": _values, "DRAW": _values, "BASE": _values,
+    "AUTO": _declaration, "LOCAL": _declaration, "GLOBAL": _declaration, **{word: _tuning for word in TUNING},
+    "SPEED": _speed, "HERE": _location_target, "TOOL": _location_target, "TYPE": _type_list,
+    "SIGNAL": _signals, "WAIT": _wait, "WAIT.EVENT": _wait_event,
+    "REACT": _reaction, "REACTI": _reaction, "IGNORE": _reaction, "ENABLE": _switches, "DISABLE": _switches,
+    "SET": _set_alone,
+}
+"""How each V+ statement with arguments is decoded (its word -> its shape)."""
 
 
 def _declared(word: str, rest: str) -> tuple[str, ...]:
