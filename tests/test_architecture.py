@@ -16,6 +16,7 @@ from radon.complexity import cc_visit
 PACKAGE = Path(__file__).resolve().parent.parent / "valterm"
 MAX_FUNCTION_LINES = 80
 MAX_COMPLEXITY = 25  # McCabe's cyclomatic complexity, as radon counts it (issue 37)
+MAX_MODULE_LINES = 1000
 
 
 def test_import_contracts_are_kept() -> None:
@@ -102,6 +103,12 @@ def test_no_function_over_complexity_25() -> None:
                 tangled.append(f"{path.relative_to(PACKAGE.parent)}:{block.lineno} {block.name} "
                                f"(complexity {block.complexity})")
     assert tangled == []
+
+
+def test_no_module_over_1000_lines() -> None:
+    long = [f"{path.relative_to(PACKAGE.parent)} ({count} lines)" for path in sorted(PACKAGE.rglob("*.py"))
+            if (count := len(path.read_text(encoding="utf-8").splitlines())) > MAX_MODULE_LINES]
+    assert long == []
 
 
 def test_no_modules_looked_up_by_name() -> None:
