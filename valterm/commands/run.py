@@ -188,7 +188,8 @@ def run(args: argparse.Namespace) -> int:
     except (FileFormatError, WorkspaceError, FileNotFoundError, OSError) as error:
         return fail(error, FAILURE)
     sim.collision_checks = bool(args.collisions)
-    dialect = "v+" if "v+" in (args.dialect, main.dialect) else "1985"
+    # the program's own dialect when it says one (a V+ file's), else --dialect's (as the interpreter)
+    dialect = main.dialect if main.dialect != dialects.DEFAULT else (args.dialect or dialects.DEFAULT)
     sim.set_rules(getattr(args, "rules", None) or rules_of_dialect(dialect))  # SPEC §3a
     load_called = workspace.program_loader(program_path.resolve().parent)
 
@@ -242,10 +243,9 @@ def _write_end(args: argparse.Namespace, sim: Any, interpreter: Any, out: Any, m
     from valterm.core.text.transcript import where_lines
 
     where = sim.where()
-    if "v+" in (main.dialect, interpreter.dialect):
-        from valterm.core.val.dialects.vplus.settings import vplus_where
-
-        where = vplus_where(where)  # a V+ program's readout: X Y Z yaw pitch roll
+    readout = dialects.dialect(main.dialect if main.dialect != dialects.DEFAULT else interpreter.dialect).readout
+    if readout is not None:
+        where = readout(where)  # the dialect's convention (a V+ program's: X Y Z yaw pitch roll)
     panel = interpreter.machine.signals
     end = End(where=where.to_json(), variables=dict(interpreter.variables),
               cycle_time_s=round(interpreter.cycle_seconds, 3),  # the interpreter's clock

@@ -8,9 +8,10 @@ dialect, never its name; each dialect is a package under ``valterm.core.val.dial
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 
+from valterm.core.events import Where
 from valterm.core.val.builders import Builder
 from valterm.core.val.compiler import Grammar
 
@@ -26,6 +27,9 @@ class Dialect:
     missing_program: str = "{name}.DAT"  # where a CALLed program was looked for, as CHECK's warning says it
     signals_in_status: bool = False  # STATUS typed at the prompt types the I/O panel's line too
     data_sections: bool = False  # its programs come from files with data sections (.LOCATIONS, .REALS)
+    rules: str = "1985"  # the joint-state rules its programs run under by default (core/rules.py, SPEC §3a)
+    # WHERE's readout in the dialect's convention (V+: yaw pitch roll); the thesis's O A T as it is
+    readout: Callable[[Where], Where] | None = None
 
     @property
     def name(self) -> str:

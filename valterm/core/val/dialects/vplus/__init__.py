@@ -28,6 +28,7 @@ from __future__ import annotations
 from valterm.core.val.compiler import Grammar
 from valterm.core.val.dialect import Dialect
 from valterm.core.val.dialects.vplus.builders import VPLUS_BUILDERS
+from valterm.core.val.dialects.vplus.settings import vplus_where
 from valterm.core.val.dialects.vplus.statements import block_opened, parse_vplus
 
 DIALECT = Dialect(
@@ -35,4 +36,6 @@ DIALECT = Dialect(
     "V+ (ADEPT V+ REFERENCE)", VPLUS_BUILDERS,
     stops_at_error=True,  # the controller stops a program at a step that fails
     missing_program="in the file or the workspace",  # V+ programs live in files (docs/VPLUS.md)
-    signals_in_status=True, data_sections=True)
+    signals_in_status=True, data_sections=True,
+    rules="controller",  # a real PUMA under V+ (SPEC §3a)
+    readout=vplus_where)
