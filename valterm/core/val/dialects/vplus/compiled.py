@@ -11,7 +11,6 @@ from valterm.core.events import Message
 from valterm.core.transform import Transform
 from valterm.core.val.builders import Build
 from valterm.core.val.dialects.vplus.expr import (
-    NAME,
     compile_location,
     compile_number,
     compile_precision,
@@ -28,7 +27,6 @@ from valterm.core.val.ops import (
     RunStop,
 )
 
-_N = NAME
 
 def controller_of(c: Build) -> Machine:
     machine = c.machine
@@ -47,7 +45,6 @@ def location_of(c: Build, text: str) -> Callable[[Values], Transform]:
 
 def store_location(c: Build, name: str, transform: Transform) -> None:
     c.sim.locations[name] = transform.location()
-
 
 
 def _no_events() -> Events:

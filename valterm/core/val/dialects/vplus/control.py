@@ -191,7 +191,6 @@ def _nothing(c: Build, st: Statement) -> Op:
     return c.jump(c.next)
 
 
-
 CONTROL: dict[str, Builder] = {
     ASSIGN: _assign, "FOR": _for, "END": _end, "CASE": _case, "VALUE": _value_or_any, "ANY": _value_or_any,
     "IF": _if, "WHILE": _while, "UNTIL": _until, "EXIT": _exit_or_next, "NEXT": _exit_or_next,

@@ -160,7 +160,6 @@ def _with_numbers(c: Build, st: Statement) -> Op:
     return reacting(c, run)
 
 
-
 MOTIONS: dict[str, Builder] = {
     "MOVE": _move, "MOVES": _move, "MOVET": _move, "MOVEST": _move, "APPRO": _appro, "APPROS": _appro,
     "DEPART": _depart, "DEPARTS": _depart, **{word: _hand for word in HAND}, "DELAY": _delay,

@@ -135,7 +135,6 @@ def _type(c: Build, st: Statement) -> Op:
     return c.action(run)
 
 
-
 def _timer(c: Build, st: Statement) -> Op:
     number, value = number_of(c, st.args[0]), number_of(c, st.args[1])
     machine = controller_of(c)

@@ -472,7 +472,6 @@ def _declared(word: str, rest: str) -> tuple[str, ...]:
     return tuple(names)
 
 
-
 _SPEED_UNITS = {"MMPS": 1.0, "IPS": 25.4}  # tool tip speed units, in mm/s
 
 
@@ -489,7 +488,6 @@ def _speed_statement(rest: str, original: str) -> Statement:
         _check("N", value)  # the rotation factor of straight lines: checked, not modelled
     return Statement("SPEED", (_check("N", values[0]), always or unit == "MONITOR", _SPEED_UNITS.get(unit, 0.0)),
                      original)
-
 
 
 def block_opened(text: str) -> str | None:
