@@ -18,7 +18,10 @@
 - ``transcript``: events as text lines
 - ``typeout``: TYPE's output list (quoted text, values, /F /I /E /H /X /C formats)
 - ``machine``: the controller's state (signals, strings, precision points, timers, TOOL)
-- ``dialects``: one package per dialect with its statement table: ``val1985`` (the thesis's
-  COMMAND.DAT, ``BUILDERS``), ``vplus`` (issue 14, docs/VPLUS.md: ``parse_vplus``,
-  ``VPLUS_BUILDERS``, V+ expressions); docs/ARCHITECTURE.md says how to add one
+- ``dialect``: ``Dialect``, what a dialect is to the shared core (its ``Grammar`` for pass 1,
+  its statement table, how its controller differs)
+- ``dialects``: the registry (``NAMES``, ``dialect(name)``, ``check_dialect``) and one
+  package per dialect with its statement table: ``val1985`` (the thesis's COMMAND.DAT,
+  ``BUILDERS``), ``vplus`` (issue 14, docs/VPLUS.md: ``parse_vplus``, ``VPLUS_BUILDERS``,
+  V+ expressions); docs/ARCHITECTURE.md says how to add one
 """
