@@ -11,9 +11,12 @@ from pathlib import Path
 
 import grimp
 import pytest
+from radon.complexity import cc_visit
 
 PACKAGE = Path(__file__).resolve().parent.parent / "valterm"
 MAX_FUNCTION_LINES = 80
+MAX_COMPLEXITY = 25  # McCabe's cyclomatic complexity, as radon counts it (issue 37)
+MAX_MODULE_LINES = 1000
 
 
 def test_import_contracts_are_kept() -> None:
@@ -87,6 +90,24 @@ def test_no_function_over_80_lines() -> None:
             length = (function.end_lineno or function.lineno) - function.lineno + 1
             if length > MAX_FUNCTION_LINES:
                 long.append(f"{path.relative_to(PACKAGE.parent)}:{function.lineno} {function.name} ({length} lines)")
+    assert long == []
+
+
+def test_no_function_over_complexity_25() -> None:
+    """A function with more than 25 paths through it is a table or several functions (issue 37:
+    the V+ statement decoder was 52)."""
+    tangled = []
+    for path in sorted(PACKAGE.rglob("*.py")):
+        for block in cc_visit(path.read_text(encoding="utf-8")):  # functions and methods (and classes: "C")
+            if block.letter in "FM" and block.complexity > MAX_COMPLEXITY:
+                tangled.append(f"{path.relative_to(PACKAGE.parent)}:{block.lineno} {block.name} "
+                               f"(complexity {block.complexity})")
+    assert tangled == []
+
+
+def test_no_module_over_1000_lines() -> None:
+    long = [f"{path.relative_to(PACKAGE.parent)} ({count} lines)" for path in sorted(PACKAGE.rglob("*.py"))
+            if (count := len(path.read_text(encoding="utf-8").splitlines())) > MAX_MODULE_LINES]
     assert long == []
 
 

@@ -13,7 +13,8 @@ from valterm.core import resources
 from valterm.core.cell.polyhedron import Polyhedron
 from valterm.core.cell.workcell import WorkCell
 from valterm.core.collision.world import CollisionWorld
-from valterm.core.collision.frames import RobotScene, thickness
+from valterm.core.collision.arrays import thickness
+from valterm.core.collision.frames import RobotScene
 from valterm.core.events import Collision
 from valterm.core.files.locations import read_locations
 from valterm.core.files.setup import read_setup
@@ -570,7 +571,7 @@ def test_steps_turning_alike_reuse_the_fixed_lengths_pass_with_the_same_moments(
 def test_the_frames_laid_out_in_one_call_are_those_of_stacked():
     """``_update`` lays the frames out for its product with one ``take``: the same numbers as
     ``_stacked``, for the simulator's seven frames and for a longer stack (its first frames)."""
-    from valterm.core.collision.frames import _stacked
+    from valterm.core.collision.arrays import stacked as _stacked
     sim = Simulator(WorkCell())
     scene = sim._collision_scene()
     rng = np.random.default_rng(7)

@@ -11,7 +11,7 @@ import pytest
 from valterm.cli import main
 from valterm.core.errors import RefusedValue, ValtermError
 from valterm.core.kinematics import Config
-from valterm.core.val.interpreter import check_dialect
+from valterm.core.val.dialects import check_dialect
 
 
 def test_refused_values_are_the_project_s_errors() -> None:

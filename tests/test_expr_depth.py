@@ -9,7 +9,7 @@ import pytest
 
 from valterm.cli import main
 from valterm.core.val.expr import MAX_NESTING, ExprError, compile_expr
-from valterm.core.val.vexpr import compile_number
+from valterm.core.val.dialects.vplus.expr import compile_number
 
 DEEP = "X = " + "(" * 124 + "1" + ")" * 124  # 252 characters: the line
 

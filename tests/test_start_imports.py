@@ -10,7 +10,7 @@ import subprocess
 import sys
 
 HEAVY = ("trimesh", "fcl", "valterm.core.cad.iges", "valterm.core.cad.iges_entities",
-         "valterm.core.val.interpreter", "valterm.core.val.debugger", "valterm.core.val.vplus")
+         "valterm.core.val.interpreter", "valterm.core.val.debugger", "valterm.core.val.dialects.vplus")
 
 
 def _loaded(code: str) -> list[str]:

@@ -11,7 +11,7 @@ from test_val_interpreter import FakeSim, make
 from valterm.core.errors import ValtermError
 from valterm.core.events import Error, Event, Message, Step, TypeOut
 from valterm.core.kinematics import CONFIG_WORDS, Config, indicator_kind
-from valterm.core.val.builders import BUILDERS
+from valterm.core.val.dialects.val1985.builders import BUILDERS
 from valterm.core.val.checker import check_program
 from valterm.core.val.expr import (
     ExprError,

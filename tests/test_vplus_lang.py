@@ -21,7 +21,8 @@ from valterm.core.files.vplus import format_vplus, parse_vplus, read_vplus
 from valterm.core.kinematics import Location
 from valterm.core.simulator import Simulator
 from valterm.core.val.checker import check_program
-from valterm.core.val.interpreter import Interpreter, check_dialect, program_from_lines
+from valterm.core.val.dialects import check_dialect
+from valterm.core.val.interpreter import Interpreter, program_from_lines
 
 PROGRAMS = Path(__file__).resolve().parent.parent / "programs"
 

@@ -14,13 +14,14 @@ from pathlib import Path
 
 from valterm.commands import FAILURE, OK, say
 from valterm.core.files.errors import FileFormatError
+from valterm.core.val import dialects
 
 
 def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     parser = subparsers.add_parser("check", help="syntax-check VAL-II programs (.DAT)")
     parser.add_argument("files", nargs="+", metavar="FILE.DAT",
                         help="a path (.DAT, or a V+ file .v2/.pg with .PROGRAM blocks), or a program name in the workspace")
-    parser.add_argument("--dialect", choices=("1985", "v+"), default=None,
+    parser.add_argument("--dialect", choices=dialects.NAMES, default=None,
                         help="the language to check against (default: 1985 for .DAT, v+ for .v2/.pg)")
     parser.set_defaults(func=run)
 

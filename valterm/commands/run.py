@@ -44,6 +44,7 @@ from valterm.core.errors import RefusedValue
 from valterm.commands import FAILURE, OK, USAGE, fail
 from valterm.commands.limits import add_limit_flags, limits_from
 from valterm.commands.robots import add_robot_option, robot_from
+from valterm.core.val import dialects
 
 
 def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
@@ -55,7 +56,7 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) ->
                         help="execution passes (EXECUTE name,N; negative = 1000)")
     parser.add_argument("--json", action="store_true", help="JSON lines, one event each")
     parser.add_argument("--collisions", action="store_true", help="check collisions at every motion step")
-    parser.add_argument("--dialect", choices=("1985", "v+"), default=None,
+    parser.add_argument("--dialect", choices=dialects.NAMES, default=None,
                         help="the language of .DAT programs (default 1985; a .v2/.pg file is always v+)")
     parser.add_argument("--rules", choices=("1985", "controller"), default=argparse.SUPPRESS,
                         help="the joint-state rules (default: 1985 for the 1985 dialect, controller for v+; "
@@ -187,7 +188,8 @@ def run(args: argparse.Namespace) -> int:
     except (FileFormatError, WorkspaceError, FileNotFoundError, OSError) as error:
         return fail(error, FAILURE)
     sim.collision_checks = bool(args.collisions)
-    dialect = "v+" if "v+" in (args.dialect, main.dialect) else "1985"
+    # the program's own dialect when it says one (a V+ file's), else --dialect's (as the interpreter)
+    dialect = main.dialect if main.dialect != dialects.DEFAULT else (args.dialect or dialects.DEFAULT)
     sim.set_rules(getattr(args, "rules", None) or rules_of_dialect(dialect))  # SPEC §3a
     load_called = workspace.program_loader(program_path.resolve().parent)
 
@@ -241,10 +243,9 @@ def _write_end(args: argparse.Namespace, sim: Any, interpreter: Any, out: Any, m
     from valterm.core.text.transcript import where_lines
 
     where = sim.where()
-    if "v+" in (main.dialect, interpreter.dialect):
-        from valterm.core.val.vplus import vplus_where
-
-        where = vplus_where(where)  # a V+ program's readout: X Y Z yaw pitch roll
+    readout = dialects.dialect(main.dialect if main.dialect != dialects.DEFAULT else interpreter.dialect).readout
+    if readout is not None:
+        where = readout(where)  # the dialect's convention (a V+ program's: X Y Z yaw pitch roll)
     panel = interpreter.machine.signals
     end = End(where=where.to_json(), variables=dict(interpreter.variables),
               cycle_time_s=round(interpreter.cycle_seconds, 3),  # the interpreter's clock

@@ -35,9 +35,10 @@ from valterm.core.robot_choice import check_robot
 from valterm.core.rules import check_rules, rules_of_dialect
 from valterm.core.simulator import Simulator
 from valterm.core.text.transcript import event_lines
-from valterm.core.val.builders import CLOSED_ON_AIR
 from valterm.core.val.checker import check_program
-from valterm.core.val.interpreter import Interpreter, check_dialect
+from valterm.core.val.dialects import check_dialect
+from valterm.core.val.dialects.val1985.builders import CLOSED_ON_AIR
+from valterm.core.val.interpreter import Interpreter
 from valterm.core.val.limits import RunLimits
 
 PROGRAM_EXTENSIONS = (".DAT", *VPLUS_EXTENSIONS)

@@ -28,5 +28,8 @@ def check_rules(name: str) -> str:
 
 
 def rules_of_dialect(dialect: str) -> str:
-    """The default rules of a dialect: the thesis's for 1985, the controller's for v+."""
-    return CONTROLLER if dialect.strip().lower() == "v+" else RULES_1985
+    """The default rules of a dialect (its ``Dialect.rules``): the thesis's for 1985, the
+    controller's for v+."""
+    from valterm.core.val.dialects import dialect as named  # loads that dialect only when asked
+
+    return named(dialect).rules

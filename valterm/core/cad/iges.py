@@ -85,21 +85,8 @@ class IgesModel:
         sections: dict[str, list[tuple[int, str]]] = {s: [] for s in _SECTIONS}
         order = ""
         for number, line in enumerate(lines, 1):
-            line = line.rstrip("\r")
-            bad = re.search(r"[\x00-\x08\x0b-\x1f\x7f-\x9f]", line)
-            if bad:
-                raise self.error(number, f"binary data (byte 0x{ord(bad.group()):02x} in column {bad.start() + 1}): "
-                                         "not an ASCII IGES file")
-            if len(line) != 80:
-                if len(line) > 72 and line[72] == "T" and len(line.rstrip()) <= 80:
-                    line = line.ljust(80)  # some writers trim the blanks off the last line
-                else:
-                    raise self.error(number, f"line is {len(line)} columns long; IGES lines have 80")
+            line = self._card(number, line.rstrip("\r"))
             letter = line[72]
-            if letter in "BC":
-                raise self.error(number, "binary or compressed IGES is not supported (export ASCII IGES)")
-            if letter not in _SECTIONS:
-                raise self.error(number, f"column 73 holds {letter!r}, not a section letter (S, G, D, P, T)")
             if not order or order[-1] != letter:
                 if letter in order or (order and _SECTIONS.index(letter) < _SECTIONS.index(order[-1])):
                     raise self.error(number, f"section {letter} out of order (sections run S, G, D, P, T)")
@@ -121,6 +108,24 @@ class IgesModel:
         self._read_global(sections["G"])
         self._read_directory(sections["D"], len(sections["P"]))
         self._read_parameters(sections["P"])
+
+    def _card(self, number: int, line: str) -> str:
+        """One line of the file as an 80-column card of a section (S, G, D, P, T), or why not."""
+        bad = re.search(r"[\x00-\x08\x0b-\x1f\x7f-\x9f]", line)
+        if bad:
+            raise self.error(number, f"binary data (byte 0x{ord(bad.group()):02x} in column {bad.start() + 1}): "
+                                     "not an ASCII IGES file")
+        if len(line) != 80:
+            if len(line) > 72 and line[72] == "T" and len(line.rstrip()) <= 80:
+                line = line.ljust(80)  # some writers trim the blanks off the last line
+            else:
+                raise self.error(number, f"line is {len(line)} columns long; IGES lines have 80")
+        letter = line[72]
+        if letter in "BC":
+            raise self.error(number, "binary or compressed IGES is not supported (export ASCII IGES)")
+        if letter not in _SECTIONS:
+            raise self.error(number, f"column 73 holds {letter!r}, not a section letter (S, G, D, P, T)")
+        return line
 
     def _tokens(self, chunks: list[tuple[int, str]], pdelim: str, rdelim: str, start: int = 0,
                 ) -> tuple[list[str], list[int]]:

@@ -28,31 +28,13 @@ from typing import TYPE_CHECKING, Collection, Literal, Sequence
 import numpy as np
 
 from valterm.core.cell.polyhedron import Polyhedron
-from valterm.core.collision.thesis import (CLEAR, COLLIDES, EPS, NEAR, SEPARATED, Layout, Scene, box_gaps,
-                                           check_pairs, face_planes, figures, largest_of_xyz, layout, margin)
+from valterm.core.collision import arrays
+from valterm.core.collision.thesis import (CLEAR, COLLIDES, EPS, NEAR, SEPARATED, Layout, Scene, check_pairs,
+                                           face_planes, figures, largest_of_xyz, layout, margin)
 from valterm.core.collision.world import CollisionWorld, Finding, _Pairs
 
 if TYPE_CHECKING:
     from valterm.core.collision.exact import FrameExact
-
-
-def thickness(vertices: np.ndarray, k: int) -> float:
-    """The polyhedron's smallest width across its own faces (mm): how thin a part is."""
-    faces = np.asarray(topology_faces(k))
-    v = vertices
-    p = v[faces]                                                    # (F, 4, 3) side quads + caps
-    normal = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
-    size = np.linalg.norm(normal, axis=1)
-    normal = normal[size > 0] / size[size > 0, None]
-    spans = v @ normal.T
-    return float((spans.max(axis=0) - spans.min(axis=0)).min())
-
-
-def topology_faces(k: int) -> list[list[int]]:
-    """Three vertices of each face of an extruded polyhedron (caps, then side quads)."""
-    faces = [[0, 1, 2], [k, k + 1, k + 2]]
-    faces += [[i, (i + 1) % k, k + (i + 1) % k] for i in range(k)]
-    return faces
 
 
 class RobotScene:
@@ -67,12 +49,12 @@ class RobotScene:
                  near_with_collision: bool = False, thesis_axes: bool = True) -> None:
         self.world = CollisionWorld(labels, near_with_collision=near_with_collision)
         # the thesis's link frames: joint j turns about frame j's origin, about the column
-        # _AXIS_COLUMNS gives. Another robot's frames (a DH table's: joint j turns about frame
+        # arrays.AXIS_COLUMNS gives. Another robot's frames (a DH table's: joint j turns about frame
         # j-1's z) get the swept bound from lengths alone (_reach_table): never too small
         self.thesis_axes = thesis_axes
         self.owners = np.asarray(owners, dtype=np.intp)
         self._n_frames = int(self.owners.max()) + 1 if len(self.owners) else 0   # the frames used
-        # flat indices into (links, 4, 4) frames of ``_stacked``'s (4, 3 x frames) layout
+        # flat indices into (links, 4, 4) frames of ``arrays.stacked``'s (4, 3 x frames) layout
         self._stack_pick = (np.arange(self._n_frames)[None, :, None] * 16 + np.arange(3)[None, None, :] * 4
                             + np.arange(4)[:, None, None]).reshape(4, -1)
         self.checker = checker
@@ -115,17 +97,17 @@ class RobotScene:
         self._link_ks = tuple(len(v) // 2 for v in local)
         self._owner_rows = np.repeat(self.owners, [len(v) for v in local])
         self._local_h = np.column_stack([self._local, np.ones(len(self._local))])
-        self._own_flat = _pick(self._owner_rows, self._n_frames)
+        self._own_flat = arrays.pick(self._owner_rows, self._n_frames)
         self._parts = None
         # what a rigid motion keeps: each link's centre and radius in its own frame
         own = Scene.of([Polyhedron(np.asarray(v, dtype=float)) for v in local])
         self._local_centres = np.column_stack([own.centres, np.ones(len(local))])
         # the vertices and the centres placed by one product, each then taken from it
         self._local_all = np.concatenate([self._local_h, self._local_centres])
-        self._own_centre_pick = _pick(self.owners, self._n_frames)
+        self._own_centre_pick = arrays.pick(self.owners, self._n_frames)
         self._centre_pick = self._own_centre_pick + len(self._local) * 3 * self._n_frames
         self._local_radii = own.radii
-        self._link_widths = np.array([thickness(np.asarray(v, dtype=float), len(v) // 2) for v in local])
+        self._link_widths = np.array([arrays.thickness(np.asarray(v, dtype=float), len(v) // 2) for v in local])
         self._linked = None
         self._picks = {}
         if self.checker == "exact":
@@ -160,7 +142,7 @@ class RobotScene:
         scene.apart = self._apart
         self._local_normals = self._local_planes[0].reshape(-1, 3)
         faces = self._local_planes[0].shape[1]
-        self._normal_pick = _pick(np.repeat(self.owners, faces), self._n_frames)
+        self._normal_pick = arrays.pick(np.repeat(self.owners, faces), self._n_frames)
         scene.radii[:nl] = self._local_radii                # nor a link's radius
         scene.stale = np.zeros(len(ks), dtype=bool)
         scene.refresh = self._move_planes
@@ -178,7 +160,7 @@ class RobotScene:
         free = np.array([nl + n - 1 for n in range(1, len(objects) + 1) if n not in set(carried)], dtype=np.intp)
         self._free = free
         self._free_lo, self._free_hi = scene.mid[free] - scene.half[free], scene.mid[free] + scene.half[free]
-        self._groups = _groups(self._free_lo, self._free_hi)
+        self._groups = arrays.groups(self._free_lo, self._free_hi)
         # the carried parts' polyhedra, their vertex rows in the scene, and where each starts
         self._held_at = np.array([nl + c - 1 for c in carried], dtype=np.intp)
         sizes = np.array([2 * objects[c - 1].k for c in carried], dtype=np.intp)
@@ -211,7 +193,7 @@ class RobotScene:
         """World vertices of every link shape at these (links, 4, 4) frames, concatenated."""
         # every vertex in every frame is one 2-D matmul (cheaper than a stack of tiny ones or
         # picking each vertex's frame first); the coordinates wanted are then taken in one call
-        return self._place(_stacked(frames[: self._n_frames]))
+        return self._place(arrays.stacked(frames[: self._n_frames]))
 
     def _place(self, stacked: np.ndarray) -> np.ndarray:
         placed: np.ndarray = (self._local_h @ stacked).take(self._own_flat)
@@ -220,7 +202,7 @@ class RobotScene:
     def _update(self, frames: np.ndarray) -> np.ndarray:
         """Put the links where they are now; the indices of the moving polyhedra."""
         placed, centres, mid, half, starts, lo, hi = self._link_rows
-        stacked = frames.take(self._stack_pick)      # ``_stacked`` in one call: (4, 3 x frames)
+        stacked = frames.take(self._stack_pick)      # ``arrays.stacked`` in one call: (4, 3 x frames)
         # taken straight into the scene's arrays ("wrap": the indices are valid, and numpy
         # buffers a take into ``out`` in its default mode)
         every = self._local_all @ stacked
@@ -271,10 +253,10 @@ class RobotScene:
 
     def _candidates(self, movers: np.ndarray, grow: float) -> np.ndarray:
         """Broad phase: positions among the free parts of those a mover could be near
-        (``_candidates_batch`` at the pose now)."""
+        (``arrays.candidates_batch`` at the pose now)."""
         s = self._scene
         reach = np.array([float(s.radii[movers].max()) + grow])
-        near = _candidates_batch(s.centres[movers][None], reach, self._free_lo, self._free_hi)
+        near = arrays.candidates_batch(s.centres[movers][None], reach, self._free_lo, self._free_hi)
         return np.flatnonzero(near[0])
 
     def _near_pairs(self, movers: np.ndarray, grow: float, n_free: int) -> np.ndarray:
@@ -288,7 +270,7 @@ class RobotScene:
         np.subtract(mid, d, out=d)
         np.abs(d, out=d)
         d -= half
-        near: np.ndarray = at.take(np.flatnonzero(_largest_of(d) <= reach), axis=0).ravel()
+        near: np.ndarray = at.take(np.flatnonzero(arrays.largest_of(d) <= reach), axis=0).ravel()
         return near
 
     def _group_table(self, movers: np.ndarray, grow: float, n_free: int
@@ -392,7 +374,7 @@ class RobotScene:
         _, free, link_pairs = self._exact_pairs
         # the links' centres (fcl's objects are placed by them) as ``_update`` works them out;
         # no vertex is placed: fcl has its own copy of the shapes
-        centres = (self._local_centres @ _stacked(frames[: self._n_frames])).take(self._own_centre_pick)
+        centres = (self._local_centres @ arrays.stacked(frames[: self._n_frames])).take(self._own_centre_pick)
         return self._exact.hits(frames, objects, free, held, link_pairs, self._local_radii, centres, self._parts)
 
     # -- swept motion (issue 13) -----------------------------------------------------------------
@@ -403,7 +385,7 @@ class RobotScene:
             return found[1]
         if len(self._thin) > 4096:
             self._thin.clear()
-        w = thickness(p.vertices, p.k)
+        w = arrays.thickness(p.vertices, p.k)
         self._thin[id(p.vertices)] = (p.vertices, w)
         return w
 
@@ -477,7 +459,7 @@ class RobotScene:
             columns.append((links[0], links[5], links[3], closing, relative))
             picks.append(np.flatnonzero((links[3] <= closing) & (relative > 1.0)))
         sel, b0, both, reach, need = (np.concatenate([c[i].take(p) for c, p in zip(columns, picks)]) for i in range(5))
-        _, moments, rows = _moments(np.ones((1, len(sel)), dtype=bool), sel, b0[None], both[None], reach[None],
+        _, moments, rows = arrays.moments(np.ones((1, len(sel)), dtype=bool), sel, b0[None], both[None], reach[None],
                                     need[None], len(pairs.moving))
         return moments, rows
 
@@ -543,7 +525,7 @@ class RobotScene:
         row = figures.gaps[i]
         if gaps is None:             # the broad phase skipped pairs: their gaps from the boxes
             figures.narrow.append(i - 1)
-            row[:] = _box_gaps(s.mid, s.half, figures.pairs.moving, figures.pairs.stationary)
+            row[:] = arrays.body_box_gaps(s.mid, s.half, figures.pairs.moving, figures.pairs.stationary)
         else:
             row[:] = gaps
         s.centres.take(self._movers, axis=0, out=figures.centres[i - 1])
@@ -601,7 +583,7 @@ class RobotScene:
         halves = half.take(m, axis=1)
         halves += half.take(st, axis=1)
         apart -= halves
-        gaps = _largest_of(apart)                                       # (pairs, poses)
+        gaps = arrays.largest_of(apart)                                       # (pairs, poses)
         # the coarse test (``check_pairs``'s arithmetic) only where the boxes are within its
         # reach (+1 mm): a body's centre lies in its box, so it is never nearer than the box
         reach = s.radii.take(m) + margin(speed)
@@ -612,7 +594,7 @@ class RobotScene:
         coarse = np.abs(centres.reshape(3, -1).take(m.take(pair) * count + pose, axis=1)
                         - mid.reshape(3, -1).take(st_at, axis=1))
         coarse -= half.reshape(3, -1).take(st_at, axis=1)
-        near = _largest_of(coarse) <= reach.take(pair)
+        near = arrays.largest_of(coarse) <= reach.take(pair)
         pair, pose = pair[near], pose[near]
         i = len(figures.keys)
         figures.gaps[i: i + count] = gaps.T
@@ -680,7 +662,7 @@ class RobotScene:
         if figures.narrow and ruled:     # the pairs the broad phase keeps, by the fixed lengths' reach
             narrow = figures.narrow
             reach = far[narrow].sum(axis=2).max(axis=1)
-            near = _candidates_batch(figures.centres[narrow], figures.radii[narrow].max(axis=1) + reach,
+            near = arrays.candidates_batch(figures.centres[narrow], figures.radii[narrow].max(axis=1) + reach,
                                      self._free_lo, self._free_hi)
             both[narrow, :ruled] = np.where(np.tile(near, (1, len(movers))), both[narrow, :ruled], np.inf)
         # the bound from where the bodies are now, of every step. ``swept`` first tries the fixed
@@ -706,7 +688,7 @@ class RobotScene:
             return never
         reach = np.concatenate([moved, closing], axis=1)
         need = np.concatenate([moved / widths, relative], axis=1)
-        step, moments, rows = _moments(pick[k], cols, before[k], both[k], reach[k], need[k], len(pairs.moving))
+        step, moments, rows = arrays.moments(pick[k], cols, before[k], both[k], reach[k], need[k], len(pairs.moving))
         return k.take(step), moments, rows
 
     def meeting(self, frames: np.ndarray, rows: np.ndarray, held: np.ndarray | None) -> np.ndarray:
@@ -734,7 +716,7 @@ class RobotScene:
         low, high = lo.reshape(-1, 3), hi.reshape(-1, 3)
         gap = np.maximum(low.take(b, axis=0) - high.take(a, axis=0), low.take(a, axis=0) - high.take(b, axis=0))
         meet = np.zeros(count, dtype=bool)
-        meet[at[largest_of_xyz(gap) <= EPS + _HAIR]] = True
+        meet[at[largest_of_xyz(gap) <= EPS + arrays.HAIR]] = True
         return meet
 
     def _path_bounds(self, terms: np.ndarray, weights: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -759,11 +741,12 @@ class RobotScene:
         d = centres[:, :, None, :] - frames[:, None, 1: self._n_frames, :3, 3]
         # the distance from each joint's axis (a point turns on a circle about it, not about
         # the frame's origin): the part of d square to the axis
-        axes = frames.reshape(len(frames), -1).take(_AXIS_FLAT, axis=1)  # (steps, joints, 3)
+        axes = frames.reshape(len(frames), -1).take(arrays.AXIS_FLAT, axis=1)  # (steps, joints, 3)
         along = np.einsum("smjk,sjk->smj", d, axes)
         square = np.maximum(np.einsum("smjk,smjk->smj", d, d) - along * along, 0.0)
         now = np.sqrt(square) + radii[:, :, None]
-        terms: np.ndarray = np.minimum(far, (now + far @ _LATER) * turns[:, None, :])  # far @ _LATER: the later joints
+        # far @ LATER: the later joints
+        terms: np.ndarray = np.minimum(far, (now + far @ arrays.LATER) * turns[:, None, :])
         return terms
 
     def _kept_gaps(self, kept: tuple[object, ...] | None, since: object, at: np.ndarray,
@@ -774,7 +757,7 @@ class RobotScene:
                 or kept[2] != self._carried:
             return np.zeros(len(at))
         if kept[3] is None:                       # the boxes were kept (copies)
-            return _box_gaps(kept[4], kept[5], m, st)  # type: ignore[arg-type]
+            return arrays.body_box_gaps(kept[4], kept[5], m, st)  # type: ignore[arg-type]
         gaps: np.ndarray = kept[3].take(at)  # type: ignore[attr-defined]
         return gaps
 
@@ -794,7 +777,7 @@ class RobotScene:
             near = self._candidates(movers, reach)
             sel = (self._sel_parts(pairs, ruled, len(self._free))[0] + near).ravel()
             m, st = pairs.moving.take(sel), pairs.stationary.take(sel)
-            after = _box_gaps(s.mid, s.half, m, st)
+            after = arrays.body_box_gaps(s.mid, s.half, m, st)
             widths = np.maximum(self._widths(objects, st), 1.0)
         before = self._kept_gaps(kept, since, sel, m, st)
         return sel, m, st, before + after - 2.0 * EPS, widths, before
@@ -843,7 +826,7 @@ class RobotScene:
         s = self._scene
         at, i, j = linked[0], linked[1][:, 0], linked[1][:, 1]
         gaps = self._gaps_now
-        after = gaps.take(at) if gaps is not None else _box_gaps(s.mid, s.half, i, j)
+        after = gaps.take(at) if gaps is not None else arrays.body_box_gaps(s.mid, s.half, i, j)
         before = self._kept_gaps(kept, since, at, i, j)
         return at, i, j, before + after - 2.0 * EPS, np.zeros(0), before
 
@@ -974,16 +957,6 @@ _NEVER = (np.zeros(0), np.zeros((0, 0), dtype=bool))
 for _empty in _NEVER:
     _empty.flags.writeable = False
 
-# each joint's axis, a column of its frame's rotation (``kinematics.link_frames``): JT1 turns
-# about z of frame 1, JT2 and JT3 about y of frames 2 and 3, JT4 about z of frame 4, JT5
-# about y of frame 5, JT6 about z of frame 6
-_AXIS_FRAMES = np.arange(1, 7)
-_AXIS_COLUMNS = np.array([2, 1, 1, 2, 1, 2])
-
-# x @ _LATER sums, for each joint, the columns of the joints after it
-_LATER = np.tril(np.ones((6, 6)), -1)
-
-
 def _same_objects(kept: tuple[Polyhedron, ...], objects: Sequence[Polyhedron]) -> bool:
     """Whether ``objects`` are the polyhedra ``kept``, in order: one tuple comparison in C, which
     takes an object as equal to itself at once. Two different polyhedra compare their fields:
@@ -1003,35 +976,6 @@ def _same_free(kept: tuple[Polyhedron, ...], objects: Sequence[Polyhedron], carr
     return _same_objects(kept, now)
 
 
-def _groups(lo: np.ndarray, hi: np.ndarray, size: int = 8) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The free parts in groups of neighbours (halved along the widest spread of their boxes'
-    middles until at most ``size`` are left): each group's members, padded to ``size`` by
-    repeating its last (a pair checked twice gets the same code), and the box holding them, as
-    (3, groups) lows and highs. Built when the parts change; parts stand still between."""
-    mid = (lo + hi) * 0.5
-    todo, done = [np.arange(len(lo))] if len(lo) else [], []
-    while todo:
-        group = todo.pop()
-        if len(group) <= size:
-            done.append(group)
-            continue
-        axis = int(np.argmax(mid[group].max(axis=0) - mid[group].min(axis=0)))
-        ordered = group[np.argsort(mid[group, axis], kind="stable")]
-        todo += [ordered[: len(ordered) // 2], ordered[len(ordered) // 2:]]
-    members = np.array([np.pad(g, (0, size - len(g)), mode="edge") for g in done], dtype=np.intp).reshape(-1, size)
-    group_lo = np.array([lo[g].min(axis=0) for g in done]).reshape(-1, 3).T.copy()
-    group_hi = np.array([hi[g].max(axis=0) for g in done]).reshape(-1, 3).T.copy()
-    return members, group_lo, group_hi
-
-
-# mm: how much nearer than the fine test's EPS two boxes are taken to meet between poses
-# (room for the rounding of boxes worked out in another order; far above it)
-_HAIR = 1e-3
-
-# the joints' axes as flat indices into a pose's (links, 4, 4) frames
-_AXIS_FLAT = (_AXIS_FRAMES[:, None] * 16 + np.arange(3)[None, :] * 4 + _AXIS_COLUMNS[:, None])
-
-
 @dataclass
 class PathFigures:
     """What the swept check keeps of a path's poses (``RobotScene.path_figures``, ``keep_pose``)."""
@@ -1046,68 +990,3 @@ class PathFigures:
     tables: list[np.ndarray]       # their travel tables (``_travel_table``; one when ``rigid``)
     narrow: list[int]              # the poses whose check left pairs to the broad phase
     rigid: bool                    # only links move, on the thesis's axes: radii and table kept once
-
-
-def _candidates_batch(centres: np.ndarray, grow: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
-    """``RobotScene._candidates`` at several poses: (poses, free parts) near the box of the
-    movers' centres (poses, movers, 3) grown by ``grow`` (poses,)."""
-    cmin = centres.min(axis=1) - grow[:, None]
-    cmax = centres.max(axis=1) + grow[:, None]
-    gap = np.maximum(lo[None] - cmax[:, None], cmin[:, None] - hi[None])
-    near: np.ndarray = gap.max(axis=2) <= 0.0
-    return near
-
-
-def _moments(pick: np.ndarray, sel: np.ndarray, b0: np.ndarray, both: np.ndarray, reach: np.ndarray,
-             need: np.ndarray, n_pairs: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The moments of steps at risk and the pairs at each: per step (a row of each argument),
-    the picked columns (pair positions ``sel``) with their gaps at start, gaps at start plus
-    end, bounds and steps needed. Returns each moment's step (a row), the moments (fractions
-    of their steps) and their rows of pairs, step by step in order."""
-    steps = np.ceil(np.where(pick, need, -np.inf).max(axis=1)).astype(np.intp)   # steps of each
-    count = np.maximum(steps - 1, 0)
-    step = np.repeat(np.arange(len(pick)), count)
-    nth = np.arange(len(step)) - np.repeat(np.cumsum(count) - count, count) + 1
-    moments = nth / steps.take(step)
-    reach = reach + 2.0 * EPS
-    # each pair only where its boxes can meet: from b0 / reach to 1 - b1 / reach of the step
-    # (``both`` is b0 + b1 less 2 EPS)
-    early, late = (b0 - 2.0 * EPS) / reach, 1.0 - (both - b0) / reach
-    at = moments[:, None]
-    live = pick[step] & (early[step] <= at) & (at <= late[step])
-    used = live.any(axis=1)
-    rows = np.zeros((int(used.sum()), n_pairs), dtype=bool)
-    rows[:, sel] = live[used]
-    return step[used], moments[used], rows
-
-
-def _largest_of(d: np.ndarray) -> np.ndarray:
-    """``largest_of_xyz`` of (3, ...) coordinates laid side by side: the largest of the three."""
-    out: np.ndarray = np.maximum(d[0], d[1])
-    np.maximum(out, d[2], out=out)
-    return out
-
-
-def _box_gaps(mid: np.ndarray, half: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """How far apart the boxes of bodies a[i] and b[i] are (``box_gaps`` of the bodies' boxes)."""
-    return box_gaps(mid.take(a, axis=0), half.take(a, axis=0), mid.take(b, axis=0), half.take(b, axis=0))
-
-
-def _stacked(frames: np.ndarray) -> np.ndarray:
-    """(links, 4, 4) frames as one (4, 3 * links) matrix: row vector [x y z 1] times it gives
-    the point in every frame at once."""
-    stacked: np.ndarray = frames[:, :3, :].transpose(2, 0, 1).reshape(4, -1)
-    return stacked
-
-
-def _pick(owner_rows: np.ndarray, n_frames: int) -> np.ndarray:
-    """Flat indices into (rows, 3 * n_frames) of each row's three coordinates in its own frame."""
-    rows = np.arange(len(owner_rows))[:, None]
-    pick: np.ndarray = rows * (3 * n_frames) + owner_rows[:, None] * 3 + np.arange(3)
-    return pick
-
-
-def _runs(idx: np.ndarray) -> list[np.ndarray]:
-    """Split sorted indices into runs of consecutive numbers."""
-    breaks = np.flatnonzero(np.diff(idx) != 1) + 1
-    return np.split(idx, breaks)

@@ -10,6 +10,7 @@ from dataclasses import dataclass, field
 
 from valterm.core.files.commandfile import CommandTable, default_commands
 from valterm.core.files.programs import Program, split_label
+from valterm.core.val import dialects
 from valterm.core.val.compiler import Diagnosed, Diagnostic, analyse
 from valterm.core.val.parser import ValSyntaxError, parse_statement
 
@@ -35,10 +36,7 @@ class CheckReport(Diagnosed):
     @property
     def against(self) -> str:
         """Which language the program was checked against: `DIALECT 1985 (COMMAND.DAT)`."""
-        return f"DIALECT {DIALECT_NAMES[self.dialect]}"
-
-
-DIALECT_NAMES = {"1985": "1985 (COMMAND.DAT)", "v+": "V+ (ADEPT V+ REFERENCE)"}
+        return f"DIALECT {dialects.dialect(self.dialect).title}"
 
 
 def check_program(program: Program, table: CommandTable | None = None,
@@ -49,18 +47,14 @@ def check_program(program: Program, table: CommandTable | None = None,
     ``dialect`` ("1985" or "v+") overrides the program's own (a V+ file's programs are v+).
     """
     dialect = dialect or program.dialect
-    if dialect == "v+":
-        from valterm.core.val.vplus import parse_vplus
-
-        analysis = analyse(program, table or default_commands(), parse_vplus, "v+")
-    else:
-        analysis = analyse(program, table or default_commands())
+    language = dialects.dialect(dialect)  # loads that dialect's package (the start loads none)
+    analysis = analyse(program, table or default_commands(), language.grammar)
     diagnostics = list(analysis.diagnostics)
     if program_exists is not None:
         for index, called in analysis.calls:
             if called != program.name and not program_exists(called):
                 step = program.steps[index]
-                where = "in the file or the workspace" if dialect == "v+" else f"{called}.DAT"
+                where = language.missing_program.format(name=called)
                 diagnostics.append(Diagnostic(program.name, index + 1,
                                               f"CALL {called}: there is no program {where}",
                                               "warning", step.line))

@@ -95,15 +95,32 @@ class Analysis(Diagnosed):
 Parse = Callable[[str], Statement]
 
 
-def analyse(program: Program, table: CommandTable | None = None, parse: Parse | None = None,
-            dialect: str = "1985") -> Analysis:
+@dataclass(frozen=True)
+class Grammar:
+    """How pass 1 reads a dialect's steps (``Dialect.grammar``); the defaults are the 1985
+    dialect's: COMMAND.DAT decodes each step."""
+
+    name: str = "1985"  # as ``Program.dialect`` and ``--dialect`` spell it
+    parse: Parse | None = None  # one step (no label) -> Statement; None: COMMAND.DAT's parser
+    # the block a step that does not decode opens (IF, WHILE, DO, FOR, CASE) or None;
+    # None here: the COMMAND.DAT word's
+    opener: Callable[[str], str | None] | None = None
+    ends_close: str = "IF or WHILE"  # what END may close, as a stray END's error says it
+    quoted_comments: bool = False  # a ';' between quotes is text, not a comment
+
+
+COMMAND_DAT = Grammar()
+
+
+def analyse(program: Program, table: CommandTable | None = None, grammar: Grammar = COMMAND_DAT) -> Analysis:
     """Pass 1 over a program: every bad step, every structure error, GOTOs to missing labels.
 
-    ``parse`` decodes one step (the dialect's parser; the 1985 COMMAND.DAT one by default).
+    ``grammar`` decodes the steps (the dialect's; the 1985 COMMAND.DAT one by default).
     """
     table = table or default_commands()
     name = program.name
-    result = Analysis(program, [], dialect=dialect)
+    result = Analysis(program, [], dialect=grammar.name)
+    parse = grammar.parse
     diagnostics = result.diagnostics
 
     def report(index: int, message: str, severity: str = "error", fatal: bool = True) -> None:
@@ -113,7 +130,8 @@ def analyse(program: Program, table: CommandTable | None = None, parse: Parse | 
         if fatal and severity == "error":
             result.fatal.append(diagnostic)
 
-    stack: list[tuple[str, int]] = []  # open structures: (IF | ELSE | WHILE | DO, step index)
+    stack: list[tuple[str, int]] = []  # open structures: (IF | ELSE | WHILE | DO | FOR | CASE, step index)
+    blocks = _Blocks(stack, result, report, grammar)
     for index, step in enumerate(program.steps):
         if step.label is not None:
             if step.label in result.labels:
@@ -125,7 +143,7 @@ def analyse(program: Program, table: CommandTable | None = None, parse: Parse | 
         except ValSyntaxError as error:
             result.statements.append(None)
             result.syntax[index] = str(error)
-            opening = _opener_word(step.text, table, parse is not None)
+            opening = grammar.opener(step.text) if grammar.opener is not None else _opener_word(step.text, table)
             # A structure's opener that does not decode still opens it (so its END is not
             # reported as a stray one) and the program cannot run. A line real V+ takes that
             # needs the controller's devices or tasks is a warning: the program stops there.
@@ -153,7 +171,7 @@ def analyse(program: Program, table: CommandTable | None = None, parse: Parse | 
             result.syntax[index] = problem
             report(index, problem, fatal=False)
             continue
-        _structure(statement, index, stack, result, report)
+        _structure(statement, index, blocks)
     for kind, opener in stack:
         closing = "UNTIL" if kind == "DO" else "END"
         what = "IF" if kind == "ELSE" else kind.split(".")[0]
@@ -170,15 +188,11 @@ def analyse(program: Program, table: CommandTable | None = None, parse: Parse | 
     return result
 
 
-def _opener_word(text: str, table: CommandTable, vplus: bool = False) -> str | None:
-    """IF (with THEN), WHILE or DO (V+: FOR, CASE) when a step that failed to decode starts with one."""
+def _opener_word(text: str, table: CommandTable) -> str | None:
+    """IF (with THEN), WHILE or DO when a step that failed to decode starts with one."""
     words = strip_comment(text).upper().replace(",", " ").split()
     if not words:
         return None
-    if vplus:
-        if words[0] in ("FOR", "CASE", "WHILE", "DO"):
-            return words[0]
-        return "IF" if words[0] == "IF" and "GOTO" not in words else None
     try:
         command = table.lookup(words[0]).name if words[0].isalpha() else ""
     except ValueError:
@@ -204,77 +218,119 @@ def static_problem(statement: Statement) -> str | None:
     return None
 
 
-def _structure(statement: Statement, index: int, stack: list[tuple[str, int]], result: Analysis,
-               report: Callable[[int, str], None]) -> None:
-    """Record a CALL, or match one step of IF/ELSE/END, WHILE/END, DO/UNTIL on `stack`."""
-    command = statement.command
-    if command in ("FOR", "CASE", "VALUE", "ANY", "AUTO"):
-        _vplus_structure(statement, index, stack, result, report)
-    elif command in ("EXIT", "NEXT"):
-        loops = [opener for kind, opener in reversed(stack) if kind in ("FOR", "WHILE", "DO")]
-        count = statement.args[0]
-        if count > len(loops):
-            what = "A LOOP" if count == 1 else f"{count} NESTED LOOPS"
-            report(index, f"{command} {count}: NOT INSIDE {what} (FOR, WHILE or DO)")
-        result.loops[index] = loops
-    elif command == "CALL":
-        result.calls.append((index, statement.args[0]))
-    elif command == "IF" and "THEN" in statement.keywords:
-        stack.append(("IF", index))
-    elif command == "WHILE":
-        stack.append(("WHILE", index))
-    elif command == "DO":
-        stack.append(("DO", index))
-    elif command == "ELSE":
-        if stack and stack[-1][0] == "IF":
-            opener = stack.pop()[1]
-            result.else_of[opener] = index
-            stack.append(("ELSE", opener))
-        elif stack and stack[-1][0] == "ELSE":
-            report(index, f"second ELSE for the IF at step {stack[-1][1] + 1}")
-        else:
-            report(index, "ELSE without IF")
-    elif command in ("END", "ENDIF"):
-        if not stack or stack[-1][0] == "DO":
-            where = f" (the DO at step {stack[-1][1] + 1} needs UNTIL first)" if stack else ""
-            openers = "IF, WHILE, FOR or CASE" if result.dialect == "v+" else "IF or WHILE"
-            report(index, f"{command} without {openers}{where}")
-        else:
-            kind, opener = stack.pop()
-            if kind == "WHILE" and command == "ENDIF":
-                report(index, f"ENDIF closes the WHILE at step {opener + 1}: use END")
-            result.partner[opener] = index
-            result.partner[index] = opener
-    elif command == "UNTIL":
-        if stack and stack[-1][0] == "DO":
-            opener = stack.pop()[1]
-            result.partner[index] = opener
-            result.partner[opener] = index
-        else:
-            where = f" (the {stack[-1][0]} at step {stack[-1][1] + 1} needs END first)" if stack else ""
-            report(index, f"UNTIL without DO{where}")
+@dataclass(frozen=True)
+class _Blocks:
+    """Pass 1's view of the block structure: the open blocks, innermost last, as (IF | ELSE |
+    WHILE | DO | FOR | CASE | CASE.ANY, step index of the opener); where it records what it
+    matches, and how it reports a mismatch."""
+
+    stack: list[tuple[str, int]]
+    result: Analysis
+    report: Callable[[int, str], None]
+    grammar: Grammar
 
 
-def _vplus_structure(statement: Statement, index: int, stack: list[tuple[str, int]], result: Analysis,
-                     report: Callable[[int, str], None]) -> None:
-    """FOR ... END, CASE ... OF / VALUE ... : / ANY / END, and AUTO/LOCAL declarations."""
-    command = statement.command
-    if command == "AUTO":
-        result.autos.extend(name for name in statement.args[0] if name not in result.autos)
-    elif command in ("FOR", "CASE"):
-        stack.append((command, index))
-        if command == "CASE":
-            result.cases[index] = []
-    elif not stack or stack[-1][0] not in ("CASE", "CASE.ANY"):
-        report(index, f"{command} without CASE")
+def _structure(statement: Statement, index: int, blocks: _Blocks) -> None:
+    """Record a CALL, or match one step of a block structure (IF/ELSE/END, WHILE/END, DO/UNTIL,
+    FOR/END, CASE/VALUE/ANY/END) on the open blocks; AUTO/LOCAL and EXIT/NEXT are recorded too.
+    Every VAL dialect's blocks are these words: a dialect has those its parser decodes."""
+    matcher = _BLOCK_WORDS.get(statement.command)
+    if matcher is not None:
+        matcher(statement, index, blocks)
+
+
+def _open(statement: Statement, index: int, blocks: _Blocks) -> None:
+    """WHILE, DO, FOR: a block opens."""
+    blocks.stack.append((statement.command, index))
+
+
+def _open_if(statement: Statement, index: int, blocks: _Blocks) -> None:
+    if "THEN" in statement.keywords:  # IF ... GOTO opens nothing
+        blocks.stack.append(("IF", index))
+
+
+def _open_case(statement: Statement, index: int, blocks: _Blocks) -> None:
+    blocks.stack.append(("CASE", index))
+    blocks.result.cases[index] = []
+
+
+def _call(statement: Statement, index: int, blocks: _Blocks) -> None:
+    blocks.result.calls.append((index, statement.args[0]))
+
+
+def _auto(statement: Statement, index: int, blocks: _Blocks) -> None:
+    """AUTO/LOCAL: the subroutine's own variables (saved across a CALL)."""
+    autos = blocks.result.autos
+    autos.extend(name for name in statement.args[0] if name not in autos)
+
+
+def _loop_control(statement: Statement, index: int, blocks: _Blocks) -> None:
+    """EXIT n / NEXT n: the loops around the step, innermost first."""
+    loops = [opener for kind, opener in reversed(blocks.stack) if kind in ("FOR", "WHILE", "DO")]
+    count = statement.args[0]
+    if count > len(loops):
+        what = "A LOOP" if count == 1 else f"{count} NESTED LOOPS"
+        blocks.report(index, f"{statement.command} {count}: NOT INSIDE {what} (FOR, WHILE or DO)")
+    blocks.result.loops[index] = loops
+
+
+def _else(statement: Statement, index: int, blocks: _Blocks) -> None:
+    stack = blocks.stack
+    if stack and stack[-1][0] == "IF":
+        opener = stack.pop()[1]
+        blocks.result.else_of[opener] = index
+        stack.append(("ELSE", opener))
+    elif stack and stack[-1][0] == "ELSE":
+        blocks.report(index, f"second ELSE for the IF at step {stack[-1][1] + 1}")
+    else:
+        blocks.report(index, "ELSE without IF")
+
+
+def _end(statement: Statement, index: int, blocks: _Blocks) -> None:
+    """END (ENDIF) closes the innermost block but a DO (which UNTIL closes)."""
+    stack, command = blocks.stack, statement.command
+    if not stack or stack[-1][0] == "DO":
+        where = f" (the DO at step {stack[-1][1] + 1} needs UNTIL first)" if stack else ""
+        blocks.report(index, f"{command} without {blocks.grammar.ends_close}{where}")
+        return
+    kind, opener = stack.pop()
+    if kind == "WHILE" and command == "ENDIF":
+        blocks.report(index, f"ENDIF closes the WHILE at step {opener + 1}: use END")
+    blocks.result.partner[opener] = index
+    blocks.result.partner[index] = opener
+
+
+def _until(statement: Statement, index: int, blocks: _Blocks) -> None:
+    stack = blocks.stack
+    if stack and stack[-1][0] == "DO":
+        opener = stack.pop()[1]
+        blocks.result.partner[index] = opener
+        blocks.result.partner[opener] = index
+    else:
+        where = f" (the {stack[-1][0]} at step {stack[-1][1] + 1} needs END first)" if stack else ""
+        blocks.report(index, f"UNTIL without DO{where}")
+
+
+def _choice(statement: Statement, index: int, blocks: _Blocks) -> None:
+    """VALUE ... : / ANY, a choice of the innermost CASE (ANY is its last)."""
+    stack, command = blocks.stack, statement.command
+    if not stack or stack[-1][0] not in ("CASE", "CASE.ANY"):
+        blocks.report(index, f"{command} without CASE")
     elif stack[-1][0] == "CASE.ANY":
-        report(index, f"{command} after ANY (ANY is the last choice of the CASE at step {stack[-1][1] + 1})")
+        blocks.report(index, f"{command} after ANY (ANY is the last choice of the CASE at step {stack[-1][1] + 1})")
     else:
         opener = stack[-1][1]
-        result.cases[opener].append(index)
-        result.case_of[index] = opener
+        blocks.result.cases[opener].append(index)
+        blocks.result.case_of[index] = opener
         if command == "ANY":
             stack[-1] = ("CASE.ANY", opener)
+
+
+_BLOCK_WORDS: dict[str, Callable[[Statement, int, _Blocks], None]] = {
+    "IF": _open_if, "ELSE": _else, "END": _end, "ENDIF": _end, "WHILE": _open, "DO": _open, "UNTIL": _until,
+    "FOR": _open, "CASE": _open_case, "VALUE": _choice, "ANY": _choice, "EXIT": _loop_control,
+    "NEXT": _loop_control, "AUTO": _auto, "CALL": _call,
+}
 
 
 def _jump_label(statement: Statement) -> int | None:
@@ -287,8 +343,9 @@ def _jump_label(statement: Statement) -> int | None:
     return label
 
 
-def step_text(program: Program, index: int) -> str:
-    """A step as it scrolls on the screen: its label, then the statement without comment."""
+def step_text(program: Program, index: int, quoted: bool = False) -> str:
+    """A step as it scrolls on the screen: its label, then the statement without comment
+    (``quoted``: a ';' between quotes is text, as in V+)."""
     step = program.steps[index]
-    statement = strip_comment(step.text, quoted=program.dialect == "v+")
+    statement = strip_comment(step.text, quoted=quoted)
     return f"{step.label} {statement}" if step.label is not None else statement

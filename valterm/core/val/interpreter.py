@@ -13,10 +13,10 @@ program with the program and the op, and may yield events of its own; ``pass_end
 each execution pass.  The debugger (``debugger.Debugger``, the BPT, XSTEP, SSTEP, WATCH and
 TRACE commands) sets them while it has something to do.
 
-Two dialects (docs/VPLUS.md): a program whose ``Program.dialect`` is ``"v+"`` (read from a
-V+ file), or any program of an ``Interpreter(dialect="v+")``, is decoded by
-``vplus.parse_vplus`` and built by ``vplus.VPLUS_BUILDERS``; the rest is the thesis's 1985
-language. ``machine`` holds the V+ controller's state (signals, strings, precision points).
+Dialects (docs/VPLUS.md, ``valterm.core.val.dialects``): a program is decoded and built by
+its own dialect when it says one (``Program.dialect``: ``"v+"`` when read from a V+ file), by
+the interpreter's otherwise (``Interpreter(dialect="v+")``); the default is the thesis's 1985
+language. ``machine`` holds the controller's state (signals, strings, precision points).
 """
 
 from __future__ import annotations
@@ -28,7 +28,7 @@ from typing import Protocol
 
 from valterm.core.arms import arm_in
 from valterm.core.cycletime import CycleClock
-from valterm.core.errors import RefusedValue, ValtermError
+from valterm.core.errors import ValtermError
 from valterm.core.events import (
     Contact,
     Error,
@@ -49,9 +49,8 @@ from valterm.core.files.programs import Program, ProgramLine, split_label
 from valterm.core.files.variables import VARIABLE_NAME
 from valterm.core.files.vplus import VplusData
 from valterm.core.motion import MotionRefused
+from valterm.core.val import dialects
 from valterm.core.val.builders import (
-    BUILDERS,
-    MAX_CALL_DEPTH,
     Build,
     Builder,
     build,
@@ -61,11 +60,13 @@ from valterm.core.val.builders import (
 )
 from valterm.core.val.compiler import Analysis, analyse, step_text
 from valterm.core.val.debugger import DEBUG_COMMANDS, Debugger
+from valterm.core.val.dialect import Dialect
 from valterm.core.val.expr import MAX_NUMBER
 from valterm.core.val.limits import RunLimits
 from valterm.core.val.locstore import LocationFiles, load, rules, storel
-from valterm.core.val.machine import Machine
+from valterm.core.val.machine import Machine, signal_line, typed_rest
 from valterm.core.val.ops import (
+    MAX_CALL_DEPTH,
     Action,
     Assign,
     Branch,
@@ -81,18 +82,6 @@ from valterm.core.val.ops import (
 from valterm.core.val.parser import Statement, ValSyntaxError, parse_statement
 from valterm.core.val.protocol import Simulator
 from valterm.core.val.variables import VariableStore
-from valterm.core.val.vplus import DIALECT as VPLUS
-from valterm.core.val.vplus import VPLUS_BUILDERS, parse_vplus, signal_line, typed_rest
-
-DIALECTS = ("1985", VPLUS)
-
-
-def check_dialect(name: str) -> str:
-    """'1985' or 'v+' (any case; 'vplus' too), else ValueError saying which there are."""
-    wanted = name.strip().lower().replace("vplus", "v+")
-    if wanted not in DIALECTS:
-        raise RefusedValue(f"{name!r} is not a dialect: use 1985 or v+")
-    return wanted
 
 __all__ = [
     "FOREVER_LOOPS", "MAX_CALL_DEPTH", "CompiledProgram", "Interpreter", "ProgramError", "RunStop",
@@ -135,7 +124,7 @@ class Interpreter:
         self._limit_at: tuple[str, int] | None = None  # the step whose robot time passed the limit
         # "1985" (COMMAND.DAT, the thesis) or "v+": the dialect of programs that do not say
         # (a program read from a V+ file is v+ whatever this says)
-        self.dialect = check_dialect(dialect)
+        self.dialect = dialects.check_dialect(dialect)
         # the one clock of the robot's time: STATUS, run's cycle time, V+ TIMER and inputs
         self.clock = CycleClock(getattr(sim, "timing", None))  # the robot's own hand time
         # the clock when the last EXECUTE began and ended (None while it runs): typed
@@ -161,7 +150,7 @@ class Interpreter:
         self.variables: dict[str, float] = (variables if isinstance(variables, VariableStore)
                                             else VariableStore(variables or {}))
         self.commands = commands or default_commands()
-        self.builders: dict[str, Builder] = dict(builders or BUILDERS)
+        self.builders: dict[str, Builder] = dict(builders or dialects.dialect(dialects.DEFAULT).builders)
         self.monitor: dict[str, MonitorCommand] = dict(monitor or MONITOR_COMMANDS)
         self._hook: StepHook | None = None
         self.pass_end: Callable[[], Iterator[Event]] | None = None
@@ -259,7 +248,7 @@ class Interpreter:
             program = self.load_program(name)
         except (OSError, ValtermError) as error:  # a missing or damaged file ends the run with its reason
             raise RunStop(str(error) or f"PROGRAM {name} DOES NOT EXIST", name) from None
-        if program.dialect == VPLUS and self.load_data is not None:
+        if dialects.dialect(program.dialect).data_sections and self.load_data is not None:
             self._load_data_of(name)
         compiled = self.compile_program(program)
         self._cache[name] = compiled
@@ -276,10 +265,10 @@ class Interpreter:
             self.machine.load_data(found[1], self.variables)
 
     def compile_program(self, program: Program) -> CompiledProgram:
-        vplus = VPLUS in (program.dialect, self.dialect)
-        analysis = analyse(program, self.commands, parse_vplus, VPLUS) if vplus else analyse(program, self.commands)
-        builders = {**VPLUS_BUILDERS, **{k: v for k, v in self.builders.items() if k not in BUILDERS}} \
-            if vplus else self.builders
+        language = self._dialect_of(program)
+        analysis = analyse(program, self.commands, language.grammar)
+        builders = self._builders(language)
+        quoted = dialects.dialect(program.dialect).grammar.quoted_comments  # as the program's own file writes it
         # Comment and empty steps do nothing: they get no op; a jump to one lands on the next op.
         op_index: list[int] = []
         count = 0
@@ -294,15 +283,26 @@ class Interpreter:
         for index, statement in enumerate(analysis.statements):
             if statement is not None and not statement.command:
                 continue
-            step = Step(program.name, index + 1, step_text(program, index))
+            step = Step(program.name, index + 1, step_text(program, index, quoted))
             context = self._context(step, index, analysis, op_index)
             if statement is None:
                 code.append(failed(context, analysis.syntax[index]))
             else:
                 code.append(build(context, statement, builders))
-        if vplus:  # the controller stops a program at a step that fails (no "report and go on")
+        if language.stops_at_error:  # the controller stops the program there (no "report and go on")
             code = [replace(op, error=STOPS_RUN) for op in code]
         return CompiledProgram(program.name, analysis, code)
+
+    def _dialect_of(self, program: Program) -> Dialect:
+        """A program's own dialect when it says one (a V+ file's), else the interpreter's."""
+        return dialects.dialect(program.dialect if program.dialect != dialects.DEFAULT else self.dialect)
+
+    def _builders(self, language: Dialect) -> Mapping[str, Builder]:
+        """The dialect's statement table; instructions added to the interpreter's (``builders=``) too."""
+        base = dialects.dialect(dialects.DEFAULT)
+        if language is base:
+            return self.builders
+        return {**language.builders, **{k: v for k, v in self.builders.items() if k not in base.builders}}
 
     def _context(self, step: Step, index: int, analysis: Analysis | None, op_index: list[int]) -> Build:
         return Build(step, index, analysis, op_index, self.variables, self.sim, self.status,
@@ -677,7 +677,7 @@ def _monitor_event(interpreter: Interpreter, st: Statement) -> Iterator[Event]:
 def _status_typed(interpreter: Interpreter, st: Statement) -> Iterator[Event]:
     """STATUS at the prompt; the I/O panel's line too once a signal is on (or in V+)."""
     yield interpreter.status()
-    if interpreter.dialect == VPLUS or interpreter.machine.signals.on:
+    if dialects.dialect(interpreter.dialect).signals_in_status or interpreter.machine.signals.on:
         yield TypeOut(signal_line(interpreter.machine))
 
 

@@ -22,7 +22,7 @@ import numpy as np
 
 from valterm.core.arms import arm_in
 from valterm.core.cycletime import CycleClock
-from valterm.core.events import Event, Signal
+from valterm.core.events import Event, Signal, TypeOut
 from valterm.core.files.vplus import VplusData
 from valterm.core.kinematics import Location, rotation_to_oat
 from valterm.core.signals import InputChange, SignalPanel
@@ -217,3 +217,18 @@ class Machine:
     def through_tool(self, target: Transform) -> Transform:
         """Where the 1985 tool point must go so that the TOOL point reaches ``target``."""
         return target if self.tool is None else target @ inverse(self.tool)
+
+
+def typed_rest(machine: Machine) -> Generator[Event, None, int]:
+    """The line a TYPE ..., /S left open, typed when the run ends (nothing typed is lost)."""
+    if machine.typed:
+        yield TypeOut(machine.typed)
+        machine.typed = ""
+    return 0
+
+
+def signal_line(machine: Machine) -> str:
+    """The I/O panel as STATUS types it: the signals that are on."""
+    outputs = " ".join(str(n) for n in machine.signals.outputs_on()) or "NONE"
+    inputs = " ".join(str(n) for n in machine.signals.inputs_on()) or "NONE"
+    return f"SIGNALS ON: OUTPUTS {outputs}  INPUTS {inputs}"

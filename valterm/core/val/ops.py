@@ -25,6 +25,7 @@ from valterm.core.val.compiler import Analysis
 from valterm.core.val.expr import Fn
 
 Events = Generator[Event, None, int]  # an op's events; its return value is the next op's index
+MAX_CALL_DEPTH = 20  # nested CALLs before "CALL DEPTH" stops the program (every dialect's)
 
 
 class ProgramError(ValtermError):
@@ -150,23 +151,32 @@ class Control(Op):
 
 @dataclass(frozen=True, slots=True)
 class Call(Control):
+    """CALL program: every dialect's (a dialect's CALL with arguments extends ``control``)."""
+
     program: str
-    max_depth: int = 20
+    max_depth: int = MAX_CALL_DEPTH
 
     def control(self, run: Run, call: Callable[[str], CompiledProgram]) -> Events:
+        sub = yield from self.called(run, call, self.program)
+        return run.enter(sub, self.next)
+
+    def called(self, run: Run, call: Callable[[str], CompiledProgram], program: str
+               ) -> Generator[Event, None, CompiledProgram]:
+        """The program CALLed, compiled and ready to enter; the run stops (RunStop) past the
+        CALL depth, when it does not exist, or when pass 1 finds it cannot run (its errors
+        said first)."""
         caller = run.program.name
         if len(run.frames) >= self.max_depth:
-            raise RunStop(f"CALL {self.program}: MORE THAN {self.max_depth} NESTED CALLS",
-                          caller, self.step.step)
+            raise RunStop(f"CALL {program}: MORE THAN {self.max_depth} NESTED CALLS", caller, self.step.step)
         try:
-            sub = call(self.program)
+            sub = call(program)
         except RunStop as stop:
-            raise RunStop(f"CALL {self.program}: {stop.message}", caller, self.step.step) from None
+            raise RunStop(f"CALL {program}: {stop.message}", caller, self.step.step) from None
         if not sub.analysis.structure_ok:
             for diagnostic in sub.analysis.fatal:
-                yield from _error(sub.name, diagnostic.step, diagnostic.message)
-            raise RunStop(f"CALL {self.program}: THE PROGRAM CANNOT RUN", caller, self.step.step)
-        return run.enter(sub, self.next)
+                yield Error(sub.name, diagnostic.step, diagnostic.message)
+            raise RunStop(f"CALL {program}: THE PROGRAM CANNOT RUN", caller, self.step.step)
+        return sub
 
 
 @dataclass(frozen=True, slots=True)
@@ -201,7 +211,3 @@ class PauseOp(Control):
         yield Pause(run.program.name, self.step.step, self.text)
         self.on_pause(False)
         return self.next
-
-
-def _error(program: str, step: int, message: str) -> Generator[Event, None, None]:
-    yield Error(program, step, message)

@@ -12,7 +12,7 @@ the values after it are written:
   TYPE goes on on the same line), ``/Un`` n lines up, ``/Bn`` n beeps (the last two ignored:
   the transcript is line based and silent).
 
-In the v+ dialect (``vexpr.render_output``) two values typed one after the other in the
+In the v+ dialect (``dialects/vplus/expr.render_output``) two values typed one after the other in the
 default format are separated by a blank (``TYPE a, b`` types ``1 2``, never ``12``).
 """
 
