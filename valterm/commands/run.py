@@ -168,7 +168,7 @@ def run(args: argparse.Namespace) -> int:
     from valterm.core.files.setup import read_setup
     from valterm.core.rules import rules_of_dialect
     from valterm.core.simulator import Simulator
-    from valterm.core.text.transcript import write_events
+    from valterm.core.text.transcript import blocks_for, write_events
     from valterm.core.val.interpreter import Interpreter
     from valterm.core.val.variables import VariableStore
     from valterm.core.workspace import Workspace, WorkspaceError
@@ -223,9 +223,9 @@ def run(args: argparse.Namespace) -> int:
         interpreter.abort()
 
     previous = signal.signal(signal.SIGINT, on_sigint)
-    out = sys.stdout
+    out = blocks_for(sys.stdout)  # blocks whatever PYTHONUNBUFFERED says; a terminal line by line
     try:
-        errors = write_events(interpreter.execute(main.name, args.loops), out.write, args.json)
+        errors = write_events(interpreter.execute(main.name, args.loops), out, args.json)
         _write_end(args, sim, interpreter, out, main)
     finally:
         signal.signal(signal.SIGINT, previous)
