@@ -152,14 +152,19 @@ def _workspace_vplus(argument: str, workspace: Any) -> Any:
 def _find(argument: str, ext: str, workspace: Any) -> Path:
     """A path as given if it exists, else NAME.EXT in the workspace."""
     given = Path(argument).expanduser()
-    if given.is_file():
+    if _there(given):
         return given
     if any(sep in argument for sep in ("/", "\\")) or given.suffix.upper() not in ("", f".{ext}"):
         raise FileNotFoundError(f"{argument}: no such file")
     path: Path = workspace.path(argument, ext)
-    if not path.is_file():
+    if not _there(path):
         raise FileNotFoundError(f"{path.name}: not in the workspace {workspace.root}")
     return path
+
+
+def _there(path: Path) -> bool:
+    """A file is there (a FIFO or a device too: its reader says what it is and refuses it)."""
+    return path.exists() and not path.is_dir()
 
 
 def run(args: argparse.Namespace) -> int:

@@ -8,7 +8,8 @@ from pathlib import Path
 from typing import TypeVar
 
 from valterm.core import numbers
-from valterm.core.files.errors import FileFormatError
+from valterm.core.files.atomic import open_regular
+from valterm.core.files.errors import FileFormatError, NotAFile
 from valterm.core.files.limits import MAX_FILE_BYTES, MAX_LINE
 from valterm.core.numbers import MAX_MAGNITUDE, NumberError
 
@@ -33,26 +34,28 @@ def read_text(path: str | Path, what: str, limit: int = MAX_FILE_BYTES, eight_bi
     return decode_text(read_bytes(path, what, limit), path, what, eight_bit)
 
 
-def read_bytes(path: str | Path, what: str, limit: int = MAX_FILE_BYTES) -> bytes:
-    """The file's bytes, refused as ``read_text`` refuses them (missing, a folder, too large,
-    unreadable): for a reader that keeps the bytes too (a session stamps its set-up file from
-    the bytes it parsed, ``valterm.core.session``)."""
+def read_bytes(path: str | Path, what: str, limit: int = MAX_FILE_BYTES, follow_links: bool = True) -> bytes:
+    """The file's bytes, refused as ``read_text`` refuses them (missing, a folder, a FIFO or a
+    device, too large, unreadable): for a reader that keeps the bytes too (a session stamps its
+    set-up file from the bytes it parsed, ``valterm.core.session``). Opened the one way,
+    :func:`~valterm.core.files.atomic.open_regular` (``follow_links=False``: a link is refused)."""
     path = Path(path)
     try:
-        size = path.stat().st_size
+        handle, info = open_regular(path, follow_links)
     except FileNotFoundError:
         raise FileFormatError(path, 0, f"no such {what} file") from None
+    except NotAFile as error:
+        raise FileFormatError(path, 0, f"is {error.kind}, not a {what} file") from None
     except OSError as error:
         raise FileFormatError(path, 0, f"cannot read the {what} file: {error.strerror or error}") from None
-    if path.is_dir():
-        raise FileFormatError(path, 0, f"is a folder, not a {what} file")
-    if size > limit:
-        raise FileFormatError(path, 0, f"{_size(size)} is too large for a {what} file (limit {_size(limit)})")
-    try:
-        with path.open("rb") as handle:
+    with handle:
+        if info.st_size > limit:
+            raise FileFormatError(path, 0,
+                                  f"{_size(info.st_size)} is too large for a {what} file (limit {_size(limit)})")
+        try:
             data = handle.read(limit + 1)  # a file that grew or lied about its size stops here
-    except OSError as error:
-        raise FileFormatError(path, 0, f"cannot read the {what} file: {error.strerror or error}") from None
+        except OSError as error:
+            raise FileFormatError(path, 0, f"cannot read the {what} file: {error.strerror or error}") from None
     if len(data) > limit:
         raise FileFormatError(path, 0, f"too large for a {what} file (limit {_size(limit)})")
     return data
