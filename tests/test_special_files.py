@@ -138,3 +138,19 @@ def test_a_fifo_named_like_an_iges_or_step_file_is_refused_by_import(tmp_path: P
     os.mkfifo(tmp_path / name)
     done = valterm("import", str(tmp_path / name), "--out", "PART.SET", "--workspace", str(workspace))
     assert done.returncode != 0 and "is a FIFO" in done.stderr, done
+
+
+def test_the_one_read_path_refuses_a_link_when_asked_and_caps_the_size(tmp_path: Path) -> None:
+    """What grading's confinement can ask of it: no link at all (``follow_links=False``)."""
+    from valterm.core.files._text import read_bytes
+    from valterm.core.files.errors import FileFormatError
+
+    real = tmp_path / "REAL.DAT"
+    real.write_bytes(b"    X=1\n")
+    (tmp_path / "LINK.DAT").symlink_to(real)
+    assert read_bytes(tmp_path / "LINK.DAT", "program") == b"    X=1\n"  # links are followed by default
+    with pytest.raises(FileFormatError, match="LINK.DAT: is a symbolic link, not a program file"):
+        read_bytes(tmp_path / "LINK.DAT", "program", follow_links=False)
+    assert read_bytes(real, "program", follow_links=False) == b"    X=1\n"
+    with pytest.raises(FileFormatError, match="REAL.DAT: 8 bytes is too large for a program file"):
+        read_bytes(real, "program", limit=7)

@@ -95,6 +95,8 @@ def file_kind(mode: int) -> str | None:
         return "a device"
     if stat.S_ISSOCK(mode):
         return "a socket"
+    if stat.S_ISLNK(mode):  # looked at without following it
+        return "a symbolic link"
     return "a special file"
 
 
@@ -105,8 +107,6 @@ def open_regular(path: str | Path, follow_links: bool = True) -> tuple[BinaryIO,
     open (a device is not even opened) and again after it, on what was opened (the name could
     have been swapped between). ``follow_links=False``: a symbolic link is refused too."""
     kind = file_kind(os.stat(path, follow_symlinks=follow_links).st_mode)
-    if kind is None and not follow_links and os.path.islink(path):
-        kind = "a symbolic link"
     if kind is not None:
         raise NotAFile(path, kind)
     flags = _READ | (0 if follow_links else getattr(os, "O_NOFOLLOW", 0))
