@@ -43,7 +43,7 @@ def test_script_errors_are_located_core_errors() -> None:
         parse_demo("E\nPAUSE soon\n")
     with pytest.raises(DemoScriptError, match="presses no key"):
         parse_demo("@ only words\n")
-    with pytest.raises(DemoScriptError, match="NOPE.KEYS: cannot be read"):
+    with pytest.raises(DemoScriptError, match="NOPE.KEYS: no such key script file"):
         load_demo("/nonexistent/NOPE.KEYS")
 
 

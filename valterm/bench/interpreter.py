@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, cast
+from typing import TYPE_CHECKING, TextIO, cast
 
 import time
 
@@ -48,25 +48,41 @@ def loop_statements(passes: int) -> int:
     return 4 * passes + 4
 
 
-def bench_run_json(passes: int = 50_000, repeat: int = 3) -> float:
-    """Statements per second as ``valterm run --json`` writes them: its very loop
-    (``write_events``) writing each event's JSON line to a text file (the null device), as
-    ``run`` writes to standard output (with no limits: ``run``'s default ones would stop it at
-    100 000 lines, and the loop's steps are counted, not its lines)."""
+def unbuffered_devnull() -> TextIO:
+    """The null device as standard output is with ``PYTHONUNBUFFERED=1``: no buffer under the
+    text layer, which writes each string through at once (CPython's ``create_stdio``)."""
+    import io
     import os
 
-    from valterm.core.text.transcript import write_events
+    return io.TextIOWrapper(io.FileIO(os.devnull, "w"), encoding="utf-8", write_through=True)
+
+
+def bench_run_output(passes: int = 50_000, repeat: int = 3, as_json: bool = True, unbuffered: bool = False) -> float:
+    """Statements per second as ``valterm run`` writes them (``--json``, or its text transcript):
+    its very loop (``write_events``) writing in its blocks to the null device, as ``run`` writes
+    to standard output that is no terminal, buffered or as with ``PYTHONUNBUFFERED=1``
+    (with no limits: ``run``'s default ones would stop it at 100 000 lines, and the loop's steps
+    are counted, not its lines)."""
+    import os
+
+    from valterm.core.text.transcript import blocks_for, write_events
 
     program = program_from_lines("BENCH", LOOP)
     best = 0.0
-    with open(os.devnull, "w", encoding="utf-8") as out:
+    with unbuffered_devnull() if unbuffered else open(os.devnull, "w", encoding="utf-8") as out:
         for _ in range(repeat):
             interpreter = Interpreter(cast("Simulator", _NoRobot()), lambda name: program, {"N": float(passes)},
                                       limits=NO_LIMITS)
             start = time.perf_counter()
-            write_events(interpreter.execute("BENCH"), out.write, as_json=True)
+            write_events(interpreter.execute("BENCH"), blocks_for(out), as_json=as_json)
             best = max(best, loop_statements(passes) / (time.perf_counter() - start))
     return best
+
+
+def bench_run_json(passes: int = 50_000, repeat: int = 3) -> float:
+    """``run --json``'s statements per second, buffered standard output (issue 25's figure)."""
+    return bench_run_output(passes, repeat)
+
 
 if __name__ == "__main__":
     print(f"{bench_interpreter():,.0f} statements/s")

@@ -34,6 +34,10 @@ GOALS: dict[str, tuple[str, float]] = {
     "interpreter_statements_per_s": (">=", 500_000.0),
     "grade_s_per_student": ("<=", 2.0),  # issue 24: the whole `valterm grade` command
     "run_json_statements_per_s": (">=", 500_000.0),
+    # issue 40: run's output in blocks whatever PYTHONUNBUFFERED says; the transcript as fast
+    "run_json_unbuffered_statements_per_s": (">=", 2_000_000.0),
+    "run_text_statements_per_s": (">=", 2_000_000.0),
+    "run_text_unbuffered_statements_per_s": (">=", 2_000_000.0),
     "app_start_to_main_menu_s": ("<=", 1.0),
     "app_start_vs_bare_x": ("<=", 1.5),
     "app_move_fps_160x50": (">=", 30.0),
@@ -56,6 +60,10 @@ PEERS = {
     "collision_run_vs_fcl_x_30parts": ("collision_run_fcl_us_30parts", "python-fcl, µs per pose"),
     "collision_check_vs_fcl_x_100parts": ("collision_check_fcl_us_100parts", "python-fcl, µs per pose"),
     "collision_check_vs_fcl_x_300parts": ("collision_check_fcl_us_300parts", "python-fcl, µs per pose"),
+    "run_json_statements_per_s": ("interpreter_statements_per_s", "the same loop without output, statements/s"),
+    "run_json_unbuffered_statements_per_s": ("run_json_statements_per_s", "buffered standard output, statements/s"),
+    "run_text_statements_per_s": ("run_json_statements_per_s", "--json, statements/s"),
+    "run_text_unbuffered_statements_per_s": ("run_text_statements_per_s", "buffered standard output, statements/s"),
 }
 
 # a figure without a goal shown beside a goal's row in ``--md``, so the two are read together
@@ -192,10 +200,15 @@ def _met(value: float | None, op: str, goal: float) -> bool | None:
 
 
 def _interpreter_entries() -> dict[str, float]:
-    from valterm.bench.interpreter import bench_interpreter, bench_run_json
+    """The interpreter alone, then ``valterm run``'s output: JSON or the text transcript, to
+    standard output buffered or as with ``PYTHONUNBUFFERED=1`` (issue 40)."""
+    from valterm.bench.interpreter import bench_interpreter, bench_run_output
 
-    return {"interpreter_statements_per_s": float(bench_interpreter()),
-            "run_json_statements_per_s": float(bench_run_json())}
+    entries = {"interpreter_statements_per_s": float(bench_interpreter())}
+    for kind, as_json in (("json", True), ("text", False)):
+        entries[f"run_{kind}_statements_per_s"] = bench_run_output(as_json=as_json)
+        entries[f"run_{kind}_unbuffered_statements_per_s"] = bench_run_output(as_json=as_json, unbuffered=True)
+    return entries
 
 
 def _grade_entries() -> dict[str, float]:

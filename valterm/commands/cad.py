@@ -82,7 +82,7 @@ def run_import(args: argparse.Namespace) -> int:
         setup = workspace.read_setup(_set_name(args.into)) if args.into else None
         out = workspace.path(_set_name(args.out or args.into), "SET")
         source = _source(args.file, root)
-        if not source.is_file():
+        if not source.exists() or source.is_dir():  # a FIFO or a device: its reader says so
             raise CadImportError(source, None, "no such file")
         if args.out and out.exists() and not args.force:
             return fail(f"import: {out.name} exists in the workspace; use --force to replace it", FAILURE)

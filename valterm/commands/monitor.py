@@ -82,6 +82,7 @@ def _ready(stdin: TextIO) -> bool:
 def run(args: argparse.Namespace, stdin: TextIO | None = None, stdout: TextIO | None = None) -> int:
     from valterm.core.errors import ValtermError
     from valterm.core.monitor import LineMonitor
+    from valterm.core.text.transcript import blocks_for
 
     stdin = stdin or sys.stdin
     out = stdout or sys.stdout
@@ -91,9 +92,10 @@ def run(args: argparse.Namespace, stdin: TextIO | None = None, stdout: TextIO | 
         print(error, file=sys.stderr)
         return 2
 
+    blocks = blocks_for(out)  # a command's answer in blocks, flushed before the next line is read
+
     def write(text: str) -> None:
-        out.write(text + "\n")
-        out.flush()
+        blocks.write(text + "\n")
 
     monitor = LineMonitor(session, write)
     interactive = stdin.isatty()
@@ -114,6 +116,7 @@ def run(args: argparse.Namespace, stdin: TextIO | None = None, stdout: TextIO | 
             try:
                 if not _ready(stdin):  # the end of a batch of lines: CHECK.DAT is written once
                     monitor.keep()
+                blocks.flush()  # the last command's whole answer, before waiting for the next
                 if interactive:
                     out.write(". ")
                     out.flush()
@@ -129,6 +132,9 @@ def run(args: argparse.Namespace, stdin: TextIO | None = None, stdout: TextIO | 
                 monitor.interrupted()
     finally:
         signal.signal(signal.SIGINT, previous)
+        blocks.flush()
     if interactive:
-        out.write("\n")
-    return monitor.end()
+        blocks.write("\n")
+    status = monitor.end()  # may say that the variables were not kept
+    blocks.flush()
+    return status

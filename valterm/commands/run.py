@@ -153,14 +153,19 @@ def _workspace_vplus(argument: str, workspace: Any) -> Any:
 def _find(argument: str, ext: str, workspace: Any) -> Path:
     """A path as given if it exists, else NAME.EXT in the workspace."""
     given = Path(argument).expanduser()
-    if given.is_file():
+    if _there(given):
         return given
     if any(sep in argument for sep in ("/", "\\")) or given.suffix.upper() not in ("", f".{ext}"):
         raise FileNotFoundError(f"{argument}: no such file")
     path: Path = workspace.path(argument, ext)
-    if not path.is_file():
+    if not _there(path):
         raise FileNotFoundError(f"{path.name}: not in the workspace {workspace.root}")
     return path
+
+
+def _there(path: Path) -> bool:
+    """A file is there (a FIFO or a device too: its reader says what it is and refuses it)."""
+    return path.exists() and not path.is_dir()
 
 
 def run(args: argparse.Namespace) -> int:
@@ -169,7 +174,7 @@ def run(args: argparse.Namespace) -> int:
     from valterm.core.files.setup import read_setup
     from valterm.core.rules import rules_of_dialect
     from valterm.core.simulator import Simulator
-    from valterm.core.text.transcript import write_events
+    from valterm.core.text.transcript import blocks_for, write_events
     from valterm.core.val.interpreter import Interpreter
     from valterm.core.val.variables import VariableStore
     from valterm.core.workspace import Workspace, WorkspaceError
@@ -225,9 +230,9 @@ def run(args: argparse.Namespace) -> int:
         interpreter.abort()
 
     previous = signal.signal(signal.SIGINT, on_sigint)
-    out = sys.stdout
+    out = blocks_for(sys.stdout)  # blocks whatever PYTHONUNBUFFERED says; a terminal line by line
     try:
-        errors = write_events(interpreter.execute(main.name, args.loops), out.write, args.json)
+        errors = write_events(interpreter.execute(main.name, args.loops), out, args.json)
         _write_end(args, sim, interpreter, out, main)
     finally:
         signal.signal(signal.SIGINT, previous)

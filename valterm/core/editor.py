@@ -31,6 +31,7 @@ from dataclasses import replace
 from pathlib import Path
 
 from valterm.core.errors import ValtermError
+from valterm.core.files._text import read_text
 from valterm.core.files.atomic import claim, release, text_stamp, write_text_atomic
 from valterm.core.files.errors import FileFormatError
 from valterm.core.files.programs import (
@@ -167,8 +168,8 @@ class ProgramEditor:
         if not self.journal_path.is_file():
             return None
         try:
-            text = self.journal_path.read_text(encoding="utf-8")
-        except (OSError, UnicodeDecodeError):
+            text = read_text(self.journal_path, "journal")  # the one read path (no FIFO, no device)
+        except FileFormatError:
             return None
         lines = text.splitlines()
         if not lines or not lines[0].startswith(JOURNAL_HEAD):

@@ -53,7 +53,7 @@ _FIELDS: dict[type, tuple[str, ...]] = {}
 def _field_names(kind: type) -> tuple[str, ...]:
     names = _FIELDS.get(kind)
     if names is None:
-        names = _FIELDS[kind] = tuple(f.name for f in fields(kind) if f.init)  # Step.json is none
+        names = _FIELDS[kind] = tuple(f.name for f in fields(kind) if f.init)  # Step.json and .line are none
     return names
 
 
@@ -85,6 +85,9 @@ class Step(Event):
     # repeats its steps, and run's loop reads it here, a plain attribute a statement (issue 25;
     # a factory, not a default: a class attribute of that name would keep the read unspecialised)
     json: str = field(default_factory=str, init=False, repr=False, compare=False)
+    # its transcript line and newline once core/text/transcript.py has made it ("" before): the
+    # same kept line for the text transcript (issue 40), made by the one renderer, not here
+    line: str = field(default_factory=str, init=False, repr=False, compare=False)
 
     def json_line(self) -> str:
         if not self.json:

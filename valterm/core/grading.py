@@ -407,7 +407,7 @@ class _Programs:
         from valterm.core.files.vplus import parse_vplus_file
 
         try:
-            data = read_bytes(path, "program", links=False)
+            data = read_bytes(path, "program", follow_links=False)
         except FileFormatError as error:
             if "is a link" in error.reason:
                 raise FileFormatError(path, 0, LINK) from None

@@ -31,7 +31,13 @@ from typing import TYPE_CHECKING
 from valterm.core import resources
 from valterm.core.errors import ValtermError
 from valterm.core.files import datfiler, programs, variables
-from valterm.core.files.atomic import file_stamp, folder_lock, remove_stale_temporaries, write_bytes_atomic
+from valterm.core.files.atomic import (
+    file_stamp,
+    folder_lock,
+    open_regular,
+    remove_stale_temporaries,
+    write_bytes_atomic,
+)
 from valterm.core.files.datfiler import DATFILER
 from valterm.core.files.errors import shown_name
 from valterm.core.files.programs import Program
@@ -162,7 +168,11 @@ def _damaged_copy(target: Path, source: Path, prefix: bool) -> bytes | None:
     data = source.read_bytes()
     if info.st_size >= len(data):
         return None
-    with open(target, "rb") as handle:
+    try:
+        handle, _info = open_regular(target, follow_links=False)  # swapped for a FIFO since: no wait
+    except OSError:
+        return None
+    with handle:
         return data if data.startswith(handle.read(len(data))) else None
 
 

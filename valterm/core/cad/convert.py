@@ -32,7 +32,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from valterm.core.cad.axes import world_to_gltf
-from valterm.core.cad.errors import CadImportError, DegeneratePart
+from valterm.core.cad.errors import CadImportError, DegeneratePart, check_cad_file
 from valterm.core.cad.hull import MIN_DEPTH_MM, extruded_hull
 from valterm.core.cad.mesh import MESH_EXTENSIONS, METRE_EXTENSIONS, Y_UP_EXTENSIONS, read_mesh_parts
 from valterm.core.cad.placement import place_on_table
@@ -69,6 +69,7 @@ def read_parts(path: str | Path, parts: int | None = None,
 
     path = Path(path)
     ext = path.suffix.lower()
+    check_cad_file(path)  # a FIFO would block a reader for ever, /dev/zero fill the memory
     if ext in IGES_EXTENSIONS:
         model = read_iges(path)
         return model.parts(parts), model.mm_per_unit, file_units(model.mm_per_unit), model.warnings

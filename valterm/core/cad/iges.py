@@ -26,7 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
-from valterm.core.cad.errors import CadImportError
+from valterm.core.cad.errors import CadImportError, read_cad_bytes
 from valterm.core.cad.iges_entities import Entity, Hollerith
 from valterm.core.cad.iges_geometry import Walker
 
@@ -72,10 +72,7 @@ class IgesModel:
 
     # ------------------------------------------------------------------ reading
     def _read(self) -> None:
-        try:
-            raw = self.path.read_bytes()
-        except OSError as exc:
-            raise CadImportError(self.path, None, f"cannot read the file ({exc.strerror or exc})") from None
+        raw = read_cad_bytes(self.path)  # the one read path: a FIFO or a device is refused
         if not raw.strip():
             raise self.error(None, "the file is empty")
         text = raw.decode("latin-1")

@@ -230,10 +230,28 @@ def _check_obj(path: Path, data: bytes) -> None:
                                          f"{MAX_TRIANGLES:,} triangles; simplify the mesh in the CAD program first")
 
 
+MAX_JSON_DEPTH = 64  # a glTF's JSON nests 5 or 6 deep; 2000 deep was Python's RecursionError
+_JSON_STRING = re.compile(rb'"[^"\\]*(?:\\.[^"\\]*)*"')  # its brackets are no nesting
+_JSON_BRACKET = re.compile(rb"[][{}]")
+
+
+def json_too_deep(data: bytes, limit: int = MAX_JSON_DEPTH) -> bool:
+    """Whether JSON text nests arrays and objects more than ``limit`` deep (looked at before a
+    parser recurses into it)."""
+    depth = 0
+    for bracket in _JSON_BRACKET.findall(_JSON_STRING.sub(b'""', data)):
+        depth += 1 if bracket in b"[{" else -1
+        if depth > limit:
+            return True
+    return False
+
+
 def _check_gltf(path: Path, data: bytes) -> None:
     """A .gltf names its buffers: say which one is missing or remote instead of a bare name."""
     import json
 
+    if json_too_deep(data):
+        raise CadImportError(path, None, f"not a glTF file (its JSON is nested more than {MAX_JSON_DEPTH} deep)")
     try:
         document = json.loads(data)
     except (ValueError, UnicodeDecodeError) as error:

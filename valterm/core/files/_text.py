@@ -3,15 +3,14 @@
 from __future__ import annotations
 
 import errno
-import os
 import re
-import stat
 from collections.abc import Callable
 from pathlib import Path
 from typing import TypeVar
 
 from valterm.core import numbers
-from valterm.core.files.errors import FileFormatError
+from valterm.core.files.atomic import open_regular
+from valterm.core.files.errors import FileFormatError, NotAFile
 from valterm.core.files.limits import MAX_FILE_BYTES, MAX_LINE
 from valterm.core.numbers import MAX_MAGNITUDE, NumberError
 
@@ -36,47 +35,34 @@ def read_text(path: str | Path, what: str, limit: int = MAX_FILE_BYTES, eight_bi
     return decode_text(read_bytes(path, what, limit), path, what, eight_bit)
 
 
-def read_bytes(path: str | Path, what: str, limit: int = MAX_FILE_BYTES, links: bool = True) -> bytes:
-    """The file's bytes, refused as ``read_text`` refuses them (missing, a folder, too large,
-    unreadable): for a reader that keeps the bytes too (a session stamps its set-up file from
-    the bytes it parsed, ``valterm.core.session``).
-
-    Only a regular file is read: a FIFO or a device is refused at once, never waited on (the
-    open does not block, the file's kind is checked on what was opened). ``links=False``: a
-    file that is a symbolic link is refused too (``valterm grade`` reads a submission only
-    inside itself)."""
+def read_bytes(path: str | Path, what: str, limit: int = MAX_FILE_BYTES, follow_links: bool = True) -> bytes:
+    """The file's bytes, refused as ``read_text`` refuses them (missing, a folder, a FIFO or a
+    device, too large, unreadable): for a reader that keeps the bytes too (a session stamps its
+    set-up file from the bytes it parsed, ``valterm.core.session``). Opened the one way,
+    :func:`~valterm.core.files.atomic.open_regular` (``follow_links=False``: a link is refused)."""
     path = Path(path)
-    if not links and path.is_symlink():  # O_NOFOLLOW below closes the race where the platform has it
-        raise FileFormatError(path, 0, "is a link; refusing to read through it")
-    flags = os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_BINARY", 0)
     try:
-        fd = os.open(path, flags | (0 if links else getattr(os, "O_NOFOLLOW", 0)))
+        handle, info = open_regular(path, follow_links)
     except FileNotFoundError:
         raise FileFormatError(path, 0, f"no such {what} file") from None
+    except NotAFile as error:
+        if error.kind == "a symbolic link":  # follow_links=False (grading: only inside a submission)
+            raise FileFormatError(path, 0, "is a link; refusing to read through it") from None
+        raise FileFormatError(path, 0, f"is {error.kind}, not a {what} file") from None
     except OSError as error:
-        if error.errno == errno.ELOOP and not links:
+        if error.errno == errno.ELOOP and not follow_links:  # swapped for a link after the look
             raise FileFormatError(path, 0, "is a link; refusing to read through it") from None
         if path.is_dir():  # Windows opens no folder
             raise FileFormatError(path, 0, f"is a folder, not a {what} file") from None
         raise FileFormatError(path, 0, f"cannot read the {what} file: {error.strerror or error}") from None
-    try:
-        info = os.fstat(fd)
-        if stat.S_ISDIR(info.st_mode):
-            raise FileFormatError(path, 0, f"is a folder, not a {what} file")
-        if not stat.S_ISREG(info.st_mode):
-            raise FileFormatError(path, 0, f"is not a regular file (a FIFO or a device); refusing to read it as "
-                                           f"a {what} file")
+    with handle:
         if info.st_size > limit:
-            raise FileFormatError(path, 0, f"{_size(info.st_size)} is too large for a {what} file "
-                                           f"(limit {_size(limit)})")
-        with os.fdopen(fd, "rb") as handle:  # closes fd from here on
-            fd = -1
+            raise FileFormatError(path, 0,
+                                  f"{_size(info.st_size)} is too large for a {what} file (limit {_size(limit)})")
+        try:
             data = handle.read(limit + 1)  # a file that grew or lied about its size stops here
-    except OSError as error:
-        raise FileFormatError(path, 0, f"cannot read the {what} file: {error.strerror or error}") from None
-    finally:
-        if fd >= 0:
-            os.close(fd)
+        except OSError as error:
+            raise FileFormatError(path, 0, f"cannot read the {what} file: {error.strerror or error}") from None
     if len(data) > limit:
         raise FileFormatError(path, 0, f"too large for a {what} file (limit {_size(limit)})")
     return data

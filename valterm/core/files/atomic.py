@@ -12,6 +12,10 @@ editor's journal, hardcopies, exports, the files seeded into a new workspace) go
 * a target that is a symbolic link (dangling or not), a folder or a device is refused with
   :class:`FileWriteError`: the program never writes where a link points.
 
+Reading has its one way too, :func:`open_regular`: only a regular file is opened to be read
+(a FIFO would block the reader for ever, /dev/zero never ends); every reader of a workspace
+file goes through it (``valterm.core.files._text.read_bytes``).
+
 A kill between creating the temporary and the rename leaves a stray temporary;
 :func:`remove_stale_temporaries` (called when a workspace opens) clears them.
 
@@ -31,8 +35,9 @@ import sys
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
+from typing import BinaryIO
 
-from valterm.core.files.errors import FileChanged, FileWriteError
+from valterm.core.files.errors import FileChanged, FileWriteError, NotAFile
 
 # POSIX: a temporary being written is locked, so a second session never removes it.
 # Windows has no flock: there temporaries are not locked.
@@ -47,6 +52,9 @@ _TEMPORARY = re.compile(r"\..+\.[A-Za-z0-9_]{8,32}\.tmp")
 
 # the lock file of a workspace folder: saves that check a stamp, and CHECK.DAT's merges, hold it
 LOCK_NAME = ".valterm.lock"
+
+# reading: no wait for a FIFO's writer, no terminal made the controlling one (then refused)
+_READ = os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_NOCTTY", 0) | getattr(os, "O_BINARY", 0)
 
 _CREATE = os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_NOFOLLOW", 0) | getattr(os, "O_BINARY", 0)
 
@@ -75,16 +83,60 @@ def write_bytes_atomic(path: str | Path, data: bytes, expected: str | None = Non
         _write(target, data)
 
 
+def file_kind(mode: int) -> str | None:
+    """What a file of ``stat`` mode ``mode`` is, when it is no regular file (None when it is)."""
+    if stat.S_ISREG(mode):
+        return None
+    if stat.S_ISDIR(mode):
+        return "a folder"
+    if stat.S_ISFIFO(mode):
+        return "a FIFO (a named pipe)"
+    if stat.S_ISCHR(mode) or stat.S_ISBLK(mode):
+        return "a device"
+    if stat.S_ISSOCK(mode):
+        return "a socket"
+    if stat.S_ISLNK(mode):  # looked at without following it
+        return "a symbolic link"
+    return "a special file"
+
+
+def open_regular(path: str | Path, follow_links: bool = True) -> tuple[BinaryIO, os.stat_result]:
+    """The one way the program opens a file to read it: a regular file, opened, and what
+    ``fstat`` says of it (its size: the reader's cap). Anything else is :class:`NotAFile` at
+    once, never read: a FIFO would block for ever, /dev/zero never ends. Looked at before the
+    open (a device is not even opened) and again after it, on what was opened (the name could
+    have been swapped between). ``follow_links=False``: a symbolic link is refused too."""
+    kind = file_kind(os.stat(path, follow_symlinks=follow_links).st_mode)
+    if kind is not None:
+        raise NotAFile(path, kind)
+    flags = _READ | (0 if follow_links else getattr(os, "O_NOFOLLOW", 0))
+    fd = os.open(path, flags)
+    try:
+        info = os.fstat(fd)
+        kind = file_kind(info.st_mode)
+        if kind is not None:
+            raise NotAFile(path, kind)
+        if flags & getattr(os, "O_NONBLOCK", 0):
+            os.set_blocking(fd, True)  # a regular file ignores it; reads as usual
+        return os.fdopen(fd, "rb"), info
+    except BaseException:
+        os.close(fd)
+        raise
+
+
 def file_stamp(path: str | Path) -> str:
     """What a save compares: the SHA-256 of the file's bytes ("" when there is no file).
 
     The content, not the time: two saves within one clock tick, or a copy that keeps the
     time, are still told apart."""
     try:
-        with open(path, "rb") as handle:
+        handle, _info = open_regular(path)
+        with handle:
             return bytes_stamp(handle.read())
     except FileNotFoundError:
         return ""
+    except NotAFile as error:
+        raise FileWriteError(path, f"{error.reason}; cannot compare it") from None
     except OSError as error:
         raise FileWriteError(path, f"cannot read the file to compare it: {error.strerror or error}") from None
 
@@ -235,7 +287,7 @@ def _in_use(path: str) -> bool:
         return False
     else:  # a block of its own: mypy checks it only where fcntl exists
         try:
-            fd = os.open(path, os.O_RDONLY | getattr(os, "O_NOFOLLOW", 0))
+            fd = os.open(path, _READ | getattr(os, "O_NOFOLLOW", 0))  # a FIFO does not block
         except OSError:
             return False
         try:

@@ -13,6 +13,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from valterm.core import resources
+from valterm.core.files._text import read_text
 from valterm.core.files.errors import FileFormatError
 
 DEMO_NAME = "DEMO.KEYS"
@@ -93,7 +94,7 @@ def load_demo(path: str | Path | None = None) -> list[DemoItem]:
     if path is None:
         return parse_demo(resources.read_text(DEMO_NAME))
     try:
-        text = Path(path).read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as error:
-        raise DemoScriptError(path, 0, f"cannot be read ({error.__class__.__name__})") from None
+        text = read_text(path, "key script")  # the one read path: a FIFO or a device is refused
+    except FileFormatError as error:
+        raise DemoScriptError(path, error.line, error.reason) from None
     return parse_demo(text, path)

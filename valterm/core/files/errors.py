@@ -55,6 +55,16 @@ class FileWriteError(FileProblem, OSError):
         super().__init__(path, reason)
 
 
+class NotAFile(FileProblem, OSError):
+    """A path that is there but is no regular file: a folder, a FIFO, a device, a socket (or a
+    symbolic link where links are refused). Never read: a FIFO blocks for ever, /dev/zero never
+    ends. ``kind`` names it (``a FIFO (a named pipe)``); an OSError too, as a failed read is."""
+
+    def __init__(self, path: str | Path, kind: str) -> None:
+        self.kind = kind
+        super().__init__(path, f"is {kind}, not a regular file")
+
+
 class FileChanged(FileProblem):
     """A save refused because the file changed on disk since this session read it (another
     session saved it): nothing was written. The UI asks: overwrite, reload or save as."""

@@ -19,9 +19,11 @@ import tomllib
 from collections.abc import Collection
 from pathlib import Path
 
+from valterm.core.files._text import read_text
 from valterm.core.files.errors import FileFormatError, FileProblem
 
 KEYMAP_ENV = "VALTERM_KEYMAP"
+MAX_KEYMAP_BYTES = 256 * 1024  # a line a binding: a few KB; far more is no keymap
 
 
 def keymap_path() -> Path:
@@ -37,14 +39,12 @@ def read_keymap(path: Path | None = None, known: Collection[str] = ()) -> dict[s
     """{binding id: keys} of the file (``known``: the ids there are, when given)."""
     chosen = path is not None or bool(os.environ.get(KEYMAP_ENV))
     path = path if path is not None else keymap_path()
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        if chosen:
-            raise FileProblem(path, "the keymap file does not exist") from None
-        return {}
-    except (OSError, UnicodeDecodeError) as error:
-        raise FileProblem(path, f"cannot be read ({error})") from None
+    if not chosen and not os.path.lexists(path):
+        return {}  # no keymap: the default bindings
+    if not os.path.lexists(path):
+        raise FileProblem(path, "the keymap file does not exist")
+    # the one read path: a FIFO or a device (/dev/zero) is refused at once, the size capped
+    text = read_text(path, "keymap", MAX_KEYMAP_BYTES)
     try:
         table = tomllib.loads(text)
     except tomllib.TOMLDecodeError as error:

@@ -77,7 +77,12 @@ def format_variables(values: dict[str, float]) -> str:
 
 
 def write_variables(path: str | Path, values: dict[str, float]) -> None:
-    """Write CHECK.DAT atomically; FileWriteError (nothing written) for a value no file can hold."""
+    """Write CHECK.DAT atomically; FileWriteError (nothing written) for a value no file can hold,
+    or more variables than its reader takes (a file written over the limit stopped every later
+    run in the workspace: issue 38)."""
+    if len(values) > MAX_VARIABLES:
+        raise FileWriteError(path, f"{len(values)} variables cannot be kept: at most {MAX_VARIABLES} "
+                                   "(nothing was written)")
     for name, value in values.items():
         if not math.isfinite(float(value)):
             raise FileWriteError(path, f"{shown_name(name)}={value} cannot be kept: not a finite number")

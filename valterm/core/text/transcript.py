@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import textwrap
 from collections.abc import Callable, Iterable, Sequence
+from typing import Protocol, TextIO
 
 from valterm.core.events import (
     Breakpoint,
@@ -146,38 +147,99 @@ def event_lines(event: Event) -> list[str]:
 
 HEADLESS_PROCEED = "(headless: PROCEED)"  # a run with no one to type PROCEED goes on by itself
 
+BLOCK = 1024  # pieces (lines) a write(): about 64 KB of JSON steps, a pipe's buffer
 
-def write_events(events: Iterable[Event], write: Callable[[str], object], as_json: bool = False) -> int:
-    """Write a run's events as ``valterm run`` prints them, each line as soon as its event is
-    made (a terminal sees every step as it scrolls): their JSON lines, or the transcript's
-    lines. Returns how many of them were errors (the run's exit status).
 
-    ``valterm bench`` times this very loop (issue 25). A step, one a statement, is told by its
-    exact type and its line read from it; the rarer events go the general way."""
-    if not as_json:
-        return _write_transcript(events, write)
+class Stream(Protocol):
+    """What Blocks write to: standard output, a file, a test's counting stream."""
+
+    def write(self, text: str, /) -> object: ...
+
+    def flush(self) -> object: ...
+
+
+class Blocks:
+    """A transcript's text written to a stream in blocks: one ``write`` of BLOCK pieces, whatever
+    the stream's own buffering (with ``PYTHONUNBUFFERED=1`` standard output makes a system call
+    of every write: one a line, issue 40). ``watched`` (a person at a terminal): each piece is
+    written and flushed at once, as it scrolls. ``flush()`` sends what is gathered."""
+
+    def __init__(self, stream: Stream, watched: bool = False) -> None:
+        self.stream = stream
+        self.watched = watched
+        self.pieces = 1 if watched else BLOCK
+        self.pending: list[str] = []
+
+    def write(self, text: str) -> None:
+        self.pending.append(text)
+        if len(self.pending) >= self.pieces:
+            self.send()
+
+    def send(self) -> None:
+        """Write what is gathered (flushed too when a person is watching)."""
+        if self.pending:
+            self.stream.write("".join(self.pending))
+            self.pending.clear()
+            if self.watched:
+                self.stream.flush()
+
+    def flush(self) -> None:
+        self.send()
+        self.stream.flush()
+
+
+def blocks_for(stream: TextIO) -> Blocks:
+    """Blocks for a stream: watched when it is a terminal, gathered otherwise (a file, a pipe)."""
+    try:
+        watched = stream.isatty()
+    except (OSError, ValueError):  # a closed or detached stream: no one is watching it
+        watched = False
+    return Blocks(stream, watched)
+
+
+def write_events(events: Iterable[Event], out: Blocks, as_json: bool = False) -> int:
+    """Write a run's events as ``valterm run`` prints them: their JSON lines, or the transcript's
+    lines, in ``out``'s blocks (each line at once to a person watching); what is gathered is
+    written when the events end, or stop with an exception. Returns how many of them were errors
+    (the run's exit status).
+
+    ``valterm bench`` times this very loop (issues 25, 40). A step, one a statement, is told by
+    its exact type and its line read from it; the rarer events go the general way."""
+    pending, pieces, send = out.pending, out.pieces, out.send
+    add = pending.append
     errors = 0
-    for event in events:
-        if type(event) is Step:
-            write(event.json or event.json_line())
-        else:
-            errors += isinstance(event, Error)
-            write(event.json_line())
+    try:
+        for event in events:
+            if type(event) is Step:
+                if as_json:
+                    add(event.json or event.json_line())
+                else:
+                    add(event.line or _kept_line(event))
+            else:
+                errors += _add_lines(event, add, as_json)
+            if len(pending) >= pieces:
+                send()
+    finally:
+        send()
     return errors
 
 
-def _write_transcript(events: Iterable[Event], write: Callable[[str], object]) -> int:
-    errors = 0
-    for event in events:
-        if type(event) is Step:
-            write(step_line(event) + "\n")
-            continue
-        errors += isinstance(event, Error)
+def _kept_line(step: Step) -> str:
+    """A step's transcript line, kept on it: a loop repeats its steps (as Step.json)."""
+    object.__setattr__(step, "line", step_line(step) + "\n")
+    return step.line
+
+
+def _add_lines(event: Event, add: Callable[[str], object], as_json: bool) -> int:
+    """An event's JSON line or transcript lines (a pause goes on by itself); 1 if an error."""
+    if as_json:
+        add(event.json_line())
+    else:
         for line in event_lines(event):
-            write(line + "\n")
+            add(line + "\n")
         if isinstance(event, Pause):
-            write(HEADLESS_PROCEED + "\n")
-    return errors
+            add(HEADLESS_PROCEED + "\n")
+    return 1 if isinstance(event, Error) else 0
 
 
 def wrap_line(line: str, width: int, indent: str = "") -> list[str]:
