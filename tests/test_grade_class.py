@@ -130,7 +130,7 @@ def test_a_fifo_named_like_a_program_fails_at_once_never_blocking(tmp_path: Path
     assert done.returncode == 1, done.stderr
     (result,) = json.loads(done.stdout)["results"]
     assert result["student"] == "bob" and result["failures"][0]["kind"] == "file"
-    assert f"{name}: is not a regular file" in result["failures"][0]["message"]
+    assert f"{name}: is a FIFO (a named pipe), not a program file" in result["failures"][0]["message"]
 
 
 # -- students by folder ---------------------------------------------------------------------

@@ -409,7 +409,7 @@ class _Programs:
         try:
             data = read_bytes(path, "program", follow_links=False)
         except FileFormatError as error:
-            if "is a link" in error.reason:
+            if "symbolic link" in error.reason:
                 raise FileFormatError(path, 0, LINK) from None
             raise
         if path.suffix.upper() in VPLUS_EXTENSIONS:
