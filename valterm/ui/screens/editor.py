@@ -374,6 +374,8 @@ class EditorScreen(KeyedScreen[None]):
             return
         editor = self.editor
         assert editor is not None
+        if self.mode in ("line", "insert-line"):
+            typed = self._read_as_1985(typed)
         try:
             if self.mode == "line":
                 if not typed.strip():
@@ -411,8 +413,25 @@ class EditorScreen(KeyedScreen[None]):
                 else:
                     self._prompt("insert-line", editor.prompt(self.insert_at), "", after)
         except ValtermError as error:
+            if getattr(self.app, "keys_1985", False):
+                # 1985 (§6, "the line is rejected"): the line goes, the menu's keys are keys again
+                self.say(f"REJECTED: {typed.strip()}: {error}")
+                self._menu()
+                return
             # rejected: the line stays in the field to be corrected (nothing typed is lost)
             self.say(f"REJECTED: {error}")
+
+    def _read_as_1985(self, typed: str) -> str:
+        """--keys 1985: a step as the 1985 program read it (`CLOSE I 50` is CLOSEI 50)."""
+        if not getattr(self.app, "keys_1985", False):
+            return typed
+        from valterm.core.val.checker import read_as_1985
+
+        reading = read_as_1985(typed)
+        if reading is None:
+            return typed
+        self.say(f"{typed.strip()} READ AS {reading.strip()} (THE 1985 PROGRAM'S READING)")
+        return reading
 
     @staticmethod
     def _number(typed: str) -> int:

@@ -254,6 +254,7 @@ class ManipulationScreen(MenuScreen):
         self.ask_line(f"ENTER SET-UP FILE NAME (RETURN: SAME NAME {name}):", self._save, cancel=self._end)
 
     def _save(self, name: str, overwrite: bool = False) -> None:
+        typed, name = name, self._name_1985(name)
         try:
             path = self.app.active_session.save_setup(name or None, overwrite=overwrite)
         except FileChanged:
@@ -264,6 +265,17 @@ class ManipulationScreen(MenuScreen):
             self._ask_name()
             return
         self._saved(path)
+        if name != typed:  # said on the screen the save returns to
+            self.app.say(f"SET-UP SAVED AS {path.name} ({typed.strip().upper()} TAKEN AS {path.stem}: "
+                         "A SET-UP FILE ENDS IN .SET)")
+
+    def _name_1985(self, typed: str) -> str:
+        """--keys 1985: a name with another file's ending is taken as the 1985 program took it,
+        by its stem (Table C-1's `Y, "TEST.DAT" RETURN` saves the set-up TEST, TEST.SET)."""
+        stem, dot, ending = typed.strip().rpartition(".")
+        if getattr(self.app, "keys_1985", False) and dot and stem and ending.upper() != "SET":
+            return stem
+        return typed
 
     def _ask_changed(self) -> None:
         """NAME.SET changed on disk since it was read: overwrite, reload or save as."""
