@@ -264,10 +264,10 @@ class ManipulationScreen(MenuScreen):
             self.say(problem_text(error), "error")
             self._ask_name()
             return
+        if name != typed:  # said by the screen the save returns to, after its own first words
+            self.app.unsaid.append((f"SET-UP SAVED AS {path.name} ({typed.strip().upper()} TAKEN AS "
+                                    f"{path.stem}: A SET-UP FILE ENDS IN .SET)", "info"))
         self._saved(path)
-        if name != typed:  # said on the screen the save returns to
-            self.app.say(f"SET-UP SAVED AS {path.name} ({typed.strip().upper()} TAKEN AS {path.stem}: "
-                         "A SET-UP FILE ENDS IN .SET)")
 
     def _name_1985(self, typed: str) -> str:
         """--keys 1985: a name with another file's ending is taken as the 1985 program took it,
