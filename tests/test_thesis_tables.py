@@ -189,3 +189,15 @@ def test_1985_editor_clears_a_rejected_line_and_ignores_a_stray_return(tmp_path:
     assert "IS NOT A KEY" not in at_main
     assert "REJECTED: CLOSE X 50" in _norm(after) and "MAIN MENU" in after
     assert (tmp_path / "T1.DAT").read_text().split() == ["MOVE", "A"]
+
+
+def test_demo_keys_types_the_tables_as_the_row_file_does() -> None:
+    """The museum demo's DEMO.KEYS, up to its CONV1 part, presses exactly the keys of the rows
+    (so its departures from the seed are the ones its header and the row file list)."""
+    from valterm.core.files.demokeys import load_demo
+
+    items = load_demo()
+    end = next(i for i, item in enumerate(items) if item.kind == "caption" and "CONV1" in item.value)
+    demo = [key for item in items[:end] for key in item.keys()]
+    rows = [key for row in read_rows() for key in row.presses()]
+    assert demo == rows
