@@ -201,3 +201,16 @@ def test_demo_keys_types_the_tables_as_the_row_file_does() -> None:
     demo = [key for item in items[:end] for key in item.keys()]
     rows = [key for row in read_rows() for key in row.presses()]
     assert demo == rows
+
+
+def test_readouts_print_no_minus_zero_and_t_at_180_as_the_convention_keeps_it() -> None:
+    """Fig. 2-8's readout: two decimals, never -0.00; O, A, T in (-180, 180]: a T that rounds
+    to -180 is 180.00 (the thesis never prints -180; its T is 170.05, 158.35, 0.00)."""
+    from valterm.core.events import Where
+    from valterm.core.text.transcript import where_lines
+
+    where = Where(xyz=(-0.001, 150.75, 990.6), oat=(90.0, -90.0, -179.999),
+                  joints=(-0.004, -90.0, 90.0, 0.0, -0.001, 180.0), config={}, clamp="OPENED")
+    text = "\n".join(where_lines(where))
+    assert "-0.00" not in text and "-180.00" not in text
+    assert where_lines(where)[1].split()[-1] == "180.00"

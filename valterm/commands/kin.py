@@ -39,7 +39,10 @@ from valterm.core.kinematics import (
     IKError,
     oat_to_rotation,
     readout_joints,
+    shown_angle,
 )
+from valterm.core.numbers import angle_text, two_decimals
+from valterm.core.rules import CONTROLLER
 
 
 # Larger numbers are no pose at all (mm or degrees); they would only overflow.
@@ -158,16 +161,24 @@ def _finite(values: Sequence[float]) -> list[float]:
     return list(values)
 
 
-def _table(xyz: Sequence[float], oat: Sequence[float], config: Config, joints: Sequence[float], clamp: str = "OPENED",
-           stops: HasStops | None = None) -> str:
-    """The Fig. 2-8 readout."""
+def _table(xyz: Sequence[float], oat: Sequence[float], config: Config, shown: Sequence[float],
+           clamp: str = "OPENED") -> str:
+    """The Fig. 2-8 readout (``shown``: the joints as ``_shown`` gives them)."""
     arm, elbow, wrist = config.words
     row = "{:<7}" + "{:>9}" * 6
     head = row.format(clamp, "XW", "YW", "ZW", "O", "A", "T")
-    values = row.format(arm, *(f"{v:.2f}" for v in (*xyz, *oat)))
+    values = row.format(arm, *map(two_decimals, xyz), *map(angle_text, oat))
     head2 = row.format(elbow, "JT1", "JT2", "JT3", "JT4", "JT5", "JT6")
-    values2 = row.format(wrist, *(f"{v:.2f}" for v in readout_joints(joints, stops)))
+    values2 = row.format(wrist, *map(two_decimals, shown))
     return "\n".join((head, values, head2, values2))
+
+
+def _shown(args: argparse.Namespace, joints: Sequence[float], stops: HasStops) -> list[float]:
+    """Joints as printed (SPEC §3a): the 1985 rules (the default) show them in (-180, 180] as
+    the thesis's figures do (JT2 172.08); --rules controller, inside the stops (JT3 215.04)."""
+    if getattr(args, "rules", None) == CONTROLLER:
+        return [round(j, 6) for j in readout_joints(joints, stops)]
+    return [round(shown_angle(j), 6) for j in joints]
 
 
 def _chosen(args: argparse.Namespace) -> tuple[Arm | None, int]:
@@ -201,12 +212,12 @@ def run_fk(args: argparse.Namespace) -> int:
         position, orientation, config = _fk_pose(robot, joints, args.point)
         xyz = [round(v, 6) for v in _finite(position)]
         oat = [round(v, 6) for v in _finite(orientation)]
-        shown = [round(j, 6) for j in readout_joints(joints, stops)]  # inside the stops where it can be
+        shown = _shown(args, joints, stops)
         if args.json:
             print(json.dumps({"xyz": xyz, "oat": oat, "config": config.as_dict(), "joints": shown,
                               "robot": stops.name}))
         else:
-            print(_table(xyz, oat, config, joints, stops=stops))
+            print(_table(xyz, oat, config, shown))
 
     return _each(args, args.joints, solve)
 
@@ -245,13 +256,13 @@ def run_ik(args: argparse.Namespace) -> int:
             beyond = stop.joint
             _warn(args, f"joint {beyond} beyond its stop ({stop.angle:.2f} deg): "
                         "the geometric solution is shown; the robot cannot take this pose", line)
-        shown = [round(j, 6) for j in readout_joints(joints, stops)]  # JT3 215.04, not -144.96
+        shown = _shown(args, joints, stops)
         if args.json:
             result: dict[str, object] = {"joints": shown, "config": config.as_dict(), "robot": stops.name}
             if beyond:
                 result["beyond_stop"] = beyond
             print(json.dumps(result))
         else:
-            print(" ".join(f"{v:.2f}" for v in shown))
+            print(" ".join(map(two_decimals, shown)))
 
     return _each(args, args.pose, solve)
