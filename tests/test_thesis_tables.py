@@ -119,6 +119,8 @@ def test_tables_c1_to_c3_typed_as_printed(tmp_path: Path) -> None:
                     figures_seen[row.figure] = [before, after]
                 if row.printed == 'Y, "TEST.DAT" RETURN':
                     seen["saved message"] = after
+                if row.printed == '" CLOSE I 50"':
+                    seen["read as"] = after
                 before = after
             seen["running"] = app.is_running
 
@@ -127,6 +129,7 @@ def test_tables_c1_to_c3_typed_as_printed(tmp_path: Path) -> None:
     steps = [s.strip() for s in (workspace / "TEST.DAT").read_text().splitlines() if s.strip()]
     assert steps == ["MOVE A", "MOVE B", "MOVE E", "STOP"]
     assert "SET-UP SAVED AS TEST.SET (TEST.DAT TAKEN AS TEST" in str(seen["saved message"])
+    assert "CLOSE I 50 READ AS CLOSEI 50" in str(seen["read as"])
     transcript = "\n".join(seen["transcript"])  # type: ignore[arg-type]
     assert "PROGRAM PROCESS COMPLETED" in transcript
     written = _files(workspace) - seen["files"]  # type: ignore[operator]

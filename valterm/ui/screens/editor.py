@@ -374,15 +374,16 @@ class EditorScreen(KeyedScreen[None]):
             return
         editor = self.editor
         assert editor is not None
+        read = ""
         if self.mode in ("line", "insert-line"):
-            typed = self._read_as_1985(typed)
+            typed, read = self._read_as_1985(typed)
         try:
             if self.mode == "line":
                 if not typed.strip():
                     self.action_cancel()  # RETURN on an empty line: back to the menu
                     return
                 number = editor.append(typed)
-                self.say(f"STEP {number} ACCEPTED (ESC OR AN EMPTY LINE: EDITOR MENU)")
+                self.say(f"STEP {number} ACCEPTED{read} (ESC OR AN EMPTY LINE: EDITOR MENU)")
                 self._refresh_listing(number)
                 if getattr(self.app, "keys_1985", False):
                     self._menu()  # 1985 (Fig. C-8): the menu; a space or a digit starts the next step
@@ -405,7 +406,7 @@ class EditorScreen(KeyedScreen[None]):
                     self.action_cancel()
                     return
                 number = editor.insert(self.insert_at, typed)
-                self.say(f"STEP {number} INSERTED (ESC OR AN EMPTY LINE: EDITOR MENU)")
+                self.say(f"STEP {number} INSERTED{read} (ESC OR AN EMPTY LINE: EDITOR MENU)")
                 self._refresh_listing(number)
                 self.insert_at = number + 1  # the next line goes in after it
                 if getattr(self.app, "keys_1985", False):
@@ -421,17 +422,17 @@ class EditorScreen(KeyedScreen[None]):
             # rejected: the line stays in the field to be corrected (nothing typed is lost)
             self.say(f"REJECTED: {error}")
 
-    def _read_as_1985(self, typed: str) -> str:
-        """--keys 1985: a step as the 1985 program read it (`CLOSE I 50` is CLOSEI 50)."""
+    def _read_as_1985(self, typed: str) -> tuple[str, str]:
+        """--keys 1985: a step as the 1985 program read it (`CLOSE I 50` is CLOSEI 50), and
+        the words the accepted message adds to say so ("" when it is read as typed)."""
         if not getattr(self.app, "keys_1985", False):
-            return typed
+            return typed, ""
         from valterm.core.val.checker import read_as_1985
 
         reading = read_as_1985(typed)
         if reading is None:
-            return typed
-        self.say(f"{typed.strip()} READ AS {reading.strip()} (THE 1985 PROGRAM'S READING)")
-        return reading
+            return typed, ""
+        return reading, f": {typed.strip()} READ AS {reading.strip()}, AS IN 1985"
 
     @staticmethod
     def _number(typed: str) -> int:
