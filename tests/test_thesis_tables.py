@@ -217,3 +217,7 @@ def test_readouts_print_no_minus_zero_and_t_at_180_as_the_convention_keeps_it() 
     text = "\n".join(where_lines(where))
     assert "-0.00" not in text and "-180.00" not in text
     assert where_lines(where)[1].split()[-1] == "180.00"
+    from valterm.core.events import Near
+
+    near = Near(a="CLAMP", b="PART 10", program="PICK", step=5, clamp=(-0.001, 465.0, -0.004))
+    assert near.located == " (PICK STEP 5, CLAMP AT 0.00 465.00 0.00)"
