@@ -112,9 +112,8 @@ def test_tables_c1_to_c3_typed_as_printed(tmp_path: Path) -> None:
             for row in rows:
                 if row is rows[2]:  # DEMO3.SET read: the workspace is open (and seeded)
                     seen["files"] = _files(workspace)
-                for key in row.presses():
-                    await pilot.press(key)
-                    await pilot.pause()
+                await pilot.press(*row.presses())  # keys typed ahead wait their turn (1985)
+                await pilot.pause()
                 if not app.is_running:
                     break
                 await until(pilot, lambda: not app.moving and not app.keys_waiting, f"row {row.printed}")
