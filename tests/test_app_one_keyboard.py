@@ -389,7 +389,7 @@ async def test_keys_1985_tables_c1_to_c3_typed_as_printed_replay(tmp_path: Path)
     as the tables write it, all six locations, PROCESS completed, back at MAIN."""
     clock = FakeClock()
     app = ValtermApp(tmp_path, "PROCESS", clock=clock, motion_rate=10.0, keys="1985")
-    editor = ["E", '"EDIT TEST.DAT"', "C", '" MOVE A"', '" MOVE B"', '" CLOSEI 50"', '" STOP"',
+    editor = ["E", '"EDIT TEST.DAT"', "C", '" MOVE A"', '" MOVE B"', '" CLOSE I 50"', '" STOP"',
               "D,3, RETURN", "I,3,RETURN", '" MOVE E"', "S,E"]
     valmode = ["V", "V", '"LE"', '"AB"', "D,D", '"PROCESS.LOC"', "A", "A,A,A,A", "E,W", '"EXEC PROCESS,1"', "R"]
     async with app.run_test(size=(160, 50)) as pilot:

@@ -61,8 +61,11 @@ def test_batch_from_standard_input_one_result_per_line() -> None:
     assert result.returncode == 1  # line 2 failed
     out = [json.loads(line) for line in result.stdout.splitlines()]
     assert len(out) == 4
-    # Fig. 2-8a1's JT2 172.08 printed as its equivalent inside the stop -225..45 (SPEC §3a)
-    assert out[0]["joints"] == pytest.approx([-108.02, 172.08 - 360.0, 19.34, -1.52, 35.64, -9.54], abs=0.05)
+    # Fig. 2-8a1's JT2 172.08 printed as the figure prints it (the 1985 rules, SPEC §3a); the
+    # controller's rules print its equivalent inside the stop -225..45
+    assert out[0]["joints"] == pytest.approx([-108.02, 172.08, 19.34, -1.52, 35.64, -9.54], abs=0.02)
+    controller = json.loads(run(["--rules", "controller", "kin", "ik", "--json"], lines).stdout.splitlines()[0])
+    assert controller["joints"] == pytest.approx([-108.02, 172.08 - 360.0, 19.34, -1.52, 35.64, -9.54], abs=0.05)
     assert out[1]["line"] == 2 and "expected 6 numbers" in out[1]["error"]
     # Fig. 2-8c: the geometric solution, flagged (JT2 is beyond its stop)
     assert out[2]["beyond_stop"] == 2

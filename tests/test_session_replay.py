@@ -20,7 +20,7 @@ def test_demo_script_parses() -> None:
     assert kinds == {"key", "text", "pause", "caption", "claim"}
     texts = [item.value for item in ITEMS if item.kind == "text"]
     assert texts[:2] == ["DEMO3.SET", "1"]
-    assert " CLOSEI 50" in texts and "EXEC PROCESS,1" in texts and "EXEC CONV1,1" in texts
+    assert " CLOSE I 50" in texts and "EXEC PROCESS,1" in texts and "EXEC CONV1,1" in texts
     assert [i.value for i in ITEMS if i.replay_only] == ["S", "Y"]
     assert parse_demo('"AB"\nRETURN\n')[0].keys() == ["A", "B"]
     assert parse_demo("RETURN\n")[0].keys() == ["enter"]

@@ -94,17 +94,26 @@ def test_every_pose_of_a_program_is_inside_the_stops_as_printed(tmp_path: Path) 
 def test_a_precision_point_copied_from_kin_ik_or_where_is_never_refused_for_a_stop() -> None:
     joints = ik([400.0, 0.0, 0.0], oat_to_rotation(90, 90, 0), Config(-1, 1, 1))
     shown = readout_joints(joints)
-    assert shown[2] == pytest.approx(215.04, abs=0.01)  # not -144.96
+    assert shown[2] == pytest.approx(215.04, abs=0.01)  # the controller's readout, not -144.96
     for copy in (shown, [shown[0], shown[1], shown[2] - 360.0, *shown[3:]]):  # either way it was printed
         sim = Simulator()
         list(sim.move_joints([round(v, 2) for v in copy]))
-        assert sim.where().joints[2] == pytest.approx(215.04, abs=0.01)
+        assert sim.joints[2] == pytest.approx(215.04, abs=0.01)  # held inside the stop -45..225
+        assert sim.where().joints[2] == pytest.approx(-144.96, abs=0.01)  # 1985: shown in (-180, 180]
 
 
-def test_where_of_that_pose_prints_the_angle_inside_the_stop() -> None:
+def test_where_shows_the_1985_angle_in_minus_180_180_and_the_controllers_inside_the_stop() -> None:
+    # SPEC §3a: the 1985 rules show a joint as the thesis's figures do (Fig. 2-8a1: JT2 172.08,
+    # held as -187.92 inside the stop -225..45); the controller's rules, as the joint holds it
     sim = Simulator()
     list(sim.move_joints([0, -90, 215.04, 0, 0, 0]))
+    assert sim.where().joints[2] == pytest.approx(-144.96)
+    sim.set_rules(CONTROLLER)
     assert sim.where().joints[2] == pytest.approx(215.04)
+    figure = Simulator()
+    figure.stand_at([-108.02, 172.08, 19.34, -1.52, 35.64, -9.54])  # typed as printed: accepted
+    assert figure.joints[1] == pytest.approx(-187.92)
+    assert figure.where().joints == pytest.approx((-108.02, 172.08, 19.34, -1.52, 35.64, -9.54))
 
 
 # -- configurations that stick -----------------------------------------------------------

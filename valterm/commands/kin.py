@@ -13,10 +13,7 @@ by a warning on standard error; motions still refuse such poses.
 
 ``--robot PUMA560`` takes the PUMA 560 of the robotics courses (``robot/PUMA560.toml``, its
 standard DH table, ``valterm.core.dh``) instead of the thesis's robot: joint angles with
-that table's zero (Corke's Robotics Toolbox ``Puma560``), positions of its frame 6 in mm, in
-its base frame (frame 0, the toolbox's), which the table names X0 Y0 Z0 under a line saying how
-the cell's frame of WHERE follows (the 560's ZW = Z0 - 671.83): the same pose never reads two
-ways under one heading.
+that table's zero (Corke's Robotics Toolbox ``Puma560``), positions of its frame 6 in mm.
 """
 
 from __future__ import annotations
@@ -42,7 +39,10 @@ from valterm.core.kinematics import (
     IKError,
     oat_to_rotation,
     readout_joints,
+    shown_angle,
 )
+from valterm.core.numbers import angle_text, two_decimals
+from valterm.core.rules import CONTROLLER
 
 
 # Larger numbers are no pose at all (mm or degrees); they would only overflow.
@@ -64,8 +64,7 @@ def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
 
     ik_parser = kin_sub.add_parser("ik", help="XW YW ZW O A T -> JT1..JT6")
     ik_parser.add_argument("pose", nargs="*", metavar="V",
-                           help="X Y Z (mm) O A T (degrees), on another --robot in its base frame "
-                                "(frame 0, as kin fk prints it); none: one pose a line on stdin")
+                           help="X Y Z (mm) O A T (degrees); none: one pose a line on stdin")
     ik_parser.add_argument("--config", default="RIGHTY,ABOVE,NOFLIP",
                            help="configuration indicators, e.g. LEFTY,ABOVE,NOFLIP")
     ik_parser.add_argument("--json", action="store_true", help="one JSON object per result")
@@ -171,16 +170,25 @@ def frame_line(robot: Arm) -> str:
     return f"{robot.name} BASE FRAME (FRAME 0 OF ITS DH TABLE){where}"
 
 
-def _table(xyz: Sequence[float], oat: Sequence[float], config: Config, joints: Sequence[float], clamp: str = "OPENED",
-           stops: HasStops | None = None, frame: str = "W") -> str:
-    """The Fig. 2-8 readout; ``frame`` names the axes' frame (W: the world's, 0: a robot's base)."""
+def _table(xyz: Sequence[float], oat: Sequence[float], config: Config, shown: Sequence[float],
+           clamp: str = "OPENED", frame: str = "W") -> str:
+    """The Fig. 2-8 readout (``shown``: the joints as ``_shown`` gives them); ``frame`` names
+    the axes' frame (W: the world's, 0: a robot's base)."""
     arm, elbow, wrist = config.words
     row = "{:<7}" + "{:>9}" * 6
     head = row.format(clamp, f"X{frame}", f"Y{frame}", f"Z{frame}", "O", "A", "T")
-    values = row.format(arm, *(f"{v:.2f}" for v in (*xyz, *oat)))
+    values = row.format(arm, *map(two_decimals, xyz), *map(angle_text, oat))
     head2 = row.format(elbow, "JT1", "JT2", "JT3", "JT4", "JT5", "JT6")
-    values2 = row.format(wrist, *(f"{v:.2f}" for v in readout_joints(joints, stops)))
+    values2 = row.format(wrist, *map(two_decimals, shown))
     return "\n".join((head, values, head2, values2))
+
+
+def _shown(args: argparse.Namespace, joints: Sequence[float], stops: HasStops) -> list[float]:
+    """Joints as printed (SPEC §3a): the 1985 rules (the default) show them in (-180, 180] as
+    the thesis's figures do (JT2 172.08); --rules controller, inside the stops (JT3 215.04)."""
+    if getattr(args, "rules", None) == CONTROLLER:
+        return [round(j, 6) for j in readout_joints(joints, stops)]
+    return [round(shown_angle(j), 6) for j in joints]
 
 
 def _chosen(args: argparse.Namespace) -> tuple[Arm | None, int]:
@@ -214,15 +222,15 @@ def run_fk(args: argparse.Namespace) -> int:
         position, orientation, config = _fk_pose(robot, joints, args.point)
         xyz = [round(v, 6) for v in _finite(position)]
         oat = [round(v, 6) for v in _finite(orientation)]
-        shown = [round(j, 6) for j in readout_joints(joints, stops)]  # inside the stops where it can be
+        shown = _shown(args, joints, stops)
         if args.json:
             print(json.dumps({"xyz": xyz, "oat": oat, "config": config.as_dict(), "joints": shown,
                               "robot": stops.name}))
         elif robot.key == THESIS_ROBOT:  # the cell's frame is the robot's own (Fig. 2-8)
-            print(_table(xyz, oat, config, joints, stops=stops))
+            print(_table(xyz, oat, config, shown))
         else:
             print(frame_line(robot))
-            print(_table(xyz, oat, config, joints, stops=stops, frame="0"))
+            print(_table(xyz, oat, config, shown, frame="0"))
 
     return _each(args, args.joints, solve)
 
@@ -261,13 +269,13 @@ def run_ik(args: argparse.Namespace) -> int:
             beyond = stop.joint
             _warn(args, f"joint {beyond} beyond its stop ({stop.angle:.2f} deg): "
                         "the geometric solution is shown; the robot cannot take this pose", line)
-        shown = [round(j, 6) for j in readout_joints(joints, stops)]  # JT3 215.04, not -144.96
+        shown = _shown(args, joints, stops)
         if args.json:
             result: dict[str, object] = {"joints": shown, "config": config.as_dict(), "robot": stops.name}
             if beyond:
                 result["beyond_stop"] = beyond
             print(json.dumps(result))
         else:
-            print(" ".join(f"{v:.2f}" for v in shown))
+            print(" ".join(map(two_decimals, shown)))
 
     return _each(args, args.pose, solve)

@@ -11,6 +11,8 @@ from dataclasses import dataclass, field, fields, is_dataclass
 from functools import lru_cache
 from typing import Any, TypeAlias, cast
 
+from valterm.core.numbers import two_decimals
+
 # A value json.dumps writes: what ``to_json()`` gives for ``valterm run --json``.
 Json: TypeAlias = "str | int | float | bool | list[Json] | tuple[Json, ...] | dict[str, Json] | None"
 
@@ -151,7 +153,7 @@ class Located(Event):
         """` (PICK STEP 5, CLAMP AT 465.00 -45.00 -245.00)`, or "" when not in a program."""
         if not self.program:
             return ""
-        at = " ".join(f"{v:.2f}" for v in self.clamp)
+        at = " ".join(map(two_decimals, self.clamp))
         return f" ({self.program} STEP {self.step}, CLAMP AT {at})" if at else f" ({self.program} STEP {self.step})"
 
 

@@ -221,6 +221,14 @@ def wrap180(angle: float) -> float:
     return wrapped
 
 
+def shown_angle(angle: float) -> float:
+    """A joint as the 1985 rules show it (SPEC §3a, the thesis's figures): in (-180, 180] at
+    the readout's two decimals (Fig. 2-8a1's JT2 172.08, held as -187.92 inside the stop
+    -225..45; -179.999 is shown 180.00)."""
+    wrapped = wrap180(angle)
+    return 180.0 if round(wrapped, 2) == -180.0 else wrapped
+
+
 def joints_between(start: Sequence[float], end: Sequence[float], fraction: float) -> tuple[float, ...]:
     """The pose ``fraction`` of the way from ``start`` to ``end``, each joint along its shortest
     turn (the 1985 rules keep angles in (-180, 180]: 179 -> -179 is a 2-degree step, not 358)."""

@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING
 
 from valterm.core.errors import ValtermError
 from valterm.core.events import Error, Event, Monitor, Pause
+from valterm.core.numbers import two_decimals
 from valterm.core.session import Session
 from valterm.core.text.transcript import event_lines
 
@@ -149,7 +150,7 @@ def listing_lines(session: Session, command: str, argument: str) -> list[str] | 
     if command == "LISTL":
         lines = ["LOCATION FILES: " + "  ".join(workspace.list_locations())]
         for name, location in session.simulator.locations.items():  # two decimals, as WHERE shows them
-            lines.append(f"POINT {name}, " + ", ".join(f"{v + 0.0:.2f}" for v in (*location.xyz, *location.oat)))
+            lines.append(f"POINT {name}, " + ", ".join(map(two_decimals, (*location.xyz, *location.oat))))
         return lines
     if command == "LISTP":
         program = workspace.read_program(argument)

@@ -40,6 +40,20 @@ class NumberError(ValtermError, ValueError):
     """A number refused; ``str()`` says why, without saying where (the caller knows that)."""
 
 
+def two_decimals(value: float) -> str:
+    """A readout number as Fig. 2-8 prints it: two decimals, never ``-0.00``."""
+    text = f"{value:.2f}"
+    return "0.00" if text == "-0.00" else text
+
+
+def angle_text(value: float) -> str:
+    """An angle of the (-180, 180] convention (O, A, T; a joint under the 1985 rules) in two
+    decimals: never ``-0.00``, and a value that rounds to -180 is 180.00, the end the
+    convention keeps (T -179.999 is shown 180.00, never ``T -180.00``)."""
+    text = two_decimals(value)
+    return "180.00" if text == "-180.00" else text
+
+
 def parse_number(text: str, limit: float = MAX_MAGNITUDE) -> float:
     """The value of one written number, or NumberError saying why it is not one."""
     field = text.strip()

@@ -24,7 +24,7 @@ from valterm.core.cell.workcell import WorkCell
 from valterm.core.cycletime import joint_motion_seconds, robot_timing, straight_motion_seconds
 from valterm.core.errors import ValtermError
 from valterm.core.events import Collision, Event, Grasp, Hand, Message, Motion, Near, PoseEvent, Release, Where
-from valterm.core.kinematics import Config, IKError, Location, indicator_kind, rotation_to_oat
+from valterm.core.kinematics import Config, IKError, Location, indicator_kind, rotation_to_oat, shown_angle
 from valterm.core.motion import (
     OUT_OF_REACH_REASON,
     PENDANT_INCREMENT,
@@ -162,7 +162,10 @@ class Simulator:
         """The arm at ``joints`` without a motion (a picture, a bench, a test's start): the stops
         checked and the angles settled by the rules in force; a carried part follows."""
         goal = [float(v) for v in joints]
-        check_joint_goal(goal, self.arm)
+        if self.rules == CONTROLLER:
+            check_joint_goal(goal, self.arm)
+        else:  # 1985: an angle typed as the figures show it (JT2 172.08) is its equivalent inside
+            goal = fit_precision_point(goal, self.joints, self.arm)
         self._joints = tuple(self._settled(goal))
         self._follow_clamp()
 
@@ -180,10 +183,18 @@ class Simulator:
         return Where(
             xyz=_rounded(xyz),
             oat=_rounded(rotation_to_oat(rotation)),
-            joints=tuple(round(j, 6) for j in self.joints),
+            joints=tuple(round(j, 6) for j in self.shown_joints()),
             config=self.arm.indicators(self.joints).as_dict(),
             clamp="CLOSED" if self.clamp_closed else "OPENED",
         )
+
+    def shown_joints(self) -> list[float]:
+        """The joints as WHERE shows them (SPEC §3a): under the 1985 rules in (-180, 180] as
+        the thesis's figures are (the angle held may be its equivalent inside the stops:
+        JT2 -187.92 is shown 172.08); under the controller's, the angles the joints hold."""
+        if self.rules == CONTROLLER:
+            return list(self.joints)
+        return [shown_angle(j) for j in self.joints]
 
     def here_location(self) -> Location:
         """Where the tool is, with the arm's configuration and joint angles (what HERE keeps)."""

@@ -32,6 +32,7 @@ from valterm.core.events import (
     Watch,
     Where,
 )
+from valterm.core.numbers import angle_text, two_decimals
 
 LABEL = 8  # Fig. 2-8: the indicator column
 COLUMN = 9  # Fig. 2-8: each number right-aligned in nine columns
@@ -41,10 +42,7 @@ def _row(label: str, cells: Sequence[str]) -> str:
     return label.ljust(LABEL) + "".join(cell.rjust(COLUMN) for cell in cells)
 
 
-def number(value: float) -> str:
-    """A readout number as Fig. 2-8 prints it: two decimals, never ``-0.00``."""
-    text = f"{value:.2f}"
-    return "0.00" if text == "-0.00" else text
+number = two_decimals  # a readout number: two decimals, never -0.00
 
 
 def where_lines(where: Where) -> list[str]:
@@ -56,7 +54,7 @@ def where_lines(where: Where) -> list[str]:
         heads, angles = ("X", "Y", "Z", "YAW", "PITCH", "ROLL"), where.ypr
     return [
         _row(where.clamp, heads),
-        _row(config.get("arm", ""), [number(v) for v in (*where.xyz, *angles)]),
+        _row(config.get("arm", ""), [*map(number, where.xyz), *map(angle_text, angles)]),
         _row(config.get("elbow", ""), [f"JT {i}" for i in range(1, 7)]),
         _row(config.get("wrist", ""), [number(v) for v in where.joints]),
     ]

@@ -5,6 +5,7 @@ DO, ...), and warnings for GOTOs to missing labels and CALLs to missing programs
 
 from __future__ import annotations
 
+import re
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
@@ -72,3 +73,30 @@ def check_statement(text: str, table: CommandTable | None = None) -> str | None:
     if parsed.spec is not None and not parsed.spec.in_program:
         return f"{parsed.command} is a monitor command: type it at the VAL-II prompt, not in a program"
     return None
+
+
+# a command word, then one letter standing alone: "CLOSE I 50"
+_SPLIT_WORD = re.compile(r"([A-Za-z]+) +([A-Za-z])(?= |$)")
+
+
+def read_as_1985(typed: str, table: CommandTable | None = None) -> str | None:
+    """The reading the 1985 program gave a step this checker rejects as typed: a command word
+    split by a blank (``CLOSE I 50``, Table C-1) closed up into the COMMAND.DAT command it
+    spells (``CLOSEI 50``). The thesis's session shows the program took the step (``D,3``
+    deletes it); its source is lost, so this is the one reading the tables need, no wider
+    (a blank-blind command matcher, as a FORTRAN keyword reader is). None: no such reading."""
+    table = table or default_commands()
+    expanded = typed.expandtabs()
+    try:
+        _label, statement = split_label(expanded)
+    except ValueError:
+        return None
+    found = _SPLIT_WORD.match(statement)
+    if found is None or check_statement(expanded, table) is None:
+        return None
+    joined = (found.group(1) + found.group(2)).upper()
+    if joined not in table:
+        return None
+    start = expanded.rfind(statement)
+    reading = expanded[:start] + joined + statement[found.end():] + expanded[start + len(statement):]
+    return reading if check_statement(reading, table) is None else None

@@ -18,6 +18,7 @@ from textual.widgets import Input
 
 from valterm.core.errors import ValtermError
 from valterm.core.events import Collision, Contact, Event, Help, Message, Monitor, Pause
+from valterm.core.numbers import two_decimals
 from valterm.core.text.transcript import finding_line
 from valterm.ui import keymap, legends
 from valterm.ui.errors import problem_text
@@ -428,6 +429,6 @@ def _confirm_here(simulator, text: str, events_):  # type: ignore[no-untyped-def
     yield from events_
     if len(words) == 2 and words[0] == "HERE" and words[1] in simulator.locations:
         taught = simulator.locations[words[1]]
-        xyz = ", ".join(f"{v:.2f}" for v in taught.xyz)
+        xyz = ", ".join(map(two_decimals, taught.xyz))
         config = f" {' '.join(taught.config.words)}" if taught.config is not None else ""
         yield Message(f"LOCATION {words[1]} TAUGHT HERE ({xyz}){config}")

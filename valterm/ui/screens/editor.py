@@ -381,13 +381,16 @@ class EditorScreen(KeyedScreen[None]):
             return
         editor = self.editor
         assert editor is not None
+        read = ""
+        if self.mode in ("line", "insert-line"):
+            typed, read = self._read_as_1985(typed)
         try:
             if self.mode == "line":
                 if not typed.strip():
                     self.action_cancel()  # RETURN on an empty line: back to the menu
                     return
                 number = editor.append(typed)
-                self.say(legends.fill(self, f"STEP {number} ACCEPTED {STEP_END}"))
+                self.say(legends.fill(self, f"STEP {number} ACCEPTED{read} {STEP_END}"))
                 self._refresh_listing(number)
                 if getattr(self.app, "keys_1985", False):
                     self._menu()  # 1985 (Fig. C-8): the menu; a space or a digit starts the next step
@@ -410,7 +413,7 @@ class EditorScreen(KeyedScreen[None]):
                     self.action_cancel()
                     return
                 number = editor.insert(self.insert_at, typed)
-                self.say(legends.fill(self, f"STEP {number} INSERTED {STEP_END}"))
+                self.say(legends.fill(self, f"STEP {number} INSERTED{read} {STEP_END}"))
                 self._refresh_listing(number)
                 self.insert_at = number + 1  # the next line goes in after it
                 if getattr(self.app, "keys_1985", False):
@@ -418,8 +421,25 @@ class EditorScreen(KeyedScreen[None]):
                 else:
                     self._prompt("insert-line", editor.prompt(self.insert_at), "", after)
         except ValtermError as error:
+            if getattr(self.app, "keys_1985", False):
+                # 1985 (§6, "the line is rejected"): the line goes, the menu's keys are keys again
+                self.say(f"REJECTED: {typed.strip()}: {error}")
+                self._menu()
+                return
             # rejected: the line stays in the field to be corrected (nothing typed is lost)
             self.say(f"REJECTED: {error}")
+
+    def _read_as_1985(self, typed: str) -> tuple[str, str]:
+        """--keys 1985: a step as the 1985 program read it (`CLOSE I 50` is CLOSEI 50), and
+        the words the accepted message adds to say so ("" when it is read as typed)."""
+        if not getattr(self.app, "keys_1985", False):
+            return typed, ""
+        from valterm.core.val.checker import read_as_1985
+
+        reading = read_as_1985(typed)
+        if reading is None:
+            return typed, ""
+        return reading, f": {typed.strip()} READ AS {reading.strip()}, AS IN 1985"
 
     @staticmethod
     def _number(typed: str) -> int:

@@ -111,6 +111,8 @@ class KeyedScreen(Guarded, Screen[ResultT]):
             return  # a key the open line has no use for (TAB, a function key bound nowhere)
         if self.other_key(event):
             self._take(event)
+        elif event.key == "enter" and getattr(self.app, "keys_1985", False):
+            self._take(event)  # 1985 ignored a RETURN that meant nothing ("DEMO3.SET" RETURN RETURN)
         elif not keymap.is_silent(event) and event.key != "ctrl+c":
             self._take(event)
             self.wrong_key(event)

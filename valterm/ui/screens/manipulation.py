@@ -256,6 +256,7 @@ class ManipulationScreen(MenuScreen):
         self.ask_line(f"ENTER SET-UP FILE NAME (RETURN: SAME NAME {name}):", self._save, cancel=self._end)
 
     def _save(self, name: str, overwrite: bool = False) -> None:
+        typed, name = name, self._name_1985(name)
         try:
             path = self.app.active_session.save_setup(name or None, overwrite=overwrite)
         except FileChanged:
@@ -265,7 +266,18 @@ class ManipulationScreen(MenuScreen):
             self.say(problem_text(error), "error")
             self._ask_name()
             return
+        if name != typed:  # said by the screen the save returns to, after its own first words
+            self.app.unsaid.append((f"SET-UP SAVED AS {path.name} ({typed.strip().upper()} TAKEN AS "
+                                    f"{path.stem}: A SET-UP FILE ENDS IN .SET)", "info"))
         self._saved(path)
+
+    def _name_1985(self, typed: str) -> str:
+        """--keys 1985: a name with another file's ending is taken as the 1985 program took it,
+        by its stem (Table C-1's `Y, "TEST.DAT" RETURN` saves the set-up TEST, TEST.SET)."""
+        stem, dot, ending = typed.strip().rpartition(".")
+        if getattr(self.app, "keys_1985", False) and dot and stem and ending.upper() != "SET":
+            return stem
+        return typed
 
     def _ask_changed(self) -> None:
         """NAME.SET changed on disk since it was read: overwrite, reload or save as."""
