@@ -67,10 +67,10 @@ async def test_d_define_reading_a_file_says_mismatch_not_cannot_reach(tmp_path: 
 
 
 # -- a joint beyond its stop on a WORLD/TOOL step (1985 rules) ----------------------------------
-# JT3 at 223.60, as the readout shows it (its (-180, 180] equivalent -136.40 is outside -45..225):
+# JT3 held at 223.60 (the readout shows its (-180, 180] equivalent -136.40, SPEC §3a):
 # a 32-degree (32 mm) TOOL X step would carry it past 225.
 NEAR_JT3_STOP = [-136.95, -31.19, 223.6, 33.55, -19.15, -118.67]
-STOP_ANGLE = re.compile(r"JOINT 3 BEYOND ITS STOP \((-?\d+\.\d+) DEG, STOP -45\.\.225\)")
+STOP_ANGLE = re.compile(r"JOINT 3 BEYOND ITS STOP \((-?\d+\.\d+) DEG(?:, SHOWN AS (-?\d+\.\d+))?, STOP -45\.\.225\)")
 
 
 def near_the_stop() -> Simulator:
@@ -83,7 +83,7 @@ def near_the_stop() -> Simulator:
 
 def test_a_tool_step_past_a_stop_gives_the_angle_the_joint_would_need() -> None:
     sim = near_the_stop()
-    assert sim.where().joints[2] == pytest.approx(223.6)  # what the screen shows
+    assert sim.where().joints[2] == pytest.approx(223.6 - 360.0)  # what the screen shows (SPEC §3a, 1985)
     with pytest.raises(MotionRefused) as refused:
         drain(sim.pendant_tool(0))
     assert refused.value.joint == 3
@@ -92,6 +92,7 @@ def test_a_tool_step_past_a_stop_gives_the_angle_the_joint_would_need() -> None:
     needed = float(found.group(1))
     # beside the stop it passes, within one step of where the joint is (not its -131-odd equivalent)
     assert 225.0 < needed < 223.6 + 32.0
+    assert float(found.group(2)) == pytest.approx(needed - 360.0, abs=0.006)  # and as the readout shows it
     assert sim.joints == tuple(NEAR_JT3_STOP)  # nothing moved
 
 
@@ -110,7 +111,7 @@ async def test_the_pendant_shows_the_needed_angle_and_no_bend_the_arm_hint(tmp_p
         await sim.press("P", "I", "I", "T", "X")  # PENDANT, increment 32, TOOL X
         messages = sim.messages()
         text = " ".join(messages)
-        assert "223.60" in " ".join(sim.readout())  # JT3 as the readout shows it
+        assert "-136.40" in " ".join(sim.readout())  # JT3 as the readout shows it (SPEC §3a, 1985 rules)
         found = STOP_ANGLE.search(text)
         assert found and 225.0 < float(found.group(1)) < 255.6, messages
         assert "BEND IT" not in text and "STRETCHED" not in text, messages  # the elbow is bent

@@ -21,6 +21,7 @@ from valterm.core.kinematics import (
     IKError,
     RobotGeometry,
     canonical_angle,
+    shown_angle,
     wrap180,
 )
 from valterm.core.rules import CONTROLLER, RULES_1985
@@ -237,15 +238,18 @@ def _refuse_wrist_change(goal: np.ndarray, previous: np.ndarray, start: Sequence
         raise MotionRefused(f"straight line would change WRIST from {words[have < 0]} to {words[want < 0]}", 0, step)
 
 
-def beyond_stop_message(joint: int, angle: float, low: float, high: float) -> str:
-    """One wording for a joint beyond its stop: the angle as WHERE would show it, and the stop."""
-    shown = f"{angle:.2f}" if abs(angle) < 1e6 else f"{angle:.6g}"  # no 300-digit angles
-    return f"joint {joint} beyond its stop ({shown} deg, stop {low:g}..{high:g})"
+def beyond_stop_message(joint: int, angle: float, low: float, high: float, shown_as: float | None = None) -> str:
+    """One wording for a joint beyond its stop: the angle it would need, beside the stop, and
+    (``shown_as``, the 1985 rules) how the readout shows that angle, (-180, 180]."""
+    needed = f"{angle:.2f}" if abs(angle) < 1e6 else f"{angle:.6g}"  # no 300-digit angles
+    also = "" if shown_as is None or f"{shown_as:.2f}" == needed else f", shown as {shown_as:.2f}"
+    return f"joint {joint} beyond its stop ({needed} deg{also}, stop {low:g}..{high:g})"
 
 
-def beyond_stop(joint: int, angle: float, low: float, high: float, step: int = 0) -> JointAtStop:
-    """The refusal of a joint beyond its stop, at ``angle`` as the readout shows it."""
-    return JointAtStop(beyond_stop_message(joint, angle, low, high), joint, angle, low, high, step)
+def beyond_stop(joint: int, angle: float, low: float, high: float, step: int = 0,
+                shown_as: float | None = None) -> JointAtStop:
+    """The refusal of a joint beyond its stop, at ``angle`` (the angle it would need)."""
+    return JointAtStop(beyond_stop_message(joint, angle, low, high, shown_as), joint, angle, low, high, step)
 
 
 def needed_angle(angle: float, low: float, high: float) -> float:
@@ -264,8 +268,10 @@ def _refuse_jumps(best: np.ndarray, previous: np.ndarray, robot: Arm, step: int,
         # under the 1985 rules the angle is a function of the pose: an equivalent inside will do
         inside = low - 1e-9 <= angle <= high + 1e-9 if wound else canonical_angle(angle, low, high) is not None
         if not inside:
-            shown = angle if wound else needed_angle(angle, low, high)
-            raise beyond_stop(joint, shown, low, high, step)
+            if wound:
+                raise beyond_stop(joint, angle, low, high, step)
+            # the 1985 rules show joints in (-180, 180]: the message says that form too
+            raise beyond_stop(joint, needed_angle(angle, low, high), low, high, step, shown_as=shown_angle(angle))
     jumps = np.abs(best - previous)
     if float(jumps[:3].max()) > CONFIG_JUMP:
         if jumps[0] >= max(jumps[1], jumps[2]):
