@@ -28,6 +28,8 @@ from valterm.core.motion import MotionRefused
 from valterm.core.simulator import UndefinedLocation
 from valterm.core.val.interpreter import FOREVER_LOOPS, MAX_CALL_DEPTH, Interpreter, program_from_lines
 from valterm.core.val.limits import RunLimits
+from valterm.core.arms import thesis_arm
+from valterm.core.cycletime import robot_timing
 
 REPO = Path(__file__).resolve().parent.parent  # the repository: the bundled data (cells/, programs/)
 PROGRAMS = REPO / "programs"
@@ -45,6 +47,29 @@ class FakeSim:
         }
         self.refuse: set[str] = set()  # commands to refuse
         self.graspable = False
+        # the rest of the interpreter's surface (core/val/protocol.py): the thesis's robot
+        self.rules = "1985"
+        self.arm = thesis_arm()
+        self.timing = robot_timing()
+        self.joints: tuple[float, ...] = (0.0,) * 6
+        self.stored: list[str] = []
+
+    def set_rules(self, name: str) -> str:
+        self.calls.append(("rules", name))
+        self.rules = name.lower()
+        return self.rules
+
+    def mark_locations_stored(self, names: Any = None) -> None:
+        self.stored.extend(self.locations if names is None else names)
+
+    def set_program_speed(self, value: float, mm_per_s: bool, always: bool) -> float:
+        return self.set_speed(value)
+
+    def in_range(self, location: Location) -> tuple[int, ...] | None:
+        return ()
+
+    def move_joints(self, goal: Any) -> Iterator[Event]:
+        return self._motion("move_joints", tuple(goal))
 
     def _motion(self, name: str, *args: Any, **kwargs: Any) -> Iterator[Event]:
         if name in self.refuse:

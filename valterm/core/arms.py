@@ -249,12 +249,6 @@ def arm_of(name: str | None = None) -> Arm:
     return DHArm(dh_robot(key), key)
 
 
-def arm_in(simulator: object) -> Arm:
-    """The robot a simulator moves (a stand-in without one moves the thesis's)."""
-    arm = getattr(simulator, "arm", None)
-    return thesis_arm() if arm is None else arm
-
-
 def as_arm(robot: Arm | RobotGeometry | None) -> Arm:
     """An arm from what a caller passes: an arm, the thesis's geometry (its own arm), or None."""
     if robot is None:

@@ -26,7 +26,6 @@ from dataclasses import replace
 from pathlib import Path
 from typing import Protocol
 
-from valterm.core.arms import arm_in
 from valterm.core.cycletime import CycleClock
 from valterm.core.errors import ValtermError
 from valterm.core.events import (
@@ -126,7 +125,7 @@ class Interpreter:
         # (a program read from a V+ file is v+ whatever this says)
         self.dialect = dialects.check_dialect(dialect)
         # the one clock of the robot's time: STATUS, run's cycle time, V+ TIMER and inputs
-        self.clock = CycleClock(getattr(sim, "timing", None))  # the robot's own hand time
+        self.clock = CycleClock(sim.timing)  # the robot's own hand time
         # the clock when the last EXECUTE began and ended (None while it runs): typed
         # motions after it take the robot's time but are not its cycle
         self._cycle_start: float = 0.0
@@ -225,8 +224,8 @@ class Interpreter:
     def status(self) -> Status:
         left = max(0, self.loops_total - self.loops_done) if self._running else 0
         return Status(float(self.sim.speed), self.program, self.loops_done, left,
-                      round(self.cycle_seconds, 3), str(getattr(self.sim, "rules", "1985")),
-                      arm_in(self.sim).name, arm_in(self.sim).key)
+                      round(self.cycle_seconds, 3), str(self.sim.rules),
+                      self.sim.arm.name, self.sim.arm.key)
 
     def pause(self, event: Pause) -> Iterator[Event]:
         """Yield `event` with the program paused: the app stops pulling; pulling again goes on."""

@@ -136,9 +136,7 @@ def storel(interpreter: Interpreter, st: Statement) -> Iterator[Event]:
     except (OSError, ValtermError) as error:
         yield Error("", 0, f"STOREL: {error}")
         return
-    mark = getattr(sim, "mark_locations_stored", None)
-    if mark is not None:
-        mark(locations)
+    sim.mark_locations_stored(locations)
     yield Message(f"{_count(len(locations) + len(precision))} STORED IN {path.name}")
 
 
@@ -179,9 +177,7 @@ def _load_locations(interpreter: Interpreter, path: Path) -> Iterator[Event]:
     sim = interpreter.sim
     sim.locations.update(locations)
     interpreter.machine.precision.update(points)
-    mark = getattr(sim, "mark_locations_stored", None)
-    if mark is not None:
-        mark(locations)
+    sim.mark_locations_stored(locations)
     names = [*locations, *points]
     shown = ", ".join(names[:SHOWN_NAMES]) + (", ..." if len(names) > SHOWN_NAMES else "")
     yield Message(f"{_count(len(names))} READ FROM {path.name}" + (f": {shown}" if names else ""))
@@ -209,12 +205,8 @@ def rules(interpreter: Interpreter, st: Statement) -> Iterator[Event]:
     word = (st.args[0] or "").strip() if st.args else ""
     sim = interpreter.sim
     if word:
-        setter = getattr(sim, "set_rules", None)
-        if setter is None:
-            yield Error("", 0, "RULES: THIS SIMULATOR HAS ONE SET OF RULES")
-            return
         try:
-            setter(word)
+            sim.set_rules(word)
         except ValtermError as error:
             yield Error("", 0, str(error).upper())
             return

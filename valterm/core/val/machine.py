@@ -20,7 +20,6 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from valterm.core.arms import arm_in
 from valterm.core.cycletime import CycleClock
 from valterm.core.events import Event, Signal, TypeOut
 from valterm.core.files.vplus import VplusData
@@ -179,10 +178,7 @@ class Machine:
     def inrange(self, target: Transform) -> float:
         """INRANGE(l): 0 when the tool can reach l in the configuration a motion would use;
         else bit n (value 2^(n-1)) for each joint n l needs beyond its stop, or OUT_OF_REACH."""
-        in_range = getattr(self.sim, "in_range", None)
-        if in_range is None:
-            raise MachineError("INRANGE NEEDS THE SIMULATOR")
-        beyond: tuple[int, ...] | None = in_range(self.through_tool(target).location())
+        beyond = self.sim.in_range(self.through_tool(target).location())
         if beyond is None:
             return OUT_OF_REACH
         return float(sum(1 << (joint - 1) for joint in beyond))
@@ -210,7 +206,7 @@ class Machine:
 
     def pose_location(self, joints: tuple[float, ...]) -> Location:
         """The tool's location at six joint angles (the robot's own frame)."""
-        pose = arm_in(self.sim).fk(list(joints))
+        pose = self.sim.arm.fk(list(joints))
         x, y, z = (float(v) for v in pose.xyz)
         return Location((x, y, z), rotation_to_oat(np.asarray(pose.rotation)))
 

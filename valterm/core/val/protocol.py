@@ -6,9 +6,11 @@ Methods whose result the interpreter ignores return ``object``.
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator, Sequence
 from typing import Protocol, runtime_checkable
 
+from valterm.core.arms import Arm
+from valterm.core.cycletime import Timing
 from valterm.core.events import Event, Where
 from valterm.core.kinematics import Location
 
@@ -17,6 +19,16 @@ from valterm.core.kinematics import Location
 class Simulator(Protocol):
     speed: float
     locations: dict[str, Location]
+    rules: str  # the joint-state rules in force (core/rules.py): STATUS names them
+    arm: Arm  # the robot (--robot): its name in STATUS, its kinematics for precision points
+    timing: Timing  # the robot file's time figures: the cycle clock's hand time
+
+    @property
+    def joints(self) -> tuple[float, ...]: ...  # HERE #POINT keeps them
+
+    # the joint-state rules and what a .LOC file holds (STOREL, LOAD, RULES)
+    def set_rules(self, name: str) -> str: ...
+    def mark_locations_stored(self, names: Iterable[str] | None = None) -> None: ...
 
     # settings and locations (no motion)
     def set_speed(self, percent: float) -> float: ...
@@ -29,9 +41,12 @@ class Simulator(Protocol):
     def set_base(self, dx: float | None = None, dy: float | None = None, dz: float | None = None,
                  rz: float | None = None) -> Iterator[Event]: ...
     def grasp_possible(self) -> bool: ...
+    def set_program_speed(self, value: float, mm_per_s: bool, always: bool) -> float: ...  # V+ SPEED
+    def in_range(self, location: Location) -> tuple[int, ...] | None: ...  # V+ INRANGE
 
     # motions: each an event stream (poses, collisions, the end of the motion)
     def move(self, target: str | Location, straight: bool = False) -> Iterator[Event]: ...
+    def move_joints(self, goal: Sequence[float]) -> Iterator[Event]: ...  # a precision point
     def appro(self, target: str | Location, distance: float, straight: bool = False) -> Iterator[Event]: ...
     def depart(self, distance: float, straight: bool = False) -> Iterator[Event]: ...
     def draw(self, dx: float, dy: float, dz: float) -> Iterator[Event]: ...

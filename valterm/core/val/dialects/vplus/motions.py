@@ -54,13 +54,10 @@ def _target(c: Build, text: str) -> Callable[[], Location | Joints]:
 def _go(c: Build, target: Location | Joints, straight: bool) -> Events:
     machine = controller_of(c)
     if isinstance(target, Joints):
-        move_joints = getattr(c.sim, "move_joints", None)
-        if move_joints is None:
-            raise ProgramError("PRECISION POINTS NEED THE SIMULATOR")
         if straight:
             yield from machine.observe(c.sim.move(_point(c, target), straight=True))
         else:
-            yield from machine.observe(move_joints(target.angles))
+            yield from machine.observe(c.sim.move_joints(target.angles))
     else:
         yield from machine.observe(c.sim.move(target, straight=straight))
     return 0

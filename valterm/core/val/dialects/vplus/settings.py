@@ -32,7 +32,6 @@ from valterm.core.val.machine import signal_line
 from valterm.core.val.ops import (
     Events,
     Op,
-    ProgramError,
 )
 from valterm.core.val.parser import (
     Statement,
@@ -43,14 +42,10 @@ _N = NAME
 
 def _speed(c: Build, st: Statement) -> Op:
     speed, always, per_unit = number_of(c, st.args[0]), bool(st.args[1]), float(st.args[2])
-    set_program_speed = getattr(c.sim, "set_program_speed", None)
 
     def run() -> Events:
         wanted = float(speed(c.variables)) * (per_unit or 1.0)
-        if set_program_speed is None:  # a stand-in simulator: the 1985 SPEED
-            got = c.sim.set_speed(wanted)
-        else:
-            got = set_program_speed(wanted, bool(per_unit), always)
+        got = c.sim.set_program_speed(wanted, bool(per_unit), always)
         if got != wanted:
             range_said = "(10 TO 100)" if not per_unit else "MM/S (THE ROBOT'S TOOL SPEED)"
             yield Message(f"SPEED SET TO {shared.format_value(got)} {range_said}", "warning")
@@ -82,10 +77,7 @@ def _here(c: Build, st: Statement) -> Op:
             store_location(c, key, compile_location("HERE", machine)(c.variables))
             return c.next
         if name.startswith("#"):
-            joints = getattr(c.sim, "joints", None)
-            if joints is None:
-                raise ProgramError("PRECISION POINTS NEED THE SIMULATOR")
-            machine.precision[name] = tuple(float(j) for j in joints)
+            machine.precision[name] = tuple(float(j) for j in c.sim.joints)
         else:
             store_location(c, name, compile_location("HERE", machine)(c.variables))
         return c.next
