@@ -4,9 +4,8 @@ and it writes what run wrote before: every event's line, a step's JSON line read
 from __future__ import annotations
 
 import json
-from typing import cast
 
-from valterm.bench.interpreter import LOOP, _NoRobot, loop_statements
+from valterm.bench.interpreter import LOOP, loop_statements
 from valterm.core.events import Error, Event, LimitReached, Message, Pause, Step, TypeOut
 from valterm.core.simulator import Simulator
 from valterm.core.text.transcript import Blocks, event_lines, write_events
@@ -60,7 +59,7 @@ def test_the_transcript_is_each_events_lines_and_a_pause_goes_on() -> None:
 def test_the_bench_counts_the_steps_its_loop_runs() -> None:
     program = program_from_lines("BENCH", LOOP)
     for passes in (0, 1, 25):
-        interpreter = Interpreter(cast(Simulator, _NoRobot()), lambda name: program, {"N": float(passes)},
+        interpreter = Interpreter(Simulator(), lambda name: program, {"N": float(passes)},
                                   limits=NO_LIMITS)
         stream = Lines()
         assert write_events(interpreter.execute("BENCH"), Blocks(stream), as_json=True) == 0

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, TextIO, cast
+from typing import TYPE_CHECKING, TextIO
 
 import time
 
@@ -24,10 +24,11 @@ LOOP = [
 ]
 
 
-class _NoRobot:
-    """The loop never moves the robot; STATUS would read this speed."""
+def _no_motion() -> Simulator:
+    """The loop never moves the robot: a plain simulator, made before the clock starts."""
+    from valterm.core.simulator import Simulator
 
-    speed = 100.0
+    return Simulator()
 
 
 def bench_interpreter(passes: int = 100_000, repeat: int = 3) -> float:
@@ -35,7 +36,7 @@ def bench_interpreter(passes: int = 100_000, repeat: int = 3) -> float:
     program = program_from_lines("BENCH", LOOP)
     best = 0.0
     for _ in range(repeat):
-        interpreter = Interpreter(cast("Simulator", _NoRobot()), lambda name: program, {"N": float(passes)}, limits=NO_LIMITS)
+        interpreter = Interpreter(_no_motion(), lambda name: program, {"N": float(passes)}, limits=NO_LIMITS)
         start = time.perf_counter()
         count = sum(1 for event in interpreter.execute("BENCH") if event.event == "step")
         elapsed = time.perf_counter() - start
@@ -71,7 +72,7 @@ def bench_run_output(passes: int = 50_000, repeat: int = 3, as_json: bool = True
     best = 0.0
     with unbuffered_devnull() if unbuffered else open(os.devnull, "w", encoding="utf-8") as out:
         for _ in range(repeat):
-            interpreter = Interpreter(cast("Simulator", _NoRobot()), lambda name: program, {"N": float(passes)},
+            interpreter = Interpreter(_no_motion(), lambda name: program, {"N": float(passes)},
                                       limits=NO_LIMITS)
             start = time.perf_counter()
             write_events(interpreter.execute("BENCH"), blocks_for(out), as_json=as_json)

@@ -38,13 +38,16 @@ import argparse
 import signal
 import sys
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from valterm.core.errors import RefusedValue
 from valterm.commands import FAILURE, OK, USAGE, fail
 from valterm.commands.limits import add_limit_flags, limits_from
 from valterm.commands.robots import add_robot_option, robot_from
 from valterm.core.val import dialects
+
+if TYPE_CHECKING:  # annotations only
+    from valterm.core.files.programs import Program
 
 
 def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
@@ -120,7 +123,7 @@ def _errors_of_file(path: Path, in_file: dict[str, Any], dialect: str | None) ->
     return found
 
 
-def _locate(argument: str, workspace: Any, chosen: str | None = None) -> tuple[Path, Any, dict[str, Any]]:
+def _locate(argument: str, workspace: Any, chosen: str | None = None) -> tuple[Path, Program, dict[str, Program]]:
     """The program file, its main program (``chosen``, else the one no other program CALLs) and
     the file's programs: a path, NAME.DAT, or a program of one of the workspace's V+ files (any
     name LISTF lists; EXECUTE finds the same)."""
@@ -198,7 +201,7 @@ def run(args: argparse.Namespace) -> int:
     sim.set_rules(getattr(args, "rules", None) or rules_of_dialect(dialect))  # SPEC §3a
     load_called = workspace.program_loader(program_path.resolve().parent)
 
-    def load_program(name: str):  # type: ignore[no-untyped-def]
+    def load_program(name: str) -> Program:
         if name in in_file:
             return in_file[name]
         return load_called(name)  # through the workspace's checks (no links outside)

@@ -360,7 +360,7 @@ class Scene:
             for lines, prio in self._line_pairs)
 
 
-def frame_lines(origin: Sequence[float], rotation: np.ndarray | None = None, length: float = AXIS_LENGTH) -> np.ndarray:
+def frame_lines(origin: Sequence[float] | np.ndarray, rotation: np.ndarray | None = None, length: float = AXIS_LENGTH) -> np.ndarray:
     """(3, 2, 3) segments of a coordinate frame (x, y, z axes), e.g. a part's frame in
     MANIPULATION mode, to pass as Scene lines."""
     o = np.asarray(origin, dtype=float)

@@ -3,6 +3,8 @@ faces, ORIENT, axes, the model, one VAL-II command."""
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 from textual import events
 from textual.app import ComposeResult
 from textual.binding import Binding
@@ -14,13 +16,17 @@ from valterm.ui.screens.base import MENU, MenuScreen
 from valterm.ui.widgets.menus import KEYBOARD_MENU, ORIENT_MENU
 from valterm.ui.widgets.readouts import PositionReadout
 
+if TYPE_CHECKING:  # annotations only
+    from valterm.core.session import Session
+    from valterm.core.workspace import Workspace
+
 ORIENT_TURN = 15.0  # degrees a key
 ORIENT_ZOOM = 1.25
 ORIENT_PAN = 50.0  # screen mm a key, at scale 1
 POINT_NAMES = {1: "TCS ORIGIN", 2: "LED SENSOR", 3: "CLAMP TIP"}
 
 
-def program_listing(workspace, name: str) -> list[str]:  # type: ignore[no-untyped-def]
+def program_listing(workspace: Workspace, name: str) -> list[str]:
     """LISTP: a program's steps, numbered as the editor numbers them."""
     program = workspace.read_program(name)
     lines = [f"PROGRAM {program.name}.DAT", ""]
@@ -30,7 +36,7 @@ def program_listing(workspace, name: str) -> list[str]:  # type: ignore[no-untyp
     return lines
 
 
-def command_view(session, command: str) -> list[str]:  # type: ignore[no-untyped-def]
+def command_view(session: Session, command: str) -> list[str]:
     """LISTP name / LISTF / LISTL typed after L (the LIST prefix may be left out)."""
     words = command.strip().upper().replace(",", " ").split()
     if not words:
@@ -102,7 +108,7 @@ class KeyboardScreen(MenuScreen):
 
     def _list(self, command: str) -> None:
         try:
-            lines = command_view(self.app.session, command)
+            lines = command_view(self.app.active_session, command)
         except Exception as error:
             self.say(problem_text(error), "error")
             return

@@ -13,6 +13,8 @@ along Y_w and F/B along X_w.
 
 from __future__ import annotations
 
+from pathlib import Path
+
 from textual.app import ComposeResult
 from textual.binding import Binding
 
@@ -146,7 +148,8 @@ class ManipulationScreen(MenuScreen):
             self._end()
 
     # -- K_EYBOARD ------------------------------------------------------------------------
-    def _move(self, translation=(0.0, 0.0, 0.0), axis: int | None = None, degrees: float = 0.0) -> None:  # type: ignore[no-untyped-def]
+    def _move(self, translation: tuple[float, float, float] = (0.0, 0.0, 0.0), axis: int | None = None,
+              degrees: float = 0.0) -> None:
         try:
             self.app.simulator.move_part(self.part, translation, axis, degrees)
         except Exception as error:
@@ -325,7 +328,7 @@ class ManipulationScreen(MenuScreen):
         self.say(f"{self.app.active_session.setup_name}.SET RELOADED AS THE OTHER SESSION SAVED IT")
         self._back()
 
-    def _saved(self, path) -> None:  # type: ignore[no-untyped-def]
+    def _saved(self, path: Path) -> None:
         self.modified = False
         self.app.setup_modified = False
         self.app.notify(f"{path.name} SAVED", timeout=3)

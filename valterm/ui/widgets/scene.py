@@ -5,13 +5,20 @@ No textual here: the hardcopy uses it headless too.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from valterm.core.render.legend import LED_COLOUR
 from valterm.core.render.raster import Scene, frame_lines, link_colour, object_colour
 
+if TYPE_CHECKING:  # annotations only
+    from valterm.core.cell.polyhedron import Polyhedron
+    from valterm.core.simulator import Simulator
 
-def simulator_scene(simulator, part_axes: int | None = None) -> Scene:  # type: ignore[no-untyped-def]
+
+def simulator_scene(simulator: Simulator, part_axes: int | None = None) -> Scene:
     """Objects first, then the robot, then a carried part (later items win shared cells).
 
     ``part_axes``: a part number whose frame is drawn at its reference corner (MANIPULATION
@@ -34,7 +41,7 @@ def simulator_scene(simulator, part_axes: int | None = None) -> Scene:  # type: 
 _CELL: list[tuple[tuple[object, ...], Scene]] = []
 
 
-def _cell_scene(objects, carried) -> Scene:  # type: ignore[no-untyped-def]
+def _cell_scene(objects: Sequence[Polyhedron], carried: int | None) -> Scene:
     """The parts that are not carried, as one static scene kept while none of them moves
     (the rasteriser draws it once per view and size)."""
     key = (carried, *(p.vertices for p in objects))
