@@ -19,7 +19,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping
 from enum import StrEnum
-from typing import ClassVar
+from typing import TYPE_CHECKING, ClassVar
 
 from textual.app import ComposeResult
 from textual.binding import Binding
@@ -35,6 +35,9 @@ from valterm.ui import keymap, legends
 from valterm.ui.screens.keyed import KeyedScreen
 from valterm.ui.widgets.prompt import typed_after
 from valterm.ui.widgets.status import StatusLine
+
+if TYPE_CHECKING:  # annotations only
+    from valterm.core.workspace import Workspace
 
 NARROW = 120  # columns below which the menu box is left out (80x24: the listing needs them)
 RULER = "LBL STATEMENT (COLUMNS 1-4: STEP LABEL, TAB: TO COLUMN 5)"
@@ -109,7 +112,7 @@ class EditorScreen(KeyedScreen[None]):
         "save_answer": frozenset({EditorMode.SAVE}),
     }
 
-    def __init__(self, workspace=None, name: str = "") -> None:  # type: ignore[no-untyped-def]
+    def __init__(self, workspace: Workspace | None = None, name: str = "") -> None:
         super().__init__()
         self._workspace = workspace
         self.first_name = name
@@ -147,7 +150,7 @@ class EditorScreen(KeyedScreen[None]):
             self._prompt("name", "EDIT", "PROGRAM NAME, e.g. TEST.DAT")
 
     @property
-    def workspace(self):  # type: ignore[no-untyped-def]
+    def workspace(self) -> Workspace:
         if self._workspace is None:
             session = self.app.session  # the editor also runs over a bare workspace (tests' hosts)
             assert session is not None, "the editor without a workspace"
