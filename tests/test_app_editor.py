@@ -5,19 +5,21 @@ from __future__ import annotations
 import asyncio
 from pathlib import Path
 
-from textual.app import App
 
 from valterm.core.files.programs import read_program
 from valterm.core.session import Session
+from valterm.ui.app import ValtermApp
 from valterm.ui.screens.editor import EditorScreen
 
 
-class Host(App[None]):
-    """A bare app holding a session, as ValtermApp does."""
+class Host(ValtermApp):
+    """The app on a session, with no screen of its own: the test pushes the editor."""
 
     def __init__(self, root: Path) -> None:
-        super().__init__()
-        self.session = Session(root)
+        super().__init__(session=Session(root))
+
+    def on_mount(self) -> None:
+        pass
 
 
 async def type_text(pilot, text: str) -> None:  # type: ignore[no-untyped-def]
