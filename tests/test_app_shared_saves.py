@@ -7,7 +7,6 @@ from pathlib import Path
 
 import numpy as np
 from app_helpers import make_app, screen_text, sync
-from textual.app import App
 
 from valterm.core.editor import ProgramEditor
 from valterm.core.files.programs import read_program
@@ -15,14 +14,19 @@ from valterm.core.files.setup import read_setup
 from valterm.core.session import Session
 from valterm.core.workspace import Workspace
 from valterm.ui.screens.changed import FileChangedScreen
+from valterm.ui.app import ValtermApp
 from valterm.ui.screens.editor import EditorScreen
 from valterm.ui.screens.main_menu import MainMenuScreen
 
 
-class Host(App[None]):
+class Host(ValtermApp):
+    """The app on a session, with no screen of its own: the test pushes the editor."""
+
     def __init__(self, root: Path) -> None:
-        super().__init__()
-        self.session = Session(root)
+        super().__init__(session=Session(root))
+
+    def on_mount(self) -> None:
+        pass
 
 
 def texts(path: Path) -> list[str]:
