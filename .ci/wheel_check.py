@@ -104,7 +104,7 @@ def check_sdist_suite(sdist: Path, wheel: Path, top: Path) -> None:
     check(result.returncode == 0, "pip install the wheel with its test extras", result.stdout[-2000:] + result.stderr[-3000:])
     env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "VIRTUAL_ENV")}
     chosen = os.environ.get("VALTERM_SDIST_TESTS", "").split()  # a few test files, to try this step alone
-    result = sh(venv / "bin" / "python", "-I", "-m", "pytest", "-p", "no:cacheprovider", *chosen, cwd=source, env=env,
+    result = sh(venv / "bin" / "python", "-I", "-m", "pytest", "-p", "no:cacheprovider", "-m", "slow or not slow", *chosen, cwd=source, env=env,
                 timeout=2400)
     tail = "\n".join(result.stdout.splitlines()[-15:])
     print(f"the sdist's suite: {result.stdout.splitlines()[-1] if result.stdout else '(no output)'}", flush=True)

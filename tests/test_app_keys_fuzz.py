@@ -82,11 +82,13 @@ async def fuzz(tmp_path: Path, seed: int, size: tuple[int, int]) -> int:
     return pressed
 
 
+@pytest.mark.slow  # CI runs it (pytest -m slow); the default run stays under 5 minutes
 @pytest.mark.parametrize("size", [(80, 24), (160, 50)], ids=["80x24", "160x50"])
 def test_random_keys_fixed_seed(tmp_path: Path, size: tuple[int, int]) -> None:
     assert asyncio.run(fuzz(tmp_path, 1985, size)) >= 7 * KEYS_PER_SCREEN
 
 
+@pytest.mark.slow  # CI runs it (pytest -m slow); the default run stays under 5 minutes
 def test_random_keys_fresh_seed(tmp_path: Path) -> None:
     seed = random.SystemRandom().randrange(2**32)
     print(f"random-key seed {seed}")

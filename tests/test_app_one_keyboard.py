@@ -382,6 +382,7 @@ def table_keys(rows: list[str]) -> list[str]:
     return keys
 
 
+@pytest.mark.slow  # CI runs it (pytest -m slow); the default run stays under 5 minutes
 @sync
 async def test_keys_1985_tables_c1_to_c3_typed_as_printed_replay(tmp_path: Path) -> None:
     """--keys 1985 from MAIN with PROCESS.SET: the EDITOR rows of Tables C-1/C-2, then V, V,

@@ -5,6 +5,8 @@ to MAIN; the menu pages are reachable at 80x24 and the model is toggled there.""
 
 from __future__ import annotations
 
+import pytest
+
 from pathlib import Path
 
 import numpy as np
@@ -92,6 +94,7 @@ async def back_to_the_line(app, pilot, screen: ValModeScreen) -> None:  # type: 
     assert screen.mode == Mode.COMMAND
 
 
+@pytest.mark.slow  # CI runs it (pytest -m slow); the default run stays under 5 minutes
 @sync
 async def test_every_command_typed_key_by_key_is_echoed_exactly(tmp_path: Path) -> None:
     names = command_names()

@@ -136,6 +136,7 @@ def test_distinct_rows_once_each_and_minus_zero_is_zero() -> None:
     assert len(distinct(many)) == len(np.unique(many, axis=0))
 
 
+@pytest.mark.slow  # CI runs it (pytest -m slow); the default run stays under 5 minutes
 def test_a_two_million_triangle_stl_imports(tmp_path: Path) -> None:
     """The size the issue measured (50 s and 2.9 GB with trimesh): read by numpy, envelope of
     the distinct vertices. Its time and memory are `valterm bench`'s, not a test's."""

@@ -184,6 +184,7 @@ KEY_POOL = ([chr(c) for c in range(ord("a"), ord("z") + 1)] + [chr(c) for c in r
             + ["s", "S", "y", "Y", "r", "R", "ctrl+q"] * 3)  # the quitting keys, often
 
 
+@pytest.mark.slow  # CI runs it (pytest -m slow); the default run stays under 5 minutes
 @sync
 async def test_kiosk_survives_random_keys_and_resumes() -> None:
     app = DemoApp(ITEMS, speed=FAST, idle=0.5, kiosk=True, motion_rate=math.inf)

@@ -32,6 +32,7 @@ def _table_items() -> list:
     return [item for item in ITEMS[:end] if item.kind in ("key", "text")]
 
 
+@pytest.mark.slow  # CI runs it (pytest -m slow); the default run stays under 5 minutes
 def test_tables_c1_to_c3_key_for_key(tmp_path: Path) -> None:
     app_module = pytest.importorskip("valterm.ui.app")
     from valterm.ui.screens.editor import EditorScreen

@@ -136,6 +136,7 @@ def test_the_same_where_the_broad_phase_picks_the_pairs(parts: int):
     assert _said(batched, 15, seed=5) == _said(reference, 15, seed=5)
 
 
+@pytest.mark.slow  # CI runs it (pytest -m slow); the default run stays under 5 minutes
 def test_the_same_on_a_robot_files_robot():
     batched, reference = _pair("PUMA560")
     said = _said(batched, 30, seed=9)

@@ -97,6 +97,7 @@ def test_close_i_50_is_read_as_the_1985_program_read_it() -> None:
     assert read_as_1985(" MOVE A") is None and read_as_1985(" CLOSE X 50") is None
 
 
+@pytest.mark.slow  # CI runs it (pytest -m slow); the default run stays under 5 minutes
 def test_tables_c1_to_c3_typed_as_printed(tmp_path: Path) -> None:
     workspace = tmp_path / "ws"
     rows = read_rows()

@@ -38,6 +38,7 @@ def test_listed_files_exist() -> None:
     assert not missing, f"listed as clean but not there: {missing}"
 
 
+@pytest.mark.slow  # CI runs it (pytest -m slow); the default run stays under 5 minutes
 def test_clean_files_pass_mypy_strict(tmp_path: Path) -> None:
     result = _run([_tool("mypy"), "--cache-dir", str(tmp_path / "mypy"), *CLEAN_FILES])
     assert result.returncode == 0, result.stdout + result.stderr
