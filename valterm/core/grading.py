@@ -19,13 +19,14 @@ import os
 import time
 import tomllib
 from collections.abc import Callable, Iterable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, TypeVar
 
 from valterm.core import resources
 from valterm.core.errors import ValtermError
-from valterm.core.events import Collision, Error, Event, Grasp, Json, LimitReached, Message, Near
+from valterm.core.cell.workcell import WorkCell
+from valterm.core.events import Collision, Contact, Error, Event, Grasp, Json, LimitReached, Message, Near
 from valterm.core.files.errors import FileFormatError
 from valterm.core.files.locations import read_location_file, read_locations
 from valterm.core.files.programs import Program
@@ -46,7 +47,7 @@ PROGRAM_EXTENSIONS = (".DAT", *VPLUS_EXTENSIONS)
 KINDS = ("file", "syntax", "error", "limit", "collision", "part", "cycle-time")
 
 _TASK_KEYS = {"name", "cell", "locations", "program", "cycle_time", "collisions", "loops", "dialect", "rules",
-              "robot", "part", "max_steps", "max_seconds", "max_lines"}
+              "robot", "part", "max_steps", "max_seconds", "max_lines", "allowed_contacts"}
 # with a cycle time and no max_seconds, a run is cut at this many times the cycle time
 CYCLES_ALLOWED = 10
 _PART_KEYS = {"number", "position", "tolerance", "held"}
@@ -82,6 +83,9 @@ class Task:
     max_steps: int | None = None  # the run limits (core/val/limits.py; 0: none); None: the default
     max_seconds: float | None = None
     max_lines: int | None = None
+    # contacts the task intends, as written: parts by number or name, robot links by name
+    allowed_contacts: tuple[tuple[str, str], ...] = ()
+    file: Path = Path("TASK.toml")  # the task file (its errors name it)
 
 
 @dataclass(frozen=True)
@@ -160,6 +164,8 @@ def read_task(path: str | Path) -> Task:
         max_steps=_limit(data, "max_steps", path),
         max_seconds=None if "max_seconds" not in data else _at_least_0(data["max_seconds"], path, "max_seconds"),
         max_lines=_limit(data, "max_lines", path),
+        allowed_contacts=_contacts(data.get("allowed_contacts", []), path),
+        file=path,
     )
 
 
@@ -221,6 +227,61 @@ def _part(entry: object, path: Path) -> ExpectedPart:
         raise TaskError(path, 0, f"{where} tolerance: {tolerance:g} must be 0 or more (mm)")
     held = entry.get("held")
     return ExpectedPart(number, (x, y, z), tolerance, None if held is None else _flag(held, path, f"{where} held"))
+
+
+def _contacts(value: object, path: Path) -> tuple[tuple[str, str], ...]:
+    """``allowed_contacts`` as written, each name upper case; checked against the cell and
+    the robot by :func:`contact_pairs`."""
+    pairs = []
+    for pair in _list(value, path, "allowed_contacts"):
+        if not isinstance(pair, list) or len(pair) != 2:
+            raise TaskError(path, 0, "allowed_contacts: each pair is two names, a part (number or name) "
+                                     "or a robot link: [\"1\", \"13\"], [\"CLAMP\", \"13\"]")
+        first, second = (_party(word, path) for word in pair)
+        if first == second:
+            raise TaskError(path, 0, f"allowed_contacts: \"{first}\" with itself is no contact")
+        pairs.append((first, second))
+    return tuple(pairs)
+
+
+def _party(word: object, path: Path) -> str:
+    if isinstance(word, str) and word.strip():
+        return " ".join(word.upper().split())
+    if isinstance(word, int) and not isinstance(word, bool):
+        return str(word)
+    shown = str(word).lower() if isinstance(word, bool) else repr(word)
+    raise TaskError(path, 0, f"allowed_contacts: {shown} is not a part number, a part's name nor a robot link")
+
+
+def contact_pairs(task: Task, parts: list[str], links: Iterable[str]) -> frozenset[frozenset[str]]:
+    """The task's allowed contacts as the collision events name their parties (a part by its
+    number, "1"; a link by name), ``parts`` the cell's part names in order. A name stands for
+    every part so named (the processor's two objects). TaskError for a name that is neither."""
+    links = {link.upper() for link in links}
+    allowed: set[frozenset[str]] = set()
+    for pair in task.allowed_contacts:
+        first, second = (_parties(word, parts, links, task.file) for word in pair)
+        allowed.update(frozenset((a, b)) for a in first for b in second if a != b)
+    return frozenset(allowed)
+
+
+def _parties(word: str, parts: list[str], links: set[str], path: Path) -> set[str]:
+    if word.isdigit() and 1 <= int(word) <= len(parts):
+        return {str(int(word))}
+    named = {str(number) for number, name in enumerate(parts, start=1) if name.upper() == word}
+    if named:
+        return named
+    if word in links:
+        return {word}
+    names = sorted({name.upper() for n, name in enumerate(parts, start=1) if name.upper() != f"PART {n}"})
+    known = f"1-{len(parts)}" + (f" or {', '.join(names)}" if names else "")
+    raise TaskError(path, 0, f"allowed_contacts: \"{word}\" is not a part ({known}) nor a robot link "
+                             f"({', '.join(sorted(links))})")
+
+
+def part_names(cell: WorkCell) -> list[str]:
+    """The cell's part names in order (the setup file's ``; NAME`` lines; "PART n" unnamed)."""
+    return [part.name or f"PART {number}" for number, part in enumerate(cell.objects, start=1)]
 
 
 def _setting(data: dict[str, object], key: str, default: str, check: Callable[[str], str], path: Path) -> str:
@@ -305,6 +366,8 @@ def check_task(task: Task) -> None:
     for expected in task.parts:
         if expected.number > len(cell.objects):
             raise TaskError(task.cell, 0, f"the task names part {expected.number}; the cell has {len(cell.objects)}")
+    if task.allowed_contacts:
+        contact_pairs(task, part_names(cell), Simulator(cell, robot=task.robot or None).model.names)
 
 
 # -- a class of submissions -----------------------------------------------------------------
@@ -512,21 +575,51 @@ def _run(verdict: Verdict, task: Task, main: Program, programs: _Programs, limit
     # CALLed programs come from the submission, read as its main program was; nothing is written
     interpreter = Interpreter(sim, programs.load, {}, dialect=task.dialect, limits=limits)
     interpreter.machine.precision.update(precision)
-    _observe(verdict, task, interpreter.execute(main.name, task.loops), limits)
+    names = part_names(sim.cell)
+    contacts = _Contacts(names, contact_pairs(task, names, sim.model.names))
+    _observe(verdict, task, interpreter.execute(main.name, task.loops), limits, contacts)
     verdict.cycle_time = interpreter.cycle_seconds
     verdict.parts = part_positions(sim)
     _check_end(verdict, task, sim)
 
 
-def _observe(verdict: Verdict, task: Task, events: Iterable[Event], limits: RunLimits) -> None:
+@dataclass(frozen=True)
+class _Contacts:
+    """The cell's part names (for messages) and the contacts the task allows."""
+
+    names: list[str]
+    allowed: frozenset[frozenset[str]]
+
+    def named(self, event: Contact) -> Contact:
+        """The finding with each part's name after its number: ``1 COLLIDES WITH 8 (RIGHT-HAND TABLE)``."""
+        a, b = self._name(event.a), self._name(event.b)
+        if isinstance(event, Near):
+            a, b = (f"PART {x}" if x[:1].isdigit() else x for x in (a, b))
+            return replace(event, text=f"{a} IS NEAR {b}")
+        return replace(event, text=f"{a} COLLIDES WITH {b}")
+
+    def _name(self, party: str) -> str:
+        if not party.isdigit() or not 1 <= int(party) <= len(self.names):
+            return party
+        name = self.names[int(party) - 1]
+        return party if name.upper() == f"PART {party}" else f"{party} ({name.upper()})"
+
+    def intended(self, event: Contact) -> bool:
+        return frozenset((event.a, event.b)) in self.allowed
+
+
+def _observe(verdict: Verdict, task: Task, events: Iterable[Event], limits: RunLimits,
+             contacts: _Contacts) -> None:
     """The failures and findings of the run's events."""
     for event in events:
         if isinstance(event, Collision):
             verdict.collisions += 1
-            if not task.collisions and not any(f.kind == "collision" for f in verdict.failures):
+            event = contacts.named(event)
+            if not (task.collisions or contacts.intended(event) or any(f.kind == "collision" for f in verdict.failures)):
                 verdict.failures.append(Failure("collision", event_lines(event)[0]))
         elif isinstance(event, Near):
             verdict.near_misses += 1
+            event = contacts.named(event)
         elif isinstance(event, LimitReached):
             verdict.failures.append(Failure("limit", _unfinished(event, limits)))
         elif isinstance(event, Error):
