@@ -41,6 +41,8 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) ->
                         help="programs graded at once, one process each (default: the number of CPUs)")
     parser.add_argument("--json", metavar="FILE", help="write the results as JSON (- for standard output)")
     parser.add_argument("--junit", metavar="FILE", help="write the results as JUnit XML (- for standard output)")
+    parser.add_argument("--gradescope", metavar="FILE",
+                        help="write one submission's results as Gradescope's results.json (- for standard output)")
     add_limit_flags(parser)
     parser.set_defaults(func=run)
 
@@ -51,8 +53,8 @@ def run(args: argparse.Namespace) -> int:
 
     if args.jobs < 0:
         return fail("grade: --jobs must be 0 (one per CPU) or more", USAGE)
-    if "-" == args.json == args.junit:
-        return fail("grade: --json and --junit cannot both go to standard output", USAGE)
+    if [args.json, args.junit, args.gradescope].count("-") > 1:
+        return fail("grade: only one of --json, --junit and --gradescope can go to standard output", USAGE)
     try:
         task = read_task(args.task)
         check_task(task)
@@ -61,6 +63,9 @@ def run(args: argparse.Namespace) -> int:
         return fail(error, FAILURE)
     if not found:
         return fail("grade: no program files or folders to grade", FAILURE)
+    if args.gradescope and len(found) != 1:
+        return fail(f"grade: --gradescope writes one submission's results (Gradescope grades one a run); "
+                    f"{len(found)} submissions were found", USAGE)
     started = time.perf_counter()
     limits = run_limits(task, getattr(args, "max_steps", None), getattr(args, "max_seconds", None),
                         getattr(args, "max_lines", None))  # the flags given, else the task's
@@ -89,7 +94,7 @@ def _grade_all(task: Any, found: list[Any], limits: Any, jobs: int) -> list[Any]
 
 def _report(args: argparse.Namespace, task: Any, verdicts: list[Any], elapsed: float) -> None:
     from valterm.core.files.atomic import write_text_atomic
-    from valterm.core.grading import junit_xml, table_lines
+    from valterm.core.grading import gradescope_results, junit_xml, table_lines
 
     outputs = []
     if args.json:
@@ -98,6 +103,8 @@ def _report(args: argparse.Namespace, task: Any, verdicts: list[Any], elapsed: f
         outputs.append((args.json, json.dumps(document, indent=2) + "\n"))
     if args.junit:
         outputs.append((args.junit, junit_xml(task, verdicts)))
+    if args.gradescope:
+        outputs.append((args.gradescope, json.dumps(gradescope_results(task, verdicts[0]), indent=2) + "\n"))
     for target, text in outputs:
         if target != "-":
             write_text_atomic(Path(target).expanduser(), text)

@@ -24,9 +24,9 @@ from pathlib import Path
 from typing import Any, TypeVar
 
 from valterm.core import resources
-from valterm.core.errors import ValtermError
 from valterm.core.cell.workcell import WorkCell
-from valterm.core.events import Collision, Contact, Error, Event, Grasp, Json, LimitReached, Message, Near
+from valterm.core.errors import ValtermError
+from valterm.core.events import Collision, Contact, Error, Event, Grasp, Json, LimitReached, Message, Near, TypeOut
 from valterm.core.files.errors import FileFormatError
 from valterm.core.files.locations import read_location_file, read_locations
 from valterm.core.files.programs import Program
@@ -52,6 +52,7 @@ _TASK_KEYS = {"name", "cell", "locations", "program", "cycle_time", "collisions"
 CYCLES_ALLOWED = 10
 _PART_KEYS = {"number", "position", "tolerance", "held"}
 MAX_TASK_BYTES = 64 * 1024
+MAX_OUTPUT = 200  # lines of a program's TYPEd output kept in its verdict
 _N = TypeVar("_N", int, float)
 
 
@@ -92,6 +93,7 @@ class Task:
 class Failure:
     kind: str  # one of KINDS
     message: str
+    part: int = 0  # a "part" failure's part number
 
 
 @dataclass
@@ -108,6 +110,7 @@ class Verdict:
     cycle_time: float = 0.0
     seconds: float = 0.0  # the wall-clock time grading took
     parts: tuple[dict[str, Json], ...] = ()
+    output: list[str] = field(default_factory=list)  # what the program TYPEd (the first MAX_OUTPUT lines)
 
     @property
     def passed(self) -> bool:
@@ -123,7 +126,7 @@ class Verdict:
                 "failures": [{"kind": f.kind, "message": f.message} for f in self.failures],
                 "collisions": self.collisions, "near_misses": self.near_misses,
                 "cycle_time_s": round(self.cycle_time, 3), "seconds": round(self.seconds, 3),
-                "parts": list(self.parts), "findings": list(self.findings)}
+                "parts": list(self.parts), "findings": list(self.findings), "output": list(self.output)}
 
 
 # -- the task file ---------------------------------------------------------------------------
@@ -615,7 +618,8 @@ def _observe(verdict: Verdict, task: Task, events: Iterable[Event], limits: RunL
         if isinstance(event, Collision):
             verdict.collisions += 1
             event = contacts.named(event)
-            if not (task.collisions or contacts.intended(event) or any(f.kind == "collision" for f in verdict.failures)):
+            first = not any(f.kind == "collision" for f in verdict.failures)
+            if first and not (task.collisions or contacts.intended(event)):
                 verdict.failures.append(Failure("collision", event_lines(event)[0]))
         elif isinstance(event, Near):
             verdict.near_misses += 1
@@ -624,6 +628,10 @@ def _observe(verdict: Verdict, task: Task, events: Iterable[Event], limits: RunL
             verdict.failures.append(Failure("limit", _unfinished(event, limits)))
         elif isinstance(event, Error):
             verdict.failures.append(Failure("error", event_lines(event)[0].removeprefix("*** ")))
+        elif isinstance(event, TypeOut):
+            if len(verdict.output) < MAX_OUTPUT:
+                verdict.output.append(event.text)
+            continue
         elif isinstance(event, Grasp):
             verdict.findings.append(f"GRASPED PART {event.part}{event.located}")
             continue
@@ -653,10 +661,11 @@ def _check_end(verdict: Verdict, task: Task, sim: Simulator) -> None:
             why = f" ({air[0]})" if air else ""
             target = ", ".join(f"{v:.1f}" for v in expected.position)
             verdict.failures.append(Failure("part", f"PART {expected.number} IS AT {shown}, NOT AT {target}: "
-                                                    f"{off:.1f} MM AWAY (TOLERANCE {expected.tolerance:g} MM){why}"))
+                                                    f"{off:.1f} MM AWAY (TOLERANCE {expected.tolerance:g} MM){why}",
+                                            expected.number))
         elif expected.held is not None and held != expected.held:
             state = "HELD" if held else "NOT HELD"
-            verdict.failures.append(Failure("part", f"PART {expected.number} IS {state} AT THE END"))
+            verdict.failures.append(Failure("part", f"PART {expected.number} IS {state} AT THE END", expected.number))
     if task.cycle_time is not None and verdict.cycle_time > task.cycle_time:
         verdict.failures.append(Failure("cycle-time", f"CYCLE TIME {verdict.cycle_time:.2f} S IS OVER "
                                                       f"THE {task.cycle_time:g} S ALLOWED"))
@@ -695,6 +704,52 @@ def junit_xml(task: Task, verdicts: list[Verdict]) -> str:
         ET.SubElement(case, "system-out").text = "\n".join(lines)
     ET.indent(root)
     return ET.tostring(root, encoding="unicode", xml_declaration=True) + "\n"
+
+
+def gradescope_results(task: Task, verdict: Verdict) -> dict[str, Json]:
+    """One submission's results.json for Gradescope's autograder (its documented fields:
+    https://gradescope-autograders.readthedocs.io/en/latest/specs/#output-format): a test a
+    check of the task, 1 point each, with the failures' messages; the student's findings and
+    TYPEd output in ``output``."""
+    tests: list[Json] = []
+    for name, failed, blocked in _checks(task, verdict):
+        passed = not failed and not blocked
+        output = blocked or "\n".join(f.message for f in failed) or "PASSED"
+        tests.append({"name": name, "score": 1.0 if passed else 0.0, "max_score": 1.0,
+                      "status": "passed" if passed else "failed", "output": output})
+    score = sum(1.0 for test in tests if isinstance(test, dict) and test["status"] == "passed")
+    lines = [f"{verdict.student}: {'PASS' if verdict.passed else 'FAIL'}, {score:g} OF {len(tests)} CHECKS PASSED",
+             f"CYCLE TIME {verdict.cycle_time:.2f} S, {verdict.collisions} COLLISIONS, "
+             f"{verdict.near_misses} NEAR MISSES",
+             *verdict.findings]
+    if verdict.output:
+        lines += ["", "THE PROGRAM TYPED:", *verdict.output]
+    return {"score": score, "execution_time": round(verdict.seconds, 3), "output": "\n".join(lines),
+            "output_format": "text", "tests": tests}
+
+
+def _checks(task: Task, verdict: Verdict) -> list[tuple[str, list[Failure], str]]:
+    """Each check of ``task``: its name, the verdict's failures of it, and why it was not
+    made ("" when it was)."""
+    kinds = {f.kind for f in verdict.failures}
+    unread = "NOT RUN: THE SUBMISSION CANNOT BE READ" if "file" in kinds else ""
+    unrun = unread or ("NOT RUN: THE PROGRAM HAS SYNTAX ERRORS" if "syntax" in kinds else "")
+
+    def of(kind: str, part: int = 0) -> list[Failure]:
+        return [f for f in verdict.failures if f.kind == kind and f.part == part]
+
+    checks = [("PROGRAM READ", of("file"), ""), ("SYNTAX", of("syntax"), unread),
+              ("RUNS WITHOUT AN ERROR", of("error"), unrun), ("FINISHES WITHIN THE LIMITS", of("limit"), unrun)]
+    if not task.collisions:
+        checks.append(("NO COLLISION", of("collision"), unrun))
+    for part in task.parts:
+        held = "" if part.held is None else ", HELD" if part.held else ", NOT HELD"
+        at = ", ".join(f"{v:.1f}" for v in part.position)
+        checks.append((f"PART {part.number} AT {at} (TOLERANCE {part.tolerance:g} MM){held}",
+                       of("part", part.number), unrun))
+    if task.cycle_time is not None:
+        checks.append((f"CYCLE TIME AT MOST {task.cycle_time:g} S", of("cycle-time"), unrun))
+    return checks
 
 
 def table_lines(verdicts: list[Verdict]) -> list[str]:
