@@ -26,10 +26,13 @@ import sys
 import time
 from functools import partial
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from valterm.commands import FAILURE, OK, USAGE, fail
 from valterm.commands.limits import add_limit_flags
+
+if TYPE_CHECKING:
+    from concurrent.futures import ProcessPoolExecutor
 
 
 def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
@@ -80,16 +83,25 @@ def run(args: argparse.Namespace) -> int:
 
 def _grade_all(task: Any, found: list[Any], limits: Any, jobs: int) -> list[Any]:
     """Every student's verdict, in the order found; in parallel processes when there are several."""
-    from concurrent.futures import ProcessPoolExecutor  # here: multiprocessing is no part of a start
-
     from valterm.core.grading import grade_student
 
     one = partial(grade_student, task, limits)
     jobs = min(jobs, len(found))
     if jobs <= 1:
         return [one(path) for path in found]
-    with ProcessPoolExecutor(max_workers=jobs) as pool:
-        return list(pool.map(one, found))
+    with worker_pool(task, jobs) as pool:
+        # a few students a message: short programs cost less than the trip to a worker
+        return list(pool.map(one, found, chunksize=max(1, len(found) // (4 * jobs))))
+
+
+def worker_pool(task: Any, jobs: int) -> ProcessPoolExecutor:
+    """``jobs`` worker processes started once for the class, each warmed before its first
+    student (the collision check loaded, the task's cell read: grading.warm_worker)."""
+    from concurrent.futures import ProcessPoolExecutor  # here: multiprocessing is no part of a start
+
+    from valterm.core.grading import warm_worker
+
+    return ProcessPoolExecutor(max_workers=jobs, initializer=warm_worker, initargs=(task,))
 
 
 def _report(args: argparse.Namespace, task: Any, verdicts: list[Any], elapsed: float) -> None:

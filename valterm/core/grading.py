@@ -14,6 +14,8 @@ from or written to a workspace (no CHECK.DAT), so submissions cannot disturb eac
 
 from __future__ import annotations
 
+import contextlib
+import copy
 import math
 import os
 import time
@@ -357,11 +359,49 @@ def _data_file(task: Path, name: str, ext: str) -> Path:
     raise TaskError(task, 0, f"{name}: no such {ext} file beside the task file, nor a bundled one")
 
 
+_CELLS: dict[str, tuple[tuple[int, int], WorkCell]] = {}  # a process's setup files, by path
+_WORKER = {"warm": False}
+
+
+def task_cell(path: Path) -> WorkCell:
+    """The setup file's cell, read once a process while the file is unchanged (its time and
+    size); each caller gets a copy of its own, so students cannot disturb each other."""
+    status = os.stat(path)
+    stamp = (status.st_mtime_ns, status.st_size)
+    key = os.path.abspath(path)
+    found = _CELLS.get(key)
+    if found is None or found[0] != stamp:
+        found = (stamp, read_setup(path))
+        _CELLS[key] = found
+    return copy.deepcopy(found[1])
+
+
+def forget_cells() -> None:
+    """Read every setup file afresh next time (tests)."""
+    _CELLS.clear()
+
+
+def warm_worker(task: Task) -> None:
+    """A grading worker's start (``valterm grade --jobs``): the collision check loaded and
+    the task's cell read before its first student, once a process."""
+    from valterm.core.files.programs import parse_program
+
+    warm = parse_program("    READY\n", "WARM", task.file)  # a move with the collision check: every first-time cost
+    with contextlib.suppress(ValtermError, OSError):  # check_task has said what is wrong with the task
+        _run(Verdict("", ""), task, warm, {warm.name: warm}.__getitem__, run_limits(task))
+    _WORKER["warm"] = True
+
+
+def worker_ready(_: object = None) -> bool:
+    """Whether this process has been warmed for grading."""
+    return _WORKER["warm"]
+
+
 def check_task(task: Task) -> None:
     """The task's own files read and its parts in the cell (TaskError otherwise): before any
     student is graded, so a mistake in the task is not a failure of every student."""
     try:
-        cell = read_setup(task.cell)
+        cell = task_cell(task.cell)
         for location_file in task.locations:
             read_locations(location_file)
     except (FileFormatError, OSError) as error:
@@ -553,7 +593,7 @@ def grade(task: Task, submission: str | Path, limits: RunLimits | None = None, s
         return verdict
     _syntax(verdict, main, task)
     if not verdict.failures:  # a program pass 1 refuses is not run
-        _run(verdict, task, main, programs, limits or run_limits(task))
+        _run(verdict, task, main, programs.load, limits or run_limits(task))
     verdict.seconds = time.perf_counter() - started
     return verdict
 
@@ -565,8 +605,8 @@ def _syntax(verdict: Verdict, main: Program, task: Task) -> None:
         verdict.failures.append(Failure("syntax", f"{main.name} STEP {diagnostic.step}: {diagnostic.message}"))
 
 
-def _run(verdict: Verdict, task: Task, main: Program, programs: _Programs, limits: RunLimits) -> None:
-    sim = Simulator(read_setup(task.cell), robot=task.robot or None)  # check_task has read them once already
+def _run(verdict: Verdict, task: Task, main: Program, load: Callable[[str], Program], limits: RunLimits) -> None:
+    sim = Simulator(task_cell(task.cell), robot=task.robot or None)  # read once a process: check_task's
     precision: dict[str, tuple[float, ...]] = {}
     for location_file in task.locations:
         locations, points = read_location_file(location_file)
@@ -576,7 +616,7 @@ def _run(verdict: Verdict, task: Task, main: Program, programs: _Programs, limit
     vplus = "v+" in (task.dialect, main.dialect)
     sim.set_rules(task.rules or rules_of_dialect("v+" if vplus else "1985"))  # as run does
     # CALLed programs come from the submission, read as its main program was; nothing is written
-    interpreter = Interpreter(sim, programs.load, {}, dialect=task.dialect, limits=limits)
+    interpreter = Interpreter(sim, load, {}, dialect=task.dialect, limits=limits)
     interpreter.machine.precision.update(precision)
     names = part_names(sim.cell)
     contacts = _Contacts(names, contact_pairs(task, names, sim.model.names))
