@@ -721,7 +721,91 @@ def part_positions(sim: Simulator) -> tuple[dict[str, Json], ...]:
 
 # -- reports ---------------------------------------------------------------------------------
 
-def junit_xml(task: Task, verdicts: list[Verdict]) -> str:
+MAX_RESULTS_BYTES = 256 * 1024 * 1024  # a class's JSON results (valterm grade --merge)
+
+
+@dataclass(frozen=True)
+class Results:
+    """A ``valterm grade --json`` file read back (``--merge``)."""
+
+    path: Path
+    task: str
+    robot: str
+    verdicts: list[Verdict]
+    seconds: float = 0.0  # how long the share took to grade
+
+
+def read_results(path: str | Path) -> Results:
+    """The results ``valterm grade --json`` wrote (FileFormatError naming the file and the
+    result that is wrong)."""
+    import json
+
+    from valterm.core.files._text import read_text
+
+    path = Path(path)
+    text = read_text(path, "results", MAX_RESULTS_BYTES)
+    try:
+        data = json.loads(text)
+    except ValueError as error:
+        raise FileFormatError(path, 0, f"not a JSON file: {error}") from None
+    except RecursionError:  # nested deeper than the parser goes: no results file is
+        raise FileFormatError(path, 0, "not a JSON file: nested too deep") from None
+    if not isinstance(data, dict) or not isinstance(data.get("task"), str) or not isinstance(data.get("results"), list):
+        raise FileFormatError(path, 0, "not the JSON of valterm grade --json (task and results)")
+    verdicts = [_verdict(entry, path, n) for n, entry in enumerate(data["results"], start=1)]
+    robot, seconds = data.get("robot", "PUMA"), data.get("seconds", 0.0)
+    return Results(path, data["task"], robot if isinstance(robot, str) else "PUMA", verdicts,
+                   float(seconds) if isinstance(seconds, (int, float)) else 0.0)
+
+
+def _verdict(entry: object, path: Path, n: int) -> Verdict:
+    """One result of a JSON file as the Verdict it was written from."""
+    if not isinstance(entry, dict):
+        raise FileFormatError(path, 0, f"result {n}: not a result (student, program, failures ...)")
+
+    def need(key: str, kind: type | tuple[type, ...], default: object = None) -> Any:
+        value = entry.get(key, default)
+        if not isinstance(value, kind) or isinstance(value, bool):
+            what = {str: "a string", list: "a list"}.get(kind, "a number")  # type: ignore[call-overload]
+            raise FileFormatError(path, 0, f"result {n}: {key} must be {what}")
+        return value
+
+    student, program = need("student", str), need("program", str)
+    failures = []
+    for failure in need("failures", list):
+        if not (isinstance(failure, dict) and isinstance(failure.get("kind"), str)
+                and isinstance(failure.get("message"), str)):
+            raise FileFormatError(path, 0, f"result {n}: each failure has a kind and a message")
+        failures.append(Failure(failure["kind"], failure["message"]))
+    findings, output = need("findings", list), need("output", list, [])  # output: since --gradescope
+    if not all(isinstance(line, str) for line in findings + output):
+        raise FileFormatError(path, 0, f"result {n}: findings and output are lines of text")
+    number = (int, float)
+    return Verdict(student, program, failures, findings, int(need("collisions", number)),
+                   int(need("near_misses", number)), float(need("cycle_time_s", number)),
+                   float(need("seconds", number)), tuple(need("parts", list)), output)
+
+
+def merge_results(files: list[Results]) -> list[Verdict]:
+    """The verdicts of several shares of one class, in file order (FileFormatError when they
+    are of two tasks, or a student is in two of them)."""
+    seen: dict[str, Path] = {}
+    verdicts: list[Verdict] = []
+    for results in files:
+        first = files[0]
+        if results.task != first.task:
+            raise FileFormatError(results.path, 0, f"task {results.task}, not {first.task} as in {first.path.name}: "
+                                                   "the results of one task are merged")
+        for verdict in results.verdicts:
+            if verdict.student in seen:
+                raise FileFormatError(results.path, 0, f"student {verdict.student} is in {seen[verdict.student].name} "
+                                                       "too: each student is graded once (grade each share's students "
+                                                       "by their paths from one class folder, so names stay unique)")
+            seen[verdict.student] = results.path
+            verdicts.append(verdict)
+    return verdicts
+
+def junit_xml(name: str, verdicts: list[Verdict]) -> str:
     """The verdicts as a JUnit XML report (what CI systems and LMS autograders read): one
     <testcase> a submission, a <failure> for each failure (its type the kind), the findings
     in <system-out>."""
@@ -731,10 +815,10 @@ def junit_xml(task: Task, verdicts: list[Verdict]) -> str:
     total = f"{sum(v.seconds for v in verdicts):.3f}"
     counts = {"tests": str(len(verdicts)), "failures": str(failed), "errors": "0", "skipped": "0", "time": total}
     root = ET.Element("testsuites", {"name": "valterm grade", **counts})
-    suite = ET.SubElement(root, "testsuite", {"name": task.name, **counts,
+    suite = ET.SubElement(root, "testsuite", {"name": name, **counts,
                                               "timestamp": time.strftime("%Y-%m-%dT%H:%M:%S")})
     for verdict in verdicts:
-        case = ET.SubElement(suite, "testcase", {"classname": task.name, "name": verdict.student,
+        case = ET.SubElement(suite, "testcase", {"classname": name, "name": verdict.student,
                                                  "file": verdict.program, "time": f"{verdict.seconds:.3f}"})
         for failure in verdict.failures:
             node = ET.SubElement(case, "failure", {"type": failure.kind, "message": failure.message})
