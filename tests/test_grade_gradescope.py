@@ -5,6 +5,7 @@ Gradescope documents."""
 from __future__ import annotations
 
 import json
+import shutil
 from pathlib import Path
 
 import pytest
@@ -110,5 +111,21 @@ def test_gradescope_grades_one_submission(tmp_path: Path, capsys: pytest.Capture
     out = tmp_path / "results.json"
     status = main(["grade", str(TASK), str(STUDENTS / "GOOD.DAT"), str(STUDENTS / "MISS.DAT"), "--gradescope", str(out)])
     assert status == 2
-    assert "--gradescope writes one submission's results" in capsys.readouterr().err
+    assert "--gradescope writes one submission's results" in capsys.readouterr().err  # two named
     assert not out.exists()
+
+
+def test_a_submission_of_several_folders_is_one_student_with_nothing_to_run(tmp_path: Path) -> None:
+    """Gradescope's /autograder/submission is one student whatever it holds: two folders of
+    programs are that student's mistake (a results.json that says so), not a failed autograder."""
+    for name in ("first", "second"):
+        (tmp_path / "submission" / name).mkdir(parents=True)
+        shutil.copy(STUDENTS / "GOOD.DAT", tmp_path / "submission" / name / "MAIN.DAT")
+    out = tmp_path / "results.json"
+    assert main(["grade", str(TASK), str(tmp_path / "submission"), "--gradescope", str(out)]) == 1
+    document = json.loads(out.read_text())
+    validate(document)
+    read = document["tests"][0]
+    assert read["name"] == "PROGRAM READ" and read["status"] == "failed"
+    assert "0 program files" in read["output"] and "submission" in read["output"]
+    assert document["score"] == 0

@@ -57,7 +57,7 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) ->
 
 def run(args: argparse.Namespace) -> int:
     from valterm.core.errors import ValtermError
-    from valterm.core.grading import check_task, find_students, read_task, run_limits
+    from valterm.core.grading import Submission, check_task, find_students, read_task, run_limits
 
     if args.jobs < 0:
         return fail("grade: --jobs must be 0 (one per CPU) or more", USAGE)
@@ -75,9 +75,12 @@ def run(args: argparse.Namespace) -> int:
         return fail(error, FAILURE)
     if not found:
         return fail("grade: no program files or folders to grade", FAILURE)
-    if args.gradescope and len(found) != 1:
-        return fail(f"grade: --gradescope writes one submission's results (Gradescope grades one a run); "
-                    f"{len(found)} submissions were found", USAGE)
+    if args.gradescope:
+        if len(args.submissions) != 1:
+            return fail(f"grade: --gradescope writes one submission's results (Gradescope grades one a run); "
+                        f"{len(args.submissions)} were named", USAGE)
+        if len(found) != 1:  # the one submission, whatever it holds: a FAIL that says why, not no results
+            found = [Submission(Path(args.submissions[0]).name, Path(args.submissions[0]))]
     started = time.perf_counter()
     limits = run_limits(task, getattr(args, "max_steps", None), getattr(args, "max_seconds", None),
                         getattr(args, "max_lines", None))  # the flags given, else the task's
