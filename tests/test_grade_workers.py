@@ -54,3 +54,28 @@ def test_the_workers_are_warm_before_the_first_student() -> None:
     task = grading.read_task(TASK)
     with worker_pool(task, 2) as pool:
         assert all(pool.map(grading.worker_ready, range(4)))
+
+
+WARMED = """
+import sys
+from valterm.core import grading
+task = grading.read_task(sys.argv[1])
+grading.check_task(task)
+grading.warm_worker(task)
+before = set(sys.modules)
+grading.grade(task, sys.argv[2])
+print(sorted(set(sys.modules) - before))
+"""
+
+
+def test_a_warm_worker_imports_nothing_more_for_its_students() -> None:
+    """In a fresh process (as a worker starts), the warm-up leaves nothing for the first
+    student to load: a pick-and-place with the collision check imports no module."""
+    import subprocess
+    import sys
+
+    done = subprocess.run([sys.executable, "-c", WARMED, str(TASK), str(STUDENTS / "GOOD.DAT")],
+                          capture_output=True, text=True, timeout=60,
+                          env={**__import__("os").environ, "PYTHONPATH": str(Path(__file__).resolve().parent.parent)})
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "[]"

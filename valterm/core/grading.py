@@ -381,12 +381,16 @@ def forget_cells() -> None:
     _CELLS.clear()
 
 
+_WARM_UP = ("DRIVE 1, -5, 50", "READY", "DRAW 0, 0, -10", "CLOSEI", "OPENI")
+
+
 def warm_worker(task: Task) -> None:
     """A grading worker's start (``valterm grade --jobs``): the collision check loaded and
     the task's cell read before its first student, once a process."""
     from valterm.core.files.programs import parse_program
 
-    warm = parse_program("    READY\n", "WARM", task.file)  # a move with the collision check: every first-time cost
+    # a joint and a straight move and a grasp, collision check on: the first-time costs (imports) of each
+    warm = parse_program("".join(f"    {line}\n" for line in _WARM_UP), "WARM", task.file)
     with contextlib.suppress(ValtermError, OSError):  # check_task has said what is wrong with the task
         _run(Verdict("", ""), task, warm, {warm.name: warm}.__getitem__, run_limits(task))
     _WORKER["warm"] = True
