@@ -44,7 +44,9 @@ def test_the_bundled_process_cell_names_its_parts() -> None:
     assert names[0] == "FIRST PART" and names[1] == "SECOND PART"
     assert names[2] == "LEFT-HAND TABLE" and names[7] == "RIGHT-HAND TABLE"
     assert names[12] == names[13] == "PART PROCESSOR"
-    assert all(names)
+    for cell in ("PROCESS", "CONV", "DEMO3"):  # every object of every bundled cell has a name of its own
+        parts = read_setup(data_path(CELLS, f"{cell}.SET")).objects
+        assert all(part.name != f"PART {n}" for n, part in enumerate(parts, start=1)), cell
 
 
 def test_putting_the_part_into_the_processor_fails_unless_the_task_allows_it(tmp_path: Path) -> None:
