@@ -73,14 +73,14 @@ def run(args: argparse.Namespace) -> int:
         found = find_students(args.submissions)
     except (ValtermError, OSError) as error:
         return fail(error, FAILURE)
-    if not found:
-        return fail("grade: no program files or folders to grade", FAILURE)
     if args.gradescope:
         if len(args.submissions) != 1:
             return fail(f"grade: --gradescope writes one submission's results (Gradescope grades one a run); "
                         f"{len(args.submissions)} were named", USAGE)
         if len(found) != 1:  # the one submission, whatever it holds: a FAIL that says why, not no results
             found = [Submission(Path(args.submissions[0]).name, Path(args.submissions[0]))]
+    if not found:
+        return fail("grade: no program files or folders to grade", FAILURE)
     started = time.perf_counter()
     limits = run_limits(task, getattr(args, "max_steps", None), getattr(args, "max_seconds", None),
                         getattr(args, "max_lines", None))  # the flags given, else the task's
