@@ -217,7 +217,7 @@ def test_export_glb_is_metres_y_up_with_part_names(tmp_path, capsys, monkeypatch
     assert not (ws / "P.glb").exists()
     scene = trimesh.load(tmp_path / "P.glb", force="scene")
     cell = read_setup(ws / "PROCESS.SET")
-    assert "OCCT-BOX-100MM" in scene.geometry and "PART 8" in scene.geometry and "BASE" in scene.geometry
+    assert "OCCT-BOX-100MM" in scene.geometry and "RIGHT-HAND TABLE" in scene.geometry and "BASE" in scene.geometry
     box = cell.objects[-1].vertices
     mesh = scene.geometry["OCCT-BOX-100MM"].copy().apply_transform(scene.graph["OCCT-BOX-100MM"][0])
     # world (x, y, z) mm -> glTF (x, z, -y) m
@@ -239,7 +239,7 @@ def test_export_obj_and_stl_keep_millimetres_and_say_so(tmp_path, capsys, monkey
     text = (tmp_path / "here" / "P.OBJ").read_text()
     assert text.startswith("# valterm export: world millimetres, Z up")
     loaded = trimesh.load(tmp_path / "here" / "P.OBJ", force="scene", split_objects=True)
-    assert "cell/PART 8" in loaded.geometry
+    assert "cell/RIGHT-HAND TABLE" in loaded.geometry
     out = tmp_path / "elsewhere" / "p.stl"
     assert cli(["--workspace", str(ws), "export", "PROCESS", "--out", str(out), "--pose", "0,-90,90,0,0,0"]) == 0
     stl = trimesh.load(out)

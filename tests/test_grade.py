@@ -40,7 +40,7 @@ def test_five_variants_one_passes_four_fail_each_named(graded: tuple[int, dict, 
         "MISS": "part", "CRASH": "collision", "REACH": "error", "SYNTAX": "syntax"}
     assert first["MISS"]["message"].startswith("PART 1 IS AT 440.0, -50.0, -320.0, NOT AT -174.6, 576.4, -279.6: ")
     assert "MISS STEP 7: CLOSEI: NOTHING BETWEEN THE FINGERS, THE CLAMP CLOSED ON AIR" in first["MISS"]["message"]
-    assert first["CRASH"]["message"] == "CLAMP COLLIDES WITH 1 (CRASH STEP 5, CLAMP AT 464.13 -44.98 -294.99)"
+    assert first["CRASH"]["message"] == "CLAMP COLLIDES WITH 1 (FIRST PART) (CRASH STEP 5, CLAMP AT 464.13 -44.98 -294.99)"
     assert first["REACH"]["message"] == "REACH STEP 10: LOCATION OUT OF REACH"
     assert first["SYNTAX"]["message"].startswith("SYNTAX STEP 10: MOVEZ is not a command")
     assert (report["passed"], report["failed"]) == (1, 4)
@@ -72,7 +72,7 @@ def test_the_junit_file_is_a_valid_junit_report(graded: tuple[int, dict, ET.Elem
     by_name = {c.get("name"): c for c in cases}
     assert by_name["GOOD"].find("failure") is None
     assert by_name["CRASH"].find("failure").get("type") == "collision"  # type: ignore[union-attr]
-    assert "CLAMP COLLIDES WITH 1 (CRASH STEP 5" in (by_name["CRASH"].findtext("system-out") or "")
+    assert "CLAMP COLLIDES WITH 1 (FIRST PART) (CRASH STEP 5" in (by_name["CRASH"].findtext("system-out") or "")
 
 
 def test_the_table_names_each_students_first_failure(capsys: pytest.CaptureFixture[str]) -> None:

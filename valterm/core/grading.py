@@ -14,18 +14,21 @@ from or written to a workspace (no CHECK.DAT), so submissions cannot disturb eac
 
 from __future__ import annotations
 
+import contextlib
+import copy
 import math
 import os
 import time
 import tomllib
 from collections.abc import Callable, Iterable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, TypeVar
 
 from valterm.core import resources
+from valterm.core.cell.workcell import WorkCell
 from valterm.core.errors import ValtermError
-from valterm.core.events import Collision, Error, Event, Grasp, Json, LimitReached, Message, Near
+from valterm.core.events import Collision, Contact, Error, Event, Grasp, Json, LimitReached, Message, Near, TypeOut
 from valterm.core.files.errors import FileFormatError
 from valterm.core.files.locations import read_location_file, read_locations
 from valterm.core.files.programs import Program
@@ -47,11 +50,12 @@ PROGRAM_EXTENSIONS = (".DAT", *VPLUS_EXTENSIONS)
 KINDS = ("file", "syntax", "error", "limit", "collision", "part", "cycle-time")
 
 _TASK_KEYS = {"name", "cell", "locations", "program", "cycle_time", "collisions", "loops", "dialect", "rules",
-              "robot", "part", "max_steps", "max_seconds", "max_lines"}
+              "robot", "part", "max_steps", "max_seconds", "max_lines", "allowed_contacts"}
 # with a cycle time and no max_seconds, a run is cut at this many times the cycle time
 CYCLES_ALLOWED = 10
 _PART_KEYS = {"number", "position", "tolerance", "held"}
 MAX_TASK_BYTES = 64 * 1024
+MAX_OUTPUT = 200  # lines of a program's TYPEd output kept in its verdict
 _N = TypeVar("_N", int, float)
 
 
@@ -83,12 +87,16 @@ class Task:
     max_steps: int | None = None  # the run limits (core/val/limits.py; 0: none); None: the default
     max_seconds: float | None = None
     max_lines: int | None = None
+    # contacts the task intends, as written: parts by number or name, robot links by name
+    allowed_contacts: tuple[tuple[str, str], ...] = ()
+    file: Path = Path("TASK.toml")  # the task file (its errors name it)
 
 
 @dataclass(frozen=True)
 class Failure:
     kind: str  # one of KINDS
     message: str
+    part: int = 0  # a "part" failure's part number
 
 
 @dataclass
@@ -105,6 +113,7 @@ class Verdict:
     cycle_time: float = 0.0
     seconds: float = 0.0  # the wall-clock time grading took
     parts: tuple[dict[str, Json], ...] = ()
+    output: list[str] = field(default_factory=list)  # what the program TYPEd (the first MAX_OUTPUT lines)
 
     @property
     def passed(self) -> bool:
@@ -120,7 +129,7 @@ class Verdict:
                 "failures": [{"kind": f.kind, "message": f.message} for f in self.failures],
                 "collisions": self.collisions, "near_misses": self.near_misses,
                 "cycle_time_s": round(self.cycle_time, 3), "seconds": round(self.seconds, 3),
-                "parts": list(self.parts), "findings": list(self.findings)}
+                "parts": list(self.parts), "findings": list(self.findings), "output": list(self.output)}
 
 
 # -- the task file ---------------------------------------------------------------------------
@@ -161,6 +170,8 @@ def read_task(path: str | Path) -> Task:
         max_steps=_limit(data, "max_steps", path),
         max_seconds=None if "max_seconds" not in data else _at_least_0(data["max_seconds"], path, "max_seconds"),
         max_lines=_limit(data, "max_lines", path),
+        allowed_contacts=_contacts(data.get("allowed_contacts", []), path),
+        file=path,
     )
 
 
@@ -222,6 +233,61 @@ def _part(entry: object, path: Path) -> ExpectedPart:
         raise TaskError(path, 0, f"{where} tolerance: {tolerance:g} must be 0 or more (mm)")
     held = entry.get("held")
     return ExpectedPart(number, (x, y, z), tolerance, None if held is None else _flag(held, path, f"{where} held"))
+
+
+def _contacts(value: object, path: Path) -> tuple[tuple[str, str], ...]:
+    """``allowed_contacts`` as written, each name upper case; checked against the cell and
+    the robot by :func:`contact_pairs`."""
+    pairs = []
+    for pair in _list(value, path, "allowed_contacts"):
+        if not isinstance(pair, list) or len(pair) != 2:
+            raise TaskError(path, 0, "allowed_contacts: each pair is two names, a part (number or name) "
+                                     "or a robot link: [\"1\", \"13\"], [\"CLAMP\", \"13\"]")
+        first, second = (_party(word, path) for word in pair)
+        if first == second:
+            raise TaskError(path, 0, f"allowed_contacts: \"{first}\" with itself is no contact")
+        pairs.append((first, second))
+    return tuple(pairs)
+
+
+def _party(word: object, path: Path) -> str:
+    if isinstance(word, str) and word.strip():
+        return " ".join(word.upper().split())
+    if isinstance(word, int) and not isinstance(word, bool):
+        return str(word)
+    shown = str(word).lower() if isinstance(word, bool) else repr(word)
+    raise TaskError(path, 0, f"allowed_contacts: {shown} is not a part number, a part's name nor a robot link")
+
+
+def contact_pairs(task: Task, parts: list[str], links: Iterable[str]) -> frozenset[frozenset[str]]:
+    """The task's allowed contacts as the collision events name their parties (a part by its
+    number, "1"; a link by name), ``parts`` the cell's part names in order. A name stands for
+    every part so named (the processor's two objects). TaskError for a name that is neither."""
+    links = {link.upper() for link in links}
+    allowed: set[frozenset[str]] = set()
+    for pair in task.allowed_contacts:
+        first, second = (_parties(word, parts, links, task.file) for word in pair)
+        allowed.update(frozenset((a, b)) for a in first for b in second if a != b)
+    return frozenset(allowed)
+
+
+def _parties(word: str, parts: list[str], links: set[str], path: Path) -> set[str]:
+    if word.isdigit() and 1 <= int(word) <= len(parts):
+        return {str(int(word))}
+    named = {str(number) for number, name in enumerate(parts, start=1) if name.upper() == word}
+    if named:
+        return named
+    if word in links:
+        return {word}
+    names = sorted({name.upper() for n, name in enumerate(parts, start=1) if name.upper() != f"PART {n}"})
+    known = f"1-{len(parts)}" + (f" or {', '.join(names)}" if names else "")
+    raise TaskError(path, 0, f"allowed_contacts: \"{word}\" is not a part ({known}) nor a robot link "
+                             f"({', '.join(sorted(links))})")
+
+
+def part_names(cell: WorkCell) -> list[str]:
+    """The cell's part names in order (the setup file's ``; NAME`` lines; "PART n" unnamed)."""
+    return [part.name or f"PART {number}" for number, part in enumerate(cell.objects, start=1)]
 
 
 def _setting(data: dict[str, object], key: str, default: str, check: Callable[[str], str], path: Path) -> str:
@@ -294,11 +360,53 @@ def _data_file(task: Path, name: str, ext: str) -> Path:
     raise TaskError(task, 0, f"{name}: no such {ext} file beside the task file, nor a bundled one")
 
 
+_CELLS: dict[str, tuple[tuple[int, int], WorkCell]] = {}  # a process's setup files, by path
+_WORKER = {"warm": False}
+
+
+def task_cell(path: Path) -> WorkCell:
+    """The setup file's cell, read once a process while the file is unchanged (its time and
+    size); each caller gets a copy of its own, so students cannot disturb each other."""
+    status = os.stat(path)
+    stamp = (status.st_mtime_ns, status.st_size)
+    key = os.path.abspath(path)
+    found = _CELLS.get(key)
+    if found is None or found[0] != stamp:
+        found = (stamp, read_setup(path))
+        _CELLS[key] = found
+    return copy.deepcopy(found[1])
+
+
+def forget_cells() -> None:
+    """Read every setup file afresh next time (tests)."""
+    _CELLS.clear()
+
+
+_WARM_UP = ("DRIVE 1, -5, 50", "READY", "DRAW 0, 0, -10", "CLOSEI", "OPENI")
+
+
+def warm_worker(task: Task) -> None:
+    """A grading worker's start (``valterm grade --jobs``): the collision check loaded and
+    the task's cell read before its first student, once a process."""
+    from valterm.core.files.programs import parse_program
+
+    # a joint and a straight move and a grasp, collision check on: the first-time costs (imports) of each
+    warm = parse_program("".join(f"    {line}\n" for line in _WARM_UP), "WARM", task.file)
+    with contextlib.suppress(ValtermError, OSError):  # check_task has said what is wrong with the task
+        _run(Verdict("", ""), task, warm, {warm.name: warm}.__getitem__, run_limits(task))
+    _WORKER["warm"] = True
+
+
+def worker_ready(_: object = None) -> bool:
+    """Whether this process has been warmed for grading."""
+    return _WORKER["warm"]
+
+
 def check_task(task: Task) -> None:
     """The task's own files read and its parts in the cell (TaskError otherwise): before any
     student is graded, so a mistake in the task is not a failure of every student."""
     try:
-        cell = read_setup(task.cell)
+        cell = task_cell(task.cell)
         for location_file in task.locations:
             read_locations(location_file)
     except (FileFormatError, OSError) as error:
@@ -306,6 +414,8 @@ def check_task(task: Task) -> None:
     for expected in task.parts:
         if expected.number > len(cell.objects):
             raise TaskError(task.cell, 0, f"the task names part {expected.number}; the cell has {len(cell.objects)}")
+    if task.allowed_contacts:
+        contact_pairs(task, part_names(cell), Simulator(cell, robot=task.robot or None).model.names)
 
 
 # -- a class of submissions -----------------------------------------------------------------
@@ -488,7 +598,7 @@ def grade(task: Task, submission: str | Path, limits: RunLimits | None = None, s
         return verdict
     _syntax(verdict, main, task)
     if not verdict.failures:  # a program pass 1 refuses is not run
-        _run(verdict, task, main, programs, limits or run_limits(task))
+        _run(verdict, task, main, programs.load, limits or run_limits(task))
     verdict.seconds = time.perf_counter() - started
     return verdict
 
@@ -500,8 +610,8 @@ def _syntax(verdict: Verdict, main: Program, task: Task) -> None:
         verdict.failures.append(Failure("syntax", f"{main.name} STEP {diagnostic.step}: {diagnostic.message}"))
 
 
-def _run(verdict: Verdict, task: Task, main: Program, programs: _Programs, limits: RunLimits) -> None:
-    sim = Simulator(read_setup(task.cell), robot=task.robot or None)  # check_task has read them once already
+def _run(verdict: Verdict, task: Task, main: Program, load: Callable[[str], Program], limits: RunLimits) -> None:
+    sim = Simulator(task_cell(task.cell), robot=task.robot or None)  # read once a process: check_task's
     precision: dict[str, tuple[float, ...]] = {}
     for location_file in task.locations:
         locations, points = read_location_file(location_file)
@@ -511,27 +621,62 @@ def _run(verdict: Verdict, task: Task, main: Program, programs: _Programs, limit
     vplus = "v+" in (task.dialect, main.dialect)
     sim.set_rules(task.rules or rules_of_dialect("v+" if vplus else "1985"))  # as run does
     # CALLed programs come from the submission, read as its main program was; nothing is written
-    interpreter = Interpreter(sim, programs.load, {}, dialect=task.dialect, limits=limits)
+    interpreter = Interpreter(sim, load, {}, dialect=task.dialect, limits=limits)
     interpreter.machine.precision.update(precision)
-    _observe(verdict, task, interpreter.execute(main.name, task.loops), limits)
+    names = part_names(sim.cell)
+    contacts = _Contacts(names, contact_pairs(task, names, sim.model.names))
+    _observe(verdict, task, interpreter.execute(main.name, task.loops), limits, contacts)
     verdict.cycle_time = interpreter.cycle_seconds
     verdict.parts = part_positions(sim)
     _check_end(verdict, task, sim)
 
 
-def _observe(verdict: Verdict, task: Task, events: Iterable[Event], limits: RunLimits) -> None:
+@dataclass(frozen=True)
+class _Contacts:
+    """The cell's part names (for messages) and the contacts the task allows."""
+
+    names: list[str]
+    allowed: frozenset[frozenset[str]]
+
+    def named(self, event: Contact) -> Contact:
+        """The finding with each part's name after its number: ``1 COLLIDES WITH 8 (RIGHT-HAND TABLE)``."""
+        a, b = self._name(event.a), self._name(event.b)
+        if isinstance(event, Near):
+            a, b = (f"PART {x}" if x[:1].isdigit() else x for x in (a, b))
+            return replace(event, text=f"{a} IS NEAR {b}")
+        return replace(event, text=f"{a} COLLIDES WITH {b}")
+
+    def _name(self, party: str) -> str:
+        if not party.isdigit() or not 1 <= int(party) <= len(self.names):
+            return party
+        name = self.names[int(party) - 1]
+        return party if name.upper() == f"PART {party}" else f"{party} ({name.upper()})"
+
+    def intended(self, event: Contact) -> bool:
+        return frozenset((event.a, event.b)) in self.allowed
+
+
+def _observe(verdict: Verdict, task: Task, events: Iterable[Event], limits: RunLimits,
+             contacts: _Contacts) -> None:
     """The failures and findings of the run's events."""
     for event in events:
         if isinstance(event, Collision):
             verdict.collisions += 1
-            if not task.collisions and not any(f.kind == "collision" for f in verdict.failures):
+            event = contacts.named(event)
+            first = not any(f.kind == "collision" for f in verdict.failures)
+            if first and not (task.collisions or contacts.intended(event)):
                 verdict.failures.append(Failure("collision", event_lines(event)[0]))
         elif isinstance(event, Near):
             verdict.near_misses += 1
+            event = contacts.named(event)
         elif isinstance(event, LimitReached):
             verdict.failures.append(Failure("limit", _unfinished(event, limits)))
         elif isinstance(event, Error):
             verdict.failures.append(Failure("error", event_lines(event)[0].removeprefix("*** ")))
+        elif isinstance(event, TypeOut):
+            if len(verdict.output) < MAX_OUTPUT:
+                verdict.output.append(event.text)
+            continue
         elif isinstance(event, Grasp):
             verdict.findings.append(f"GRASPED PART {event.part}{event.located}")
             continue
@@ -561,10 +706,11 @@ def _check_end(verdict: Verdict, task: Task, sim: Simulator) -> None:
             why = f" ({air[0]})" if air else ""
             target = ", ".join(f"{v:.1f}" for v in expected.position)
             verdict.failures.append(Failure("part", f"PART {expected.number} IS AT {shown}, NOT AT {target}: "
-                                                    f"{off:.1f} MM AWAY (TOLERANCE {expected.tolerance:g} MM){why}"))
+                                                    f"{off:.1f} MM AWAY (TOLERANCE {expected.tolerance:g} MM){why}",
+                                            expected.number))
         elif expected.held is not None and held != expected.held:
             state = "HELD" if held else "NOT HELD"
-            verdict.failures.append(Failure("part", f"PART {expected.number} IS {state} AT THE END"))
+            verdict.failures.append(Failure("part", f"PART {expected.number} IS {state} AT THE END", expected.number))
     if task.cycle_time is not None and verdict.cycle_time > task.cycle_time:
         verdict.failures.append(Failure("cycle-time", f"CYCLE TIME {verdict.cycle_time:.2f} S IS OVER "
                                                       f"THE {task.cycle_time:g} S ALLOWED"))
@@ -580,7 +726,91 @@ def part_positions(sim: Simulator) -> tuple[dict[str, Json], ...]:
 
 # -- reports ---------------------------------------------------------------------------------
 
-def junit_xml(task: Task, verdicts: list[Verdict]) -> str:
+MAX_RESULTS_BYTES = 256 * 1024 * 1024  # a class's JSON results (valterm grade --merge)
+
+
+@dataclass(frozen=True)
+class Results:
+    """A ``valterm grade --json`` file read back (``--merge``)."""
+
+    path: Path
+    task: str
+    robot: str
+    verdicts: list[Verdict]
+    seconds: float = 0.0  # how long the share took to grade
+
+
+def read_results(path: str | Path) -> Results:
+    """The results ``valterm grade --json`` wrote (FileFormatError naming the file and the
+    result that is wrong)."""
+    import json
+
+    from valterm.core.files._text import read_text
+
+    path = Path(path)
+    text = read_text(path, "results", MAX_RESULTS_BYTES)
+    try:
+        data = json.loads(text)
+    except ValueError as error:
+        raise FileFormatError(path, 0, f"not a JSON file: {error}") from None
+    except RecursionError:  # nested deeper than the parser goes: no results file is
+        raise FileFormatError(path, 0, "not a JSON file: nested too deep") from None
+    if not isinstance(data, dict) or not isinstance(data.get("task"), str) or not isinstance(data.get("results"), list):
+        raise FileFormatError(path, 0, "not the JSON of valterm grade --json (task and results)")
+    verdicts = [_verdict(entry, path, n) for n, entry in enumerate(data["results"], start=1)]
+    robot, seconds = data.get("robot", "PUMA"), data.get("seconds", 0.0)
+    return Results(path, data["task"], robot if isinstance(robot, str) else "PUMA", verdicts,
+                   float(seconds) if isinstance(seconds, (int, float)) else 0.0)
+
+
+def _verdict(entry: object, path: Path, n: int) -> Verdict:
+    """One result of a JSON file as the Verdict it was written from."""
+    if not isinstance(entry, dict):
+        raise FileFormatError(path, 0, f"result {n}: not a result (student, program, failures ...)")
+
+    def need(key: str, kind: type | tuple[type, ...], default: object = None) -> Any:
+        value = entry.get(key, default)
+        if not isinstance(value, kind) or isinstance(value, bool):
+            what = {str: "a string", list: "a list"}.get(kind, "a number")  # type: ignore[call-overload]
+            raise FileFormatError(path, 0, f"result {n}: {key} must be {what}")
+        return value
+
+    student, program = need("student", str), need("program", str)
+    failures = []
+    for failure in need("failures", list):
+        if not (isinstance(failure, dict) and isinstance(failure.get("kind"), str)
+                and isinstance(failure.get("message"), str)):
+            raise FileFormatError(path, 0, f"result {n}: each failure has a kind and a message")
+        failures.append(Failure(failure["kind"], failure["message"]))
+    findings, output = need("findings", list), need("output", list, [])  # output: since --gradescope
+    if not all(isinstance(line, str) for line in findings + output):
+        raise FileFormatError(path, 0, f"result {n}: findings and output are lines of text")
+    number = (int, float)
+    return Verdict(student, program, failures, findings, int(need("collisions", number)),
+                   int(need("near_misses", number)), float(need("cycle_time_s", number)),
+                   float(need("seconds", number)), tuple(need("parts", list)), output)
+
+
+def merge_results(files: list[Results]) -> list[Verdict]:
+    """The verdicts of several shares of one class, in file order (FileFormatError when they
+    are of two tasks, or a student is in two of them)."""
+    seen: dict[str, Path] = {}
+    verdicts: list[Verdict] = []
+    for results in files:
+        first = files[0]
+        if results.task != first.task:
+            raise FileFormatError(results.path, 0, f"task {results.task}, not {first.task} as in {first.path.name}: "
+                                                   "the results of one task are merged")
+        for verdict in results.verdicts:
+            if verdict.student in seen:
+                raise FileFormatError(results.path, 0, f"student {verdict.student} is in {seen[verdict.student].name} "
+                                                       "too: each student is graded once (grade each share's students "
+                                                       "by their paths from one class folder, so names stay unique)")
+            seen[verdict.student] = results.path
+            verdicts.append(verdict)
+    return verdicts
+
+def junit_xml(name: str, verdicts: list[Verdict]) -> str:
     """The verdicts as a JUnit XML report (what CI systems and LMS autograders read): one
     <testcase> a submission, a <failure> for each failure (its type the kind), the findings
     in <system-out>."""
@@ -590,10 +820,10 @@ def junit_xml(task: Task, verdicts: list[Verdict]) -> str:
     total = f"{sum(v.seconds for v in verdicts):.3f}"
     counts = {"tests": str(len(verdicts)), "failures": str(failed), "errors": "0", "skipped": "0", "time": total}
     root = ET.Element("testsuites", {"name": "valterm grade", **counts})
-    suite = ET.SubElement(root, "testsuite", {"name": task.name, **counts,
+    suite = ET.SubElement(root, "testsuite", {"name": name, **counts,
                                               "timestamp": time.strftime("%Y-%m-%dT%H:%M:%S")})
     for verdict in verdicts:
-        case = ET.SubElement(suite, "testcase", {"classname": task.name, "name": verdict.student,
+        case = ET.SubElement(suite, "testcase", {"classname": name, "name": verdict.student,
                                                  "file": verdict.program, "time": f"{verdict.seconds:.3f}"})
         for failure in verdict.failures:
             node = ET.SubElement(case, "failure", {"type": failure.kind, "message": failure.message})
@@ -603,6 +833,52 @@ def junit_xml(task: Task, verdicts: list[Verdict]) -> str:
         ET.SubElement(case, "system-out").text = "\n".join(lines)
     ET.indent(root)
     return ET.tostring(root, encoding="unicode", xml_declaration=True) + "\n"
+
+
+def gradescope_results(task: Task, verdict: Verdict) -> dict[str, Json]:
+    """One submission's results.json for Gradescope's autograder (its documented fields:
+    https://gradescope-autograders.readthedocs.io/en/latest/specs/#output-format): a test a
+    check of the task, 1 point each, with the failures' messages; the student's findings and
+    TYPEd output in ``output``."""
+    tests: list[Json] = []
+    for name, failed, blocked in _checks(task, verdict):
+        passed = not failed and not blocked
+        output = blocked or "\n".join(f.message for f in failed) or "PASSED"
+        tests.append({"name": name, "score": 1.0 if passed else 0.0, "max_score": 1.0,
+                      "status": "passed" if passed else "failed", "output": output})
+    score = sum(1.0 for test in tests if isinstance(test, dict) and test["status"] == "passed")
+    lines = [f"{verdict.student}: {'PASS' if verdict.passed else 'FAIL'}, {score:g} OF {len(tests)} CHECKS PASSED",
+             f"CYCLE TIME {verdict.cycle_time:.2f} S, {verdict.collisions} COLLISIONS, "
+             f"{verdict.near_misses} NEAR MISSES",
+             *verdict.findings]
+    if verdict.output:
+        lines += ["", "THE PROGRAM TYPED:", *verdict.output]
+    return {"score": score, "execution_time": round(verdict.seconds, 3), "output": "\n".join(lines),
+            "output_format": "text", "tests": tests}
+
+
+def _checks(task: Task, verdict: Verdict) -> list[tuple[str, list[Failure], str]]:
+    """Each check of ``task``: its name, the verdict's failures of it, and why it was not
+    made ("" when it was)."""
+    kinds = {f.kind for f in verdict.failures}
+    unread = "NOT RUN: THE SUBMISSION CANNOT BE READ" if "file" in kinds else ""
+    unrun = unread or ("NOT RUN: THE PROGRAM HAS SYNTAX ERRORS" if "syntax" in kinds else "")
+
+    def of(kind: str, part: int = 0) -> list[Failure]:
+        return [f for f in verdict.failures if f.kind == kind and f.part == part]
+
+    checks = [("PROGRAM READ", of("file"), ""), ("SYNTAX", of("syntax"), unread),
+              ("RUNS WITHOUT AN ERROR", of("error"), unrun), ("FINISHES WITHIN THE LIMITS", of("limit"), unrun)]
+    if not task.collisions:
+        checks.append(("NO COLLISION", of("collision"), unrun))
+    for part in task.parts:
+        held = "" if part.held is None else ", HELD" if part.held else ", NOT HELD"
+        at = ", ".join(f"{v:.1f}" for v in part.position)
+        checks.append((f"PART {part.number} AT {at} (TOLERANCE {part.tolerance:g} MM){held}",
+                       of("part", part.number), unrun))
+    if task.cycle_time is not None:
+        checks.append((f"CYCLE TIME AT MOST {task.cycle_time:g} S", of("cycle-time"), unrun))
+    return checks
 
 
 def table_lines(verdicts: list[Verdict]) -> list[str]:
