@@ -21,6 +21,12 @@ if [ ! -x "$VALTERM" ]; then
     echo "valterm: $VALTERM is missing or not executable for $(id -un): ask the administrator (the venv must be readable by login users)." >&2
     exit 1
 fi
+# executable is not enough: the venv's interpreter or its packages may be unreadable for this
+# user, and the simulator would die before its first screen; start it once to know
+if ! "$VALTERM" --version >/dev/null 2>&1; then
+    echo "valterm: $VALTERM does not start for $(id -un) ('$VALTERM --version' fails): ask the administrator (the venv must be readable by login users)." >&2
+    exit 1
+fi
 
 if [ -n "$SSH_ORIGINAL_COMMAND" ]; then
     # said before the simulator starts, and left a moment to be read: the simulator's screen

@@ -68,6 +68,30 @@ def test_refuses_without_a_terminal(tmp_path: Path) -> None:
     assert not marker.exists()
 
 
+def test_refuses_a_simulator_that_does_not_start(tmp_path: Path) -> None:
+    """Executable is not enough (an unreadable venv interpreter): the wrapper starts it once
+    (--version) and says so, rather than a screen that dies at once."""
+    marker = tmp_path / "started"
+    valterm = fake_valterm(tmp_path, f'[ "$1" = --version ] && exit 127; touch {marker}')
+    env = dict(os.environ, HOME=str(tmp_path), VALTERM=str(valterm))
+    process, master = on_terminal([str(WRAPPER)], env)
+    try:
+        assert process.wait(timeout=LIMIT) == 1
+        said = b""
+        while select.select([master], [], [], 0.5)[0]:
+            try:
+                chunk = os.read(master, 65536)
+            except OSError:
+                break
+            if not chunk:
+                break
+            said += chunk
+    finally:
+        os.close(master)
+    assert b"does not start" in said and b"--version" in said
+    assert not marker.exists()
+
+
 def test_starts_the_simulator_on_the_users_workspace(tmp_path: Path) -> None:
     seen = tmp_path / "seen"
     valterm = fake_valterm(tmp_path, f'echo "$@" > {seen}; umask >> {seen}; echo "$TEXTUAL_FPS" >> {seen}')
