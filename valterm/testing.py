@@ -109,12 +109,14 @@ class Simulation:
 
     def __init__(self, workspace: str | Path, setup: str | None = "PROCESS", *,
                  size: tuple[int, int] = (80, 24), animate: bool = False, rate: float = 10.0,
-                 ascii: bool = False, robot: str | None = None) -> None:
+                 ascii: bool = False, robot: str | None = None, keys: str | None = None,
+                 rules: str | None = None) -> None:
         from valterm.ui.app import ValtermApp
 
         self.clock = ScriptClock()
         self.app = ValtermApp(workspace, setup, ascii=ascii, clock=self.clock,
-                              motion_rate=rate if animate else math.inf, robot=robot)
+                              motion_rate=rate if animate else math.inf, robot=robot, keys=keys,
+                              rules=rules)
         self.size = size
         self._context: Any = None
         self.pilot: Any = None

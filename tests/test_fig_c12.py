@@ -1,0 +1,86 @@
+"""Issue 39 item 2: Fig. C-12 a-d, the pendant with collision checks on, typed as Tables
+C-1 and C-2 type it (assets/DEMO.KEYS, the thesis's keys: valterm --keys 1985).
+
+The seed prints the figures' lines (OCR text, read as printed: no slips in them):
+
+    a  CLAMP IS NEAR PART 10
+    b  CLAMP IS NEAR PART 10 / 10 COLLIDES WITH 7 / 10 COLLIDES WITH 6
+    c  CLAMP IS NEAR PART 10 / 10 COLLIDES WITH 6 / PART 10 IS NEAR PART 5 / 10 COLLIDES WITH 5
+    d  CLAMP IS NEAR PART 10 / 10 COLLIDES WITH 6 / 10 COLLIDES WITH 7 /
+       PART 10 IS NEAR PART 5 / 10 COLLIDES WITH 5
+
+Table C-2 names the figures on the rows `3` (a), `3` (b), `2` (c) and `N` (d); N moves
+nothing and d's lines are not c's, so d is the screen after N and the next row's `3`.
+The 1985 screen numbers the robot's bodies base to fingers (WRIST 5, CLAMP 6, FINGER 7):
+docs/MOTION.md, "Fig. C-12".
+"""
+
+from __future__ import annotations
+
+import asyncio
+from pathlib import Path
+
+from valterm.core.files.demokeys import load_demo
+from valterm.core.simulator import Simulator
+from valterm.testing import Simulation
+from valterm.ui.screens.pendant import PendantScreen
+
+FIGURE = {
+    "a": ["CLAMP IS NEAR PART 10"],
+    "b": ["CLAMP IS NEAR PART 10", "10 COLLIDES WITH 7", "10 COLLIDES WITH 6"],
+    "c": ["CLAMP IS NEAR PART 10", "10 COLLIDES WITH 6", "PART 10 IS NEAR PART 5", "10 COLLIDES WITH 5"],
+    "d": ["CLAMP IS NEAR PART 10", "10 COLLIDES WITH 6", "10 COLLIDES WITH 7",
+          "PART 10 IS NEAR PART 5", "10 COLLIDES WITH 5"],
+}
+# after I,I,I (Table C-2 prints "1,1,1": an OCR slip), the keys each figure follows
+AFTER = {"a": ("3",), "b": ("3",), "c": ("2",), "d": ("n", "3")}
+
+
+def _keys_to_fig_c12() -> list[str]:
+    """Tables C-1 and C-2 as DEMO.KEYS types them, up to the row that raises the increment."""
+    keys: list[str] = []
+    typed: list[str] = []
+    for item in load_demo():
+        if item.kind in ("key", "text"):
+            keys += item.keys()
+            typed.append(item.value)
+        if typed[-3:] == ["I", "I", "I"]:
+            return keys
+    raise AssertionError("DEMO.KEYS has no I,I,I row (Table C-2)")
+
+
+def _findings(lines: list[str]) -> list[str]:
+    return [line for line in lines if " COLLIDES WITH " in line or " IS NEAR " in line]
+
+
+def test_table_c2_shows_fig_c12_a_to_d(tmp_path: Path) -> None:
+    shown: dict[str, list[str]] = {}
+    refused: list[str] = []
+
+    async def body() -> None:
+        async with Simulation(tmp_path / "ws", None, size=(140, 48), keys="1985") as sim:
+            for key in _keys_to_fig_c12():
+                await sim.press(key)
+                if isinstance(sim.screen, PendantScreen):
+                    refused.extend(line for line in sim.messages() if "REFUSED" in line)
+            assert isinstance(sim.screen, PendantScreen) and sim.simulator.collision_checks
+            assert sim.simulator.pendant_increment == 32.0  # 8 + 8 + 8 + 8 (docs/MOTION.md)
+            for figure, keys in AFTER.items():
+                await sim.press(*keys)
+                shown[figure] = _findings(sim.messages())
+                refused.extend(line for line in sim.messages() if "REFUSED" in line)
+
+    asyncio.run(body())
+    assert not refused, refused
+    for figure in ("a", "c", "d"):  # as printed, in the printed order
+        assert shown[figure] == FIGURE[figure], (figure, shown[figure])
+    # b prints 7 before 6 and d 6 before 7: one order cannot give both; d's is kept
+    assert sorted(shown["b"]) == sorted(FIGURE["b"]), shown["b"]
+
+
+def test_i_adds_eight_degrees_under_the_1985_rules_and_doubles_under_the_controllers() -> None:
+    thesis, controller = Simulator(), Simulator()
+    controller.set_rules("controller")
+    assert [thesis.change_pendant_increment(k) for k in "IIINDD"] == [16, 24, 32, -32, -24, -16]
+    assert [thesis.change_pendant_increment(k) for k in "DD"] == [-8, -4]  # halves below 16
+    assert [controller.change_pendant_increment(k) for k in "IIIND"] == [16, 32, 64, -64, -32]
