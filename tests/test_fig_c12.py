@@ -93,3 +93,23 @@ def test_i_adds_eight_degrees_under_the_1985_rules_and_doubles_under_the_control
     assert [thesis.change_pendant_increment(k) for k in "IIINDD"] == [16, 24, 32, -32, -24, -16]
     assert [thesis.change_pendant_increment(k) for k in "DD"] == [-8, -4]  # halves below 16
     assert [controller.change_pendant_increment(k) for k in "IIIND"] == [16, 32, 64, -64, -32]
+
+
+def test_the_1985_words_number_the_robots_bodies_and_leave_the_rest() -> None:
+    from valterm.core.collision.world import Finding, bodies, figure_order
+    from valterm.core.text.transcript import figure_lines
+
+    names = Simulator().model.names
+    numbers = {body: n for n, body in enumerate(bodies(names), start=1)}
+    assert numbers == {"BASE": 1, "WAIST": 2, "UPPER ARM": 3, "FOREARM": 4, "WRIST": 5, "CLAMP": 6, "FINGER": 7}
+    words = {f: figure_lines(f.event(), numbers) for f in (
+        Finding("near", "FINGER", 10), Finding("collides", "CLAMP", 10), Finding("near", "WRIST", 10),
+        Finding("collides", "WRIST", 10), Finding("collides", 1, 13), Finding("collides", "CLAMP", "BASE"))}
+    assert list(words.values()) == [
+        ["CLAMP IS NEAR PART 10"], ["CLAMP IS NEAR PART 10", "10 COLLIDES WITH 6"],
+        ["PART 10 IS NEAR PART 5"], ["PART 10 IS NEAR PART 5", "10 COLLIDES WITH 5"],
+        ["1 COLLIDES WITH 13"], ["CLAMP COLLIDES WITH BASE"]]  # a carried part, the arm itself: as always
+    found = [Finding("collides", "WRIST", 10), Finding("collides", 1, 13), Finding("near", "WRIST", 10),
+             Finding("collides", "FINGER", 10), Finding("near", "CLAMP", 10)]
+    assert [(f.kind, f.a) for f in figure_order(found, names)] == [
+        ("near", "CLAMP"), ("collides", "FINGER"), ("near", "WRIST"), ("collides", "WRIST"), ("collides", 1)]
