@@ -29,6 +29,9 @@ What a script can do:
   moves only when the script calls ``await sim.advance(seconds)``; ``await sim.settle()``
   runs the clock on until nothing moves.
 
+``keys="1985"`` types as the thesis's tables do (valterm --keys 1985); ``rules`` picks the
+joint-state rules ("1985" or "controller"; None: the dialect's).
+
 Everything here uses Textual's public API (``App.run_test``, ``Pilot``,
 ``App.export_screenshot``); the screen text is read back from the same picture a
 screenshot shows.
