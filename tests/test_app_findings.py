@@ -21,7 +21,9 @@ from valterm.core.text.transcript import finding_line
 from valterm.testing import Simulation
 from valterm.ui.screens.pendant import PendantScreen
 
-# increment 8: JT5 +16; then JT3 +16, +32, +64 (I doubles it); then JT2 +64 into parts 2, 8, 11
+# increment 8: JT5 +16; then JT3 +16, +32, +64 (I doubles it: the controller rules; under the
+# 1985 rules I adds 8, tests/test_fig_c12.py); then JT2 +64 into parts 2, 8, 11
+RULES = "controller"  # collisions before near misses (the 1985 rules interleave them as Fig. C-12)
 KEYS_BEFORE = ("5", "5", "I", "3", "I", "3", "I", "3")
 MOVE = "2"
 
@@ -33,6 +35,7 @@ def run(coro) -> None:  # type: ignore[no-untyped-def]
 def _core_findings(workspace: Path) -> tuple[list[str], list[str]]:
     """The last motion's COLLIDES and NEAR lines, from the core alone (the same keys)."""
     simulator = Session(workspace, "PROCESS").simulator
+    simulator.set_rules(RULES)
     simulator.collision_checks = True
     for key in KEYS_BEFORE:
         if key == "I":
@@ -50,7 +53,7 @@ def _run_collides(workspace: Path, capsys: pytest.CaptureFixture[str]) -> set[st
     program = workspace / "JT2.DAT"
     program.write_text("    DRIVE 5,16,100\n    DRIVE 3,112,100\n    DRIVE 2,64,100\n    STOP\n")
     capsys.readouterr()
-    assert main(["--workspace", str(workspace), "run", "--collisions", "--json",
+    assert main(["--workspace", str(workspace), "run", "--collisions", "--json", "--rules", RULES,
                  "--cell", "PROCESS", str(program)]) == 0
     events = [json.loads(line) for line in capsys.readouterr().out.splitlines() if line.startswith("{")]
     return {e["text"] for e in events if e.get("event") == "collision" and e.get("step") == 3}
@@ -75,7 +78,7 @@ def test_the_pendant_shows_every_finding_of_the_jt2_move(tmp_path: Path,
     assert set(collides) == _run_collides(tmp_path, capsys)  # the run path says the same
 
     async def body() -> None:
-        async with Simulation(tmp_path, size=(120, 40)) as sim:
+        async with Simulation(tmp_path, size=(120, 40), rules=RULES) as sim:
             await _to_pendant_with_checks(sim)
             await sim.press(*KEYS_BEFORE)
             await sim.press(MOVE)
@@ -94,7 +97,7 @@ def test_at_80x24_the_collisions_are_in_view_and_the_rest_a_key_away(tmp_path: P
     collides, near = _core_findings(tmp_path)
 
     async def body() -> None:
-        async with Simulation(tmp_path, size=(80, 24)) as sim:
+        async with Simulation(tmp_path, size=(80, 24), rules=RULES) as sim:
             await _to_pendant_with_checks(sim)
             await sim.press(*KEYS_BEFORE)
             await sim.press(MOVE)
@@ -116,7 +119,7 @@ def test_at_80x24_the_collisions_are_in_view_and_the_rest_a_key_away(tmp_path: P
 
 def test_the_picture_marks_the_colliding_bodies(tmp_path: Path) -> None:
     async def body() -> None:
-        async with Simulation(tmp_path, size=(120, 40)) as sim:
+        async with Simulation(tmp_path, size=(120, 40), rules=RULES) as sim:
             await _to_pendant_with_checks(sim)
             await sim.press(*KEYS_BEFORE)
             view = sim.screen.model_view
@@ -133,7 +136,7 @@ def test_the_picture_marks_the_colliding_bodies(tmp_path: Path) -> None:
 
 def test_a_refusal_and_its_hint_go_with_the_next_good_move(tmp_path: Path) -> None:
     async def body() -> None:
-        async with Simulation(tmp_path, size=(80, 24)) as sim:
+        async with Simulation(tmp_path, size=(80, 24), rules=RULES) as sim:
             await sim.press("P", "W", "X")  # WORLD X at READY: refused, with what to do
             assert any(line.startswith("MOTION REFUSED") for line in sim.messages()), sim.messages()
             assert any(line.startswith("HINT") for line in sim.messages()), sim.messages()
@@ -153,6 +156,7 @@ def _step_findings(workspace: Path, before: tuple[float, ...], increment: float,
     """Every finding of one pendant step from ``before``, by a simulator that said none yet
     (the app's says each once, as it starts)."""
     simulator = Session(workspace, "PROCESS").simulator
+    simulator.set_rules(RULES)
     simulator.collision_checks = True
     simulator.stand_at(before)
     simulator.pendant_increment = increment
@@ -165,7 +169,7 @@ def _shown_findings(sim: Simulation) -> set[str]:
 
 def test_a_move_that_stays_in_collision_still_lists_its_collisions(tmp_path: Path) -> None:
     async def body() -> None:
-        async with Simulation(tmp_path, size=(120, 40)) as sim:
+        async with Simulation(tmp_path, size=(120, 40), rules=RULES) as sim:
             await _to_pendant_with_checks(sim)
             await sim.press(*KEYS_BEFORE, MOVE, "D", "D", "D")
             before = tuple(sim.where().joints)
@@ -182,7 +186,7 @@ def test_a_move_that_stays_in_collision_still_lists_its_collisions(tmp_path: Pat
 
 def test_a_move_out_of_the_parts_clears_their_findings(tmp_path: Path) -> None:
     async def body() -> None:
-        async with Simulation(tmp_path, size=(120, 40)) as sim:
+        async with Simulation(tmp_path, size=(120, 40), rules=RULES) as sim:
             await _to_pendant_with_checks(sim)
             await sim.press(*KEYS_BEFORE, MOVE, "N", "2")  # back up through the parts
             before = tuple(sim.where().joints)
@@ -201,7 +205,7 @@ def test_the_keyboard_shows_every_finding_of_a_typed_drive(tmp_path: Path,
     expected = _run_collides(tmp_path, capsys)  # DRIVE 5,16 / DRIVE 3,112 / DRIVE 2,64 through `run`
 
     async def body() -> None:
-        async with Simulation(tmp_path, size=(80, 24)) as sim:  # the collisions fit even here
+        async with Simulation(tmp_path, size=(80, 24), rules=RULES) as sim:  # the collisions fit even here
             await sim.press("K", "S")
             assert sim.simulator.collision_checks
             for command in ("DRIVE 5,16,100", "DRIVE 3,112,100", "DRIVE 2,64,100"):
@@ -221,7 +225,7 @@ def test_the_keyboard_shows_every_finding_of_a_typed_drive(tmp_path: Path,
 
 def test_help_names_the_keys_that_scroll_the_messages(tmp_path: Path) -> None:
     async def body() -> None:
-        async with Simulation(tmp_path, size=(120, 40)) as sim:
+        async with Simulation(tmp_path, size=(120, 40), rules=RULES) as sim:
             await sim.press("P", "question_mark")
             assert re.search(r"SHIFT-UP +BACK A PAGE IN THE MESSAGES", sim.text())
             assert re.search(r"SHIFT-DOWN +ON A PAGE IN THE MESSAGES", sim.text())

@@ -244,7 +244,7 @@ def test_messages_replace_and_refusal_is_cleared(tmp_path: Path) -> None:
             for _ in range(6):
                 await sim.press("I")
             assert len(sim.messages()) <= 3
-            assert sim.messages() == ["ROTATIONAL INCREMENT +512.00 DEG (WORLD/TOOL STEP +640.00 MM)"]
+            assert sim.messages() == ["ROTATIONAL INCREMENT +56.00 DEG (WORLD/TOOL STEP +70.00 MM)"]  # 1985: I adds 8
 
     run(body())
 

@@ -68,7 +68,7 @@ async def test_d_define_reading_a_file_says_mismatch_not_cannot_reach(tmp_path: 
 
 # -- a joint beyond its stop on a WORLD/TOOL step (1985 rules) ----------------------------------
 # JT3 held at 223.60 (the readout shows its (-180, 180] equivalent -136.40, SPEC §3a):
-# a 32-degree (32 mm) TOOL X step would carry it past 225.
+# a 24-degree (30 mm) TOOL X step would carry it past 225.
 NEAR_JT3_STOP = [-136.95, -31.19, 223.6, 33.55, -19.15, -118.67]
 STOP_ANGLE = re.compile(r"JOINT 3 BEYOND ITS STOP \((-?\d+\.\d+) DEG(?:, SHOWN AS (-?\d+\.\d+))?, STOP -45\.\.225\)")
 
@@ -77,7 +77,7 @@ def near_the_stop() -> Simulator:
     sim = Simulator()
     sim.stand_at(NEAR_JT3_STOP)
     sim.change_pendant_increment("I")
-    sim.change_pendant_increment("I")  # 32 degrees, 32 mm
+    sim.change_pendant_increment("I")  # 24 degrees, 30 mm (the 1985 rules: I adds 8)
     return sim
 
 

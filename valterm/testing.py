@@ -29,6 +29,9 @@ What a script can do:
   moves only when the script calls ``await sim.advance(seconds)``; ``await sim.settle()``
   runs the clock on until nothing moves.
 
+``keys="1985"`` types as the thesis's tables do (valterm --keys 1985); ``rules`` picks the
+joint-state rules ("1985" or "controller"; None: the dialect's).
+
 Everything here uses Textual's public API (``App.run_test``, ``Pilot``,
 ``App.export_screenshot``); the screen text is read back from the same picture a
 screenshot shows.
@@ -109,12 +112,14 @@ class Simulation:
 
     def __init__(self, workspace: str | Path, setup: str | None = "PROCESS", *,
                  size: tuple[int, int] = (80, 24), animate: bool = False, rate: float = 10.0,
-                 ascii: bool = False, robot: str | None = None) -> None:
+                 ascii: bool = False, robot: str | None = None, keys: str | None = None,
+                 rules: str | None = None) -> None:
         from valterm.ui.app import ValtermApp
 
         self.clock = ScriptClock()
         self.app = ValtermApp(workspace, setup, ascii=ascii, clock=self.clock,
-                              motion_rate=rate if animate else math.inf, robot=robot)
+                              motion_rate=rate if animate else math.inf, robot=robot, keys=keys,
+                              rules=rules)
         self.size = size
         self._context: Any = None
         self.pilot: Any = None

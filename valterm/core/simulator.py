@@ -575,13 +575,18 @@ class Simulator:
         yield from self._play(path, "straight")
 
     def change_pendant_increment(self, key: str) -> float:
-        """I doubles, D halves, N flips the sign of the pendant increment."""
+        """N flips the sign of the pendant increment. Under the controller rules I doubles and D
+        halves it; under the 1985 rules I adds the default 8 degrees and D takes 8 off (halving
+        below 16): the steps that reproduce Fig. C-12 a-d (docs/MOTION.md)."""
+        size, sign = abs(self.pendant_increment), math.copysign(1.0, self.pendant_increment)
+        stepped = self.rules == RULES_1985
         if key == "I":
-            self.pendant_increment *= 2.0
+            size = size + PENDANT_INCREMENT if stepped else size * 2.0
         elif key == "D":
-            self.pendant_increment /= 2.0
+            size = size - PENDANT_INCREMENT if stepped and size >= 2 * PENDANT_INCREMENT else size / 2.0
         elif key == "N":
-            self.pendant_increment = -self.pendant_increment
+            sign = -sign
+        self.pendant_increment = sign * size
         return self.pendant_increment
 
     # -- the hand (§6.3, §2.5) --------------------------------------------------
@@ -696,7 +701,8 @@ class Simulator:
             return []
         from valterm.core.collision.world import Finding  # loaded with the checks
 
-        return [Finding(kind, a, b).event() for kind, a, b in sorted(self._findings, key=str)]  # type: ignore[arg-type]
+        found = [Finding(kind, a, b) for kind, a, b in sorted(self._findings, key=str)]  # type: ignore[arg-type]
+        return [finding.event() for finding in self._in_order(found)]
 
     def _findings_here(self, previous: Sequence[float] | None, here: Sequence[float]) -> list[Finding]:
         """The findings of the pose ``here`` and (with ``previous``) of the step to it, in order."""
@@ -715,12 +721,21 @@ class Simulator:
         """Each finding not said at the pose before (nor already at this one), as an event."""
         now: set[tuple[str, Party, Party]] = {(f.kind, f.a, f.b) for f in findings}
         said: set[tuple[str, Party, Party]] = set()
-        for finding in findings:
+        for finding in self._in_order(findings):
             key = (finding.kind, finding.a, finding.b)
             if key not in self._findings and key not in said:
                 said.add(key)
                 yield finding.event()
         self._findings = now
+
+    def _in_order(self, findings: list[Finding]) -> list[Finding]:
+        """The 1985 rules say a step's findings in Fig. C-12's order (the hand first); the
+        controller rules in the order the checks found them."""
+        if self.rules != RULES_1985:
+            return findings
+        from valterm.core.collision.world import figure_order
+
+        return figure_order(findings, self.model.names)
 
     def _pose_key(self, joints: Sequence[float]) -> tuple[object, ...]:
         """What names a pose for the swept check: the joints and the base frame."""

@@ -68,6 +68,32 @@ class Finding:
         return cls(a=str(self.a), b=str(self.b), text=self.text)
 
 
+def bodies(labels: Sequence[str]) -> list[str]:
+    """The robot's bodies, base to fingers: its link labels, each once (1985 numbered them
+    1.. in this order: BASE 1 .. WRIST 5, CLAMP 6, FINGER 7 on the thesis's PUMA)."""
+    found: list[str] = []
+    for label in labels:
+        if label not in found:
+            found.append(label)
+    return found
+
+
+def figure_order(findings: Iterable[Finding], labels: Sequence[str]) -> list[Finding]:
+    """The findings in Fig. C-12's order (the 1985 rules): the hand's bodies first (CLAMP,
+    then FINGER), then the others from the hand down (WRIST, FOREARM, ...), carried parts
+    after; for each, the parts by number, a near miss before its collision."""
+    order = bodies(labels)
+    hand = [b for b in order if b in HAND and b != "WRIST"]
+    ranked = hand + [b for b in reversed(order) if b not in hand]
+
+    def key(f: Finding) -> tuple[int, str, int]:
+        rank = ranked.index(f.a) if isinstance(f.a, str) and f.a in ranked else len(ranked)
+        other = f"{f.b:>6}" if isinstance(f.b, int) else str(f.b)
+        return rank, other, 0 if f.kind == "near" else 1
+
+    return sorted(findings, key=key)
+
+
 class Checker(Protocol):
     """A pair checker: kind codes (0 clear, 1 near, 2 collides) for (moving, stationary) pairs."""
 
@@ -87,11 +113,8 @@ class ThesisChecker:
 
 def default_skip(labels: Sequence[str]) -> set[tuple[int, int]]:
     """Link index pairs (i < j) never checked: same body, adjacent bodies, both in the hand."""
-    bodies: list[str] = []
-    for label in labels:
-        if label not in bodies:
-            bodies.append(label)
-    body = [bodies.index(label) for label in labels]
+    order = bodies(labels)
+    body = [order.index(label) for label in labels]
     skip = set()
     for i in range(len(labels)):
         for j in range(i + 1, len(labels)):

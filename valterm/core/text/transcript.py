@@ -9,7 +9,7 @@ motions and the clamp's redraws have no line; HELP and the monitor commands (LIS
 from __future__ import annotations
 
 import textwrap
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from typing import Protocol, TextIO
 
 from valterm.core.events import (
@@ -81,6 +81,23 @@ def finding_line(event: Contact) -> str:
         return event.text + event.located
     verb = "IS NEAR" if isinstance(event, Near) else "COLLIDES WITH"
     return f"{event.a} {verb} {event.b}".upper() + event.located
+
+
+def figure_lines(event: Contact, numbers: Mapping[str, int]) -> list[str]:
+    """A finding as the 1985 screen printed it (Fig. C-12 a-d), ``numbers`` the robot's
+    bodies numbered base to fingers (``collision.world.bodies``): the hand near a part is
+    ``CLAMP IS NEAR PART 10``; another body n near part k is ``PART k IS NEAR PART n``; body n
+    through part k is ``k COLLIDES WITH n``, after its near miss (the coarse check comes
+    first). Carried parts and the arm against itself keep their words."""
+    link, part = event.a, event.b
+    if link not in numbers or not part.isdigit():
+        return [finding_line(event)]
+    n = numbers[link]
+    hand = link in ("CLAMP", "FINGER", "FINGERS")
+    near = f"CLAMP IS NEAR PART {part}" if hand else f"PART {part} IS NEAR PART {n}"
+    if isinstance(event, Near):
+        return [near + event.located]
+    return [near + event.located, f"{part} COLLIDES WITH {n}" + event.located]
 
 
 def breakpoint_line(event: Breakpoint) -> str:

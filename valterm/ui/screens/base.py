@@ -19,7 +19,8 @@ from textual.widgets import Input
 from valterm.core.errors import ValtermError
 from valterm.core.events import Collision, Contact, Event, Help, Message, Monitor, Pause
 from valterm.core.numbers import two_decimals
-from valterm.core.text.transcript import finding_line
+from valterm.core.rules import RULES_1985
+from valterm.core.text.transcript import figure_lines, finding_line
 from valterm.ui import keymap, legends
 from valterm.ui.errors import problem_text
 from valterm.ui.messages import SceneChanged
@@ -95,6 +96,7 @@ class MenuScreen(KeyedScreen[None]):
         yield from self.compose_readout()
         log = MessageLog(id="messages")
         log.scroll_keys = lambda: "/".join(legends.keys_of(self, "menu.messages_back", "menu.messages_on"))
+        log.grouped = lambda: self.app.simulator.rules != RULES_1985
         yield log
         yield Prompt(id="prompt")
         yield StatusLine(id="status")
@@ -220,7 +222,8 @@ class MenuScreen(KeyedScreen[None]):
 
     def take_event(self, event: Event) -> bool:
         if isinstance(event, Contact):  # a finding: kept with the motion's others, by kind
-            self.say(finding_line(event), COLLISION if isinstance(event, Collision) else NEAR)
+            for line, level in self._finding_lines(event):
+                self.say(line, level)
             return True
         if isinstance(event, Help):
             from valterm.ui.screens.help import HelpScreen  # on first use (issue 25: start)
@@ -278,7 +281,20 @@ class MenuScreen(KeyedScreen[None]):
         found = self.app.simulator.findings_now()
         self.app.player.collided.update(party for event in found if isinstance(event, Collision)
                                         for party in (event.a, event.b))
-        return [(finding_line(event), COLLISION if isinstance(event, Collision) else NEAR) for event in found]
+        # once each: under the 1985 words the clamp and a finger near one part are one line
+        return list(dict.fromkeys(item for event in found for item in self._finding_lines(event)))
+
+    def _finding_lines(self, event: Contact) -> list[tuple[str, str]]:
+        """A finding's lines (line, level): its words, or as the 1985 screen printed them
+        (Fig. C-12) with the thesis's keys under the 1985 rules."""
+        simulator = self.app.simulator
+        if getattr(self.app, "keys_1985", False) and simulator.rules == RULES_1985:
+            from valterm.core.collision.world import bodies  # loaded with the checks that found it
+
+            numbers = {body: n for n, body in enumerate(bodies(simulator.model.names), start=1)}
+            return [(line, COLLISION if " COLLIDES WITH " in line else NEAR)
+                    for line in figure_lines(event, numbers)]
+        return [(finding_line(event), COLLISION if isinstance(event, Collision) else NEAR)]
 
     def after_motion(self, aborted: bool) -> None:
         """Subclasses' hook after a motion (or a command) ends."""

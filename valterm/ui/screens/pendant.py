@@ -1,9 +1,9 @@
 """PENDANT MENU (Fig. 3-1, Fig. C-10): the teach pendant (Chapter 3).
 
 1-6 turn a joint by the increment, O/C open and close the clamp, W or T then X/Y/Z move the
-clamp along a world or tool axis, I/D/N double, halve or negate the increment. Refused
-moves show why (stops, indicators, the elbow singularity, §3.1-§3.3); the Fig. 2-8 readout
-follows every move.
+clamp along a world or tool axis, I/D/N raise, lower or negate the increment (by how much:
+the rules, docs/MOTION.md). Refused moves show why (stops, indicators, the elbow
+singularity, §3.1-§3.3); the Fig. 2-8 readout follows every move.
 """
 
 from __future__ import annotations

@@ -7,7 +7,8 @@ and a typed answer that is taken clears them even when it says nothing
 repeated (a collision pair found again at every step of a motion).
 
 A motion's collision findings are the answer this program exists to give (Fig. C-12): every
-one of them is kept, collisions before near misses under a count (``8 COLLISIONS, 3 NEAR``);
+one of them is kept under a count (``8 COLLISIONS, 3 NEAR``): collisions before near misses, or
+under the 1985 rules interleaved in the order said, as Fig. C-12 shows them;
 of the other lines the last ``max_lines`` are shown after them. The area grows to fit, up to
 a share of the screen (the model keeps the rest), and scrolls when they do not fit (the count
 line then names the keys that scroll it). Long lines wrap.
@@ -57,6 +58,9 @@ class MessageLog(VerticalScroll):
         # the keys that scroll the area, for the count line's legend (the screen's live keys)
         self.scroll_keys: Callable[[], str] = lambda: ""
         self._legend = False  # the count line names the scroll keys (the lines do not fit)
+        # collisions before near misses (the controller rules); False: in the order said, as
+        # Fig. C-12 interleaves them (the 1985 rules; the core says them in the figure's order)
+        self.grouped: Callable[[], bool] = lambda: True
 
     def compose(self) -> ComposeResult:
         yield self._lines_shown
@@ -76,7 +80,8 @@ class MessageLog(VerticalScroll):
         count = count_line(len(collisions), len(near))
         if self._legend and (keys := self.scroll_keys()):
             count = f"{count}   {keys}: SCROLL THE MESSAGES"
-        return [(count, "error" if collisions else "warning"), *collisions, *near, *self._others(self.lines)]
+        found = [*collisions, *near] if self.grouped() else [item for item in self.lines if item[1] in FINDINGS]
+        return [(count, "error" if collisions else "warning"), *found, *self._others(self.lines)]
 
     def _others(self, lines: list[tuple[str, str]]) -> list[tuple[str, str]]:
         others = [item for item in lines if item[1] not in FINDINGS]
@@ -96,6 +101,8 @@ class MessageLog(VerticalScroll):
             kept = [item for item in self.lines if item[1] in FINDINGS] if still is None else []
         else:
             kept = list(self.lines)
+        if still and not self.grouped():  # the findings that hold first, in the order said
+            kept = [*still, *(item for item in kept if item not in still)]
         kept += [item for item in still or () if item not in kept]
         if kept != self.lines or self._fresh:
             self.lines = kept
