@@ -56,11 +56,13 @@ def test_bundled_cells_read_cleanly(name: str, count: int) -> None:
     cell = read_setup(CELLS / f"{name}.SET")
     assert len(cell.objects) == count
     assert cell.warnings == []
-    for polyhedron in cell.objects:
+    for number, polyhedron in enumerate(cell.objects, start=1):
         assert len(polyhedron.vertices) == 8
         # within the robot's world: within about 1.3 m of the base, clear of the vertical arm
         assert np.abs(polyhedron.vertices[:, :2]).max() < 1300
-        assert polyhedron.vertices[:, 2].max() < 300
+        # below the shoulder; DEMO3's part 10 hangs higher, where Fig. C-12's clamp meets it
+        # (cells/README.md: the printed DEMO3 is lost, its part 10 placed to give the figure's lines)
+        assert polyhedron.vertices[:, 2].max() < (700 if (name, number) == ("DEMO3", 10) else 300)
         low, high = polyhedron.extreme_box
         assert not (low[0] < 100 and high[0] > -100 and low[1] < 260 and high[1] > -100), "inside the robot's base"
 
