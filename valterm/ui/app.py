@@ -161,6 +161,12 @@ class ValtermApp(Guarded, ViewActions, App[int]):
             return
         await super().on_event(event)
 
+    def on_descendant_focus(self, event: events.DescendantFocus) -> None:
+        """Every line the app asks on has a steady cursor, as the VS11's: Textual's blinks,
+        a redraw twice a second, ~2 KB/s down every idle SSH session (issue 38 item 7)."""
+        if hasattr(event.widget, "cursor_blink"):
+            event.widget.cursor_blink = False
+
     # -- messages: to whatever screen is on top ---------------------------------------
     def say(self, text: str, level: str = "info") -> None:
         """A message for the user, on the screen on top (kept for the next screen while the
