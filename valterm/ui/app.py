@@ -166,8 +166,8 @@ class ValtermApp(Guarded, ViewActions, App[int]):
         await super().on_event(event)
 
     def on_descendant_focus(self, event: events.DescendantFocus) -> None:
-        """Every line the app asks on has a steady cursor, as the VS11's: Textual's blinks,
-        a redraw twice a second, ~2 KB/s down every idle SSH session (issue 38 item 7)."""
+        """Every line the app asks on has a steady cursor, served or not: Textual's blinks, a
+        redraw twice a second, ~2 KB/s down every idle SSH session (issue 38 item 7)."""
         if hasattr(event.widget, "cursor_blink"):
             event.widget.cursor_blink = False
 
