@@ -120,6 +120,8 @@ def test_a_recorded_session_replays_to_the_same_files_and_transcript(tmp_path: P
         app.recorder = SessionRecord(record_path, HEADER)
         async with app.run_test(size=(120, 40)) as pilot:
             await _student(app, pilot)
+            await pilot.press("ctrl+q", "y")  # P1 not saved: EXIT WITHOUT SAVING (Y/N)? Y
+            await until(pilot, lambda: app.return_code is not None, "the student's exit")
         app.recorder.close(0)
 
     async def replay() -> None:
@@ -128,14 +130,17 @@ def test_a_recorded_session_replays_to_the_same_files_and_transcript(tmp_path: P
         app.recorder = SessionRecord(replayed_path, HEADER)  # what the replay showed
         async with app.run_test(size=(120, 40)) as pilot:
             await until(pilot, lambda: app.finished, "the end of the record", limit=60.0)
-            assert "END OF THE RECORD" in app.caption
+            await pilot.pause()
+            # the student's exit ends the record, not the replay: the instructor stays
+            assert "END OF THE RECORD student.rec: the student left the simulator here" in app.caption
+            assert app.is_running and app.return_code is None
         app.recorder.close(0)
 
     asyncio.run(record())
     student = read_record(record_path)
     assert ". HERE P1" in student.lines and "REACHED P1" in student.lines
     assert "PROGRAM GOP COMPLETED: 1 LOOP" in student.lines
-    assert student.keys[0].key == "e" and student.ended == 0
+    assert student.keys[0].key == "e" and [k.key for k in student.keys[-2:]] == ["ctrl+q", "y"]
     asyncio.run(replay())
     replayed = read_record(replayed_path)
     assert [(k.key, k.char) for k in replayed.keys] == [(k.key, k.char) for k in student.keys]

@@ -72,13 +72,7 @@ class ReplayApp(DemoApp):
             await self.press_demo_key(key.key, key.char)
         await self._settle()
         self._stage_over()
-        self.finished = True
-        if self.once:
-            self.leave(0)
-            return
-        self.playing = False
-        self.show_caption(f"END OF THE RECORD {self.record_name} ({len(self.record.keys)} keys, "
-                          f"{_clock_text(self.record.seconds)}). The app is yours: Ctrl-Q leaves.")
+        self._record_over()
 
     async def _idle(self) -> None:
         """No motion, no key waiting, and every node of the screen on top has handled what it
@@ -87,6 +81,25 @@ class ReplayApp(DemoApp):
         for _ in range(2):  # a second round: what the first round's messages started
             nodes = [self, *self.screen.walk_children(with_self=True)] if self.screen_stack else [self]
             await asyncio.gather(*(self._handled(node) for node in nodes))
+
+    def exit(self, result: int | None = None, return_code: int = 0, message: object = None) -> None:
+        """The student's own exit (CTRL-Q, S at MAIN MENU) is the end of the record, not of
+        the replay: the instructor stays on the last screen (``--once`` and CTRL-Q leave)."""
+        if self.playing and not self._leaving and return_code == 0:
+            self.workers.cancel_group(self, "demo")
+            self.call_later(self._record_over, "the student left the simulator here")
+            return
+        super().exit(result, return_code, message)
+
+    def _record_over(self, how: str = "") -> None:
+        self.finished = True
+        if self.once:
+            self.leave(0)
+            return
+        self.playing = False
+        self.show_caption(f"END OF THE RECORD {self.record_name}{': ' + how if how else ''} "
+                          f"({len(self.record.keys)} keys, {_clock_text(self.record.seconds)}). "
+                          "The app is yours: Ctrl-Q leaves.")
 
     def _show_progress(self) -> None:
         at = self.record.keys[self.pressed - 1].at if self.pressed else 0.0
