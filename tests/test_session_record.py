@@ -16,6 +16,7 @@ import time
 from pathlib import Path
 
 import pytest
+from textual import events
 
 from app_helpers import until
 from valterm.core.files.errors import FileWriteError
@@ -95,8 +96,11 @@ async def _student(app, pilot) -> None:  # type: ignore[no-untyped-def]
     await pilot.press("e")
     await line("EDIT GOP")
     await pilot.press("c")
-    for step in PROGRAM:
-        await line(step)
+    await line(PROGRAM[0])
+    app.post_message(events.Paste(PROGRAM[1]))  # a step pasted, not typed (as the driver posts it)
+    await pilot.pause()
+    await pilot.press("enter")
+    await line(PROGRAM[2])
     await pilot.press("escape", "s", "e")
     await pilot.press("v", "v")
     for command in ("DRIVE 1,-30,50", "HERE P1", "READY", "EXEC GOP,1"):
@@ -143,7 +147,8 @@ def test_a_recorded_session_replays_to_the_same_files_and_transcript(tmp_path: P
     assert student.keys[0].key == "e" and [k.key for k in student.keys[-2:]] == ["ctrl+q", "y"]
     asyncio.run(replay())
     replayed = read_record(replayed_path)
-    assert [(k.key, k.char) for k in replayed.keys] == [(k.key, k.char) for k in student.keys]
+    assert [(k.key, k.char, k.paste) for k in replayed.keys] == [(k.key, k.char, k.paste) for k in student.keys]
+    assert [k.paste for k in student.keys if k.paste] == [PROGRAM[1]]
     assert replayed.lines == student.lines
     written = _files(tmp_path / "student")
     assert b"MOVE P1" in written["GOP.DAT"] and "CHECK.DAT" in written

@@ -163,6 +163,8 @@ class ValtermApp(Guarded, ViewActions, App[int]):
             await super().on_event(event)
             self.key_queue.handing_on(self.focused or self.screen)
             return
+        if isinstance(event, events.Paste) and not event.is_forwarded and self.recorder is not None:
+            self.recorder.paste(event.text, self.moving or bool(self.keys_waiting))
         await super().on_event(event)
 
     def on_descendant_focus(self, event: events.DescendantFocus) -> None:

@@ -20,6 +20,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 from rich.text import Text
+from textual import events
 
 from valterm.core.files.record import Record, RecordError, read_record
 from valterm.core.render.clock import DEFAULT_RATE
@@ -69,10 +70,21 @@ class ReplayApp(DemoApp):
                 await self._idle()  # typed at an idle app: pressed at an idle app
             self.pressed = number
             self._show_progress()
-            await self.press_demo_key(key.key, key.char)
+            if key.paste is not None:
+                await self._paste(key.paste)
+            else:
+                await self.press_demo_key(key.key, key.char)
         await self._settle()
         self._stage_over()
         self._record_over()
+
+    async def _paste(self, text: str) -> None:
+        """Paste ``text`` as the terminal did (to the app, which hands it to the focused line)."""
+        self.post_message(events.Paste(text))
+        await self._handled(self)
+        target = self.focused or self.screen
+        for node in (target, *target.ancestors):
+            await self._handled(node)
 
     async def _idle(self) -> None:
         """No motion, no key waiting, and every node of the screen on top has handled what it

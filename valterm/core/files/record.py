@@ -11,6 +11,7 @@ which the reader skips). The first line says what the session was started with:
      "setup": "PROCESS", "rules": null, "robot": null, "size": [120, 40]}
     {"t": 1.204, "key": "e", "char": "e", "busy": false}
     {"t": 1.251, "line": "PROCESS.SET READ"}
+    {"t": 2.5, "paste": "MOVE P1", "busy": false}
     {"t": 93.4, "end": 0}
 
 ``t`` is seconds since the start (the monotonic clock); ``busy``: the app was playing a
@@ -51,12 +52,14 @@ class RecordError(FileFormatError):
 @dataclass(frozen=True)
 class RecordedKey:
     """One key as typed: Textual's key name, the character it typed (None for a named key
-    such as ``enter``), when (seconds since the start) and whether the app was busy."""
+    such as ``enter``), when (seconds since the start) and whether the app was busy; or a
+    paste (``paste`` its text, ``key`` "paste")."""
 
     at: float
     key: str
     char: str | None
     busy: bool
+    paste: str | None = None
 
 
 @dataclass
@@ -90,6 +93,10 @@ class SessionRecord:
 
     def key(self, key: str, char: str | None, busy: bool) -> None:
         self._write({"t": self._now(), "key": key, "char": char, "busy": busy})
+
+    def paste(self, text: str, busy: bool) -> None:
+        """Text pasted (the terminal's bracketed paste): replayed as one paste."""
+        self._write({"t": self._now(), "paste": text, "busy": busy})
 
     def shown(self, lines: list[str]) -> None:
         """Lines a screen showed (the transcript), each its own record line."""
@@ -183,6 +190,10 @@ def _add(record: Record, entry: dict[str, Any], number: int, path: Path) -> None
         if not isinstance(key, str) or not key or not (char is None or isinstance(char, str)):
             raise RecordError(path, number, "a key is a name and a character")
         record.keys.append(RecordedKey(float(at), key, char, bool(entry.get("busy", False))))
+    elif "paste" in entry:
+        if not isinstance(entry["paste"], str):
+            raise RecordError(path, number, "a paste is a text")
+        record.keys.append(RecordedKey(float(at), "paste", None, bool(entry.get("busy", False)), entry["paste"]))
     elif isinstance(entry.get("line"), str):
         record.lines.append(entry["line"])
     elif "end" in entry:
