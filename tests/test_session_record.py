@@ -72,6 +72,23 @@ def test_written_line_by_line_and_read_back(tmp_path: Path) -> None:
     record.close(0)
 
 
+def test_a_program_printing_for_hours_fills_no_disk(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    from valterm.core.files import record as module
+
+    monkeypatch.setattr(module, "MAX_LINES_BYTES", 2000)
+    monkeypatch.setattr(module, "MAX_BYTES", 4000)
+    path = tmp_path / "loop.rec"
+    record = SessionRecord(path, HEADER)
+    for _ in range(100):
+        record.shown(["HELLO FROM A LOOP"] * 10)
+    assert 2000 < path.stat().st_size < 2500 and path.read_text().count('"cut"') == 1
+    record.key("ctrl+c", "\x03", True)  # the keys go on
+    assert read_record(path).keys[-1].key == "ctrl+c"
+    for _ in range(1000):
+        record.key("a", "a", False)
+    assert path.stat().st_size < 4100
+
+
 def test_a_bad_record_is_refused_with_its_line(tmp_path: Path) -> None:
     path = tmp_path / "bad.rec"
     path.write_text('{"valterm": "record", "version": 1}\n{"t": 1, "key": "e"}\nnot json\n')

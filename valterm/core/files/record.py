@@ -99,14 +99,15 @@ class SessionRecord:
         self._write({"t": self._now(), "paste": text, "busy": busy})
 
     def shown(self, lines: list[str]) -> None:
-        """Lines a screen showed (the transcript), each its own record line."""
-        for line in lines:
-            if self.written > MAX_LINES_BYTES:
-                if not self._cut:
-                    self._cut = True
-                    self._write({"t": self._now(), "cut": f"the transcript stops here ({MAX_LINES_BYTES} bytes)"})
-                return
-            self._write({"t": self._now(), "line": line})
+        """Lines a screen showed (the transcript), each its own record line, all in one write
+        (a program that prints in a loop hands hundreds a tick)."""
+        if self.written > MAX_LINES_BYTES:
+            if not self._cut:
+                self._cut = True
+                self._write({"t": self._now(), "cut": f"the transcript stops here ({MAX_LINES_BYTES} bytes)"})
+            return
+        now = self._now()
+        self._write(*({"t": now, "line": line} for line in lines))
 
     def close(self, status: int = 0) -> None:
         if self._fd >= 0:
@@ -117,12 +118,15 @@ class SessionRecord:
     def _now(self) -> float:
         return round(self.clock() - self.started, 3)
 
-    def _write(self, entry: dict[str, Any]) -> None:
-        if self._fd < 0 or self.written > MAX_BYTES:
+    def _write(self, *entries: dict[str, Any]) -> None:
+        if self._fd < 0 or self.written > MAX_BYTES or not entries:
             return
-        data = (json.dumps(entry, ensure_ascii=False) + "\n").encode("utf-8", errors="replace")
+        data = "".join(json.dumps(entry, ensure_ascii=False) + "\n" for entry in entries).encode(
+            "utf-8", errors="replace")
         try:
-            os.write(self._fd, data)  # unbuffered: in the file (the kernel's) once this returns
+            view = memoryview(data)
+            while view:  # unbuffered: in the file (the kernel's) once this returns
+                view = view[os.write(self._fd, view):]
         except OSError as error:
             self.failure = f"{self.path}: recording stopped: {error.strerror or error}"
             os.close(self._fd)
