@@ -197,7 +197,7 @@ def test_a_record_survives_kill_9(tmp_path: Path) -> None:
     master, slave = os.openpty()
     env = dict(os.environ, TERM="xterm-256color")
     process = subprocess.Popen([sys.executable, "-m", "valterm", "--record", str(path), "--workspace",
-                                str(tmp_path / "ws"), "--setup", "PROCESS"],
+                                str(tmp_path / "ws"), "--setup", "PROCESS", "--max-steps", "500"],
                                env=env, preexec_fn=lambda: os.login_tty(slave), close_fds=True)
     os.close(slave)
 
@@ -229,3 +229,19 @@ def test_a_record_survives_kill_9(tmp_path: Path) -> None:
     record = read_record(path)
     assert "".join(k.char or "" for k in record.keys).endswith("HERE P1\r")
     assert ". HERE P1" in record.lines and record.ended is None
+    assert record.header["setup"] == "PROCESS" and record.header["keys"] == "modern"
+    assert record.header["limits"]["steps"] == 500
+
+
+def test_a_replay_starts_as_the_session_did(tmp_path: Path) -> None:
+    from valterm.core.files.record import Record
+    from valterm.core.val.limits import RunLimits
+    from valterm.ui.replay import ReplayApp
+
+    header = {"keys": "1985", "setup": "CONV", "rules": "controller", "limits": {"steps": 7, "seconds": 2.5, "lines": 9}}
+    app = ReplayApp(Record(header), "s.rec", workspace=tmp_path)
+    assert (app.keys_1985, app.initial_setup, app.rules) == (True, "CONV", "controller")
+    assert app.limits == RunLimits(7, 2.5, 9) and app.workspace_root == tmp_path
+    odd = {"keys": "qwerty", "setup": 5, "rules": "1984", "limits": {"steps": "many"}}
+    app = ReplayApp(Record(odd), "s.rec")
+    assert (app.keys_1985, app.initial_setup, app.rules, app.limits) == (False, None, None, None)

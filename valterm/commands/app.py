@@ -39,11 +39,15 @@ def open_record(args: argparse.Namespace) -> SessionRecord | None:
         return None
     import shutil
 
+    from valterm.commands.limits import limits_from
+    from valterm.commands.robots import robot_from
     from valterm.core.files.record import SessionRecord
     from valterm.ui.app import keyboard_of
 
     size = shutil.get_terminal_size()
+    limits = limits_from(args)
     header = {"keys": keyboard_of(getattr(args, "keys", None)), "setup": getattr(args, "setup", None),
-              "rules": getattr(args, "rules", None), "robot": getattr(args, "robot", None),
-              "workspace": getattr(args, "workspace", None), "size": [size.columns, size.lines]}
+              "rules": getattr(args, "rules", None), "robot": robot_from(args),
+              "workspace": getattr(args, "workspace", None), "size": [size.columns, size.lines],
+              "limits": {"steps": limits.steps, "seconds": limits.seconds, "lines": limits.lines}}
     return SessionRecord(path, header)

@@ -25,6 +25,7 @@ from textual import events
 from valterm.core.files.record import Record, RecordError, read_record
 from valterm.core.render.clock import DEFAULT_RATE
 from valterm.core.rules import RULES
+from valterm.core.val.limits import RunLimits
 from valterm.ui.app import KEYBOARDS, end_on_hangup
 from valterm.ui.demo import START_DELAY, DemoApp
 
@@ -34,6 +35,17 @@ LONGEST_GAP = 5.0  # seconds: a longer pause of the student's is shortened to th
 def _clock_text(seconds: float) -> str:
     minutes, rest = divmod(int(seconds), 60)
     return f"{minutes}:{rest:02d}"
+
+
+def _limits(given: object) -> RunLimits | None:
+    """The session's run limits as its record says them (None: the defaults)."""
+    if not isinstance(given, dict):
+        return None
+    values = [given.get(name) for name in ("steps", "seconds", "lines")]
+    if not all(isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) for v in values):
+        return None
+    steps, seconds, lines = values
+    return RunLimits(int(steps), float(seconds), int(lines))  # type: ignore[arg-type]
 
 
 class ReplayApp(DemoApp):
@@ -51,7 +63,8 @@ class ReplayApp(DemoApp):
         keys, rules = said("keys"), said("rules")
         super().__init__([], speed=speed, idle=math.inf, once=once, motion_rate=motion_rate, clock=clock,
                          ascii=ascii, keys=keys if keys in KEYBOARDS else "modern",
-                         setup=said("setup"), rules=rules if rules in RULES else None, robot=said("robot"))
+                         setup=said("setup"), rules=rules if rules in RULES else None, robot=said("robot"),
+                         limits=_limits(header.get("limits")))
         if workspace is not None:
             self.workspace_root = workspace
         self.record = record
