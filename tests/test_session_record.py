@@ -89,6 +89,21 @@ def test_a_program_printing_for_hours_fills_no_disk(tmp_path: Path, monkeypatch:
     assert path.stat().st_size < 4100
 
 
+def test_a_full_disk_stops_the_record_not_the_session(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    record = SessionRecord(tmp_path / "full.rec", HEADER)
+
+    def full(fd: int, data: bytes) -> int:
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(os, "write", full)
+    record.key("e", "e", False)  # no exception reaches the app
+    record.shown(["A LINE"])
+    monkeypatch.undo()
+    record.close(0)
+    assert record.failure == f"{tmp_path / 'full.rec'}: recording stopped: No space left on device"
+    assert read_record(tmp_path / "full.rec").keys == []
+
+
 def test_a_bad_record_is_refused_with_its_line(tmp_path: Path) -> None:
     path = tmp_path / "bad.rec"
     path.write_text('{"valterm": "record", "version": 1}\n{"t": 1, "key": "e"}\nnot json\n')
