@@ -16,6 +16,9 @@ def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     parser.add_argument("--speed", type=float, default=1.0,
                         help="faster (4) or slower (0.5) than the student typed; pauses over 5 s are shortened")
     parser.add_argument("--once", action="store_true", help="exit at the end of the record")
+    for action in parser._actions:  # every subcommand's --workspace (cli.Parser): here not ~/valterm
+        if action.dest == "workspace":
+            action.help = "replay into this folder (default: a fresh temporary workspace, removed after)"
     parser.set_defaults(func=run)
 
 
