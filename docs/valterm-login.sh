@@ -10,6 +10,9 @@
 # - Each login user has a workspace of their own, $HOME/valterm, private to them (umask 077).
 # - A command given to ssh (ssh -t HOST CMD) is ignored, and said so before the simulator's
 #   screen covers the terminal (VALTERM_NOTE_SECONDS, default 3, to read it).
+# - Each login is recorded (every key with its time, every line shown; `valterm replay FILE`
+#   plays it) in $HOME/valterm-records/<date>-<time>-<pid>.rec, outside the workspace;
+#   VALTERM_RECORDS=DIR records elsewhere, VALTERM_RECORDS= (empty) not at all.
 
 VALTERM="${VALTERM:-/opt/valterm/venv/bin/valterm}"
 
@@ -37,6 +40,12 @@ if [ -n "$SSH_ORIGINAL_COMMAND" ]; then
 fi
 
 umask 077
+RECORDS="${VALTERM_RECORDS-$HOME/valterm-records}"
+if [ -n "$RECORDS" ] && mkdir -p "$RECORDS"; then
+    set -- --record "$RECORDS/$(date +%Y-%m-%d-%H%M%S)-$$.rec"   # exec keeps the pid: a name of its own
+else
+    set --   # no record (turned off, or the folder cannot be made): the session runs all the same
+fi
 export TEXTUAL_COLOR_SYSTEM="${TEXTUAL_COLOR_SYSTEM:-256}"   # 256 colours travel well
 export TEXTUAL_FPS="${TEXTUAL_FPS:-20}"                      # fewer frames on slow links
-exec "$VALTERM" --workspace "$HOME/valterm"
+exec "$VALTERM" --workspace "$HOME/valterm" "$@"

@@ -47,7 +47,7 @@ def test_help_names_the_workspace_variable_and_the_exit_codes(capsys: pytest.Cap
     ["bogus"], ["--bogus"], ["kin"], ["kin", "fk", "1", "2", "3"], ["kin", "ik", "1", "2", "3", "4", "5", "x"],
     ["kin", "ik", "1", "2", "3", "4", "5", "6", "--config", "SIDEWAYS"], ["cell"], ["cell", "show"],
     ["check"], ["run"], ["run", "PROCESS", "--loops", "many"], ["import", "X.IGS"], ["serve"],
-    ["bench", "--bogus"], ["demo", "--bogus"],
+    ["bench", "--bogus"], ["demo", "--bogus"], ["replay"], ["replay", "S.REC", "--speed", "fast"],
 ])
 def test_usage_errors_exit_2_with_a_valterm_message(argv: list[str], tmp_path: Path,
                                                      capsys: pytest.CaptureFixture[str]) -> None:

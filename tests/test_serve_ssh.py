@@ -5,6 +5,7 @@ and the simulator ends when the client leaves (the terminal hangs up)."""
 from __future__ import annotations
 
 import os
+import re
 import select
 import signal
 import subprocess
@@ -101,7 +102,25 @@ def test_starts_the_simulator_on_the_users_workspace(tmp_path: Path) -> None:
         assert process.wait(timeout=LIMIT) == 0
     finally:
         os.close(master)
-    assert seen.read_text().split() == ["--workspace", f"{tmp_path}/valterm", "0077", "20"]
+    args, umask, fps = seen.read_text().splitlines()
+    workspace, record = args.split()[:2], args.split()[2:]
+    assert workspace == ["--workspace", f"{tmp_path}/valterm"] and (umask, fps) == ("0077", "20")
+    # every login is recorded (issue 38 item 6), outside the workspace, under a name of its own
+    assert record[0] == "--record" and re.fullmatch(
+        rf"{tmp_path}/valterm-records/\d{{4}}-\d\d-\d\d-\d{{6}}-\d+\.rec", record[1]), record
+    assert (tmp_path / "valterm-records").is_dir() and not Path(record[1]).exists()  # the app makes it
+
+
+def test_recording_can_be_turned_off(tmp_path: Path) -> None:
+    seen = tmp_path / "seen"
+    valterm = fake_valterm(tmp_path, f'echo "$@" > {seen}')
+    env = dict(os.environ, HOME=str(tmp_path), VALTERM=str(valterm), VALTERM_RECORDS="")
+    process, master = on_terminal([str(WRAPPER)], env)
+    try:
+        assert process.wait(timeout=LIMIT) == 0
+    finally:
+        os.close(master)
+    assert seen.read_text().split() == ["--workspace", f"{tmp_path}/valterm"]
 
 
 # an abandoned simulator must end even under a parent that ignores SIGHUP (nohup, supervisors,

@@ -60,7 +60,8 @@ def server(tmp_path: Path) -> Iterator[dict[str, object]]:
     fake.chmod(0o755)
     # ForceCommand runs through the login shell: `env` points the wrapper at the stand-in
     # (works on any OpenSSH; the server-side SetEnv needs 8.7)
-    wrapper = f"env VALTERM={fake} VALTERM_NOTE_SECONDS=2 {WRAPPER}"
+    # (the session records go to the test's folder, not the home of whoever runs the tests)
+    wrapper = f"env VALTERM={fake} VALTERM_NOTE_SECONDS=2 VALTERM_RECORDS={tmp_path / 'records'} {WRAPPER}"
     match = [line.replace("/usr/local/bin/valterm-login", wrapper) for line in recipe_block("Match Group valterm")]
     match[0] = f"Match User {user}"
     port = free_port()

@@ -21,7 +21,7 @@ from typing import NoReturn
 # The subcommands in the order of --help. A command line loads only its own command's module
 # (the app none: issue 25, the start); --help and a usage error load them all.
 COMMANDS = ("kin", "cell", "import", "export", "export-program", "check", "run", "monitor", "grade", "render",
-            "bench", "demo", "serve")
+            "bench", "demo", "replay", "serve")
 
 def registrar(command: str) -> Callable[..., None]:
     """The ``register`` of the module (valterm.commands) that adds ``command``, imported now."""
@@ -61,6 +61,9 @@ def registrar(command: str) -> Callable[..., None]:
     if command == "demo":
         from valterm.commands import demo
         return demo.register
+    if command == "replay":
+        from valterm.commands import replay
+        return replay.register
     from valterm.commands import serve
     return serve.register
 
@@ -206,6 +209,9 @@ def _top_options(parser: argparse.ArgumentParser) -> None:
                         help="the app's keyboard: modern (default, or $VALTERM_KEYS) or 1985, the thesis's: "
                              "VAL-II mode and the editor return to their menus after each command, so "
                              "Tables C-1..C-3 typed as printed replay")
+    parser.add_argument("--record", metavar="FILE",
+                        help="the app: keep every key typed (with its time) and every line shown in FILE, a new "
+                             "file written as the session goes; `valterm replay FILE` plays it")
 
 
 def main(argv: Sequence[str] | None = None) -> int:

@@ -30,7 +30,7 @@ from valterm.core.render.clock import DEFAULT_RATE
 from valterm.core.val.limits import RunLimits
 from valterm.ui.bindings import APP_BINDINGS, cancel_keys, load_user_keymap
 from valterm.ui.errors import bug_text, error_text
-from valterm.ui.keyqueue import CANCEL, KeyQueue
+from valterm.ui.keyqueue import CANCEL, QUEUED, KeyQueue
 from valterm.ui.messages import SceneChanged
 from valterm.ui.playback import Audience, Player
 from valterm.ui.screens.guard import Guarded
@@ -38,6 +38,7 @@ from valterm.ui.screens.main_menu import MainMenuScreen
 from valterm.ui.view.keys import ViewActions
 
 if TYPE_CHECKING:
+    from valterm.core.files.record import SessionRecord
     from valterm.core.render.overlays import Trace
     from valterm.core.render.raster import Scene, ViewTransform
     from valterm.core.session import Session
@@ -122,6 +123,7 @@ class ValtermApp(Guarded, ViewActions, App[int]):
         self.unsaid: list[tuple[str, str]] = []  # messages no screen could show yet (the next one does)
         self.survived: list[str] = []  # the bugs the app lived through (their lines, tests)
         self.collect_after_first_frame = False  # the collector waits for the first screen (run)
+        self.recorder: SessionRecord | None = None  # --record: every key typed, every line shown
 
     def _handle_exception(self, error: Exception) -> None:
         # A bug: its traceback goes to a log file and the terminal gets one line naming it
@@ -154,12 +156,22 @@ class ValtermApp(Guarded, ViewActions, App[int]):
 
     async def on_event(self, event: events.Event) -> None:
         if isinstance(event, events.Key) and not event.is_forwarded:
+            if self.recorder is not None and not getattr(event, QUEUED, False):  # as typed, once
+                self.recorder.key(event.key, event.character, self.moving or bool(self.keys_waiting))
             if self.key_queue.take(event):
                 return  # handed on, in order, when the motion or the screen change is over
             await super().on_event(event)
             self.key_queue.handing_on(self.focused or self.screen)
             return
+        if isinstance(event, events.Paste) and not event.is_forwarded and self.recorder is not None:
+            self.recorder.paste(event.text, self.moving or bool(self.keys_waiting))
         await super().on_event(event)
+
+    def on_descendant_focus(self, event: events.DescendantFocus) -> None:
+        """Every line the app asks on has a steady cursor, served or not: Textual's blinks, a
+        redraw twice a second, ~2 KB/s down every idle SSH session (issue 38 item 7)."""
+        if hasattr(event.widget, "cursor_blink"):
+            event.widget.cursor_blink = False
 
     # -- messages: to whatever screen is on top ---------------------------------------
     def say(self, text: str, level: str = "info") -> None:
@@ -468,15 +480,22 @@ def keyboard_of(keys: str | None) -> str:
 
 def run(workspace: str | Path | None = None, setup: str | None = None, ascii: bool = False,
         rules: str | None = None, limits: RunLimits | None = None, keys: str | None = None,
-        robot: str | None = None, collect_after_first_frame: bool = False) -> int:
+        robot: str | None = None, collect_after_first_frame: bool = False,
+        recorder: SessionRecord | None = None) -> int:
     """The app until it ends; ``collect_after_first_frame``: the command line paused Python's
     cycle collector for the start (valterm.cli), and the app turns it on once its first
-    screen is drawn."""
+    screen is drawn; ``recorder``: --record's, closed with the exit status."""
     app = ValtermApp(workspace, setup, ascii=ascii, rules=rules, limits=limits, keys=keys, robot=robot)
     app.collect_after_first_frame = collect_after_first_frame
+    app.recorder = recorder
     end_on_hangup()
     result = app.run()
-    return exit_status(app, result)
+    status = exit_status(app, result)
+    if recorder is not None:
+        recorder.close(status)
+        if recorder.failure:
+            print(f"valterm: {recorder.failure}", file=sys.stderr)
+    return status
 
 
 def end_on_hangup() -> None:

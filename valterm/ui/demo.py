@@ -18,6 +18,7 @@ from collections import deque
 from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 from rich.text import Text
 from textual import events
@@ -88,11 +89,14 @@ class DemoApp(ValtermApp):
 
     def __init__(self, items: list[DemoItem], *, speed: float = 1.0, idle: float = IDLE_RESTART,
                  once: bool = False, kiosk: bool = False, motion_rate: float = DEFAULT_RATE,
-                 clock: Callable[[], float] = time.monotonic, ascii: bool = False) -> None:
+                 clock: Callable[[], float] = time.monotonic, ascii: bool = False,
+                 keys: str = "1985", **options: Any) -> None:
         self._folder = Path(tempfile.mkdtemp(prefix="valterm-demo-"))
         self._previous: Path | None = None
+        # keys 1985: the tables typed as printed (DEMO.KEYS); a replay passes the record's
+        # keyboard and set-up (``options``: the app's setup, rules, robot)
         super().__init__(self._folder / "ws", ascii=ascii, clock=clock, motion_rate=motion_rate * speed,
-                         keys="1985")  # the tables typed as printed (DEMO.KEYS)
+                         keys=keys, **options)
         self.items = [item for item in items if not item.replay_only]
         self.speed = speed
         self.idle = idle
@@ -207,15 +211,18 @@ class DemoApp(ValtermApp):
         await self._wait(START_DELAY)
         self._round_over()
 
-    async def press_demo_key(self, key: str) -> None:
+    async def press_demo_key(self, key: str, char: str | None = "") -> None:
         """Press one key as a visitor would, marked as the demo's, and wait until it is handled
-        everywhere it goes (so a key that opens a screen is done before the next key comes)."""
-        if len(key) == 1 and not key.isalnum():
-            key = _character_to_key(key)
-        try:
-            char: str | None = unicodedata.lookup(_get_unicode_name_from_key(key))
-        except KeyError:
-            char = key if len(key) == 1 else None
+        everywhere it goes (so a key that opens a screen is done before the next key comes).
+        ``char``: the character it types, "" to find it from the key's name (a record keeps
+        both, as typed)."""
+        if char == "":
+            if len(key) == 1 and not key.isalnum():
+                key = _character_to_key(key)
+            try:
+                char = unicodedata.lookup(_get_unicode_name_from_key(key))
+            except KeyError:
+                char = key if len(key) == 1 else None
         event = events.Key(key, char)
         setattr(event, DEMO_TAG, True)
         event.set_sender(self)
@@ -260,18 +267,22 @@ class DemoApp(ValtermApp):
         if self.playing:
             self.playing = False  # the visitor takes over where the demo stands
             self.workers.cancel_group(self, "demo")
-            self.show_caption(visitor_text(self.idle))
+            self.show_caption(self.visitor_caption())
             return False  # the first key only wakes the app up
         if event.key in QUIT_KEYS or self._stops_at_main_menu(event):
             if self.kiosk:
-                self.show_caption("This demonstration cannot be ended from the keyboard. " + visitor_text(self.idle))
+                self.show_caption("This demonstration cannot be ended from the keyboard. " + self.visitor_caption())
                 return False
             if event.key in QUIT_KEYS:
                 self.leave(0)
                 return False
-        if self.caption != visitor_text(self.idle):
-            self.show_caption(visitor_text(self.idle))
+        if self.caption != self.visitor_caption():
+            self.show_caption(self.visitor_caption())
         return True
+
+    def visitor_caption(self) -> str:
+        """The caption while the visitor has the keys."""
+        return visitor_text(self.idle)
 
     def _stops_at_main_menu(self, event: events.Key) -> bool:
         """S at the MAIN MENU (no question open) is STOP: it leaves the program."""

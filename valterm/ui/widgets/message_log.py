@@ -118,6 +118,8 @@ class MessageLog(VerticalScroll):
                 if (part, level) in self.lines:
                     continue  # the same collision pair, step after step
             self.lines.append((part, level))
+            if (recorder := getattr(self.app, "recorder", None)) is not None:
+                recorder.shown([part])  # --record: the session's transcript
         self.lines = self.lines[-KEPT:]
         self._show()
 

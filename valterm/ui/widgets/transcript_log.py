@@ -44,6 +44,8 @@ class TranscriptLog(RichLog):
         """Add transcript lines: kept as they are, shown wrapped at the log's width."""
         new = list(lines)
         self.source.extend(new)
+        if (recorder := getattr(self.app, "recorder", None)) is not None:
+            recorder.shown(new)  # --record: the session's transcript
         if self.room != self._wrapped_at:
             self._rewrap()  # the width changed since the last rows: all of them again
         elif self.room > 0:
