@@ -19,6 +19,8 @@ from collections import Counter
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import pytest
+
 DATA = Path(__file__).resolve().parent / "data" / "iges"
 
 
@@ -265,6 +267,11 @@ THEIRS = {
 def samples(kind: str) -> list[Sample]:
     """The project's sample of a kind, and the CAD-written one as well when it is beside us."""
     return [OURS[kind]] + ([THEIRS[kind]] if THEIRS[kind].path.is_file() else [])
+
+
+def of_kind(kind: str) -> pytest.MarkDecorator:
+    """Parametrize a test's `sample` over `samples(kind)`."""
+    return pytest.mark.parametrize("sample", samples(kind), ids=lambda s: s.id)
 
 
 def every_sample() -> list[Sample]:
