@@ -9,20 +9,14 @@ from pathlib import Path
 import numpy as np
 import pytest
 from app_helpers import make_app, screen_text, sync
+from iges_writer import Sample, of_kind
 
 from valterm.core.files.setup import read_setup
 from valterm.ui.screens.main_menu import MainMenuScreen
 from valterm.ui.screens.start import StartScreen
 
-SAMPLES = next((up / "shared" / "iges-samples" for up in Path(__file__).resolve().parents
-                if (up / "shared" / "iges-samples").is_dir()), Path("shared/iges-samples"))
-
-
-def workspace_with(tmp_path: Path, sample: str, name: str) -> Path:
+def workspace_with(tmp_path: Path, source: Path, name: str) -> Path:
     """A seeded workspace holding the IGES sample as NAME.IGS."""
-    source = SAMPLES / sample
-    if not source.is_file():
-        pytest.skip(f"sample {sample} not present")
     from valterm.core.workspace import Workspace
     Workspace.open(tmp_path)
     shutil.copyfile(source, tmp_path / f"{name}.IGS")
@@ -41,9 +35,11 @@ async def answer_the_rest(pilot) -> None:  # type: ignore[no-untyped-def]
 
 
 @pytest.mark.parametrize("keys", [["N"], ["escape"]])
+@of_kind("box")
 @sync
-async def test_no_or_escape_keeps_the_existing_setup_byte_for_byte(tmp_path: Path, keys: list[str]) -> None:
-    workspace_with(tmp_path, "occt-box-100mm.iges", "BOX")
+async def test_no_or_escape_keeps_the_existing_setup_byte_for_byte(tmp_path: Path, keys: list[str],
+                                                                    sample: Sample) -> None:
+    workspace_with(tmp_path, sample.path, "BOX")
     before = (tmp_path / "PROCESS.SET").read_bytes()
     app = make_app(tmp_path, start=True)
     async with app.run_test(size=(160, 50)) as pilot:
@@ -58,9 +54,10 @@ async def test_no_or_escape_keeps_the_existing_setup_byte_for_byte(tmp_path: Pat
     assert (tmp_path / "PROCESS.SET").read_bytes() == before
 
 
+@of_kind("box")
 @sync
-async def test_yes_replaces_the_existing_setup(tmp_path: Path) -> None:
-    workspace_with(tmp_path, "occt-box-100mm.iges", "BOX")
+async def test_yes_replaces_the_existing_setup(tmp_path: Path, sample: Sample) -> None:
+    workspace_with(tmp_path, sample.path, "BOX")
     app = make_app(tmp_path, start=True)
     async with app.run_test(size=(160, 50)) as pilot:
         await answer_up_to_replace(pilot, "BOX", "PROCESS")
@@ -70,13 +67,14 @@ async def test_yes_replaces_the_existing_setup(tmp_path: Path) -> None:
         assert "SETUP FILE PROCESS.SET WITH 1 PARTS" in screen_text(app)
     cell = read_setup(tmp_path / "PROCESS.SET")
     assert [p.name for p in cell.objects] == ["BOX"]
-    assert np.allclose(np.ptp(cell.objects[0].vertices, axis=0), 100)
+    assert np.allclose(np.ptp(cell.objects[0].vertices, axis=0), sample.size_mm)
     assert cell.objects[0].vertices[:, 0].min() > 102   # on the table in front, not in the robot
 
 
+@of_kind("box")
 @sync
-async def test_a_adds_the_parts_to_the_existing_setup(tmp_path: Path) -> None:
-    workspace_with(tmp_path, "occt-box-100mm.iges", "BOX")
+async def test_a_adds_the_parts_to_the_existing_setup(tmp_path: Path, sample: Sample) -> None:
+    workspace_with(tmp_path, sample.path, "BOX")
     before = read_setup(tmp_path / "PROCESS.SET")
     app = make_app(tmp_path, start=True)
     async with app.run_test(size=(80, 24)) as pilot:
@@ -93,9 +91,10 @@ async def test_a_adds_the_parts_to_the_existing_setup(tmp_path: Path) -> None:
     assert after.objects[-1].name == "BOX"  # named after the file (no entity label)
 
 
+@of_kind("wireframe")
 @sync
-async def test_units_question_offers_the_iges_header_units(tmp_path: Path) -> None:
-    workspace_with(tmp_path, "solidworks-chassis-wireframe.igs", "CHASSIS")
+async def test_units_question_offers_the_iges_header_units(tmp_path: Path, sample: Sample) -> None:
+    workspace_with(tmp_path, sample.path, "CHASSIS")
     app = make_app(tmp_path, start=True)
     async with app.run_test(size=(160, 50)) as pilot:
         await answer_up_to_replace(pilot, "CHASSIS", "CHASSIS")   # a new setup: no question
@@ -104,14 +103,14 @@ async def test_units_question_offers_the_iges_header_units(tmp_path: Path) -> No
         assert "THE FILE SAYS IN" in screen_text(app)
         await pilot.press("enter", "enter")   # accept the offered units, then W
         await pilot.pause()
-        # 1.9 m long: no table holds it; the warning waits to be read
+        # about 2 m long: no table holds it; the warning waits to be read
         assert "NO FREE SPOT ON A TABLE" in screen_text(app)
         await pilot.press("enter")
         await pilot.pause()
         assert isinstance(app.screen, MainMenuScreen)
     cell = read_setup(tmp_path / "CHASSIS.SET")
     assert cell.units == "IN"
-    # the chassis is 73.5 in long: 1867 mm, not 73.5 mm
-    assert np.ptp(cell.objects[0].vertices, axis=0)[0] == pytest.approx((10.3236 + 63.2043) * 25.4, abs=0.01)
+    # read in inches, kept in mm: the CAD chassis is 73.5 in long, 1867 mm, not 73.5 mm
+    assert np.ptp(cell.objects[0].vertices, axis=0)[0] == pytest.approx(sample.size_mm[0], abs=0.01)
     text = (tmp_path / "CHASSIS.SET").read_text()
     assert "e-" not in text and all(len(f.split(".")[-1]) == 4 for f in text.split()[4:] if "." in f and f[0] != ";")

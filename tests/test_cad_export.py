@@ -3,21 +3,16 @@
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
 
 import numpy as np
 import pytest
 import trimesh
+from iges_writer import Sample, of_kind
 
 from valterm.core.cad.convert import import_cad
 from valterm.core.cad.export import export_scene, polyhedron_mesh
 from valterm.core.cell.polyhedron import Polyhedron
 from valterm.core.cell.workcell import WorkCell
-
-# ../shared/iges-samples beside the checkout (a worktree sits one folder deeper)
-SAMPLES = next((up / "shared" / "iges-samples" for up in Path(__file__).resolve().parents
-                if (up / "shared" / "iges-samples").is_dir()), Path("shared/iges-samples"))
-
 
 def scene_cell() -> tuple[WorkCell, list[Polyhedron]]:
     parts = [Polyhedron.box(np.array([400.0, -50, -320]), np.array([450.0, -20, -250])),
@@ -118,35 +113,34 @@ def setup_module_ready():
     pytest.importorskip("valterm.core.workspace")
 
 
-def test_import_command_writes_a_setup_file(tmp_path, capsys, setup_module_ready):
-    box = SAMPLES / "occt-box-100mm.iges"
-    if not box.is_file():
-        pytest.skip("sample absent")
+@of_kind("box")
+def test_import_command_writes_a_setup_file(tmp_path, capsys, setup_module_ready, sample: Sample):
+    box = sample.path
+    side = sample.size_mm[0]
     ws = tmp_path / "ws"
     assert run(["--workspace", str(ws), "import", str(box), "--out", "box.set"]) == 0
     out = capsys.readouterr().out
-    assert "BOX.SET written" in out and "100.00 x 100.00 x 100.00 mm" in out
+    assert "BOX.SET written" in out and f"{side:.2f} x {side:.2f} x {side:.2f} mm" in out
     from valterm.core.files.setup import read_setup
     cell = read_setup(ws / "BOX.SET")
     assert len(cell.objects) == 1
-    assert np.allclose(np.ptp(cell.objects[0].vertices, axis=0), 100)
+    assert np.allclose(np.ptp(cell.objects[0].vertices, axis=0), side)
     # no silent overwrite
     assert run(["--workspace", str(ws), "import", str(box), "--out", "BOX.SET"]) == 1
     assert "exists" in capsys.readouterr().err
     assert run(["--workspace", str(ws), "import", str(box), "--out", "BOX", "--force", "--system", "s"]) == 0
 
 
-def test_import_command_inches(tmp_path, capsys, setup_module_ready):
-    chassis = SAMPLES / "solidworks-chassis-wireframe.igs"
-    if not chassis.is_file():
-        pytest.skip("sample absent")
+@of_kind("wireframe")
+def test_import_command_inches(tmp_path, capsys, setup_module_ready, sample: Sample):
+    chassis = sample.path
     ws = tmp_path / "ws"
     assert run(["--workspace", str(ws), "import", str(chassis), "--out", "CHASSIS"]) == 0
     text = (ws / "CHASSIS.SET").read_text().splitlines()
     assert text[0].strip() == "1" and text[1].strip() == "IN" and text[2].strip() == "W"
     from valterm.core.files.setup import read_setup
     cell = read_setup(ws / "CHASSIS.SET")
-    assert np.ptp(cell.objects[0].vertices, axis=0)[0] == pytest.approx((10.3236 + 63.2043) * 25.4, abs=0.01)
+    assert np.ptp(cell.objects[0].vertices, axis=0)[0] == pytest.approx(sample.size_mm[0], abs=0.01)
 
 
 def test_import_command_errors(tmp_path, capsys, setup_module_ready):

@@ -8,6 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import trimesh
+from iges_writer import OURS, Sample, every_sample, of_kind
 
 from valterm.core.cad.convert import import_cad
 from valterm.core.cad.convert import native_units
@@ -18,17 +19,6 @@ from valterm.core.collision.exact import collides
 from valterm.core.files.setup import format_setup, parse_setup, read_setup, write_setup
 from valterm.core.kinematics import Config, IKError, ik_oat
 from valterm.core.resources import CELLS, bundled_files
-
-SAMPLES = next((up / "shared" / "iges-samples" for up in Path(__file__).resolve().parents
-                if (up / "shared" / "iges-samples").is_dir()), Path("shared/iges-samples"))
-
-
-def sample(name: str) -> Path:
-    path = SAMPLES / name
-    if not path.is_file():
-        pytest.skip(f"sample {name} not present")
-    return path
-
 
 def cell_file(name: str) -> Path:
     return next(p for p in bundled_files(CELLS) if p.name == f"{name}.SET")
@@ -65,14 +55,17 @@ def test_stl_is_millimetres_unless_told_metres(tmp_path):
     assert cell.units == "MM"   # a setup file holds MM or IN: metres are written as millimetres
 
 
-def test_iges_header_decides_and_units_override():
-    chassis = sample("solidworks-chassis-wireframe.igs")
-    assert native_units(chassis) == "IN"
+@pytest.mark.parametrize("sample", every_sample(), ids=lambda s: s.id)
+def test_iges_header_decides_the_units(sample: Sample):
+    assert native_units(sample.path) == sample.units   # units flag 1: IN, 2: MM, 6: M
+
+
+@of_kind("wireframe")
+def test_iges_units_override(sample: Sample):
+    chassis = sample.path
     inches = size(import_cad(chassis))
     assert np.allclose(size(import_cad(chassis, units="MM")) * 25.4, inches)
     assert np.allclose(size(import_cad(chassis, units="M")), size(import_cad(chassis, units="MM")) * 1000)
-    assert native_units(sample("ansys-points.igs")) == "M"   # units flag 6
-    assert native_units(sample("occt-box-100mm.iges")) == "MM"
 
 
 def test_cli_accepts_units_m(tmp_path, capsys):
@@ -105,9 +98,10 @@ def assert_placed_well(parts: list[Polyhedron], around: list[Polyhedron]) -> Non
 
 
 @pytest.mark.parametrize("setup", ["PROCESS", "DEMO3", "CONV", None])
-def test_imported_part_lands_on_a_free_table_spot(setup):
+@of_kind("box")
+def test_imported_part_lands_on_a_free_table_spot(setup, sample: Sample):
     around = read_setup(cell_file(setup)).objects if setup else []
-    cell = import_cad(sample("occt-box-100mm.iges"), around=around)
+    cell = import_cad(sample.path, around=around)
     assert not cell.warnings
     part = cell.objects[0]
     assert_placed_well([part], around)
@@ -118,16 +112,18 @@ def test_imported_part_lands_on_a_free_table_spot(setup):
         assert bottom == pytest.approx(-320.0)
 
 
-def test_second_import_lands_clear_of_the_first():
+@of_kind("box")
+def test_second_import_lands_clear_of_the_first(sample: Sample):
     around = read_setup(cell_file("PROCESS")).objects
-    first = import_cad(sample("occt-box-100mm.iges"), around=around).objects
-    second = import_cad(sample("occt-box-100mm.iges"), around=around + first).objects
+    first = import_cad(sample.path, around=around).objects
+    second = import_cad(sample.path, around=around + first).objects
     assert_placed_well(second, around + first)
     assert not np.allclose(first[0].vertices, second[0].vertices)
 
 
-def test_a_part_too_large_for_any_table_stands_in_front_with_a_warning():
-    cell = import_cad(sample("solidworks-chassis-wireframe.igs"))
+@of_kind("wireframe")
+def test_a_part_too_large_for_any_table_stands_in_front_with_a_warning(sample: Sample):
+    cell = import_cad(sample.path)
     assert any("no free spot" in w for w in cell.warnings)
     robot = robot_at_ready()
     assert not any(collides(cell.objects[0], link) for link in robot)
@@ -174,21 +170,23 @@ def test_setup_reader_ignores_comment_lines():
 
 # --------------------------------------------------------------------------- import --into
 
-def test_import_into_keeps_the_setup_and_appends_named_parts(tmp_path, capsys):
+@of_kind("box")
+def test_import_into_keeps_the_setup_and_appends_named_parts(tmp_path, capsys, sample: Sample):
     ws = tmp_path / "ws"
-    assert cli(["--workspace", str(ws), "import", str(sample("occt-box-100mm.iges")), "--out", "BOX"]) == 0
+    name = sample.path.stem.upper()
+    assert cli(["--workspace", str(ws), "import", str(sample.path), "--out", "BOX"]) == 0
     before = read_setup(ws / "PROCESS.SET")
-    assert cli(["--workspace", str(ws), "import", str(sample("occt-box-100mm.iges")), "--into", "process.set"]) == 0
+    assert cli(["--workspace", str(ws), "import", str(sample.path), "--into", "process.set"]) == 0
     assert "1 part(s) added" in capsys.readouterr().out
     after = read_setup(ws / "PROCESS.SET")
     assert len(after.objects) == len(before.objects) + 1
     for a, b in zip(before.objects, after.objects):
         np.testing.assert_allclose(a.vertices, b.vertices, atol=0.005)
-    assert after.objects[-1].name == "OCCT-BOX-100MM"
-    assert "; NAME OCCT-BOX-100MM" in (ws / "PROCESS.SET").read_text()
+    assert after.objects[-1].name == name
+    assert f"; NAME {name}" in (ws / "PROCESS.SET").read_text()
     assert_placed_well(after.objects[-1:], before.objects)
     # into one setup, out to another: the new file refuses to be overwritten without --force
-    argv = ["--workspace", str(ws), "import", str(sample("occt-box-100mm.iges")), "--into", "PROCESS", "--out", "BOX"]
+    argv = ["--workspace", str(ws), "import", str(sample.path), "--into", "PROCESS", "--out", "BOX"]
     assert cli(argv) == 1
     assert "exists" in capsys.readouterr().err
     assert len(read_setup(ws / "BOX.SET").objects) == 1
@@ -198,28 +196,31 @@ def test_import_into_keeps_the_setup_and_appends_named_parts(tmp_path, capsys):
 
 def test_import_into_a_missing_setup_writes_nothing(tmp_path, capsys):
     ws = tmp_path / "ws"
-    assert cli(["--workspace", str(ws), "import", str(sample("occt-box-100mm.iges")), "--into", "NOSUCH"]) == 1
+    box = OURS["box"].path
+    assert cli(["--workspace", str(ws), "import", str(box), "--into", "NOSUCH"]) == 1
     assert "no such setup file" in capsys.readouterr().err
     assert not (ws / "NOSUCH.SET").exists()
     # neither --out nor --into: a usage error
-    assert cli(["--workspace", str(ws), "import", str(sample("occt-box-100mm.iges"))]) == 2
+    assert cli(["--workspace", str(ws), "import", str(box)]) == 2
     assert "give --out NAME.SET" in capsys.readouterr().err
 
 
 # --------------------------------------------------------------------------- valterm export
 
-def test_export_glb_is_metres_y_up_with_part_names(tmp_path, capsys, monkeypatch):
+@of_kind("box")
+def test_export_glb_is_metres_y_up_with_part_names(tmp_path, capsys, monkeypatch, sample: Sample):
     ws = tmp_path / "ws"
-    assert cli(["--workspace", str(ws), "import", str(sample("occt-box-100mm.iges")), "--into", "PROCESS"]) == 0
+    name = sample.path.stem.upper()
+    assert cli(["--workspace", str(ws), "import", str(sample.path), "--into", "PROCESS"]) == 0
     monkeypatch.chdir(tmp_path)  # a relative --out is relative to the current folder
     assert cli(["--workspace", str(ws), "export", "PROCESS.SET", "--out", "P.glb"]) == 0
     assert "metres, Y up" in capsys.readouterr().out
     assert not (ws / "P.glb").exists()
     scene = trimesh.load(tmp_path / "P.glb", force="scene")
     cell = read_setup(ws / "PROCESS.SET")
-    assert "OCCT-BOX-100MM" in scene.geometry and "RIGHT-HAND TABLE" in scene.geometry and "BASE" in scene.geometry
+    assert name in scene.geometry and "RIGHT-HAND TABLE" in scene.geometry and "BASE" in scene.geometry
     box = cell.objects[-1].vertices
-    mesh = scene.geometry["OCCT-BOX-100MM"].copy().apply_transform(scene.graph["OCCT-BOX-100MM"][0])
+    mesh = scene.geometry[name].copy().apply_transform(scene.graph[name][0])
     # world (x, y, z) mm -> glTF (x, z, -y) m
     expected = np.stack([box[:, 0], box[:, 2], -box[:, 1]], 1) / 1000
     np.testing.assert_allclose(mesh.bounds, [expected.min(axis=0), expected.max(axis=0)], atol=1e-6)
