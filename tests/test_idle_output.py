@@ -6,6 +6,8 @@ it: the app under a pseudo-terminal, VAL-II mode's prompt open, 10 s without a k
 
 from __future__ import annotations
 
+import pytest
+
 import os
 import select
 import tempfile
@@ -29,6 +31,7 @@ def _bytes_written(fd: int, seconds: float) -> int:
     return written
 
 
+@pytest.mark.slow  # ten seconds of an idle terminal: CI runs it (pytest -m slow)
 def test_an_idle_app_at_the_val_ii_prompt_writes_almost_nothing() -> None:
     with tempfile.TemporaryDirectory() as workspace:
         pid, fd = _spawn(120, 40, workspace)
