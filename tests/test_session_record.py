@@ -113,7 +113,7 @@ def test_a_bad_record_is_refused_with_its_line(tmp_path: Path) -> None:
     with pytest.raises(RecordError, match=r"bad.rec:1: is not a valterm record"):
         read_record(path)
     os.mkfifo(tmp_path / "fifo.rec")
-    with pytest.raises(RecordError, match="is a FIFO \(a named pipe\), not a record file"):
+    with pytest.raises(RecordError, match=r"is a FIFO \(a named pipe\), not a record file"):
         read_record(tmp_path / "fifo.rec")
 
 
