@@ -17,11 +17,22 @@ from textual.containers import Horizontal
 from textual.widgets import Input
 
 from valterm.core.errors import ValtermError
-from valterm.core.events import Collision, Contact, Event, Help, Message, Monitor, Pause
+from valterm.core.events import Collision, Contact, Event, Help, Message, Monitor
 from valterm.core.text.transcript import finding_line
 from valterm.ui import keymap, legends
 from valterm.ui.errors import problem_text
-from valterm.ui.messages import SceneChanged
+from valterm.ui.messages import (
+    Collided,
+    PictureMoved,
+    RunEnded,
+    RunEvent,
+    RunPaused,
+    RunRequested,
+    RunResumed,
+    SceneChanged,
+    SceneShown,
+    TranscriptLines,
+)
 from valterm.ui.screens.keyed import KeyedScreen, action_name
 from valterm.ui.view.model_view import ModelView
 from valterm.ui.widgets.cell_view import CellView
@@ -202,16 +213,23 @@ class MenuScreen(KeyedScreen[None]):
     def update_readout(self) -> None:
         """Subclasses keep their readout current here."""
 
-    # -- the player's audience (valterm.ui.playback) -------------------------------------
-    def show_scene(self) -> None:
+    # -- what a run does: the player's messages (valterm.ui.messages) ----------------------
+    def on_scene_shown(self, message: SceneShown) -> None:
         self._moved = True
         self.redraw()
 
-    def show_picture(self) -> None:
+    def on_picture_moved(self, message: PictureMoved) -> None:
         """A pose between two of a motion's: the model alone (the readout says the poses')."""
         self._moved = True
         if self.is_attached:
             self.model_view.update_scene(self.app.scene(self.part_axes))
+
+    def on_transcript_lines(self, message: TranscriptLines) -> None:
+        self.show_lines(message.lines)
+
+    def on_run_event(self, message: RunEvent) -> None:
+        if not self.take_event(message.event):
+            self.show_lines(message.lines)
 
     def show_lines(self, lines: list[str]) -> None:
         for line in lines[-self.messages.max_lines:]:
@@ -258,11 +276,12 @@ class MenuScreen(KeyedScreen[None]):
         except (OSError, ValtermError) as error:  # a missing file, a refused value: said
             self.say(problem_text(error) if isinstance(error, ValtermError) else str(error).upper(), "error")
 
-    def paused(self, pause: Pause) -> None:
+    def on_run_paused(self, message: RunPaused) -> None:
         """A menu has no PROCEED line: the program goes on (VAL-II mode waits)."""
-        self.app.player.resume()
+        self.app.post_message(RunResumed())
 
-    def played(self, aborted: bool) -> None:
+    def on_run_ended(self, message: RunEnded) -> None:
+        aborted = message.aborted
         moved, self._moved = self._moved, False
         if self.is_attached:
             self.messages.end_turn(self._findings_holding() if moved else None)
@@ -275,8 +294,8 @@ class MenuScreen(KeyedScreen[None]):
         """The findings (line, level) that hold where the motion left the robot; the bodies
         of those that collide stay marked in the picture (the core said them once, before)."""
         found = self.app.simulator.findings_now()
-        self.app.player.collided.update(party for event in found if isinstance(event, Collision)
-                                        for party in (event.a, event.b))
+        self.app.post_message(Collided(party for event in found if isinstance(event, Collision)
+                                       for party in (event.a, event.b)))
         return [(finding_line(event), COLLISION if isinstance(event, Collision) else NEAR) for event in found]
 
     def after_motion(self, aborted: bool) -> None:
@@ -312,7 +331,7 @@ class MenuScreen(KeyedScreen[None]):
             return
         self.say(f"    {text.upper()}")
         self.show_model_if_narrow()
-        self.app.run_events(_confirm_here(self.app.simulator, text, events_), self)
+        self.app.post_message(RunRequested(_confirm_here(self.app.simulator, text, events_), self))
 
     def action_help(self) -> None:
         from valterm.ui.screens.help import HelpScreen  # on first use (issue 25: start)

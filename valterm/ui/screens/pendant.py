@@ -17,6 +17,7 @@ from valterm.core.errors import JointAtStop
 from valterm.core.events import Event, Message
 from valterm.core.motion import OUT_OF_REACH_REASON, PENDANT_INCREMENT, PENDANT_STEP, MotionRefused
 from valterm.ui.errors import error_text
+from valterm.ui.messages import RunRequested
 from valterm.ui.screens.base import MenuScreen
 from valterm.ui.widgets.menus import PENDANT_MENU
 from valterm.ui.widgets.readouts import PositionReadout
@@ -61,9 +62,9 @@ class PendantScreen(MenuScreen):
 
     def _move(self, events) -> None:  # type: ignore[no-untyped-def]
         # the move's findings replace the last key's lines; those the core said before and
-        # that still hold are listed again when it ends (MenuScreen.played, Fig. C-12 a-d)
+        # that still hold are listed again when it ends (MenuScreen.on_run_ended, Fig. C-12 a-d)
         self.show_model_if_narrow()
-        self.app.run_events(_with_hint(events), self)
+        self.app.post_message(RunRequested(_with_hint(events), self))
 
     def action_joint(self, joint: int) -> None:
         self._move(self.app.simulator.pendant_joint(joint))
@@ -85,7 +86,7 @@ class PendantScreen(MenuScreen):
     def _straight(self, events) -> None:  # type: ignore[no-untyped-def]
         """A WORLD/TOOL step; refused at once (READY is a stretched, singular pose): say what to do."""
         self.show_model_if_narrow()
-        self.app.run_events(_with_hint(events), self)
+        self.app.post_message(RunRequested(_with_hint(events), self))
 
     def action_increment(self, key: str) -> None:
         value = self.app.simulator.change_pendant_increment(key)
