@@ -113,3 +113,27 @@ async def test_a_typed_move_goes_screen_to_player_to_screen_by_messages(tmp_path
         for shown in app.screen_stack:
             assert not _holds_a_player(shown)
             assert not any(_holds_a_player(widget) for widget in shown.walk_children())
+
+
+def _app_state_read(path: Path) -> list[str]:
+    """``self.app.X`` where X is the app's state (no method of it, nor Textual's App's)."""
+    from textual.app import App
+
+    found = []
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if (isinstance(node, ast.Attribute) and isinstance(node.value, ast.Attribute)
+                and node.value.attr == "app" and isinstance(node.value.value, ast.Name)
+                and node.value.value.id == "self" and node.attr not in dir(App)
+                and not callable(getattr(ValtermApp, node.attr, None))):
+            found.append(f"{path.name}:{node.lineno} .app.{node.attr}")
+    return found
+
+
+def test_the_playing_screens_read_the_app_through_its_stage(tmp_path: Path) -> None:
+    """MENU screens, VAL-II mode and the pendant read the app's state through one typed,
+    read-only view (``KeyedScreen.stage``, ui/stage.py), not its attributes."""
+    screens = [UI / "screens" / name for name in ("base.py", "valmode.py", "pendant.py")]
+    assert [hit for path in screens for hit in _app_state_read(path)] == []
+    bad = tmp_path / "bad.py"
+    bad.write_text("def f(self):\n    self.app.simulator.ready()\n    self.app.say('X')\n")
+    assert _app_state_read(bad) == ["bad.py:2 .app.simulator"]

@@ -187,6 +187,11 @@ class ValtermApp(Guarded, ViewActions, App[int]):
         else:
             self.unsaid = [*self.unsaid, (text, level)][-20:]
 
+    def take_unsaid(self) -> list[tuple[str, str]]:
+        """What was said while no screen could show it, for the screen now shown to say."""
+        unsaid, self.unsaid = self.unsaid, []
+        return unsaid
+
     def survive(self, error: Exception) -> None:
         """A bug escaped a screen: logged with its traceback, said in one line, and the app
         goes on (the session, an unsaved set-up and the editor's journal are untouched)."""

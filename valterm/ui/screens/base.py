@@ -128,9 +128,9 @@ class MenuScreen(KeyedScreen[None]):
         view = self.query_one_optional("#model", ModelView)
         if view is None:  # the app is closing: its widgets went before this mount was handled (CI)
             return
-        if self.app.session_read is not None:  # no view before a set-up is read (the start)
-            view.set_view(self.app.view_transform)
-        view.ascii = self.app.ascii
+        if self.stage.session_read is not None:  # no view before a set-up is read (the start)
+            view.set_view(self.stage.view_transform)
+        view.ascii = self.stage.ascii
         self._sync_view_options()
         self._layout(self.app.size.width)
         # no redraw here: the screen's resume, which follows its mount before the first frame,
@@ -145,15 +145,14 @@ class MenuScreen(KeyedScreen[None]):
         self._show_view()
 
     def _show_view(self) -> None:
-        if self.app.session_read is not None:  # no view before a set-up is read (the start)
-            self.model_view.set_view(self.app.view_transform)
+        if self.stage.session_read is not None:  # no view before a set-up is read (the start)
+            self.model_view.set_view(self.stage.view_transform)
         self._sync_view_options()
         self.redraw()
 
     def _say_unsaid(self) -> None:
         """What was said while no screen could show it (the last one left mid-motion)."""
-        unsaid, self.app.unsaid = self.app.unsaid, []
-        for text, level in unsaid:
+        for text, level in self.app.take_unsaid():
             self.say_here(text, level)
 
     def on_resize(self, event: events.Resize) -> None:
@@ -165,8 +164,8 @@ class MenuScreen(KeyedScreen[None]):
 
     def _sync_view_options(self) -> None:
         view = self.model_view
-        view.back_faces = self.app.back_faces
-        view.axes = self.app.axes
+        view.back_faces = self.stage.back_faces
+        view.axes = self.stage.axes
 
     @property
     def model_view(self) -> ModelView:
@@ -200,8 +199,8 @@ class MenuScreen(KeyedScreen[None]):
     def redraw(self) -> None:
         if not self.is_attached:
             return  # left while a motion was drawn: the screen on top draws it
-        self.model_view.update_scene(self.app.scene(self.part_axes))
-        if self.app.session_read is not None:  # none at the first frame, or while the demo starts a round
+        self.model_view.update_scene(self.stage.scene(self.part_axes))
+        if self.stage.session_read is not None:  # none at the first frame, or while the demo starts a round
             self.update_readout()
         self.update_status()
 
@@ -222,7 +221,7 @@ class MenuScreen(KeyedScreen[None]):
         """A pose between two of a motion's: the model alone (the readout says the poses')."""
         self._moved = True
         if self.is_attached:
-            self.model_view.update_scene(self.app.scene(self.part_axes))
+            self.model_view.update_scene(self.stage.scene(self.part_axes))
 
     def on_transcript_lines(self, message: TranscriptLines) -> None:
         self.show_lines(message.lines)
@@ -255,7 +254,7 @@ class MenuScreen(KeyedScreen[None]):
         from valterm.core.monitor import listing_lines  # the session's: after the first frame
         from valterm.ui.screens.points import define_point
 
-        session = self.app.active_session
+        session = self.stage.active_session
         try:
             if command == "LISTL":
                 files = (listing_lines(session, command, argument) or [""])[0]
@@ -293,7 +292,7 @@ class MenuScreen(KeyedScreen[None]):
     def _findings_holding(self) -> list[tuple[str, str]]:
         """The findings (line, level) that hold where the motion left the robot; the bodies
         of those that collide stay marked in the picture (the core said them once, before)."""
-        found = self.app.simulator.findings_now()
+        found = self.stage.simulator.findings_now()
         self.app.post_message(Collided(party for event in found if isinstance(event, Collision)
                                        for party in (event.a, event.b)))
         return [(finding_line(event), COLLISION if isinstance(event, Collision) else NEAR) for event in found]
@@ -325,13 +324,13 @@ class MenuScreen(KeyedScreen[None]):
         if not text:
             return
         try:
-            events_ = self.app.active_session.command(text)
+            events_ = self.stage.active_session.command(text)
         except Exception as error:
             self.say(problem_text(error), "error")
             return
         self.say(f"    {text.upper()}")
         self.show_model_if_narrow()
-        self.app.post_message(RunRequested(_confirm_here(self.app.simulator, text, events_), self))
+        self.app.post_message(RunRequested(_confirm_here(self.stage.simulator, text, events_), self))
 
     def action_help(self) -> None:
         from valterm.ui.screens.help import HelpScreen  # on first use (issue 25: start)

@@ -54,7 +54,7 @@ class PendantScreen(MenuScreen):
         yield PositionReadout(id="readout")
 
     def update_readout(self) -> None:
-        simulator = self.app.simulator
+        simulator = self.stage.simulator
         increment = simulator.pendant_increment
         self.query_one("#readout", PositionReadout).show_where(
             simulator.where(1),
@@ -67,21 +67,21 @@ class PendantScreen(MenuScreen):
         self.app.post_message(RunRequested(_with_hint(events), self))
 
     def action_joint(self, joint: int) -> None:
-        self._move(self.app.simulator.pendant_joint(joint))
+        self._move(self.stage.simulator.pendant_joint(joint))
 
     def action_open(self) -> None:
-        self._move(self.app.simulator.open())
+        self._move(self.stage.simulator.open())
 
     def action_close(self) -> None:
-        self._move(self.app.simulator.close())
+        self._move(self.stage.simulator.close())
 
     def action_world(self) -> None:
-        self.ask_key(f"WORLD MODE ({world_step(self.app.simulator.pendant_increment):+.2f} MM): X, Y OR Z ?:",
-                     lambda k: self._straight(self.app.simulator.pendant_world(AXES[k])), "XYZ")
+        self.ask_key(f"WORLD MODE ({world_step(self.stage.simulator.pendant_increment):+.2f} MM): X, Y OR Z ?:",
+                     lambda k: self._straight(self.stage.simulator.pendant_world(AXES[k])), "XYZ")
 
     def action_tool(self) -> None:
-        self.ask_key(f"TOOL MODE ({world_step(self.app.simulator.pendant_increment):+.2f} MM): X, Y OR Z ?:",
-                     lambda k: self._straight(self.app.simulator.pendant_tool(AXES[k])), "XYZ")
+        self.ask_key(f"TOOL MODE ({world_step(self.stage.simulator.pendant_increment):+.2f} MM): X, Y OR Z ?:",
+                     lambda k: self._straight(self.stage.simulator.pendant_tool(AXES[k])), "XYZ")
 
     def _straight(self, events) -> None:  # type: ignore[no-untyped-def]
         """A WORLD/TOOL step; refused at once (READY is a stretched, singular pose): say what to do."""
@@ -89,7 +89,7 @@ class PendantScreen(MenuScreen):
         self.app.post_message(RunRequested(_with_hint(events), self))
 
     def action_increment(self, key: str) -> None:
-        value = self.app.simulator.change_pendant_increment(key)
+        value = self.stage.simulator.change_pendant_increment(key)
         self.say(f"ROTATIONAL INCREMENT {value:+.2f} DEG (WORLD/TOOL STEP {world_step(value):+.2f} MM)")
         self.update_readout()
 

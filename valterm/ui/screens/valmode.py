@@ -252,8 +252,7 @@ class ValModeScreen(KeyedScreen[None]):
     @property
     def session(self) -> Session:
         if self._session is None:
-            self._session = self.app.session
-        assert self._session is not None
+            self._session = self.stage.active_session
         return self._session
 
     @property
@@ -265,7 +264,7 @@ class ValModeScreen(KeyedScreen[None]):
         return self.session.interpreter
 
     def on_mount(self) -> None:
-        self.query_one(ModelView).set_view(self.app.view_transform)  # the app's shared view
+        self.query_one(ModelView).set_view(self.stage.view_transform)  # the app's shared view
         self._fit_width(self.app.size.width)
         self.redraw()
         self.query_one(ModelView).call_after_refresh(self._fit)
@@ -307,7 +306,7 @@ class ValModeScreen(KeyedScreen[None]):
         self.show_lines(str(text).splitlines() or [""])
 
     def redraw(self) -> None:
-        self.query_one(ModelView).update_scene(self.app.scene())  # with the view's overlays
+        self.query_one(ModelView).update_scene(self.stage.scene())  # with the view's overlays
         self.query_one("#status", StatusLine).refresh()  # the arm's configuration, SPEED, ...
         self.query_one("#val-where", Static).update("\n".join(where_lines(self.simulator.where())))
 
@@ -542,7 +541,7 @@ class ValModeScreen(KeyedScreen[None]):
     @property
     def keys_1985(self) -> bool:
         """The thesis's keyboard (``valterm --keys 1985``): the menu after each command."""
-        return bool(getattr(self.app, "keys_1985", False))
+        return self.stage.keys_1985
 
     def _menu_after_command(self) -> None:
         """--keys 1985: the menu after a typed command; what was typed while it played is the
@@ -627,7 +626,7 @@ class ValModeScreen(KeyedScreen[None]):
 
     def on_picture_moved(self, message: PictureMoved) -> None:
         """A pose between two of a motion's: the model alone (WHERE says the poses')."""
-        self.query_one(ModelView).update_scene(self.app.scene())
+        self.query_one(ModelView).update_scene(self.stage.scene())
 
     def on_transcript_lines(self, message: TranscriptLines) -> None:
         self.show_lines(message.lines)
