@@ -137,3 +137,25 @@ def test_the_playing_screens_read_the_app_through_its_stage(tmp_path: Path) -> N
     bad = tmp_path / "bad.py"
     bad.write_text("def f(self):\n    self.app.simulator.ready()\n    self.app.say('X')\n")
     assert _app_state_read(bad) == ["bad.py:2 .app.simulator"]
+
+
+@sync
+async def test_keys_do_not_wait_for_a_screen_gone_before_its_run_ended(tmp_path: Path) -> None:
+    """Keys wait until the screen that asked has handled its run's end; when it is closed
+    with the end still in its queue, the keys go on to the screen below (never held)."""
+    from valterm.ui.screens.keyboard import KeyboardScreen
+
+    app = Host(session=Session(workspace_root=tmp_path / "ws"), motion_rate=math.inf)
+    async with app.run_test(size=(120, 40)) as pilot:
+        below = KeyboardScreen()
+        await app.push_screen(below)
+        screen = ValModeScreen(show_menu=False)
+        await app.push_screen(screen)
+        await pilot.pause()
+        app.run_events(iter([]), screen)  # ends at once: RunEnded posted to the screen ...
+        assert app.moving  # ... which has not handled it yet
+        app.pop_screen()  # ... and goes before it does
+        await until(pilot, lambda: app.screen is below and not app.moving, "the keys free again")
+        assert app.survived == []  # the closing screen's handlers raised nothing
+        await pilot.press("v")  # KEYBOARD's V: the command line opens (the key was not kept)
+        await until(pilot, lambda: below.asking, "the key at the screen below")

@@ -4,7 +4,8 @@ The app holds what the screens share: the session (workspace, cell, robot, inter
 the view options of KEYBOARD mode (FACES, AXES, ORIENT's view transform) and the one event
 player (``valterm.ui.playback``). Motions are paced by elapsed time on an injectable clock;
 no timer runs while nothing plays, so Pilot tests stay fast. Screens never import this
-module: they reach the app's state through ``self.app``.
+module: they read the app's state through one typed, read-only view (``ui.stage``), ask for
+a run by message and hear what it does by message (``ui.messages``); none calls the player.
 """
 
 from __future__ import annotations
@@ -123,7 +124,7 @@ class ValtermApp(Guarded, ViewActions, App[int]):
         self.follow_clamp = False  # F4: the view follows the clamp
         self.player = Player(self, clock=clock, rate=motion_rate)
         self._runs_asked = 0  # RunRequested posted, not yet played (keys wait for them)
-        self._run_ending = False  # a RunEnded posted, not yet handled by its screen (keys wait)
+        self._run_ending: MessagePump | None = None  # the screen a RunEnded went to, until handled
         self.setup_modified = False  # the cell moved since the set-up file was read or saved
         self._workspace: Workspace | None = None  # the workspace before any session (start screen)
         self.crash: BaseException | None = None  # the bug that ended the app, if one did
@@ -157,7 +158,7 @@ class ValtermApp(Guarded, ViewActions, App[int]):
     def _busy_playing(self) -> bool:
         """Keys wait while a motion is drawn (1985: while anything plays, PAUSE aside), and
         while --setup's set-up is still to be read after the first frame."""
-        if self.reading_setup or self._runs_asked or self._run_ending:
+        if self.reading_setup or self._run_pending:
             return True  # a run asked for, or its end not yet seen by its screen: as if playing
         if self.keys_1985:
             return self.player.playing and not self.player.paused
@@ -378,7 +379,17 @@ class ValtermApp(Guarded, ViewActions, App[int]):
     # -- playing events: asked for by message, played on the one player, told by message --
     @property
     def moving(self) -> bool:
-        return self.player.playing or self._runs_asked > 0
+        """A run is asked for, playing, or its end not yet handled by its screen."""
+        return self.player.playing or self._run_pending
+
+    @property
+    def _run_pending(self) -> bool:
+        """A run asked for and not yet played, or ended and its end not yet handled by its
+        screen (one that went meanwhile never will: not waited for)."""
+        ending = self._run_ending
+        if ending is not None and not ending.is_attached:
+            self._run_ending = ending = None
+        return self._runs_asked > 0 or ending is not None
 
     def post_message(self, message: Message) -> bool:
         posted = super().post_message(message)
@@ -421,7 +432,7 @@ class ValtermApp(Guarded, ViewActions, App[int]):
         if isinstance(origin, MessagePump) and origin.is_attached:
             origin.post_message(message)
             if isinstance(message, RunEnded):  # keys wait until the screen has handled it
-                self._run_ending = origin.call_later(self._run_end_seen)
+                self._run_ending = origin if origin.call_later(self._run_end_seen) else None
             return
         if isinstance(message, RunPaused):
             self.player.resume()
@@ -432,7 +443,7 @@ class ValtermApp(Guarded, ViewActions, App[int]):
             self.screen.post_message(message if isinstance(message, (SceneShown, PictureMoved)) else SceneShown())
 
     def _run_end_seen(self) -> None:
-        self._run_ending = False
+        self._run_ending = None
 
     def action_abort(self) -> None:
         """CTRL-C: abort the running program or motion (§6.4.10)."""
