@@ -130,9 +130,11 @@ def _app_state_read(path: Path) -> list[str]:
 
 
 def test_the_playing_screens_read_the_app_through_its_stage(tmp_path: Path) -> None:
-    """MENU screens, VAL-II mode and the pendant read the app's state through one typed,
-    read-only view (``KeyedScreen.stage``, ui/stage.py), not its attributes."""
-    screens = [UI / "screens" / name for name in ("base.py", "valmode.py", "pendant.py")]
+    """MENU screens, VAL-II mode, the pendant, KEYBOARD and MANIPULATION read the app's state
+    through one typed, read-only view (``KeyedScreen.stage``, ui/stage.py), not its
+    attributes; they change it through the app's methods or by message."""
+    names = ("base.py", "valmode.py", "pendant.py", "keyboard.py", "manipulation.py")
+    screens = [UI / "screens" / name for name in names]
     assert [hit for path in screens for hit in _app_state_read(path)] == []
     bad = tmp_path / "bad.py"
     bad.write_text("def f(self):\n    self.app.simulator.ready()\n    self.app.say('X')\n")

@@ -188,6 +188,19 @@ class ValtermApp(Guarded, ViewActions, App[int]):
         else:
             self.unsaid = [*self.unsaid, (text, level)][-20:]
 
+    # -- what screens change of the app's state (they read it through ui.stage) ----------
+    def show_back_faces(self, shown: bool) -> None:
+        """FACES: back faces drawn (hidden surfaces not removed) in every model view."""
+        self.back_faces = shown
+
+    def show_axes(self, shown: bool) -> None:
+        """AXES: coordinate frames drawn in every model view."""
+        self.axes = shown
+
+    def mark_setup_modified(self, modified: bool = True) -> None:
+        """The cell moved since its set-up file was read or saved (or not, once saved)."""
+        self.setup_modified = modified
+
     def take_unsaid(self) -> list[tuple[str, str]]:
         """What was said while no screen could show it, for the screen now shown to say."""
         unsaid, self.unsaid = self.unsaid, []

@@ -47,6 +47,10 @@ class Stage(Protocol):
         """The model drawn in ASCII, not braille."""
 
     @property
+    def setup_modified(self) -> bool:
+        """The cell moved since its set-up file was read or saved."""
+
+    @property
     def keys_1985(self) -> bool:
         """``--keys 1985``: the thesis's keyboard."""
 
