@@ -134,7 +134,7 @@ class Player:
         self._aborting = False
         self._lines: deque[str] = deque(maxlen=TRANSCRIPT_LINES)
         self._scene_changed = False
-        self._picture_changed = False  # only the in-between picture moved (show_picture)
+        self._picture_changed = False  # only the in-between picture moved (PictureMoved)
         self._last_pause: Pause | None = None  # to post after the lines
         self._ended: bool | None = None  # the stream ended (aborted?): to post
         self._timer: Timer | None = None

@@ -595,9 +595,9 @@ class ValModeScreen(KeyedScreen[None]):
             many = "S" if len(lines) > 1 else ""
             self.log_line(f"{len(lines)} QUEUED COMMAND{many} DISCARDED: {', '.join(line.strip() for line in lines)}")
 
-    # -- playing events (the player's audience) --------------------------------------------
+    # -- playing events: asked of the app by message (ui.messages) -------------------------
     def run_events(self, events: Iterator[Event], after: Callable[[], None] | None = None) -> None:
-        """Play a stream of core events on the app's player; ``after`` when it has ended.
+        """Ask the app to play a stream of core events (RunRequested); ``after`` when it has ended.
 
         Without ``after`` the command line stays open and takes what is typed meanwhile."""
         self._after_run = after
