@@ -146,8 +146,8 @@ async def test_a_flood_of_lines_keeps_the_last_ones(tmp_path: Path) -> None:
     app = Host(Session(workspace_root=tmp_path / "ws"), motion_rate=math.inf)
     async with app.run_test(size=(120, 40)) as pilot:
         screen = await valmode(app, pilot)
-        screen.run_events(iter([TypeOut(f"LINE {i}") for i in range(50_000)]))
-        await run_until(pilot, lambda: not app.player.playing)
+        screen.run_events(iter([TypeOut(f"LINE {i}") for i in range(50_000)]))  # asked of the app
+        await run_until(pilot, lambda: not app.moving and screen.mode == Mode.COMMAND)  # its end seen
         assert list(screen.transcript) == [f"LINE {i}" for i in range(48_000, 50_000)]
         log = screen.query_one("#val-log")
         assert len(log.lines) == LOG_LINES and log.lines[-1].text == "LINE 49999"
@@ -219,20 +219,19 @@ class _TickClocks:
         self.real = self.cpu = 0.0
 
 
-class _Audience:
+class _Screen:
+    """What the player posts (ui.messages), kept."""
+
     def __init__(self) -> None:
         self.lines: list[str] = []
         self.ended = False
 
-    def show_scene(self) -> None: ...
-    def show_picture(self) -> None: ...
-    def show_lines(self, lines: list[str]) -> None:
-        self.lines.extend(lines)
-    def take_event(self, event: Event) -> bool:
-        return False
-    def paused(self, pause: object) -> None: ...
-    def played(self, aborted: bool) -> None:
-        self.ended = True
+    def post(self, message: object) -> None:
+        from valterm.ui.messages import RunEnded, TranscriptLines
+
+        if isinstance(message, TranscriptLines):
+            self.lines.extend(message.lines)
+        self.ended = self.ended or isinstance(message, RunEnded)
 
 
 def _events_costing(clocks: _TickClocks, real: float, cpu: float, count: int) -> Iterator[Event]:
@@ -257,8 +256,8 @@ async def test_a_tick_works_its_budget_of_cpu_whatever_the_load(tmp_path: Path, 
     async with app.run_test(size=(80, 24)) as pilot:
         clocks = _TickClocks()
         player = Player(app, rate=math.inf, real_time=lambda: clocks.real, cpu_time=lambda: clocks.cpu)
-        audience = _Audience()
-        player.play(_events_costing(clocks, 0.001, 0.001 * cpu_share, 300), audience)
+        audience = _Screen()
+        player.play(_events_costing(clocks, 0.001, 0.001 * cpu_share, 300), audience.post)
         await run_until(pilot, lambda: not player.playing)
         assert audience.ended and audience.lines == [f"LINE {i}" for i in range(300)]
         assert fewest_ticks <= player.ticks <= most_ticks

@@ -4,7 +4,8 @@ The app holds what the screens share: the session (workspace, cell, robot, inter
 the view options of KEYBOARD mode (FACES, AXES, ORIENT's view transform) and the one event
 player (``valterm.ui.playback``). Motions are paced by elapsed time on an injectable clock;
 no timer runs while nothing plays, so Pilot tests stay fast. Screens never import this
-module: they reach the app's state through ``self.app``.
+module: they read the app's state through one typed, read-only view (``ui.stage``), ask for
+a run by message and hear what it does by message (``ui.messages``); none calls the player.
 """
 
 from __future__ import annotations
@@ -22,17 +23,31 @@ from textual import events
 from textual._styles_cache import StylesCache
 from textual.app import App
 from textual.binding import Keymap
+from textual.message import Message
+from textual.message_pump import MessagePump
 
 from valterm.core.crashlog import EXIT_BUG, crash_line, write_crash_log
 from valterm.core.errors import ValtermError
-from valterm.core.events import Event, Pause
+from valterm.core.events import Event
 from valterm.core.render.clock import DEFAULT_RATE
 from valterm.core.val.limits import RunLimits
 from valterm.ui.bindings import APP_BINDINGS, cancel_keys, load_user_keymap
 from valterm.ui.errors import bug_text, error_text
 from valterm.ui.keyqueue import CANCEL, QUEUED, KeyQueue
-from valterm.ui.messages import SceneChanged
-from valterm.ui.playback import Audience, Player
+from valterm.ui.messages import (
+    Collided,
+    PictureMoved,
+    RunAbortRequested,
+    RunEnded,
+    RunEvent,
+    RunPaused,
+    RunRequested,
+    RunResumed,
+    SceneChanged,
+    SceneShown,
+    TranscriptLines,
+)
+from valterm.ui.playback import Player
 from valterm.ui.screens.guard import Guarded
 from valterm.ui.screens.main_menu import MainMenuScreen
 from valterm.ui.view.keys import ViewActions
@@ -109,6 +124,8 @@ class ValtermApp(Guarded, ViewActions, App[int]):
         self.show_trace = True
         self.follow_clamp = False  # F4: the view follows the clamp
         self.player = Player(self, clock=clock, rate=motion_rate)
+        self._runs_asked = 0  # RunRequested posted, not yet played (keys wait for them)
+        self._run_ending: MessagePump | None = None  # the screen a RunEnded went to, until handled
         self.setup_modified = False  # the cell moved since the set-up file was read or saved
         self._workspace: Workspace | None = None  # the workspace before any session (start screen)
         self.crash: BaseException | None = None  # the bug that ended the app, if one did
@@ -143,8 +160,8 @@ class ValtermApp(Guarded, ViewActions, App[int]):
     def _busy_playing(self) -> bool:
         """Keys wait while a motion is drawn (1985: while anything plays, PAUSE aside), and
         while --setup's set-up is still to be read after the first frame."""
-        if self.reading_setup:
-            return True
+        if self.reading_setup or self._run_pending:
+            return True  # a run asked for, or its end not yet seen by its screen: as if playing
         if self.keys_1985:
             return self.player.playing and not self.player.paused
         return self.player.drawing
@@ -182,6 +199,24 @@ class ValtermApp(Guarded, ViewActions, App[int]):
             say_here(text, level)
         else:
             self.unsaid = [*self.unsaid, (text, level)][-20:]
+
+    # -- what screens change of the app's state (they read it through ui.stage) ----------
+    def show_back_faces(self, shown: bool) -> None:
+        """FACES: back faces drawn (hidden surfaces not removed) in every model view."""
+        self.back_faces = shown
+
+    def show_axes(self, shown: bool) -> None:
+        """AXES: coordinate frames drawn in every model view."""
+        self.axes = shown
+
+    def mark_setup_modified(self, modified: bool = True) -> None:
+        """The cell moved since its set-up file was read or saved (or not, once saved)."""
+        self.setup_modified = modified
+
+    def take_unsaid(self) -> list[tuple[str, str]]:
+        """What was said while no screen could show it, for the screen now shown to say."""
+        unsaid, self.unsaid = self.unsaid, []
+        return unsaid
 
     def survive(self, error: Exception) -> None:
         """A bug escaped a screen: logged with its traceback, said in one line, and the app
@@ -366,20 +401,74 @@ class ValtermApp(Guarded, ViewActions, App[int]):
         """The cell or the robot changed outside a motion: tell the screen to redraw."""
         self.screen.post_message(SceneChanged())
 
-    # -- playing events ----------------------------------------------------------------
+    # -- playing events: asked for by message, played on the one player, told by message --
     @property
     def moving(self) -> bool:
-        return self.player.playing
+        """A run is asked for, playing, or its end not yet handled by its screen."""
+        return self.player.playing or self._run_pending
 
-    def run_events(self, events: Iterable[Event], audience: Audience | None = None) -> None:
-        """Play what a simulator action or a command yields on the one player, to
-        ``audience`` (default: the screen on top). CTRL-C reaches a running program."""
-        target = audience if audience is not None else self.screen
+    @property
+    def _run_pending(self) -> bool:
+        """A run asked for and not yet played, or ended and its end not yet handled by its
+        screen (one that went meanwhile never will: not waited for)."""
+        ending = self._run_ending
+        if ending is not None and not ending.is_attached:
+            self._run_ending = ending = None
+        return self._runs_asked > 0 or ending is not None
+
+    def post_message(self, message: Message) -> bool:
+        posted = super().post_message(message)
+        if posted and isinstance(message, RunRequested):
+            self._runs_asked += 1  # busy from now: the key typed next waits for the run
+        return posted
+
+    def on_run_requested(self, message: RunRequested) -> None:
+        self._runs_asked = max(0, self._runs_asked - 1)
+        self.run_events(message.events, message.origin)
+
+    def on_run_resumed(self, message: RunResumed) -> None:
+        self.player.resume()
+
+    def on_run_abort_requested(self, message: RunAbortRequested) -> None:
+        self.player.abort()
+
+    def on_collided(self, message: Collided) -> None:
+        """Bodies that still collide where a motion left the robot: marked, the picture again."""
+        if not message.parties <= self.player.collided:
+            self.player.collided.update(message.parties)
+            self.changed()
+
+    def run_events(self, events: Iterable[Event], origin: object = None) -> None:
+        """Play what a simulator action or a command yields on the one player; what it does
+        is posted to ``origin`` (default: the screen on top) while it is up, then to the
+        screen on top (``_to_screen``). CTRL-C reaches a running program."""
+        origin = origin if origin is not None else self.screen
         stop = self.session.abort_program if self.session is not None else None
         if self.session is not None:
             self.session.take_inputs_from_keyboard()  # the I/O panel (F10 in VAL-II mode) sets inputs
             self.player.rest_at(self.session.simulator.joints)  # where the first picture starts
-        self.player.play(events, Relay(self, target), stop)  # type: ignore[arg-type]
+        self.player.play(events, lambda message: self._to_screen(origin, message), stop)
+
+    def _to_screen(self, origin: object, message: Message) -> None:
+        """The player's message to the screen that asked while it is up (covered too: a
+        program goes on under the I/O panel); once it is gone, to the screen on top, as that
+        screen's news: its last lines said, a pause gone on (no one can type PROCEED where it
+        paused), the end a redraw (nothing asks a screen that is gone for a widget)."""
+        if isinstance(origin, MessagePump) and origin.is_attached:
+            origin.post_message(message)
+            if isinstance(message, RunEnded):  # keys wait until the screen has handled it
+                self._run_ending = origin if origin.call_later(self._run_end_seen) else None
+            return
+        if isinstance(message, RunPaused):
+            self.player.resume()
+        elif isinstance(message, (TranscriptLines, RunEvent)):
+            for line in message.lines[-3:]:
+                self.say(line, "error" if line.startswith("***") else "info")
+        elif self.screen_stack and self.screen.is_mounted:
+            self.screen.post_message(message if isinstance(message, (SceneShown, PictureMoved)) else SceneShown())
+
+    def _run_end_seen(self) -> None:
+        self._run_ending = None
 
     def action_abort(self) -> None:
         """CTRL-C: abort the running program or motion (§6.4.10)."""
@@ -402,67 +491,6 @@ def _start_screen(message: str = "", note: str = "") -> Any:
     from valterm.ui.screens.start import StartScreen
 
     return StartScreen(message=message, note=note)
-
-
-class Relay:
-    """The audience of one stream: the screen that started it while it is on top; once that
-    screen is covered or gone, its lines go to the screen on top and what it would redraw is
-    that screen's (nothing looks up a widget of a screen that is gone). A bug in a screen's
-    drawing is survived, not the end of the app."""
-
-    def __init__(self, app: ValtermApp, screen: Audience) -> None:
-        self.app = app
-        self.screen = screen
-
-    def _here(self) -> bool:
-        """The screen that started the stream still has its widgets (covered is fine)."""
-        return bool(getattr(self.screen, "is_attached", True))
-
-    def _top(self) -> Audience | None:
-        top = self.app.screen if self.app.screen_stack else None
-        return top if top is not None and top.is_mounted and hasattr(top, "show_scene") else None  # type: ignore[return-value]
-
-    def _guard(self, call: Callable[[], object]) -> None:
-        try:
-            call()
-        except Exception as error:
-            self.app.survive(error)
-
-    def show_scene(self) -> None:
-        top = self.screen if self._here() else self._top()
-        if top is not None:
-            self._guard(top.show_scene)
-
-    def show_picture(self) -> None:
-        top = self.screen if self._here() else self._top()
-        if top is not None:
-            self._guard(top.show_picture)
-
-    def show_lines(self, lines: list[str]) -> None:
-        if self._here():
-            self._guard(lambda: self.screen.show_lines(lines))
-            return
-        for line in lines[-3:]:
-            self.app.say(line, "error" if line.startswith("***") else "info")
-
-    def take_event(self, event: Event) -> bool:
-        if not self._here():
-            return False
-        taken = [False]
-        self._guard(lambda: taken.__setitem__(0, self.screen.take_event(event)))
-        return taken[0]
-
-    def paused(self, pause: Pause) -> None:
-        if self._here():
-            self._guard(lambda: self.screen.paused(pause))
-        else:
-            self.app.player.resume()  # no one to type PROCEED where it paused
-
-    def played(self, aborted: bool) -> None:
-        if self._here():
-            self._guard(lambda: self.screen.played(aborted))
-        elif (top := self._top()) is not None:
-            self._guard(top.show_scene)
 
 
 KEYBOARDS = ("modern", "1985")

@@ -36,7 +36,6 @@ from valterm.core.render.raster import ViewTransform
 from valterm.core.text.transcript import event_lines
 from valterm.ui.app import ValtermApp, end_on_hangup
 from valterm.ui.errors import error_text
-from valterm.ui.playback import Audience
 
 KEY_GAP = 0.6      # seconds between single keys (before the speed factor)
 CHAR_GAP = 0.09    # seconds between typed characters
@@ -302,8 +301,8 @@ class DemoApp(ValtermApp):
         self.call_later(self._fresh_round)
 
     # -- what each stage printed ------------------------------------------------------------
-    def run_events(self, events: Iterable[Event], audience: Audience | None = None) -> None:
-        super().run_events(self._recorded(events), audience)
+    def run_events(self, events: Iterable[Event], origin: object = None) -> None:
+        super().run_events(self._recorded(events), origin)
 
     def _recorded(self, events: Iterable[Event]) -> Iterator[Event]:
         """The events as played, each one's lines (the one renderer's) kept for the stage."""

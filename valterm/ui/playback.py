@@ -9,7 +9,7 @@ MOVE of D_DEFINE) and works through it in ticks on its host's timers:
   clock; with ``rate`` infinite both happen at once (tests); ``rate`` paces the poses of a
   motion that announces no time;
 - between two poses of a paced motion the picture moves on at up to ``DRAW_RATE`` frames a
-  second: the audience redraws and the app draws the robot at ``drawn()``, each joint
+  second: the screen redraws and the app draws the robot at ``drawn()``, each joint
   turned part of the way (the shortest turn) from the pose before the one due to it. Only
   the picture: the simulator stands at the motion's own pose, and the verdicts and lines
   are those of its poses (the same as ``valterm run``);
@@ -19,13 +19,17 @@ MOVE of D_DEFINE) and works through it in ticks on its host's timers:
   (CPU time: on a loaded machine, the time other processes take must not shrink each
   tick's work, or ever more ticks, each with its redraw, would do ever less);
 - every other event becomes transcript lines through the core's one renderer
-  (``core.text.transcript``), handed to the audience once a tick (at most
-  ``TRANSCRIPT_LINES`` a tick: a runaway TYPE loop cannot flood memory);
+  (``core.text.transcript``), posted once a tick (at most ``TRANSCRIPT_LINES`` a tick: a
+  runaway TYPE loop cannot flood memory); a screen's own events (HELP, a monitor command,
+  a finding) are posted as themselves, in their place among the lines;
 - PAUSE stops the pump until ``resume()``; ``abort()`` asks the source to stop after its
   step (a running program: the core then says ABORTED) or closes it where it stands.
 
-The audience (a screen) draws; the player never touches widgets. It keeps no history:
-``Transcript`` is the capped record a screen keeps of what it showed.
+The player posts what the stream does as messages (``ui.messages``: TranscriptLines,
+SceneShown, PictureMoved, RunEvent, RunPaused, RunEnded) through the ``post`` it is given
+(the app's: to the screen that asked, or the one on top); the screens draw, and the player
+never touches a widget nor knows a screen. It keeps no history: ``Transcript`` is the
+capped record a screen keeps of what it showed.
 """
 
 from __future__ import annotations
@@ -34,18 +38,21 @@ import math
 import time
 from collections import deque
 from collections.abc import Callable, Generator, Iterable, Iterator, Sequence
-from typing import Protocol
 
+from textual.message import Message as TextualMessage
 from textual.message_pump import MessagePump
 from textual.timer import Timer
 
 from valterm.core.events import (
     Collision,
+    Contact,
     Delay,
     Event,
     Grasp,
     Hand,
+    Help,
     Message,
+    Monitor,
     Motion,
     Near,
     Pause,
@@ -56,6 +63,16 @@ from valterm.core.render.clock import DEFAULT_RATE, MotionPlayer
 from valterm.core.render.legend import TRACE_POINTS
 from valterm.core.text.transcript import event_lines
 from valterm.ui.errors import problem_text
+from valterm.ui.messages import (
+    PictureMoved,
+    RunEnded,
+    RunEvent,
+    RunPaused,
+    SceneShown,
+    TranscriptLines,
+)
+
+Post = Callable[[TextualMessage], object]  # where the player's messages go (the app routes them)
 
 TICK_BUDGET = 0.005  # seconds of the app's CPU a tick, then Textual gets the loop back
 TICK_LIMIT = 0.025  # ... or this much real time, however little CPU it had (a file's fsync)
@@ -77,6 +94,8 @@ FACTORS = (0.25, 0.5, 1.0, 2.0, 4.0, 8.0)
 _SCENE_EVENTS = (PoseEvent, Motion, Hand, Grasp, Release)
 # events shown while a motion is paced (between its poses); anything else ends the motion
 _DURING_MOTION = (Near, Collision, Message)
+# a screen's own events: posted as themselves (RunEvent), the screen takes them or shows their lines
+_OWN_EVENTS = (Help, Monitor, Contact)
 
 
 class Transcript(deque[str]):
@@ -84,29 +103,6 @@ class Transcript(deque[str]):
 
     def __init__(self, lines: Iterable[str] = (), maxlen: int = TRANSCRIPT_LINES) -> None:
         super().__init__(lines, maxlen=maxlen)
-
-
-class Audience(Protocol):
-    """What a screen does with a playing stream."""
-
-    def show_scene(self) -> None:
-        """The robot or the cell changed: redraw the model and the readouts."""
-
-    def show_picture(self) -> None:
-        """Only the picture moved (a pose drawn between two of a motion's): redraw the model
-        alone (the readouts, WHERE and the status line say the poses' own)."""
-
-    def show_lines(self, lines: list[str]) -> None:
-        """Transcript lines (rendered by the core's renderer) to add to what is shown."""
-
-    def take_event(self, event: Event) -> bool:
-        """A screen's own event (HELP, a monitor command): True if it took it, no lines then."""
-
-    def paused(self, pause: Pause) -> None:
-        """PAUSE: the stream waits until the player's ``resume()``."""
-
-    def played(self, aborted: bool) -> None:
-        """The stream ended (``aborted`` by CTRL-C)."""
 
 
 class Player:
@@ -129,7 +125,7 @@ class Player:
         self.abort_tick = -1  # the tick count when CTRL-C came, and when the stream ended
         self.end_tick = -1
         self._source: Iterator[Event] | None = None
-        self._audience: Audience | None = None
+        self._post: Post | None = None
         self._stop_source: Callable[[], bool] | None = None
         self._motion: MotionPlayer[PoseEvent] | None = None
         self._after_motion: list[Event] = []
@@ -138,9 +134,9 @@ class Player:
         self._aborting = False
         self._lines: deque[str] = deque(maxlen=TRANSCRIPT_LINES)
         self._scene_changed = False
-        self._picture_changed = False  # only the in-between picture moved (show_picture)
-        self._last_pause: Pause | None = None  # to hand to the audience after the lines
-        self._ended: bool | None = None  # the stream ended (aborted?): to tell the audience
+        self._picture_changed = False  # only the in-between picture moved (PictureMoved)
+        self._last_pause: Pause | None = None  # to post after the lines
+        self._ended: bool | None = None  # the stream ended (aborted?): to post
         self._timer: Timer | None = None
         # drawing only: the pose before the one shown and that pose, the picture in between
         self._last_pose: tuple[float, ...] | None = None  # the last pose the robot was seen at
@@ -192,9 +188,10 @@ class Player:
         return self._motion is not None and not self._paused
 
     # -- control ---------------------------------------------------------------------
-    def play(self, events: Iterable[Event], audience: Audience,
+    def play(self, events: Iterable[Event], post: Post,
              stop: Callable[[], bool] | None = None) -> None:
-        """Play ``events`` to ``audience``; a motion still playing first jumps to its end.
+        """Play ``events``, posting what they do through ``post``; a motion still playing
+        first jumps to its end.
 
         ``stop()`` is how CTRL-C reaches the source: it returns True when the source will
         end by itself after its current step (a running program), False to close it.
@@ -203,7 +200,7 @@ class Player:
             if self._stop_source is not None and self._stop_source():
                 self._aborting = True
             self.skip_to_end()
-        self._source, self._audience, self._stop_source = iter(events), audience, stop
+        self._source, self._post, self._stop_source = iter(events), post, stop
         self.collided = set()
         self._paused = self._aborting = False
         self._tick()  # the first events (and a refusal) at once
@@ -229,7 +226,7 @@ class Player:
 
     def close(self) -> None:
         """The app is closing: end the stream where it stands, telling no one."""
-        self._audience = None
+        self._post = None
         if self.playing:
             self._end(aborted=True)
 
@@ -354,8 +351,9 @@ class Player:
     def _show(self, event: Event) -> None:
         if isinstance(event, Collision):
             self.collided.update((event.a, event.b))
-        audience = self._audience
-        if audience is not None and audience.take_event(event):
+        if isinstance(event, _OWN_EVENTS) and self._post is not None:
+            self._post_lines()  # the lines before it first: the screen sees them in order
+            self._post(RunEvent(event, event_lines(event)))
             return
         self._lines.extend(event_lines(event))
 
@@ -417,28 +415,31 @@ class Player:
             self._take(event, pace)
         return None
 
-    def _flush(self) -> None:
-        """Hand this tick's lines and redraw to the audience."""
-        audience = self._audience
-        if audience is None:
-            return
-        if self._lines:
+    def _post_lines(self) -> None:
+        if self._lines and self._post is not None:
             lines = list(self._lines)
             self._lines.clear()
-            audience.show_lines(lines)
+            self._post(TranscriptLines(lines))
+
+    def _flush(self) -> None:
+        """Post this tick's lines and redraw (and a pause or the end)."""
+        post = self._post
+        if post is None:
+            return
+        self._post_lines()
         if self._scene_changed:
             self._scene_changed = self._picture_changed = False
-            audience.show_scene()
+            post(SceneShown())
         elif self._picture_changed:
             self._picture_changed = False
-            audience.show_picture()
+            post(PictureMoved())
         if self._last_pause is not None:
             pause, self._last_pause = self._last_pause, None
-            audience.paused(pause)
+            post(RunPaused(pause))
         if self._ended is not None:
             aborted, self._ended = self._ended, None
-            self._audience = None
-            audience.played(aborted)
+            self._post = None
+            post(RunEnded(aborted))
 
     def _end(self, aborted: bool) -> None:
         source, self._source = self._source, None
@@ -461,19 +462,16 @@ class Player:
         self._flush()
 
 
-def show_at_once(events: Iterable[Event], audience: Audience) -> None:
-    """A short stream shown whole now, no pacing (a command typed while a program is paused).
-
-    Poses only move the robot (the picture is redrawn once); the lines come from the same
-    renderer as the player's.
-    """
+def show_at_once(events: Iterable[Event], take: Callable[[Event], bool]) -> list[str]:
+    """A short stream worked through now, no pacing (a command typed while a program is
+    paused): its lines (the same renderer's as the player's), the events ``take`` took
+    aside. Poses only move the robot: the caller redraws once."""
     lines: list[str] = []
     try:
         for event in events:
-            if isinstance(event, (PoseEvent, Delay)) or audience.take_event(event):
+            if isinstance(event, (PoseEvent, Delay)) or (isinstance(event, _OWN_EVENTS) and take(event)):
                 continue
             lines.extend(event_lines(event))
     except Exception as error:
         lines.append(problem_text(error))
-    audience.show_lines(lines[-TRANSCRIPT_LINES:])
-    audience.show_scene()
+    return lines[-TRANSCRIPT_LINES:]

@@ -17,13 +17,24 @@ from textual.containers import Horizontal
 from textual.widgets import Input
 
 from valterm.core.errors import ValtermError
-from valterm.core.events import Collision, Contact, Event, Help, Message, Monitor, Pause
+from valterm.core.events import Collision, Contact, Event, Help, Message, Monitor
 from valterm.core.numbers import two_decimals
 from valterm.core.rules import RULES_1985
 from valterm.core.text.transcript import figure_lines, finding_line
 from valterm.ui import keymap, legends
 from valterm.ui.errors import problem_text
-from valterm.ui.messages import SceneChanged
+from valterm.ui.messages import (
+    Collided,
+    PictureMoved,
+    RunEnded,
+    RunEvent,
+    RunPaused,
+    RunRequested,
+    RunResumed,
+    SceneChanged,
+    SceneShown,
+    TranscriptLines,
+)
 from valterm.ui.screens.keyed import KeyedScreen, action_name
 from valterm.ui.view.model_view import ModelView
 from valterm.ui.widgets.cell_view import CellView
@@ -120,9 +131,9 @@ class MenuScreen(KeyedScreen[None]):
         view = self.query_one_optional("#model", ModelView)
         if view is None:  # the app is closing: its widgets went before this mount was handled (CI)
             return
-        if self.app.session_read is not None:  # no view before a set-up is read (the start)
-            view.set_view(self.app.view_transform)
-        view.ascii = self.app.ascii
+        if self.stage.session_read is not None:  # no view before a set-up is read (the start)
+            view.set_view(self.stage.view_transform)
+        view.ascii = self.stage.ascii
         self._sync_view_options()
         self._layout(self.app.size.width)
         # no redraw here: the screen's resume, which follows its mount before the first frame,
@@ -137,15 +148,14 @@ class MenuScreen(KeyedScreen[None]):
         self._show_view()
 
     def _show_view(self) -> None:
-        if self.app.session_read is not None:  # no view before a set-up is read (the start)
-            self.model_view.set_view(self.app.view_transform)
+        if self.stage.session_read is not None:  # no view before a set-up is read (the start)
+            self.model_view.set_view(self.stage.view_transform)
         self._sync_view_options()
         self.redraw()
 
     def _say_unsaid(self) -> None:
         """What was said while no screen could show it (the last one left mid-motion)."""
-        unsaid, self.app.unsaid = self.app.unsaid, []
-        for text, level in unsaid:
+        for text, level in self.app.take_unsaid():
             self.say_here(text, level)
 
     def on_resize(self, event: events.Resize) -> None:
@@ -157,8 +167,8 @@ class MenuScreen(KeyedScreen[None]):
 
     def _sync_view_options(self) -> None:
         view = self.model_view
-        view.back_faces = self.app.back_faces
-        view.axes = self.app.axes
+        view.back_faces = self.stage.back_faces
+        view.axes = self.stage.axes
 
     @property
     def model_view(self) -> ModelView:
@@ -192,8 +202,8 @@ class MenuScreen(KeyedScreen[None]):
     def redraw(self) -> None:
         if not self.is_attached:
             return  # left while a motion was drawn: the screen on top draws it
-        self.model_view.update_scene(self.app.scene(self.part_axes))
-        if self.app.session_read is not None:  # none at the first frame, or while the demo starts a round
+        self.model_view.update_scene(self.stage.scene(self.part_axes))
+        if self.stage.session_read is not None:  # none at the first frame, or while the demo starts a round
             self.update_readout()
         self.update_status()
 
@@ -205,16 +215,23 @@ class MenuScreen(KeyedScreen[None]):
     def update_readout(self) -> None:
         """Subclasses keep their readout current here."""
 
-    # -- the player's audience (valterm.ui.playback) -------------------------------------
-    def show_scene(self) -> None:
+    # -- what a run does: the player's messages (valterm.ui.messages) ----------------------
+    def on_scene_shown(self, message: SceneShown) -> None:
         self._moved = True
         self.redraw()
 
-    def show_picture(self) -> None:
+    def on_picture_moved(self, message: PictureMoved) -> None:
         """A pose between two of a motion's: the model alone (the readout says the poses')."""
         self._moved = True
         if self.is_attached:
-            self.model_view.update_scene(self.app.scene(self.part_axes))
+            self.model_view.update_scene(self.stage.scene(self.part_axes))
+
+    def on_transcript_lines(self, message: TranscriptLines) -> None:
+        self.show_lines(message.lines)
+
+    def on_run_event(self, message: RunEvent) -> None:
+        if not self.take_event(message.event):
+            self.show_lines(message.lines)
 
     def show_lines(self, lines: list[str]) -> None:
         for line in lines[-self.messages.max_lines:]:
@@ -241,7 +258,7 @@ class MenuScreen(KeyedScreen[None]):
         from valterm.core.monitor import listing_lines  # the session's: after the first frame
         from valterm.ui.screens.points import define_point
 
-        session = self.app.active_session
+        session = self.stage.active_session
         try:
             if command == "LISTL":
                 files = (listing_lines(session, command, argument) or [""])[0]
@@ -262,11 +279,12 @@ class MenuScreen(KeyedScreen[None]):
         except (OSError, ValtermError) as error:  # a missing file, a refused value: said
             self.say(problem_text(error) if isinstance(error, ValtermError) else str(error).upper(), "error")
 
-    def paused(self, pause: Pause) -> None:
+    def on_run_paused(self, message: RunPaused) -> None:
         """A menu has no PROCEED line: the program goes on (VAL-II mode waits)."""
-        self.app.player.resume()
+        self.app.post_message(RunResumed())
 
-    def played(self, aborted: bool) -> None:
+    def on_run_ended(self, message: RunEnded) -> None:
+        aborted = message.aborted
         moved, self._moved = self._moved, False
         if self.is_attached:
             self.messages.end_turn(self._findings_holding() if moved else None)
@@ -278,16 +296,16 @@ class MenuScreen(KeyedScreen[None]):
     def _findings_holding(self) -> list[tuple[str, str]]:
         """The findings (line, level) that hold where the motion left the robot; the bodies
         of those that collide stay marked in the picture (the core said them once, before)."""
-        found = self.app.simulator.findings_now()
-        self.app.player.collided.update(party for event in found if isinstance(event, Collision)
-                                        for party in (event.a, event.b))
+        found = self.stage.simulator.findings_now()
+        self.app.post_message(Collided(party for event in found if isinstance(event, Collision)
+                                       for party in (event.a, event.b)))
         # once each: under the 1985 words the clamp and a finger near one part are one line
         return list(dict.fromkeys(item for event in found for item in self._finding_lines(event)))
 
     def _finding_lines(self, event: Contact) -> list[tuple[str, str]]:
         """A finding's lines (line, level): its words, or as the 1985 screen printed them
         (Fig. C-12) with the thesis's keys under the 1985 rules."""
-        simulator = self.app.simulator
+        simulator = self.stage.simulator
         if getattr(self.app, "keys_1985", False) and simulator.rules == RULES_1985:
             from valterm.core.collision.world import bodies  # loaded with the checks that found it
 
@@ -323,13 +341,13 @@ class MenuScreen(KeyedScreen[None]):
         if not text:
             return
         try:
-            events_ = self.app.active_session.command(text)
+            events_ = self.stage.active_session.command(text)
         except Exception as error:
             self.say(problem_text(error), "error")
             return
         self.say(f"    {text.upper()}")
         self.show_model_if_narrow()
-        self.app.run_events(_confirm_here(self.app.simulator, text, events_), self)
+        self.app.post_message(RunRequested(_confirm_here(self.stage.simulator, text, events_), self))
 
     def action_help(self) -> None:
         from valterm.ui.screens.help import HelpScreen  # on first use (issue 25: start)

@@ -99,7 +99,7 @@ class KeyboardScreen(MenuScreen):
         if not self.point:
             return
         readout = self.query_one("#readout", PositionReadout)
-        readout.show_where(self.app.simulator.where(self.point), f"POSITION {self.point}: {POINT_NAMES[self.point]}")
+        readout.show_where(self.stage.simulator.where(self.point), f"POSITION {self.point}: {POINT_NAMES[self.point]}")
         readout.remove_class("-hidden")
 
     # -- listings ---------------------------------------------------------------------
@@ -108,7 +108,7 @@ class KeyboardScreen(MenuScreen):
 
     def _list(self, command: str) -> None:
         try:
-            lines = command_view(self.app.active_session, command)
+            lines = command_view(self.stage.active_session, command)
         except Exception as error:
             self.say(problem_text(error), "error")
             return
@@ -162,19 +162,21 @@ class KeyboardScreen(MenuScreen):
         self.update_readout()
 
     def action_smooth(self) -> None:
-        on = self.app.active_session.toggle_collision_checks()
+        on = self.stage.active_session.toggle_collision_checks()
         self.say(f"COLLISION CHECKS {'ON' if on else 'OFF'}")
 
     def action_faces(self) -> None:
-        self.app.back_faces = not self.app.back_faces
-        self.model_view.back_faces = self.app.back_faces
-        self.say("BACK FACES ON: HIDDEN SURFACES NOT REMOVED" if self.app.back_faces
+        shown = not self.stage.back_faces
+        self.app.show_back_faces(shown)
+        self.model_view.back_faces = shown
+        self.say("BACK FACES ON: HIDDEN SURFACES NOT REMOVED" if shown
                  else "BACK FACES OFF: HIDDEN SURFACES REMOVED")
 
     def action_axes(self) -> None:
-        self.app.axes = not self.app.axes
-        self.model_view.axes = self.app.axes
-        self.say(f"COORDINATE FRAMES {'ON' if self.app.axes else 'OFF'}")
+        shown = not self.stage.axes
+        self.app.show_axes(shown)
+        self.model_view.axes = shown
+        self.say(f"COORDINATE FRAMES {'ON' if shown else 'OFF'}")
 
     # -- ORIENT1 --------------------------------------------------------------------------
     def action_orient(self) -> None:
@@ -185,7 +187,7 @@ class KeyboardScreen(MenuScreen):
     def action_orient_key(self, what: str) -> None:
         """One of ORIENT1's keys: scale, translate, rotate, home, or back to the menu."""
         view = self.model_view
-        pan = ORIENT_PAN / max(self.app.view_transform.scale, 1e-6)
+        pan = ORIENT_PAN / max(self.stage.view_transform.scale, 1e-6)
         moves = {"left": (-pan, 0), "right": (pan, 0), "up": (0, pan), "down": (0, -pan)}
         if what in ("zoom_in", "zoom_out"):
             view.scale_by(ORIENT_ZOOM if what == "zoom_in" else 1 / ORIENT_ZOOM)

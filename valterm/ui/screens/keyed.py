@@ -37,6 +37,7 @@ if TYPE_CHECKING:
     from textual import getters
 
     from valterm.ui.app import ValtermApp
+    from valterm.ui.stage import Stage
 
 ResultT = TypeVar("ResultT")
 
@@ -53,6 +54,11 @@ class KeyedScreen(Guarded, Screen[ResultT]):
 
     if TYPE_CHECKING:  # the app every screen runs in, typed (Textual's own says App[object])
         app = getters.app(ValtermApp)
+
+    @property
+    def stage(self) -> Stage:
+        """The app's state, read-only (ui/stage.py): what a screen reads of the app."""
+        return self.app
 
     def _compositor_refresh(self) -> None:
         # Textual (pinned 8.2) draws a screen's frame even while the app holds a batch of

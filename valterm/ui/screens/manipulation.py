@@ -87,14 +87,14 @@ class ManipulationScreen(MenuScreen):
 
     def update_readout(self) -> None:
         if self.part:
-            reference = self.app.simulator.cell.object(self.part).reference
+            reference = self.stage.simulator.cell.object(self.part).reference
             self.query_one("#readout", PartReadout).show_part(self.part, [float(v) for v in reference])
 
     # -- which part, which way ------------------------------------------------------
     def ask_part(self) -> None:
         self.keyboard = False
         self.menu.set_text(MANIPULATION_CHOICE)
-        count = len(self.app.simulator.cell.objects)
+        count = len(self.stage.simulator.cell.objects)
         if count == 0:
             self.say("THERE ARE NO PARTS IN THIS CELL", "warning")
             self.ask_key("PRESS R TO RETURN:", lambda _k: self.leave(), "R")
@@ -122,13 +122,13 @@ class ManipulationScreen(MenuScreen):
             self.prompt_cancelled()
 
     def _part(self, answer: str) -> None:
-        count = len(self.app.simulator.cell.objects)
+        count = len(self.stage.simulator.cell.objects)
         if not answer.isdigit() or not 1 <= int(answer) <= count:
             self.say(f"{answer or 'NOTHING'} IS NOT A PART NUMBER (1-{count})", "error")
             self.ask_part()
             return
         self.part = int(answer)
-        self.part_axes = self.part if self.app.axes else None
+        self.part_axes = self.part if self.stage.axes else None
         self.redraw()
         if self.mode == "I":
             self._ask_translate()
@@ -151,12 +151,12 @@ class ManipulationScreen(MenuScreen):
     def _move(self, translation: tuple[float, float, float] = (0.0, 0.0, 0.0), axis: int | None = None,
               degrees: float = 0.0) -> None:
         try:
-            self.app.simulator.move_part(self.part, translation, axis, degrees)
+            self.stage.simulator.move_part(self.part, translation, axis, degrees)
         except Exception as error:
             self.say(problem_text(error), "error")
             return
         self.modified = True
-        self.app.setup_modified = True
+        self.app.mark_setup_modified()
         self.show_model_if_narrow()
         self.redraw()
 
@@ -171,10 +171,10 @@ class ManipulationScreen(MenuScreen):
     def action_axes(self) -> None:
         if not self.keyboard:
             return
-        self._set_axes(not self.app.axes)
+        self._set_axes(not self.stage.axes)
 
     def _set_axes(self, on: bool) -> None:
-        self.app.axes = on
+        self.app.show_axes(on)
         self.model_view.axes = on
         self.part_axes = self.part if on else None
         self.say(f"COORDINATE AXES {'ON' if on else 'OFF'}")
@@ -255,13 +255,13 @@ class ManipulationScreen(MenuScreen):
         self.prompt_cancelled()
 
     def _ask_name(self) -> None:
-        name = self.app.active_session.setup_name
+        name = self.stage.active_session.setup_name
         self.ask_line(f"ENTER SET-UP FILE NAME (RETURN: SAME NAME {name}):", self._save, cancel=self._end)
 
     def _save(self, name: str, overwrite: bool = False) -> None:
         typed, name = name, self._name_1985(name)
         try:
-            path = self.app.active_session.save_setup(name or None, overwrite=overwrite)
+            path = self.stage.active_session.save_setup(name or None, overwrite=overwrite)
         except FileChanged:
             self._ask_changed()
             return
@@ -286,7 +286,7 @@ class ManipulationScreen(MenuScreen):
         """NAME.SET changed on disk since it was read: overwrite, reload or save as."""
         from valterm.ui.screens.changed import FileChangedScreen
 
-        session = self.app.active_session
+        session = self.stage.active_session
         self.say(f"{session.setup_name}.SET CHANGED ON DISK: NOT SAVED", "warning")
 
         def answered(answer: tuple[str, str] | None) -> None:
@@ -307,7 +307,7 @@ class ManipulationScreen(MenuScreen):
     def _taken(self, name: str) -> bool:
         """Save as: a bad name or one a setup file has is refused (said) and asked again."""
         try:
-            taken = bool(self.app.active_session.workspace.exists(name, "SET"))
+            taken = bool(self.stage.active_session.workspace.exists(name, "SET"))
         except ValtermError as error:
             self.say(problem_text(error), "error")
             return True
@@ -317,20 +317,20 @@ class ManipulationScreen(MenuScreen):
 
     def _reload(self) -> None:
         try:
-            self.app.active_session.load_setup(self.app.active_session.setup_name)
+            self.stage.active_session.load_setup(self.stage.active_session.setup_name)
         except (ValtermError, OSError) as error:
             self.say(problem_text(error), "error")
             self._back()
             return
         self.modified = False
-        self.app.setup_modified = False
+        self.app.mark_setup_modified(False)
         self.app.changed()
-        self.say(f"{self.app.active_session.setup_name}.SET RELOADED AS THE OTHER SESSION SAVED IT")
+        self.say(f"{self.stage.active_session.setup_name}.SET RELOADED AS THE OTHER SESSION SAVED IT")
         self._back()
 
     def _saved(self, path: Path) -> None:
         self.modified = False
-        self.app.setup_modified = False
+        self.app.mark_setup_modified(False)
         self.app.notify(f"{path.name} SAVED", timeout=3)
         self._back()
 

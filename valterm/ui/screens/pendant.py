@@ -17,6 +17,7 @@ from valterm.core.errors import JointAtStop
 from valterm.core.events import Event, Message
 from valterm.core.motion import OUT_OF_REACH_REASON, PENDANT_INCREMENT, PENDANT_STEP, MotionRefused
 from valterm.ui.errors import error_text
+from valterm.ui.messages import RunRequested
 from valterm.ui.screens.base import MenuScreen
 from valterm.ui.widgets.menus import PENDANT_MENU
 from valterm.ui.widgets.readouts import PositionReadout
@@ -53,7 +54,7 @@ class PendantScreen(MenuScreen):
         yield PositionReadout(id="readout")
 
     def update_readout(self) -> None:
-        simulator = self.app.simulator
+        simulator = self.stage.simulator
         increment = simulator.pendant_increment
         self.query_one("#readout", PositionReadout).show_where(
             simulator.where(1),
@@ -61,34 +62,34 @@ class PendantScreen(MenuScreen):
 
     def _move(self, events) -> None:  # type: ignore[no-untyped-def]
         # the move's findings replace the last key's lines; those the core said before and
-        # that still hold are listed again when it ends (MenuScreen.played, Fig. C-12 a-d)
+        # that still hold are listed again when it ends (MenuScreen.on_run_ended, Fig. C-12 a-d)
         self.show_model_if_narrow()
-        self.app.run_events(_with_hint(events), self)
+        self.app.post_message(RunRequested(_with_hint(events), self))
 
     def action_joint(self, joint: int) -> None:
-        self._move(self.app.simulator.pendant_joint(joint))
+        self._move(self.stage.simulator.pendant_joint(joint))
 
     def action_open(self) -> None:
-        self._move(self.app.simulator.open())
+        self._move(self.stage.simulator.open())
 
     def action_close(self) -> None:
-        self._move(self.app.simulator.close())
+        self._move(self.stage.simulator.close())
 
     def action_world(self) -> None:
-        self.ask_key(f"WORLD MODE ({world_step(self.app.simulator.pendant_increment):+.2f} MM): X, Y OR Z ?:",
-                     lambda k: self._straight(self.app.simulator.pendant_world(AXES[k])), "XYZ")
+        self.ask_key(f"WORLD MODE ({world_step(self.stage.simulator.pendant_increment):+.2f} MM): X, Y OR Z ?:",
+                     lambda k: self._straight(self.stage.simulator.pendant_world(AXES[k])), "XYZ")
 
     def action_tool(self) -> None:
-        self.ask_key(f"TOOL MODE ({world_step(self.app.simulator.pendant_increment):+.2f} MM): X, Y OR Z ?:",
-                     lambda k: self._straight(self.app.simulator.pendant_tool(AXES[k])), "XYZ")
+        self.ask_key(f"TOOL MODE ({world_step(self.stage.simulator.pendant_increment):+.2f} MM): X, Y OR Z ?:",
+                     lambda k: self._straight(self.stage.simulator.pendant_tool(AXES[k])), "XYZ")
 
     def _straight(self, events) -> None:  # type: ignore[no-untyped-def]
         """A WORLD/TOOL step; refused at once (READY is a stretched, singular pose): say what to do."""
         self.show_model_if_narrow()
-        self.app.run_events(_with_hint(events), self)
+        self.app.post_message(RunRequested(_with_hint(events), self))
 
     def action_increment(self, key: str) -> None:
-        value = self.app.simulator.change_pendant_increment(key)
+        value = self.stage.simulator.change_pendant_increment(key)
         self.say(f"ROTATIONAL INCREMENT {value:+.2f} DEG (WORLD/TOOL STEP {world_step(value):+.2f} MM)")
         self.update_readout()
 

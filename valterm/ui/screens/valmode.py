@@ -60,7 +60,18 @@ from valterm.core.text.transcript import where_lines, wrap_line
 from valterm.ui import legends
 from valterm.ui.errors import problem_text
 from valterm.ui.keyqueue import typed_at
-from valterm.ui.playback import Player, Transcript, show_at_once
+from valterm.ui.messages import (
+    PictureMoved,
+    RunAbortRequested,
+    RunEnded,
+    RunEvent,
+    RunPaused,
+    RunRequested,
+    RunResumed,
+    SceneShown,
+    TranscriptLines,
+)
+from valterm.ui.playback import Transcript, show_at_once
 from valterm.ui.screens.editor import EditorScreen, StepInput
 from valterm.ui.screens.help import HelpScreen
 from valterm.ui.screens.keyed import KeyedScreen
@@ -241,8 +252,7 @@ class ValModeScreen(KeyedScreen[None]):
     @property
     def session(self) -> Session:
         if self._session is None:
-            self._session = self.app.session
-        assert self._session is not None
+            self._session = self.stage.active_session
         return self._session
 
     @property
@@ -253,14 +263,8 @@ class ValModeScreen(KeyedScreen[None]):
     def interpreter(self):  # type: ignore[no-untyped-def]
         return self.session.interpreter
 
-    @property
-    def player(self) -> Player:
-        """The app's one event player."""
-        player: Player = self.app.player
-        return player
-
     def on_mount(self) -> None:
-        self.query_one(ModelView).set_view(self.app.view_transform)  # the app's shared view
+        self.query_one(ModelView).set_view(self.stage.view_transform)  # the app's shared view
         self._fit_width(self.app.size.width)
         self.redraw()
         self.query_one(ModelView).call_after_refresh(self._fit)
@@ -302,7 +306,7 @@ class ValModeScreen(KeyedScreen[None]):
         self.show_lines(str(text).splitlines() or [""])
 
     def redraw(self) -> None:
-        self.query_one(ModelView).update_scene(self.app.scene())  # with the view's overlays
+        self.query_one(ModelView).update_scene(self.stage.scene())  # with the view's overlays
         self.query_one("#status", StatusLine).refresh()  # the arm's configuration, SPEED, ...
         self.query_one("#val-where", Static).update("\n".join(where_lines(self.simulator.where())))
 
@@ -462,7 +466,7 @@ class ValModeScreen(KeyedScreen[None]):
         """R_RETURN: back to MAIN (a running program is aborted first)."""
         if self.mode in (Mode.RUNNING, Mode.PAUSED):
             self._to_menu = True
-            self.player.abort()
+            self.app.post_message(RunAbortRequested())
             return
         self.dismiss(None)
 
@@ -474,7 +478,7 @@ class ValModeScreen(KeyedScreen[None]):
             self.dismiss(None)
         elif self.mode in (Mode.RUNNING, Mode.PAUSED):
             self._to_menu = True
-            self.player.abort()
+            self.app.post_message(RunAbortRequested())
         else:
             self._cancel_to_menu()
 
@@ -516,10 +520,11 @@ class ValModeScreen(KeyedScreen[None]):
         if self.mode != Mode.PAUSED:
             return
         self.log_line(f". {text}")
-        show_at_once(self.session.command(text), self)
+        self.show_lines(show_at_once(self.session.command(text), self.take_event))
+        self.redraw()
         if not self.session.program_paused:  # PROCEED, XSTEP, SSTEP
             self._show_running(keep_line=True)
-            self.player.resume()
+            self.app.post_message(RunResumed())
         elif self._pause is not None:
             self._show_pause(self._pause)  # WATCH, X=5 ... show at once
 
@@ -536,7 +541,7 @@ class ValModeScreen(KeyedScreen[None]):
     @property
     def keys_1985(self) -> bool:
         """The thesis's keyboard (``valterm --keys 1985``): the menu after each command."""
-        return bool(getattr(self.app, "keys_1985", False))
+        return self.stage.keys_1985
 
     def _menu_after_command(self) -> None:
         """--keys 1985: the menu after a typed command; what was typed while it played is the
@@ -590,15 +595,15 @@ class ValModeScreen(KeyedScreen[None]):
             many = "S" if len(lines) > 1 else ""
             self.log_line(f"{len(lines)} QUEUED COMMAND{many} DISCARDED: {', '.join(line.strip() for line in lines)}")
 
-    # -- playing events (the player's audience) --------------------------------------------
+    # -- playing events: asked of the app by message (ui.messages) -------------------------
     def run_events(self, events: Iterator[Event], after: Callable[[], None] | None = None) -> None:
-        """Play a stream of core events on the app's player; ``after`` when it has ended.
+        """Ask the app to play a stream of core events (RunRequested); ``after`` when it has ended.
 
         Without ``after`` the command line stays open and takes what is typed meanwhile."""
         self._after_run = after
         self._to_menu = False
         self._show_running(keep_line=after is None)
-        self.app.run_events(events, self)
+        self.app.post_message(RunRequested(events, self))
 
     def _show_running(self, keep_line: bool) -> None:
         self._pause = None
@@ -611,17 +616,25 @@ class ValModeScreen(KeyedScreen[None]):
         self.query_one("#val-prompt", Static).update(".")
         self._keys(RUNNING_KEYS)
 
-    def show_scene(self) -> None:
+    # -- what a run does: the player's messages (valterm.ui.messages) ----------------------
+    def on_scene_shown(self, message: SceneShown) -> None:
         if self.has_class("narrow") and not self.model_only and self.mode == Mode.RUNNING:
             self.add_class("model-only")  # 80x24: the robot is on screen whenever it moves
             self._model_for_motion = True
             self.query_one(ModelView).call_after_refresh(self._fit)
         self.redraw()
 
-
-    def show_picture(self) -> None:
+    def on_picture_moved(self, message: PictureMoved) -> None:
         """A pose between two of a motion's: the model alone (WHERE says the poses')."""
-        self.query_one(ModelView).update_scene(self.app.scene())
+        self.query_one(ModelView).update_scene(self.stage.scene())
+
+    def on_transcript_lines(self, message: TranscriptLines) -> None:
+        self.show_lines(message.lines)
+
+    def on_run_event(self, message: RunEvent) -> None:
+        if not self.take_event(message.event):
+            self.show_lines(message.lines)
+
     def _text_after_motion(self) -> None:
         """The text again once what moved the robot has ended or paused (80x24)."""
         if self._model_for_motion:
@@ -644,7 +657,8 @@ class ValModeScreen(KeyedScreen[None]):
             return True
         return False
 
-    def paused(self, pause: Pause) -> None:
+    def on_run_paused(self, message: RunPaused) -> None:
+        pause = message.pause
         self._text_after_motion()
         self._keys(PAUSED_KEYS)
         self._open_line(Mode.PAUSED, "PAUSED .", self._typed())
@@ -657,7 +671,8 @@ class ValModeScreen(KeyedScreen[None]):
         listing = debugger.listing(pause.program, pause.step)
         self.query_one(DebugPanel).show_pause(pause.program, pause.step, listing, debugger.watched())
 
-    def played(self, aborted: bool) -> None:
+    def on_run_ended(self, message: RunEnded) -> None:
+        aborted = message.aborted
         self._text_after_motion()
         self._pause = None
         self.query_one(DebugPanel).hide()
