@@ -200,6 +200,10 @@ class ValtermApp(Guarded, ViewActions, App[int]):
         else:
             self.unsaid = [*self.unsaid, (text, level)][-20:]
 
+    def say_next(self, text: str, level: str = "info") -> None:
+        """A message for the next screen that shows messages (the one a screen returns to)."""
+        self.unsaid = [*self.unsaid, (text, level)][-20:]
+
     # -- what screens change of the app's state (they read it through ui.stage) ----------
     def show_back_faces(self, shown: bool) -> None:
         """FACES: back faces drawn (hidden surfaces not removed) in every model view."""

@@ -107,7 +107,7 @@ class MenuScreen(KeyedScreen[None]):
         yield from self.compose_readout()
         log = MessageLog(id="messages")
         log.scroll_keys = lambda: "/".join(legends.keys_of(self, "menu.messages_back", "menu.messages_on"))
-        log.grouped = lambda: self.app.simulator.rules != RULES_1985
+        log.grouped = lambda: self.stage.simulator.rules != RULES_1985
         yield log
         yield Prompt(id="prompt")
         yield StatusLine(id="status")

@@ -270,8 +270,8 @@ class ManipulationScreen(MenuScreen):
             self._ask_name()
             return
         if name != typed:  # said by the screen the save returns to, after its own first words
-            self.app.unsaid.append((f"SET-UP SAVED AS {path.name} ({typed.strip().upper()} TAKEN AS "
-                                    f"{path.stem}: A SET-UP FILE ENDS IN .SET)", "info"))
+            self.app.say_next(f"SET-UP SAVED AS {path.name} ({typed.strip().upper()} TAKEN AS "
+                              f"{path.stem}: A SET-UP FILE ENDS IN .SET)")
         self._saved(path)
 
     def _name_1985(self, typed: str) -> str:
