@@ -7,8 +7,9 @@ key is never swallowed by an input; an input is focused only while a typed answe
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from dataclasses import dataclass
-from typing import Any, Callable, ClassVar
+from typing import TYPE_CHECKING, Any, Callable, ClassVar
 
 from textual import events
 from textual.app import ComposeResult
@@ -42,6 +43,9 @@ from valterm.ui.widgets.menu_text import MenuText
 from valterm.ui.widgets.message_log import COLLISION, NEAR, MessageLog
 from valterm.ui.widgets.prompt import Prompt
 from valterm.ui.widgets.status import StatusLine
+
+if TYPE_CHECKING:  # annotations only
+    from valterm.core.simulator import Simulator
 
 WIDE = 100  # columns from which the model is shown beside the menu
 PROMPT_PARTS_AFTER = 0.1  # seconds after a menu screen's first frame (see after_first_frame)
@@ -457,7 +461,7 @@ class MenuScreen(KeyedScreen[None]):
             self.app.pop_screen()
 
 
-def _confirm_here(simulator, text: str, events_):  # type: ignore[no-untyped-def]
+def _confirm_here(simulator: Simulator, text: str, events_: Iterator[Event]) -> Iterator[Event]:
     """HERE name: after it is done, say what was taught (the VS11 said nothing)."""
     words = text.upper().replace(",", " ").split()
     yield from events_

@@ -60,7 +60,7 @@ class PendantScreen(MenuScreen):
             simulator.where(1),
             f"JOINT INCREMENT {increment:+.2f} DEG   WORLD/TOOL STEP {world_step(increment):+.2f} MM")
 
-    def _move(self, events) -> None:  # type: ignore[no-untyped-def]
+    def _move(self, events: Iterator[Event]) -> None:
         # the move's findings replace the last key's lines; those the core said before and
         # that still hold are listed again when it ends (MenuScreen.on_run_ended, Fig. C-12 a-d)
         self.show_model_if_narrow()
@@ -83,7 +83,7 @@ class PendantScreen(MenuScreen):
         self.ask_key(f"TOOL MODE ({world_step(self.stage.simulator.pendant_increment):+.2f} MM): X, Y OR Z ?:",
                      lambda k: self._straight(self.stage.simulator.pendant_tool(AXES[k])), "XYZ")
 
-    def _straight(self, events) -> None:  # type: ignore[no-untyped-def]
+    def _straight(self, events: Iterator[Event]) -> None:
         """A WORLD/TOOL step; refused at once (READY is a stretched, singular pose): say what to do."""
         self.show_model_if_narrow()
         self.app.post_message(RunRequested(_with_hint(events), self))

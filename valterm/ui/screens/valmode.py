@@ -41,13 +41,13 @@ import re
 import time
 from collections.abc import Callable, Iterator, Mapping
 from enum import StrEnum
-from typing import ClassVar
+from typing import TYPE_CHECKING, ClassVar
 
 from textual.app import ComposeResult
 from textual.binding import Binding
 from textual.containers import Horizontal, Vertical, VerticalScroll
 from textual.events import Key, Resize
-from textual.widgets import RichLog, Static
+from textual.widgets import Input, RichLog, Static
 
 from valterm.core.errors import ValtermError
 from valterm.core.events import Error, Event, Help, Monitor, Pause
@@ -55,7 +55,7 @@ from valterm.core.files.locations import format_locations
 from valterm.core.kinematics import Location
 from valterm.core.monitor import listing_lines
 from valterm.core.session import Session
-from valterm.core.simulator import ConfigMismatch
+from valterm.core.simulator import ConfigMismatch, Simulator
 from valterm.core.text.transcript import where_lines, wrap_line
 from valterm.ui import legends
 from valterm.ui.errors import problem_text
@@ -83,6 +83,9 @@ from valterm.ui.widgets.menus import VAL_MENU_1, VAL_MENU_2
 from valterm.ui.widgets.prompt import typed_after
 from valterm.ui.widgets.status import StatusLine
 from valterm.ui.widgets.transcript_log import TranscriptLog
+
+if TYPE_CHECKING:  # annotations only: the interpreter loads when the screen first runs one
+    from valterm.core.val.interpreter import Interpreter
 
 
 class Mode(StrEnum):
@@ -256,11 +259,11 @@ class ValModeScreen(KeyedScreen[None]):
         return self._session
 
     @property
-    def simulator(self):  # type: ignore[no-untyped-def]
+    def simulator(self) -> Simulator:
         return self.session.simulator
 
     @property
-    def interpreter(self):  # type: ignore[no-untyped-def]
+    def interpreter(self) -> Interpreter:
         return self.session.interpreter
 
     def on_mount(self) -> None:
@@ -493,7 +496,7 @@ class ValModeScreen(KeyedScreen[None]):
         return self.query_one("#val-line", StepInput).value
 
     # -- typed lines -----------------------------------------------------------------------
-    def on_input_submitted(self, event) -> None:  # type: ignore[no-untyped-def]
+    def on_input_submitted(self, event: Input.Submitted) -> None:
         event.stop()
         text = event.value
         field = self.query_one("#val-line", StepInput)
