@@ -378,10 +378,16 @@ def run_demo(*, speed: float = 1.0, once: bool = False, kiosk: bool = False, idl
         print(f"valterm: demo: {error}", file=sys.stderr)
         return 1
     app = DemoApp(items, speed=speed, once=once, kiosk=kiosk, idle=idle, ascii=ascii)
+    return play(app, headless, "valterm: demo: the demonstration stopped on an error (shown above)")
+
+
+def play(app: DemoApp, headless: bool, stopped: str) -> int:
+    """Run a demo or a replay until it ends: 0, or 1 with ``stopped`` said when it stopped on
+    an error. On a terminal, a hangup ends it (``end_on_hangup``)."""
     if not headless:
         end_on_hangup()
     app.run(headless=headless)
     if app.return_code:
-        print("valterm: demo: the demonstration stopped on an error (shown above)", file=sys.stderr)
+        print(stopped, file=sys.stderr)
         return 1
     return 0

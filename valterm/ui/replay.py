@@ -26,8 +26,8 @@ from valterm.core.files.record import Record, RecordError, read_record
 from valterm.core.render.clock import DEFAULT_RATE
 from valterm.core.rules import RULES
 from valterm.core.val.limits import RunLimits
-from valterm.ui.app import KEYBOARDS, end_on_hangup
-from valterm.ui.demo import START_DELAY, DemoApp
+from valterm.ui.app import KEYBOARDS
+from valterm.ui.demo import START_DELAY, DemoApp, play
 
 LONGEST_GAP = 5.0  # seconds: a longer pause of the student's is shortened to this (before --speed)
 
@@ -153,10 +153,4 @@ def run_replay(path: str | Path, *, speed: float = 1.0, once: bool = False, work
         print(f"valterm: replay: {error}", file=sys.stderr)
         return 1
     app = ReplayApp(record, Path(path).name, speed=speed, once=once, workspace=workspace, ascii=ascii)
-    if not headless:
-        end_on_hangup()
-    app.run(headless=headless)
-    if app.return_code:
-        print("valterm: replay: the replay stopped on an error (shown above)", file=sys.stderr)
-        return 1
-    return 0
+    return play(app, headless, "valterm: replay: the replay stopped on an error (shown above)")
