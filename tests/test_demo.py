@@ -218,6 +218,27 @@ async def test_kiosk_keeps_the_main_menu_stop_key_off() -> None:
         assert "cannot be ended" in caption_shown(app)
 
 
+@sync
+async def test_the_demo_closed_mid_key_ends_quietly() -> None:
+    """A kiosk stopped (or a test's run_test ended) while the demo waits for its key to be
+    handled: the screens go first, and the round's next look at the screen finds none. That
+    ends the round, not the app with a crash (CI's key fuzz hit it, once in many runs)."""
+    app = DemoApp(ITEMS, speed=FAST, idle=600, kiosk=True, motion_rate=math.inf)
+    looked: list[bool] = []
+
+    async def press_after_the_screens_went(key: str, char: str | None = "") -> None:
+        looked.append(False)
+        while app.is_running or app.screen_stack:
+            await asyncio.sleep(0)  # wake at every turn of the loop, as a real key's wait may
+        looked.append(True)
+        assert app.focused is None  # raises ScreenStackError: no screens on the stack
+
+    app.press_demo_key = press_after_the_screens_went  # type: ignore[method-assign]
+    async with app.run_test(size=(80, 24)) as pilot:
+        await until(pilot, lambda: bool(looked), "the demo presses its first key")
+    assert looked == [False, True] and app.crash is None
+
+
 # -- valterm demo ---------------------------------------------------------------------------
 @pytest.fixture
 def headless(monkeypatch: pytest.MonkeyPatch) -> None:

@@ -22,6 +22,7 @@ from typing import Any
 
 from rich.text import Text
 from textual import events
+from textual.app import ScreenStackError
 from textual.dom import DOMNode
 from textual.keys import _character_to_key, _get_unicode_name_from_key
 from textual.message_pump import MessagePump
@@ -132,12 +133,14 @@ class DemoApp(ValtermApp):
         self.playing = True
         if not self.items or self.items[0].kind != "caption":
             self.show_caption(DEMO_HINT)
-        self.run_worker(self._play(), group="demo", exclusive=True, exit_on_error=True)
+        self.run_worker(self._played(), group="demo", exclusive=True, exit_on_error=True)
 
     async def _fresh_round(self) -> None:
         """A clean state: no motion, a fresh workspace and session, the start screen."""
         from valterm.ui.screens.start import StartScreen
 
+        if not self.is_running:
+            return  # closing: its screens are going, no round starts on them
         self.workers.cancel_group(self, "demo")
         self.action_abort()
         old, self._folder = self._folder, Path(tempfile.mkdtemp(prefix="valterm-demo-"))
@@ -184,6 +187,16 @@ class DemoApp(ValtermApp):
         limit = time.monotonic() + SETTLE_LIMIT
         while (self.moving or self.keys_waiting) and time.monotonic() < limit:
             await asyncio.sleep(0.05)
+
+    async def _played(self) -> None:
+        """The round, ended quietly when the app closes under it (a test's run_test ends, the
+        kiosk is stopped): its screens are popped while the round waits for a key to be handled,
+        and the round's next look at the screen finds none. While the app runs that is a bug."""
+        try:
+            await self._play()
+        except ScreenStackError:
+            if self.is_running:
+                raise
 
     async def _play(self) -> None:
         started = False
@@ -292,7 +305,7 @@ class DemoApp(ValtermApp):
                 and not screen.asking)
 
     def _check_idle(self) -> None:
-        if self.playing or time.monotonic() - self._last_key < self.idle:
+        if not self.is_running or self.playing or time.monotonic() - self._last_key < self.idle:
             return
         if self.once:
             self.leave(0)
