@@ -182,7 +182,8 @@ IGES_NASTY = NASTY + ["H", "1H,", "2H;;", ";", "E+", "0.D0", "         1D", "S  
 
 
 @fuzz(60)
-@given(text=st.one_of(mutated(_iges("occt-arcs.iges"), IGES_NASTY), mutated(_iges("ansys-points.igs"), IGES_NASTY)))
+@given(text=st.one_of(mutated(_iges("valterm-arcs.iges"), IGES_NASTY),
+                      mutated(_iges("valterm-points-metres.igs"), IGES_NASTY)))
 def test_mutated_iges_files(workspace: Path, text: str) -> None:
     path = _write(workspace, "fuzz.igs", text)
     status, _, err = call(["--workspace", str(workspace), "import", str(path), "--out", "IGESFUZZ", "--force"])
