@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+from pathlib import Path
 
 import pytest
 
@@ -112,3 +113,17 @@ def test_the_start_row_shows_the_picture_beside_the_menu() -> None:
     row = next(line for line in table.splitlines() if line.startswith("| `app_start_vs_bare_x`"))
     assert "| yes |" in row
     assert "a bare Textual app, s: 0.5" in row and "the model's picture beside the menu, x (no goal): 1.7" in row
+
+
+def test_the_grading_bench_grades_one_student_a_folder(tmp_path: Path) -> None:
+    """The bench's class is what a class hands in, one folder a student, and every student
+    passes: a layout `grade` reads as one student (as the flat folder became when students
+    went by folder) is a failure, not a figure."""
+    from valterm.bench.grading import _grade_seconds, write_class
+
+    write_class(tmp_path, 3)
+    assert sorted(p.name for p in (tmp_path / "class").iterdir()) == ["S000", "S001", "S002"]
+    assert _grade_seconds(tmp_path, 2, 3) > 0
+    (tmp_path / "class" / "S001" / "PROCESS.DAT").write_text("MOVE NOWHERE\n")
+    with pytest.raises(RuntimeError, match="did not pass"):
+        _grade_seconds(tmp_path, 1, 3)
