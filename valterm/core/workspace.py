@@ -152,6 +152,22 @@ def bundled_workspace_files() -> list[tuple[str, Path]]:
     return found
 
 
+def first_setup_bytes(root: str | Path | None, name: str) -> bytes | None:
+    """NAME.SET's bytes as a session opening the workspace at ``root`` would read them, without
+    opening it: the bundled file's in a workspace not filled yet (its first use copies it in);
+    None when the name is refused or there is no such file. For the start's kept picture
+    (core/render/kept.py), before anything is written."""
+    folder = default_root() if root is None else Path(root).expanduser()
+    try:
+        file_name = check_name(name, "SET")
+        path = checked_path(folder, file_name)
+        if not os.path.lexists(folder / DATFILER) and not os.path.lexists(path):
+            path = resources.data_path(resources.CELLS, file_name)
+        return path.read_bytes()
+    except (OSError, ValtermError):
+        return None
+
+
 def _damaged_copy(target: Path, source: Path, prefix: bool) -> bytes | None:
     """The bundled bytes when ``target`` is a damaged copy of ``source`` (a plain file that is
     empty or, when ``prefix``, a strict prefix of it), else None: a user's file stays as it is."""
