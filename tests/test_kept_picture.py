@@ -108,6 +108,8 @@ def test_a_picture_round_trips_and_only_its_key_reads_it(tmp_path: Path) -> None
     assert kept.write_kept(path, picture)
     assert kept.read_kept(path, "k1") == picture
     assert kept.read_kept(path, "k2") is None
+    path.write_text(path.read_text("utf-8").replace("abc", "a\x1bc"), "utf-8")
+    assert kept.read_kept(path, "k1") is None  # an escape would be painted to the terminal
     assert kept.runs_of([4, 4, 0, 4]) == ((4, 2), (0, 1), (4, 1))
 
 

@@ -312,6 +312,7 @@ class ValtermApp(Guarded, ViewActions, App[int]):
         try:
             self.open_session(setup)
         except ValtermError as error:
+            self.kept_picture = None  # no picture of this set-up: the start screen says why
             self.call_later(self.switch_screen, _start_screen(message=error_text(error)))
             return
         self.call_later(self._setup_read)

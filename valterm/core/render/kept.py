@@ -110,6 +110,8 @@ def _row(line: str, width: int) -> tuple[str, Runs]:
                  (run.split(":") for run in coded.split(" ")))
     if len(text) != width or sum(cells for _, cells in runs) != width:
         raise ValueError("a row of the wrong width")
+    if not text.isprintable():  # painted as it is: no control sequence reaches the terminal
+        raise ValueError("a control character in a row")
     return text, runs
 
 
