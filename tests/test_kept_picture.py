@@ -113,6 +113,14 @@ def test_a_picture_round_trips_and_only_its_key_reads_it(tmp_path: Path) -> None
     assert kept.runs_of([4, 4, 0, 4]) == ((4, 2), (0, 1), (4, 1))
 
 
+@pytest.mark.skipif(not hasattr(__import__("os"), "mkfifo"), reason="no FIFOs here")
+def test_a_fifo_in_the_kept_files_place_is_no_picture_and_no_wait(tmp_path: Path) -> None:
+    import os
+
+    os.mkfifo(tmp_path / "start-picture")
+    assert kept.read_kept(tmp_path / "start-picture", "k1") is None
+
+
 def test_the_code_stamp_follows_the_files(tmp_path: Path) -> None:
     (tmp_path / "a.py").write_text("x = 1\n")
     stamp = kept._tree_stamp(tmp_path, 0)

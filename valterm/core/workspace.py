@@ -31,6 +31,7 @@ from typing import TYPE_CHECKING
 from valterm.core import resources
 from valterm.core.errors import ValtermError
 from valterm.core.files import datfiler, programs, variables
+from valterm.core.files._text import read_bytes
 from valterm.core.files.atomic import (
     file_stamp,
     folder_lock,
@@ -163,8 +164,8 @@ def first_setup_bytes(root: str | Path | None, name: str) -> bytes | None:
         path = checked_path(folder, file_name)
         if not os.path.lexists(folder / DATFILER) and not os.path.lexists(path):
             path = resources.data_path(resources.CELLS, file_name)
-        return path.read_bytes()
-    except (OSError, ValtermError):
+        return read_bytes(path, "setup")  # as the set-up reader opens it: no FIFO waited on
+    except ValtermError:
         return None
 
 

@@ -354,9 +354,10 @@ class ValtermApp(Guarded, ViewActions, App[int]):
         view = self.screen.query_one_optional("#model", CellView) if self.screen_stack else None
         if self.kept_path is None or session is None or view is None or not session.setup_name:
             return
-        try:
-            setup = session.workspace.path(session.setup_name, "SET").read_bytes()
-        except (OSError, ValtermError):
+        from valterm.core.workspace import first_setup_bytes
+
+        setup = first_setup_bytes(session.workspace.root, session.setup_name)
+        if setup is None:
             return
         picture = view.painted(kept.start_key(setup, **self._kept_options()))
         if picture is not None and picture != shown:

@@ -22,6 +22,7 @@ from valterm.core.files.atomic import write_bytes_atomic
 
 FORMAT = "valterm start picture 1"
 FILE_NAME = "start-picture"
+MAX_BYTES = 16 * 1024 * 1024  # a picture of a 1000x300 terminal is about 2 MB
 Runs = tuple[tuple[int, int], ...]  # (colour, cells) along a row
 
 
@@ -89,9 +90,12 @@ def start_key(setup: bytes, **drawn_with: object) -> str:
 
 def read_kept(path: Path, key: str) -> KeptPicture | None:
     """The picture kept at ``path`` if it was drawn from ``key``, else None."""
-    try:
-        text = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError):
+    from valterm.core.errors import ValtermError
+    from valterm.core.files._text import read_bytes
+
+    try:  # opened as every file is read: a FIFO or a device is no picture, never waited on
+        text = read_bytes(path, "kept picture", limit=MAX_BYTES).decode("utf-8")
+    except (ValtermError, UnicodeDecodeError):
         return None
     lines = text.split("\n")
     if len(lines) < 3 or lines[0] != FORMAT or lines[1] != key:
