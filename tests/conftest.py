@@ -13,3 +13,12 @@ SHARED = ROOT.parent / "shared"
 @pytest.fixture
 def repo_root() -> Path:
     return ROOT
+
+
+@pytest.fixture(autouse=True, scope="session")
+def _own_cache(tmp_path_factory: pytest.TempPathFactory) -> None:
+    """The app keeps its start's picture in $XDG_CACHE_HOME (core/render/kept.py): the apps
+    the tests start (in this process and as commands) keep theirs in a folder of the run's."""
+    import os
+
+    os.environ["XDG_CACHE_HOME"] = str(tmp_path_factory.mktemp("cache"))

@@ -106,13 +106,17 @@ def test_the_start_counts_once_the_model_is_drawn_beside_main_menu() -> None:
 
 
 def test_the_start_row_shows_the_picture_beside_the_menu() -> None:
-    """``app_start_vs_bare_x`` counts MAIN MENU's menu; the picture's ratio, without a goal,
-    is printed on the same row so the two are read together (round 11)."""
+    """``app_start_vs_bare_x`` counts MAIN MENU's menu; the picture's ratio is printed on the
+    same row so the two are read together (round 11), and has its own row and goal (issue
+    40), beside the first start's, which has no picture kept."""
     table = markdown({"machine": "test", "app_start_vs_bare_x": 1.25, "app_start_bare_textual_s": 0.5,
-                      "app_start_picture_vs_bare_x": 1.7})
+                      "app_start_picture_vs_bare_x": 1.7, "app_start_picture_cold_vs_bare_x": 1.8})
     row = next(line for line in table.splitlines() if line.startswith("| `app_start_vs_bare_x`"))
     assert "| yes |" in row
-    assert "a bare Textual app, s: 0.5" in row and "the model's picture beside the menu, x (no goal): 1.7" in row
+    assert "a bare Textual app, s: 0.5" in row and "the model's picture beside the menu, x: 1.7" in row
+    row = next(line for line in table.splitlines() if line.startswith("| `app_start_picture_vs_bare_x`"))
+    assert "| <= 1.3 | **no** |" in row
+    assert "a bare Textual app, s: 0.5" in row and "no picture kept), x (no goal): 1.8" in row
 
 
 def test_the_grading_bench_grades_one_student_a_folder(tmp_path: Path) -> None:

@@ -31,6 +31,7 @@ from typing import TYPE_CHECKING
 from valterm.core import resources
 from valterm.core.errors import ValtermError
 from valterm.core.files import datfiler, programs, variables
+from valterm.core.files._text import read_bytes
 from valterm.core.files.atomic import (
     file_stamp,
     folder_lock,
@@ -150,6 +151,22 @@ def bundled_workspace_files() -> list[tuple[str, Path]]:
             if file_name.rsplit(".", 1)[1] in _KINDS:
                 found.append((file_name, source))
     return found
+
+
+def first_setup_bytes(root: str | Path | None, name: str) -> bytes | None:
+    """NAME.SET's bytes as a session opening the workspace at ``root`` would read them, without
+    opening it: the bundled file's in a workspace not filled yet (its first use copies it in);
+    None when the name is refused or there is no such file. For the start's kept picture
+    (core/render/kept.py), before anything is written."""
+    folder = default_root() if root is None else Path(root).expanduser()
+    try:
+        file_name = check_name(name, "SET")
+        path = checked_path(folder, file_name)
+        if not os.path.lexists(folder / DATFILER) and not os.path.lexists(path):
+            path = resources.data_path(resources.CELLS, file_name)
+        return read_bytes(path, "setup")  # as the set-up reader opens it: no FIFO waited on
+    except ValtermError:
+        return None
 
 
 def _damaged_copy(target: Path, source: Path, prefix: bool) -> bytes | None:

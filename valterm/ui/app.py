@@ -54,6 +54,7 @@ from valterm.ui.view.keys import ViewActions
 
 if TYPE_CHECKING:
     from valterm.core.files.record import SessionRecord
+    from valterm.core.render.kept import KeptPicture
     from valterm.core.render.overlays import Trace
     from valterm.core.render.raster import Scene, ViewTransform
     from valterm.core.session import Session
@@ -141,6 +142,10 @@ class ValtermApp(Guarded, ViewActions, App[int]):
         self.survived: list[str] = []  # the bugs the app lived through (their lines, tests)
         self.collect_after_first_frame = False  # the collector waits for the first screen (run)
         self.recorder: SessionRecord | None = None  # --record: every key typed, every line shown
+        # the last start's picture (core/render/kept.py), shown until --setup's set-up is read;
+        # kept_path is where it is kept (run(): the user's cache; None: none kept, as in tests)
+        self.kept_path: Path | None = None
+        self.kept_picture: KeptPicture | None = None
 
     def _handle_exception(self, error: Exception) -> None:
         # A bug: its traceback goes to a log file and the terminal gets one line naming it
@@ -255,6 +260,7 @@ class ValtermApp(Guarded, ViewActions, App[int]):
             self.push_screen(MainMenuScreen())
             return
         if self.reading_setup:
+            self.kept_picture = self._kept_picture_found()
             self.push_screen(MainMenuScreen())
             self.call_after_refresh(self._open_setup_to_open)
             return
@@ -306,6 +312,7 @@ class ValtermApp(Guarded, ViewActions, App[int]):
         try:
             self.open_session(setup)
         except ValtermError as error:
+            self.kept_picture = None  # no picture of this set-up: the start screen says why
             self.call_later(self.switch_screen, _start_screen(message=error_text(error)))
             return
         self.call_later(self._setup_read)
@@ -314,6 +321,47 @@ class ValtermApp(Guarded, ViewActions, App[int]):
         shown = getattr(self.screen, "setup_read", None) if self.screen_stack else None
         if shown is not None and self.screen.is_mounted:
             shown()
+        if self.kept_path is not None:  # once this picture is on the screen
+            self.call_after_refresh(self._keep_picture, self.kept_picture)
+        self.kept_picture = None  # drawn now: no later view shows the kept one
+
+    # -- the picture of the last start (core/render/kept.py) ---------------------------
+    def _kept_options(self) -> dict[str, object]:
+        """What, beside the set-up file and the code, the start's picture is drawn from."""
+        return {"robot": self.robot, "rules": self.rules, "ascii": self.ascii, "keys_1985": self.keys_1985,
+                "back_faces": self.back_faces, "axes": self.axes, "follow": self.follow_clamp}
+
+    def _kept_picture_found(self) -> KeptPicture | None:
+        """The last start's picture when it was drawn from what --setup's is drawn from now
+        (read before the first frame: no numpy, no session)."""
+        if self.kept_path is None or self.initial_setup is None:
+            return None
+        from valterm.core.render import kept
+        from valterm.core.workspace import first_setup_bytes
+
+        setup = first_setup_bytes(self.workspace_root, self.initial_setup)
+        if setup is None:  # refused or missing: the session's reading says why
+            return None
+        return kept.read_kept(self.kept_path, kept.start_key(setup, **self._kept_options()))
+
+    def _keep_picture(self, shown: KeptPicture | None) -> None:
+        """Keep the picture the set-up's reading drew for the next start (unless it is the
+        one kept already)."""
+        from valterm.core.render import kept
+        from valterm.ui.widgets.cell_view import CellView
+
+        session = self._session
+        view = self.screen.query_one_optional("#model", CellView) if self.screen_stack else None
+        if self.kept_path is None or session is None or view is None or not session.setup_name:
+            return
+        from valterm.core.workspace import first_setup_bytes
+
+        setup = first_setup_bytes(session.workspace.root, session.setup_name)
+        if setup is None:
+            return
+        picture = view.painted(kept.start_key(setup, **self._kept_options()))
+        if picture is not None and picture != shown:
+            kept.write_kept(self.kept_path, picture)
 
     def open_session(self, setup: str | None) -> Session:
         """A fresh session on ``setup`` (raises the core's errors for the caller to show)."""
@@ -517,8 +565,11 @@ def run(workspace: str | Path | None = None, setup: str | None = None, ascii: bo
     """The app until it ends; ``collect_after_first_frame``: the command line paused Python's
     cycle collector for the start (valterm.cli), and the app turns it on once its first
     screen is drawn; ``recorder``: --record's, closed with the exit status."""
+    from valterm.core.render.kept import cache_path
+
     app = ValtermApp(workspace, setup, ascii=ascii, rules=rules, limits=limits, keys=keys, robot=robot)
     app.collect_after_first_frame = collect_after_first_frame
+    app.kept_path = cache_path()
     app.recorder = recorder
     end_on_hangup()
     result = app.run()
