@@ -772,9 +772,15 @@ class Simulator:
             clamp = frames[:, 6]
             held = self._carried_local @ clamp[:, :3, :3].transpose(0, 2, 1) + clamp[:, None, :3, 3]
         found: list[list[Finding]] = [[] for _ in q0]
+        meet = np.flatnonzero(scene.meeting(frames, rows, held))
+        batch = scene.collisions_at(frames.take(meet, axis=0), rows.take(meet, axis=0)) if len(meet) else []
+        if batch is not None:                   # every moment's pairs at once (no part carried)
+            for k, said in zip(meet.tolist(), batch):
+                found[int(step_of[k])] += said
+            return found
         moved = False
         try:
-            for k in np.flatnonzero(scene.meeting(frames, rows, held)).tolist():
+            for k in meet.tolist():
                 self._follow_clamp(joints[k])
                 moved = True
                 found[int(step_of[k])] += scene.collisions_between(frames[k], self.cell.objects,

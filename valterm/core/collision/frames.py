@@ -23,14 +23,15 @@ from __future__ import annotations
 import math
 import operator
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Collection, Literal, Sequence
+from typing import TYPE_CHECKING, Callable, Collection, Literal, Sequence
 
 import numpy as np
 
 from valterm.core.cell.polyhedron import Polyhedron
 from valterm.core.collision import arrays
-from valterm.core.collision.thesis import (CLEAR, COLLIDES, EPS, NEAR, SEPARATED, Layout, Scene, check_pairs,
-                                           face_planes, figures, largest_of_xyz, layout, margin)
+from valterm.core.collision.thesis import (CLEAR, COLLIDES, EPS, NEAR, SEPARATED, Layout, Scene, box_gaps,
+                                           check_pairs, face_planes, figures, fine, largest_of_xyz, layout,
+                                           margin)
 from valterm.core.collision.world import CollisionWorld, Finding, _Pairs
 
 if TYPE_CHECKING:
@@ -605,13 +606,16 @@ class RobotScene:
         elif not figures.tables:                      # the fixed lengths, once
             figures.tables.append(self._travel_table(frames[0]))
         figures.keys.extend(keys)
-        # each pose's near pairs, by position (as ``check`` finds them); the fine test's poses left
-        fine = set(pose[gaps[pair, pose] <= EPS].tolist())
+        # each pose's near pairs, by position (as ``check`` finds them); the fine test of those
+        # whose boxes meet, every pose's at once
+        codes = np.full(len(pair), NEAR)
+        fined = np.flatnonzero(gaps[pair, pose] <= EPS)
+        if len(fined):
+            codes[fined[self._fine_at(frames, pose.take(fined), pair.take(fined))]] = COLLIDES
         hits: list[list[tuple[int, int]]] = [[] for _ in range(count)]
-        for k, p in sorted(zip(pose.tolist(), pair.tolist())):
-            hits[k].append((p, NEAR))
-        return [None if k in fine else self.world.findings_at(pairs, tuple(h)) if h else []
-                for k, h in enumerate(hits)]
+        for k, p, code in sorted(zip(pose.tolist(), pair.tolist(), codes.tolist())):
+            hits[k].append((p, code))
+        return [self.world.findings_at(pairs, tuple(h)) if h else [] for h in hits]
 
     def _path_picks(self, count: int) -> tuple[np.ndarray, np.ndarray]:
         """Flat indices into the product of ``keep_path`` (rows, poses x 3 x frames) of every
@@ -718,6 +722,75 @@ class RobotScene:
         meet = np.zeros(count, dtype=bool)
         meet[at[largest_of_xyz(gap) <= EPS + arrays.HAIR]] = True
         return meet
+
+    def collisions_at(self, frames: np.ndarray, rows: np.ndarray) -> list[list[Finding]] | None:
+        """``collisions_between`` at many moments in one batch (``_fine_at``): the links at
+        ``frames`` (moments, links, 4, 4), the pairs of each moment's row (moments, pairs); per
+        moment, its collisions. None with a part carried (it moves with the clamp:
+        ``collisions_between`` moment by moment)."""
+        pairs = self._pairs_now
+        assert pairs is not None
+        if self._carried:
+            return None
+        at, p = np.nonzero(rows)
+        hits = np.flatnonzero(self._fine_at(frames, at, p))
+        found: list[list[tuple[int, int]]] = [[] for _ in range(len(frames))]
+        for k, q in sorted(zip(at.take(hits).tolist(), p.take(hits).tolist())):
+            found[k].append((q, COLLIDES))
+        return [self.world.findings_at(pairs, tuple(h)) if h else [] for h in found]
+
+    def _fine_at(self, frames: np.ndarray, at: np.ndarray, p: np.ndarray) -> np.ndarray:
+        """Per (moment ``at[i]``, pair ``p[i]``), the links at ``frames[at[i]]`` and nothing
+        carried: do the pair's boxes meet and the fine test find a collision? One scene holds
+        the links at every moment beside the parts, so the box and fine tests run once for
+        every moment's pairs (the tests of ``check_pairs``, pair by pair: a pair whose boxes
+        meet is near, its centre then in the other's box grown by its radius)."""
+        pairs, s = self._pairs_now, self._scene
+        assert pairs is not None
+        count, nl, rows_l = len(frames), len(self._link_ks), self._nl_rows
+        placed = (self._local_h @ frames[:, : self._n_frames, :3, :].transpose(3, 0, 1, 2).reshape(4, -1)
+                  ).take(self._path_picks(count)[0]).reshape(rows_l, 3, count).transpose(2, 0, 1)
+        lay = _moments_layout(self._layout, nl, rows_l, count)
+        links = count * nl
+        batch = Scene(lay, np.concatenate([placed.reshape(-1, 3), s.vertices[rows_l:]]),
+                      *(np.concatenate([x, y[nl:]]) for x, y in zip(
+                          figures(placed.reshape(-1, 3), lay.starts[:links], lay.counts[:links]),
+                          (s.centres, s.radii, s.mid, s.half))))
+        batch.apart = self._apart_at(frames, batch)
+        shift = (count - 1) * nl          # a part's index moves past every moment's links
+        a, b = pairs.moving.take(p), pairs.stationary.take(p)
+        a = np.where(a < nl, a + at * nl, a + shift)
+        b = np.where(b < nl, b + at * nl, b + shift)
+        meet = np.flatnonzero(box_gaps(batch.mid.take(a, axis=0), batch.half.take(a, axis=0),
+                                       batch.mid.take(b, axis=0), batch.half.take(b, axis=0)) <= EPS)
+        hit = np.zeros(len(a), dtype=bool)
+        if len(meet):
+            hit[meet[fine(batch, a.take(meet), b.take(meet))]] = True
+        return hit
+
+    def _apart_at(self, frames: np.ndarray, batch: Scene) -> Callable[[np.ndarray, np.ndarray], np.ndarray]:
+        """``_apart`` for ``_fine_at``'s scene: its first ``moments x links`` bodies are the
+        links at each of ``frames``, their face planes placed from their own frames."""
+        nl = len(self._link_ks)
+        links = len(frames) * nl
+        lay = batch.layout
+        width = int(lay.counts.max())
+
+        def apart(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+            found = np.zeros(len(a), dtype=bool)
+            sel = np.flatnonzero(a < links)
+            moment, link = np.divmod(a.take(sel), nl)
+            frame = frames[moment, self.owners.take(link)]
+            turned = frame[:, :3, :3] @ self._apart_normals.take(link, axis=0)
+            off = self._apart_offsets.take(link, axis=0) + (frame[:, None, :3, 3] @ turned)[:, 0]
+            other = b.take(sel)
+            rows = lay.starts.take(other)[:, None] + np.minimum(np.arange(width), lay.counts.take(other)[:, None] - 1)
+            d = batch.vertices[rows] @ turned
+            d -= off[:, None]
+            found[sel] = d.min(axis=1).max(axis=1) > SEPARATED
+            return found
+
+        return apart
 
     def _path_bounds(self, terms: np.ndarray, weights: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Each body's bound (steps, bodies; 0 for the still ones) and the link pairs' steps
@@ -954,6 +1027,19 @@ _VERTICES = operator.attrgetter("vertices")
 
 # ``swept``'s answer when no moment is needed (empty: nothing can write into them)
 _NEVER = (np.zeros(0), np.zeros((0, 0), dtype=bool))
+
+
+def _moments_layout(lay: Layout, nl: int, rows: int, count: int) -> Layout:
+    """``lay`` (``nl`` links over ``rows`` vertex rows, then the parts) with its links
+    repeated for ``count`` moments, each moment's vertex rows after the last's, the parts
+    after them all: index arithmetic, no loop over the polyhedra."""
+    def spread(idx: np.ndarray) -> np.ndarray:
+        links = idx[:nl][None] + (np.arange(count) * rows).reshape(-1, *([1] * idx.ndim))
+        return np.concatenate([links.reshape(-1, *idx.shape[1:]), idx[nl:] + (count - 1) * rows])
+
+    return Layout(lay.ks[:nl] * count + lay.ks[nl:], spread(lay.starts), np.concatenate(
+        [np.tile(lay.counts[:nl], count), lay.counts[nl:]]), spread(lay.edge_idx), spread(lay.face_idx),
+        spread(lay.face_next))
 for _empty in _NEVER:
     _empty.flags.writeable = False
 
