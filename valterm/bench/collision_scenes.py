@@ -372,15 +372,17 @@ def differences(ours: Contacts, theirs: Contacts) -> list[tuple[str, str, int | 
     return out
 
 
-def timed(func: Callable[[], Any], rounds: int) -> float:
-    """Seconds of the best of ``rounds`` calls."""
+def timed_together(funcs: list[Callable[[], Any]], rounds: int) -> list[float]:
+    """Seconds of the best of ``rounds`` calls of each, taken in turn round by round (a busy
+    machine's slow spell then falls on all of them, not on one)."""
     import time
 
-    best = float("inf")
+    best = [float("inf")] * len(funcs)
     for _ in range(rounds):
-        start = time.perf_counter()
-        func()
-        best = min(best, time.perf_counter() - start)
+        for i, func in enumerate(funcs):
+            start = time.perf_counter()
+            func()
+            best[i] = min(best[i], time.perf_counter() - start)
     return best
 
 
@@ -391,12 +393,54 @@ def bench_scene(scene: CellScene, rounds: int = 3) -> dict[str, Any]:
     peer = FclPeer(scene)
     ours, poses = valterm_contacts(scene)
     plain, ccd = peer.per_pose(), peer.with_ccd()
-    on = timed(lambda: valterm_contacts(scene, True), rounds)
-    off = timed(lambda: valterm_contacts(scene, False), rounds)
-    fcl_s = timed(peer.per_pose, rounds)
-    ccd_s = timed(peer.with_ccd, rounds)
+    on, off, fcl_s, ccd_s = timed_together([lambda: valterm_contacts(scene, True),
+                                            lambda: valterm_contacts(scene, False), peer.per_pose, peer.with_ccd],
+                                           rounds)
     us = (on - off) / poses * 1e6
     return {"us_per_pose": us, "fcl_us_per_pose": fcl_s / poses * 1e6, "ccd_us_per_pose": ccd_s / poses * 1e6,
             "vs_fcl_x": us / (fcl_s / poses * 1e6), "vs_ccd_x": us / (ccd_s / poses * 1e6),
             "poses": poses, "contacts": len(ours), "fcl_contacts": len(plain), "ccd_contacts": len(ccd),
             "vs_fcl": differences(ours, plain), "vs_ccd": differences(ours, ccd)}
+
+
+class DenseOracle:
+    """The arm's own path between poses, sampled finely (joints moving linearly, as the
+    simulator has them): python-fcl at each sample, for one link x part pair at a time. Slow;
+    it settles where the checkers differ."""
+
+    def __init__(self, scene: CellScene, samples: int = 200) -> None:
+        self.peer = FclPeer(scene)
+        self.scene, self.samples = scene, samples
+        self.model = _simulator(scene.parts).model
+
+    def first(self, link: str, part: str, last: int | None = None) -> int | None:
+        """The first pose index k (>= 1) where the pair meets at pose k or on the way to it."""
+        import fcl
+
+        rows = [i for i, name in enumerate(self.peer.names) if name == link]
+        obj = self.peer.parts[int(part) - 1]
+        poses = self.scene.poses if last is None else self.scene.poses[: last + 1]
+        for k in range(1, len(poses)):
+            for q in _between(poses[k - 1: k + 1], self.samples)[1:]:
+                rot, at = self.peer._placements(list(q))
+                for i in rows:
+                    mover = fcl.CollisionObject(self.peer.geoms[i], fcl.Transform(rot[i], at[i]))
+                    if fcl.collide(mover, obj, fcl.CollisionRequest(), fcl.CollisionResult()):
+                        return k
+        return None
+
+
+def explain(scene: CellScene, ours: Contacts, theirs: Contacts, peer: str,
+            oracle: DenseOracle | None = None) -> list[str]:
+    """Each pair valterm and ``peer`` find at different poses, and which the arm's sampled path
+    agrees with (``DenseOracle``): a line each."""
+    oracle = oracle or DenseOracle(scene)
+    lines = []
+    for link, part, mine, other in differences(ours, theirs):
+        known = [k for k in (mine, other) if k is not None]
+        truth = oracle.first(link, part, max(known))
+        why = ("valterm agrees with the sampled path" if truth == mine else
+               f"{peer} agrees with the sampled path" if truth == other else f"the sampled path says {truth}")
+        plate = " (the thin plate)" if scene.plate is not None and part == str(scene.plate) else ""
+        lines.append(f"{link} x part {part}{plate}: valterm at pose {mine}, {peer} at {other}; {why}")
+    return lines
