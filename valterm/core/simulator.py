@@ -720,10 +720,14 @@ class Simulator:
     def _said(self, findings: list[Finding]) -> Iterator[Event]:
         """Each finding not said at the pose before (nor already at this one), as an event."""
         now: set[tuple[str, Party, Party]] = {(f.kind, f.a, f.b) for f in findings}
+        before = self._findings
+        # only the new ones put in order (most poses say again what the pose before said): the
+        # order sorts, so those it keeps come in the order they would among all
+        new = [f for f in findings if (f.kind, f.a, f.b) not in before] if before else findings
         said: set[tuple[str, Party, Party]] = set()
-        for finding in self._in_order(findings):
+        for finding in self._in_order(new) if new else ():
             key = (finding.kind, finding.a, finding.b)
-            if key not in self._findings and key not in said:
+            if key not in said:
                 said.add(key)
                 yield finding.event()
         self._findings = now
@@ -772,15 +776,15 @@ class Simulator:
             clamp = frames[:, 6]
             held = self._carried_local @ clamp[:, :3, :3].transpose(0, 2, 1) + clamp[:, None, :3, 3]
         found: list[list[Finding]] = [[] for _ in q0]
-        meet = np.flatnonzero(scene.meeting(frames, rows, held))
-        batch = scene.collisions_at(frames.take(meet, axis=0), rows.take(meet, axis=0)) if len(meet) else []
+        batch = scene.collisions_at(frames, rows)
         if batch is not None:                   # every moment's pairs at once (no part carried)
-            for k, said in zip(meet.tolist(), batch):
-                found[int(step_of[k])] += said
+            for k, said in enumerate(batch):
+                if said:
+                    found[int(step_of[k])] += said
             return found
         moved = False
         try:
-            for k in meet.tolist():
+            for k in np.flatnonzero(scene.meeting(frames, rows, held)).tolist():
                 self._follow_clamp(joints[k])
                 moved = True
                 found[int(step_of[k])] += scene.collisions_between(frames[k], self.cell.objects,

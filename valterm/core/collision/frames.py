@@ -560,8 +560,7 @@ class RobotScene:
         ``check`` at that pose, a few in a hundred). None when this does not apply: a part is
         carried (it moves with the hand), or the last ``check`` left pairs to its broad phase
         (then ``keep_pose`` pose by pose), or the scene is not the one ``figures`` were made in."""
-        if self._gaps_now is None or self._carried or self._pairs_now is not figures.pairs \
-                or self._parts is not figures.parts:
+        if self._carried or self._pairs_now is not figures.pairs or self._parts is not figures.parts:
             return None
         s, pairs, nl, count = self._scene, figures.pairs, len(self._link_ks), len(frames)
         # every pose's frames side by side: one product places every vertex at every pose
@@ -741,32 +740,46 @@ class RobotScene:
 
     def _fine_at(self, frames: np.ndarray, at: np.ndarray, p: np.ndarray) -> np.ndarray:
         """Per (moment ``at[i]``, pair ``p[i]``), the links at ``frames[at[i]]`` and nothing
-        carried: do the pair's boxes meet and the fine test find a collision? One scene holds
-        the links at every moment beside the parts, so the box and fine tests run once for
-        every moment's pairs (the tests of ``check_pairs``, pair by pair: a pair whose boxes
-        meet is near, its centre then in the other's box grown by its radius)."""
+        carried: do the pair's boxes meet and the fine test find a collision? The links' boxes
+        at every moment first (one product places every vertex); then one scene holds the
+        links at the moments where boxes meet beside the parts, so the fine test runs once
+        for every moment's pairs (the tests of ``check_pairs``, pair by pair: a pair whose
+        boxes meet is near, its centre then in the other's box grown by its radius)."""
         pairs, s = self._pairs_now, self._scene
         assert pairs is not None
         count, nl, rows_l = len(frames), len(self._link_ks), self._nl_rows
         placed = (self._local_h @ frames[:, : self._n_frames, :3, :].transpose(3, 0, 1, 2).reshape(4, -1)
-                  ).take(self._path_picks(count)[0]).reshape(rows_l, 3, count).transpose(2, 0, 1)
+                  ).take(self._path_picks(count)[0]).reshape(rows_l, 3, count)
+        starts = self._layout.starts[:nl]
+        lo = np.concatenate([np.minimum.reduceat(placed, starts).transpose(2, 0, 1).reshape(-1, 3), s.lo[nl:]])
+        hi = np.concatenate([np.maximum.reduceat(placed, starts).transpose(2, 0, 1).reshape(-1, 3), s.hi[nl:]])
+        a, b = self._at_moment(pairs.moving.take(p), at, count), self._at_moment(pairs.stationary.take(p), at, count)
+        gap = np.maximum(lo.take(b, axis=0) - hi.take(a, axis=0), lo.take(a, axis=0) - hi.take(b, axis=0))
+        meet = np.flatnonzero(largest_of_xyz(gap) <= EPS)
+        hit = np.zeros(len(a), dtype=bool)
+        if not len(meet):
+            return hit
+        # the scene of the moments where boxes meet, those moments numbered again from 0
+        used, at = np.unique(at.take(meet), return_inverse=True)
+        count = len(used)
+        a, b = self._at_moment(pairs.moving.take(p.take(meet)), at, count), \
+            self._at_moment(pairs.stationary.take(p.take(meet)), at, count)
+        placed = placed[:, :, used].transpose(2, 0, 1).reshape(-1, 3)
         lay = _moments_layout(self._layout, nl, rows_l, count)
         links = count * nl
-        batch = Scene(lay, np.concatenate([placed.reshape(-1, 3), s.vertices[rows_l:]]),
+        batch = Scene(lay, np.concatenate([placed, s.vertices[rows_l:]]),
                       *(np.concatenate([x, y[nl:]]) for x, y in zip(
-                          figures(placed.reshape(-1, 3), lay.starts[:links], lay.counts[:links]),
-                          (s.centres, s.radii, s.mid, s.half))))
-        batch.apart = self._apart_at(frames, batch)
-        shift = (count - 1) * nl          # a part's index moves past every moment's links
-        a, b = pairs.moving.take(p), pairs.stationary.take(p)
-        a = np.where(a < nl, a + at * nl, a + shift)
-        b = np.where(b < nl, b + at * nl, b + shift)
-        meet = np.flatnonzero(box_gaps(batch.mid.take(a, axis=0), batch.half.take(a, axis=0),
-                                       batch.mid.take(b, axis=0), batch.half.take(b, axis=0)) <= EPS)
-        hit = np.zeros(len(a), dtype=bool)
-        if len(meet):
-            hit[meet[fine(batch, a.take(meet), b.take(meet))]] = True
+                          figures(placed, lay.starts[:links], lay.counts[:links]), (s.centres, s.radii, s.mid, s.half))))
+        batch.apart = self._apart_at(frames.take(used, axis=0), batch)
+        hit[meet[fine(batch, a, b)]] = True
         return hit
+
+    def _at_moment(self, bodies: np.ndarray, at: np.ndarray, count: int) -> np.ndarray:
+        """The index in ``_fine_at``'s scene of each body at its moment: a link's own copy at
+        that moment, a part's after every moment's links."""
+        nl = len(self._link_ks)
+        found: np.ndarray = np.where(bodies < nl, bodies + at * nl, bodies + (count - 1) * nl)
+        return found
 
     def _apart_at(self, frames: np.ndarray, batch: Scene) -> Callable[[np.ndarray, np.ndarray], np.ndarray]:
         """``_apart`` for ``_fine_at``'s scene: its first ``moments x links`` bodies are the

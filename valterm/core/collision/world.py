@@ -93,19 +93,28 @@ def figure_order(findings: Iterable[Finding], labels: Sequence[str]) -> list[Fin
     """The findings in Fig. C-12's order (the 1985 rules): the hand's bodies first (CLAMP,
     then FINGER), then the others from the hand down (WRIST, FOREARM, ...), carried parts
     after; for each, the parts by number, a near miss before its collision."""
-    keys = _order_keys(tuple(labels))
-    found = list(findings)
+    named = tuple(labels)
+    keys, done = _order_keys(named)
+    found = tuple(findings)
+    known = done.get(found)
+    if known is not None:
+        return list(known)
     for f in found:
         if f not in keys:
-            keys[f] = _order_key(f, tuple(labels))
-    return sorted(found, key=keys.__getitem__)
+            keys[f] = _order_key(f, named)
+    ordered = sorted(found, key=keys.__getitem__)
+    if len(done) >= 64:
+        done.clear()
+    done[found] = tuple(ordered)
+    return ordered
 
 
 @lru_cache(maxsize=8)
-def _order_keys(labels: tuple[str, ...]) -> dict[Finding, tuple[int, str, int]]:
-    """Each finding's place in Fig. C-12's order, worked out once (a dense cell says the same
-    near misses pose after pose)."""
-    return {}
+def _order_keys(labels: tuple[str, ...]) -> tuple[dict[Finding, tuple[int, str, int]],
+                                                  dict[tuple[Finding, ...], tuple[Finding, ...]]]:
+    """Each finding's place in Fig. C-12's order, and the last few lists put in order: worked
+    out once (a dense cell says the same near misses pose after pose)."""
+    return {}, {}
 
 
 def _order_key(f: Finding, labels: tuple[str, ...]) -> tuple[int, str, int]:
