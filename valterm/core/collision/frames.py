@@ -760,16 +760,24 @@ class RobotScene:
         if not len(meet):
             return hit
         # the scene of the moments where boxes meet, those moments numbered again from 0
-        used, at = np.unique(at.take(meet), return_inverse=True)
-        count = len(used)
+        at = at.take(meet)
+        used = np.flatnonzero(np.bincount(at, minlength=count))
+        renumber = np.zeros(count, dtype=np.intp)
+        renumber[used] = np.arange(len(used))
+        at, count = renumber.take(at), len(used)
         a, b = self._at_moment(pairs.moving.take(p.take(meet)), at, count), \
             self._at_moment(pairs.stationary.take(p.take(meet)), at, count)
         placed = placed[:, :, used].transpose(2, 0, 1).reshape(-1, 3)
+        # a link's centre and radius move with its frame (as ``_update`` has them), its box is the one above
+        link_lo = lo[: len(lo) - len(s.lo) + nl].reshape(-1, nl, 3).take(used, axis=0).reshape(-1, 3)
+        link_hi = hi[: len(hi) - len(s.hi) + nl].reshape(-1, nl, 3).take(used, axis=0).reshape(-1, 3)
+        at_frames = frames.take(used, axis=0)[:, self.owners, :3, :]
+        centres = np.einsum("mlij,lj->mli", at_frames, self._local_centres).reshape(-1, 3)
         lay = _moments_layout(self._layout, nl, rows_l, count)
-        links = count * nl
-        batch = Scene(lay, np.concatenate([placed, s.vertices[rows_l:]]),
-                      *(np.concatenate([x, y[nl:]]) for x, y in zip(
-                          figures(placed, lay.starts[:links], lay.counts[:links]), (s.centres, s.radii, s.mid, s.half))))
+        batch = Scene(lay, np.concatenate([placed, s.vertices[rows_l:]]), np.concatenate([centres, s.centres[nl:]]),
+                      np.concatenate([np.tile(self._local_radii, count), s.radii[nl:]]),
+                      np.concatenate([(link_lo + link_hi) * 0.5, s.mid[nl:]]),
+                      np.concatenate([(link_hi - link_lo) * 0.5, s.half[nl:]]))
         batch.apart = self._apart_at(frames.take(used, axis=0), batch)
         hit[meet[fine(batch, a, b)]] = True
         return hit
