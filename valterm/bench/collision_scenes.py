@@ -400,47 +400,76 @@ def bench_scene(scene: CellScene, rounds: int = 3) -> dict[str, Any]:
     return {"us_per_pose": us, "fcl_us_per_pose": fcl_s / poses * 1e6, "ccd_us_per_pose": ccd_s / poses * 1e6,
             "vs_fcl_x": us / (fcl_s / poses * 1e6), "vs_ccd_x": us / (ccd_s / poses * 1e6),
             "poses": poses, "contacts": len(ours), "fcl_contacts": len(plain), "ccd_contacts": len(ccd),
-            "vs_fcl": differences(ours, plain), "vs_ccd": differences(ours, ccd)}
+            "vs_fcl": differences(ours, plain), "vs_ccd": differences(ours, ccd),
+            "ours": ours, "plain": plain, "ccd": ccd}
 
 
 class DenseOracle:
-    """The arm's own path between poses, sampled finely (joints moving linearly, as the
-    simulator has them): python-fcl at each sample, for one link x part pair at a time. Slow;
-    it settles where the checkers differ."""
+    """The arm's own path between two poses, sampled finely (joints moving linearly, as the
+    simulator has them): python-fcl at each sample, one link x part pair at a time. It
+    settles where the checkers differ."""
 
     def __init__(self, scene: CellScene, samples: int = 200) -> None:
         self.peer = FclPeer(scene)
         self.scene, self.samples = scene, samples
-        self.model = _simulator(scene.parts).model
 
-    def first(self, link: str, part: str, last: int | None = None) -> int | None:
-        """The first pose index k (>= 1) where the pair meets at pose k or on the way to it."""
+    def meets(self, link: str, part: str, k: int) -> bool:
+        """Does the pair meet on the way from pose k - 1 to pose k (pose k included)?"""
         import fcl
 
         rows = [i for i, name in enumerate(self.peer.names) if name == link]
         obj = self.peer.parts[int(part) - 1]
-        poses = self.scene.poses if last is None else self.scene.poses[: last + 1]
-        for k in range(1, len(poses)):
-            for q in _between(poses[k - 1: k + 1], self.samples)[1:]:
-                rot, at = self.peer._placements(list(q))
-                for i in rows:
-                    mover = fcl.CollisionObject(self.peer.geoms[i], fcl.Transform(rot[i], at[i]))
-                    if fcl.collide(mover, obj, fcl.CollisionRequest(), fcl.CollisionResult()):
-                        return k
-        return None
+        for q in _between(self.scene.poses[k - 1: k + 1], self.samples)[1:]:
+            rot, at = self.peer._placements([float(v) for v in q])
+            for i in rows:
+                mover = fcl.CollisionObject(self.peer.geoms[i], fcl.Transform(rot[i], at[i]))
+                if fcl.collide(mover, obj, fcl.CollisionRequest(), fcl.CollisionResult()):
+                    return True
+        return False
 
 
-def explain(scene: CellScene, ours: Contacts, theirs: Contacts, peer: str,
-            oracle: DenseOracle | None = None) -> list[str]:
-    """Each pair valterm and ``peer`` find at different poses, and which the arm's sampled path
-    agrees with (``DenseOracle``): a line each."""
-    oracle = oracle or DenseOracle(scene)
+def explain(scene: CellScene, ours: Contacts, theirs: Contacts, peer: str, oracle: DenseOracle) -> list[str]:
+    """Each pair valterm and ``peer`` first find at different poses, and what the arm's path,
+    sampled finely on the way to those poses (``DenseOracle``), says: a line each."""
     lines = []
     for link, part, mine, other in differences(ours, theirs):
-        known = [k for k in (mine, other) if k is not None]
-        truth = oracle.first(link, part, max(known))
-        why = ("valterm agrees with the sampled path" if truth == mine else
-               f"{peer} agrees with the sampled path" if truth == other else f"the sampled path says {truth}")
-        plate = " (the thin plate)" if scene.plate is not None and part == str(scene.plate) else ""
-        lines.append(f"{link} x part {part}{plate}: valterm at pose {mine}, {peer} at {other}; {why}")
+        said = sorted({k for k in (mine, other) if k is not None})
+        met = {k: oracle.meets(link, part, k) for k in said}
+        first = said[0]
+        who = [name for name, k in (("valterm", mine), (peer, other)) if k == first]
+        if met[first]:
+            why = f"the path meets it by pose {first}: {' and '.join(who)} right"
+        else:
+            why = f"the path does not meet it on the way to pose {first}: a false contact from {who[0]}"
+        plate = " (the 0.5 mm plate)" if scene.plate is not None and part == str(scene.plate) else ""
+        lines.append(f"{scene.name} cell, {len(scene.parts)} parts: {link} x part {part}{plate}: valterm at pose "
+                     f"{mine}, {peer} at {other}; {why}")
     return lines
+
+
+def scene_figures(rounds: int = 3) -> tuple[dict[str, float], list[str]]:
+    """The bench's figures for the crowded and the heavy cell at 30 and 100 parts, and a line
+    for each pair valterm and a peer find differently, with which the arm's path agrees."""
+    figures: dict[str, float] = {}
+    notes: list[str] = []
+    for make in (crowded_cell, heavy_cell):
+        for n in (30, 100):
+            scene = make(n)
+            found = bench_scene(scene, rounds)
+            name = f"collision_{scene.name}"
+            for key in ("us_per_pose", "fcl_us_per_pose", "ccd_us_per_pose", "vs_fcl_x", "vs_ccd_x",
+                        "poses", "contacts", "fcl_contacts", "ccd_contacts"):
+                figures[f"{name}_{key.replace('_per_pose', '')}_{n}parts"] = float(found[key])
+            figures[f"{name}_differ_fcl_{n}parts"] = float(len(found["vs_fcl"]))
+            figures[f"{name}_differ_ccd_{n}parts"] = float(len(found["vs_ccd"]))
+            earlier = [d for d in found["vs_fcl"] if d[2] is not None and (d[3] is None or d[2] < d[3])]
+            if earlier:
+                notes.append(f"{scene.name} cell, {n} parts: {len(earlier)} pairs met between poses before fcl per "
+                             f"pose sees them at a pose ({sum(d[3] is None for d in earlier)} never at a pose)")
+            oracle = DenseOracle(scene)
+            notes += explain(scene, found["ours"], found["ccd"], "fcl + CCD", oracle)
+            plate = str(scene.plate)
+            if scene.plate is not None and plate not in {b for _, b in found["plain"]}:
+                notes += [line for line in explain(scene, found["ours"], found["plain"], "fcl per pose", oracle)
+                          if f"part {plate} " in line]
+    return figures, notes
