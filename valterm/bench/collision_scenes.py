@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING, Any, Callable
 import numpy as np
 
 from valterm.core.cell.polyhedron import Polyhedron
+from valterm.core.events import Collision, PoseEvent
 
 if TYPE_CHECKING:
     from valterm.core.simulator import Simulator
@@ -213,7 +214,7 @@ def thin_plate(sim: Simulator, poses: np.ndarray, name: str) -> tuple[Polyhedron
     placed = _links_placed(sim, poses)
     rows = _link_rows(sim)
     arm = _ArmSamples(sim, poses)
-    finger = [i for i, name_ in enumerate(sim.model.names) if name_.startswith("FINGER")][0]
+    finger = next(i for i, name_ in enumerate(sim.model.names) if name_.startswith("FINGER"))
     v = placed[:, rows == finger]
     for k in range(len(poses) - 2, 0, -1):
         mid = (poses[k] + ((poses[k + 1] - poses[k] + 180.0) % 360.0 - 180.0) / 2.0)[None]
@@ -353,13 +354,10 @@ def valterm_contacts(scene: CellScene, checks: bool = True) -> tuple[Contacts, i
     k = 0
     for goal in scene.goals[1:]:
         for event in sim.move_joints(goal):
-            kind = type(event).__name__
-            if kind == "PoseEvent":
+            if isinstance(event, PoseEvent):
                 k += 1
-            elif kind == "Collision":
-                a, b = getattr(event, "a"), getattr(event, "b")
-                if b.isdigit():
-                    found.setdefault((a, b), k)
+            elif isinstance(event, Collision) and event.b.isdigit():
+                found.setdefault((event.a, event.b), k)
     return found, k
 
 

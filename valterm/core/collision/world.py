@@ -273,9 +273,13 @@ class CollisionWorld:
         if kept is not None and kept[0] is pairs:
             return kept[1]
         one: dict[Finding, Finding] = {}       # equal findings (two FINGER polyhedra) one object
-        near = [(one.setdefault(Finding("near", a, b), Finding("near", a, b)),) for a, b in zip(pairs.a, pairs.b)]
-        hit = [(one.setdefault(Finding("collides", a, b), Finding("collides", a, b)),)
-               for a, b in zip(pairs.a, pairs.b)]
+
+        def said(kind: Literal["near", "collides"], a: Party, b: Party) -> tuple[Finding, ...]:
+            f = Finding(kind, a, b)
+            return (one.setdefault(f, f),)
+
+        near = [said("near", a, b) for a, b in zip(pairs.a, pairs.b)]
+        hit = [said("collides", a, b) for a, b in zip(pairs.a, pairs.b)]
         if self.near_with_collision:
             hit = [n + h for n, h in zip(near, hit)]
         table = {NEAR: near, COLLIDES: hit}
