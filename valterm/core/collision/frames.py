@@ -23,21 +23,22 @@ from __future__ import annotations
 import math
 import operator
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Callable, Collection, Literal, Sequence
+from typing import TYPE_CHECKING, Collection, Literal, Sequence
 
 import numpy as np
 
 from valterm.core.cell.polyhedron import Polyhedron
 from valterm.core.collision import arrays
 from valterm.core.collision.thesis import (CLEAR, COLLIDES, EPS, NEAR, SEPARATED, Layout, Scene, check_pairs,
-                                           face_planes, figures, fine, largest_of_xyz, layout, margin)
+                                           face_planes, figures, largest_of_xyz, layout, margin)
+from valterm.core.collision.moments import MomentsBatch
 from valterm.core.collision.world import CollisionWorld, Finding, _Pairs
 
 if TYPE_CHECKING:
     from valterm.core.collision.exact import FrameExact
 
 
-class RobotScene:
+class RobotScene(MomentsBatch):
     """Collision check of robot links given as frames, against the parts of a work cell."""
 
     # below this many mover x part pairs the coarse test of them all costs less than the
@@ -721,97 +722,6 @@ class RobotScene:
         meet[at[largest_of_xyz(gap) <= EPS + arrays.HAIR]] = True
         return meet
 
-    def collisions_at(self, frames: np.ndarray, rows: np.ndarray) -> list[list[Finding]] | None:
-        """``collisions_between`` at many moments in one batch (``_fine_at``): the links at
-        ``frames`` (moments, links, 4, 4), the pairs of each moment's row (moments, pairs); per
-        moment, its collisions. None with a part carried (it moves with the clamp:
-        ``collisions_between`` moment by moment)."""
-        pairs = self._pairs_now
-        assert pairs is not None
-        if self._carried:
-            return None
-        at, p = np.nonzero(rows)
-        hits = np.flatnonzero(self._fine_at(frames, at, p))
-        found: list[list[tuple[int, int]]] = [[] for _ in range(len(frames))]
-        for k, q in sorted(zip(at.take(hits).tolist(), p.take(hits).tolist())):
-            found[k].append((q, COLLIDES))
-        return [self.world.findings_at(pairs, tuple(h)) if h else [] for h in found]
-
-    def _fine_at(self, frames: np.ndarray, at: np.ndarray, p: np.ndarray) -> np.ndarray:
-        """Per (moment ``at[i]``, pair ``p[i]``), the links at ``frames[at[i]]`` and nothing
-        carried: do the pair's boxes meet and the fine test find a collision? The links' boxes
-        at every moment first (one product places every vertex); then one scene holds the
-        links at the moments where boxes meet beside the parts, so the fine test runs once
-        for every moment's pairs (the tests of ``check_pairs``, pair by pair: a pair whose
-        boxes meet is near, its centre then in the other's box grown by its radius)."""
-        pairs, s = self._pairs_now, self._scene
-        assert pairs is not None
-        count, nl, rows_l = len(frames), len(self._link_ks), self._nl_rows
-        placed = (self._local_h @ frames[:, : self._n_frames, :3, :].transpose(3, 0, 1, 2).reshape(4, -1)
-                  ).take(self._path_picks(count)[0]).reshape(rows_l, 3, count)
-        starts = self._layout.starts[:nl]
-        lo = np.concatenate([np.minimum.reduceat(placed, starts).transpose(2, 0, 1).reshape(-1, 3), s.lo[nl:]])
-        hi = np.concatenate([np.maximum.reduceat(placed, starts).transpose(2, 0, 1).reshape(-1, 3), s.hi[nl:]])
-        a, b = self._at_moment(pairs.moving.take(p), at, count), self._at_moment(pairs.stationary.take(p), at, count)
-        gap = np.maximum(lo.take(b, axis=0) - hi.take(a, axis=0), lo.take(a, axis=0) - hi.take(b, axis=0))
-        meet = np.flatnonzero(largest_of_xyz(gap) <= EPS)
-        hit = np.zeros(len(a), dtype=bool)
-        if not len(meet):
-            return hit
-        # the scene of the moments where boxes meet, those moments numbered again from 0
-        at = at.take(meet)
-        used = np.flatnonzero(np.bincount(at, minlength=count))
-        renumber = np.zeros(count, dtype=np.intp)
-        renumber[used] = np.arange(len(used))
-        at, count = renumber.take(at), len(used)
-        a, b = self._at_moment(pairs.moving.take(p.take(meet)), at, count), \
-            self._at_moment(pairs.stationary.take(p.take(meet)), at, count)
-        placed = placed[:, :, used].transpose(2, 0, 1).reshape(-1, 3)
-        # a link's centre and radius move with its frame (as ``_update`` has them), its box is the one above
-        link_lo = lo[: len(lo) - len(s.lo) + nl].reshape(-1, nl, 3).take(used, axis=0).reshape(-1, 3)
-        link_hi = hi[: len(hi) - len(s.hi) + nl].reshape(-1, nl, 3).take(used, axis=0).reshape(-1, 3)
-        at_frames = frames.take(used, axis=0)[:, self.owners, :3, :]
-        centres = np.einsum("mlij,lj->mli", at_frames, self._local_centres).reshape(-1, 3)
-        lay = _moments_layout(self._layout, nl, rows_l, count)
-        batch = Scene(lay, np.concatenate([placed, s.vertices[rows_l:]]), np.concatenate([centres, s.centres[nl:]]),
-                      np.concatenate([np.tile(self._local_radii, count), s.radii[nl:]]),
-                      np.concatenate([(link_lo + link_hi) * 0.5, s.mid[nl:]]),
-                      np.concatenate([(link_hi - link_lo) * 0.5, s.half[nl:]]))
-        batch.apart = self._apart_at(frames.take(used, axis=0), batch)
-        hit[meet[fine(batch, a, b)]] = True
-        return hit
-
-    def _at_moment(self, bodies: np.ndarray, at: np.ndarray, count: int) -> np.ndarray:
-        """The index in ``_fine_at``'s scene of each body at its moment: a link's own copy at
-        that moment, a part's after every moment's links."""
-        nl = len(self._link_ks)
-        found: np.ndarray = np.where(bodies < nl, bodies + at * nl, bodies + (count - 1) * nl)
-        return found
-
-    def _apart_at(self, frames: np.ndarray, batch: Scene) -> Callable[[np.ndarray, np.ndarray], np.ndarray]:
-        """``_apart`` for ``_fine_at``'s scene: its first ``moments x links`` bodies are the
-        links at each of ``frames``, their face planes placed from their own frames."""
-        nl = len(self._link_ks)
-        links = len(frames) * nl
-        lay = batch.layout
-        width = int(lay.counts.max())
-
-        def apart(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-            found = np.zeros(len(a), dtype=bool)
-            sel = np.flatnonzero(a < links)
-            moment, link = np.divmod(a.take(sel), nl)
-            frame = frames[moment, self.owners.take(link)]
-            turned = frame[:, :3, :3] @ self._apart_normals.take(link, axis=0)
-            off = self._apart_offsets.take(link, axis=0) + (frame[:, None, :3, 3] @ turned)[:, 0]
-            other = b.take(sel)
-            rows = lay.starts.take(other)[:, None] + np.minimum(np.arange(width), lay.counts.take(other)[:, None] - 1)
-            d = batch.vertices[rows] @ turned
-            d -= off[:, None]
-            found[sel] = d.min(axis=1).max(axis=1) > SEPARATED
-            return found
-
-        return apart
-
     def _path_bounds(self, terms: np.ndarray, weights: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Each body's bound (steps, bodies; 0 for the still ones) and the link pairs' steps
         needed (steps, link pairs) from the (steps, movers, joints) travel terms."""
@@ -1047,21 +957,9 @@ _VERTICES = operator.attrgetter("vertices")
 
 # ``swept``'s answer when no moment is needed (empty: nothing can write into them)
 _NEVER = (np.zeros(0), np.zeros((0, 0), dtype=bool))
-
-
-def _moments_layout(lay: Layout, nl: int, rows: int, count: int) -> Layout:
-    """``lay`` (``nl`` links over ``rows`` vertex rows, then the parts) with its links
-    repeated for ``count`` moments, each moment's vertex rows after the last's, the parts
-    after them all: index arithmetic, no loop over the polyhedra."""
-    def spread(idx: np.ndarray) -> np.ndarray:
-        links = idx[:nl][None] + (np.arange(count) * rows).reshape(-1, *([1] * idx.ndim))
-        return np.concatenate([links.reshape(-1, *idx.shape[1:]), idx[nl:] + (count - 1) * rows])
-
-    return Layout(lay.ks[:nl] * count + lay.ks[nl:], spread(lay.starts), np.concatenate(
-        [np.tile(lay.counts[:nl], count), lay.counts[nl:]]), spread(lay.edge_idx), spread(lay.face_idx),
-        spread(lay.face_next))
 for _empty in _NEVER:
     _empty.flags.writeable = False
+
 
 def _same_objects(kept: tuple[Polyhedron, ...], objects: Sequence[Polyhedron]) -> bool:
     """Whether ``objects`` are the polyhedra ``kept``, in order: one tuple comparison in C, which
