@@ -46,7 +46,7 @@ from valterm.core.rules import CONTROLLER, RULES_1985, check_rules
 
 if TYPE_CHECKING:  # the collision checks load with the first check, not at every start (issue 25)
     from valterm.core.collision.frames import PathFigures, RobotScene
-    from valterm.core.collision.world import Finding, Party
+    from valterm.core.collision.world import Finding
 
 GRASP_MESSAGE = "IT IS POSSIBLE TO GRASP THIS PART"
 # how close a taught location's joint angles must put the tool to its pose to be its goal:
@@ -149,7 +149,7 @@ class Simulator:
         self.stop_on_collision = False
         self.autoconfig = False  # AUTOCONFIG ON: try the other configurations (§8.1)
         self.pendant_increment = PENDANT_INCREMENT  # signed: N flips it
-        self._findings: set[tuple[str, Party, Party]] = set()
+        self._findings: set[Finding] = set()     # the last step's (a finding is said as it starts)
         self._checker: RobotScene | None = None
         self._checker_gap: float | None = None
 
@@ -699,9 +699,7 @@ class Simulator:
         motion may not say one of these again."""
         if not self.collision_checks:
             return []
-        from valterm.core.collision.world import Finding  # loaded with the checks
-
-        found = [Finding(kind, a, b) for kind, a, b in sorted(self._findings, key=str)]  # type: ignore[arg-type]
+        found = sorted(self._findings, key=lambda f: str((f.kind, f.a, f.b)))
         return [finding.event() for finding in self._in_order(found)]
 
     def _findings_here(self, previous: Sequence[float] | None, here: Sequence[float]) -> list[Finding]:
@@ -719,16 +717,15 @@ class Simulator:
 
     def _said(self, findings: list[Finding]) -> Iterator[Event]:
         """Each finding not said at the pose before (nor already at this one), as an event."""
-        now: set[tuple[str, Party, Party]] = {(f.kind, f.a, f.b) for f in findings}
+        now = set(findings)
         before = self._findings
         # only the new ones put in order (most poses say again what the pose before said): the
         # order sorts, so those it keeps come in the order they would among all
-        new = [f for f in findings if (f.kind, f.a, f.b) not in before] if before else findings
-        said: set[tuple[str, Party, Party]] = set()
+        new = [f for f in findings if f not in before] if before else findings
+        said: set[Finding] = set()
         for finding in self._in_order(new) if new else ():
-            key = (finding.kind, finding.a, finding.b)
-            if key not in said:
-                said.add(key)
+            if finding not in said:
+                said.add(finding)
                 yield finding.event()
         self._findings = now
 

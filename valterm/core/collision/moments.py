@@ -134,6 +134,22 @@ class MomentsBatch:
 
 
 def _moments_layout(lay: Layout, nl: int, rows: int, count: int) -> Layout:
+    """The layout below, kept for the last few (layout, count)s (a path's moments come in few counts)."""
+    key = (id(lay), nl, rows, count)
+    kept = _LAYOUTS.get(key)
+    if kept is not None and kept[0] is lay:
+        return kept[1]
+    if len(_LAYOUTS) >= 64:
+        _LAYOUTS.clear()
+    made = _moments_layout_of(lay, nl, rows, count)
+    _LAYOUTS[key] = (lay, made)
+    return made
+
+
+_LAYOUTS: dict[tuple[int, int, int, int], tuple[Layout, Layout]] = {}
+
+
+def _moments_layout_of(lay: Layout, nl: int, rows: int, count: int) -> Layout:
     """``lay`` (``nl`` links over ``rows`` vertex rows, then the parts) with its links
     repeated for ``count`` moments, each moment's vertex rows after the last's, the parts
     after them all: index arithmetic, no loop over the polyhedra."""

@@ -264,7 +264,9 @@ class CollisionWorld:
     def _new_findings(self, pairs: _Pairs, hits: tuple[tuple[int, int], ...]) -> list[Finding]:
         said = self._said_table(pairs)
         # each once, in order (two FINGER polyhedra say the same): a dict keeps the first
-        return list(dict.fromkeys(f for p, code in hits for f in said[code][p]))
+        if self.near_with_collision:
+            return list(dict.fromkeys(f for p, code in hits for f in said[code][p]))
+        return list(dict.fromkeys([said[code][p][0] for p, code in hits]))
 
     def _said_table(self, pairs: _Pairs) -> dict[int, list[tuple[Finding, ...]]]:
         """What each pair says, by kind code (NEAR, COLLIDES) and position: made once per set
