@@ -538,10 +538,9 @@ class RobotScene(MomentsBatch):
 
     def path_ready(self, objects: Sequence[Polyhedron], carried: Collection[int] = ()) -> bool:
         """Whether the last ``check`` left the scene set up for these parts (the same parts where
-        they were, none carried, every pair's box gaps measured, as the thesis's checker): then
+        they were, none carried, as the thesis's checker): then
         ``keep_path`` can check a path's first pose too, with no ``check`` before it."""
-        if self.checker != "thesis" or carried or self._gaps_now is None or self._pairs_now is None \
-                or self._pairs_for != (len(objects), ()):
+        if self.checker != "thesis" or carried or self._pairs_now is None or self._pairs_for != (len(objects), ()):
             return False
         if self._parts_changed(objects, ()):
             # as ``check`` would: asking again would find the same objects and say unchanged
@@ -556,10 +555,11 @@ class RobotScene(MomentsBatch):
         product, then the box gaps of (pairs x poses) in a few numpy calls and the coarse test
         where the boxes are within its reach (a body's centre lies in its box: nowhere else can
         it pass), the arithmetic of the pose-by-pose ``check`` (the same numbers, bit for bit).
-        Per pose its findings, or None where a near pair's boxes meet (the fine test's case: call
-        ``check`` at that pose, a few in a hundred). None when this does not apply: a part is
-        carried (it moves with the hand), or the last ``check`` left pairs to its broad phase
-        (then ``keep_pose`` pose by pose), or the scene is not the one ``figures`` were made in."""
+        Per pose its findings: the near pairs whose boxes meet get the fine test, every pose's
+        at once (``_fine_at``). Every pair at every pose, so no broad phase is needed (the box
+        gaps of a few thousand pairs are a few numpy calls). None when this does not apply: a
+        part is carried (it moves with the hand), or the scene is not the one ``figures`` were
+        made in."""
         if self._carried or self._pairs_now is not figures.pairs or self._parts is not figures.parts:
             return None
         s, pairs, nl, count = self._scene, figures.pairs, len(self._link_ks), len(frames)
