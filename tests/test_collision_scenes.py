@@ -89,3 +89,25 @@ def test_moments_checked_together_find_what_each_moment_finds(heavy: CellScene) 
     alone = [scene.collisions_between(f, sim.cell.objects, np.flatnonzero(r)) for f, r in zip(frames, rows)]
     assert together == alone
     assert sum(map(len, alone)) > 50
+
+
+def test_moments_in_rounds_say_what_every_moment_says(heavy: CellScene) -> None:
+    """With the moments' steps given, a pair found at one moment of a step is not looked for
+    at its later ones: each step still says the same collisions, first said in the same order."""
+    sim = Simulator(WorkCell(objects=list(heavy.parts)))
+    scene: RobotScene = sim._collision_scene()
+    sim.stand_at([float(v) for v in heavy.poses[0]])
+    list(sim.check_collisions())
+    pairs = scene._pairs_now
+    assert pairs is not None
+    rng = np.random.default_rng(41)
+    joints = heavy.poses[1:200] + rng.normal(0.0, 3.0, (199, 6))
+    frames = sim.model.link_frames_batch(joints, sim.base)
+    rows = rng.random((len(joints), len(pairs.moving))) < 0.5
+    steps = np.sort(rng.integers(0, 25, len(joints)))
+    every, rounds = scene.collisions_at(frames, rows), scene.collisions_at(frames, rows, steps)
+    assert every is not None and rounds is not None
+    said = [[list(dict.fromkeys(f for k in np.flatnonzero(steps == s) for f in found[k])) for s in range(25)]
+            for found in (every, rounds)]
+    assert said[0] == said[1] and sum(map(len, said[0])) > 20
+    assert sum(map(len, rounds)) < sum(map(len, every))        # later moments not looked at again

@@ -759,12 +759,13 @@ class Simulator:
         return self._at_moments(scene, q0, q0 + np.asarray(turns), (step, moments, rows))[0]
 
     def _at_moments(self, scene: RobotScene, q0: np.ndarray, q1: np.ndarray,
-                    moments: tuple[np.ndarray, np.ndarray, np.ndarray]) -> list[list[Finding]]:
+                    moments: tuple[np.ndarray, np.ndarray, np.ndarray], rounds: bool = False) -> list[list[Finding]]:
         """The collisions at the moments (each one's step, its fraction of the step, its row of
         pairs: ``RobotScene.swept``'s) of the steps from poses ``q0`` to ``q1`` (steps, 6), step
         by step: the link frames of every moment at once, then the pairs at risk checked at the
         moments where their boxes can meet (``RobotScene.meeting``; nowhere else can the fine
-        test find one)."""
+        test find one). ``rounds``: where collisions are likely, a pair found at one moment of
+        a step is not looked for at its later ones (``RobotScene.collisions_at``)."""
         step_of, t, rows = moments
         joints = q0[step_of] + (q1[step_of] - q0[step_of]) * t[:, None]
         frames = self.model.link_frames_batch(joints, self.base)
@@ -773,7 +774,7 @@ class Simulator:
             clamp = frames[:, 6]
             held = self._carried_local @ clamp[:, :3, :3].transpose(0, 2, 1) + clamp[:, None, :3, 3]
         found: list[list[Finding]] = [[] for _ in q0]
-        batch = scene.collisions_at(frames, rows)
+        batch = scene.collisions_at(frames, rows, step_of if rounds else None)
         if batch is not None:                   # every moment's pairs at once (no part carried)
             for k, said in enumerate(batch):
                 if said:
@@ -862,7 +863,10 @@ class _PathChecks:
         moments = self.scene.swept_path(frames, np.radians(turns), sim.cell.objects, self.figures)
         if not len(moments[0]):
             return
-        for step, said in enumerate(sim._at_moments(self.scene, q[:-1], q[:-1] + turns, moments)):
+        # a path that collides at its poses most likely does between them (a cell crowded
+        # round a path it clears seldom does): then the moments go in rounds
+        rounds = any(f.kind == "collides" for found in self.found for f in found)
+        for step, said in enumerate(sim._at_moments(self.scene, q[:-1], q[:-1] + turns, moments, rounds)):
             if said:
                 self.found[step] = said + self.found[step]
 

@@ -41,21 +41,57 @@ class MomentsBatch:
     def _path_picks(self, count: int) -> tuple[np.ndarray, np.ndarray]:
         raise NotImplementedError
 
-    def collisions_at(self, frames: np.ndarray, rows: np.ndarray) -> list[list[Finding]] | None:
+    def collisions_at(self, frames: np.ndarray, rows: np.ndarray, steps: np.ndarray | None = None
+                      ) -> list[list[Finding]] | None:
         """``collisions_between`` at many moments in one batch (``_fine_at``): the links at
         ``frames`` (moments, links, 4, 4), the pairs of each moment's row (moments, pairs); per
         moment, its collisions. None with a part carried (it moves with the clamp:
-        ``collisions_between`` moment by moment)."""
+        ``collisions_between`` moment by moment).
+
+        ``steps``: the step of each moment (a step's moments together, in order). A step says a
+        collision once, so a pair found at one of its moments is not looked for at the later
+        ones: the moments go in rounds (each step's first, second, next two, next four ..., the
+        rest at once after a round that found none)."""
         pairs = self._pairs_now
         assert pairs is not None
         if self._carried:
             return None
         at, p = np.nonzero(rows)
-        hits = np.flatnonzero(self._fine_at(frames, at, p))
+        hits = np.flatnonzero(self._fine_at(frames, at, p)) if steps is None else self._first_hits(frames, at, p, steps)
         found: list[list[tuple[int, int]]] = [[] for _ in range(len(frames))]
         for k, q in sorted(zip(at.take(hits).tolist(), p.take(hits).tolist())):
             found[k].append((q, COLLIDES))
         return [self.world.findings_at(pairs, tuple(h)) if h else [] for h in found]
+
+    def _first_hits(self, frames: np.ndarray, at: np.ndarray, p: np.ndarray, steps: np.ndarray) -> np.ndarray:
+        """Of the (moment ``at[i]``, pair ``p[i]``) items, those that collide where their pair
+        has not collided at an earlier moment of the same step (``collisions_at``'s rounds)."""
+        count = len(frames)
+        first = np.searchsorted(steps, steps)            # each moment's step's first moment
+        rank = (np.arange(count) - first).take(at)
+        pair_in_step = steps.take(at) * (int(p.max(initial=0)) + 1) + p
+        done = np.zeros(0, dtype=np.intp)
+        hits = []
+        low, high = 0, 1
+        while low <= int(rank.max(initial=-1)):
+            now = np.flatnonzero((rank >= low) & (rank < high) & ~np.isin(pair_in_step, done))
+            if len(now):
+                used = np.unique(at.take(now))
+                renumber = np.zeros(count, dtype=np.intp)
+                renumber[used] = np.arange(len(used))
+                hit = now[self._fine_at(frames.take(used, axis=0), renumber.take(at.take(now)), p.take(now))]
+                hits.append(hit)
+                done = np.union1d(done, pair_in_step.take(hit))
+            # a round that found nothing would save nothing by more rounds: the rest at once
+            low, high = high, (2 * high if len(now) and len(hit) else count)
+        if not hits:
+            return np.zeros(0, dtype=np.intp)
+        every = np.concatenate(hits)
+        # a pair hit at two moments of one round: its first
+        _, keep = np.unique(pair_in_step.take(every) * count + at.take(every), return_index=True)
+        ordered = every[keep]
+        _, first_of_pair = np.unique(pair_in_step.take(ordered), return_index=True)
+        return np.sort(ordered[first_of_pair])
 
     def _fine_at(self, frames: np.ndarray, at: np.ndarray, p: np.ndarray) -> np.ndarray:
         """Per (moment ``at[i]``, pair ``p[i]``), the links at ``frames[at[i]]`` and nothing
