@@ -611,10 +611,11 @@ class RobotScene(MomentsBatch):
         fined = np.flatnonzero(gaps[pair, pose] <= EPS)
         if len(fined):
             codes[fined[self._fine_at(frames, pose.take(fined), pair.take(fined))]] = COLLIDES
-        hits: list[list[tuple[int, int]]] = [[] for _ in range(count)]
-        for k, p, code in sorted(zip(pose.tolist(), pair.tolist(), codes.tolist())):
-            hits[k].append((p, code))
-        return [self.world.findings_at(pairs, tuple(h)) if h else [] for h in hits]
+        order = np.argsort(pose, kind="stable")          # by pose, then by pair (as found)
+        bounds = np.searchsorted(pose.take(order), np.arange(count + 1)).tolist()
+        said = list(zip(pair.take(order).tolist(), codes.take(order).tolist()))
+        return [self.world.findings_at(pairs, tuple(said[a:b])) if b > a else []
+                for a, b in zip(bounds[:-1], bounds[1:])]
 
     def _path_picks(self, count: int) -> tuple[np.ndarray, np.ndarray]:
         """Flat indices into the product of ``keep_path`` (rows, poses x 3 x frames) of every
