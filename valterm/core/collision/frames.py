@@ -20,6 +20,7 @@ With ``checker="exact"`` python-fcl answers the pairs the broad phase keeps
 
 from __future__ import annotations
 
+import itertools
 import math
 import operator
 from dataclasses import dataclass
@@ -615,7 +616,7 @@ class RobotScene(MomentsBatch):
         bounds = np.searchsorted(pose.take(order), np.arange(count + 1)).tolist()
         said = list(zip(pair.take(order).tolist(), codes.take(order).tolist()))
         return [self.world.findings_at(pairs, tuple(said[a:b])) if b > a else []
-                for a, b in zip(bounds[:-1], bounds[1:])]
+                for a, b in itertools.pairwise(bounds)]
 
     def _path_picks(self, count: int) -> tuple[np.ndarray, np.ndarray]:
         """Flat indices into the product of ``keep_path`` (rows, poses x 3 x frames) of every
