@@ -111,3 +111,15 @@ def test_moments_in_rounds_say_what_every_moment_says(heavy: CellScene) -> None:
             for found in (every, rounds)]
     assert said[0] == said[1] and sum(map(len, said[0])) > 20
     assert sum(map(len, rounds)) < sum(map(len, every))        # later moments not looked at again
+
+
+def test_the_goals_table_has_the_scenes_and_says_where_the_checkers_differ() -> None:
+    from valterm.bench.suite import GOALS, PEERS, markdown
+
+    table = markdown({"machine": "test", "collision_crowded_vs_fcl_x_30parts": 3.3,
+                      "collision_crowded_fcl_us_30parts": 41.5,
+                      "notes": ["heavy cell, 30 parts: FINGER x part 30 (the 0.5 mm plate): found between poses"]})
+    assert "| `collision_crowded_vs_fcl_x_30parts` | 3.3 | <= 4 | yes | python-fcl per pose, µs per pose: 41.5" in table
+    assert "Where the checkers differ:\n\n- heavy cell, 30 parts: FINGER x part 30" in table
+    assert GOALS["collision_crowded_vs_ccd_x_100parts"] == ("<=", 0.5)
+    assert PEERS["collision_heavy_vs_ccd_x_30parts"][0] == "collision_heavy_ccd_us_30parts"
