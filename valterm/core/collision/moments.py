@@ -10,7 +10,7 @@ the fine test of ``check_pairs`` then run once over every moment's pairs.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Callable
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -112,6 +112,8 @@ class MomentsBatch:
         gap = np.maximum(lo.take(b, axis=0) - hi.take(a, axis=0), lo.take(a, axis=0) - hi.take(b, axis=0))
         meet = np.flatnonzero(largest_of_xyz(gap) <= EPS)
         hit = np.zeros(len(a), dtype=bool)
+        if len(meet):           # a link's face plane with the other wholly beyond it: clear (``_apart``)
+            meet = meet[~self._apart_items(frames, placed, at.take(meet), p.take(meet))]
         if not len(meet):
             return hit
         # the scene of the moments where boxes meet, those moments numbered again from 0
@@ -133,7 +135,6 @@ class MomentsBatch:
                       np.concatenate([np.tile(self._local_radii, count), s.radii[nl:]]),
                       np.concatenate([(link_lo + link_hi) * 0.5, s.mid[nl:]]),
                       np.concatenate([(link_hi - link_lo) * 0.5, s.half[nl:]]))
-        batch.apart = self._apart_at(frames.take(used, axis=0), batch)
         hit[meet[fine(batch, a, b)]] = True
         return hit
 
@@ -144,29 +145,28 @@ class MomentsBatch:
         found: np.ndarray = np.where(bodies < nl, bodies + at * nl, bodies + (count - 1) * nl)
         return found
 
-    def _apart_at(self, frames: np.ndarray, batch: Scene) -> Callable[[np.ndarray, np.ndarray], np.ndarray]:
-        """``_apart`` for ``_fine_at``'s scene: its first ``moments x links`` bodies are the
-        links at each of ``frames``, their face planes placed from their own frames."""
+    def _apart_items(self, frames: np.ndarray, placed: np.ndarray, at: np.ndarray, p: np.ndarray) -> np.ndarray:
+        """Per (moment ``at[i]``, pair ``p[i]``): is every vertex of the pair's stationary body
+        more than ``SEPARATED`` mm beyond one of its moving link's face planes (placed from the
+        link's own frame at that moment)? Then the fine test answers clear (``_apart``'s
+        argument). ``placed``: the links' vertices at every moment, (rows, 3, moments)."""
+        pairs, s, lay = self._pairs_now, self._scene, self._layout
+        assert pairs is not None
         nl = len(self._link_ks)
-        links = len(frames) * nl
-        lay = batch.layout
+        link, other = pairs.moving.take(p), pairs.stationary.take(p)     # nothing carried: movers are links
+        frame = frames[at, self.owners.take(link)]
+        turned = frame[:, :3, :3] @ self._apart_normals.take(link, axis=0)
+        off = self._apart_offsets.take(link, axis=0) + (frame[:, None, :3, 3] @ turned)[:, 0]
         width = int(lay.counts.max())
-
-        def apart(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-            found = np.zeros(len(a), dtype=bool)
-            sel = np.flatnonzero(a < links)
-            moment, link = np.divmod(a.take(sel), nl)
-            frame = frames[moment, self.owners.take(link)]
-            turned = frame[:, :3, :3] @ self._apart_normals.take(link, axis=0)
-            off = self._apart_offsets.take(link, axis=0) + (frame[:, None, :3, 3] @ turned)[:, 0]
-            other = b.take(sel)
-            rows = lay.starts.take(other)[:, None] + np.minimum(np.arange(width), lay.counts.take(other)[:, None] - 1)
-            d = batch.vertices[rows] @ turned
-            d -= off[:, None]
-            found[sel] = d.min(axis=1).max(axis=1) > SEPARATED
-            return found
-
-        return apart
+        rows = lay.starts.take(other)[:, None] + np.minimum(np.arange(width), lay.counts.take(other)[:, None] - 1)
+        d = s.vertices[rows]                                     # a part's vertices, where it stands
+        linked = np.flatnonzero(other < nl)                      # a link's, where it is at that moment
+        if len(linked):
+            d[linked] = placed[rows.take(linked, axis=0), :, at.take(linked)[:, None]]
+        d = d @ turned
+        d -= off[:, None]
+        found: np.ndarray = d.min(axis=1).max(axis=1) > SEPARATED
+        return found
 
 
 def _moments_layout(lay: Layout, nl: int, rows: int, count: int) -> Layout:
