@@ -123,3 +123,16 @@ def test_the_goals_table_has_the_scenes_and_says_where_the_checkers_differ() -> 
     assert "Where the checkers differ:\n\n- heavy cell, 30 parts: FINGER x part 30" in table
     assert GOALS["collision_crowded_vs_ccd_x_100parts"] == ("<=", 0.5)
     assert PEERS["collision_heavy_vs_ccd_x_30parts"][0] == "collision_heavy_ccd_us_30parts"
+
+
+def test_a_findings_kept_hash_stays_in_its_process() -> None:
+    """A Finding keeps its hash (a crowded cell asks for it many times a pose); a pickled one
+    (sent to a grading worker) carries none: another process hashes strings differently."""
+    import pickle
+
+    from valterm.core.collision.world import Finding
+
+    found = Finding("near", "CLAMP", 10)
+    assert hash(found) == hash(("near", "CLAMP", 10)) and "_hash" in vars(found)
+    again = pickle.loads(pickle.dumps(found))
+    assert again == found and "_hash" not in vars(again) and {again} == {found}

@@ -67,6 +67,10 @@ class Finding:
             object.__setattr__(self, "_hash", h)
             return h
 
+    def __reduce__(self) -> tuple[type[Finding], tuple[str, Party, Party]]:
+        # the kept hash stays behind: another process hashes strings differently
+        return Finding, (self.kind, self.a, self.b)
+
     @property
     def text(self) -> str:
         if self.kind == "near":
