@@ -236,8 +236,9 @@ def test_a_far_part_costs_no_substep_checks():
     sim.collision_checks = True
     scene = sim._collision_scene()
     calls = []
-    between = scene.collisions_between
+    between, batch = scene.collisions_between, scene.collisions_at     # moment by moment, or all at once
     scene.collisions_between = lambda *a, **k: calls.append(1) or between(*a, **k)  # type: ignore[method-assign]
+    scene.collisions_at = lambda *a, **k: calls.append(1) or batch(*a, **k)  # type: ignore[method-assign]
     poses = sum(type(e).__name__ == "PoseEvent" for e in sim.drive(1, 90.0))
     assert poses >= 5 and len(calls) == 0
     # the same plate across the fingers' path: substeps, and the finger is found in it
@@ -473,8 +474,9 @@ def test_a_far_part_costs_no_substeps_when_every_joint_turns():
     sim.collision_checks = True
     scene = sim._collision_scene()
     calls = []
-    between = scene.collisions_between
+    between, batch = scene.collisions_between, scene.collisions_at     # moment by moment, or all at once
     scene.collisions_between = lambda *a, **k: calls.append(1) or between(*a, **k)  # type: ignore[method-assign]
+    scene.collisions_at = lambda *a, **k: calls.append(1) or batch(*a, **k)  # type: ignore[method-assign]
     events = list(sim.move_joints(goal))
     assert sum(type(e).__name__ == "PoseEvent" for e in events) >= 5 and calls == []
     assert not [e for e in events if isinstance(e, Collision)]

@@ -24,6 +24,13 @@ GOALS: dict[str, tuple[str, float]] = {
     "collision_run_vs_fcl_x_30parts": ("<=", 2.0),
     "collision_check_vs_fcl_x_100parts": ("<=", 3.0),
     "collision_check_vs_fcl_x_300parts": ("<=", 3.0),
+    # issue 40: the scenes users meet (valterm.bench.collision_scenes), beside fcl in the same run
+    "collision_crowded_vs_fcl_x_30parts": ("<=", 4.0),
+    "collision_crowded_vs_fcl_x_100parts": ("<=", 4.0),
+    "collision_crowded_vs_ccd_x_30parts": ("<=", 0.5),
+    "collision_crowded_vs_ccd_x_100parts": ("<=", 0.5),
+    "collision_heavy_vs_ccd_x_30parts": ("<=", 0.5),
+    "collision_heavy_vs_ccd_x_100parts": ("<=", 0.5),
     "raster_vs_drawille_x": (">=", 50.0),
     "ik_single_us": ("<=", 8.0),
     "ik_random_vs_rtb_x": (">=", 50.0),
@@ -64,6 +71,9 @@ PEERS = {
     "collision_run_vs_fcl_x_30parts": ("collision_run_fcl_us_30parts", "python-fcl, µs per pose"),
     "collision_check_vs_fcl_x_100parts": ("collision_check_fcl_us_100parts", "python-fcl, µs per pose"),
     "collision_check_vs_fcl_x_300parts": ("collision_check_fcl_us_300parts", "python-fcl, µs per pose"),
+    **{f"collision_{cell}_vs_{peer}_x_{n}parts": (f"collision_{cell}_{peer}_us_{n}parts", f"{name}, µs per pose")
+       for cell in ("crowded", "heavy") for n in (30, 100)
+       for peer, name in (("fcl", "python-fcl per pose"), ("ccd", "fcl per pose + continuousCollide"))},
     "run_json_statements_per_s": ("interpreter_statements_per_s", "the same loop without output, statements/s"),
     "run_json_unbuffered_statements_per_s": ("run_json_statements_per_s", "buffered standard output, statements/s"),
     "run_text_statements_per_s": ("run_json_statements_per_s", "--json, statements/s"),
@@ -72,6 +82,12 @@ PEERS = {
 
 # a figure shown beside a goal's row in ``--md``, so the two are read together
 BESIDE = {
+    **{f"collision_crowded_vs_fcl_x_{n}parts": (f"collision_crowded_differ_fcl_{n}parts",
+                                               "pairs found differently from fcl per pose (no goal)") for n in (30, 100)},
+    **{f"collision_crowded_vs_ccd_x_{n}parts": (f"collision_crowded_us_{n}parts", "valterm, µs per pose (no goal)")
+       for n in (30, 100)},
+    **{f"collision_heavy_vs_ccd_x_{n}parts": (f"collision_heavy_differ_ccd_{n}parts",
+                                             "pairs found differently from fcl + CCD, below (no goal)") for n in (30, 100)},
     "app_start_vs_bare_x": ("app_start_picture_vs_bare_x", "the model's picture beside the menu, x"),
     "app_start_picture_vs_bare_x": ("app_start_picture_cold_vs_bare_x",
                                     "a set-up's first start (no picture kept), x (no goal)"),
@@ -157,7 +173,7 @@ def _rtb_entries() -> dict[str, float]:
     return {"rtb_ikine_a_us": median_of(lambda: puma.ikine_a(target), 200) * 1e6}
 
 
-def _optional(entries: dict[str, Any], name: str, func: Callable[[], dict[str, float]]) -> None:
+def _optional(entries: dict[str, Any], name: str, func: Callable[[], dict[str, Any]]) -> None:
     """Areas built separately add their entries; a missing one is said, not hidden."""
     try:
         entries.update(func())
@@ -176,6 +192,7 @@ def run_all(app: bool = True) -> dict[str, Any]:
     _optional(entries, "grade", _grade_entries)
     _optional(entries, "collision", _collision_entries)
     _optional(entries, "collision on a dense cell", _dense_entries)
+    _optional(entries, "collision on crowded and heavy cells", _scene_entries)
     _optional(entries, "raster", _raster_entries)
     _optional(entries, "CAD import", _cad_entries)
     _optional(entries, "drawille (the bench extra: pip install 'valterm[bench]')", _drawille_entries)
@@ -274,6 +291,16 @@ def _dense_entries() -> dict[str, float]:
     return entries
 
 
+def _scene_entries() -> dict[str, Any]:
+    """Issue 40: a cell crowded round a program's path the arm clears, and a collision-heavy
+    one with a 0.5 mm plate, at 30 and 100 parts, against python-fcl per pose and per pose +
+    continuousCollide; where they find a pair differently, what the sampled path says."""
+    from valterm.bench.collision_scenes import scene_figures
+
+    figures, notes = scene_figures()
+    return {**figures, "notes": notes}
+
+
 def _raster_entries() -> dict[str, float]:
     from valterm.bench.raster import bench_raster
 
@@ -316,6 +343,8 @@ def markdown(entries: dict[str, Any]) -> str:
         lines.append(f"| `{key}` | {_fmt(value)} | {op} {goal:g} | {'yes' if met else '**no**'} | {peer} |")
     for line in entries.get("missing", []):
         lines.append(f"\nNot measured: {line}")
+    if entries.get("notes"):
+        lines += ["", "Where the checkers differ:", ""] + [f"- {line}" for line in entries["notes"]]
     return "\n".join(lines)
 
 

@@ -49,10 +49,12 @@ def run(args: argparse.Namespace) -> int:
 def _print_figures(entries: dict[str, Any]) -> None:
     goals = entries.get("goals", {})
     for key, value in entries.items():
-        if key in ("goals", "missing", "machine"):
+        if key in ("goals", "missing", "machine", "notes"):
             continue
         goal = goals.get(key)
         mark = "" if goal is None else f"   goal {goal['goal']}: {'met' if goal['met'] else 'NOT met'}"
         print(f"{key:32} {value:>14,.2f}{mark}")
     for line in entries.get("missing", []):
         print(f"not measured: {line}")
+    for line in entries.get("notes", []):
+        print(f"note: {line}")

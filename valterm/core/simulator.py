@@ -46,7 +46,7 @@ from valterm.core.rules import CONTROLLER, RULES_1985, check_rules
 
 if TYPE_CHECKING:  # the collision checks load with the first check, not at every start (issue 25)
     from valterm.core.collision.frames import PathFigures, RobotScene
-    from valterm.core.collision.world import Finding, Party
+    from valterm.core.collision.world import Finding
 
 GRASP_MESSAGE = "IT IS POSSIBLE TO GRASP THIS PART"
 # how close a taught location's joint angles must put the tool to its pose to be its goal:
@@ -149,7 +149,7 @@ class Simulator:
         self.stop_on_collision = False
         self.autoconfig = False  # AUTOCONFIG ON: try the other configurations (§8.1)
         self.pendant_increment = PENDANT_INCREMENT  # signed: N flips it
-        self._findings: set[tuple[str, Party, Party]] = set()
+        self._findings: set[Finding] = set()     # the last step's (a finding is said as it starts)
         self._checker: RobotScene | None = None
         self._checker_gap: float | None = None
 
@@ -699,9 +699,7 @@ class Simulator:
         motion may not say one of these again."""
         if not self.collision_checks:
             return []
-        from valterm.core.collision.world import Finding  # loaded with the checks
-
-        found = [Finding(kind, a, b) for kind, a, b in sorted(self._findings, key=str)]  # type: ignore[arg-type]
+        found = sorted(self._findings, key=lambda f: str((f.kind, f.a, f.b)))
         return [finding.event() for finding in self._in_order(found)]
 
     def _findings_here(self, previous: Sequence[float] | None, here: Sequence[float]) -> list[Finding]:
@@ -719,12 +717,15 @@ class Simulator:
 
     def _said(self, findings: list[Finding]) -> Iterator[Event]:
         """Each finding not said at the pose before (nor already at this one), as an event."""
-        now: set[tuple[str, Party, Party]] = {(f.kind, f.a, f.b) for f in findings}
-        said: set[tuple[str, Party, Party]] = set()
-        for finding in self._in_order(findings):
-            key = (finding.kind, finding.a, finding.b)
-            if key not in self._findings and key not in said:
-                said.add(key)
+        now = set(findings)
+        before = self._findings
+        # only the new ones put in order (most poses say again what the pose before said): the
+        # order sorts, so those it keeps come in the order they would among all
+        new = [f for f in findings if f not in before] if before else findings
+        said: set[Finding] = set()
+        for finding in self._in_order(new) if new else ():
+            if finding not in said:
+                said.add(finding)
                 yield finding.event()
         self._findings = now
 
@@ -758,12 +759,13 @@ class Simulator:
         return self._at_moments(scene, q0, q0 + np.asarray(turns), (step, moments, rows))[0]
 
     def _at_moments(self, scene: RobotScene, q0: np.ndarray, q1: np.ndarray,
-                    moments: tuple[np.ndarray, np.ndarray, np.ndarray]) -> list[list[Finding]]:
+                    moments: tuple[np.ndarray, np.ndarray, np.ndarray], rounds: bool = False) -> list[list[Finding]]:
         """The collisions at the moments (each one's step, its fraction of the step, its row of
         pairs: ``RobotScene.swept``'s) of the steps from poses ``q0`` to ``q1`` (steps, 6), step
         by step: the link frames of every moment at once, then the pairs at risk checked at the
         moments where their boxes can meet (``RobotScene.meeting``; nowhere else can the fine
-        test find one)."""
+        test find one). ``rounds``: where collisions are likely, a pair found at one moment of
+        a step is not looked for at its later ones (``RobotScene.collisions_at``)."""
         step_of, t, rows = moments
         joints = q0[step_of] + (q1[step_of] - q0[step_of]) * t[:, None]
         frames = self.model.link_frames_batch(joints, self.base)
@@ -772,6 +774,12 @@ class Simulator:
             clamp = frames[:, 6]
             held = self._carried_local @ clamp[:, :3, :3].transpose(0, 2, 1) + clamp[:, None, :3, 3]
         found: list[list[Finding]] = [[] for _ in q0]
+        batch = scene.collisions_at(frames, rows, step_of if rounds else None)
+        if batch is not None:                   # every moment's pairs at once (no part carried)
+            for k, said in enumerate(batch):
+                if said:
+                    found[int(step_of[k])] += said
+            return found
         moved = False
         try:
             for k in np.flatnonzero(scene.meeting(frames, rows, held)).tolist():
@@ -855,7 +863,10 @@ class _PathChecks:
         moments = self.scene.swept_path(frames, np.radians(turns), sim.cell.objects, self.figures)
         if not len(moments[0]):
             return
-        for step, said in enumerate(sim._at_moments(self.scene, q[:-1], q[:-1] + turns, moments)):
+        # a path that collides at its poses most likely does between them (a cell crowded
+        # round a path it clears seldom does): then the moments go in rounds
+        rounds = any(f.kind == "collides" for found in self.found for f in found)
+        for step, said in enumerate(sim._at_moments(self.scene, q[:-1], q[:-1] + turns, moments, rounds)):
             if said:
                 self.found[step] = said + self.found[step]
 

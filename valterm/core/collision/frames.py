@@ -20,6 +20,7 @@ With ``checker="exact"`` python-fcl answers the pairs the broad phase keeps
 
 from __future__ import annotations
 
+import itertools
 import math
 import operator
 from dataclasses import dataclass
@@ -31,13 +32,14 @@ from valterm.core.cell.polyhedron import Polyhedron
 from valterm.core.collision import arrays
 from valterm.core.collision.thesis import (CLEAR, COLLIDES, EPS, NEAR, SEPARATED, Layout, Scene, check_pairs,
                                            face_planes, figures, largest_of_xyz, layout, margin)
+from valterm.core.collision.moments import MomentsBatch
 from valterm.core.collision.world import CollisionWorld, Finding, _Pairs
 
 if TYPE_CHECKING:
     from valterm.core.collision.exact import FrameExact
 
 
-class RobotScene:
+class RobotScene(MomentsBatch):
     """Collision check of robot links given as frames, against the parts of a work cell."""
 
     # below this many mover x part pairs the coarse test of them all costs less than the
@@ -537,10 +539,9 @@ class RobotScene:
 
     def path_ready(self, objects: Sequence[Polyhedron], carried: Collection[int] = ()) -> bool:
         """Whether the last ``check`` left the scene set up for these parts (the same parts where
-        they were, none carried, every pair's box gaps measured, as the thesis's checker): then
+        they were, none carried, as the thesis's checker): then
         ``keep_path`` can check a path's first pose too, with no ``check`` before it."""
-        if self.checker != "thesis" or carried or self._gaps_now is None or self._pairs_now is None \
-                or self._pairs_for != (len(objects), ()):
+        if self.checker != "thesis" or carried or self._pairs_now is None or self._pairs_for != (len(objects), ()):
             return False
         if self._parts_changed(objects, ()):
             # as ``check`` would: asking again would find the same objects and say unchanged
@@ -555,12 +556,12 @@ class RobotScene:
         product, then the box gaps of (pairs x poses) in a few numpy calls and the coarse test
         where the boxes are within its reach (a body's centre lies in its box: nowhere else can
         it pass), the arithmetic of the pose-by-pose ``check`` (the same numbers, bit for bit).
-        Per pose its findings, or None where a near pair's boxes meet (the fine test's case: call
-        ``check`` at that pose, a few in a hundred). None when this does not apply: a part is
-        carried (it moves with the hand), or the last ``check`` left pairs to its broad phase
-        (then ``keep_pose`` pose by pose), or the scene is not the one ``figures`` were made in."""
-        if self._gaps_now is None or self._carried or self._pairs_now is not figures.pairs \
-                or self._parts is not figures.parts:
+        Per pose its findings: the near pairs whose boxes meet get the fine test, every pose's
+        at once (``_fine_at``). Every pair at every pose, so no broad phase is needed (the box
+        gaps of a few thousand pairs are a few numpy calls). None when this does not apply: a
+        part is carried (it moves with the hand), or the scene is not the one ``figures`` were
+        made in."""
+        if self._carried or self._pairs_now is not figures.pairs or self._parts is not figures.parts:
             return None
         s, pairs, nl, count = self._scene, figures.pairs, len(self._link_ks), len(frames)
         # every pose's frames side by side: one product places every vertex at every pose
@@ -605,13 +606,17 @@ class RobotScene:
         elif not figures.tables:                      # the fixed lengths, once
             figures.tables.append(self._travel_table(frames[0]))
         figures.keys.extend(keys)
-        # each pose's near pairs, by position (as ``check`` finds them); the fine test's poses left
-        fine = set(pose[gaps[pair, pose] <= EPS].tolist())
-        hits: list[list[tuple[int, int]]] = [[] for _ in range(count)]
-        for k, p in sorted(zip(pose.tolist(), pair.tolist())):
-            hits[k].append((p, NEAR))
-        return [None if k in fine else self.world.findings_at(pairs, tuple(h)) if h else []
-                for k, h in enumerate(hits)]
+        # each pose's near pairs, by position (as ``check`` finds them); the fine test of those
+        # whose boxes meet, every pose's at once
+        codes = np.full(len(pair), NEAR)
+        fined = np.flatnonzero(gaps[pair, pose] <= EPS)
+        if len(fined):
+            codes[fined[self._fine_at(frames, pose.take(fined), pair.take(fined))]] = COLLIDES
+        order = np.argsort(pose, kind="stable")          # by pose, then by pair (as found)
+        bounds = np.searchsorted(pose.take(order), np.arange(count + 1)).tolist()
+        said = list(zip(pair.take(order).tolist(), codes.take(order).tolist()))
+        return [self.world.findings_at(pairs, tuple(said[a:b])) if b > a else []
+                for a, b in itertools.pairwise(bounds)]
 
     def _path_picks(self, count: int) -> tuple[np.ndarray, np.ndarray]:
         """Flat indices into the product of ``keep_path`` (rows, poses x 3 x frames) of every
@@ -956,6 +961,7 @@ _VERTICES = operator.attrgetter("vertices")
 _NEVER = (np.zeros(0), np.zeros((0, 0), dtype=bool))
 for _empty in _NEVER:
     _empty.flags.writeable = False
+
 
 def _same_objects(kept: tuple[Polyhedron, ...], objects: Sequence[Polyhedron]) -> bool:
     """Whether ``objects`` are the polyhedra ``kept``, in order: one tuple comparison in C, which

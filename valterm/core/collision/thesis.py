@@ -242,9 +242,13 @@ def _edges_cross_faces(scene: Scene, a: np.ndarray, b: np.ndarray, shortcut: boo
     s0, s1 = s[:, :, 0], s[:, :, 1]
     # each face oriented away from its own polyhedron's centre (the file's winding is free)
     outward = -np.sign(np.einsum("nfk,nk->nf", unit, scene.centres.take(dst, axis=0)) - off)
-    if shortcut and _separated(s, outward, n).all():
-        return np.zeros(n, dtype=bool)
     crossing = (np.minimum(s0, s1) < -EPS) & (np.maximum(s0, s1) > EPS)
+    if shortcut:
+        sep = _separated(s, outward, n)
+        if sep.all():
+            return np.zeros(n, dtype=bool)
+        if sep.any():                   # those pairs are clear: only the others' crossings
+            crossing &= ~np.concatenate([sep, sep])[:, None, None]
     contained = _contained(scene.centres, src, unit, off, size, outward)
     hit: np.ndarray = contained[:n] | contained[n:]
     cand = np.flatnonzero(crossing)                  # flat (pair, edge, face) candidates

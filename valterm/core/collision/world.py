@@ -31,6 +31,7 @@ then rule 2, then rule 3; identical messages (two FINGER polyhedra) are given on
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 from typing import Collection, Iterable, Literal, Protocol, Sequence
 
 import numpy as np
@@ -55,6 +56,20 @@ class Finding:
     kind: Literal["near", "collides"]
     a: Party
     b: Party
+
+    def __hash__(self) -> int:
+        # kept: a dense cell says the same findings pose after pose, each looked up many times
+        try:
+            known: int = self.__dict__["_hash"]
+            return known
+        except KeyError:
+            h = hash((self.kind, self.a, self.b))
+            object.__setattr__(self, "_hash", h)
+            return h
+
+    def __reduce__(self) -> tuple[type[Finding], tuple[str, Party, Party]]:
+        # the kept hash stays behind: another process hashes strings differently
+        return Finding, (self.kind, self.a, self.b)
 
     @property
     def text(self) -> str:
@@ -82,16 +97,37 @@ def figure_order(findings: Iterable[Finding], labels: Sequence[str]) -> list[Fin
     """The findings in Fig. C-12's order (the 1985 rules): the hand's bodies first (CLAMP,
     then FINGER), then the others from the hand down (WRIST, FOREARM, ...), carried parts
     after; for each, the parts by number, a near miss before its collision."""
+    named = tuple(labels)
+    keys, done = _order_keys(named)
+    found = tuple(findings)
+    known = done.get(found)
+    if known is not None:
+        return list(known)
+    for f in found:
+        if f not in keys:
+            keys[f] = _order_key(f, named)
+    ordered = sorted(found, key=keys.__getitem__)
+    if len(done) >= 64:
+        done.clear()
+    done[found] = tuple(ordered)
+    return ordered
+
+
+@lru_cache(maxsize=8)
+def _order_keys(labels: tuple[str, ...]) -> tuple[dict[Finding, tuple[int, str, int]],
+                                                  dict[tuple[Finding, ...], tuple[Finding, ...]]]:
+    """Each finding's place in Fig. C-12's order, and the last few lists put in order: worked
+    out once (a dense cell says the same near misses pose after pose)."""
+    return {}, {}
+
+
+def _order_key(f: Finding, labels: tuple[str, ...]) -> tuple[int, str, int]:
     order = bodies(labels)
     hand = [b for b in order if b in HAND and b != "WRIST"]
     ranked = hand + [b for b in reversed(order) if b not in hand]
-
-    def key(f: Finding) -> tuple[int, str, int]:
-        rank = ranked.index(f.a) if isinstance(f.a, str) and f.a in ranked else len(ranked)
-        other = f"{f.b:>6}" if isinstance(f.b, int) else str(f.b)
-        return rank, other, 0 if f.kind == "near" else 1
-
-    return sorted(findings, key=key)
+    rank = ranked.index(f.a) if isinstance(f.a, str) and f.a in ranked else len(ranked)
+    other = f"{f.b:>6}" if isinstance(f.b, int) else str(f.b)
+    return rank, other, 0 if f.kind == "near" else 1
 
 
 class Checker(Protocol):
@@ -156,6 +192,7 @@ class CollisionWorld:
         self.near_with_collision = near_with_collision
         self._pairs: dict[tuple[int, tuple[int, ...]], _Pairs] = {}
         self._findings: dict[tuple[object, ...], tuple[_Pairs, tuple[Finding, ...]]] = {}
+        self._tables: dict[int, tuple[_Pairs, dict[int, list[tuple[Finding, ...]]]]] = {}
 
     def pairs(self, n_objects: int, carried: Collection[int] = ()) -> _Pairs:
         """The (moving, stationary) index pairs into links + objects, with their parties."""
@@ -229,16 +266,33 @@ class CollisionWorld:
         return found
 
     def _new_findings(self, pairs: _Pairs, hits: tuple[tuple[int, int], ...]) -> list[Finding]:
-        found: list[Finding] = []
-        seen: set[Finding] = set()
-        for p, code in hits:
-            kinds = ["near"] if code == NEAR else ["near", "collides"] if self.near_with_collision else ["collides"]
-            for kind in kinds:
-                f = Finding(kind, pairs.a[p], pairs.b[p])  # type: ignore[arg-type]
-                if f not in seen:
-                    seen.add(f)
-                    found.append(f)
-        return found
+        said = self._said_table(pairs)
+        # each once, in order (two FINGER polyhedra say the same): a dict keeps the first
+        if self.near_with_collision:
+            return list(dict.fromkeys(f for p, code in hits for f in said[code][p]))
+        return list(dict.fromkeys([said[code][p][0] for p, code in hits]))
+
+    def _said_table(self, pairs: _Pairs) -> dict[int, list[tuple[Finding, ...]]]:
+        """What each pair says, by kind code (NEAR, COLLIDES) and position: made once per set
+        of pairs (a dense cell's poses say dozens of near misses each)."""
+        kept = self._tables.get(id(pairs))
+        if kept is not None and kept[0] is pairs:
+            return kept[1]
+        one: dict[Finding, Finding] = {}       # equal findings (two FINGER polyhedra) one object
+
+        def said(kind: Literal["near", "collides"], a: Party, b: Party) -> tuple[Finding, ...]:
+            f = Finding(kind, a, b)
+            return (one.setdefault(f, f),)
+
+        near = [said("near", a, b) for a, b in zip(pairs.a, pairs.b)]
+        hit = [said("collides", a, b) for a, b in zip(pairs.a, pairs.b)]
+        if self.near_with_collision:
+            hit = [n + h for n, h in zip(near, hit)]
+        table = {NEAR: near, COLLIDES: hit}
+        if len(self._tables) >= 8:
+            self._tables.clear()
+        self._tables[id(pairs)] = (pairs, table)
+        return table
 
 
 _WORLDS: dict[tuple[object, ...], CollisionWorld] = {}

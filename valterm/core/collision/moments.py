@@ -1,0 +1,198 @@
+"""Collision checks at many moments in one batch (issue 40): the fine test of the pairs at
+risk at every moment of a path's steps, or at every pose of a path, run once.
+
+``RobotScene`` keeps one scene: its links where the last pose put them, beside the parts.
+For many moments at once a second scene is made for the call: the links' vertices at each
+moment side by side (one product places them all), then the parts; a pair's bodies are
+renumbered into it (a link's copy at the pair's moment, the part once). The box test and
+the fine test of ``check_pairs`` then run once over every moment's pairs.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from valterm.core.collision.thesis import COLLIDES, EPS, SEPARATED, Layout, Scene, fine, largest_of_xyz
+
+if TYPE_CHECKING:
+    from valterm.core.collision.world import CollisionWorld, Finding, _Pairs
+
+
+class MomentsBatch:
+    """``RobotScene``'s checks of many moments at once (a mixin: it reads the scene's arrays)."""
+
+    world: CollisionWorld
+    _pairs_now: _Pairs | None
+    _carried: tuple[int, ...]
+    _scene: Scene
+    _layout: Layout
+    _link_ks: tuple[int, ...]
+    _nl_rows: int
+    _n_frames: int
+    _local_h: np.ndarray
+    _local_centres: np.ndarray
+    _local_radii: np.ndarray
+    _apart_normals: np.ndarray
+    _apart_offsets: np.ndarray
+    owners: np.ndarray
+
+    def _path_picks(self, count: int) -> tuple[np.ndarray, np.ndarray]:
+        raise NotImplementedError
+
+    def collisions_at(self, frames: np.ndarray, rows: np.ndarray, steps: np.ndarray | None = None
+                      ) -> list[list[Finding]] | None:
+        """``collisions_between`` at many moments in one batch (``_fine_at``): the links at
+        ``frames`` (moments, links, 4, 4), the pairs of each moment's row (moments, pairs); per
+        moment, its collisions. None with a part carried (it moves with the clamp:
+        ``collisions_between`` moment by moment).
+
+        ``steps``: the step of each moment (a step's moments together, in order). A step says a
+        collision once, so a pair found at one of its moments is not looked for at the later
+        ones: the moments go in rounds (each step's first, second, next two, next four ..., the
+        rest at once after a round that found none)."""
+        pairs = self._pairs_now
+        assert pairs is not None
+        if self._carried:
+            return None
+        at, p = np.nonzero(rows)
+        hits = np.flatnonzero(self._fine_at(frames, at, p)) if steps is None else self._first_hits(frames, at, p, steps)
+        found: list[list[tuple[int, int]]] = [[] for _ in range(len(frames))]
+        for k, q in sorted(zip(at.take(hits).tolist(), p.take(hits).tolist())):
+            found[k].append((q, COLLIDES))
+        return [self.world.findings_at(pairs, tuple(h)) if h else [] for h in found]
+
+    def _first_hits(self, frames: np.ndarray, at: np.ndarray, p: np.ndarray, steps: np.ndarray) -> np.ndarray:
+        """Of the (moment ``at[i]``, pair ``p[i]``) items, those that collide where their pair
+        has not collided at an earlier moment of the same step (``collisions_at``'s rounds)."""
+        count = len(frames)
+        first = np.searchsorted(steps, steps)            # each moment's step's first moment
+        rank = (np.arange(count) - first).take(at)
+        pair_in_step = steps.take(at) * (int(p.max(initial=0)) + 1) + p
+        done = np.zeros(0, dtype=np.intp)
+        hits = []
+        low, high = 0, 1
+        while low <= int(rank.max(initial=-1)):
+            now = np.flatnonzero((rank >= low) & (rank < high) & ~np.isin(pair_in_step, done))
+            if len(now):
+                used = np.unique(at.take(now))
+                renumber = np.zeros(count, dtype=np.intp)
+                renumber[used] = np.arange(len(used))
+                hit = now[self._fine_at(frames.take(used, axis=0), renumber.take(at.take(now)), p.take(now))]
+                hits.append(hit)
+                done = np.union1d(done, pair_in_step.take(hit))
+            # a round that found nothing would save nothing by more rounds: the rest at once
+            low, high = high, (2 * high if len(now) and len(hit) else count)
+        if not hits:
+            return np.zeros(0, dtype=np.intp)
+        every = np.concatenate(hits)
+        # a pair hit at two moments of one round: its first
+        _, keep = np.unique(pair_in_step.take(every) * count + at.take(every), return_index=True)
+        ordered = every[keep]
+        _, first_of_pair = np.unique(pair_in_step.take(ordered), return_index=True)
+        return np.sort(ordered[first_of_pair])
+
+    def _fine_at(self, frames: np.ndarray, at: np.ndarray, p: np.ndarray) -> np.ndarray:
+        """Per (moment ``at[i]``, pair ``p[i]``), the links at ``frames[at[i]]`` and nothing
+        carried: do the pair's boxes meet and the fine test find a collision? The links' boxes
+        at every moment first (one product places every vertex); then one scene holds the
+        links at the moments where boxes meet beside the parts, so the fine test runs once
+        for every moment's pairs (the tests of ``check_pairs``, pair by pair: a pair whose
+        boxes meet is near, its centre then in the other's box grown by its radius)."""
+        pairs, s = self._pairs_now, self._scene
+        assert pairs is not None
+        count, nl, rows_l = len(frames), len(self._link_ks), self._nl_rows
+        placed = (self._local_h @ frames[:, : self._n_frames, :3, :].transpose(3, 0, 1, 2).reshape(4, -1)
+                  ).take(self._path_picks(count)[0]).reshape(rows_l, 3, count)
+        starts = self._layout.starts[:nl]
+        lo = np.concatenate([np.minimum.reduceat(placed, starts).transpose(2, 0, 1).reshape(-1, 3), s.lo[nl:]])
+        hi = np.concatenate([np.maximum.reduceat(placed, starts).transpose(2, 0, 1).reshape(-1, 3), s.hi[nl:]])
+        a, b = self._at_moment(pairs.moving.take(p), at, count), self._at_moment(pairs.stationary.take(p), at, count)
+        gap = np.maximum(lo.take(b, axis=0) - hi.take(a, axis=0), lo.take(a, axis=0) - hi.take(b, axis=0))
+        meet = np.flatnonzero(largest_of_xyz(gap) <= EPS)
+        hit = np.zeros(len(a), dtype=bool)
+        if len(meet):           # a link's face plane with the other wholly beyond it: clear (``_apart``)
+            meet = meet[~self._apart_items(frames, placed, at.take(meet), p.take(meet))]
+        if not len(meet):
+            return hit
+        # the scene of the moments where boxes meet, those moments numbered again from 0
+        at = at.take(meet)
+        used = np.flatnonzero(np.bincount(at, minlength=count))
+        renumber = np.zeros(count, dtype=np.intp)
+        renumber[used] = np.arange(len(used))
+        at, count = renumber.take(at), len(used)
+        a, b = self._at_moment(pairs.moving.take(p.take(meet)), at, count), \
+            self._at_moment(pairs.stationary.take(p.take(meet)), at, count)
+        placed = placed[:, :, used].transpose(2, 0, 1).reshape(-1, 3)
+        # a link's centre and radius move with its frame (as ``_update`` has them), its box is the one above
+        link_lo = lo[: len(lo) - len(s.lo) + nl].reshape(-1, nl, 3).take(used, axis=0).reshape(-1, 3)
+        link_hi = hi[: len(hi) - len(s.hi) + nl].reshape(-1, nl, 3).take(used, axis=0).reshape(-1, 3)
+        at_frames = frames.take(used, axis=0)[:, self.owners, :3, :]
+        centres = np.einsum("mlij,lj->mli", at_frames, self._local_centres).reshape(-1, 3)
+        lay = _moments_layout(self._layout, nl, rows_l, count)
+        batch = Scene(lay, np.concatenate([placed, s.vertices[rows_l:]]), np.concatenate([centres, s.centres[nl:]]),
+                      np.concatenate([np.tile(self._local_radii, count), s.radii[nl:]]),
+                      np.concatenate([(link_lo + link_hi) * 0.5, s.mid[nl:]]),
+                      np.concatenate([(link_hi - link_lo) * 0.5, s.half[nl:]]))
+        hit[meet[fine(batch, a, b)]] = True
+        return hit
+
+    def _at_moment(self, bodies: np.ndarray, at: np.ndarray, count: int) -> np.ndarray:
+        """The index in ``_fine_at``'s scene of each body at its moment: a link's own copy at
+        that moment, a part's after every moment's links."""
+        nl = len(self._link_ks)
+        found: np.ndarray = np.where(bodies < nl, bodies + at * nl, bodies + (count - 1) * nl)
+        return found
+
+    def _apart_items(self, frames: np.ndarray, placed: np.ndarray, at: np.ndarray, p: np.ndarray) -> np.ndarray:
+        """Per (moment ``at[i]``, pair ``p[i]``): is every vertex of the pair's stationary body
+        more than ``SEPARATED`` mm beyond one of its moving link's face planes (placed from the
+        link's own frame at that moment)? Then the fine test answers clear (``_apart``'s
+        argument). ``placed``: the links' vertices at every moment, (rows, 3, moments)."""
+        pairs, s, lay = self._pairs_now, self._scene, self._layout
+        assert pairs is not None
+        nl = len(self._link_ks)
+        link, other = pairs.moving.take(p), pairs.stationary.take(p)     # nothing carried: movers are links
+        frame = frames[at, self.owners.take(link)]
+        turned = frame[:, :3, :3] @ self._apart_normals.take(link, axis=0)
+        off = self._apart_offsets.take(link, axis=0) + (frame[:, None, :3, 3] @ turned)[:, 0]
+        width = int(lay.counts.max())
+        rows = lay.starts.take(other)[:, None] + np.minimum(np.arange(width), lay.counts.take(other)[:, None] - 1)
+        d = s.vertices[rows]                                     # a part's vertices, where it stands
+        linked = np.flatnonzero(other < nl)                      # a link's, where it is at that moment
+        if len(linked):
+            d[linked] = placed[rows.take(linked, axis=0), :, at.take(linked)[:, None]]
+        d = d @ turned
+        d -= off[:, None]
+        found: np.ndarray = d.min(axis=1).max(axis=1) > SEPARATED
+        return found
+
+
+def _moments_layout(lay: Layout, nl: int, rows: int, count: int) -> Layout:
+    """The layout below, kept for the last few (layout, count)s (a path's moments come in few counts)."""
+    key = (id(lay), nl, rows, count)
+    kept = _LAYOUTS.get(key)
+    if kept is not None and kept[0] is lay:
+        return kept[1]
+    if len(_LAYOUTS) >= 64:
+        _LAYOUTS.clear()
+    made = _moments_layout_of(lay, nl, rows, count)
+    _LAYOUTS[key] = (lay, made)
+    return made
+
+
+_LAYOUTS: dict[tuple[int, int, int, int], tuple[Layout, Layout]] = {}
+
+
+def _moments_layout_of(lay: Layout, nl: int, rows: int, count: int) -> Layout:
+    """``lay`` (``nl`` links over ``rows`` vertex rows, then the parts) with its links
+    repeated for ``count`` moments, each moment's vertex rows after the last's, the parts
+    after them all: index arithmetic, no loop over the polyhedra."""
+    def spread(idx: np.ndarray) -> np.ndarray:
+        links = idx[:nl][None] + (np.arange(count) * rows).reshape(-1, *([1] * idx.ndim))
+        return np.concatenate([links.reshape(-1, *idx.shape[1:]), idx[nl:] + (count - 1) * rows])
+
+    return Layout(lay.ks[:nl] * count + lay.ks[nl:], spread(lay.starts), np.concatenate(
+        [np.tile(lay.counts[:nl], count), lay.counts[nl:]]), spread(lay.edge_idx), spread(lay.face_idx),
+        spread(lay.face_next))
