@@ -1,0 +1,99 @@
+"""Frames the terminal has not taken are dropped, not queued (issue 38 item 7).
+
+Textual hands each frame to a writer thread through a queue of 30 writes. A terminal that
+stops reading (a frozen SSH client) first lets sshd buffer about a megabyte, then blocks the
+thread, fills the queue and blocks the app's own loop: no key is taken, and the stale frames
+go out first once it reads again. Worse, sshd asks a silent client whether it is alive only
+after ClientAliveInterval seconds in which nothing at all happened on the connection, the
+app's output included: an app that keeps drawing for a frozen client keeps it connected.
+
+So the app asks the terminal where its cursor is (``ESC [ 6 n``, which every VT100 answers)
+after a frame, one question at a time. Until the answer comes back, the terminal has not read
+that far. A question unanswered for ``LAG`` seconds, or more than a few writes waiting for
+the writer thread, and frames are skipped (the screen's compositor has drawn them, nothing is
+written); when the terminal catches up, the whole screen is drawn afresh, so nothing is left
+half-drawn. A terminal that never answers the first question is never held back (as before).
+An idle app asks nothing: a question follows a frame.
+"""
+
+from __future__ import annotations
+
+import threading
+import time
+from collections.abc import Callable
+
+PROBE = "\x1b[6n"  # DSR 6, cursor position report: the terminal answers ESC [ row ; col R
+LAG = 1.0  # seconds the terminal may take to answer before frames are skipped
+MAX_WRITES = 12  # writes waiting for Textual's writer thread (its queue holds 30) ...
+MAX_CHARS = 256 * 1024  # ... or characters: more, and the terminal is behind
+
+
+class FrameGate:
+    """What the terminal has not taken yet, and whether a frame may be written now.
+
+    Called from three threads: the app's loop (``admit``, ``drawn``), Textual's writer thread
+    (``written``) and its input thread (``answered``); ``repaint`` is called from the latter
+    two when frames were skipped and the terminal has caught up."""
+
+    def __init__(self, write: Callable[[str], None], repaint: Callable[[], None],
+                 clock: Callable[[], float] = time.monotonic) -> None:
+        self._write = write
+        self._repaint = repaint
+        self._clock = clock
+        self._lock = threading.Lock()
+        self.writes = 0  # handed to the writer thread, not yet written by it
+        self.chars = 0
+        self.asked: float | None = None  # when the unanswered question was sent
+        self.answers = 0  # the terminal answers questions: its silence means something
+        self.skipped = 0  # frames skipped since the terminal was last caught up
+
+    def _behind(self) -> bool:
+        if self.writes > MAX_WRITES or self.chars > MAX_CHARS:
+            return True
+        return self.answers > 0 and self.asked is not None and self._clock() - self.asked > LAG
+
+    def admit(self) -> bool:
+        """May a frame be written now? No: it is skipped, and counted for a repaint."""
+        with self._lock:
+            if self._behind():
+                self.skipped += 1
+                return False
+            return True
+
+    def drawn(self) -> None:
+        """A frame was written: the question follows it, unless one is out already."""
+        with self._lock:
+            if self.asked is not None:
+                return
+            self.asked = self._clock()
+        self._write(PROBE)
+
+    def queued(self, text: str) -> None:
+        with self._lock:
+            self.writes += 1
+            self.chars += len(text)
+
+    def written(self, text: str) -> None:
+        """The writer thread has written ``text`` out."""
+        with self._lock:
+            self.writes -= 1
+            self.chars -= len(text)
+            due = self._caught_up()
+        if due:
+            self._repaint()
+
+    def answered(self) -> None:
+        """The terminal answered: it has read everything up to the question."""
+        with self._lock:
+            self.answers += 1
+            self.asked = None
+            due = self._caught_up()
+        if due:
+            self._repaint()
+
+    def _caught_up(self) -> bool:
+        """Frames were skipped and the terminal takes them again: one repaint is due."""
+        if self.skipped and not self._behind():
+            self.skipped = 0
+            return True
+        return False
