@@ -20,7 +20,7 @@ import termios
 import time
 from pathlib import Path
 
-from valterm.ui.terminal_writer import LAG, PROBE
+from valterm.ui.terminal_writer import LAG, MAX_CHARS, MAX_WRITES, PROBE, FrameGate
 
 from pty_terminal import ANSWER, BRAILLE, Terminal
 
@@ -81,3 +81,62 @@ def test_a_terminal_that_stops_reading_gets_no_queued_frames_and_then_a_whole_sc
         os.kill(pid, signal.SIGTERM)
         os.waitpid(pid, 0)
         os.close(terminal.fd)
+
+
+# -- the gate itself, on a clock of the test's ------------------------------------------
+class Gate:
+    def __init__(self) -> None:
+        self.now = 0.0
+        self.sent: list[str] = []
+        self.repaints = 0
+        self.gate = FrameGate(self.sent.append, self.repainted, lambda: self.now)
+
+    def repainted(self) -> None:
+        self.repaints += 1
+
+
+def test_one_question_at_a_time_and_none_without_a_frame() -> None:
+    g = Gate()
+    assert g.sent == []
+    g.gate.drawn()
+    g.gate.drawn()
+    assert g.sent == [PROBE]
+    g.gate.answered()
+    g.gate.drawn()
+    assert g.sent == [PROBE, PROBE]
+
+
+def test_a_terminal_that_never_answers_is_not_held_back() -> None:
+    g = Gate()
+    g.gate.drawn()
+    g.now = 100 * LAG
+    assert g.gate.admit()
+
+
+def test_an_unanswered_question_skips_frames_and_the_answer_repaints_once() -> None:
+    g = Gate()
+    g.gate.drawn()
+    g.gate.answered()  # it answers: its silence from now on means something
+    g.gate.drawn()
+    g.now = LAG * 0.9
+    assert g.gate.admit()  # not yet late
+    g.now = LAG * 1.1
+    assert not g.gate.admit() and not g.gate.admit()
+    assert g.repaints == 0
+    g.gate.answered()
+    assert g.repaints == 1 and g.gate.admit()
+    g.gate.answered()  # a second answer, nothing skipped since: no repaint
+    assert g.repaints == 1
+
+
+def test_a_backlog_at_the_writer_skips_frames_until_it_is_written() -> None:
+    g = Gate()
+    for _ in range(MAX_WRITES + 1):
+        g.gate.queued("x" * 100)
+    assert not g.gate.admit()
+    g.gate.written("x" * 100)
+    assert g.repaints == 1 and g.gate.admit()
+    g.gate.queued("x" * (MAX_CHARS + 1))
+    assert not g.gate.admit()
+    g.gate.written("x" * (MAX_CHARS + 1))
+    assert g.repaints == 2
