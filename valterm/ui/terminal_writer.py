@@ -24,16 +24,20 @@ from collections.abc import Callable
 
 PROBE = "\x1b[6n"  # DSR 6, cursor position report: the terminal answers ESC [ row ; col R
 LAG = 1.0  # seconds the terminal may take to answer before frames are skipped
-MAX_WRITES = 12  # writes waiting for Textual's writer thread (its queue holds 30) ...
+MAX_WRITES = 24  # writes waiting for Textual's writer thread (its queue holds 30: never full) ...
 MAX_CHARS = 256 * 1024  # ... or characters: more, and the terminal is behind
 
 
 class FrameGate:
     """What the terminal has not taken yet, and whether a frame may be written now.
 
-    Called from three threads: the app's loop (``admit``, ``drawn``), Textual's writer thread
-    (``written``) and its input thread (``answered``); ``repaint`` is called from the latter
-    two when frames were skipped and the terminal has caught up."""
+    Frames stop when the terminal is behind (a question unanswered for LAG s, or more than
+    MAX_WRITES or MAX_CHARS waiting for the writer thread) and start again, with the whole
+    screen, once it has caught up (the question answered, and at most half of those waiting).
+
+    Called from three threads: the app's loop (``admit``, ``drawn``, ``queued``), Textual's
+    writer thread (``written``) and its input thread (``answered``); ``repaint`` is called
+    from the latter two when the terminal has caught up after frames were skipped."""
 
     def __init__(self, write: Callable[[str], None], repaint: Callable[[], None],
                  clock: Callable[[], float] = time.monotonic) -> None:
@@ -45,18 +49,16 @@ class FrameGate:
         self.chars = 0
         self.asked: float | None = None  # when the unanswered question was sent
         self.answers = 0  # the terminal answers questions: its silence means something
-        self.skipped = 0  # frames skipped since the terminal was last caught up
+        self.holding = False  # frames are skipped until the terminal has caught up
 
-    def _behind(self) -> bool:
-        if self.writes > MAX_WRITES or self.chars > MAX_CHARS:
-            return True
+    def _late(self) -> bool:
         return self.answers > 0 and self.asked is not None and self._clock() - self.asked > LAG
 
     def admit(self) -> bool:
-        """May a frame be written now? No: it is skipped, and counted for a repaint."""
+        """May a frame be written now? No: it is skipped (the screen is drawn whole later)."""
         with self._lock:
-            if self._behind():
-                self.skipped += 1
+            if self.holding or self._late() or self.writes > MAX_WRITES or self.chars > MAX_CHARS:
+                self.holding = True
                 return False
             return True
 
@@ -92,8 +94,8 @@ class FrameGate:
             self._repaint()
 
     def _caught_up(self) -> bool:
-        """Frames were skipped and the terminal takes them again: one repaint is due."""
-        if self.skipped and not self._behind():
-            self.skipped = 0
+        """Frames were skipped and the terminal takes them again: the one repaint is due."""
+        if self.holding and not self._late() and self.writes * 2 <= MAX_WRITES and self.chars * 2 <= MAX_CHARS:
+            self.holding = False
             return True
         return False
