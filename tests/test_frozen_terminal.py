@@ -129,6 +129,24 @@ def test_an_unanswered_question_skips_frames_and_the_answer_repaints_once() -> N
     assert g.repaints == 1
 
 
+def test_a_key_from_the_terminal_asks_again_a_question_gone_late() -> None:
+    """An answer lost (inside a paste, say) must not hold frames for ever; a key shows the
+    terminal runs. Without keys nothing is asked again: a frozen client gets silence."""
+    g = Gate()
+    g.gate.drawn()
+    g.gate.answered()
+    g.gate.drawn()
+    g.gate.stirred()  # not late: no second question
+    assert g.sent == [PROBE, PROBE]
+    g.now = LAG * 1.1
+    assert not g.gate.admit()
+    g.gate.stirred()
+    assert g.sent == [PROBE, PROBE, PROBE]
+    assert not g.gate.admit()  # asked again, and still late until it answers
+    g.gate.answered()
+    assert g.repaints == 1 and g.gate.admit()
+
+
 def test_a_backlog_at_the_writer_skips_frames_until_half_of_it_is_written() -> None:
     g = Gate()
     for _ in range(MAX_WRITES + 1):

@@ -58,10 +58,15 @@ class GatedDriver(LinuxDriver):
         if not self._loop.is_closed():
             self._loop.call_soon_threadsafe(self._app.refresh)
 
+    def start_application_mode(self) -> None:
+        self.gate.restart()
+        super().start_application_mode()  # type: ignore[no-untyped-call]
+
     def process_message(self, message: Message) -> None:
         if isinstance(message, events.CursorPosition):  # the answer to the gate's question
             self.gate.answered()
             return
+        self.gate.stirred()
         super().process_message(message)
 
 

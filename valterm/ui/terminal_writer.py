@@ -36,7 +36,7 @@ class FrameGate:
     screen, once it has caught up (the question answered, and at most half of those waiting).
 
     Called from three threads: the app's loop (``admit``, ``drawn``, ``queued``), Textual's
-    writer thread (``written``) and its input thread (``answered``); ``repaint`` is called
+    writer thread (``written``) and its input thread (``answered``, ``stirred``); ``repaint`` is called
     from the latter two when the terminal has caught up after frames were skipped."""
 
     def __init__(self, write: Callable[[str], None], repaint: Callable[[], None],
@@ -69,6 +69,21 @@ class FrameGate:
                 return
             self.asked = self._clock()
         self._write(PROBE)
+
+    def stirred(self) -> None:
+        """The terminal sent something (a key): it runs. A question it has let go late (its
+        answer lost, say inside a paste) is asked again, still late until answered; a frozen
+        client sends nothing, so the app stays quiet for it (sshd's questions need silence)."""
+        with self._lock:
+            late = self._late()
+        if late:
+            self._write(PROBE)
+
+    def restart(self) -> None:
+        """The app takes the terminal again (after a suspend): no question is out."""
+        with self._lock:
+            self.asked = None
+            self.holding = False
 
     def queued(self, text: str) -> None:
         with self._lock:
