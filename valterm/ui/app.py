@@ -175,8 +175,9 @@ class ValtermApp(Guarded, ViewActions, App[int]):
         if not isinstance(gate, FrameGate) or renderable is None:
             super()._display(screen, renderable)
         elif gate.admit():
+            mark = gate.handed
             super()._display(screen, renderable)
-            gate.drawn()
+            gate.drawn(mark)
 
     # -- keys: none dropped (ui.keyqueue) --------------------------------------------
     def _busy_playing(self) -> bool:

@@ -45,6 +45,7 @@ class FrameGate:
         self._repaint = repaint
         self._clock = clock
         self._lock = threading.Lock()
+        self.handed = 0  # writes handed to the writer thread, ever
         self.writes = 0  # handed to the writer thread, not yet written by it
         self.chars = 0
         self.asked: float | None = None  # when the unanswered question was sent
@@ -62,10 +63,11 @@ class FrameGate:
                 return False
             return True
 
-    def drawn(self) -> None:
-        """A frame was written: the question follows it, unless one is out already."""
+    def drawn(self, mark: int) -> None:
+        """A frame was written (``handed`` moved on from ``mark``; Textual writes nothing
+        while it is batching or closing): the question follows it, unless one is out."""
         with self._lock:
-            if self.asked is not None:
+            if self.asked is not None or self.handed == mark:
                 return
             self.asked = self._clock()
         self._write(PROBE)
@@ -87,6 +89,7 @@ class FrameGate:
 
     def queued(self, text: str) -> None:
         with self._lock:
+            self.handed += 1
             self.writes += 1
             self.chars += len(text)
 
