@@ -34,6 +34,8 @@ def spawn(workspace: Path, record: Path) -> tuple[int, Terminal]:
     if pid == 0:  # the child: a terminal of the test's size, then the app
         fcntl.ioctl(0, termios.TIOCSWINSZ, struct.pack("HHHH", HEIGHT, WIDTH, 0, 0))
         env = dict(os.environ, TERM="xterm-256color", PYTHONPATH=str(ROOT))
+        env.pop("COLUMNS", None)  # the pty's size, not one a test runner set (pytest does)
+        env.pop("LINES", None)
         os.execve(sys.executable, [sys.executable, "-m", "valterm", "--workspace", str(workspace),
                                    "--setup", "PROCESS", "--record", str(record)], env)
     return pid, Terminal(fd)
