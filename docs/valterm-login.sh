@@ -6,7 +6,8 @@
 # - Refuses to start without a terminal: `ssh -T`, `ssh host CMD`, scp and sftp get a one-line
 #   message and exit status 1 instead of a simulator hanging on a pipe.
 # - exec: the simulator is the session's process, so when the client leaves, the hangup sshd
-#   sends on closing the terminal ends it (ClientAliveInterval catches links that just die).
+#   sends on closing the terminal ends it (ClientAliveInterval catches links that just die and
+#   clients that stop reading: the simulator goes quiet for a terminal that does not answer).
 # - Each login user has a workspace of their own, $HOME/valterm, private to them (umask 077).
 # - A command given to ssh (ssh -t HOST CMD) is ignored, and said so before the simulator's
 #   screen covers the terminal (VALTERM_NOTE_SECONDS, default 3, to read it).

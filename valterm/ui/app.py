@@ -50,9 +50,14 @@ from valterm.ui.messages import (
 from valterm.ui.playback import Player
 from valterm.ui.screens.guard import Guarded
 from valterm.ui.screens.main_menu import MainMenuScreen
+from valterm.ui.terminal_writer import FrameGate
 from valterm.ui.view.keys import ViewActions
 
 if TYPE_CHECKING:
+    from rich.console import RenderableType
+    from textual.driver import Driver
+    from textual.screen import Screen
+
     from valterm.core.files.record import SessionRecord
     from valterm.core.render.kept import KeptPicture
     from valterm.core.render.overlays import Trace
@@ -160,6 +165,24 @@ class ValtermApp(Guarded, ViewActions, App[int]):
         if self.crash is not None:  # the terminal is restored: now the one line
             print(crash_line(self.crash, self.crash_log), file=sys.stderr)
         return result
+
+    # -- frames: dropped, not queued, for a terminal that does not read (ui.terminal_writer)
+    def get_driver_class(self) -> type[Driver]:
+        driver = super().get_driver_class()
+        if driver.__name__ != "LinuxDriver":  # Windows, the web server's: as Textual has them
+            return driver
+        from valterm.ui.terminal_driver import gated
+
+        return gated(driver)
+
+    def _display(self, screen: Screen[Any], renderable: RenderableType | None) -> None:
+        gate = getattr(self._driver, "gate", None)
+        if not isinstance(gate, FrameGate) or renderable is None:
+            super()._display(screen, renderable)
+        elif gate.admit():
+            mark = gate.handed
+            super()._display(screen, renderable)
+            gate.drawn(mark)
 
     # -- keys: none dropped (ui.keyqueue) --------------------------------------------
     def _busy_playing(self) -> bool:
