@@ -18,6 +18,20 @@ SCS_H = 26.0  # SPEC §1: Y_s = Z_w + H
 COLUMN = 9
 
 
+def _shape(text: str) -> tuple[int, int]:
+    lines = text.split("\n")
+    return len(lines), max(len(line) for line in lines)
+
+
+def show_text(widget: Static, text: str) -> None:
+    """``widget`` reads ``text``: repainted only when that changes, laid out again only when
+    its lines' number or length does (a motion redraws its screen at every pose; issue 40)."""
+    shown = widget.content
+    if isinstance(shown, str) and shown == text:
+        return
+    widget.update(text, layout=not isinstance(shown, str) or _shape(shown) != _shape(text))
+
+
 def world_to_screen(xyz: Sequence[float]) -> tuple[float, float, float]:
     """SCS of a world point: X_s = Y_w, Y_s = Z_w + 26, Z_s = X_w."""
     x, y, z = (float(v) for v in xyz)
@@ -46,7 +60,7 @@ class PositionReadout(Static):
         lines = where_lines(where)
         if extra:
             lines.append(extra)
-        self.update("\n".join(lines))
+        show_text(self, "\n".join(lines))
 
 
 class PartReadout(Static):
@@ -55,4 +69,4 @@ class PartReadout(Static):
     DEFAULT_CSS = "PartReadout { height: auto; }"
 
     def show_part(self, number: int, reference: Sequence[float]) -> None:
-        self.update("\n".join(format_part(number, reference)))
+        show_text(self, "\n".join(format_part(number, reference)))
