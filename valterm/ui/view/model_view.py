@@ -35,6 +35,8 @@ from valterm.core.render.legend import (
 )
 
 if TYPE_CHECKING:
+    import numpy as np
+
     from valterm.core.render.raster import Frame, Scene, ViewTransform
 
 # Colour index -> terminal colour: warm tones for the robot, cool/bright ones for objects,
@@ -313,8 +315,31 @@ class ModelView(Widget):
             text = text[: frame.width - len(caption)] + caption
             colours = colours.copy()
             colours[frame.width - len(caption):] = AXES_COLOUR
+        else:
+            colours = blanks_coloured(colours, frame.chars[y] == BLANK)
         cuts = np.flatnonzero(np.diff(colours)) + 1
         starts = [0, *cuts.tolist()]
         ends = [*cuts.tolist(), frame.width]
         segments = [Segment(text[s:e], self._style(int(colours[s]))) for s, e in zip(starts, ends)]
         return Strip(segments, frame.width)
+
+
+BLANK = 0x20  # a cell with no dot (the raster's blank)
+
+
+def blanks_coloured(colours: np.ndarray, blank: np.ndarray) -> np.ndarray:
+    """A row's colours with each blank cell given the colour of the next cell that is not
+    blank (the last ones, of the one before them): a space shows no colour, so a row is as
+    many runs as its dots have colours, not twice as many; each run is one style sequence
+    written to the terminal (issue 40: a frame's bytes and the work to make them)."""
+    import numpy as np
+
+    width = len(colours)
+    index = np.arange(width)
+    drawn = ~blank
+    if not drawn.any():
+        return np.zeros_like(colours)
+    following = np.minimum.accumulate(np.where(drawn, index, width)[::-1])[::-1]
+    preceding = np.maximum.accumulate(np.where(drawn, index, -1))
+    source = np.where(following < width, following, preceding)
+    return colours[source]
