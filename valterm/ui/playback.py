@@ -9,8 +9,9 @@ MOVE of D_DEFINE) and works through it in ticks on its host's timers:
   clock; with ``rate`` infinite both happen at once (tests); ``rate`` paces the poses of a
   motion that announces no time;
 - while a motion is paced the picture moves on at ``DRAW_RATE`` frames a second, a pose
-  falling due between two frames drawn at the next: the screen redraws and the app draws the robot at ``drawn()``, each joint
-  turned part of the way (the shortest turn) from the pose before the one due to it. Only
+  falling due between two frames drawn at the next: the screen redraws and the app draws
+  the robot at ``drawn()``, each joint turned part of the way (the shortest turn) from the
+  pose before the one due to it. Only
   the picture: the simulator stands at the motion's own pose, and the verdicts and lines
   are those of its poses (the same as ``valterm run``);
 - whatever the program does (``10 GOTO 10`` has no motion and no DELAY) a tick works at
