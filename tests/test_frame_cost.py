@@ -17,7 +17,7 @@ from app_helpers import FakeClock, make_app, sync
 from test_view_widget import ViewApp, two_boxes
 from valterm.ui.playback import DRAW_RATE
 from valterm.ui.view.model_view import BLANK, ModelView, blanks_coloured
-from valterm.ui.widgets.readouts import show_text
+from valterm.ui.widgets.readouts import ReadoutLines, show_text
 from valterm.ui.widgets.status import StatusLine
 from valterm.ui.widgets.transcript_log import TranscriptLog
 
@@ -210,3 +210,38 @@ async def test_a_paced_motion_is_drawn_on_its_own_frame_clock(tmp_path: Path) ->
             assert waits[-1] == pytest.approx((1.0 - late) * period if late < 0.75 else (2.0 - late) * period)
         player.skip_to_end()
         await pilot.pause()
+
+
+class ReadoutApp(App[None]):
+    def compose(self) -> ComposeResult:
+        yield ReadoutLines(id="where")
+
+
+@sync
+async def test_a_pose_repaints_only_the_readout_lines_that_changed() -> None:
+    """The WHERE lines' heads stay, their numbers change at every pose: only those are drawn
+    again (their strips rebuilt, their rows alone marked for the screen)."""
+    app = ReadoutApp()
+    async with app.run_test(size=(40, 10)) as pilot:
+        readout = app.query_one(ReadoutLines)
+        readout.show_lines(["X Y", "1 2", "J1 J2", "10 20"])
+        await pilot.pause()
+        assert readout.size.height == 4
+        strips = [readout.render_line(y) for y in range(4)]
+        regions: list[tuple[Any, ...]] = []
+        refresh = readout.refresh
+
+        def counted(*args: Any, **kwargs: Any) -> Any:
+            regions.append(args)
+            return refresh(*args, **kwargs)
+
+        readout.refresh = counted  # type: ignore[method-assign]
+        readout.show_lines(["X Y", "1 2", "J1 J2", "10 20"])
+        assert regions == []  # nothing reads differently
+        readout.show_lines(["X Y", "3 4", "J1 J2", "10 20"])
+        assert [tuple(region.y for region in args) for args in regions] == [(1,)]
+        after = [readout.render_line(y) for y in range(4)]
+        assert [a is b for a, b in zip(after, strips)] == [True, False, True, True]
+        await pilot.pause()
+        rows = [strip.text for strip in app.screen._compositor.render_strips()]
+        assert rows[1].startswith("3 4") and rows[3].startswith("10 20")
