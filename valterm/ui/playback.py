@@ -11,9 +11,8 @@ MOVE of D_DEFINE) and works through it in ticks on its host's timers:
 - while a motion is paced the picture moves on at ``DRAW_RATE`` frames a second, a pose
   falling due between two frames drawn at the next: the screen redraws and the app draws
   the robot at ``drawn()``, each joint turned part of the way (the shortest turn) from the
-  pose before the one due to it. Only
-  the picture: the simulator stands at the motion's own pose, and the verdicts and lines
-  are those of its poses (the same as ``valterm run``);
+  pose before the one due to it. Only the picture: the simulator stands at the motion's own
+  pose, and the verdicts and lines are those of its poses (the same as ``valterm run``);
 - whatever the program does (``10 GOTO 10`` has no motion and no DELAY) a tick works at
   most ``budget`` seconds of the app's own CPU time and ``TICK_LIMIT`` of real time, then
   hands control back to Textual, so the screen updates and CTRL-C is seen at the next tick
