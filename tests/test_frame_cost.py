@@ -15,6 +15,7 @@ from textual.widgets import Static
 
 from app_helpers import FakeClock, make_app, sync
 from test_view_widget import ViewApp, two_boxes
+from valterm.core.render.overlays import Trace
 from valterm.ui.playback import DRAW_RATE
 from valterm.ui.view.model_view import BLANK, ModelView, blanks_coloured
 from valterm.ui.widgets.readouts import ReadoutLines, show_text
@@ -245,3 +246,20 @@ async def test_a_pose_repaints_only_the_readout_lines_that_changed() -> None:
         await pilot.pause()
         rows = [strip.text for strip in app.screen._compositor.render_strips()]
         assert rows[1].startswith("3 4") and rows[3].startswith("10 20")
+
+
+def test_the_trace_is_one_array_until_it_changes() -> None:
+    """The picture asks for the tool path 30 times a second: the same arrays come back until
+    a point is added or the trace is cleared (a long session's trace holds thousands)."""
+    trace = Trace([(0.0, 0.0, 0.0), (100.0, 0.0, 0.0)])
+    points, segments = trace.points(), trace.segments()
+    assert trace.points() is points and trace.segments() is segments
+    assert not points.flags.writeable  # shared: no one may change it in place
+    trace.add((100.0, 0.0, 0.0))  # where the path already is: no new point
+    assert trace.points() is points
+    trace.add((100.0, 200.0, 0.0))
+    assert trace.points() is not points and len(trace.points()) == 3
+    assert trace.segments().tolist() == [[[0.0, 0.0, 0.0], [100.0, 0.0, 0.0]],
+                                         [[100.0, 0.0, 0.0], [100.0, 200.0, 0.0]]]
+    trace.clear()
+    assert len(trace.points()) == 0 and len(trace.segments()) == 0
