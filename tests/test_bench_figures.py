@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from valterm.bench.pty import BRAILLE, _read_until, drawing_figures, frame_figures
+from valterm.bench.pty import BRAILLE, _read_until, cpu_seconds, drawing_figures, frame_figures
 from valterm.bench.suite import GOALS, markdown
 
 
@@ -34,6 +34,24 @@ def test_robot_drawings_are_counted_per_second_of_motion() -> None:
     assert figures["app_program_frames_160x50"] == 3
     assert figures["app_program_fps_160x50"] == pytest.approx(3 / 0.5)
     assert figures["app_program_bytes_per_frame_160x50"] == pytest.approx(21000 / 3)
+
+
+@pytest.mark.skipif(not os.path.exists("/proc/self/stat"), reason="reads /proc")
+def test_a_process_cpu_seconds_are_its_user_and_system_time() -> None:
+    """The cores figure's CPU: this process's own, read from /proc as the bench reads the app's."""
+    before = os.times()
+    total = sum(i * i for i in range(2_000_000))  # some CPU to see
+    assert total > 0
+    after = os.times()
+    seen = cpu_seconds(os.getpid())
+    tick = 1 / os.sysconf("SC_CLK_TCK")
+    assert before.user + before.system - tick <= seen <= after.user + after.system + tick
+
+
+def test_the_cores_goal_is_shown_beside_the_bare_textual_peer() -> None:
+    table = markdown({"machine": "test", "app_program_cores_160x50": 0.08,
+                      "app_program_bare_cores_160x50": 0.05})
+    assert "| `app_program_cores_160x50` | 0.08 | <= 0.1 | yes | the bare Textual app at the same frame rate, cores: 0.05 |" in table
 
 
 def test_no_output_is_no_frame_rate() -> None:

@@ -36,6 +36,8 @@ import time
 
 FRAME_GAP = 0.004  # seconds of quiet between two frames
 DRAWING_GAP = 0.1  # a longer gap between frames is not drawing (a DELAY, a prompt)
+# the model's picture in VAL-II mode on a 160x50 terminal (the peer's widget is this size)
+PICTURE_SIZE = (88, 49)
 LOCATIONS = "ABCDEF"  # the locations of PROCESS.LOC, accepted one by one
 BRAILLE = re.compile(rb"\xe2[\xa0-\xa3]")  # UTF-8 of U+2800-U+28FF: the picture's cells
 
@@ -251,7 +253,10 @@ def _forget_kept(cache: str) -> None:
 
 
 def _end(pid: int, fd: int) -> None:
-    os.kill(pid, signal.SIGTERM)
+    try:
+        os.kill(pid, signal.SIGTERM)
+    except ProcessLookupError:
+        pass  # it has ended by itself (the peer's animation)
     os.waitpid(pid, 0)
     os.close(fd)
 
@@ -404,16 +409,117 @@ def bench_app(width: int = 160, height: int = 50, command: str = "DRIVE 1,-150,2
     return figures
 
 
+def cpu_seconds(pid: int) -> float:
+    """The CPU seconds (user + system) process ``pid`` has used so far (/proc/PID/stat)."""
+    with open(f"/proc/{pid}/stat", encoding="ascii") as stat:
+        fields = stat.read().rsplit(")", 1)[1].split()  # after the name, which may hold spaces
+    # utime and stime are the stat's 14th and 15th fields; fields[0] here is its 3rd
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
 def bench_program_real_pace(width: int = 160, height: int = 50) -> dict[str, float]:
-    """PROCESS at real pace (x1) in a fresh app: robot drawings per second of motion."""
+    """PROCESS at real pace (x1) in a fresh app: robot drawings per second of motion, their
+    bytes, and the app's CPU while the program runs, in cores: its CPU seconds from EXECUTE to
+    COMPLETED over the motions' seconds (its DELAYs and TYPEs counted against it); then the
+    peer, a bare Textual app animating a widget of the picture's size at the same frame rate
+    for the same seconds (``bench_bare_animation``). CPU seconds hold on a loaded machine (other
+    processes' time is not counted); the frames a second and the wall-clock figures need an
+    idle one."""
     workspace = tempfile.mkdtemp(prefix="valterm-bench-")
     pid, fd = _spawn(width, height, workspace)
+    size = f"{width}x{height}"
+    motion = program_motion_seconds()
     try:
         _read_until(fd, b"MAIN MENU", 30.0)
         _drain(fd, 0.5)
-        chunks = _play_program(fd, 120.0)
+        _define_locations(fd)
+        os.write(fd, b"EXECUTE PROCESS")
+        _drain(fd, 0.3)
+        cpu = cpu_seconds(pid)
+        os.write(fd, b"\r")
+        chunks = _record(fd, 120.0, until=b"COMPLETED")
+        cpu = cpu_seconds(pid) - cpu
     finally:
-        os.kill(pid, signal.SIGTERM)
-        os.waitpid(pid, 0)
-        os.close(fd)
-    return drawing_figures(chunks, program_motion_seconds(), "app_program", f"{width}x{height}")
+        _end(pid, fd)
+    figures = drawing_figures(chunks, motion, "app_program", size)
+    figures[f"app_program_cpu_s_{size}"] = cpu
+    figures[f"app_program_cores_{size}"] = cpu / motion
+    fps = figures[f"app_program_fps_{size}"]
+    figures.update(bench_bare_animation(width, height, fps if fps > 0 else 30.0, motion))
+    return figures
+
+
+# the peer of a running session: a bare Textual app whose one widget, the size of the
+# app's picture (argv: width, height, frames a second, seconds), draws a turning braille
+# line, repainted whole at the given rate (Textual's own way: refresh()); a line of text
+# says it is done
+BARE_ANIMATION = """
+import math, sys
+from textual.app import App
+from textual.strip import Strip
+from textual.widget import Widget
+from rich.segment import Segment
+
+WIDTH, HEIGHT, FPS, SECONDS = int(sys.argv[1]), int(sys.argv[2]), float(sys.argv[3]), float(sys.argv[4])
+
+class Arm(Widget):
+    DEFAULT_CSS = "Arm { width: %d; height: %d; }" % (WIDTH, HEIGHT)
+    angle = 0.0
+
+    def render_line(self, y):
+        dx, dy = math.cos(self.angle), math.sin(self.angle)
+        row = ["\u2801"] + [" "] * (WIDTH - 1)  # a mark in every row: each frame draws braille
+        if abs(dy) > 1e-6:
+            x = int(WIDTH / 2 + (y - HEIGHT / 2) * dx / dy * 2)
+            if 0 <= x < WIDTH:
+                row[x] = chr(0x28FF)
+        return Strip([Segment("".join(row))], WIDTH)
+
+class BareAnimation(App):
+    def compose(self):
+        yield Arm()
+
+    def on_mount(self):
+        self.frames = 0
+        self.set_interval(1 / FPS, self.tick)
+
+    def tick(self):
+        self.frames += 1
+        if self.frames > FPS * SECONDS:
+            self.exit()
+            return
+        arm = self.query_one(Arm)
+        arm.angle += 0.05
+        arm.refresh()
+
+BareAnimation().run()
+print("ANIMATION DONE")
+"""
+
+
+def bench_bare_animation(width: int, height: int, fps: float, seconds: float) -> dict[str, float]:
+    """The peer of ``bench_program_real_pace``: BARE_ANIMATION in a pty of the same size, its
+    widget the picture's (``PICTURE_SIZE``), its CPU over its seconds, frames and bytes."""
+    picture_width, picture_height = PICTURE_SIZE
+    pid, fd = pty.fork()
+    if pid == 0:
+        fcntl.ioctl(0, termios.TIOCSWINSZ, struct.pack("HHHH", height, width, 0, 0))
+        env = dict(os.environ, TERM="xterm-256color", COLORTERM="truecolor")
+        os.execve(sys.executable, [sys.executable, "-c", BARE_ANIMATION, str(picture_width),
+                                   str(picture_height), f"{fps:.3f}", f"{seconds:.3f}"], env)
+    size = f"{width}x{height}"
+    try:
+        _read_until(fd, b"", 30.0, picture=True)  # its first frame
+        cpu = cpu_seconds(pid)
+        chunks = _record(fd, seconds + 30.0, until=b"ANIMATION DONE")
+    except BaseException:
+        _end(pid, fd)
+        raise
+    os.kill(pid, signal.SIGTERM)  # nothing to a process that has ended (not yet reaped)
+    _, _, usage = os.wait4(pid, 0)  # all its CPU
+    os.close(fd)
+    cpu = usage.ru_utime + usage.ru_stime - cpu
+    figures = drawing_figures(chunks, seconds, "app_program_bare", size)
+    figures[f"app_program_bare_cpu_s_{size}"] = cpu
+    figures[f"app_program_bare_cores_{size}"] = cpu / seconds
+    return figures

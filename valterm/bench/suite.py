@@ -52,7 +52,9 @@ GOALS: dict[str, tuple[str, float]] = {
     "app_move_fps_160x50": (">=", 30.0),
     "app_move_bytes_per_frame_160x50": ("<=", 10_240.0),
     "app_program_fps_160x50": (">=", 30.0),
-    "app_program_bytes_per_frame_160x50": ("<=", 10_240.0),
+    # issue 40: a running session at a tenth of a core (PROCESS at real pace, 160x50)
+    "app_program_bytes_per_frame_160x50": ("<=", 3_072.0),
+    "app_program_cores_160x50": ("<=", 0.10),
     "cad_import_2m_triangles_s": ("<", 10.0),
     "cad_import_2m_triangles_mb": ("<", 1024.0),
 }
@@ -74,6 +76,9 @@ PEERS = {
     **{f"collision_{cell}_vs_{peer}_x_{n}parts": (f"collision_{cell}_{peer}_us_{n}parts", f"{name}, µs per pose")
        for cell in ("crowded", "heavy") for n in (30, 100)
        for peer, name in (("fcl", "python-fcl per pose"), ("ccd", "fcl per pose + continuousCollide"))},
+    "app_program_fps_160x50": ("app_program_bare_fps_160x50", "a bare Textual app animating a widget the picture's size, frames/s"),
+    "app_program_bytes_per_frame_160x50": ("app_program_bare_bytes_per_frame_160x50", "the bare Textual app, bytes a frame"),
+    "app_program_cores_160x50": ("app_program_bare_cores_160x50", "the bare Textual app at the same frame rate, cores"),
     "run_json_statements_per_s": ("interpreter_statements_per_s", "the same loop without output, statements/s"),
     "run_json_unbuffered_statements_per_s": ("run_json_statements_per_s", "buffered standard output, statements/s"),
     "run_text_statements_per_s": ("run_json_statements_per_s", "--json, statements/s"),
@@ -313,7 +318,9 @@ def _raster_entries() -> dict[str, float]:
 def _app_entries() -> dict[str, float]:
     """The real app under a pseudo-terminal at 160x50: start time, then frames and bytes
     while a joint move plays and while the PROCESS program runs in VAL-II mode at the fastest
-    playback factor, and PROCESS at real pace: robot drawings per second of motion."""
+    playback factor, and PROCESS at real pace: robot drawings per second of motion, their
+    bytes and the app's CPU, beside a bare Textual app animating a widget of the picture's size
+    (CPU seconds hold on a busy machine; frames a second and start times need an idle one)."""
     from valterm.bench.pty import bench_app
 
     return bench_app(160, 50)

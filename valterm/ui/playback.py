@@ -8,11 +8,11 @@ MOVE of D_DEFINE) and works through it in ticks on its host's timers:
   times the playback ``factor``; DELAY waits its seconds times the factor on the same
   clock; with ``rate`` infinite both happen at once (tests); ``rate`` paces the poses of a
   motion that announces no time;
-- between two poses of a paced motion the picture moves on at up to ``DRAW_RATE`` frames a
-  second: the screen redraws and the app draws the robot at ``drawn()``, each joint
-  turned part of the way (the shortest turn) from the pose before the one due to it. Only
-  the picture: the simulator stands at the motion's own pose, and the verdicts and lines
-  are those of its poses (the same as ``valterm run``);
+- while a motion is paced the picture moves on at ``DRAW_RATE`` frames a second, a pose
+  falling due between two frames drawn at the next: the screen redraws and the app draws
+  the robot at ``drawn()``, each joint turned part of the way (the shortest turn) from the
+  pose before the one due to it. Only the picture: the simulator stands at the motion's own
+  pose, and the verdicts and lines are those of its poses (the same as ``valterm run``);
 - whatever the program does (``10 GOTO 10`` has no motion and no DELAY) a tick works at
   most ``budget`` seconds of the app's own CPU time and ``TICK_LIMIT`` of real time, then
   hands control back to Textual, so the screen updates and CTRL-C is seen at the next tick
@@ -77,10 +77,11 @@ Post = Callable[[TextualMessage], object]  # where the player's messages go (the
 TICK_BUDGET = 0.005  # seconds of the app's CPU a tick, then Textual gets the loop back
 TICK_LIMIT = 0.025  # ... or this much real time, however little CPU it had (a file's fsync)
 YIELD = 0.001  # seconds the pump sleeps between busy ticks (keys and redraws run then)
-MAX_FPS = 60.0  # no more redraws a second than this while a motion is paced
-# in-between pictures a second while a motion is paced (the real PUMA's poses come 10-15 a
-# second at SPEED 100): each joint turned part of the way to the next pose, drawn only
-DRAW_RATE = 60.0
+# pictures a second while a motion is paced (the real PUMA's poses come 10-15 a second at
+# SPEED 100): its poses and, between them, each joint turned part of the way to the next,
+# drawn only. 30 is smooth to the eye and what a terminal over SSH takes; each frame costs
+# the app's CPU (issue 40: a running session at a tenth of a core)
+DRAW_RATE = 30.0
 TRANSCRIPT_LINES = 2000  # lines a screen keeps of its transcript (and the most handed a tick)
 # the on-screen log keeps fewer: a line there is a few Textual strips (about 5 KB with their
 # caches, 8 KB of resident memory), so 2000 of them took 20 minutes of a looping program and
@@ -403,17 +404,27 @@ class Player:
             between = self._in_between(motion) if pace and not self._aborting else None
             if between != self._between:
                 self._between, self._picture_changed = between, True
-            # at most 0.1 s without a fresh look at the clock (as for DELAY)
-            wait = min(max(motion.next_due_in(), 1.0 / MAX_FPS), 0.1)
-            # the next picture a frame after this tick began (the tick's own work included)
-            frame = 1.0 / DRAW_RATE - (self.real_time() - self._tick_start)
-            return wait if between is None else min(wait, frame)
+            # the next picture at the next frame of the motion's own (a late tick does not
+            # push the later ones back), the next pose not before it: a pose falling due
+            # between two frames is drawn at the next, not as a frame of its own; at most
+            # 0.1 s without a fresh look at the clock (as for DELAY)
+            frame = self._to_next_frame(motion)
+            return min(frame if between is not None else max(motion.next_due_in(), frame), 0.1)
         self._motion, self._between, self._segment = None, None, None
         self._scene_changed = True
         tail, self._after_motion = self._after_motion, []
         for event in tail:
             self._take(event, pace)
         return None
+
+    def _to_next_frame(self, motion: MotionPlayer[PoseEvent]) -> float:
+        """Seconds to the motion's next frame: frames fall at whole multiples of 1 / DRAW_RATE
+        from its start (one close ahead is skipped: a timer that fires early is no frame)."""
+        period = 1.0 / DRAW_RATE
+        if motion.start_time is None:
+            return period
+        left = period - (self.clock() - motion.start_time) % period
+        return left if left > 0.25 * period else left + period
 
     def _post_lines(self) -> None:
         if self._lines and self._post is not None:

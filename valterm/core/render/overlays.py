@@ -52,6 +52,10 @@ class Trace:
 
     def __init__(self, points: Iterable[Sequence[float] | np.ndarray] = (), maxlen: int = TRACE_POINTS) -> None:
         self._points: deque[np.ndarray] = deque(maxlen=maxlen)
+        # the points as one array, made again only after a change: the picture asks for them
+        # 30 times a second, and a long session's trace holds thousands (issue 40)
+        self._array: np.ndarray | None = None
+        self._segments: np.ndarray | None = None
         for point in points:
             self.add(point)
 
@@ -59,22 +63,29 @@ class Trace:
         p = np.asarray(point, dtype=float)
         if not self._points or float(np.linalg.norm(p - self._points[-1])) >= TRACE_STEP:
             self._points.append(p)
+            self._array = self._segments = None
 
     def clear(self) -> None:
         self._points.clear()
+        self._array = self._segments = None
 
     def __len__(self) -> int:
         return len(self._points)
 
     def points(self) -> np.ndarray:
-        return np.array(self._points) if self._points else np.zeros((0, 3))
+        """The points in order, (N, 3); read only (the same array until the trace changes)."""
+        if self._array is None:
+            self._array = np.array(self._points) if self._points else np.zeros((0, 3))
+            self._array.flags.writeable = False
+        return self._array
 
     def segments(self) -> np.ndarray:
-        """(N-1, 2, 3) consecutive points joined."""
-        pts = self.points()
-        if len(pts) < 2:
-            return np.zeros((0, 2, 3))
-        return np.stack([pts[:-1], pts[1:]], axis=1)
+        """(N-1, 2, 3) consecutive points joined; read only, as ``points``."""
+        if self._segments is None:
+            pts = self.points()
+            self._segments = np.stack([pts[:-1], pts[1:]], axis=1) if len(pts) >= 2 else np.zeros((0, 2, 3))
+            self._segments.flags.writeable = False
+        return self._segments
 
 
 @dataclass
@@ -98,7 +109,12 @@ def _dimmed(polys: list[Polyhedron], colours: list[int], keep: list[bool], view:
     """Colour indices with the far polyhedra moved to their dim shade."""
     if len(polys) < 2:
         return colours
-    depth = np.array([float(p.vertices.mean(axis=0) @ view.depth_axis()) for p in polys])
+    # each one's centre's depth: one projection of all the vertices, summed polyhedron by
+    # polyhedron (not a mean and a product a polyhedron: the picture is made 30 times a second)
+    vertices = [p.vertices for p in polys]
+    counts = np.array([len(v) for v in vertices])
+    starts = np.concatenate([[0], np.cumsum(counts)[:-1]])
+    depth = np.add.reduceat(np.concatenate(vertices) @ view.depth_axis(), starts) / counts
     lo, hi = float(depth.min()), float(depth.max())
     if hi - lo < 1e-6:
         return colours

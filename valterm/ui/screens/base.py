@@ -214,7 +214,7 @@ class MenuScreen(KeyedScreen[None]):
     def update_status(self) -> None:
         """The status line again (a change of the arm's configuration is the core's message,
         ARM CONFIGURATION CHANGED, said after the motion that made it)."""
-        self.query_one("#status", StatusLine).refresh()
+        self.query_one("#status", StatusLine).refresh_if_changed()
 
     def update_readout(self) -> None:
         """Subclasses keep their readout current here."""

@@ -81,6 +81,7 @@ from valterm.ui.view.model_view import ModelView
 from valterm.ui.widgets.debugpanel import DebugPanel
 from valterm.ui.widgets.menus import VAL_MENU_1, VAL_MENU_2
 from valterm.ui.widgets.prompt import typed_after
+from valterm.ui.widgets.readouts import ReadoutLines
 from valterm.ui.widgets.status import StatusLine
 from valterm.ui.widgets.transcript_log import TranscriptLog
 
@@ -247,7 +248,7 @@ class ValModeScreen(KeyedScreen[None]):
             yield TranscriptLog(id="val-log")
             yield DebugPanel(id="val-debug", classes="hidden")  # beside the transcript
         yield Static("", id="val-keys")
-        yield Static("", id="val-where")
+        yield ReadoutLines(id="val-where")
         with Horizontal(id="val-prompt-row"):
             yield Static(".", id="val-prompt")
             yield StepInput(id="val-line", placeholder="VAL-II COMMAND")
@@ -310,8 +311,8 @@ class ValModeScreen(KeyedScreen[None]):
 
     def redraw(self) -> None:
         self.query_one(ModelView).update_scene(self.stage.scene())  # with the view's overlays
-        self.query_one("#status", StatusLine).refresh()  # the arm's configuration, SPEED, ...
-        self.query_one("#val-where", Static).update("\n".join(where_lines(self.simulator.where())))
+        self.query_one("#status", StatusLine).refresh_if_changed()  # the arm's configuration, SPEED, ...
+        self.query_one("#val-where", ReadoutLines).show_lines(where_lines(self.simulator.where()))
 
     def _keys(self, text: str) -> None:
         text = legends.fill(self, text)  # the keys as they are bound now

@@ -35,6 +35,8 @@ from valterm.core.render.legend import (
 )
 
 if TYPE_CHECKING:
+    import numpy as np
+
     from valterm.core.render.raster import Frame, Scene, ViewTransform
 
 # Colour index -> terminal colour: warm tones for the robot, cool/bright ones for objects,
@@ -299,22 +301,55 @@ class ModelView(Widget):
             return Strip.blank(width, self.rich_style)
         strip = self._strips[y]
         if strip is None:
-            strip = self._strips[y] = self._build_strip(frame, y)
+            self._build_strips(frame)
+            strip = self._strips[y]
+        assert strip is not None
         return strip
 
-    def _build_strip(self, frame: Frame, y: int) -> Strip:
-        """One row as runs of equal colour (few segments per row: cheap to send)."""
+    def _build_strips(self, frame: Frame) -> None:
+        """Every row not built yet (those a redraw changed), as runs of equal colour (few
+        segments per row: cheap to send), with one pass of numpy over all of them."""
         import numpy as np  # loaded with the first scene (see the module's docstring)
 
-        colours = frame.colours[y]
-        text = frame.row_text(y)
-        caption = f" {self.caption} " if self.caption and y == frame.height - 1 else ""
-        if caption and len(caption) < frame.width:
-            text = text[: frame.width - len(caption)] + caption
-            colours = colours.copy()
-            colours[frame.width - len(caption):] = AXES_COLOUR
-        cuts = np.flatnonzero(np.diff(colours)) + 1
-        starts = [0, *cuts.tolist()]
-        ends = [*cuts.tolist(), frame.width]
-        segments = [Segment(text[s:e], self._style(int(colours[s]))) for s, e in zip(starts, ends)]
-        return Strip(segments, frame.width)
+        rows = [y for y, strip in enumerate(self._strips) if strip is None]
+        width, text = frame.width, frame.text()
+        colours = blanks_coloured(frame.colours[rows], frame.chars[rows] == BLANK)
+        caption = f" {self.caption} " if self.caption else ""
+        if not 0 < len(caption) < width:
+            caption = ""
+        changes, cuts = np.nonzero(colours[:, 1:] != colours[:, :-1])
+        cuts_of = np.split(cuts + 1, np.cumsum(np.bincount(changes, minlength=len(rows)))[:-1])
+        for i, y in enumerate(rows):
+            line = text[y * (width + 1): y * (width + 1) + width]
+            row, row_cuts = colours[i], cuts_of[i].tolist()
+            if caption and y == frame.height - 1:
+                line = line[: width - len(caption)] + caption
+                row = row.copy()
+                row[width - len(caption):] = AXES_COLOUR
+                row_cuts = (np.flatnonzero(np.diff(row)) + 1).tolist()
+            starts = [0, *row_cuts]
+            firsts = row[starts].tolist()
+            segments = [Segment(line[a:b], self._style(c)) for a, b, c in zip(starts, [*row_cuts, width], firsts)]
+            self._strips[y] = Strip(segments, width)
+
+
+BLANK = 0x20  # a cell with no dot (the raster's blank)
+
+
+def blanks_coloured(colours: np.ndarray, blank: np.ndarray) -> np.ndarray:
+    """Rows of colours with each blank cell given the colour of the next cell in its row that
+    is not blank (the last ones, of the one before them; a row of blanks, 0): a space shows
+    no colour, so a row is as many runs as its dots have colours, not twice as many; each run
+    is one style sequence written to the terminal (issue 40: a frame's bytes and the work to
+    make them)."""
+    import numpy as np
+
+    height, width = colours.shape
+    index = np.broadcast_to(np.arange(width), (height, width))
+    drawn = ~blank
+    following = np.minimum.accumulate(np.where(drawn, index, width)[:, ::-1], axis=1)[:, ::-1]
+    preceding = np.maximum.accumulate(np.where(drawn, index, -1), axis=1)
+    source = np.where(following < width, following, preceding)
+    coloured = np.take_along_axis(colours, np.maximum(source, 0), axis=1)
+    coloured[source < 0] = 0
+    return coloured

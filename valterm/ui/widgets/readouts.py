@@ -8,6 +8,10 @@ from __future__ import annotations
 
 from typing import Sequence
 
+from rich.segment import Segment
+from textual.geometry import Region, Size
+from textual.strip import Strip
+from textual.widget import Widget
 from textual.widgets import Static
 
 from valterm.core.events import Where
@@ -16,6 +20,66 @@ from valterm.core.text.transcript import where_lines
 
 SCS_H = 26.0  # SPEC §1: Y_s = Z_w + H
 COLUMN = 9
+
+
+def _shape(text: str) -> tuple[int, int]:
+    lines = text.split("\n")
+    return len(lines), max(len(line) for line in lines)
+
+
+def show_text(widget: Static, text: str) -> None:
+    """``widget`` reads ``text``: repainted only when that changes, laid out again only when
+    its lines' number or length does (a motion redraws its screen at every pose; issue 40)."""
+    shown = widget.content
+    if isinstance(shown, str) and shown == text:
+        return
+    widget.update(text, layout=not isinstance(shown, str) or _shape(shown) != _shape(text))
+
+
+class ReadoutLines(Widget):
+    """Lines of text drawn a line at a time: new lines repaint only those that read
+    differently (the WHERE lines' numbers change at every pose of a motion, their heads
+    never; a Static lays out and renders all of its text again; issue 40)."""
+
+    DEFAULT_CSS = "ReadoutLines { height: auto; }"
+
+    def __init__(self, *, id: str | None = None, classes: str | None = None) -> None:
+        super().__init__(id=id, classes=classes)
+        self.lines: list[str] = []
+        self._strips: dict[int, Strip] = {}
+
+    @property
+    def text(self) -> str:
+        return "\n".join(self.lines)
+
+    def show_lines(self, lines: Sequence[str]) -> None:
+        new = list(lines)
+        if len(new) != len(self.lines):
+            self.lines, self._strips = new, {}
+            self.refresh(layout=True)
+            return
+        changed = [y for y, (old, line) in enumerate(zip(self.lines, new)) if old != line]
+        self.lines = new
+        for y in changed:
+            self._strips.pop(y, None)
+        if changed:
+            self.refresh(*(Region(0, y, self.size.width, 1) for y in changed))
+
+    def get_content_height(self, container: Size, viewport: Size, width: int) -> int:
+        return len(self.lines)
+
+    def notify_style_update(self) -> None:
+        super().notify_style_update()
+        self._strips.clear()  # drawn in the old style
+
+    def render_line(self, y: int) -> Strip:
+        width = self.size.width
+        strip = self._strips.get(y)
+        if strip is None or strip.cell_length != width:
+            text = self.lines[y] if y < len(self.lines) else ""
+            strip = Strip([Segment(text, self.rich_style)]).crop_extend(0, width, self.rich_style)
+            self._strips[y] = strip
+        return strip
 
 
 def world_to_screen(xyz: Sequence[float]) -> tuple[float, float, float]:
@@ -46,7 +110,7 @@ class PositionReadout(Static):
         lines = where_lines(where)
         if extra:
             lines.append(extra)
-        self.update("\n".join(lines))
+        show_text(self, "\n".join(lines))
 
 
 class PartReadout(Static):
@@ -55,4 +119,4 @@ class PartReadout(Static):
     DEFAULT_CSS = "PartReadout { height: auto; }"
 
     def show_part(self, number: int, reference: Sequence[float]) -> None:
-        self.update("\n".join(format_part(number, reference)))
+        show_text(self, "\n".join(format_part(number, reference)))

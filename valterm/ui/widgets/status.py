@@ -94,9 +94,18 @@ def status_text(app: ValtermApp, width: int, node: DOMNode | None = None) -> str
 class StatusLine(Static):
     DEFAULT_CSS = "StatusLine { height: 1; background: $boost; color: $text-muted; padding: 0 0; }"
 
+    _shown: str | None = None  # the line last drawn
+
     @property
     def text(self) -> str:
         return status_text(cast("ValtermApp", self.app), max(self.size.width, 20), self)
 
     def render(self) -> str:
-        return self.text
+        self._shown = self.text
+        return self._shown
+
+    def refresh_if_changed(self) -> None:
+        """Repaint when the line would read differently: a motion redraws its screen at every
+        pose, and a repainted status line is a row of the terminal written again (issue 40)."""
+        if self.text != self._shown:
+            self.refresh()

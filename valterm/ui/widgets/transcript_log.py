@@ -16,6 +16,7 @@ from typing import Self
 
 from textual.cache import LRUCache
 from textual.events import Resize
+from textual.geometry import Region
 from textual.widgets import RichLog
 
 from valterm.core.text.transcript import wrap_line
@@ -66,6 +67,23 @@ class TranscriptLog(RichLog):
     def on_resize(self, event: Resize) -> None:
         if self.room != self._wrapped_at:
             self._rewrap()
+
+    # the log grew: its scroll bars are updated where it stands, and the screen is laid out
+    # again only when they come or go (Textual lays the whole screen out, and then writes all
+    # of it, whenever a log's virtual size changes: every line a running program says; issue 40)
+    _grown = False
+
+    def watch_virtual_size(self) -> None:
+        self._grown = True
+
+    def refresh(self, *regions: Region, repaint: bool = True, layout: bool = False,
+                recompose: bool = False) -> Self:
+        grown, self._grown = self._grown, False
+        if layout and grown and not recompose and self.is_mounted and self.container_size:
+            # the bars for the new size; showing or hiding one asks for the layout itself
+            self._scroll_update(self.virtual_size)
+            layout = False
+        return super().refresh(*regions, repaint=repaint, layout=layout, recompose=recompose)
 
     def clear(self) -> Self:
         """W_WIPE: the lines go, not only their rows (a resize must not bring them back)."""
