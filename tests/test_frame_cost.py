@@ -5,6 +5,7 @@ motion is drawn on its own 30-frame clock. Mechanisms, not timings."""
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 from typing import Any
 
@@ -191,8 +192,8 @@ async def test_the_first_lines_past_the_logs_height_bring_its_scroll_bar() -> No
 
 
 @sync
-async def test_a_paced_motion_is_drawn_on_its_own_frame_clock(tmp_path: Path) -> None:
-    """Frames fall at whole multiples of 1 / DRAW_RATE from the motion's start: a tick that
+async def test_a_paced_motion_is_drawn_on_the_streams_frame_clock(tmp_path: Path) -> None:
+    """Frames fall at whole multiples of 1 / DRAW_RATE from the stream's start: a tick that
     came late waits less, one just before a frame waits for the one after (no frame twice)."""
     clock = FakeClock()
     app = make_app(tmp_path, rate=40.0, clock=clock)
@@ -201,15 +202,51 @@ async def test_a_paced_motion_is_drawn_on_its_own_frame_clock(tmp_path: Path) ->
         player = app.player
         waits: list[float] = []
         player._schedule = waits.append  # type: ignore[method-assign]
+        clock.t += 0.013  # the stream starts between two frames of any clock
         app.run_events(app.session.simulator.drive(1, 60.0))  # 5 poses, about 1/3 s
-        motion = player._motion
-        assert motion is not None and motion.start_time is not None
+        origin = player._frame_origin
+        assert origin == clock.t
         period = 1.0 / DRAW_RATE
         for late in (0.2, 0.6, 0.9):  # a tick this far into a frame period
-            clock.t = motion.start_time + 2 * period + late * period
+            clock.t = origin + 2 * period + late * period
             player._tick()
             assert waits[-1] == pytest.approx((1.0 - late) * period if late < 0.75 else (2.0 - late) * period)
         player.skip_to_end()
+        await pilot.pause()
+
+
+@sync
+async def test_a_stream_draws_at_most_one_picture_a_frame(tmp_path: Path) -> None:
+    """Ticks a millisecond apart through two motions and the DELAY between them: one picture
+    in each frame of the stream's clock at most (a motion's end and the next one's start
+    wait for the next frame), the stream's end drawn as it ends."""
+    from itertools import chain
+
+    from valterm.core.events import Delay
+    from valterm.ui.messages import PictureMoved, RunEnded, SceneShown
+
+    clock = FakeClock()
+    app = make_app(tmp_path, rate=40.0, clock=clock)
+    async with app.run_test(size=(120, 40)) as pilot:
+        await pilot.press("K")
+        player = app.player
+        player._schedule = lambda delay: None  # type: ignore[method-assign]
+        simulator = app.session.simulator
+        posted: list[tuple[float, object]] = []
+        events = chain(simulator.drive(1, 20.0), simulator.drive(2, 15.0), [Delay(0.05)],
+                       simulator.drive(3, -15.0))
+        player.play(events, lambda message: posted.append((clock.t, message)))
+        origin = player._frame_origin
+        while player.playing:
+            clock.t += 0.001
+            player._tick()
+        pictures = [t for t, message in posted if isinstance(message, (SceneShown, PictureMoved))]
+        frames = [math.floor((t - origin) * DRAW_RATE + 0.25) for t in pictures]
+        # the end's picture is drawn at once (no tick comes after it)
+        assert frames[:-1] == sorted(set(frames[:-1])), "two pictures in one frame"
+        seconds = clock.t - origin
+        assert 0.8 * seconds * DRAW_RATE <= len(pictures) <= seconds * DRAW_RATE + 2  # frame 0 and the end
+        assert isinstance(posted[-1][1], RunEnded) and isinstance(posted[-2][1], SceneShown)
         await pilot.pause()
 
 
@@ -263,3 +300,55 @@ def test_the_trace_is_one_array_until_it_changes() -> None:
                                          [[100.0, 0.0, 0.0], [100.0, 200.0, 0.0]]]
     trace.clear()
     assert len(trace.points()) == 0 and len(trace.segments()) == 0
+
+
+@sync
+async def test_a_partial_update_renders_only_the_rows_it_writes(tmp_path: Path) -> None:
+    """The screen's compositor writes what Textual's own writes for the same dirty regions
+    (picture rows, a readout row), but renders only the written rows of the widgets that
+    show in them: a picture row renders no container behind the picture (Textual rendered
+    every line of every widget whose container the update touched)."""
+    from textual._compositor import ChopsUpdate, Compositor
+    from textual.geometry import Region
+    from textual.widget import Widget
+
+    from valterm.testing import Simulation
+    from valterm.ui.compositor import RowCompositor
+
+    async with Simulation(tmp_path, size=(160, 50)) as sim:
+        await sim.press("V", "V")
+        screen = sim.app.screen
+        compositor = screen._compositor
+        assert isinstance(compositor, RowCompositor)
+        model = screen.query_one(ModelView)
+        x = model.region.x
+        assert model.frame is not None
+        dotted = [y for y in range(49) if (model.frame.chars[y] != BLANK).any()]
+        top, low = dotted[len(dotted) // 3], dotted[2 * len(dotted) // 3]  # rows with dots
+        rendered: list[tuple[str, int]] = []
+        render_lines = Widget.render_lines
+
+        def counted(self: Widget, crop: Region) -> Any:
+            rendered.append((type(self).__name__, crop.height))
+            return render_lines(self, crop)
+
+        for regions in ([Region(x + 8, top, 70, 1), Region(x, low, 80, 2)],
+                        [Region(x + 8, top, 70, 1), Region(0, 43, 60, 1), Region(x, 47, 88, 1)]):
+            spans = list(compositor._regions_to_spans(regions))
+            rows = {y for y, _, _ in spans}
+            crop = Region.from_union(regions)
+            Widget.render_lines = counted  # type: ignore[method-assign]
+            try:
+                ours = compositor._render_chops(crop, rows.__contains__)
+            finally:
+                Widget.render_lines = render_lines  # type: ignore[method-assign]
+            theirs = Compositor._render_chops(compositor, crop, rows.__contains__)
+            ends = [cut_set[1:] for cut_set in compositor.cuts]
+            written = ChopsUpdate(ours, spans, ends).render_segments(sim.app.console)
+            assert written == ChopsUpdate(theirs, spans, ends).render_segments(sim.app.console)
+            assert any("\u2801" <= ch <= "\u28ff" for ch in written)  # the picture's dots among it
+            if len(regions) == 2:  # the picture's rows alone: the picture renders them, no one else
+                assert rendered == [("ModelView", 1), ("ModelView", 2)]
+            else:
+                assert sum(height for _, height in rendered) <= 4 * len(rows)
+            rendered.clear()

@@ -8,8 +8,10 @@ MOVE of D_DEFINE) and works through it in ticks on its host's timers:
   times the playback ``factor``; DELAY waits its seconds times the factor on the same
   clock; with ``rate`` infinite both happen at once (tests); ``rate`` paces the poses of a
   motion that announces no time;
-- while a motion is paced the picture moves on at ``DRAW_RATE`` frames a second, a pose
-  falling due between two frames drawn at the next: the screen redraws and the app draws
+- while a motion is paced the picture moves on at ``DRAW_RATE`` frames a second on the
+  stream's one frame clock, a pose falling due between two frames drawn at the next, and at
+  most one picture a frame (a motion's end and the next one's start wait for the frame
+  after the last picture; issue 40): the screen redraws and the app draws
   the robot at ``drawn()``, each joint turned part of the way (the shortest turn) from the
   pose before the one due to it. Only the picture: the simulator stands at the motion's own
   pose, and the verdicts and lines are those of its poses (the same as ``valterm run``);
@@ -147,6 +149,9 @@ class Player:
         self._segment: tuple[tuple[float, ...], tuple[float, ...]] | None = None
         self._between: tuple[float, ...] | None = None
         self._tick_start = self._tick_cpu = 0.0  # real_time() and cpu_time() as the tick began
+        # the stream's frame clock (clock() at its start) and the frame of its last picture
+        self._frame_origin = 0.0
+        self._last_frame: int | None = None
 
     # -- state -----------------------------------------------------------------------
     @property
@@ -203,6 +208,7 @@ class Player:
             self.skip_to_end()
         self._source, self._post, self._stop_source = iter(events), post, stop
         self.collided = set()
+        self._frame_origin, self._last_frame = self.clock(), None
         self._paused = self._aborting = False
         self._tick()  # the first events (and a refusal) at once
 
@@ -250,8 +256,11 @@ class Player:
             return
         self.ticks += 1
         self._tick_start, self._tick_cpu = self.real_time(), self.cpu_time()
-        wait = self._guarded(self._tick_start + self.budget, pace=not math.isinf(self.rate))
-        self._flush()
+        pace = not math.isinf(self.rate)
+        wait = self._guarded(self._tick_start + self.budget, pace=pace)
+        held = self._flush(pace)
+        if held is not None:  # the picture waits for the next frame
+            wait = held if wait is None else min(wait, held)
         if wait is not None and self.playing and not self._paused:
             self._schedule(wait)
 
@@ -404,11 +413,11 @@ class Player:
             between = self._in_between(motion) if pace and not self._aborting else None
             if between != self._between:
                 self._between, self._picture_changed = between, True
-            # the next picture at the next frame of the motion's own (a late tick does not
-            # push the later ones back), the next pose not before it: a pose falling due
+            # the next picture at the stream's next frame (a late tick does not push the
+            # later ones back), the next pose not before it: a pose falling due
             # between two frames is drawn at the next, not as a frame of its own; at most
             # 0.1 s without a fresh look at the clock (as for DELAY)
-            frame = self._to_next_frame(motion)
+            frame = self._to_next_frame()
             return min(frame if between is not None else max(motion.next_due_in(), frame), 0.1)
         self._motion, self._between, self._segment = None, None, None
         self._scene_changed = True
@@ -417,14 +426,25 @@ class Player:
             self._take(event, pace)
         return None
 
-    def _to_next_frame(self, motion: MotionPlayer[PoseEvent]) -> float:
-        """Seconds to the motion's next frame: frames fall at whole multiples of 1 / DRAW_RATE
-        from its start (one close ahead is skipped: a timer that fires early is no frame)."""
+    def _frame_now(self) -> int:
+        """The stream's frame now: frames fall at whole multiples of 1 / DRAW_RATE from its
+        start; a tick a quarter of a frame early is in the frame it is early for (a timer
+        that fires early)."""
+        return math.floor((self.clock() - self._frame_origin) * DRAW_RATE + 0.25)
+
+    def _to_next_frame(self) -> float:
+        """Seconds to the stream's next frame (one close ahead is skipped)."""
         period = 1.0 / DRAW_RATE
-        if motion.start_time is None:
-            return period
-        left = period - (self.clock() - motion.start_time) % period
-        return left if left > 0.25 * period else left + period
+        return (self._frame_now() + 1) * period - (self.clock() - self._frame_origin)
+
+    def _picture_held(self) -> float | None:
+        """Seconds a picture must wait: None when it may be posted now (no picture yet in
+        this frame of the stream's clock; the frame is then taken)."""
+        frame = self._frame_now()
+        if self._last_frame is not None and frame <= self._last_frame:
+            return max(YIELD, self._to_next_frame())
+        self._last_frame = frame
+        return None
 
     def _post_lines(self) -> None:
         if self._lines and self._post is not None:
@@ -432,13 +452,19 @@ class Player:
             self._lines.clear()
             self._post(TranscriptLines(lines))
 
-    def _flush(self) -> None:
-        """Post this tick's lines and redraw (and a pause or the end)."""
+    def _flush(self, pace: bool = False) -> float | None:
+        """Post this tick's lines and redraw (and a pause or the end). While paced, at most
+        one picture a frame: the seconds the picture waits, or None (posted, or none)."""
         post = self._post
         if post is None:
-            return
+            return None
         self._post_lines()
-        if self._scene_changed:
+        held = None
+        if pace and self.playing and not self._paused and (self._scene_changed or self._picture_changed):
+            held = self._picture_held()
+        if held is not None:
+            pass  # drawn at the next frame (the flags stay)
+        elif self._scene_changed:
             self._scene_changed = self._picture_changed = False
             post(SceneShown())
         elif self._picture_changed:
@@ -451,6 +477,7 @@ class Player:
             aborted, self._ended = self._ended, None
             self._post = None
             post(RunEnded(aborted))
+        return held
 
     def _end(self, aborted: bool) -> None:
         source, self._source = self._source, None

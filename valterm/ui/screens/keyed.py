@@ -30,6 +30,7 @@ from textual.screen import ModalScreen, Screen
 from textual.widgets import Input
 
 from valterm.ui import keymap, legends
+from valterm.ui.compositor import RowCompositor
 from valterm.ui.screens.guard import Guarded
 from valterm.ui.widgets.prompt import type_ahead
 
@@ -51,6 +52,11 @@ class KeyedScreen(Guarded, Screen[ResultT]):
     BINDINGS = [legends.HELP]  # ? and F1 (rebindable as screen.help): HELP in every state
     STATES: ClassVar[Mapping[str, frozenset[str]]] = {}  # action -> the states it works in
     UNKNOWN_KEY_HINT = ""  # what a key that is no key here may have meant
+
+    def __init__(self, name: str | None = None, id: str | None = None, classes: str | None = None) -> None:
+        super().__init__(name, id, classes)
+        if not isinstance(self, ModalScreen):  # a modal one renders the screen under it as it goes
+            self._compositor = RowCompositor()  # a frame renders the rows it writes (issue 40)
 
     if TYPE_CHECKING:  # the app every screen runs in, typed (Textual's own says App[object])
         app = getters.app(ValtermApp)

@@ -1,0 +1,68 @@
+"""Textual's compositor, rendering only the rows a partial update writes (issue 40).
+
+Textual (pinned 8.2) renders, for a partial update, every line of every widget whose
+container overlaps the updated area, then keeps the lines the update writes: when the
+picture changes a dozen of its rows, the screen, the row of panels, the text column and the
+status line were rendered whole (about 200 lines a frame) for the dozen written. Here a
+widget beside the updated area renders nothing, and one in it only the rows the update
+writes that no widget in front of it has already covered, a run of rows at a time; what is
+written is the same. A full update (a layout, a
+screenshot) is Textual's own.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterator, Mapping, Sequence
+from itertools import pairwise
+
+from textual._compositor import Compositor
+from textual.geometry import Region
+from textual.strip import Strip
+
+
+class RowCompositor(Compositor):
+    """A compositor that renders a partial update's written rows only."""
+
+    def _render_chops(self, crop: Region, is_rendered_line: Callable[[int], bool]) -> Sequence[Mapping[int, Strip]]:
+        if crop == self.size.region:  # a full update: every row
+            return super()._render_chops(crop, is_rendered_line)
+        cuts = self.cuts
+        chops: list[dict[int, Strip | None]] = [dict.fromkeys(cut_set[:-1]) for cut_set in cuts]
+        # front to back, as Textual paints: the first strip a cut gets is the one it shows
+        for widget, (region, clip) in self.visible_widgets.items():
+            shown = region.intersection(clip)
+            if not crop.overlaps(shown):  # (Textual asks only of its container's)
+                continue
+            first, last = shown.column_span
+            rows = [y for y in range(max(shown.y, crop.y), min(shown.bottom, crop.bottom))
+                    if is_rendered_line(y) and _open(chops[y], cuts[y], max(first, crop.x), min(last, crop.right))]
+            for start, end in _runs(rows):
+                strips = widget.render_lines(Region(shown.x - region.x, start - region.y, shown.width, end - start))
+                for y, strip in zip(range(start, end), strips):
+                    line_cuts = [cut for cut in cuts[y] if last >= cut >= first]
+                    chops_line = chops[y]
+                    for cut, piece in zip(line_cuts, strip.divide([cut - shown.x for cut in line_cuts[1:]])):
+                        if chops_line.get(cut) is None:
+                            chops_line[cut] = piece
+        return chops  # type: ignore[return-value]  # every written row's cuts are filled
+
+
+def _open(chops_line: Mapping[int, Strip | None], line_cuts: list[int], first: int, last: int) -> bool:
+    """Whether a piece of the row (from a cut to the next) between columns ``first`` and
+    ``last`` has no strip yet (a piece outside them is never written)."""
+    return any(chops_line.get(cut, 0) is None for cut, end in pairwise(line_cuts)
+               if end > first and cut < last)
+
+
+def _runs(rows: list[int]) -> Iterator[tuple[int, int]]:
+    """Consecutive rows as (start, end) runs."""
+    start = previous = None
+    for y in rows:
+        if previous is not None and y == previous + 1:
+            previous = y
+            continue
+        if start is not None and previous is not None:
+            yield start, previous + 1
+        start = previous = y
+    if start is not None and previous is not None:
+        yield start, previous + 1
