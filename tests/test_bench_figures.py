@@ -149,3 +149,45 @@ def test_the_grading_bench_grades_one_student_a_folder(tmp_path: Path) -> None:
     (tmp_path / "class" / "S001" / "PROCESS.DAT").write_text("MOVE NOWHERE\n")
     with pytest.raises(RuntimeError, match="did not pass"):
         _grade_seconds(tmp_path, 1, 3)
+
+
+def test_the_programs_motion_seconds_are_those_the_app_plays(tmp_path: Path) -> None:
+    """The bench divides by the motions' seconds of PROCESS as the app plays it after
+    D_DEFINE (the arm at the last location accepted, so READY is a motion of 2.1 s): the
+    same Motion events' seconds, summed from the app's own stream."""
+    import asyncio
+    import math
+
+    from valterm.bench.pty import program_motion_seconds
+    from valterm.core.events import Motion
+    from valterm.ui.app import ValtermApp
+
+    async def played() -> float:
+        app = ValtermApp(tmp_path, "PROCESS", motion_rate=math.inf)
+        seconds: list[float] = []
+        async with app.run_test(size=(160, 50)) as pilot:
+            await pilot.pause()
+            await pilot.press("v", "d", "d", *"PROCESS.LOC", "enter", *"aaaaa", "e")
+            await pilot.pause()
+            assert "LOCATIONS DEFINED: A, B, C, D, E, F" in "\n".join(app.screen.transcript)
+            play = app.player.play
+
+            def counted(events, post, stop=None):  # type: ignore[no-untyped-def]
+                def through():  # type: ignore[no-untyped-def]
+                    for event in events:
+                        if isinstance(event, Motion):
+                            seconds.append(float(event.seconds))
+                        yield event
+                play(through(), post, stop)
+
+            app.player.play = counted  # type: ignore[method-assign]
+            await pilot.press(*"EXECUTE PROCESS", "enter")
+            for _ in range(200):
+                if "COMPLETED" in "\n".join(app.screen.transcript):
+                    break
+                await pilot.pause(0.05)
+        return sum(seconds)
+
+    app_seconds = asyncio.run(played())
+    assert app_seconds > 17.0  # READY from F (15.5 s from the set-up's pose)
+    assert program_motion_seconds() == pytest.approx(app_seconds)
