@@ -11,6 +11,7 @@ from typing import Any
 
 import numpy as np
 import pytest
+from rich.style import Style
 from textual.app import App, ComposeResult
 from textual.widgets import Static
 
@@ -352,3 +353,34 @@ async def test_a_partial_update_renders_only_the_rows_it_writes(tmp_path: Path) 
             else:
                 assert sum(height for _, height in rendered) <= 4 * len(rows)
             rendered.clear()
+
+
+def test_a_row_is_written_from_where_its_update_starts() -> None:
+    """A picture row changed at its right end: the cells from the update's start are
+    written, not the row from the widget's left edge; a row with a wide character before
+    the start is written as Textual writes it (from the piece's start: no half character)."""
+    from rich.console import Console
+    from rich.segment import Segment
+    from textual._compositor import ChopsUpdate
+    from textual.strip import Strip
+
+    from valterm.ui.compositor import SpanUpdate
+
+    console = Console(color_system="truecolor", force_terminal=True)
+    red, blue = Style(color="red"), Style(color="blue")
+    left = Strip([Segment("MENU      ", None)], 10)
+    picture = Strip([Segment("  ⠁⠂  ", red), Segment("⣿⣿⣿⣿⣿⣿⣿⣿⣿⣿⣿⣿⣿⣿", blue)], 20)
+    chops = [{0: left, 10: picture}]
+    spans = [(0, 26, 29)]  # cells 26-28: three of the blue run
+    written = SpanUpdate(chops, spans, [[10, 30]]).render_segments(console)
+    assert written == "\x1b[1;27H" + Strip([Segment("⣿⣿⣿", blue)], 3).render(console)
+    textual = ChopsUpdate(chops, spans, [[10, 30]]).render_segments(console)
+    assert textual.startswith("\x1b[1;11H") and len(written) < len(textual)
+    # an update from the piece's start, to its end: the same as Textual's
+    spans = [(0, 10, 30)]
+    assert SpanUpdate(chops, spans, [[10, 30]]).render_segments(console) == \
+        ChopsUpdate(chops, spans, [[10, 30]]).render_segments(console)
+    wide = [{0: left, 10: Strip([Segment("漢字" + "⣿" * 16, red)], 20)}]
+    spans = [(0, 13, 20)]  # starts inside the characters after the wide ones
+    assert SpanUpdate(wide, spans, [[10, 30]]).render_segments(console) == \
+        ChopsUpdate(wide, spans, [[10, 30]]).render_segments(console)

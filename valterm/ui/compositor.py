@@ -8,6 +8,10 @@ widget beside the updated area renders nothing, and one in it only the rows the 
 writes that no widget in front of it has already covered, a run of rows at a time; what is
 written is the same. A full update (a layout, a
 screenshot) is Textual's own.
+
+What is written of a row starts where the row's update starts (``SpanUpdate``): Textual wrote
+each widget's piece of a row from the widget's left edge, so a picture row changed at its
+right end was written whole, a colour sequence for every run on the way.
 """
 
 from __future__ import annotations
@@ -15,13 +19,49 @@ from __future__ import annotations
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from itertools import pairwise
 
-from textual._compositor import Compositor
+from rich.cells import cell_len
+from rich.console import Console
+from rich.control import Control
+from textual._compositor import ChopsUpdate, Compositor
 from textual.geometry import Region
 from textual.strip import Strip
 
 
+class SpanUpdate(ChopsUpdate):
+    """Textual's partial update, each row written from where its update starts."""
+
+    def render_segments(self, console: Console) -> str:
+        sequences: list[str] = []
+        append = sequences.append
+        last_y = self.spans[-1][0]
+        for y, x1, x2 in self.spans:
+            for end, (x, strip) in zip(self.chop_ends[y], self.chops[y].items()):
+                if strip is None or x > x2 or end <= x1:
+                    continue
+                start = x1 - x if x < x1 and _narrow(strip.text[: x1 - x]) else 0
+                if start or end > x2:
+                    strip = strip.crop(start, min(end, x2) - x)
+                append(Control.move_to(x + start, y).segment.text)
+                append(strip.render(console))
+            if y != last_y:
+                append("\n")
+        return "".join(sequences)
+
+
+def _narrow(text: str) -> bool:
+    """Each character one cell (no wide one to cut in half, nothing of no width)."""
+    return cell_len(text) == len(text)
+
+
 class RowCompositor(Compositor):
-    """A compositor that renders a partial update's written rows only."""
+    """A compositor that renders a partial update's written rows only, and writes each row
+    from where its update starts."""
+
+    def render_partial_update(self) -> ChopsUpdate | None:
+        update = super().render_partial_update()
+        if update is None:
+            return None
+        return SpanUpdate(update.chops, update.spans, update.chop_ends)
 
     def _render_chops(self, crop: Region, is_rendered_line: Callable[[int], bool]) -> Sequence[Mapping[int, Strip]]:
         if crop == self.size.region:  # a full update: every row
