@@ -20,12 +20,14 @@ about 36 bytes where the picture's dots change colour and 16 are the background'
 from __future__ import annotations
 
 from collections.abc import Callable, Iterator, Mapping, Sequence
+from functools import lru_cache
 from itertools import pairwise
 
 from rich.cells import cell_len
 from rich.color import ColorSystem
 from rich.console import Console
 from rich.control import Control
+from rich.style import Style
 from textual._compositor import ChopsUpdate, Compositor
 from textual.geometry import Region
 from textual.strip import Strip
@@ -58,19 +60,29 @@ def colour_runs(strip: Strip, console: Console) -> str:
     foreground and a background (an attribute, a link, a control, no colour)."""
     system = console._color_system or ColorSystem.TRUECOLOR  # as Textual's Strip.render
     out: list[str] = []
-    previous: tuple[str, str] = ("", "")
+    fg = bg = ""
     for text, style, control in strip:
-        if control or style is None or style._color is None or style._bgcolor is None \
-                or style._link or style._attributes & style._set_attributes:
+        codes = None if control or style is None else _colour_codes(style, system)
+        if codes is None:
             return strip.render(console)
-        codes = (";".join(style._color.downgrade(system).get_ansi_codes()),
-                 ";".join(style._bgcolor.downgrade(system).get_ansi_codes(False)))
-        changed = [code for code, before in zip(codes, previous) if code != before]
-        out.append(f"\x1b[{';'.join(changed)}m{text}" if changed else text)
-        previous = codes
+        if codes[0] != fg:
+            out.append(f"\x1b[{codes[0]};{codes[1]}m" if codes[1] != bg else f"\x1b[{codes[0]}m")
+        elif codes[1] != bg:
+            out.append(f"\x1b[{codes[1]}m")
+        out.append(text)
+        fg, bg = codes
     if out:
         out.append("\x1b[0m")
     return "".join(out)
+
+
+@lru_cache(maxsize=1024)
+def _colour_codes(style: Style, system: ColorSystem) -> tuple[str, str] | None:
+    """A style's foreground and background codes; None when it is more than those two."""
+    if style._color is None or style._bgcolor is None or style._link or style._attributes & style._set_attributes:
+        return None
+    return (";".join(style._color.downgrade(system).get_ansi_codes()),
+            ";".join(style._bgcolor.downgrade(system).get_ansi_codes(False)))
 
 
 def _narrow(text: str) -> bool:
