@@ -149,3 +149,14 @@ def test_the_grading_bench_grades_one_student_a_folder(tmp_path: Path) -> None:
     (tmp_path / "class" / "S001" / "PROCESS.DAT").write_text("MOVE NOWHERE\n")
     with pytest.raises(RuntimeError, match="did not pass"):
         _grade_seconds(tmp_path, 1, 3)
+
+
+def test_the_capacity_figures_read_this_process_memory() -> None:
+    """The serving guide's memory column: PSS and private dirty pages from smaps_rollup, in
+    KiB, of a live process (this one): both there, and no more private than it is resident."""
+    from valterm.bench.capacity import memory_kib
+
+    if not os.path.exists(f"/proc/{os.getpid()}/smaps_rollup"):
+        pytest.skip("no /proc/PID/smaps_rollup on this system")
+    found = memory_kib(os.getpid())
+    assert 1024 < found["private_kib"] <= found["pss_kib"] * 1.01
