@@ -84,8 +84,12 @@ def measure(width: int, height: int, seconds: float) -> dict[str, dict[str, floa
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seconds", type=float, default=20.0, help="seconds a state (default 20)")
+    parser.add_argument("--served", action="store_true",
+                        help="as docs/valterm-login.sh serves it: 256 colours, 20 frames a second")
     args = parser.parse_args(argv)
-    print(f"load {os.getloadavg()[0]:.1f}, {os.cpu_count()} cores")
+    if args.served:  # the login wrapper's defaults (docs/valterm-login.sh)
+        os.environ.update(TEXTUAL_COLOR_SYSTEM="256", TEXTUAL_FPS="20")
+    print(f"load {os.getloadavg()[0]:.1f}, {os.cpu_count()} cores, served: {args.served}")
     print("| terminal | state | cores | bytes/s | PSS MiB | private MiB |")
     print("|---|---|---:|---:|---:|---:|")
     for width, height in ((80, 24), (160, 50)):
