@@ -957,6 +957,11 @@ class RobotScene(MomentsBatch):
 
 _VERTICES = operator.attrgetter("vertices")
 
+# mm: between two of the swept check's moments no point of a link moves farther than this
+# relative to a part it may meet, so a corner that clips a part between them goes no deeper
+# than half of it (issue 40): a contact deeper than GLANCE / 2 is found in its step
+GLANCE = 2.0
+
 # ``swept``'s answer when no moment is needed (empty: nothing can write into them)
 _NEVER = (np.zeros(0), np.zeros((0, 0), dtype=bool))
 for _empty in _NEVER:

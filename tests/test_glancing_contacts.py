@@ -1,0 +1,39 @@
+"""A link's corner that clips a part between two poses and leaves it before the next is found
+in that step (issue 40 item 3): the swept check's moments are close enough that no point of a
+link moves more than ``GLANCE`` mm past a part between two of them, so a contact deeper than
+half of that is never missed. The path sampled finely (``DenseOracle``) says where it is."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from valterm.bench.collision_scenes import (CellScene, DenseOracle, FclPeer, _between, _links_placed, _simulator,
+                                            glancing_cell, valterm_contacts)
+from valterm.core.collision.frames import GLANCE
+
+
+def _deepest(scene: CellScene, k: int) -> float:
+    """How deep the arm's vertices go into the cube on the way to pose ``k`` (mm, the path
+    sampled 400 times): a vertex's depth, the distance to the nearest face from inside,
+    never more than the depth the pair would have to be moved apart by."""
+    cube = scene.parts[0].vertices
+    lo = cube[0]
+    edges = np.array([cube[i] - lo for i in range(1, len(cube))])
+    axes = edges[np.argsort(np.linalg.norm(edges, axis=1))[:3]]
+    side = np.linalg.norm(axes, axis=1)
+    placed = _links_placed(_simulator([]), _between(scene.poses[k - 1: k + 1], 400))
+    along = (placed - lo) @ (axes / side[:, None]).T                  # (samples, vertices, 3)
+    inside = np.minimum(along, side - along).min(axis=2)
+    return float(inside.max())
+
+
+@pytest.mark.parametrize("at", [0.13, 0.37, 0.5, 0.71, 0.9])
+def test_a_corner_clipped_between_poses_is_found_in_its_step(at: float) -> None:
+    scene, k = glancing_cell(at, 2.7)
+    oracle = DenseOracle(scene, 400)
+    assert oracle.meets("FINGER", "1", k) and not oracle.meets("FINGER", "1", k - 1)
+    assert FclPeer(scene).per_pose() == {}                       # at no pose
+    assert GLANCE / 2.0 < _deepest(scene, k) < 2.7
+    ours, _ = valterm_contacts(scene)
+    assert ours == {("FINGER", "1"): k}
