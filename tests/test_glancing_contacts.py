@@ -10,7 +10,7 @@ import pytest
 
 from valterm.bench.collision_scenes import (CellScene, DenseOracle, FclPeer, _between, _links_placed, _simulator,
                                             glancing_cell, valterm_contacts)
-from valterm.core.collision.frames import GLANCE
+from valterm.core.collision.glance import GLANCE
 
 
 def _deepest(scene: CellScene, k: int) -> float:

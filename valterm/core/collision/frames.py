@@ -30,6 +30,7 @@ import numpy as np
 
 from valterm.core.cell.polyhedron import Polyhedron
 from valterm.core.collision import arrays
+from valterm.core.collision.glance import GLANCE, Glancing
 from valterm.core.collision.thesis import (CLEAR, COLLIDES, EPS, NEAR, SEPARATED, Layout, Scene, check_pairs,
                                            face_planes, figures, largest_of_xyz, layout, margin)
 from valterm.core.collision.moments import MomentsBatch
@@ -89,6 +90,8 @@ class RobotScene(MomentsBatch):
         self._past_kept: dict[int, tuple[np.ndarray, ...]] = {}   # _past_width's, by the bounds' id
         self._fixed_kept: tuple[object, object, dict[tuple[float, ...], tuple[np.ndarray, np.ndarray, np.ndarray,
                                 np.ndarray, bool, float]]] | None = None   # _fixed_lengths'
+        # the pairs the last ``swept`` or ``swept_path`` left to look at between its moments
+        self.glancing: Glancing | None = None
 
     # -- what is built once ----------------------------------------------------------------
     def set_shapes(self, local: Sequence[np.ndarray]) -> None:
@@ -415,7 +418,7 @@ class RobotScene(MomentsBatch):
         """
         pairs, s = self._pairs_now, self._scene
         kept, self._ends = self._ends, None
-        never = _NEVER
+        never, self.glancing = _NEVER, None
         if pairs is None or self.checker == "exact" or len(pairs.moving) == 0:
             return never
         gaps = self._gaps_now
@@ -435,7 +438,7 @@ class RobotScene(MomentsBatch):
             if tight:
                 terms = self._sweep_terms(frames, turns, terms)
                 bound, relative, linking, top = self._bounds(terms, linked)
-            if top <= thinnest and not linking:
+            if top <= min(thinnest, GLANCE) and not linking:
                 return never              # nothing moves as far as the thinnest part is wide
             if links is None and linking:
                 links = self._link_gaps(linked, since, kept)
@@ -446,7 +449,7 @@ class RobotScene(MomentsBatch):
                 if parts is None:         # the pairs (and their gaps) the fixed lengths can reach
                     parts = self._part_pairs(top, objects, since, kept)
                 moved = bound.take(parts[1])
-                risky = bool(((parts[3] <= moved) & (moved > parts[4])).any())
+                risky = bool(((parts[3] <= moved) & (moved > np.minimum(parts[4], GLANCE))).any())
             if links is not None:
                 closing = bound.take(links[1]) + bound.take(links[2])
                 risky = risky or bool(((links[3] <= closing) & (relative > 1.0)).any())
@@ -463,6 +466,11 @@ class RobotScene(MomentsBatch):
         sel, b0, both, reach, need = (np.concatenate([c[i].take(p) for c, p in zip(columns, picks)]) for i in range(5))
         _, moments, rows = arrays.moments(np.ones((1, len(sel)), dtype=bool), sel, b0[None], both[None], reach[None],
                                     need[None], len(pairs.moving))
+        glance = np.flatnonzero((parts[3] <= moved) & (moved > GLANCE))
+        if len(glance):
+            g0 = parts[5].take(glance)
+            self.glancing = Glancing(np.zeros(len(glance), dtype=np.intp), parts[0].take(glance), moved.take(glance),
+                                     g0, parts[3].take(glance) - g0 + 2.0 * EPS, len(pairs.moving))
         return moments, rows
 
     def _fixed_lengths(self, frames: np.ndarray, turned: Sequence[float], linked: tuple[np.ndarray, ...]
@@ -650,6 +658,7 @@ class RobotScene(MomentsBatch):
         turns (radians), ``figures`` what ``keep_pose`` kept of them. The same decision as
         ``swept``, step by step, in a few dozen numpy calls for the path."""
         never = np.zeros(0, dtype=np.intp), np.zeros(0), np.zeros((0, 0), dtype=bool)
+        self.glancing = None
         count = len(figures.keys) - 1
         if not count:
             return never
@@ -688,13 +697,31 @@ class RobotScene(MomentsBatch):
         # by the fixed lengths is never less than by this bound)
         pick = np.concatenate([both[:, :n] <= moved, (both[:, n:] <= closing) & (relative > 1.0)], axis=1)
         widths = widths.take(near)
-        k = np.flatnonzero(np.any(pick[:, :n] & (moved > widths), axis=1) | np.any(pick[:, n:], axis=1))
+        glance = pick[:, :n] & (moved > GLANCE)
+        k = np.flatnonzero(np.any(pick[:, :n] & (moved > np.minimum(widths, GLANCE)), axis=1)
+                           | np.any(pick[:, n:], axis=1))
         if not len(k):
             return never
+        self.glancing = self._glancing(glance, near, moved, before[:, :n], both[:, :n], len(pairs.moving))
         reach = np.concatenate([moved, closing], axis=1)
         need = np.concatenate([moved / widths, relative], axis=1)
         step, moments, rows = arrays.moments(pick[k], cols, before[k], both[k], reach[k], need[k], len(pairs.moving))
         return k.take(step), moments, rows
+
+    def pair_count(self) -> int:
+        """How many pairs the last ``check`` looked at (a moment's row of pairs)."""
+        return 0 if self._pairs_now is None else len(self._pairs_now.moving)
+
+    @staticmethod
+    def _glancing(glance: np.ndarray, near: np.ndarray, moved: np.ndarray, before: np.ndarray, both: np.ndarray,
+                  pairs: int) -> Glancing | None:
+        """The (step, pair) items of ``glance`` (steps, pairs ``near``) as ``Glancing``: each pair's
+        bound ``moved`` and its box gaps, ``before`` and ``both`` less those (``swept_path``'s)."""
+        step, col = np.nonzero(glance)
+        if not len(step):
+            return None
+        g0 = before[step, col]
+        return Glancing(step, near.take(col), moved[step, col], g0, both[step, col] - g0 + 2.0 * EPS, pairs)
 
     def meeting(self, frames: np.ndarray, rows: np.ndarray, held: np.ndarray | None) -> np.ndarray:
         """Per moment (the links at ``frames`` (moments, links, 4, 4), the carried parts'
@@ -800,7 +827,7 @@ class RobotScene(MomentsBatch):
         got = self._past_kept.get(id(bound))
         if got is None or got[0] is not bound or got[1] is not widths:
             moved = bound.take(pairs.moving[:ruled])
-            past = np.flatnonzero(moved > widths)
+            past = np.flatnonzero(moved > np.minimum(widths, GLANCE))
             got = (bound, widths, past, moved.take(past), pairs.moving.take(past), pairs.stationary.take(past))
             if keep:
                 if len(self._past_kept) >= 16:
@@ -956,11 +983,6 @@ class RobotScene(MomentsBatch):
 
 
 _VERTICES = operator.attrgetter("vertices")
-
-# mm: between two of the swept check's moments no point of a link moves farther than this
-# relative to a part it may meet, so a corner that clips a part between them goes no deeper
-# than half of it (issue 40): a contact deeper than GLANCE / 2 is found in its step
-GLANCE = 2.0
 
 # ``swept``'s answer when no moment is needed (empty: nothing can write into them)
 _NEVER = (np.zeros(0), np.zeros((0, 0), dtype=bool))

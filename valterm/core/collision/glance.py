@@ -1,0 +1,132 @@
+"""Corners clipped between the swept check's moments (issue 40).
+
+The swept check spaces a step's moments by the thinnest part's width: enough to find a link
+that passes through a part, not a corner that clips one and leaves before the next moment.
+So after those moments, each pair that could meet in a step (its boxes within reach of its
+moving body's bound ``b``, the most any of its points moves over the step) is looked at
+between them, conservative advancement on what the moments found: where the pair was at
+least ``d0`` apart at moment ``t0`` and ``d1`` at the next, ``t1``, no point can reach the part
+before ``t0 + d0 / b`` or after ``t1 - d1 / b``; between those the pair is checked at moments
+no more than ``GLANCE / b`` of the step apart (no point moves farther than ``GLANCE`` mm
+between two). A pair found apart at two moments its points move at most ``g`` between
+overlaps at any time between them by less than ``g / 2``: a plane separates the two at the
+nearer moment, and no point has moved ``g / 2`` from where it was then, so moving the link
+that far along the plane's normal parts them. A contact deeper than ``GLANCE / 2`` is found
+in its step.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+# mm: between two of the moments looked at no point of a link moves farther than this
+# relative to a part it may meet: a contact deeper than half of it is found in its step
+GLANCE = 2.0
+# mm: the spacings looked at before, each clearing most of the way for the next
+COARSER: tuple[float, ...] = ()
+
+_FINEST = 2 ** 20        # moments are k / 2^j of their step: a step's pairs share them
+
+
+@dataclass(frozen=True)
+class Glancing:
+    """The pairs (scene positions) that could meet in a path's steps (indices as the moments'),
+    each with its moving body's bound over the step (mm) and its boxes' gaps at the step's
+    start and end (mm, at least how far apart the pair is there where not negative)."""
+
+    step: np.ndarray
+    pair: np.ndarray
+    bound: np.ndarray
+    start: np.ndarray
+    end: np.ndarray
+    pairs: int                   # how many pairs the scene has
+
+
+# moments and what to look at there: each moment's step and fraction of it (in order), and
+# the (moment, pair) items, by moment
+Items = tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]
+
+
+def between(glancing: Glancing, known: Items, clear: np.ndarray, spacing: float = GLANCE) -> Items:
+    """The moments where the pairs of ``glancing`` must be looked at besides the ``known`` ones
+    (the swept check's), given what those found of each of their items: ``clear``, how far
+    apart it was at least (0: not known), negative where it collided (the pair is then found
+    in that step: nothing more to look for). The moments are no more than ``spacing`` mm of a
+    pair's travel apart (``GLANCE`` for the answer; more first, so that what they find
+    clears most of the way at a few moments)."""
+    n = glancing.pairs
+    key, c, lo, hi, s, _ = _spans(glancing, known, clear, spacing)
+    first = np.floor(lo / s) + 1.0
+    count = np.maximum(np.ceil(hi / s) - first, 0.0).astype(np.intp)
+    each = np.repeat(np.arange(len(c)), count)
+    nth = np.arange(len(each)) - np.repeat(np.cumsum(count) - count, count)
+    frac = (first.take(each) + nth) * s.take(each)
+    pair_key = key.take(c.take(each))
+    return _items(pair_key // n, np.round(frac * _FINEST).astype(np.int64), pair_key % n)
+
+
+def doubtful(glancing: Glancing, known: Items, clear: np.ndarray, spacing: float = GLANCE) -> np.ndarray:
+    """Which of the ``known`` items (``between``'s) end a span that ``between`` would look in:
+    knowing better how far apart they are may clear it."""
+    _, _, lo, hi, s, ends = _spans(glancing, known, clear, spacing)
+    counted = np.ceil(hi / s) - np.floor(lo / s) > 1.0
+    mine = np.zeros(len(clear) + 1, dtype=bool)      # the last: the steps' poses (not items)
+    mine[ends[0][counted]] = True
+    mine[ends[1][counted]] = True
+    found: np.ndarray = mine[:-1]
+    return found
+
+
+def _spans(glancing: Glancing, known: Items, clear: np.ndarray, spacing: float
+           ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, tuple[np.ndarray, np.ndarray]]:
+    """Each candidate's spans between two moments known of it (the step's poses, the known
+    items) where its pair is still to look for: the candidates' keys (step x pairs + pair,
+    sorted), each span's candidate (an index into them), the part of it not cleared (``lo``
+    to ``hi``, fractions of the step), the spacing (a fraction 2^-j, no more than
+    ``spacing`` / bound) and the known items ending it (``len(clear)`` for a pose)."""
+    n = glancing.pairs
+    step_of, t, at, p = known
+    item_key = step_of.take(at) * n + p
+    key = glancing.step * n + glancing.pair
+    order = np.argsort(key)
+    key, live = key.take(order), ~np.isin(key.take(order), item_key[clear < 0])
+    mine = np.flatnonzero(np.isin(item_key, key))
+    cand = np.concatenate([np.arange(len(key)), np.arange(len(key)), np.searchsorted(key, item_key.take(mine))])
+    when = np.concatenate([np.zeros(len(key)), np.ones(len(key)), t.take(at.take(mine))])
+    apart = np.maximum(np.concatenate([glancing.start.take(order), glancing.end.take(order), clear.take(mine)]), 0.0)
+    item = np.concatenate([np.full(2 * len(key), len(clear)), mine])
+    # by candidate and time; of those at the same time (a pose known as an item too) the
+    # farthest apart, the last
+    seq = np.lexsort((apart, when, cand))
+    cand, when = cand.take(seq), when.take(seq)
+    last = np.append((cand[1:] != cand[:-1]) | (when[1:] != when[:-1]), True)
+    seq = seq[last]
+    cand, when, apart, item = cand[last], when[last], apart.take(seq), item.take(seq)
+    span = np.flatnonzero((cand[1:] == cand[:-1]) & live.take(cand[1:]))
+    c = cand.take(span)
+    bound = glancing.bound.take(order).take(c)
+    lo = when.take(span) + apart.take(span) / bound
+    hi = when.take(span + 1) - apart.take(span + 1) / bound
+    s = 2.0 ** -np.ceil(np.log2(np.maximum(bound / spacing, 1.0)))
+    return key, c, lo, hi, s, (item.take(span), item.take(span + 1))
+
+
+def _items(step: np.ndarray, tick: np.ndarray, pair: np.ndarray) -> Items:
+    """``Items`` of (step, moment ``tick / _FINEST`` of it, pair) triples: the moments sorted
+    and shared, each pair once at each."""
+    code = step.astype(np.int64) * (2 * _FINEST) + tick
+    keys, inverse = np.unique(code, return_inverse=True)
+    width = int(pair.max(initial=0)) + 1
+    item = np.unique(inverse.astype(np.int64) * width + pair)
+    return (keys // (2 * _FINEST)).astype(np.intp), (keys % (2 * _FINEST)) / _FINEST, \
+        (item // width).astype(np.intp), (item % width).astype(np.intp)
+
+
+def ends(glancing: Glancing) -> Items:
+    """The moments at each step's two poses (0 and 1 of it) with the pairs of ``glancing`` there:
+    how far apart they are at the poses says more than their boxes' gaps."""
+    both = np.concatenate([glancing.step, glancing.step])
+    tick = np.repeat(np.array([0, _FINEST], dtype=np.int64), len(glancing.step))
+    return _items(both, tick, np.concatenate([glancing.pair, glancing.pair]))
