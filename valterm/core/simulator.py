@@ -775,19 +775,18 @@ class Simulator:
         found = self._found_at(scene, q0, q1, known, rounds, clear, moments[2])
         if glancing is None or clear is None:
             return found
-        # the poses too, to be measured where that may clear a span
-        at_ends = ends(glancing)
-        known = _joined(known, at_ends)
-        clear = np.concatenate([clear, np.zeros(len(at_ends[2]))])
+        # the poses too, as far apart as their boxes, measured where that may clear a span
+        at_ends, apart = ends(glancing)
+        known, clear = _joined(known, at_ends), np.concatenate([clear, apart])
         measured = np.zeros(len(clear), dtype=bool)
         for spacing in (*COARSER, GLANCE):
             self._measured(scene, q0, q1, glancing, (known, clear, measured), spacing)
             more = between(glancing, known, clear, spacing)
             if not len(more[0]):
                 continue
-            # a step says a pair once: these moments always in rounds
+            # a step says a pair once (in rounds where collisions are likely, as the first moments)
             told = np.zeros(len(more[2]))
-            for step, said in enumerate(self._found_at(scene, q0, q1, more, True, told)):
+            for step, said in enumerate(self._found_at(scene, q0, q1, more, rounds, told)):
                 found[step] += [f for f in said if f not in found[step]]
             known, clear = _joined(known, more), np.concatenate([clear, told])
             measured = np.concatenate([measured, np.ones(len(told), dtype=bool)])   # by ``_few_at``

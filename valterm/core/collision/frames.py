@@ -520,7 +520,7 @@ class RobotScene(MomentsBatch):
         gaps = np.empty((count + 1, n))
         gaps[0] = self._kept_gaps(self._ends, since, self._all_pairs(n), pairs.moving, pairs.stationary)
         figures = PathFigures(pairs, self._parts, self._carried, [since], gaps, np.empty((count, len(movers), 3)),
-                              np.empty((count, len(movers))), [], [], not self._carried and self.thesis_axes)
+                              np.empty((count, len(movers))), [], [], not self._carried and self.thesis_axes, [])
         if figures.rigid:           # the links' radii and the fixed lengths: the same at every pose
             figures.radii[:] = self._scene.radii.take(movers)
         return figures
@@ -619,7 +619,9 @@ class RobotScene(MomentsBatch):
         codes = np.full(len(pair), NEAR)
         fined = np.flatnonzero(gaps[pair, pose] <= EPS)
         if len(fined):
-            codes[fined[self._fine_at(frames, pose.take(fined), pair.take(fined))]] = COLLIDES
+            hit = fined[self._fine_at(frames, pose.take(fined), pair.take(fined))]
+            codes[hit] = COLLIDES
+            figures.collided.append((i - 1 + pose.take(hit)) * len(pairs.moving) + pair.take(hit))
         order = np.argsort(pose, kind="stable")          # by pose, then by pair (as found)
         bounds = np.searchsorted(pose.take(order), np.arange(count + 1)).tolist()
         said = list(zip(pair.take(order).tolist(), codes.take(order).tolist()))
@@ -702,6 +704,11 @@ class RobotScene(MomentsBatch):
                            | np.any(pick[:, n:], axis=1))
         if not len(k):
             return never
+        # a pair that collides at a step's end is said there: nothing between to look for
+        if figures.collided:
+            step, col = np.nonzero(glance)
+            said = np.isin(step * len(pairs.moving) + near.take(col), np.concatenate(figures.collided))
+            glance[step[said], col[said]] = False
         self.glancing = self._glancing(glance, near, moved, before[:, :n], both[:, :n], len(pairs.moving))
         reach = np.concatenate([moved, closing], axis=1)
         need = np.concatenate([moved / widths, relative], axis=1)
@@ -1023,3 +1030,4 @@ class PathFigures:
     tables: list[np.ndarray]       # their travel tables (``_travel_table``; one when ``rigid``)
     narrow: list[int]              # the poses whose check left pairs to the broad phase
     rigid: bool                    # only links move, on the thesis's axes: radii and table kept once
+    collided: list[np.ndarray]     # step x pairs + pair of the pairs that collide at a step's end pose

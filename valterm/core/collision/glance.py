@@ -72,10 +72,9 @@ def doubtful(glancing: Glancing, known: Items, clear: np.ndarray, spacing: float
     knowing better how far apart they are may clear it."""
     _, _, lo, hi, s, ends = _spans(glancing, known, clear, spacing)
     counted = np.ceil(hi / s) - np.floor(lo / s) > 1.0
-    mine = np.zeros(len(clear) + 1, dtype=bool)      # the last: the steps' poses (not items)
-    mine[ends[0][counted]] = True
-    mine[ends[1][counted]] = True
-    found: np.ndarray = mine[:-1]
+    found = np.zeros(len(clear), dtype=bool)
+    found[ends[0][counted]] = True
+    found[ends[1][counted]] = True
     return found
 
 
@@ -85,20 +84,17 @@ def _spans(glancing: Glancing, known: Items, clear: np.ndarray, spacing: float
     items) where its pair is still to look for: the candidates' keys (step x pairs + pair,
     sorted), each span's candidate (an index into them), the part of it not cleared (``lo``
     to ``hi``, fractions of the step), the spacing (a fraction 2^-j, no more than
-    ``spacing`` / bound) and the known items ending it (``len(clear)`` for a pose)."""
+    ``spacing`` / bound) and the known items ending it (the step's poses among them: ``ends``)."""
     n = glancing.pairs
     step_of, t, at, p = known
     item_key = step_of.take(at) * n + p
     key = glancing.step * n + glancing.pair
     order = np.argsort(key)
     key, live = key.take(order), ~np.isin(key.take(order), item_key[clear < 0])
-    mine = np.flatnonzero(np.isin(item_key, key))
-    cand = np.concatenate([np.arange(len(key)), np.arange(len(key)), np.searchsorted(key, item_key.take(mine))])
-    when = np.concatenate([np.zeros(len(key)), np.ones(len(key)), t.take(at.take(mine))])
-    apart = np.maximum(np.concatenate([glancing.start.take(order), glancing.end.take(order), clear.take(mine)]), 0.0)
-    item = np.concatenate([np.full(2 * len(key), len(clear)), mine])
-    # by candidate and time; of those at the same time (a pose known as an item too) the
-    # farthest apart, the last
+    item = np.flatnonzero(np.isin(item_key, key))
+    cand, when = np.searchsorted(key, item_key.take(item)), t.take(at.take(item))
+    apart = np.maximum(clear.take(item), 0.0)
+    # by candidate and time; of those at the same time the farthest apart, the last
     seq = np.lexsort((apart, when, cand))
     cand, when = cand.take(seq), when.take(seq)
     last = np.append((cand[1:] != cand[:-1]) | (when[1:] != when[:-1]), True)
@@ -124,9 +120,17 @@ def _items(step: np.ndarray, tick: np.ndarray, pair: np.ndarray) -> Items:
         (item // width).astype(np.intp), (item % width).astype(np.intp)
 
 
-def ends(glancing: Glancing) -> Items:
-    """The moments at each step's two poses (0 and 1 of it) with the pairs of ``glancing`` there:
-    how far apart they are at the poses says more than their boxes' gaps."""
+def ends(glancing: Glancing) -> tuple[Items, np.ndarray]:
+    """The items at each step's two poses (0 and 1 of it), a pair of ``glancing`` each, and how
+    far apart their boxes say they are (every span ``between`` looks in lies between two
+    known items of its pair)."""
     both = np.concatenate([glancing.step, glancing.step])
     tick = np.repeat(np.array([0, _FINEST], dtype=np.int64), len(glancing.step))
-    return _items(both, tick, np.concatenate([glancing.pair, glancing.pair]))
+    items = _items(both, tick, np.concatenate([glancing.pair, glancing.pair]))
+    step_of, t, at, p = items
+    n = glancing.pairs
+    item_key = (step_of.take(at) * 2 + t.take(at).astype(np.intp)) * n + p       # sorted: by moment, then pair
+    apart = np.zeros(len(at))
+    apart[np.searchsorted(item_key, glancing.step * 2 * n + glancing.pair)] = glancing.start
+    apart[np.searchsorted(item_key, (glancing.step * 2 + 1) * n + glancing.pair)] = glancing.end
+    return items, np.maximum(apart, 0.0)

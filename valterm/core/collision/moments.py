@@ -147,31 +147,30 @@ class MomentsBatch:
         of the gaps) and the farthest a face plane of either has the other beyond it (a box's
         gap says little of a long link lying aslant); either is at most how far apart they are."""
         pairs, s, lay = self._pairs_now, self._scene, self._layout
-        assert pairs is not None
+        assert pairs is not None and s.planes is not None
         link, other = pairs.moving.take(p), pairs.stationary.take(p)
         width = int(lay.counts[: len(self._link_ks)].max())
         rows = lay.starts.take(link)[:, None] + np.minimum(np.arange(width), lay.counts.take(link)[:, None] - 1)
         frame = frames[at, self.owners.take(link)]
-        placed = self._local[rows] @ frame[:, :3, :3].transpose(0, 2, 1)
-        placed += frame[:, None, :3, 3]
-        gap = largest_of_xyz(np.maximum(s.lo.take(other, axis=0) - placed.max(axis=1),
-                                        placed.min(axis=1) - s.hi.take(other, axis=0)))
-        beyond = np.maximum(self._apart_items(frames, placed[:0].transpose(1, 2, 0), at, p),
-                            self._beyond_part(placed, other))
-        return gap, beyond
-
-    def _beyond_part(self, placed: np.ndarray, part: np.ndarray) -> np.ndarray:
-        """How far beyond one of its part's face planes each item's link (its vertices
-        ``placed``, (items, vertices, 3)) lies wholly, the farthest such plane's (negative
-        when none has it wholly beyond): ``_apart_items`` the other way round."""
-        assert self._scene.planes is not None
-        unit, off, size = (x.take(part, axis=0) for x in self._scene.planes)
-        # each face turned to look away from its part's centre; a padding face never counts
-        outward = np.where(np.einsum("ifk,ik->if", unit, self._scene.centres.take(part, axis=0)) > off, -1.0, 1.0)
+        rot, shift = frame[:, :3, :3], frame[:, :3, 3]
+        placed = self._local[rows] @ rot.transpose(0, 2, 1)             # (items, vertices, 3)
+        placed += shift[:, None, :]
+        gap = largest_of_xyz(np.maximum(s.lo.take(other, axis=0) - _over_middle(placed, np.maximum),
+                                        _over_middle(placed, np.minimum) - s.hi.take(other, axis=0)))
+        # the part beyond the link's face planes (placed: normals R n, offsets + t . R n), as ``_apart_items``
+        turned = rot @ self._apart_normals.take(link, axis=0)                    # (items, 3, planes)
+        off = self._apart_offsets.take(link, axis=0) + (shift[:, None, :] @ turned)[:, 0]
+        width = int(lay.counts.max())
+        rows = lay.starts.take(other)[:, None] + np.minimum(np.arange(width), lay.counts.take(other)[:, None] - 1)
+        d = s.vertices[rows] @ turned
+        d -= off[:, None, :]
+        beyond = _over_middle(d, np.minimum).max(axis=1)
+        # the link beyond the part's, each turned to look away from its centre (a padding face never counts)
+        unit, offset, size = (x.take(other, axis=0) for x in s.planes)
+        outward = np.where(np.einsum("ifk,ik->if", unit, s.centres.take(other, axis=0)) > offset, -1.0, 1.0)
         d = placed @ (unit * outward[..., None]).transpose(0, 2, 1)
-        d -= np.where(size > 0.0, off * outward, np.inf)[:, None, :]
-        found: np.ndarray = d.min(axis=1).max(axis=1)
-        return found
+        d -= np.where(size > 0.0, offset * outward, np.inf)[:, None, :]
+        return gap, np.maximum(beyond, _over_middle(d, np.minimum).max(axis=1))
 
     def _fine_at(self, frames: np.ndarray, at: np.ndarray, p: np.ndarray, clear: np.ndarray | None = None
                  ) -> np.ndarray:
@@ -262,6 +261,15 @@ class MomentsBatch:
         d -= off[:, None]
         found: np.ndarray = d.min(axis=1).max(axis=1)
         return found
+
+
+def _over_middle(d: np.ndarray, pick: np.ufunc) -> np.ndarray:
+    """``pick`` (np.minimum, np.maximum) over the middle axis of (items, n, m): n - 1 calls on
+    (items, m) (numpy reduces a short axis of many rows slowly)."""
+    out: np.ndarray = d[:, 0].copy()
+    for k in range(1, d.shape[1]):
+        pick(out, d[:, k], out=out)
+    return out
 
 
 _FineAt = Callable[[np.ndarray, np.ndarray, np.ndarray, "np.ndarray | None"], np.ndarray]
