@@ -46,7 +46,7 @@ from valterm.core.rules import CONTROLLER, RULES_1985, check_rules
 
 if TYPE_CHECKING:  # the collision checks load with the first check, not at every start (issue 25)
     from valterm.core.collision.frames import PathFigures, RobotScene
-    from valterm.core.collision.glance import Glancing, Items
+    from valterm.core.collision.glance import Items, Spans
     from valterm.core.collision.world import Finding
 
 GRASP_MESSAGE = "IT IS POSSIBLE TO GRASP THIS PART"
@@ -766,7 +766,7 @@ class Simulator:
         by step; then, where the swept check left pairs that could meet between its moments
         (``RobotScene.glancing``), at the moments ``glance.between`` finds for them from how far
         apart the moments before found them (a corner clipped between two of them)."""
-        from valterm.core.collision.glance import COARSER, GLANCE, between, ends
+        from valterm.core.collision.glance import COARSER, GLANCE, between, ends, spans
 
         glancing = scene.glancing
         at, pair = np.nonzero(moments[2])
@@ -780,8 +780,9 @@ class Simulator:
         known, clear = _joined(known, at_ends), np.concatenate([clear, apart])
         measured = np.zeros(len(clear), dtype=bool)
         for spacing in (*COARSER, GLANCE):
-            self._measured(scene, q0, q1, glancing, (known, clear, measured), spacing)
-            more = between(glancing, known, clear, spacing)
+            found_spans = spans(glancing, known)
+            self._measured(scene, q0, q1, found_spans, (known, clear, measured), spacing)
+            more = between(found_spans, clear, spacing)
             if not len(more[0]):
                 continue
             # a step says a pair once (in rounds where collisions are likely, as the first moments)
@@ -792,7 +793,7 @@ class Simulator:
             measured = np.concatenate([measured, np.ones(len(told), dtype=bool)])   # by ``_few_at``
         return found
 
-    def _measured(self, scene: RobotScene, q0: np.ndarray, q1: np.ndarray, glancing: Glancing,
+    def _measured(self, scene: RobotScene, q0: np.ndarray, q1: np.ndarray, found: Spans,
                   told: tuple[Items, np.ndarray, np.ndarray], spacing: float) -> None:
         """How far apart the known items (``told``: them, how far apart each was found, whether
         that was by the face planes) that end a span ``between`` would look in are
@@ -804,7 +805,7 @@ class Simulator:
         if self.carried is not None:
             return
         step_of, t, at, p = known
-        items = np.flatnonzero(doubtful(glancing, known, clear, spacing) & (clear >= 0.0) & ~measured)
+        items = np.flatnonzero(doubtful(found, clear, spacing) & (clear >= 0.0) & ~measured)
         if not len(items):
             return
         measured[items] = True

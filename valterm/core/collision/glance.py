@@ -49,64 +49,75 @@ class Glancing:
 Items = tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]
 
 
-def between(glancing: Glancing, known: Items, clear: np.ndarray, spacing: float = GLANCE) -> Items:
-    """The moments where the pairs of ``glancing`` must be looked at besides the ``known`` ones
-    (the swept check's), given what those found of each of their items: ``clear``, how far
-    apart it was at least (0: not known), negative where it collided (the pair is then found
-    in that step: nothing more to look for). The moments are no more than ``spacing`` mm of a
-    pair's travel apart (``GLANCE`` for the answer; more first, so that what they find
-    clears most of the way at a few moments)."""
-    n = glancing.pairs
-    key, c, lo, hi, s, _ = _spans(glancing, known, clear, spacing)
-    first = np.floor(lo / s) + 1.0
-    count = np.maximum(np.ceil(hi / s) - first, 0.0).astype(np.intp)
-    each = np.repeat(np.arange(len(c)), count)
-    nth = np.arange(len(each)) - np.repeat(np.cumsum(count) - count, count)
-    frac = (first.take(each) + nth) * s.take(each)
-    pair_key = key.take(c.take(each))
-    return _items(pair_key // n, np.round(frac * _FINEST).astype(np.int64), pair_key % n)
+@dataclass(frozen=True)
+class Spans:
+    """Each candidate's spans between two moments known of it (``spans``): the candidates'
+    keys (step x pairs + pair, sorted), each span's candidate (an index into them), its two
+    ends (fractions of the step, and the known items there) and its pair's bound (mm)."""
+
+    key: np.ndarray
+    cand: np.ndarray
+    start: np.ndarray
+    end: np.ndarray
+    first: np.ndarray
+    last: np.ndarray
+    bound: np.ndarray
+    pairs: int
+
+    def clear_of(self, clear: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The part of each span no point can reach the part in (``lo`` to ``hi``, fractions of the
+        step; empty where its pair collided at a known moment of the step, found there)."""
+        apart = np.maximum(clear, 0.0)
+        lo = self.start + apart.take(self.first) / self.bound
+        hi = self.end - apart.take(self.last) / self.bound
+        hit = np.zeros(len(self.key), dtype=bool)
+        hit[self.cand[(clear.take(self.first) < 0) | (clear.take(self.last) < 0)]] = True
+        return lo, np.where(hit.take(self.cand), lo, hi)
 
 
-def doubtful(glancing: Glancing, known: Items, clear: np.ndarray, spacing: float = GLANCE) -> np.ndarray:
-    """Which of the ``known`` items (``between``'s) end a span that ``between`` would look in:
-    knowing better how far apart they are may clear it."""
-    _, _, lo, hi, s, ends = _spans(glancing, known, clear, spacing)
-    counted = np.ceil(hi / s) - np.floor(lo / s) > 1.0
-    found = np.zeros(len(clear), dtype=bool)
-    found[ends[0][counted]] = True
-    found[ends[1][counted]] = True
-    return found
-
-
-def _spans(glancing: Glancing, known: Items, clear: np.ndarray, spacing: float
-           ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, tuple[np.ndarray, np.ndarray]]:
-    """Each candidate's spans between two moments known of it (the step's poses, the known
-    items) where its pair is still to look for: the candidates' keys (step x pairs + pair,
-    sorted), each span's candidate (an index into them), the part of it not cleared (``lo``
-    to ``hi``, fractions of the step), the spacing (a fraction 2^-j, no more than
-    ``spacing`` / bound) and the known items ending it (the step's poses among them: ``ends``)."""
+def spans(glancing: Glancing, known: Items) -> Spans:
+    """The spans between the ``known`` moments of each pair of ``glancing`` in its step (its
+    poses are known moments: ``ends``)."""
     n = glancing.pairs
     step_of, t, at, p = known
     item_key = step_of.take(at) * n + p
     key = glancing.step * n + glancing.pair
     order = np.argsort(key)
-    key, live = key.take(order), ~np.isin(key.take(order), item_key[clear < 0])
+    key = key.take(order)
     item = np.flatnonzero(np.isin(item_key, key))
     cand, when = np.searchsorted(key, item_key.take(item)), t.take(at.take(item))
-    apart = np.maximum(clear.take(item), 0.0)
-    # by candidate and time; of those at the same time the farthest apart, the last
-    seq = np.lexsort((apart, when, cand))
-    cand, when = cand.take(seq), when.take(seq)
-    last = np.append((cand[1:] != cand[:-1]) | (when[1:] != when[:-1]), True)
-    seq = seq[last]
-    cand, when, apart, item = cand[last], when[last], apart.take(seq), item.take(seq)
-    span = np.flatnonzero((cand[1:] == cand[:-1]) & live.take(cand[1:]))
+    seq = np.lexsort((when, cand))
+    cand, when, item = cand.take(seq), when.take(seq), item.take(seq)
+    span = np.flatnonzero(cand[1:] == cand[:-1])
     c = cand.take(span)
-    bound = glancing.bound.take(order).take(c)
-    lo = when.take(span) + apart.take(span) / bound
-    hi = when.take(span + 1) - apart.take(span + 1) / bound
-    s = 2.0 ** -np.ceil(np.log2(np.maximum(bound / spacing, 1.0)))
-    return key, c, lo, hi, s, (item.take(span), item.take(span + 1))
+    return Spans(key, c, when.take(span), when.take(span + 1), item.take(span), item.take(span + 1),
+                 glancing.bound.take(order).take(c), n)
+
+
+def between(found: Spans, clear: np.ndarray, spacing: float = GLANCE) -> Items:
+    """The moments where the pairs of ``found`` spans must be looked at, given what the known
+    moments found of each item: ``clear``, how far apart it was at least (0: not known),
+    negative where it collided (the pair is then found in that step: nothing more to look
+    for). In each span's part a point may reach the part in, moments evenly spaced no more
+    than ``spacing`` mm of its pair's travel apart and from the part's ends."""
+    lo, hi = found.clear_of(clear)
+    count = np.maximum(np.ceil((hi - lo) * found.bound / (spacing * (1.0 - 1e-6))) - 1.0, 0.0).astype(np.intp)
+    each = np.repeat(np.arange(len(lo)), count)
+    nth = np.arange(len(each)) - np.repeat(np.cumsum(count) - count, count) + 1
+    frac = lo.take(each) + nth * ((hi - lo) / (count + 1)).take(each)
+    pair_key = found.key.take(found.cand.take(each))
+    return _items(pair_key // found.pairs, np.round(frac * _FINEST).astype(np.int64), pair_key % found.pairs)
+
+
+def doubtful(found: Spans, clear: np.ndarray, spacing: float = GLANCE) -> np.ndarray:
+    """Which known items end a span ``between`` would look in: knowing better how far apart
+    they are may clear it."""
+    lo, hi = found.clear_of(clear)
+    counted = (hi - lo) * found.bound > spacing
+    out = np.zeros(len(clear), dtype=bool)
+    out[found.first[counted]] = True
+    out[found.last[counted]] = True
+    return out
 
 
 def _items(step: np.ndarray, tick: np.ndarray, pair: np.ndarray) -> Items:
