@@ -5,12 +5,15 @@ half of that is never missed. The path sampled finely (``DenseOracle``) says whe
 
 from __future__ import annotations
 
+import fcl
 import numpy as np
 import pytest
 
 from valterm.bench.collision_scenes import (CellScene, DenseOracle, FclPeer, _between, _links_placed, _simulator,
-                                            glancing_cell, valterm_contacts)
+                                            crowded_cell, glancing_cell, valterm_contacts)
+from valterm.core.cell.workcell import WorkCell
 from valterm.core.collision.glance import GLANCE
+from valterm.core.simulator import Simulator
 
 
 def _deepest(scene: CellScene, k: int) -> float:
@@ -37,3 +40,32 @@ def test_a_corner_clipped_between_poses_is_found_in_its_step(at: float) -> None:
     assert GLANCE / 2.0 < _deepest(scene, k) < 2.7
     ours, _ = valterm_contacts(scene)
     assert ours == {("FINGER", "1"): k}
+
+
+def test_how_far_apart_a_link_and_a_part_are_is_never_said_more_than_it_is() -> None:
+    """The between-moments check advances on ``apart_at`` (boxes and face planes): a bound
+    that said a pair farther apart than it is would let a contact pass. Against fcl's
+    distance on link x part pairs of the crowded cell at its poses, near and far."""
+    scene = crowded_cell(30)
+    peer = FclPeer(scene)
+    sim = Simulator(WorkCell(objects=list(scene.parts)))
+    robot = sim._collision_scene()
+    sim.stand_at([float(v) for v in scene.poses[0]])
+    list(sim.check_collisions())
+    pairs, nl = robot._pairs_now, len(robot._link_ks)
+    assert pairs is not None
+    rng = np.random.default_rng(40)
+    p = rng.choice(np.flatnonzero((pairs.stationary >= nl) & (pairs.moving < nl)), 600)
+    at = rng.integers(0, 100, 600)
+    frames = sim.model.link_frames_batch(scene.poses[:100], sim.base)
+    said = robot.apart_at(frames, at, p)
+    true = []
+    for k, pair in zip(at.tolist(), p.tolist()):
+        link, part = int(pairs.moving[pair]), int(pairs.stationary[pair]) - nl
+        rot, shift = frames[k, robot.owners[link], :3, :3], frames[k, robot.owners[link], :3, 3]
+        obj = fcl.CollisionObject(peer.geoms[link], fcl.Transform(rot, rot @ peer.local_centres[link] + shift))
+        true.append(fcl.distance(obj, peer.parts[part], fcl.DistanceRequest(), fcl.DistanceResult()))
+    true_d = np.maximum(np.array(true), 0.0)
+    assert (said <= true_d + 1e-6).all()
+    near = true_d < 60.0
+    assert near.sum() >= 10 and np.median(said[near] / np.maximum(true_d[near], 1e-9)) > 0.5   # and says much
