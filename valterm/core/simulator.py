@@ -845,7 +845,7 @@ class Simulator:
                     found[int(step_of[k])] += said
             return found
         if rows is None:
-            rows = np.zeros((len(step_of), scene.pair_count()), dtype=bool)
+            rows = np.zeros((len(step_of), int(p.max(initial=0)) + 1), dtype=bool)
             rows[at, p] = True
         moved = False
         try:

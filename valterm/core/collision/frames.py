@@ -30,9 +30,9 @@ import numpy as np
 
 from valterm.core.cell.polyhedron import Polyhedron
 from valterm.core.collision import arrays
-from valterm.core.collision.glance import GLANCE, Glancing
+from valterm.core.collision.glance import GLANCE, Glancing, at_risk
 from valterm.core.collision.thesis import (CLEAR, COLLIDES, EPS, NEAR, SEPARATED, Layout, Scene, check_pairs,
-                                           face_planes, figures, largest_of_xyz, layout, margin)
+                                           face_planes, figures, layout, margin)
 from valterm.core.collision.moments import MomentsBatch
 from valterm.core.collision.world import CollisionWorld, Finding, _Pairs
 
@@ -467,10 +467,8 @@ class RobotScene(MomentsBatch):
         _, moments, rows = arrays.moments(np.ones((1, len(sel)), dtype=bool), sel, b0[None], both[None], reach[None],
                                     need[None], len(pairs.moving))
         glance = np.flatnonzero((parts[3] <= moved) & (moved > GLANCE))
-        if len(glance):
-            g0 = parts[5].take(glance)
-            self.glancing = Glancing(np.zeros(len(glance), dtype=np.intp), parts[0].take(glance), moved.take(glance),
-                                     g0, parts[3].take(glance) - g0 + 2.0 * EPS, len(pairs.moving))
+        self.glancing = at_risk((np.zeros(len(glance), dtype=np.intp), parts[0].take(glance)), moved.take(glance),
+                                parts[5].take(glance), parts[3].take(glance), len(pairs.moving))
         return moments, rows
 
     def _fixed_lengths(self, frames: np.ndarray, turned: Sequence[float], linked: tuple[np.ndarray, ...]
@@ -699,64 +697,17 @@ class RobotScene(MomentsBatch):
         # by the fixed lengths is never less than by this bound)
         pick = np.concatenate([both[:, :n] <= moved, (both[:, n:] <= closing) & (relative > 1.0)], axis=1)
         widths = widths.take(near)
-        glance = pick[:, :n] & (moved > GLANCE)
         k = np.flatnonzero(np.any(pick[:, :n] & (moved > np.minimum(widths, GLANCE)), axis=1)
                            | np.any(pick[:, n:], axis=1))
         if not len(k):
             return never
-        # a pair that collides at a step's end is said there: nothing between to look for
-        if figures.collided:
-            step, col = np.nonzero(glance)
-            said = np.isin(step * len(pairs.moving) + near.take(col), np.concatenate(figures.collided))
-            glance[step[said], col[said]] = False
-        self.glancing = self._glancing(glance, near, moved, before[:, :n], both[:, :n], len(pairs.moving))
+        step, col = np.nonzero(pick[:, :n] & (moved > GLANCE))
+        self.glancing = at_risk((step, near.take(col)), moved[step, col], before[step, col], both[step, col],
+                                len(pairs.moving), figures.collided)
         reach = np.concatenate([moved, closing], axis=1)
         need = np.concatenate([moved / widths, relative], axis=1)
         step, moments, rows = arrays.moments(pick[k], cols, before[k], both[k], reach[k], need[k], len(pairs.moving))
         return k.take(step), moments, rows
-
-    def pair_count(self) -> int:
-        """How many pairs the last ``check`` looked at (a moment's row of pairs)."""
-        return 0 if self._pairs_now is None else len(self._pairs_now.moving)
-
-    @staticmethod
-    def _glancing(glance: np.ndarray, near: np.ndarray, moved: np.ndarray, before: np.ndarray, both: np.ndarray,
-                  pairs: int) -> Glancing | None:
-        """The (step, pair) items of ``glance`` (steps, pairs ``near``) as ``Glancing``: each pair's
-        bound ``moved`` and its box gaps, ``before`` and ``both`` less those (``swept_path``'s)."""
-        step, col = np.nonzero(glance)
-        if not len(step):
-            return None
-        g0 = before[step, col]
-        return Glancing(step, near.take(col), moved[step, col], g0, both[step, col] - g0 + 2.0 * EPS, pairs)
-
-    def meeting(self, frames: np.ndarray, rows: np.ndarray, held: np.ndarray | None) -> np.ndarray:
-        """Per moment (the links at ``frames`` (moments, links, 4, 4), the carried parts'
-        vertices ``held`` (moments, vertices, 3)): do the boxes of a pair of its row meet
-        (within a hair)? The fine test finds a collision only where the boxes meet, so the
-        other moments need no check. Call after ``check`` (the free parts are where it saw them)."""
-        pairs, s = self._pairs_now, self._scene
-        assert pairs is not None
-        count, nl = len(frames), len(self._link_ks)
-        # every moment's frames side by side, one product (as ``keep_path``); (bodies, moments, 3) boxes
-        placed = (self._local_h @ frames[:, : self._n_frames, :3, :].transpose(3, 0, 1, 2).reshape(4, -1)
-                  ).take(self._path_picks(count)[0])
-        starts = self._layout.starts[:nl]
-        lo: np.ndarray = np.empty((len(s.mid), count, 3))
-        hi: np.ndarray = np.empty((len(s.mid), count, 3))
-        lo[nl:], hi[nl:] = s.lo[nl:, None], s.hi[nl:, None]
-        lo[:nl] = np.minimum.reduceat(placed, starts).reshape(nl, 3, count).transpose(0, 2, 1)
-        hi[:nl] = np.maximum.reduceat(placed, starts).reshape(nl, 3, count).transpose(0, 2, 1)
-        if held is not None and len(self._held_at):
-            lo[self._held_at] = np.minimum.reduceat(held, self._held_starts, axis=1).transpose(1, 0, 2)
-            hi[self._held_at] = np.maximum.reduceat(held, self._held_starts, axis=1).transpose(1, 0, 2)
-        at, p = np.nonzero(rows)
-        a, b = pairs.moving.take(p) * count + at, pairs.stationary.take(p) * count + at
-        low, high = lo.reshape(-1, 3), hi.reshape(-1, 3)
-        gap = np.maximum(low.take(b, axis=0) - high.take(a, axis=0), low.take(a, axis=0) - high.take(b, axis=0))
-        meet = np.zeros(count, dtype=bool)
-        meet[at[largest_of_xyz(gap) <= EPS + arrays.HAIR]] = True
-        return meet
 
     def _path_bounds(self, terms: np.ndarray, weights: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Each body's bound (steps, bodies; 0 for the still ones) and the link pairs' steps

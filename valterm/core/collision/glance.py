@@ -21,6 +21,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from valterm.core.collision.thesis import EPS
+
 # mm: between two of the moments looked at no point of a link moves farther than this
 # relative to a part it may meet: a contact deeper than half of it is found in its step
 GLANCE = 2.0
@@ -42,6 +44,21 @@ class Glancing:
     start: np.ndarray
     end: np.ndarray
     pairs: int                   # how many pairs the scene has
+
+
+def at_risk(items: tuple[np.ndarray, np.ndarray], bound: np.ndarray, start: np.ndarray, both: np.ndarray,
+            pairs: int, said: list[np.ndarray] | None = None) -> Glancing | None:
+    """``Glancing`` of the (step, pair) ``items`` the swept check found could meet (their
+    moving bodies' bounds, box gaps at the start and start plus end less 2 EPS, as it has
+    them), but for those ``said`` (step x ``pairs`` + pair: a pair that collides at its step's
+    end pose is said there, nothing between to look for); None when there are none."""
+    step, pair = items
+    if said:
+        keep = ~np.isin(step * pairs + pair, np.concatenate(said))
+        step, pair, bound, start, both = (x[keep] for x in (step, pair, bound, start, both))
+    if not len(step):
+        return None
+    return Glancing(step, pair, bound, start, both - start + 2.0 * EPS, pairs)
 
 
 # moments and what to look at there: each moment's step and fraction of it (in order), and

@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING, Callable
 
 import numpy as np
 
+from valterm.core.collision.arrays import HAIR
 from valterm.core.collision.thesis import COLLIDES, EPS, SEPARATED, Layout, Scene, fine, largest_of_xyz
 
 if TYPE_CHECKING:
@@ -33,6 +34,8 @@ class MomentsBatch:
     _n_frames: int
     _local_h: np.ndarray
     _local: np.ndarray
+    _held_at: np.ndarray
+    _held_starts: np.ndarray
     _local_centres: np.ndarray
     _local_radii: np.ndarray
     _apart_normals: np.ndarray
@@ -114,6 +117,34 @@ class MomentsBatch:
         ordered = every[keep]
         _, first_of_pair = np.unique(pair_in_step.take(ordered), return_index=True)
         return np.sort(ordered[first_of_pair])
+
+    def meeting(self, frames: np.ndarray, rows: np.ndarray, held: np.ndarray | None) -> np.ndarray:
+        """Per moment (the links at ``frames`` (moments, links, 4, 4), the carried parts'
+        vertices ``held`` (moments, vertices, 3)): do the boxes of a pair of its row meet
+        (within a hair)? The fine test finds a collision only where the boxes meet, so the
+        other moments need no check. Call after ``check`` (the free parts are where it saw them)."""
+        pairs, s = self._pairs_now, self._scene
+        assert pairs is not None
+        count, nl = len(frames), len(self._link_ks)
+        # every moment's frames side by side, one product (as ``keep_path``); (bodies, moments, 3) boxes
+        placed = (self._local_h @ frames[:, : self._n_frames, :3, :].transpose(3, 0, 1, 2).reshape(4, -1)
+                  ).take(self._path_picks(count)[0])
+        starts = self._layout.starts[:nl]
+        lo: np.ndarray = np.empty((len(s.mid), count, 3))
+        hi: np.ndarray = np.empty((len(s.mid), count, 3))
+        lo[nl:], hi[nl:] = s.lo[nl:, None], s.hi[nl:, None]
+        lo[:nl] = np.minimum.reduceat(placed, starts).reshape(nl, 3, count).transpose(0, 2, 1)
+        hi[:nl] = np.maximum.reduceat(placed, starts).reshape(nl, 3, count).transpose(0, 2, 1)
+        if held is not None and len(self._held_at):
+            lo[self._held_at] = np.minimum.reduceat(held, self._held_starts, axis=1).transpose(1, 0, 2)
+            hi[self._held_at] = np.maximum.reduceat(held, self._held_starts, axis=1).transpose(1, 0, 2)
+        at, p = np.nonzero(rows)
+        a, b = pairs.moving.take(p) * count + at, pairs.stationary.take(p) * count + at
+        low, high = lo.reshape(-1, 3), hi.reshape(-1, 3)
+        gap = np.maximum(low.take(b, axis=0) - high.take(a, axis=0), low.take(a, axis=0) - high.take(b, axis=0))
+        meet = np.zeros(count, dtype=bool)
+        meet[at[largest_of_xyz(gap) <= EPS + HAIR]] = True
+        return meet
 
     def _few_at(self, frames: np.ndarray, at: np.ndarray, p: np.ndarray, clear: np.ndarray | None = None
                 ) -> np.ndarray:
