@@ -766,7 +766,7 @@ class Simulator:
         by step; then, where the swept check left pairs that could meet between its moments
         (``RobotScene.glancing``), at the moments ``glance.between`` finds for them from how far
         apart the moments before found them (a corner clipped between two of them)."""
-        from valterm.core.collision.glance import COARSER, GLANCE, between, ends, spans
+        from valterm.core.collision.glance import between, ends, spans
 
         glancing = scene.glancing
         at, pair = np.nonzero(moments[2])
@@ -778,37 +778,27 @@ class Simulator:
         # the poses too, as far apart as their boxes, measured where that may clear a span
         at_ends, apart = ends(glancing)
         known, clear = _joined(known, at_ends), np.concatenate([clear, apart])
-        measured = np.zeros(len(clear), dtype=bool)
-        for spacing in (*COARSER, GLANCE):
-            found_spans = spans(glancing, known)
-            self._measured(scene, q0, q1, found_spans, (known, clear, measured), spacing)
-            more = between(found_spans, clear, spacing)
-            if not len(more[0]):
-                continue
-            # a step says a pair once (in rounds where collisions are likely, as the first moments)
-            told = np.zeros(len(more[2]))
-            for step, said in enumerate(self._found_at(scene, q0, q1, more, rounds, told)):
-                found[step] += [f for f in said if f not in found[step]]
-            known, clear = _joined(known, more), np.concatenate([clear, told])
-            measured = np.concatenate([measured, np.ones(len(told), dtype=bool)])   # by ``_few_at``
+        found_spans = spans(glancing, known)
+        self._measured(scene, q0, q1, found_spans, known, clear)
+        more = between(found_spans, clear)
+        # a step says a pair once (in rounds where collisions are likely, as the first moments)
+        for step, said in enumerate(self._found_at(scene, q0, q1, more, rounds, None)):
+            found[step] += [f for f in said if f not in found[step]]
         return found
 
-    def _measured(self, scene: RobotScene, q0: np.ndarray, q1: np.ndarray, found: Spans,
-                  told: tuple[Items, np.ndarray, np.ndarray], spacing: float) -> None:
-        """How far apart the known items (``told``: them, how far apart each was found, whether
-        that was by the face planes) that end a span ``between`` would look in are
+    def _measured(self, scene: RobotScene, q0: np.ndarray, q1: np.ndarray, found: Spans, known: Items,
+                  clear: np.ndarray) -> None:
+        """How far apart the ``known`` items that end a span ``between`` would look in are
         (``glance.doubtful``), measured by the pair's face planes (``RobotScene.apart_at``)
-        where it was only by their boxes: into the second array, the third then saying so."""
+        where it was by their boxes, into ``clear`` (how far apart each was found)."""
         from valterm.core.collision.glance import doubtful
 
-        known, clear, measured = told
         if self.carried is not None:
             return
         step_of, t, at, p = known
-        items = np.flatnonzero(doubtful(found, clear, spacing) & (clear >= 0.0) & ~measured)
+        items = np.flatnonzero(doubtful(found, clear) & (clear >= 0.0))
         if not len(items):
             return
-        measured[items] = True
         used, moment = np.unique(at.take(items), return_inverse=True)
         frames = self.model.link_frames_batch(q0[step_of[used]] + (q1[step_of[used]] - q0[step_of[used]])
                                               * t[used][:, None], self.base)

@@ -2,19 +2,22 @@
 
 The swept check spaces a step's moments by the thinnest part's width: enough to find a link
 that passes through a part, not a corner that clips one and leaves before the next moment.
-So after those moments, each pair that could meet in a step (its boxes within reach of its
-moving body's bound ``b``, the most any of its points moves over the step) is looked at
-between them, conservative advancement on what the moments found: where the pair was at
-least ``d0`` apart at moment ``t0`` and ``d1`` at the next, ``t1``, no point can reach the part
-before ``t0 + d0 / b`` or after ``t1 - d1 / b``; between those the pair is checked at moments
-no more than ``GLANCE / b`` of the step apart (no point moves farther than ``GLANCE`` mm
-between two). A pair found apart at two moments its points move at most ``g`` between
-overlaps at any time between them by less than ``g / 2``: a plane separates the two at the
-nearer moment, and no point has moved ``g / 2`` from where it was then, so moving the link
-that far along the plane's normal parts them. A contact deeper than ``GLANCE / 2`` is found
-in its step.
-"""
+So after those moments, each link x part pair that could meet in a step (its boxes within
+reach of its moving body's bound ``b``, the most any of its points moves over the step) is
+looked at between them, conservative advancement on what the moments and the step's two
+poses found: where the pair was at least ``d0`` apart at moment ``t0`` and ``d1`` at the next,
+``t1``, no point can reach the part before ``t0 + d0 / b`` or after ``t1 - d1 / b``; between
+those the pair is checked at moments no more than ``GLANCE / b`` of the step apart (no point
+moves farther than ``GLANCE`` mm between two). How far apart: the boxes' gap, and where that
+leaves a span to look in, the face planes of either (``RobotScene.apart_at``; never more
+than the distance, a test says so against fcl).
 
+Why that is enough: a pair found apart at two moments its points move at most ``g`` between
+overlaps at any time between them by less than ``g / 2`` (a plane separates the two at the
+nearer moment, and no point has moved ``g / 2`` from where it was then, so moving the link
+that far along the plane's normal parts them). A contact deeper than ``GLANCE / 2`` is found
+in its step. A pair that collides at a step's end pose is said there, and not looked for.
+"""
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -26,10 +29,8 @@ from valterm.core.collision.thesis import EPS
 # mm: between two of the moments looked at no point of a link moves farther than this
 # relative to a part it may meet: a contact deeper than half of it is found in its step
 GLANCE = 2.0
-# mm: the spacings looked at before, each clearing most of the way for the next
-COARSER: tuple[float, ...] = ()
 
-_FINEST = 2 ** 20        # moments are k / 2^j of their step: a step's pairs share them
+_FINEST = 2 ** 20        # moments are k / 2^20 of their step (one at a moment two pairs share)
 
 
 @dataclass(frozen=True)
@@ -116,7 +117,7 @@ def between(found: Spans, clear: np.ndarray, spacing: float = GLANCE) -> Items:
     moments found of each item: ``clear``, how far apart it was at least (0: not known),
     negative where it collided (the pair is then found in that step: nothing more to look
     for). In each span's part a point may reach the part in, moments evenly spaced no more
-    than ``spacing`` mm of its pair's travel apart and from the part's ends."""
+    than ``spacing`` mm of its pair's travel apart and from the part's ends (``GLANCE``)."""
     lo, hi = found.clear_of(clear)
     count = np.maximum(np.ceil((hi - lo) * found.bound / (spacing * (1.0 - 1e-6))) - 1.0, 0.0).astype(np.intp)
     each = np.repeat(np.arange(len(lo)), count)
