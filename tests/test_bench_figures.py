@@ -191,3 +191,14 @@ def test_the_programs_motion_seconds_are_those_the_app_plays(tmp_path: Path) -> 
     app_seconds = asyncio.run(played())
     assert app_seconds > 17.0  # READY from F (15.5 s from the set-up's pose)
     assert program_motion_seconds() == pytest.approx(app_seconds)
+
+
+def test_the_capacity_figures_read_this_process_memory() -> None:
+    """The serving guide's memory column: PSS and private dirty pages from smaps_rollup, in
+    KiB, of a live process (this one): both there, and no more private than it is resident."""
+    from valterm.bench.capacity import memory_kib
+
+    if not os.path.exists(f"/proc/{os.getpid()}/smaps_rollup"):
+        pytest.skip("no /proc/PID/smaps_rollup on this system")
+    found = memory_kib(os.getpid())
+    assert 1024 < found["private_kib"] <= found["pss_kib"] * 1.01

@@ -239,6 +239,38 @@ def _plate(centre: np.ndarray, normal: np.ndarray, name: str) -> Polyhedron:
     return box.transformed(rot, centre)
 
 
+def glancing_cell(at: float, depth: float, turn: float = 36.0) -> tuple[CellScene, int]:
+    """One 40 mm cube a finger's corner clips between two poses and leaves before the next: the
+    arm outstretched turns JT1 by ``turn`` degrees (three steps at SPEED 100), and a fraction
+    ``at`` of the way through the middle step the arm's farthest point along u (outward from
+    the base and a little up) is ``depth`` mm inside the cube, whose corner points back along
+    u. No point of the arm comes farther along u at any other moment of the motion (a turn
+    about the vertical keeps each point's height and distance from the axis), so only that
+    corner meets the cube, for a moment; and the step it meets it in (the pose it ends at)."""
+    start = np.array([0.0, -60.0, 150.0, 0.0, 30.0, 0.0])
+    goals = np.array([start, start + np.array([turn, 0.0, 0.0, 0.0, 0.0, 0.0])])
+    poses = program_poses(goals)
+    sim = _simulator([])
+    k = len(poses) // 2
+    v = _links_placed(sim, (poses[k - 1] + at * (poses[k] - poses[k - 1]))[None])[0]
+    far = v[int(np.hypot(v[:, 0], v[:, 1]).argmax())]
+    u = np.array([far[0], far[1], 0.3 * np.hypot(far[0], far[1])])
+    u /= np.linalg.norm(u)
+    corner = v[int((v @ u).argmax())]
+    cube = Polyhedron.box(np.zeros(3), np.full(3, 40.0), "1")
+    return CellScene("glancing", [cube.transformed(_diagonal_to(u), corner - depth * u)], goals, poses), k
+
+
+def _diagonal_to(u: np.ndarray) -> np.ndarray:
+    """The rotation taking the unit cube's diagonal (1, 1, 1) / sqrt 3 to the unit vector ``u``
+    (Rodrigues' formula; ``u`` is never opposite it here)."""
+    a = np.full(3, 1.0 / np.sqrt(3.0))
+    v, c = np.cross(a, u), float(a @ u)
+    k = np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
+    turned: np.ndarray = np.eye(3) + k + k @ k / (1.0 + c)
+    return turned
+
+
 # -- the peers ------------------------------------------------------------------------------
 
 Contacts = dict[tuple[str, str], int]    # (link, part number) -> the first pose they meet at

@@ -42,6 +42,13 @@ LOCATIONS = "ABCDEF"  # the locations of PROCESS.LOC, accepted one by one
 BRAILLE = re.compile(rb"\xe2[\xa0-\xa3]")  # UTF-8 of U+2800-U+28FF: the picture's cells
 
 
+def terminal_env() -> dict[str, str]:
+    """The child's environment: a true-colour xterm, its size the pty's own (COLUMNS and LINES,
+    which pytest-xdist's workers set to 80x24, would override it)."""
+    env = {k: v for k, v in os.environ.items() if k not in ("COLUMNS", "LINES")}
+    return dict(env, TERM="xterm-256color", COLORTERM="truecolor")
+
+
 def _read_until(fd: int, needle: bytes, timeout: float, picture: bool = False) -> tuple[bytes, float]:
     """Read until ``needle`` is on the screen (and, with ``picture``, the model's braille too)."""
     start = time.perf_counter()
@@ -161,7 +168,7 @@ def _spawn(width: int, height: int, workspace: str, cache: str | None = None) ->
     pid, fd = pty.fork()
     if pid == 0:  # the child: a terminal of the asked size, then the app
         fcntl.ioctl(0, termios.TIOCSWINSZ, struct.pack("HHHH", height, width, 0, 0))
-        env = dict(os.environ, TERM="xterm-256color", COLORTERM="truecolor")
+        env = terminal_env()
         if cache is not None:
             env["XDG_CACHE_HOME"] = cache
         os.execve(sys.executable, [sys.executable, "-m", "valterm", "--workspace", workspace,
@@ -186,7 +193,7 @@ def _spawn_bare(width: int, height: int) -> tuple[int, int]:
     pid, fd = pty.fork()
     if pid == 0:
         fcntl.ioctl(0, termios.TIOCSWINSZ, struct.pack("HHHH", height, width, 0, 0))
-        env = dict(os.environ, TERM="xterm-256color", COLORTERM="truecolor")
+        env = terminal_env()
         os.execve(sys.executable, [sys.executable, "-c", BARE_APP], env)
     return pid, fd
 
@@ -514,7 +521,7 @@ def bench_bare_animation(width: int, height: int, fps: float, seconds: float) ->
     pid, fd = pty.fork()
     if pid == 0:
         fcntl.ioctl(0, termios.TIOCSWINSZ, struct.pack("HHHH", height, width, 0, 0))
-        env = dict(os.environ, TERM="xterm-256color", COLORTERM="truecolor")
+        env = terminal_env()
         os.execve(sys.executable, [sys.executable, "-c", BARE_ANIMATION, str(picture_width),
                                    str(picture_height), f"{fps:.3f}", f"{seconds:.3f}"], env)
     size = f"{width}x{height}"

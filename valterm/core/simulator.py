@@ -46,6 +46,7 @@ from valterm.core.rules import CONTROLLER, RULES_1985, check_rules
 
 if TYPE_CHECKING:  # the collision checks load with the first check, not at every start (issue 25)
     from valterm.core.collision.frames import PathFigures, RobotScene
+    from valterm.core.collision.glance import Items, Spans
     from valterm.core.collision.world import Finding
 
 GRASP_MESSAGE = "IT IS POSSIBLE TO GRASP THIS PART"
@@ -752,7 +753,7 @@ class Simulator:
         turns = [(float(b) - float(a) + 180.0) % 360.0 - 180.0 for a, b in zip(previous, here)]
         moments, rows = scene.swept(frames, list(map(math.radians, turns)), self.cell.objects,
                                     self._pose_key(previous), self._pose_key(here))
-        if not len(moments):
+        if not len(moments) and scene.glancing is None:
             return []
         q0 = np.asarray(previous, dtype=float)[None]
         step = np.zeros(len(moments), dtype=np.intp)
@@ -762,24 +763,80 @@ class Simulator:
                     moments: tuple[np.ndarray, np.ndarray, np.ndarray], rounds: bool = False) -> list[list[Finding]]:
         """The collisions at the moments (each one's step, its fraction of the step, its row of
         pairs: ``RobotScene.swept``'s) of the steps from poses ``q0`` to ``q1`` (steps, 6), step
-        by step: the link frames of every moment at once, then the pairs at risk checked at the
-        moments where their boxes can meet (``RobotScene.meeting``; nowhere else can the fine
-        test find one). ``rounds``: where collisions are likely, a pair found at one moment of
-        a step is not looked for at its later ones (``RobotScene.collisions_at``)."""
-        step_of, t, rows = moments
+        by step; then, where the swept check left pairs that could meet between its moments
+        (``RobotScene.glancing``), at the moments ``glance.between`` finds for them from how far
+        apart the moments before found them (a corner clipped between two of them)."""
+        from valterm.core.collision.glance import between, ends, spans
+
+        glancing = scene.glancing
+        at, pair = np.nonzero(moments[2])
+        known: Items = (moments[0], moments[1], at, pair)
+        clear = None if glancing is None else np.zeros(len(known[2]))
+        found = self._found_at(scene, q0, q1, known, rounds, clear, moments[2])
+        if glancing is None or clear is None:
+            return found
+        # the poses too, as far apart as their boxes, measured where that may clear a span
+        at_ends, apart = ends(glancing)
+        known, clear = _joined(known, at_ends), np.concatenate([clear, apart])
+        found_spans = spans(glancing, known)
+        self._measured(scene, q0, q1, found_spans, known, clear)
+        more = between(found_spans, clear)
+        # a step says a pair once (in rounds where collisions are likely, as the first moments)
+        for step, said in enumerate(self._found_at(scene, q0, q1, more, rounds, None)):
+            found[step] += [f for f in said if f not in found[step]]
+        return found
+
+    def _measured(self, scene: RobotScene, q0: np.ndarray, q1: np.ndarray, found: Spans, known: Items,
+                  clear: np.ndarray) -> None:
+        """How far apart the ``known`` items that end a span ``between`` would look in are
+        (``glance.doubtful``), measured by the pair's face planes (``RobotScene.apart_at``)
+        where it was by their boxes, into ``clear`` (how far apart each was found)."""
+        from valterm.core.collision.glance import doubtful
+
+        if self.carried is not None:
+            return
+        step_of, t, at, p = known
+        items = np.flatnonzero(doubtful(found, clear) & (clear >= 0.0))
+        if not len(items):
+            return
+        used, moment = np.unique(at.take(items), return_inverse=True)
+        frames = self.model.link_frames_batch(q0[step_of[used]] + (q1[step_of[used]] - q0[step_of[used]])
+                                              * t[used][:, None], self.base)
+        clear[items] = np.maximum(clear.take(items), scene.apart_at(frames, moment, p.take(items)))
+
+    def _found_at(self, scene: RobotScene, q0: np.ndarray, q1: np.ndarray, items: Items, rounds: bool,
+                  clear: np.ndarray | None, rows: np.ndarray | None = None) -> list[list[Finding]]:
+        """``_at_moments``' check of the moments and (moment, pair) items given: the link frames
+        of every moment at once, then the pairs at risk checked at the moments where their
+        boxes can meet (``RobotScene.meeting``; nowhere else can the fine test find one).
+        ``rounds``: where collisions are likely, a pair found at one moment of a step is not
+        looked for at its later ones (``RobotScene.collisions_at``). ``clear``: how far apart
+        each item was found at least (``collisions_at``'s; left 0 with a part carried). ``rows``:
+        the items as rows of pairs (the swept check's moments); without them a moment has few
+        items, each a link and a part (``collisions_of``)."""
+        step_of, t, at, p = items
+        found: list[list[Finding]] = [[] for _ in q0]
+        if not len(step_of):
+            return found
         joints = q0[step_of] + (q1[step_of] - q0[step_of]) * t[:, None]
         frames = self.model.link_frames_batch(joints, self.base)
         held = None
         if self.carried is not None and self._carried_local is not None:
             clamp = frames[:, 6]
             held = self._carried_local @ clamp[:, :3, :3].transpose(0, 2, 1) + clamp[:, None, :3, 3]
-        found: list[list[Finding]] = [[] for _ in q0]
-        batch = scene.collisions_at(frames, rows, step_of if rounds else None)
+        steps = step_of if rounds else None
+        if rows is None:
+            batch = scene.collisions_of(frames, at, p, steps, clear, True)
+        else:
+            batch = scene.collisions_at(frames, rows, steps, clear)
         if batch is not None:                   # every moment's pairs at once (no part carried)
             for k, said in enumerate(batch):
                 if said:
                     found[int(step_of[k])] += said
             return found
+        if rows is None:
+            rows = np.zeros((len(step_of), int(p.max(initial=0)) + 1), dtype=bool)
+            rows[at, p] = True
         moved = False
         try:
             for k in np.flatnonzero(scene.meeting(frames, rows, held)).tolist():
@@ -791,6 +848,12 @@ class Simulator:
             if moved:
                 self._follow_clamp()
         return found
+
+
+def _joined(a: Items, b: Items) -> Items:
+    """Two sets of moments and items as one (``b``'s moments after ``a``'s)."""
+    return (np.concatenate([a[0], b[0]]), np.concatenate([a[1], b[1]]), np.concatenate([a[2], b[2] + len(a[0])]),
+            np.concatenate([a[3], b[3]]))
 
 
 class _PathChecks:
@@ -861,7 +924,7 @@ class _PathChecks:
         # the way the joints turned: under the 1985 rules 179 -> -179 is a turn of 2 degrees
         turns = (q[1:] - q[:-1] + 180.0) % 360.0 - 180.0
         moments = self.scene.swept_path(frames, np.radians(turns), sim.cell.objects, self.figures)
-        if not len(moments[0]):
+        if not len(moments[0]) and self.scene.glancing is None:
             return
         # a path that collides at its poses most likely does between them (a cell crowded
         # round a path it clears seldom does): then the moments go in rounds

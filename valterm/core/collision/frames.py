@@ -30,8 +30,9 @@ import numpy as np
 
 from valterm.core.cell.polyhedron import Polyhedron
 from valterm.core.collision import arrays
+from valterm.core.collision.glance import GLANCE, Glancing, at_risk
 from valterm.core.collision.thesis import (CLEAR, COLLIDES, EPS, NEAR, SEPARATED, Layout, Scene, check_pairs,
-                                           face_planes, figures, largest_of_xyz, layout, margin)
+                                           face_planes, figures, layout, margin)
 from valterm.core.collision.moments import MomentsBatch
 from valterm.core.collision.world import CollisionWorld, Finding, _Pairs
 
@@ -89,6 +90,8 @@ class RobotScene(MomentsBatch):
         self._past_kept: dict[int, tuple[np.ndarray, ...]] = {}   # _past_width's, by the bounds' id
         self._fixed_kept: tuple[object, object, dict[tuple[float, ...], tuple[np.ndarray, np.ndarray, np.ndarray,
                                 np.ndarray, bool, float]]] | None = None   # _fixed_lengths'
+        # the pairs the last ``swept`` or ``swept_path`` left to look at between its moments
+        self.glancing: Glancing | None = None
 
     # -- what is built once ----------------------------------------------------------------
     def set_shapes(self, local: Sequence[np.ndarray]) -> None:
@@ -415,7 +418,7 @@ class RobotScene(MomentsBatch):
         """
         pairs, s = self._pairs_now, self._scene
         kept, self._ends = self._ends, None
-        never = _NEVER
+        never, self.glancing = _NEVER, None
         if pairs is None or self.checker == "exact" or len(pairs.moving) == 0:
             return never
         gaps = self._gaps_now
@@ -435,7 +438,7 @@ class RobotScene(MomentsBatch):
             if tight:
                 terms = self._sweep_terms(frames, turns, terms)
                 bound, relative, linking, top = self._bounds(terms, linked)
-            if top <= thinnest and not linking:
+            if top <= min(thinnest, GLANCE) and not linking:
                 return never              # nothing moves as far as the thinnest part is wide
             if links is None and linking:
                 links = self._link_gaps(linked, since, kept)
@@ -446,7 +449,7 @@ class RobotScene(MomentsBatch):
                 if parts is None:         # the pairs (and their gaps) the fixed lengths can reach
                     parts = self._part_pairs(top, objects, since, kept)
                 moved = bound.take(parts[1])
-                risky = bool(((parts[3] <= moved) & (moved > parts[4])).any())
+                risky = bool(((parts[3] <= moved) & (moved > np.minimum(parts[4], GLANCE))).any())
             if links is not None:
                 closing = bound.take(links[1]) + bound.take(links[2])
                 risky = risky or bool(((links[3] <= closing) & (relative > 1.0)).any())
@@ -463,6 +466,9 @@ class RobotScene(MomentsBatch):
         sel, b0, both, reach, need = (np.concatenate([c[i].take(p) for c, p in zip(columns, picks)]) for i in range(5))
         _, moments, rows = arrays.moments(np.ones((1, len(sel)), dtype=bool), sel, b0[None], both[None], reach[None],
                                     need[None], len(pairs.moving))
+        glance = np.flatnonzero((parts[3] <= moved) & (moved > GLANCE))
+        self.glancing = at_risk((np.zeros(len(glance), dtype=np.intp), parts[0].take(glance)), moved.take(glance),
+                                parts[5].take(glance), parts[3].take(glance), len(pairs.moving))
         return moments, rows
 
     def _fixed_lengths(self, frames: np.ndarray, turned: Sequence[float], linked: tuple[np.ndarray, ...]
@@ -512,7 +518,7 @@ class RobotScene(MomentsBatch):
         gaps = np.empty((count + 1, n))
         gaps[0] = self._kept_gaps(self._ends, since, self._all_pairs(n), pairs.moving, pairs.stationary)
         figures = PathFigures(pairs, self._parts, self._carried, [since], gaps, np.empty((count, len(movers), 3)),
-                              np.empty((count, len(movers))), [], [], not self._carried and self.thesis_axes)
+                              np.empty((count, len(movers))), [], [], not self._carried and self.thesis_axes, [])
         if figures.rigid:           # the links' radii and the fixed lengths: the same at every pose
             figures.radii[:] = self._scene.radii.take(movers)
         return figures
@@ -611,7 +617,9 @@ class RobotScene(MomentsBatch):
         codes = np.full(len(pair), NEAR)
         fined = np.flatnonzero(gaps[pair, pose] <= EPS)
         if len(fined):
-            codes[fined[self._fine_at(frames, pose.take(fined), pair.take(fined))]] = COLLIDES
+            hit = fined[self._fine_at(frames, pose.take(fined), pair.take(fined))]
+            codes[hit] = COLLIDES
+            figures.collided.append((i - 1 + pose.take(hit)) * len(pairs.moving) + pair.take(hit))
         order = np.argsort(pose, kind="stable")          # by pose, then by pair (as found)
         bounds = np.searchsorted(pose.take(order), np.arange(count + 1)).tolist()
         said = list(zip(pair.take(order).tolist(), codes.take(order).tolist()))
@@ -650,6 +658,7 @@ class RobotScene(MomentsBatch):
         turns (radians), ``figures`` what ``keep_pose`` kept of them. The same decision as
         ``swept``, step by step, in a few dozen numpy calls for the path."""
         never = np.zeros(0, dtype=np.intp), np.zeros(0), np.zeros((0, 0), dtype=bool)
+        self.glancing = None
         count = len(figures.keys) - 1
         if not count:
             return never
@@ -688,41 +697,17 @@ class RobotScene(MomentsBatch):
         # by the fixed lengths is never less than by this bound)
         pick = np.concatenate([both[:, :n] <= moved, (both[:, n:] <= closing) & (relative > 1.0)], axis=1)
         widths = widths.take(near)
-        k = np.flatnonzero(np.any(pick[:, :n] & (moved > widths), axis=1) | np.any(pick[:, n:], axis=1))
+        k = np.flatnonzero(np.any(pick[:, :n] & (moved > np.minimum(widths, GLANCE)), axis=1)
+                           | np.any(pick[:, n:], axis=1))
         if not len(k):
             return never
+        step, col = np.nonzero(pick[:, :n] & (moved > GLANCE))
+        self.glancing = at_risk((step, near.take(col)), moved[step, col], before[step, col], both[step, col],
+                                len(pairs.moving), figures.collided)
         reach = np.concatenate([moved, closing], axis=1)
         need = np.concatenate([moved / widths, relative], axis=1)
         step, moments, rows = arrays.moments(pick[k], cols, before[k], both[k], reach[k], need[k], len(pairs.moving))
         return k.take(step), moments, rows
-
-    def meeting(self, frames: np.ndarray, rows: np.ndarray, held: np.ndarray | None) -> np.ndarray:
-        """Per moment (the links at ``frames`` (moments, links, 4, 4), the carried parts'
-        vertices ``held`` (moments, vertices, 3)): do the boxes of a pair of its row meet
-        (within a hair)? The fine test finds a collision only where the boxes meet, so the
-        other moments need no check. Call after ``check`` (the free parts are where it saw them)."""
-        pairs, s = self._pairs_now, self._scene
-        assert pairs is not None
-        count, nl = len(frames), len(self._link_ks)
-        # every moment's frames side by side, one product (as ``keep_path``); (bodies, moments, 3) boxes
-        placed = (self._local_h @ frames[:, : self._n_frames, :3, :].transpose(3, 0, 1, 2).reshape(4, -1)
-                  ).take(self._path_picks(count)[0])
-        starts = self._layout.starts[:nl]
-        lo: np.ndarray = np.empty((len(s.mid), count, 3))
-        hi: np.ndarray = np.empty((len(s.mid), count, 3))
-        lo[nl:], hi[nl:] = s.lo[nl:, None], s.hi[nl:, None]
-        lo[:nl] = np.minimum.reduceat(placed, starts).reshape(nl, 3, count).transpose(0, 2, 1)
-        hi[:nl] = np.maximum.reduceat(placed, starts).reshape(nl, 3, count).transpose(0, 2, 1)
-        if held is not None and len(self._held_at):
-            lo[self._held_at] = np.minimum.reduceat(held, self._held_starts, axis=1).transpose(1, 0, 2)
-            hi[self._held_at] = np.maximum.reduceat(held, self._held_starts, axis=1).transpose(1, 0, 2)
-        at, p = np.nonzero(rows)
-        a, b = pairs.moving.take(p) * count + at, pairs.stationary.take(p) * count + at
-        low, high = lo.reshape(-1, 3), hi.reshape(-1, 3)
-        gap = np.maximum(low.take(b, axis=0) - high.take(a, axis=0), low.take(a, axis=0) - high.take(b, axis=0))
-        meet = np.zeros(count, dtype=bool)
-        meet[at[largest_of_xyz(gap) <= EPS + arrays.HAIR]] = True
-        return meet
 
     def _path_bounds(self, terms: np.ndarray, weights: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Each body's bound (steps, bodies; 0 for the still ones) and the link pairs' steps
@@ -800,7 +785,7 @@ class RobotScene(MomentsBatch):
         got = self._past_kept.get(id(bound))
         if got is None or got[0] is not bound or got[1] is not widths:
             moved = bound.take(pairs.moving[:ruled])
-            past = np.flatnonzero(moved > widths)
+            past = np.flatnonzero(moved > np.minimum(widths, GLANCE))
             got = (bound, widths, past, moved.take(past), pairs.moving.take(past), pairs.stationary.take(past))
             if keep:
                 if len(self._past_kept) >= 16:
@@ -996,3 +981,4 @@ class PathFigures:
     tables: list[np.ndarray]       # their travel tables (``_travel_table``; one when ``rigid``)
     narrow: list[int]              # the poses whose check left pairs to the broad phase
     rigid: bool                    # only links move, on the thesis's axes: radii and table kept once
+    collided: list[np.ndarray]     # step x pairs + pair of the pairs that collide at a step's end pose

@@ -10,10 +10,11 @@ the fine test of ``check_pairs`` then run once over every moment's pairs.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Callable
 
 import numpy as np
 
+from valterm.core.collision.arrays import HAIR
 from valterm.core.collision.thesis import COLLIDES, EPS, SEPARATED, Layout, Scene, fine, largest_of_xyz
 
 if TYPE_CHECKING:
@@ -32,6 +33,9 @@ class MomentsBatch:
     _nl_rows: int
     _n_frames: int
     _local_h: np.ndarray
+    _local: np.ndarray
+    _held_at: np.ndarray
+    _held_starts: np.ndarray
     _local_centres: np.ndarray
     _local_radii: np.ndarray
     _apart_normals: np.ndarray
@@ -41,8 +45,8 @@ class MomentsBatch:
     def _path_picks(self, count: int) -> tuple[np.ndarray, np.ndarray]:
         raise NotImplementedError
 
-    def collisions_at(self, frames: np.ndarray, rows: np.ndarray, steps: np.ndarray | None = None
-                      ) -> list[list[Finding]] | None:
+    def collisions_at(self, frames: np.ndarray, rows: np.ndarray, steps: np.ndarray | None = None,
+                      clear: np.ndarray | None = None) -> list[list[Finding]] | None:
         """``collisions_between`` at many moments in one batch (``_fine_at``): the links at
         ``frames`` (moments, links, 4, 4), the pairs of each moment's row (moments, pairs); per
         moment, its collisions. None with a part carried (it moves with the clamp:
@@ -51,21 +55,39 @@ class MomentsBatch:
         ``steps``: the step of each moment (a step's moments together, in order). A step says a
         collision once, so a pair found at one of its moments is not looked for at the later
         ones: the moments go in rounds (each step's first, second, next two, next four ..., the
-        rest at once after a round that found none)."""
+        rest at once after a round that found none).
+
+        ``clear``: room for each (moment, pair) of ``rows`` (``np.nonzero``'s order) to be told how
+        far apart the pair is at least there (``_fine_at``; 0 where not known)."""
+        at, p = np.nonzero(rows)
+        return self.collisions_of(frames, at, p, steps, clear)
+
+    def collisions_of(self, frames: np.ndarray, at: np.ndarray, p: np.ndarray, steps: np.ndarray | None = None,
+                      clear: np.ndarray | None = None, few: bool = False) -> list[list[Finding]] | None:
+        """``collisions_at`` of the (moment ``at[i]``, pair ``p[i]``) items, by moment. ``few``:
+        a moment has few items, each a link and a part (``_few_at`` first)."""
         pairs = self._pairs_now
         assert pairs is not None
         if self._carried:
             return None
-        at, p = np.nonzero(rows)
-        hits = np.flatnonzero(self._fine_at(frames, at, p)) if steps is None else self._first_hits(frames, at, p, steps)
+        fine_at = self._few_at if few else self._fine_at
+        if steps is None:
+            hits = np.flatnonzero(fine_at(frames, at, p, clear))
+        else:
+            hits = self._first_hits(frames, at, p, steps, clear, fine_at)
         found: list[list[tuple[int, int]]] = [[] for _ in range(len(frames))]
         for k, q in sorted(zip(at.take(hits).tolist(), p.take(hits).tolist())):
             found[k].append((q, COLLIDES))
         return [self.world.findings_at(pairs, tuple(h)) if h else [] for h in found]
 
-    def _first_hits(self, frames: np.ndarray, at: np.ndarray, p: np.ndarray, steps: np.ndarray) -> np.ndarray:
+    def _first_hits(self, frames: np.ndarray, at: np.ndarray, p: np.ndarray, steps: np.ndarray,
+                    clear: np.ndarray | None = None, fine_at: _FineAt | None = None) -> np.ndarray:
         """Of the (moment ``at[i]``, pair ``p[i]``) items, those that collide where their pair
-        has not collided at an earlier moment of the same step (``collisions_at``'s rounds)."""
+        has not collided at an earlier moment of the same step (``collisions_at``'s rounds);
+        ``clear`` as ``_fine_at``'s (0 for the items not looked at: their pair has collided)."""
+        if clear is not None:
+            clear[:] = 0.0
+        fine_at = self._fine_at if fine_at is None else fine_at
         count = len(frames)
         first = np.searchsorted(steps, steps)            # each moment's step's first moment
         rank = (np.arange(count) - first).take(at)
@@ -79,7 +101,10 @@ class MomentsBatch:
                 used = np.unique(at.take(now))
                 renumber = np.zeros(count, dtype=np.intp)
                 renumber[used] = np.arange(len(used))
-                hit = now[self._fine_at(frames.take(used, axis=0), renumber.take(at.take(now)), p.take(now))]
+                apart = None if clear is None else np.zeros(len(now))
+                hit = now[fine_at(frames.take(used, axis=0), renumber.take(at.take(now)), p.take(now), apart)]
+                if clear is not None and apart is not None:
+                    clear[now] = apart
                 hits.append(hit)
                 done = np.union1d(done, pair_in_step.take(hit))
             # a round that found nothing would save nothing by more rounds: the rest at once
@@ -93,13 +118,103 @@ class MomentsBatch:
         _, first_of_pair = np.unique(pair_in_step.take(ordered), return_index=True)
         return np.sort(ordered[first_of_pair])
 
-    def _fine_at(self, frames: np.ndarray, at: np.ndarray, p: np.ndarray) -> np.ndarray:
+    def meeting(self, frames: np.ndarray, rows: np.ndarray, held: np.ndarray | None) -> np.ndarray:
+        """Per moment (the links at ``frames`` (moments, links, 4, 4), the carried parts'
+        vertices ``held`` (moments, vertices, 3)): do the boxes of a pair of its row meet
+        (within a hair)? The fine test finds a collision only where the boxes meet, so the
+        other moments need no check. Call after ``check`` (the free parts are where it saw them)."""
+        pairs, s = self._pairs_now, self._scene
+        assert pairs is not None
+        count, nl = len(frames), len(self._link_ks)
+        # every moment's frames side by side, one product (as ``keep_path``); (bodies, moments, 3) boxes
+        placed = (self._local_h @ frames[:, : self._n_frames, :3, :].transpose(3, 0, 1, 2).reshape(4, -1)
+                  ).take(self._path_picks(count)[0])
+        starts = self._layout.starts[:nl]
+        lo: np.ndarray = np.empty((len(s.mid), count, 3))
+        hi: np.ndarray = np.empty((len(s.mid), count, 3))
+        lo[nl:], hi[nl:] = s.lo[nl:, None], s.hi[nl:, None]
+        lo[:nl] = np.minimum.reduceat(placed, starts).reshape(nl, 3, count).transpose(0, 2, 1)
+        hi[:nl] = np.maximum.reduceat(placed, starts).reshape(nl, 3, count).transpose(0, 2, 1)
+        if held is not None and len(self._held_at):
+            lo[self._held_at] = np.minimum.reduceat(held, self._held_starts, axis=1).transpose(1, 0, 2)
+            hi[self._held_at] = np.maximum.reduceat(held, self._held_starts, axis=1).transpose(1, 0, 2)
+        at, p = np.nonzero(rows)
+        a, b = pairs.moving.take(p) * count + at, pairs.stationary.take(p) * count + at
+        low, high = lo.reshape(-1, 3), hi.reshape(-1, 3)
+        gap = np.maximum(low.take(b, axis=0) - high.take(a, axis=0), low.take(a, axis=0) - high.take(b, axis=0))
+        meet = np.zeros(count, dtype=bool)
+        meet[at[largest_of_xyz(gap) <= EPS + HAIR]] = True
+        return meet
+
+    def _few_at(self, frames: np.ndarray, at: np.ndarray, p: np.ndarray, clear: np.ndarray | None = None
+                ) -> np.ndarray:
+        """``_fine_at`` where a moment has few items, each a link and a part: each item's link
+        placed alone (its vertices by its frame at the moment), its box and face planes
+        against the part's; only the items those leave go to ``_fine_at`` (which places
+        every link at their moments)."""
+        gap, beyond = self._apart_of(frames, at, p)
+        apart = np.maximum(np.maximum(gap, beyond), 0.0)
+        meet = np.flatnonzero((gap <= EPS) & (beyond <= SEPARATED))
+        hit = np.zeros(len(at), dtype=bool)
+        if len(meet):
+            told = np.zeros(len(meet))
+            used, moment = np.unique(at.take(meet), return_inverse=True)     # their moments alone
+            hit[meet] = self._fine_at(frames.take(used, axis=0), moment, p.take(meet), told)
+            apart[meet] = told
+        if clear is not None:
+            clear[:] = apart
+        return hit
+
+    def apart_at(self, frames: np.ndarray, at: np.ndarray, p: np.ndarray) -> np.ndarray:
+        """Per (moment ``at[i]``, pair ``p[i]``), a link and a part (the links at ``frames``):
+        at least how far apart they are (``_apart_of``; 0 where it cannot say)."""
+        gap, beyond = self._apart_of(frames, at, p)
+        found: np.ndarray = np.maximum(np.maximum(gap, beyond), 0.0)
+        return found
+
+    def _apart_of(self, frames: np.ndarray, at: np.ndarray, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Per (moment ``at[i]``, pair ``p[i]``), a link and a part: its link placed alone (its
+        vertices by its frame at the moment), how far apart their boxes are (``largest_of_xyz``
+        of the gaps) and the farthest a face plane of either has the other beyond it (a box's
+        gap says little of a long link lying aslant); either is at most how far apart they are."""
+        pairs, s, lay = self._pairs_now, self._scene, self._layout
+        assert pairs is not None and s.planes is not None
+        link, other = pairs.moving.take(p), pairs.stationary.take(p)
+        width = int(lay.counts[: len(self._link_ks)].max())
+        rows = lay.starts.take(link)[:, None] + np.minimum(np.arange(width), lay.counts.take(link)[:, None] - 1)
+        frame = frames[at, self.owners.take(link)]
+        rot, shift = frame[:, :3, :3], frame[:, :3, 3]
+        placed = self._local[rows] @ rot.transpose(0, 2, 1)             # (items, vertices, 3)
+        placed += shift[:, None, :]
+        gap = largest_of_xyz(np.maximum(s.lo.take(other, axis=0) - _over_middle(placed, np.maximum),
+                                        _over_middle(placed, np.minimum) - s.hi.take(other, axis=0)))
+        # the part beyond the link's face planes (placed: normals R n, offsets + t . R n), as ``_apart_items``
+        turned = rot @ self._apart_normals.take(link, axis=0)                    # (items, 3, planes)
+        off = self._apart_offsets.take(link, axis=0) + (shift[:, None, :] @ turned)[:, 0]
+        width = int(lay.counts.max())
+        rows = lay.starts.take(other)[:, None] + np.minimum(np.arange(width), lay.counts.take(other)[:, None] - 1)
+        d = s.vertices[rows] @ turned
+        d -= off[:, None, :]
+        beyond = _over_middle(d, np.minimum).max(axis=1)
+        # the link beyond the part's, each turned to look away from its centre (a padding face never counts)
+        unit, offset, size = (x.take(other, axis=0) for x in s.planes)
+        outward = np.where(np.einsum("ifk,ik->if", unit, s.centres.take(other, axis=0)) > offset, -1.0, 1.0)
+        d = placed @ (unit * outward[..., None]).transpose(0, 2, 1)
+        d -= np.where(size > 0.0, offset * outward, np.inf)[:, None, :]
+        return gap, np.maximum(beyond, _over_middle(d, np.minimum).max(axis=1))
+
+    def _fine_at(self, frames: np.ndarray, at: np.ndarray, p: np.ndarray, clear: np.ndarray | None = None
+                 ) -> np.ndarray:
         """Per (moment ``at[i]``, pair ``p[i]``), the links at ``frames[at[i]]`` and nothing
         carried: do the pair's boxes meet and the fine test find a collision? The links' boxes
         at every moment first (one product places every vertex); then one scene holds the
         links at the moments where boxes meet beside the parts, so the fine test runs once
         for every moment's pairs (the tests of ``check_pairs``, pair by pair: a pair whose
-        boxes meet is near, its centre then in the other's box grown by its radius)."""
+        boxes meet is near, its centre then in the other's box grown by its radius).
+
+        ``clear`` (optional, one per item) is told how far apart the pair is at least: its boxes'
+        gap, or where they meet how far the other lies beyond one of the link's face planes
+        (0 where the fine test is needed, -1 where it finds a collision)."""
         pairs, s = self._pairs_now, self._scene
         assert pairs is not None
         count, nl, rows_l = len(frames), len(self._link_ks), self._nl_rows
@@ -110,10 +225,16 @@ class MomentsBatch:
         hi = np.concatenate([np.maximum.reduceat(placed, starts).transpose(2, 0, 1).reshape(-1, 3), s.hi[nl:]])
         a, b = self._at_moment(pairs.moving.take(p), at, count), self._at_moment(pairs.stationary.take(p), at, count)
         gap = np.maximum(lo.take(b, axis=0) - hi.take(a, axis=0), lo.take(a, axis=0) - hi.take(b, axis=0))
-        meet = np.flatnonzero(largest_of_xyz(gap) <= EPS)
+        gap = largest_of_xyz(gap)
+        meet = np.flatnonzero(gap <= EPS)
         hit = np.zeros(len(a), dtype=bool)
+        if clear is not None:
+            np.maximum(gap, 0.0, out=clear)
         if len(meet):           # a link's face plane with the other wholly beyond it: clear (``_apart``)
-            meet = meet[~self._apart_items(frames, placed, at.take(meet), p.take(meet))]
+            beyond = self._apart_items(frames, placed, at.take(meet), p.take(meet))
+            if clear is not None:
+                clear[meet] = np.maximum(beyond, 0.0)
+            meet = meet[beyond <= SEPARATED]
         if not len(meet):
             return hit
         # the scene of the moments where boxes meet, those moments numbered again from 0
@@ -136,6 +257,8 @@ class MomentsBatch:
                       np.concatenate([(link_lo + link_hi) * 0.5, s.mid[nl:]]),
                       np.concatenate([(link_hi - link_lo) * 0.5, s.half[nl:]]))
         hit[meet[fine(batch, a, b)]] = True
+        if clear is not None:
+            clear[hit] = -1.0
         return hit
 
     def _at_moment(self, bodies: np.ndarray, at: np.ndarray, count: int) -> np.ndarray:
@@ -146,10 +269,12 @@ class MomentsBatch:
         return found
 
     def _apart_items(self, frames: np.ndarray, placed: np.ndarray, at: np.ndarray, p: np.ndarray) -> np.ndarray:
-        """Per (moment ``at[i]``, pair ``p[i]``): is every vertex of the pair's stationary body
-        more than ``SEPARATED`` mm beyond one of its moving link's face planes (placed from the
-        link's own frame at that moment)? Then the fine test answers clear (``_apart``'s
-        argument). ``placed``: the links' vertices at every moment, (rows, 3, moments)."""
+        """Per (moment ``at[i]``, pair ``p[i]``): how far beyond one of its moving link's face
+        planes (placed from the link's own frame at that moment) every vertex of the pair's
+        stationary body lies, the farthest such plane's (mm; negative when none has it wholly
+        beyond). More than ``SEPARATED``: the fine test answers clear (``_apart``'s argument);
+        and the two are at least that far apart. ``placed``: the links' vertices at every
+        moment, (rows, 3, moments)."""
         pairs, s, lay = self._pairs_now, self._scene, self._layout
         assert pairs is not None
         nl = len(self._link_ks)
@@ -165,8 +290,20 @@ class MomentsBatch:
             d[linked] = placed[rows.take(linked, axis=0), :, at.take(linked)[:, None]]
         d = d @ turned
         d -= off[:, None]
-        found: np.ndarray = d.min(axis=1).max(axis=1) > SEPARATED
+        found: np.ndarray = d.min(axis=1).max(axis=1)
         return found
+
+
+def _over_middle(d: np.ndarray, pick: np.ufunc) -> np.ndarray:
+    """``pick`` (np.minimum, np.maximum) over the middle axis of (items, n, m): n - 1 calls on
+    (items, m) (numpy reduces a short axis of many rows slowly)."""
+    out: np.ndarray = d[:, 0].copy()
+    for k in range(1, d.shape[1]):
+        pick(out, d[:, k], out=out)
+    return out
+
+
+_FineAt = Callable[[np.ndarray, np.ndarray, np.ndarray, "np.ndarray | None"], np.ndarray]
 
 
 def _moments_layout(lay: Layout, nl: int, rows: int, count: int) -> Layout:
