@@ -74,7 +74,7 @@ def measure(width: int, height: int, seconds: float) -> dict[str, dict[str, floa
         _define_locations(fd)  # VAL-II mode's command line, PROCESS.LOC's locations defined
         states["typing"] = _state(pid, fd, seconds, keys=TYPED)
         _line(fd, "EXECUTE LOOPS,-1")
-        _drain(fd, 1.0)
+        _record(fd, 1.0, quiet_end=math.inf)  # under way (a drain would wait for a quiet the run never has)
         states["running"] = _state(pid, fd, seconds)
     finally:
         _end(pid, fd)
