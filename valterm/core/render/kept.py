@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import os
 import zlib
+from functools import cache
 from pathlib import Path
 
 from valterm.core.files.atomic import write_bytes_atomic
@@ -53,9 +54,10 @@ def cache_path() -> Path:
     return Path(cache) / "valterm" / FILE_NAME
 
 
+@cache  # the code this process runs: one walk of the package a start, not one a read and a keep
 def code_stamp() -> str:
-    """The package's own files and the bundled robot files as they are now (names, sizes,
-    times): a picture drawn by other code is not shown."""
+    """The package's own files and the bundled robot files as they were when first asked
+    (names, sizes, times): a picture drawn by other code is not shown."""
     from valterm import __version__
     from valterm.core import resources
 
