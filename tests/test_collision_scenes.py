@@ -71,19 +71,27 @@ def test_the_scenes_are_the_same_every_run(crowded: CellScene) -> None:
     assert np.array_equal(crowded.poses, again.poses)
 
 
-def test_moments_checked_together_find_what_each_moment_finds(heavy: CellScene) -> None:
-    """``RobotScene.collisions_at`` (every moment's pairs in one batch) against
-    ``collisions_between`` moment by moment, on poses about the heavy cell's path."""
+def _moments_about(heavy: CellScene, seed: int) -> tuple[Simulator, RobotScene, np.ndarray, np.ndarray,
+                                                         np.random.Generator]:
+    """The heavy cell's scene, the links' frames at 199 poses about its path and, per pose, a
+    random half of the scene's pairs (the moments and rows ``collisions_at`` takes)."""
     sim = Simulator(WorkCell(objects=list(heavy.parts)))
     scene: RobotScene = sim._collision_scene()
     sim.stand_at([float(v) for v in heavy.poses[0]])
     list(sim.check_collisions())
     pairs = scene._pairs_now
     assert pairs is not None
-    rng = np.random.default_rng(40)
+    rng = np.random.default_rng(seed)
     joints = heavy.poses[1:200] + rng.normal(0.0, 3.0, (199, 6))
     frames = sim.model.link_frames_batch(joints, sim.base)
     rows = rng.random((len(joints), len(pairs.moving))) < 0.5
+    return sim, scene, frames, rows, rng
+
+
+def test_moments_checked_together_find_what_each_moment_finds(heavy: CellScene) -> None:
+    """``RobotScene.collisions_at`` (every moment's pairs in one batch) against
+    ``collisions_between`` moment by moment, on poses about the heavy cell's path."""
+    sim, scene, frames, rows, _ = _moments_about(heavy, 40)
     together = scene.collisions_at(frames, rows)
     assert together is not None
     alone = [scene.collisions_between(f, sim.cell.objects, np.flatnonzero(r)) for f, r in zip(frames, rows)]
@@ -94,17 +102,8 @@ def test_moments_checked_together_find_what_each_moment_finds(heavy: CellScene) 
 def test_moments_in_rounds_say_what_every_moment_says(heavy: CellScene) -> None:
     """With the moments' steps given, a pair found at one moment of a step is not looked for
     at its later ones: each step still says the same collisions, first said in the same order."""
-    sim = Simulator(WorkCell(objects=list(heavy.parts)))
-    scene: RobotScene = sim._collision_scene()
-    sim.stand_at([float(v) for v in heavy.poses[0]])
-    list(sim.check_collisions())
-    pairs = scene._pairs_now
-    assert pairs is not None
-    rng = np.random.default_rng(41)
-    joints = heavy.poses[1:200] + rng.normal(0.0, 3.0, (199, 6))
-    frames = sim.model.link_frames_batch(joints, sim.base)
-    rows = rng.random((len(joints), len(pairs.moving))) < 0.5
-    steps = np.sort(rng.integers(0, 25, len(joints)))
+    _, scene, frames, rows, rng = _moments_about(heavy, 41)
+    steps = np.sort(rng.integers(0, 25, len(frames)))
     every, rounds = scene.collisions_at(frames, rows), scene.collisions_at(frames, rows, steps)
     assert every is not None and rounds is not None
     said = [[list(dict.fromkeys(f for k in np.flatnonzero(steps == s) for f in found[k])) for s in range(25)]
