@@ -796,9 +796,7 @@ class Simulator:
         where it was by their boxes, into ``clear`` (how far apart each was found)."""
         from valterm.core.collision.glance import doubtful
 
-        if self.carried is not None:
-            return
-        step_of, t, at, p = known
+        step_of, t, at, p = known  # nothing carried here (``_at_moments`` looks between only then)
         items = np.flatnonzero(doubtful(found, clear) & (clear >= 0.0))
         if not len(items):
             return
