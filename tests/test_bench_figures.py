@@ -202,3 +202,19 @@ def test_the_capacity_figures_read_this_process_memory() -> None:
         pytest.skip("no /proc/PID/smaps_rollup on this system")
     found = memory_kib(os.getpid())
     assert 1024 < found["private_kib"] <= found["pss_kib"] * 1.01
+
+
+def test_the_import_s_peak_is_its_own_not_the_bench_process_s(tmp_path: Path) -> None:
+    """The import's memory figure is the import process's peak: a bench process grown large
+    (here 300 MB, touched) must not show in it. A child's ru_maxrss from wait4 counted the
+    pages of the process it was forked from: 962 MB read for a 443 MB import."""
+    import numpy as np
+
+    from valterm.bench.cad import peak_of
+
+    if not os.path.exists("/proc/self/status"):
+        pytest.skip("no /proc/self/status on this system")
+    ballast = np.ones(300 * 2**20 // 8)
+    seconds, mb = peak_of(["--version"], tmp_path)
+    assert ballast.sum() > 0 and seconds > 0
+    assert 10 < mb < 150
