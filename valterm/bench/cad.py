@@ -1,6 +1,6 @@
 """Timing of a large mesh import (wired into `valterm bench`): the issue-24 figure, a
 2-million-triangle binary STL, once, in a process of its own (its peak memory is the
-process's, read from ``wait4``). No textual import."""
+process's own, which it says itself). No textual import."""
 
 from __future__ import annotations
 
