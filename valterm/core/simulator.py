@@ -751,8 +751,10 @@ class Simulator:
         # the way the joints turned: under the 1985 rules 179 -> -179 is a turn of 2 degrees
         # (six Python floats: cheaper than numpy for the most steps, which need no moment)
         turns = [(float(b) - float(a) + 180.0) % 360.0 - 180.0 for a, b in zip(previous, here)]
-        moments, rows = scene.swept(frames, list(map(math.radians, turns)), self.cell.objects,
-                                    self._pose_key(previous), self._pose_key(here))
+        since, now = self._pose_key(previous), self._pose_key(here)
+        moments, rows = scene.swept(frames, list(map(math.radians, turns)), self.cell.objects, since, now)
+        if scene.glancing is not None and self.carried is None:
+            scene.clear_glancing(frames[None], lambda: self._frames_at(previous), since, now)
         if not len(moments) and scene.glancing is None:
             return []
         q0 = np.asarray(previous, dtype=float)[None]
@@ -782,7 +784,8 @@ class Simulator:
         at_ends, apart = ends(glancing)
         known, clear = _joined(known, at_ends), np.concatenate([clear, apart])
         found_spans = spans(glancing, known)
-        self._measured(scene, q0, q1, found_spans, known, clear)
+        # the poses' items measured already (``RobotScene.clear_glancing``), the moments' not
+        self._measured(scene, q0, q1, found_spans, known, clear, len(at) if glancing.measured else len(clear))
         more = between(found_spans, clear)
         # a step says a pair once (in rounds where collisions are likely, as the first moments)
         for step, said in enumerate(self._found_at(scene, q0, q1, more, rounds, None)):
@@ -790,14 +793,15 @@ class Simulator:
         return found
 
     def _measured(self, scene: RobotScene, q0: np.ndarray, q1: np.ndarray, found: Spans, known: Items,
-                  clear: np.ndarray) -> None:
-        """How far apart the ``known`` items that end a span ``between`` would look in are
-        (``glance.doubtful``), measured by the pair's face planes (``RobotScene.apart_at``)
-        where it was by their boxes, into ``clear`` (how far apart each was found)."""
+                  clear: np.ndarray, upto: int) -> None:
+        """How far apart the ``known`` items before ``upto`` that end a span ``between`` would
+        look in are (``glance.doubtful``), measured by the pair's face planes
+        (``RobotScene.apart_at``) where it was by their boxes, into ``clear`` (how far apart
+        each was found)."""
         from valterm.core.collision.glance import doubtful
 
         step_of, t, at, p = known  # nothing carried here (``_at_moments`` looks between only then)
-        items = np.flatnonzero(doubtful(found, clear) & (clear >= 0.0))
+        items = np.flatnonzero(doubtful(found, clear)[:upto] & (clear[:upto] >= 0.0))
         if not len(items):
             return
         used, moment = np.unique(at.take(items), return_inverse=True)
@@ -925,6 +929,9 @@ class _PathChecks:
         # the way the joints turned: under the 1985 rules 179 -> -179 is a turn of 2 degrees
         turns = (q[1:] - q[:-1] + 180.0) % 360.0 - 180.0
         moments = self.scene.swept_path(frames, np.radians(turns), sim.cell.objects, self.figures)
+        if self.scene.glancing is not None and sim.carried is None:
+            keys = self.figures.keys
+            self.scene.clear_glancing(frames[: len(keys) - 1], lambda: sim._frames_at(q[0]), keys[0], keys[-1])
         if not len(moments[0]) and self.scene.glancing is None:
             return
         # a path that collides at its poses most likely does between them (a cell crowded

@@ -444,12 +444,13 @@ class RobotScene(MomentsBatch):
                 links = self._link_gaps(linked, since, kept)
             # a pair whose boxes can meet and that moves past its part's width needs moments
             if parts is None and gaps is not None:   # every pair's gaps measured: the few past theirs
-                risky = self._past_width(bound, objects, since, kept, not tight)
+                risky = self._past_width(bound, objects, since, kept, not tight, (frames, now))
             else:
                 if parts is None:         # the pairs (and their gaps) the fixed lengths can reach
                     parts = self._part_pairs(top, objects, since, kept)
                 moved = bound.take(parts[1])
-                risky = bool(((parts[3] <= moved) & (moved > np.minimum(parts[4], GLANCE))).any())
+                risky = self._risky(parts[0], moved, parts[5], parts[3] - parts[5] + 2.0 * EPS, parts[4],
+                                    (frames, since, now))
             if links is not None:
                 closing = bound.take(links[1]) + bound.take(links[2])
                 risky = risky or bool(((links[3] <= closing) & (relative > 1.0)).any())
@@ -772,8 +773,23 @@ class RobotScene(MomentsBatch):
         before = self._kept_gaps(kept, since, sel, m, st)
         return sel, m, st, before + after - 2.0 * EPS, widths, before
 
+    def _risky(self, sel: np.ndarray, moved: np.ndarray, before: np.ndarray, after: np.ndarray,
+               widths: np.ndarray, poses: tuple[np.ndarray, object, object]) -> bool:
+        """Does a parts' pair (positions ``sel``, moving ``moved``, its boxes ``before`` and
+        ``after`` apart at the step's poses) need moments: its boxes can meet and it moves past
+        its part's width, or past ``GLANCE`` where its poses do not clear it (``poses_clear``;
+        the links at ``poses[0]``, the poses named ``poses[1:]``)? With a part carried, past the
+        width only: the glancing check is not made then (``Simulator._at_moments``)."""
+        wide = moved > widths
+        past = wide if self._carried else wide | (moved > GLANCE)
+        meet = np.flatnonzero((before + after - 2.0 * EPS <= moved) & past)
+        if not len(meet) or wide.take(meet).any():
+            return bool(len(meet))
+        return not self.poses_clear(poses[0], sel.take(meet), moved.take(meet), before.take(meet),
+                                    after.take(meet), *poses[1:])
+
     def _past_width(self, bound: np.ndarray, objects: Sequence[Polyhedron], since: object,
-                    kept: tuple[object, ...] | None, keep: bool) -> bool:
+                    kept: tuple[object, ...] | None, keep: bool, poses: tuple[np.ndarray, object]) -> bool:
         """``swept``'s test of the parts' pairs when every pair's box gaps were measured: does a
         pair that moves past its part's width (``bound`` of its mover) have its boxes near enough
         to meet? Only those pairs' gaps are looked at (the arithmetic of ``_part_pairs``); which
@@ -794,8 +810,8 @@ class RobotScene(MomentsBatch):
         past, moved, m, st = got[2:]
         if not len(past):
             return False
-        both = self._kept_gaps(kept, since, past, m, st) + gaps.take(past) - 2.0 * EPS
-        return bool((both <= moved).any())
+        return self._risky(past, moved, self._kept_gaps(kept, since, past, m, st), gaps.take(past), widths.take(past),
+                           (poses[0], since, poses[1]))
 
     def _ruled_widths(self, objects: Sequence[Polyhedron], st: np.ndarray) -> np.ndarray:
         """The widths (at least 1 mm) of the parts of the pairs whose parts are ``st``

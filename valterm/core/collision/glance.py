@@ -36,8 +36,9 @@ _FINEST = 2 ** 20        # moments are k / 2^20 of their step (one at a moment t
 @dataclass(frozen=True)
 class Glancing:
     """The pairs (scene positions) that could meet in a path's steps (indices as the moments'),
-    each with its moving body's bound over the step (mm) and its boxes' gaps at the step's
-    start and end (mm, at least how far apart the pair is there where not negative)."""
+    each with its moving body's bound over the step (mm) and at least how far apart it is at
+    the step's start and end (mm, where not negative): its boxes' gaps, or with ``measured``
+    its face planes' too (``RobotScene.clear_glancing``)."""
 
     step: np.ndarray
     pair: np.ndarray
@@ -45,6 +46,7 @@ class Glancing:
     start: np.ndarray
     end: np.ndarray
     pairs: int                   # how many pairs the scene has
+    measured: bool = False       # start and end measured by the face planes: not to measure again
 
 
 def at_risk(items: tuple[np.ndarray, np.ndarray], bound: np.ndarray, start: np.ndarray, both: np.ndarray,
@@ -60,6 +62,18 @@ def at_risk(items: tuple[np.ndarray, np.ndarray], bound: np.ndarray, start: np.n
     if not len(step):
         return None
     return Glancing(step, pair, bound, start, both - start + 2.0 * EPS, pairs)
+
+
+def cleared(glancing: Glancing, start: np.ndarray, end: np.ndarray) -> Glancing | None:
+    """``glancing`` but for the pairs that cannot meet in their step, being at least ``start``
+    apart at its start and ``end`` at its end (``start + end`` more than the most any point of
+    the link moves: conservative advancement from either end leaves nothing between), the
+    others with those distances (``measured``); None when none is left."""
+    keep = np.flatnonzero(start + end <= glancing.bound)
+    if not len(keep):
+        return None
+    return Glancing(glancing.step.take(keep), glancing.pair.take(keep), glancing.bound.take(keep), start.take(keep),
+                    end.take(keep), glancing.pairs, True)
 
 
 # moments and what to look at there: each moment's step and fraction of it (in order), and

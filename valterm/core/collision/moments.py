@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING, Callable
 import numpy as np
 
 from valterm.core.collision.arrays import HAIR
+from valterm.core.collision.glance import Glancing, cleared
 from valterm.core.collision.thesis import COLLIDES, EPS, SEPARATED, Layout, Scene, fine, largest_of_xyz
 
 if TYPE_CHECKING:
@@ -41,9 +42,88 @@ class MomentsBatch:
     _apart_normals: np.ndarray
     _apart_offsets: np.ndarray
     owners: np.ndarray
+    glancing: Glancing | None
+    _parts: tuple[np.ndarray, ...] | None
+    # how far apart link x part pairs were at least at the last few poses: (the parts and the
+    # pairs then, pose name -> pair -> mm)
+    _apart_kept: tuple[object, object, dict[object, dict[int, float]]] | None = None
 
     def _path_picks(self, count: int) -> tuple[np.ndarray, np.ndarray]:
         raise NotImplementedError
+
+    def apart_kept(self) -> dict[object, dict[int, float]]:
+        """How far apart link x part pairs were found at least at the last few poses (by the
+        pose's name, pair -> mm), for the parts and pairs there are now."""
+        kept = self._apart_kept
+        if kept is None or kept[0] is not self._parts or kept[1] is not self._pairs_now:
+            kept = self._apart_kept = (self._parts, self._pairs_now, {})
+        if len(kept[2]) > 4:                      # a path's two ends and the pose by pose steps'
+            del kept[2][next(iter(kept[2]))]
+        return kept[2]
+
+    def poses_clear(self, frames: np.ndarray, p: np.ndarray, bound: np.ndarray, start: np.ndarray,
+                    end: np.ndarray, since: object, now: object) -> bool:
+        """Can none of the link x part pairs ``p`` (positions) meet in the step from the pose named
+        ``since`` to the one named ``now`` (the links at ``frames`` there), its points moving at
+        most ``bound``, its boxes ``start`` and ``end`` apart at the two? Not where it is at least
+        ``d0`` apart at the start and ``d1`` at the end with ``d0 + d1 > bound`` (conservative
+        advancement from either end leaves nothing between; ``glance.cleared``). Where the step
+        before measured the start (``apart_kept``) and that alone clears the step, the end is
+        ``d0 - bound`` apart at least, not measured; else it is measured (``apart_at``) and kept
+        for the next step. Python floats: a pose by pose step has a pair or two."""
+        known = self.apart_kept()
+        at0 = {} if since is None else known.get(since, {})
+        at1: dict[int, float] = {} if now is None else known.setdefault(now, {})
+        pairs, b = p.tolist(), bound.tolist()
+        d0 = [max(g, at0.get(q, 0.0)) for g, q in zip(start.tolist(), pairs)]
+        d1 = [max(g, at1.get(q, 0.0)) for g, q in zip(end.tolist(), pairs)]
+        ask = [i for i, q in enumerate(pairs) if q not in at1 and d0[i] <= b[i]]
+        if ask:
+            found = self.apart_at(frames[None], np.zeros(len(ask), dtype=np.intp), p.take(ask)).tolist()
+            for i, d in zip(ask, found):
+                d1[i] = max(d1[i], d)
+        clear = True
+        for i, q in enumerate(pairs):
+            at1[q] = max(at1.get(q, 0.0), d1[i], d0[i] - b[i])
+            clear = clear and d0[i] + d1[i] > b[i]
+        return clear
+
+    def clear_glancing(self, frames: np.ndarray, start: Callable[[], np.ndarray], since: object, now: object) -> None:
+        """Drop from ``glancing`` the pairs their poses clear (``poses_clear``'s test, ``glance.cleared``);
+        the others keep how far apart they are there. Each end pose's distances measured once
+        (``apart_at``, the face planes), not once per step it ends, and where ``apart_kept``
+        has them not at all.
+
+        ``frames``: (steps, links, 4, 4), each step's end pose; ``start``: the first step's
+        start pose's frames (asked for only when needed); ``since`` and ``now`` name the first
+        step's start pose and the last step's end pose (how far apart the pairs are there is
+        kept for the step that starts at it). Nothing carried."""
+        g = self.glancing
+        if g is None or self._carried:
+            return
+        known, n, last = self.apart_kept(), g.pairs, len(frames)
+        d0, d1 = np.maximum(g.start, 0.0), np.maximum(g.end, 0.0)
+        # (pose, pair) -> how far apart, what is kept of the path's two ends
+        pose = np.concatenate([g.step, g.step + 1])
+        key = pose * n + np.concatenate([g.pair, g.pair])
+        had = np.full(len(key), -1.0)
+        for end, name in ((0, since), (last, now)):
+            kept = None if name is None else known.get(name)
+            rows = np.flatnonzero(pose == end)
+            if kept and len(rows):
+                had[rows] = [kept.get(q, -1.0) for q in (key.take(rows) % n).tolist()]
+        ask, where = np.unique(key[had < 0.0], return_inverse=True)
+        if len(ask):
+            used, moment = np.unique(ask // n, return_inverse=True)
+            at = np.concatenate([start()[None], frames]) if used[0] == 0 else frames
+            had[had < 0.0] = self.apart_at(at.take(used - (0 if used[0] == 0 else 1), axis=0), moment,
+                                           ask % n).take(where)
+        d0, d1 = np.maximum(d0, had[: len(g.step)]), np.maximum(d1, had[len(g.step):])
+        ends = np.flatnonzero(g.step == last - 1)
+        kept_now: dict[int, float] = {} if now is None else known.setdefault(now, {})
+        for q, d in zip(g.pair.take(ends).tolist(), d1.take(ends).tolist()):
+            kept_now[q] = max(kept_now.get(q, 0.0), d)
+        self.glancing = cleared(g, d0, d1)
 
     def collisions_at(self, frames: np.ndarray, rows: np.ndarray, steps: np.ndarray | None = None,
                       clear: np.ndarray | None = None) -> list[list[Finding]] | None:
