@@ -768,12 +768,14 @@ class Simulator:
         by step; then, where the swept check left pairs that could meet between its moments
         (``RobotScene.glancing``), at the moments ``glance.between`` finds for them from how far
         apart the moments before found them (a corner clipped between two of them)."""
-        from valterm.core.collision.glance import between, ends, spans
+        from valterm.core.collision.glance import between, between_poses, ends, spans
 
         # with a part carried the pairs' distances are only their boxes' gaps, and the moments
         # between come one by one: 9x the cost of a grasping program (PROCESS graded at 0.9 s
         # a student, not 0.1), so a carried part's steps keep the width-spaced moments alone
         glancing = scene.glancing if self.carried is None else None
+        if glancing is not None and glancing.measured and not len(moments[0]):    # the poses only
+            return self._found_at(scene, q0, q1, between_poses(glancing), rounds, None)
         at, pair = np.nonzero(moments[2])
         known: Items = (moments[0], moments[1], at, pair)
         clear = None if glancing is None else np.zeros(len(known[2]))

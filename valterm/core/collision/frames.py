@@ -253,7 +253,8 @@ class RobotScene(MomentsBatch):
         off = self._apart_offsets.take(a, axis=0) + (frame[:, None, :3, 3] @ turned)[:, 0]
         d = self._scene.vertices[self._vertex_rows.take(b, axis=0)] @ turned            # (pairs, V, faces)
         d -= off[:, None]
-        found: np.ndarray = d.min(axis=1).max(axis=1) > SEPARATED
+        self._apart_now = (self._frames_now, a, b, d.min(axis=1).max(axis=1))   # how far: for ``poses_clear``
+        found: np.ndarray = self._apart_now[3] > SEPARATED
         return found
 
     def _candidates(self, movers: np.ndarray, grow: float) -> np.ndarray:
@@ -775,25 +776,25 @@ class RobotScene(MomentsBatch):
 
     def _risky(self, sel: np.ndarray, moved: np.ndarray, before: np.ndarray, after: np.ndarray,
                widths: np.ndarray, poses: tuple[np.ndarray, object, object]) -> bool:
-        """Does a parts' pair (positions ``sel``, moving ``moved``, its boxes ``before`` and
-        ``after`` apart at the step's poses) need moments: its boxes can meet and it moves past
-        its part's width, or past ``GLANCE`` where its poses do not clear it (``poses_clear``;
-        the links at ``poses[0]``, the poses named ``poses[1:]``)? With a part carried, past the
-        width only: the glancing check is not made then (``Simulator._at_moments``)."""
-        wide = moved > widths
-        past = wide if self._carried else wide | (moved > GLANCE)
-        meet = np.flatnonzero((before + after - 2.0 * EPS <= moved) & past)
-        if not len(meet) or wide.take(meet).any():
-            return bool(len(meet))
-        return not self.poses_clear(poses[0], sel.take(meet), moved.take(meet), before.take(meet),
-                                    after.take(meet), *poses[1:])
+        """Does a parts' pair (positions ``sel``, moving ``moved``, boxes ``before`` and ``after`` apart
+        at the poses) need moments: its boxes can meet and it moves past its part's width, or past
+        ``GLANCE`` where its poses do not clear it (``poses_clear``: the links at ``poses[0]``, the
+        poses named ``poses[1:]``)? With a part carried, past the width only (no glancing check)."""
+        meet = np.flatnonzero(before + after - 2.0 * EPS <= moved)
+        if not len(meet):
+            return False
+        moved = moved.take(meet)
+        wide = bool((moved > widths.take(meet)).any())
+        if wide or self._carried:
+            return wide
+        meet, moved = meet[moved > GLANCE], moved[moved > GLANCE]
+        return bool(len(meet)) and not self.poses_clear(poses[0], sel.take(meet), moved, before.take(meet),
+                                                        after.take(meet), *poses[1:])
 
     def _past_width(self, bound: np.ndarray, objects: Sequence[Polyhedron], since: object,
                     kept: tuple[object, ...] | None, keep: bool, poses: tuple[np.ndarray, object]) -> bool:
-        """``swept``'s test of the parts' pairs when every pair's box gaps were measured: does a
-        pair that moves past its part's width (``bound`` of its mover) have its boxes near enough
-        to meet? Only those pairs' gaps are looked at (the arithmetic of ``_part_pairs``); which
-        pairs they are is kept with the bounds kept (``_fixed_lengths``'s, ``keep``)."""
+        """``_risky`` when every pair's box gaps were measured, of the pairs that move past their part's
+        width or ``GLANCE`` (``bound`` of its mover), kept with the bounds kept (``keep``)."""
         pairs, gaps = self._pairs_now, self._gaps_now
         assert pairs is not None and gaps is not None
         ruled = len(self._movers) * len(self._free)
@@ -958,8 +959,7 @@ class RobotScene(MomentsBatch):
 
 _VERTICES = operator.attrgetter("vertices")
 
-# ``swept``'s answer when no moment is needed (empty: nothing can write into them)
-_NEVER = (np.zeros(0), np.zeros((0, 0), dtype=bool))
+_NEVER = (np.zeros(0), np.zeros((0, 0), dtype=bool))    # ``swept``'s when no moment is needed (read-only)
 for _empty in _NEVER:
     _empty.flags.writeable = False
 

@@ -133,12 +133,26 @@ def between(found: Spans, clear: np.ndarray, spacing: float = GLANCE) -> Items:
     for). In each span's part a point may reach the part in, moments evenly spaced no more
     than ``spacing`` mm of its pair's travel apart and from the part's ends (``GLANCE``)."""
     lo, hi = found.clear_of(clear)
-    count = np.maximum(np.ceil((hi - lo) * found.bound / (spacing * (1.0 - 1e-6))) - 1.0, 0.0).astype(np.intp)
+    return _spaced(lo, hi, found.bound, found.key.take(found.cand), found.pairs, spacing)
+
+
+def between_poses(glancing: Glancing, spacing: float = GLANCE) -> Items:
+    """``between`` where the step's poses are the only moments known of the pairs (no width-spaced
+    moments) and their distances were measured there (``measured``): one span a pair."""
+    lo, hi = glancing.start / glancing.bound, 1.0 - glancing.end / glancing.bound
+    return _spaced(lo, hi, glancing.bound, glancing.step * glancing.pairs + glancing.pair, glancing.pairs, spacing)
+
+
+def _spaced(lo: np.ndarray, hi: np.ndarray, bound: np.ndarray, key: np.ndarray, pairs: int, spacing: float) -> Items:
+    """The moments of ``between``: in each span's part ``lo`` to ``hi`` (fractions of its step),
+    moments evenly spaced no more than ``spacing`` mm of its pair's travel (``bound``) apart,
+    the span's pair ``key`` (step x ``pairs`` + pair)."""
+    count = np.maximum(np.ceil((hi - lo) * bound / (spacing * (1.0 - 1e-6))) - 1.0, 0.0).astype(np.intp)
     each = np.repeat(np.arange(len(lo)), count)
     nth = np.arange(len(each)) - np.repeat(np.cumsum(count) - count, count) + 1
     frac = lo.take(each) + nth * ((hi - lo) / (count + 1)).take(each)
-    pair_key = found.key.take(found.cand.take(each))
-    return _items(pair_key // found.pairs, np.round(frac * _FINEST).astype(np.int64), pair_key % found.pairs)
+    pair_key = key.take(each)
+    return _items(pair_key // pairs, np.round(frac * _FINEST).astype(np.int64), pair_key % pairs)
 
 
 def doubtful(found: Spans, clear: np.ndarray, spacing: float = GLANCE) -> np.ndarray:

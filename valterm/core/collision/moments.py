@@ -47,6 +47,8 @@ class MomentsBatch:
     # how far apart link x part pairs were at least at the last few poses: (the parts and the
     # pairs then, pose name -> pair -> mm)
     _apart_kept: tuple[object, object, dict[object, dict[int, float]]] | None = None
+    # the last fine test's face-plane figures: (the links' frames, links, parts, mm beyond)
+    _apart_now: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None = None
 
     def _path_picks(self, count: int) -> tuple[np.ndarray, np.ndarray]:
         raise NotImplementedError
@@ -78,6 +80,14 @@ class MomentsBatch:
         d0 = [max(g, at0.get(q, 0.0)) for g, q in zip(start.tolist(), pairs)]
         d1 = [max(g, at1.get(q, 0.0)) for g, q in zip(end.tolist(), pairs)]
         ask = [i for i, q in enumerate(pairs) if q not in at1 and d0[i] <= b[i]]
+        seen = self._apart_now          # what the fine test of the pose found of the link's face planes
+        if ask and seen is not None and seen[0] is frames:
+            assert self._pairs_now is not None
+            pm, ps = self._pairs_now.moving, self._pairs_now.stationary
+            beyond = dict(zip(zip(seen[1].tolist(), seen[2].tolist()), seen[3].tolist()))
+            for i in ask:
+                d1[i] = max(d1[i], beyond.get((int(pm[pairs[i]]), int(ps[pairs[i]])), 0.0))
+            ask = [i for i in ask if d0[i] + d1[i] <= b[i]]
         if ask:
             found = self.apart_at(frames[None], np.zeros(len(ask), dtype=np.intp), p.take(ask)).tolist()
             for i, d in zip(ask, found):
@@ -376,7 +386,10 @@ class MomentsBatch:
 
 def _over_middle(d: np.ndarray, pick: np.ufunc) -> np.ndarray:
     """``pick`` (np.minimum, np.maximum) over the middle axis of (items, n, m): n - 1 calls on
-    (items, m) (numpy reduces a short axis of many rows slowly)."""
+    (items, m) (numpy reduces a short axis of many rows slowly), one for a few items."""
+    if len(d) < 40:
+        few: np.ndarray = pick.reduce(d, axis=1)
+        return few
     out: np.ndarray = d[:, 0].copy()
     for k in range(1, d.shape[1]):
         pick(out, d[:, k], out=out)
