@@ -178,16 +178,11 @@ def _items(step: np.ndarray, tick: np.ndarray, pair: np.ndarray) -> Items:
 
 
 def ends(glancing: Glancing) -> tuple[Items, np.ndarray]:
-    """The items at each step's two poses (0 and 1 of it), a pair of ``glancing`` each, and how
-    far apart their boxes say they are (every span ``between`` looks in lies between two
-    known items of its pair)."""
-    both = np.concatenate([glancing.step, glancing.step])
-    tick = np.repeat(np.array([0, _FINEST], dtype=np.int64), len(glancing.step))
-    items = _items(both, tick, np.concatenate([glancing.pair, glancing.pair]))
-    step_of, t, at, p = items
-    n = glancing.pairs
-    item_key = (step_of.take(at) * 2 + t.take(at).astype(np.intp)) * n + p       # sorted: by moment, then pair
-    apart = np.zeros(len(at))
-    apart[np.searchsorted(item_key, glancing.step * 2 * n + glancing.pair)] = glancing.start
-    apart[np.searchsorted(item_key, (glancing.step * 2 + 1) * n + glancing.pair)] = glancing.end
-    return items, np.maximum(apart, 0.0)
+    """The items at each step's two poses (0 and 1 of it), a pair of ``glancing`` each, each at a
+    moment of its own, and how far apart they are at least (every span ``between`` looks in
+    lies between two known items of its pair)."""
+    count = len(glancing.step)
+    step = np.concatenate([glancing.step, glancing.step])
+    t = np.repeat(np.array([0.0, 1.0]), count)
+    items = (step, t, np.arange(2 * count), np.concatenate([glancing.pair, glancing.pair]))
+    return items, np.maximum(np.concatenate([glancing.start, glancing.end]), 0.0)

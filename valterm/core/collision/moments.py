@@ -49,6 +49,7 @@ class MomentsBatch:
     _apart_kept: tuple[object, object, dict[object, dict[int, float]]] | None = None
     # the last fine test's face-plane figures: (the links' frames, links, parts, mm beyond)
     _apart_now: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None = None
+    _apart_kept_tables: tuple[object, object, tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]] | None = None
 
     def _path_picks(self, count: int) -> tuple[np.ndarray, np.ndarray]:
         raise NotImplementedError
@@ -267,31 +268,49 @@ class MomentsBatch:
         vertices by its frame at the moment), how far apart their boxes are (``largest_of_xyz``
         of the gaps) and the farthest a face plane of either has the other beyond it (a box's
         gap says little of a long link lying aslant); either is at most how far apart they are."""
-        pairs, s, lay = self._pairs_now, self._scene, self._layout
-        assert pairs is not None and s.planes is not None
+        pairs, s = self._pairs_now, self._scene
+        assert pairs is not None
         link, other = pairs.moving.take(p), pairs.stationary.take(p)
-        width = int(lay.counts[: len(self._link_ks)].max())
-        rows = lay.starts.take(link)[:, None] + np.minimum(np.arange(width), lay.counts.take(link)[:, None] - 1)
+        link_rows, rows, units, offsets = self._apart_tables()
         frame = frames[at, self.owners.take(link)]
         rot, shift = frame[:, :3, :3], frame[:, :3, 3]
-        placed = self._local[rows] @ rot.transpose(0, 2, 1)             # (items, vertices, 3)
+        placed = self._local[link_rows.take(link, axis=0)] @ rot.transpose(0, 2, 1)     # (items, vertices, 3)
         placed += shift[:, None, :]
         gap = largest_of_xyz(np.maximum(s.lo.take(other, axis=0) - _over_middle(placed, np.maximum),
                                         _over_middle(placed, np.minimum) - s.hi.take(other, axis=0)))
         # the part beyond the link's face planes (placed: normals R n, offsets + t . R n), as ``_apart_items``
         turned = rot @ self._apart_normals.take(link, axis=0)                    # (items, 3, planes)
         off = self._apart_offsets.take(link, axis=0) + (shift[:, None, :] @ turned)[:, 0]
-        width = int(lay.counts.max())
-        rows = lay.starts.take(other)[:, None] + np.minimum(np.arange(width), lay.counts.take(other)[:, None] - 1)
-        d = s.vertices[rows] @ turned
+        d = s.vertices[rows.take(other, axis=0)] @ turned
         d -= off[:, None, :]
         beyond = _over_middle(d, np.minimum).max(axis=1)
-        # the link beyond the part's, each turned to look away from its centre (a padding face never counts)
-        unit, offset, size = (x.take(other, axis=0) for x in s.planes)
-        outward = np.where(np.einsum("ifk,ik->if", unit, s.centres.take(other, axis=0)) > offset, -1.0, 1.0)
-        d = placed @ (unit * outward[..., None]).transpose(0, 2, 1)
-        d -= np.where(size > 0.0, offset * outward, np.inf)[:, None, :]
+        # the link beyond the part's face planes
+        d = placed @ units.take(other, axis=0)
+        d -= offsets.take(other, axis=0)[:, None, :]
         return gap, np.maximum(beyond, _over_middle(d, np.minimum).max(axis=1))
+
+    def _apart_tables(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """``_apart_of``'s tables, kept per set of parts: each link's vertex rows and each body's
+        (padded to the longest by repeating the last), and each body's face planes turned to
+        look away from its centre, as (bodies, 3, faces) normals and (bodies, faces) offsets (a
+        padding face never counts: its offset is infinite)."""
+        s, lay = self._scene, self._layout
+        kept = self._apart_kept_tables
+        if kept is not None and kept[0] is self._parts and kept[1] is s.planes:
+            return kept[2]
+        assert s.planes is not None
+
+        def padded(counts: np.ndarray, starts: np.ndarray) -> np.ndarray:
+            rows: np.ndarray = starts[:, None] + np.minimum(np.arange(int(counts.max())), counts[:, None] - 1)
+            return rows
+
+        nl = len(self._link_ks)
+        unit, offset, size = s.planes
+        outward = np.where(np.einsum("ifk,ik->if", unit, s.centres) > offset, -1.0, 1.0)
+        tables = (padded(lay.counts[:nl], lay.starts[:nl]), padded(lay.counts, lay.starts),
+                  (unit * outward[..., None]).transpose(0, 2, 1).copy(), np.where(size > 0.0, offset * outward, np.inf))
+        self._apart_kept_tables = (self._parts, s.planes, tables)
+        return tables
 
     def _fine_at(self, frames: np.ndarray, at: np.ndarray, p: np.ndarray, clear: np.ndarray | None = None
                  ) -> np.ndarray:
