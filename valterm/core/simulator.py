@@ -779,15 +779,20 @@ class Simulator:
         at, pair = np.nonzero(moments[2])
         known: Items = (moments[0], moments[1], at, pair)
         clear = None if glancing is None else np.zeros(len(known[2]))
-        found = self._found_at(scene, q0, q1, known, rounds, clear, moments[2])
+        frames: list[np.ndarray] = []
+        found = self._found_at(scene, q0, q1, known, rounds, clear, moments[2], frames)
         if glancing is None or clear is None:
             return found
         # the poses too, as far apart as their boxes, measured where that may clear a span
         at_ends, apart = ends(glancing)
         known, clear = _joined(known, at_ends), np.concatenate([clear, apart])
         found_spans = spans(glancing, known)
-        # the poses' items measured already (``RobotScene.clear_glancing``), the moments' not
-        self._measured(scene, q0, q1, found_spans, known, clear, len(at) if glancing.measured else len(clear))
+        # the poses' items measured already (``RobotScene.clear_glancing``), the moments' not (the
+        # moments' link frames as the check of them had them)
+        if glancing.measured:
+            self._measured(scene, q0, q1, found_spans, known, clear, (len(at), frames[0] if frames else None))
+        else:
+            self._measured(scene, q0, q1, found_spans, known, clear, (len(clear), None))
         more = between(found_spans, clear)
         # a step says a pair once (in rounds where collisions are likely, as the first moments)
         for step, said in enumerate(self._found_at(scene, q0, q1, more, rounds, None)):
@@ -795,24 +800,26 @@ class Simulator:
         return found
 
     def _measured(self, scene: RobotScene, q0: np.ndarray, q1: np.ndarray, found: Spans, known: Items,
-                  clear: np.ndarray, upto: int) -> None:
-        """How far apart the ``known`` items before ``upto`` that end a span ``between`` would
+                  clear: np.ndarray, upto: tuple[int, np.ndarray | None]) -> None:
+        """How far apart the ``known`` items before ``upto[0]`` that end a span ``between`` would
         look in are (``glance.doubtful``), measured by the pair's face planes
         (``RobotScene.apart_at``) where it was by their boxes, into ``clear`` (how far apart
-        each was found)."""
+        each was found). ``upto[1]``: the link frames at those items' moments, if known."""
         from valterm.core.collision.glance import doubtful
 
         step_of, t, at, p = known  # nothing carried here (``_at_moments`` looks between only then)
-        items = np.flatnonzero(doubtful(found, clear)[:upto] & (clear[:upto] >= 0.0))
+        count, kept = upto
+        items = np.flatnonzero(doubtful(found, clear)[:count] & (clear[:count] >= 0.0))
         if not len(items):
             return
         used, moment = np.unique(at.take(items), return_inverse=True)
-        frames = self.model.link_frames_batch(q0[step_of[used]] + (q1[step_of[used]] - q0[step_of[used]])
-                                              * t[used][:, None], self.base)
+        frames = kept.take(used, axis=0) if kept is not None else self.model.link_frames_batch(
+            q0[step_of[used]] + (q1[step_of[used]] - q0[step_of[used]]) * t[used][:, None], self.base)
         clear[items] = np.maximum(clear.take(items), scene.apart_at(frames, moment, p.take(items)))
 
     def _found_at(self, scene: RobotScene, q0: np.ndarray, q1: np.ndarray, items: Items, rounds: bool,
-                  clear: np.ndarray | None, rows: np.ndarray | None = None) -> list[list[Finding]]:
+                  clear: np.ndarray | None, rows: np.ndarray | None = None,
+                  keep: list[np.ndarray] | None = None) -> list[list[Finding]]:
         """``_at_moments``' check of the moments and (moment, pair) items given: the link frames
         of every moment at once, then the pairs at risk checked at the moments where their
         boxes can meet (``RobotScene.meeting``; nowhere else can the fine test find one).
@@ -820,13 +827,15 @@ class Simulator:
         looked for at its later ones (``RobotScene.collisions_at``). ``clear``: how far apart
         each item was found at least (``collisions_at``'s; left 0 with a part carried). ``rows``:
         the items as rows of pairs (the swept check's moments); without them a moment has few
-        items, each a link and a part (``collisions_of``)."""
+        items, each a link and a part (``collisions_of``). ``keep``: told the moments' link frames."""
         step_of, t, at, p = items
         found: list[list[Finding]] = [[] for _ in q0]
         if not len(step_of):
             return found
         joints = q0[step_of] + (q1[step_of] - q0[step_of]) * t[:, None]
         frames = self.model.link_frames_batch(joints, self.base)
+        if keep is not None:
+            keep.append(frames)
         held = None
         if self.carried is not None and self._carried_local is not None:
             clamp = frames[:, 6]

@@ -290,10 +290,10 @@ class MomentsBatch:
         return gap, np.maximum(beyond, _over_middle(d, np.minimum).max(axis=1))
 
     def _apart_tables(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-        """``_apart_of``'s tables, kept per set of parts: each link's vertex rows and each body's
-        (padded to the longest by repeating the last), and each body's face planes turned to
-        look away from its centre, as (bodies, 3, faces) normals and (bodies, faces) offsets (a
-        padding face never counts: its offset is infinite)."""
+        """``_apart_of``'s tables, kept per set of parts: each link's vertex rows and each part's
+        (padded to the longest by repeating the last), and each part's face planes turned to look
+        away from its centre, as (bodies, 3, faces) normals and (bodies, faces) offsets (a padding
+        face never counts: its offset is infinite). Indexed by body; a link's part rows unused."""
         s, lay = self._scene, self._layout
         kept = self._apart_kept_tables
         if kept is not None and kept[0] is self._parts and kept[1] is s.planes:
@@ -307,8 +307,13 @@ class MomentsBatch:
         nl = len(self._link_ks)
         unit, offset, size = s.planes
         outward = np.where(np.einsum("ifk,ik->if", unit, s.centres) > offset, -1.0, 1.0)
-        tables = (padded(lay.counts[:nl], lay.starts[:nl]), padded(lay.counts, lay.starts),
-                  (unit * outward[..., None]).transpose(0, 2, 1).copy(), np.where(size > 0.0, offset * outward, np.inf))
+        # the parts' rows and faces only as many as the parts have (a box's 8 and 6, not a link's)
+        faces = max(int((np.arange(1, size.shape[1] + 1) * (size[nl:] > 0.0)).max(initial=1)), 1)
+        counts = lay.counts.copy()
+        counts[:nl] = 1                                   # a link is never the part of a pair here
+        tables = (padded(lay.counts[:nl], lay.starts[:nl]), padded(counts, lay.starts),
+                  (unit * outward[..., None])[:, :faces].transpose(0, 2, 1).copy(),
+                  np.where(size > 0.0, offset * outward, np.inf)[:, :faces].copy())
         self._apart_kept_tables = (self._parts, s.planes, tables)
         return tables
 
