@@ -753,7 +753,7 @@ class Simulator:
         turns = [(float(b) - float(a) + 180.0) % 360.0 - 180.0 for a, b in zip(previous, here)]
         since, now = self._pose_key(previous), self._pose_key(here)
         moments, rows = scene.swept(frames, list(map(math.radians, turns)), self.cell.objects, since, now)
-        if scene.glancing is not None and self.carried is None:
+        if scene.glancing is not None and self.carried is None and not scene.glancing.measured:
             scene.clear_glancing(frames[None], lambda: self._frames_at(previous), since, now)
         if not len(moments) and scene.glancing is None:
             return []

@@ -433,6 +433,7 @@ class RobotScene(MomentsBatch):
         turns, terms, bound, relative, linking, top = self._fixed_lengths(frames, turned, linked)
         parts: tuple[np.ndarray, ...] | None = None
         links: tuple[np.ndarray, ...] | None = None
+        link_risky = False
         # the fixed lengths first (one product): many steps are cleared by them, the bound
         # from where the bodies are now (a dozen numpy calls) only when they are not
         for tight in (False, True):
@@ -454,9 +455,12 @@ class RobotScene(MomentsBatch):
                                     (frames, since, now))
             if links is not None:
                 closing = bound.take(links[1]) + bound.take(links[2])
-                risky = risky or bool(((links[3] <= closing) & (relative > 1.0)).any())
-            if not risky:
+                link_risky = bool(((links[3] <= closing) & (relative > 1.0)).any())
+            if not (risky or link_risky):
                 return never
+        if self._glance_left is not None and not link_risky:   # glancing pairs alone: no moments
+            self.glancing = self._glance_left
+            return never
         if parts is None:
             parts = self._part_pairs(top, objects, since, kept)
             moved = bound.take(parts[1])
@@ -773,23 +777,6 @@ class RobotScene(MomentsBatch):
             widths = np.maximum(self._widths(objects, st), 1.0)
         before = self._kept_gaps(kept, since, sel, m, st)
         return sel, m, st, before + after - 2.0 * EPS, widths, before
-
-    def _risky(self, sel: np.ndarray, moved: np.ndarray, before: np.ndarray, after: np.ndarray,
-               widths: np.ndarray, poses: tuple[np.ndarray, object, object]) -> bool:
-        """Does a parts' pair (positions ``sel``, moving ``moved``, boxes ``before`` and ``after`` apart
-        at the poses) need moments: its boxes can meet and it moves past its part's width, or past
-        ``GLANCE`` where its poses do not clear it (``poses_clear``: the links at ``poses[0]``, the
-        poses named ``poses[1:]``)? With a part carried, past the width only (no glancing check)."""
-        meet = np.flatnonzero(before + after - 2.0 * EPS <= moved)
-        if not len(meet):
-            return False
-        moved = moved.take(meet)
-        wide = bool((moved > widths.take(meet)).any())
-        if wide or self._carried:
-            return wide
-        meet, moved = meet[moved > GLANCE], moved[moved > GLANCE]
-        return bool(len(meet)) and not self.poses_clear(poses[0], sel.take(meet), moved, before.take(meet),
-                                                        after.take(meet), *poses[1:])
 
     def _past_width(self, bound: np.ndarray, objects: Sequence[Polyhedron], since: object,
                     kept: tuple[object, ...] | None, keep: bool, poses: tuple[np.ndarray, object]) -> bool:

@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING, Callable
 import numpy as np
 
 from valterm.core.collision.arrays import HAIR
-from valterm.core.collision.glance import Glancing, cleared
+from valterm.core.collision.glance import GLANCE, Glancing, cleared
 from valterm.core.collision.thesis import COLLIDES, EPS, SEPARATED, Layout, Scene, fine, largest_of_xyz
 
 if TYPE_CHECKING:
@@ -49,6 +49,7 @@ class MomentsBatch:
     _apart_kept: tuple[object, object, dict[object, dict[int, float]]] | None = None
     # the last fine test's face-plane figures: (the links' frames, links, parts, mm beyond)
     _apart_now: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None = None
+    _glance_left: Glancing | None = None     # the pairs ``poses_clear`` last left (``RobotScene.swept``'s)
     _apart_kept_tables: tuple[object, object, tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]] | None = None
 
     def _path_picks(self, count: int) -> tuple[np.ndarray, np.ndarray]:
@@ -93,11 +94,35 @@ class MomentsBatch:
             found = self.apart_at(frames[None], np.zeros(len(ask), dtype=np.intp), p.take(ask)).tolist()
             for i, d in zip(ask, found):
                 d1[i] = max(d1[i], d)
-        clear = True
+        left = []
         for i, q in enumerate(pairs):
-            at1[q] = max(at1.get(q, 0.0), d1[i], d0[i] - b[i])
-            clear = clear and d0[i] + d1[i] > b[i]
-        return clear
+            at1[q] = d1[i] = max(at1.get(q, 0.0), d1[i], d0[i] - b[i])
+            if d0[i] + d1[i] <= b[i]:
+                left.append(i)
+        if left:              # the pairs left, as ``clear_glancing`` would leave them
+            assert self._pairs_now is not None
+            self._glance_left = Glancing(np.zeros(len(left), dtype=np.intp), p.take(left), bound.take(left),
+                                         np.take(d0, left), np.take(d1, left), len(self._pairs_now.moving), True)
+        return not left
+
+    def _risky(self, sel: np.ndarray, moved: np.ndarray, before: np.ndarray, after: np.ndarray,
+               widths: np.ndarray, poses: tuple[np.ndarray, object, object]) -> bool:
+        """Does a parts' pair (positions ``sel``, moving ``moved``, boxes ``before`` and ``after`` apart
+        at the poses) need moments: its boxes can meet and it moves past its part's width, or past
+        ``GLANCE`` where its poses do not clear it (``poses_clear``: the links at ``poses[0]``, the
+        poses named ``poses[1:]``; ``_glance_left`` the pairs it leaves when none is past its width)?
+        With a part carried, past the width only (no glancing check)."""
+        self._glance_left = None
+        meet = np.flatnonzero(before + after - 2.0 * EPS <= moved)
+        if not len(meet):
+            return False
+        moved = moved.take(meet)
+        wide = bool((moved > widths.take(meet)).any())
+        if wide or self._carried:
+            return wide
+        meet, moved = meet[moved > GLANCE], moved[moved > GLANCE]
+        return bool(len(meet)) and not self.poses_clear(poses[0], sel.take(meet), moved, before.take(meet),
+                                                        after.take(meet), *poses[1:])
 
     def clear_glancing(self, frames: np.ndarray, start: Callable[[], np.ndarray], since: object, now: object) -> None:
         """Drop from ``glancing`` the pairs their poses clear (``poses_clear``'s test, ``glance.cleared``);
