@@ -296,17 +296,17 @@ class MomentsBatch:
         pairs, s = self._pairs_now, self._scene
         assert pairs is not None
         link, other = pairs.moving.take(p), pairs.stationary.take(p)
-        link_rows, rows, units, offsets = self._apart_tables()
+        local, vertices, units, offsets = self._apart_tables()
         frame = frames[at, self.owners.take(link)]
         rot, shift = frame[:, :3, :3], frame[:, :3, 3]
-        placed = self._local[link_rows.take(link, axis=0)] @ rot.transpose(0, 2, 1)     # (items, vertices, 3)
+        placed = local.take(link, axis=0) @ rot.transpose(0, 2, 1)                     # (items, vertices, 3)
         placed += shift[:, None, :]
         gap = largest_of_xyz(np.maximum(s.lo.take(other, axis=0) - _over_middle(placed, np.maximum),
                                         _over_middle(placed, np.minimum) - s.hi.take(other, axis=0)))
         # the part beyond the link's face planes (placed: normals R n, offsets + t . R n), as ``_apart_items``
         turned = rot @ self._apart_normals.take(link, axis=0)                    # (items, 3, planes)
         off = self._apart_offsets.take(link, axis=0) + (shift[:, None, :] @ turned)[:, 0]
-        d = s.vertices[rows.take(other, axis=0)] @ turned
+        d = vertices.take(other, axis=0) @ turned
         d -= off[:, None, :]
         beyond = _over_middle(d, np.minimum).max(axis=1)
         # the link beyond the part's face planes
@@ -315,10 +315,11 @@ class MomentsBatch:
         return gap, np.maximum(beyond, _over_middle(d, np.minimum).max(axis=1))
 
     def _apart_tables(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-        """``_apart_of``'s tables, kept per set of parts: each link's vertex rows and each part's
-        (padded to the longest by repeating the last), and each part's face planes turned to look
-        away from its centre, as (bodies, 3, faces) normals and (bodies, faces) offsets (a padding
-        face never counts: its offset is infinite). Indexed by body; a link's part rows unused."""
+        """``_apart_of``'s tables, kept per set of parts: each link's vertices in its own frame and
+        each part's where it stands (padded to the most by repeating the last), and each part's
+        face planes turned to look away from its centre, as (bodies, 3, faces) normals and
+        (bodies, faces) offsets (a padding face never counts: its offset is infinite). Indexed
+        by body; a link's rows in the parts' tables unused."""
         s, lay = self._scene, self._layout
         kept = self._apart_kept_tables
         if kept is not None and kept[0] is self._parts and kept[1] is s.planes:
@@ -336,7 +337,7 @@ class MomentsBatch:
         faces = max(int((np.arange(1, size.shape[1] + 1) * (size[nl:] > 0.0)).max(initial=1)), 1)
         counts = lay.counts.copy()
         counts[:nl] = 1                                   # a link is never the part of a pair here
-        tables = (padded(lay.counts[:nl], lay.starts[:nl]), padded(counts, lay.starts),
+        tables = (self._local[padded(lay.counts[:nl], lay.starts[:nl])], s.vertices[padded(counts, lay.starts)],
                   (unit * outward[..., None])[:, :faces].transpose(0, 2, 1).copy(),
                   np.where(size > 0.0, offset * outward, np.inf)[:, :faces].copy())
         self._apart_kept_tables = (self._parts, s.planes, tables)
@@ -429,15 +430,16 @@ class MomentsBatch:
             d[linked] = placed[rows.take(linked, axis=0), :, at.take(linked)[:, None]]
         d = d @ turned
         d -= off[:, None]
-        found: np.ndarray = d.min(axis=1).max(axis=1)
+        found: np.ndarray = _over_middle(d, np.minimum).max(axis=1)
         return found
 
 
 def _over_middle(d: np.ndarray, pick: np.ufunc) -> np.ndarray:
-    """``pick`` (np.minimum, np.maximum) over the middle axis of (items, n, m): n - 1 calls on
-    (items, m) (numpy reduces a short axis of many rows slowly), one for a few items."""
-    if len(d) < 40:
-        few: np.ndarray = pick.reduce(d, axis=1)
+    """``pick`` (np.minimum, np.maximum) over the middle axis of (items, n, m): numpy reduces a
+    short axis of many rows slowly, so up to some thousand items that axis is made the first
+    (a copy), else n - 1 calls on (items, m)."""
+    if len(d) < 1500:
+        few: np.ndarray = pick.reduce(np.ascontiguousarray(d.transpose(1, 0, 2)), axis=0)
         return few
     out: np.ndarray = d[:, 0].copy()
     for k in range(1, d.shape[1]):
