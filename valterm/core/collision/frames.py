@@ -937,8 +937,20 @@ class RobotScene(MomentsBatch):
         found: np.ndarray = widths.take(idx)
         missing = np.isnan(found)
         if missing.any():
+            todo: dict[int, list[int]] = {}               # not kept, by their sides: each side count at once
             for i in np.unique(idx[missing]).tolist():
-                widths[i] = self._width(objects[i - nl])
+                p = objects[i - nl]
+                thin = self._thin.get(id(p.vertices))
+                if thin is not None and thin[0] is p.vertices:
+                    widths[i] = thin[1]
+                else:
+                    todo.setdefault(p.k, []).append(i)
+            if len(self._thin) > 4096:
+                self._thin.clear()
+            for k, at in todo.items():
+                widths[at] = arrays.thicknesses(np.stack([objects[i - nl].vertices for i in at]), k)
+                for i in at:
+                    self._thin[id(objects[i - nl].vertices)] = (objects[i - nl].vertices, float(widths[i]))
             found = widths.take(idx)
         return found
 
