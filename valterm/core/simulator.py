@@ -901,6 +901,7 @@ class _PathChecks:
         frames = sim.model.link_frames_batch(np.asarray(self.poses), base)
         self.found: list[list[Finding]] = []
         self.figures: PathFigures | None = None
+        self.collides = False          # a pose checked alone collides (``keep_path``'s: ``figures.collided``)
         try:
             self._poses_checked(sim, start, frames)
             self._steps(sim, np.asarray([start, *self.poses], dtype=float), frames)
@@ -923,6 +924,7 @@ class _PathChecks:
             if found is None:
                 sim._follow_clamp(joints)
                 found = scene.check(at, objects, carried, sim.speed)
+                self.collides = self.collides or any(f.kind == "collides" for f in found)
                 if told is None:                      # pose by pose, or the first pose setting up
                     if k == 0:
                         self.figures = scene.path_figures(len(self.poses), sim._pose_key(start))
@@ -947,7 +949,7 @@ class _PathChecks:
             return
         # a path that collides at its poses most likely does between them (a cell crowded
         # round a path it clears seldom does): then the moments go in rounds
-        rounds = any(f.kind == "collides" for found in self.found for f in found)
+        rounds = self.collides or any(len(hit) for hit in self.figures.collided)
         for step, said in enumerate(sim._at_moments(self.scene, q[:-1], q[:-1] + turns, moments, rounds)):
             if said:
                 self.found[step] = said + self.found[step]
