@@ -153,7 +153,7 @@ class MomentsBatch:
             used, moment = np.unique(ask // n, return_inverse=True)
             at = np.concatenate([start()[None], frames]) if used[0] == 0 else frames
             had[had < 0.0] = self.apart_at(at.take(used - (0 if used[0] == 0 else 1), axis=0), moment,
-                                           ask % n).take(where)
+                                           ask % n, True).take(where)
         d0, d1 = np.maximum(d0, had[: len(g.step)]), np.maximum(d1, had[len(g.step):])
         ends = np.flatnonzero(g.step == last - 1)
         kept_now: dict[int, float] = {} if now is None else known.setdefault(now, {})
@@ -281,14 +281,16 @@ class MomentsBatch:
             clear[:] = apart
         return hit
 
-    def apart_at(self, frames: np.ndarray, at: np.ndarray, p: np.ndarray) -> np.ndarray:
+    def apart_at(self, frames: np.ndarray, at: np.ndarray, p: np.ndarray, planes: bool = False) -> np.ndarray:
         """Per (moment ``at[i]``, pair ``p[i]``), a link and a part (the links at ``frames``):
-        at least how far apart they are (``_apart_of``; 0 where it cannot say)."""
-        gap, beyond = self._apart_of(frames, at, p)
+        at least how far apart they are (``_apart_of``; 0 where it cannot say). ``planes``: by
+        the link's face planes alone (the part beyond one of them; cheaper: not placing the link)."""
+        gap, beyond = self._apart_of(frames, at, p, planes)
         found: np.ndarray = np.maximum(np.maximum(gap, beyond), 0.0)
         return found
 
-    def _apart_of(self, frames: np.ndarray, at: np.ndarray, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def _apart_of(self, frames: np.ndarray, at: np.ndarray, p: np.ndarray, planes: bool = False
+                  ) -> tuple[np.ndarray, np.ndarray]:
         """Per (moment ``at[i]``, pair ``p[i]``), a link and a part: its link placed alone (its
         vertices by its frame at the moment), how far apart their boxes are (``largest_of_xyz``
         of the gaps) and the farthest a face plane of either has the other beyond it (a box's
@@ -299,16 +301,18 @@ class MomentsBatch:
         local, vertices, units, offsets = self._apart_tables()
         frame = frames[at, self.owners.take(link)]
         rot, shift = frame[:, :3, :3], frame[:, :3, 3]
-        placed = local.take(link, axis=0) @ rot.transpose(0, 2, 1)                     # (items, vertices, 3)
-        placed += shift[:, None, :]
-        gap = largest_of_xyz(np.maximum(s.lo.take(other, axis=0) - _over_middle(placed, np.maximum),
-                                        _over_middle(placed, np.minimum) - s.hi.take(other, axis=0)))
         # the part beyond the link's face planes (placed: normals R n, offsets + t . R n), as ``_apart_items``
         turned = rot @ self._apart_normals.take(link, axis=0)                    # (items, 3, planes)
         off = self._apart_offsets.take(link, axis=0) + (shift[:, None, :] @ turned)[:, 0]
         d = vertices.take(other, axis=0) @ turned
         d -= off[:, None, :]
         beyond = _over_middle(d, np.minimum).max(axis=1)
+        if planes:
+            return beyond, beyond
+        placed = local.take(link, axis=0) @ rot.transpose(0, 2, 1)                     # (items, vertices, 3)
+        placed += shift[:, None, :]
+        gap = largest_of_xyz(np.maximum(s.lo.take(other, axis=0) - _over_middle(placed, np.maximum),
+                                        _over_middle(placed, np.minimum) - s.hi.take(other, axis=0)))
         # the link beyond the part's face planes
         d = placed @ units.take(other, axis=0)
         d -= offsets.take(other, axis=0)[:, None, :]
