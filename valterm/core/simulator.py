@@ -802,7 +802,7 @@ class Simulator:
     def _measured(self, scene: RobotScene, q0: np.ndarray, q1: np.ndarray, found: Spans, known: Items,
                   clear: np.ndarray, upto: tuple[int, np.ndarray | None]) -> None:
         """How far apart the ``known`` items before ``upto[0]`` that end a span ``between`` would
-        look in are (``glance.doubtful``), measured by the pair's face planes
+        look in are (``glance.doubtful``), measured by the link's face planes
         (``RobotScene.apart_at``) where it was by their boxes, into ``clear`` (how far apart
         each was found). ``upto[1]``: the link frames at those items' moments, if known."""
         from valterm.core.collision.glance import doubtful
@@ -815,7 +815,7 @@ class Simulator:
         used, moment = np.unique(at.take(items), return_inverse=True)
         frames = kept.take(used, axis=0) if kept is not None else self.model.link_frames_batch(
             q0[step_of[used]] + (q1[step_of[used]] - q0[step_of[used]]) * t[used][:, None], self.base)
-        clear[items] = np.maximum(clear.take(items), scene.apart_at(frames, moment, p.take(items)))
+        clear[items] = np.maximum(clear.take(items), scene.apart_at(frames, moment, p.take(items), True))
 
     def _found_at(self, scene: RobotScene, q0: np.ndarray, q1: np.ndarray, items: Items, rounds: bool,
                   clear: np.ndarray | None, rows: np.ndarray | None = None,
