@@ -116,9 +116,10 @@ def spans(glancing: Glancing, known: Items) -> Spans:
     key = glancing.step * n + glancing.pair
     order = np.argsort(key)
     key = key.take(order)
-    item = np.flatnonzero(np.isin(item_key, key))
-    cand, when = np.searchsorted(key, item_key.take(item)), t.take(at.take(item))
-    seq = np.lexsort((when, cand))
+    where = np.minimum(np.searchsorted(key, item_key), len(key) - 1)     # a candidate's key, if any
+    item = np.flatnonzero(key.take(where) == item_key)
+    cand, when = where.take(item), t.take(at.take(item))
+    seq = np.argsort(cand * 2.0 + when)                 # by candidate, then moment (a moment is 0 to 1)
     cand, when, item = cand.take(seq), when.take(seq), item.take(seq)
     span = np.flatnonzero(cand[1:] == cand[:-1])
     c = cand.take(span)
