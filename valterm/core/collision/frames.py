@@ -433,9 +433,7 @@ class RobotScene(MomentsBatch):
         turns, terms, bound, relative, linking, top = self._fixed_lengths(frames, turned, linked)
         parts: tuple[np.ndarray, ...] | None = None
         links: tuple[np.ndarray, ...] | None = None
-        link_risky = False
-        # the fixed lengths first (one product): many steps are cleared by them, the bound
-        # from where the bodies are now (a dozen numpy calls) only when they are not
+        link_risky = False  # the fixed lengths first (one product; they clear many steps), then from where bodies are
         for tight in (False, True):
             if tight:
                 terms = self._sweep_terms(frames, turns, terms)
