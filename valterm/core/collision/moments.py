@@ -49,6 +49,7 @@ class MomentsBatch:
     _apart_kept: tuple[object, object, dict[object, dict[int, float]]] | None = None
     # the last fine test's face-plane figures: (the links' frames, links, parts, mm beyond)
     _apart_now: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None = None
+    _ends_frames: tuple[object, np.ndarray] | None = None   # the last path's end pose: its name, link frames
     _glance_left: Glancing | None = None     # the pairs ``poses_clear`` last left (``RobotScene.swept``'s)
     _apart_kept_tables: tuple[object, object, tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]] | None = None
 
@@ -151,11 +152,14 @@ class MomentsBatch:
         ask, where = np.unique(key[had < 0.0], return_inverse=True)
         if len(ask):
             used, moment = np.unique(ask // n, return_inverse=True)
-            at = np.concatenate([start()[None], frames]) if used[0] == 0 else frames
+            ends_kept = self._ends_frames      # the last path's end pose is most often this one's start
+            first = ends_kept[1] if ends_kept is not None and ends_kept[0] == since else start()
+            at = np.concatenate([first[None], frames]) if used[0] == 0 else frames
             had[had < 0.0] = self.apart_at(at.take(used - (0 if used[0] == 0 else 1), axis=0), moment,
                                            ask % n, True).take(where)
         d0, d1 = np.maximum(d0, had[: len(g.step)]), np.maximum(d1, had[len(g.step):])
         ends = np.flatnonzero(g.step == last - 1)
+        self._ends_frames = None if now is None else (now, frames[last - 1])
         kept_now: dict[int, float] = {} if now is None else known.setdefault(now, {})
         for q, d in zip(g.pair.take(ends).tolist(), d1.take(ends).tolist()):
             kept_now[q] = max(kept_now.get(q, 0.0), d)
