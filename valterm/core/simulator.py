@@ -751,8 +751,10 @@ class Simulator:
         # the way the joints turned: under the 1985 rules 179 -> -179 is a turn of 2 degrees
         # (six Python floats: cheaper than numpy for the most steps, which need no moment)
         turns = [(float(b) - float(a) + 180.0) % 360.0 - 180.0 for a, b in zip(previous, here)]
-        moments, rows = scene.swept(frames, list(map(math.radians, turns)), self.cell.objects,
-                                    self._pose_key(previous), self._pose_key(here))
+        since, now = self._pose_key(previous), self._pose_key(here)
+        moments, rows = scene.swept(frames, list(map(math.radians, turns)), self.cell.objects, since, now)
+        if scene.glancing is not None and self.carried is None and not scene.glancing.measured:
+            scene.clear_glancing(frames[None], lambda: self._frames_at(previous), since, now)
         if not len(moments) and scene.glancing is None:
             return []
         q0 = np.asarray(previous, dtype=float)[None]
@@ -766,23 +768,31 @@ class Simulator:
         by step; then, where the swept check left pairs that could meet between its moments
         (``RobotScene.glancing``), at the moments ``glance.between`` finds for them from how far
         apart the moments before found them (a corner clipped between two of them)."""
-        from valterm.core.collision.glance import between, ends, spans
+        from valterm.core.collision.glance import between, between_poses, ends, spans
 
         # with a part carried the pairs' distances are only their boxes' gaps, and the moments
         # between come one by one: 9x the cost of a grasping program (PROCESS graded at 0.9 s
         # a student, not 0.1), so a carried part's steps keep the width-spaced moments alone
         glancing = scene.glancing if self.carried is None else None
+        if glancing is not None and glancing.measured and not len(moments[0]):    # the poses only
+            return self._found_at(scene, q0, q1, between_poses(glancing), rounds, None)
         at, pair = np.nonzero(moments[2])
         known: Items = (moments[0], moments[1], at, pair)
         clear = None if glancing is None else np.zeros(len(known[2]))
-        found = self._found_at(scene, q0, q1, known, rounds, clear, moments[2])
+        frames: list[np.ndarray] = []
+        found = self._found_at(scene, q0, q1, known, rounds, clear, moments[2], frames)
         if glancing is None or clear is None:
             return found
         # the poses too, as far apart as their boxes, measured where that may clear a span
         at_ends, apart = ends(glancing)
         known, clear = _joined(known, at_ends), np.concatenate([clear, apart])
         found_spans = spans(glancing, known)
-        self._measured(scene, q0, q1, found_spans, known, clear)
+        # the poses' items measured already (``RobotScene.clear_glancing``), the moments' not (the
+        # moments' link frames as the check of them had them)
+        if glancing.measured:
+            self._measured(scene, q0, q1, found_spans, known, clear, (len(at), frames[0] if frames else None))
+        else:
+            self._measured(scene, q0, q1, found_spans, known, clear, (len(clear), None))
         more = between(found_spans, clear)
         # a step says a pair once (in rounds where collisions are likely, as the first moments)
         for step, said in enumerate(self._found_at(scene, q0, q1, more, rounds, None)):
@@ -790,23 +800,26 @@ class Simulator:
         return found
 
     def _measured(self, scene: RobotScene, q0: np.ndarray, q1: np.ndarray, found: Spans, known: Items,
-                  clear: np.ndarray) -> None:
-        """How far apart the ``known`` items that end a span ``between`` would look in are
-        (``glance.doubtful``), measured by the pair's face planes (``RobotScene.apart_at``)
-        where it was by their boxes, into ``clear`` (how far apart each was found)."""
+                  clear: np.ndarray, upto: tuple[int, np.ndarray | None]) -> None:
+        """How far apart the ``known`` items before ``upto[0]`` that end a span ``between`` would
+        look in are (``glance.doubtful``), measured by the link's face planes
+        (``RobotScene.apart_at``) where it was by their boxes, into ``clear`` (how far apart
+        each was found). ``upto[1]``: the link frames at those items' moments, if known."""
         from valterm.core.collision.glance import doubtful
 
         step_of, t, at, p = known  # nothing carried here (``_at_moments`` looks between only then)
-        items = np.flatnonzero(doubtful(found, clear) & (clear >= 0.0))
+        count, kept = upto
+        items = np.flatnonzero(doubtful(found, clear)[:count] & (clear[:count] >= 0.0))
         if not len(items):
             return
         used, moment = np.unique(at.take(items), return_inverse=True)
-        frames = self.model.link_frames_batch(q0[step_of[used]] + (q1[step_of[used]] - q0[step_of[used]])
-                                              * t[used][:, None], self.base)
-        clear[items] = np.maximum(clear.take(items), scene.apart_at(frames, moment, p.take(items)))
+        frames = kept.take(used, axis=0) if kept is not None else self.model.link_frames_batch(
+            q0[step_of[used]] + (q1[step_of[used]] - q0[step_of[used]]) * t[used][:, None], self.base)
+        clear[items] = np.maximum(clear.take(items), scene.apart_at(frames, moment, p.take(items), True))
 
     def _found_at(self, scene: RobotScene, q0: np.ndarray, q1: np.ndarray, items: Items, rounds: bool,
-                  clear: np.ndarray | None, rows: np.ndarray | None = None) -> list[list[Finding]]:
+                  clear: np.ndarray | None, rows: np.ndarray | None = None,
+                  keep: list[np.ndarray] | None = None) -> list[list[Finding]]:
         """``_at_moments``' check of the moments and (moment, pair) items given: the link frames
         of every moment at once, then the pairs at risk checked at the moments where their
         boxes can meet (``RobotScene.meeting``; nowhere else can the fine test find one).
@@ -814,13 +827,15 @@ class Simulator:
         looked for at its later ones (``RobotScene.collisions_at``). ``clear``: how far apart
         each item was found at least (``collisions_at``'s; left 0 with a part carried). ``rows``:
         the items as rows of pairs (the swept check's moments); without them a moment has few
-        items, each a link and a part (``collisions_of``)."""
+        items, each a link and a part (``collisions_of``). ``keep``: told the moments' link frames."""
         step_of, t, at, p = items
         found: list[list[Finding]] = [[] for _ in q0]
         if not len(step_of):
             return found
         joints = q0[step_of] + (q1[step_of] - q0[step_of]) * t[:, None]
         frames = self.model.link_frames_batch(joints, self.base)
+        if keep is not None:
+            keep.append(frames)
         held = None
         if self.carried is not None and self._carried_local is not None:
             clamp = frames[:, 6]
@@ -886,6 +901,7 @@ class _PathChecks:
         frames = sim.model.link_frames_batch(np.asarray(self.poses), base)
         self.found: list[list[Finding]] = []
         self.figures: PathFigures | None = None
+        self.collides = False          # a pose checked alone collides (``keep_path``'s: ``figures.collided``)
         try:
             self._poses_checked(sim, start, frames)
             self._steps(sim, np.asarray([start, *self.poses], dtype=float), frames)
@@ -908,6 +924,7 @@ class _PathChecks:
             if found is None:
                 sim._follow_clamp(joints)
                 found = scene.check(at, objects, carried, sim.speed)
+                self.collides = self.collides or any(f.kind == "collides" for f in found)
                 if told is None:                      # pose by pose, or the first pose setting up
                     if k == 0:
                         self.figures = scene.path_figures(len(self.poses), sim._pose_key(start))
@@ -925,11 +942,14 @@ class _PathChecks:
         # the way the joints turned: under the 1985 rules 179 -> -179 is a turn of 2 degrees
         turns = (q[1:] - q[:-1] + 180.0) % 360.0 - 180.0
         moments = self.scene.swept_path(frames, np.radians(turns), sim.cell.objects, self.figures)
+        if self.scene.glancing is not None and sim.carried is None:
+            keys = self.figures.keys
+            self.scene.clear_glancing(frames[: len(keys) - 1], lambda: sim._frames_at(q[0]), keys[0], keys[-1])
         if not len(moments[0]) and self.scene.glancing is None:
             return
         # a path that collides at its poses most likely does between them (a cell crowded
         # round a path it clears seldom does): then the moments go in rounds
-        rounds = any(f.kind == "collides" for found in self.found for f in found)
+        rounds = self.collides or any(len(hit) for hit in self.figures.collided)
         for step, said in enumerate(sim._at_moments(self.scene, q[:-1], q[:-1] + turns, moments, rounds)):
             if said:
                 self.found[step] = said + self.found[step]

@@ -21,6 +21,19 @@ def thickness(vertices: np.ndarray, k: int) -> float:
     return float((spans.max(axis=0) - spans.min(axis=0)).min())
 
 
+def thicknesses(vertices: np.ndarray, k: int) -> np.ndarray:
+    """``thickness`` of polyhedra of ``k`` sides at once, their vertices (n, 2k, 3)."""
+    faces = np.asarray(topology_faces(k))
+    p = vertices[:, faces]                                          # (n, F, 3, 3)
+    normal = np.cross(p[:, :, 1] - p[:, :, 0], p[:, :, 2] - p[:, :, 0])
+    size = np.linalg.norm(normal, axis=2)
+    normal /= np.where(size > 0, size, 1.0)[..., None]
+    spans = vertices @ normal.transpose(0, 2, 1)                    # (n, 2k, F)
+    width = np.where(size > 0, spans.max(axis=1) - spans.min(axis=1), np.inf)
+    found: np.ndarray = width.min(axis=1)
+    return found
+
+
 def topology_faces(k: int) -> list[list[int]]:
     """Three vertices of each face of an extruded polyhedron (caps, then side quads)."""
     faces = [[0, 1, 2], [k, k + 1, k + 2]]

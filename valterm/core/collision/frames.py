@@ -33,7 +33,7 @@ from valterm.core.collision import arrays
 from valterm.core.collision.glance import GLANCE, Glancing, at_risk
 from valterm.core.collision.thesis import (CLEAR, COLLIDES, EPS, NEAR, SEPARATED, Layout, Scene, check_pairs,
                                            face_planes, figures, layout, margin)
-from valterm.core.collision.moments import MomentsBatch
+from valterm.core.collision.moments import MomentsBatch, _over_middle
 from valterm.core.collision.world import CollisionWorld, Finding, _Pairs
 
 if TYPE_CHECKING:
@@ -253,7 +253,8 @@ class RobotScene(MomentsBatch):
         off = self._apart_offsets.take(a, axis=0) + (frame[:, None, :3, 3] @ turned)[:, 0]
         d = self._scene.vertices[self._vertex_rows.take(b, axis=0)] @ turned            # (pairs, V, faces)
         d -= off[:, None]
-        found: np.ndarray = d.min(axis=1).max(axis=1) > SEPARATED
+        self._apart_now = (self._frames_now, a, b, _over_middle(d, np.minimum).max(axis=1))   # for poses_clear
+        found: np.ndarray = self._apart_now[3] > SEPARATED
         return found
 
     def _candidates(self, movers: np.ndarray, grow: float) -> np.ndarray:
@@ -432,8 +433,7 @@ class RobotScene(MomentsBatch):
         turns, terms, bound, relative, linking, top = self._fixed_lengths(frames, turned, linked)
         parts: tuple[np.ndarray, ...] | None = None
         links: tuple[np.ndarray, ...] | None = None
-        # the fixed lengths first (one product): many steps are cleared by them, the bound
-        # from where the bodies are now (a dozen numpy calls) only when they are not
+        link_risky = False  # the fixed lengths first (one product; they clear many steps), then from where bodies are
         for tight in (False, True):
             if tight:
                 terms = self._sweep_terms(frames, turns, terms)
@@ -444,17 +444,21 @@ class RobotScene(MomentsBatch):
                 links = self._link_gaps(linked, since, kept)
             # a pair whose boxes can meet and that moves past its part's width needs moments
             if parts is None and gaps is not None:   # every pair's gaps measured: the few past theirs
-                risky = self._past_width(bound, objects, since, kept, not tight)
+                risky = self._past_width(bound, objects, since, kept, not tight, (frames, now))
             else:
                 if parts is None:         # the pairs (and their gaps) the fixed lengths can reach
                     parts = self._part_pairs(top, objects, since, kept)
                 moved = bound.take(parts[1])
-                risky = bool(((parts[3] <= moved) & (moved > np.minimum(parts[4], GLANCE))).any())
+                risky = self._risky(parts[0], moved, parts[5], parts[3] - parts[5] + 2.0 * EPS, parts[4],
+                                    (frames, since, now))
             if links is not None:
                 closing = bound.take(links[1]) + bound.take(links[2])
-                risky = risky or bool(((links[3] <= closing) & (relative > 1.0)).any())
-            if not risky:
+                link_risky = bool(((links[3] <= closing) & (relative > 1.0)).any())
+            if not (risky or link_risky):
                 return never
+        if self._glance_left is not None and not link_risky:   # glancing pairs alone: no moments
+            self.glancing = self._glance_left
+            return never
         if parts is None:
             parts = self._part_pairs(top, objects, since, kept)
             moved = bound.take(parts[1])
@@ -773,11 +777,9 @@ class RobotScene(MomentsBatch):
         return sel, m, st, before + after - 2.0 * EPS, widths, before
 
     def _past_width(self, bound: np.ndarray, objects: Sequence[Polyhedron], since: object,
-                    kept: tuple[object, ...] | None, keep: bool) -> bool:
-        """``swept``'s test of the parts' pairs when every pair's box gaps were measured: does a
-        pair that moves past its part's width (``bound`` of its mover) have its boxes near enough
-        to meet? Only those pairs' gaps are looked at (the arithmetic of ``_part_pairs``); which
-        pairs they are is kept with the bounds kept (``_fixed_lengths``'s, ``keep``)."""
+                    kept: tuple[object, ...] | None, keep: bool, poses: tuple[np.ndarray, object]) -> bool:
+        """``_risky`` when every pair's box gaps were measured, of the pairs that move past their part's
+        width or ``GLANCE`` (``bound`` of its mover), kept with the bounds kept (``keep``)."""
         pairs, gaps = self._pairs_now, self._gaps_now
         assert pairs is not None and gaps is not None
         ruled = len(self._movers) * len(self._free)
@@ -794,8 +796,8 @@ class RobotScene(MomentsBatch):
         past, moved, m, st = got[2:]
         if not len(past):
             return False
-        both = self._kept_gaps(kept, since, past, m, st) + gaps.take(past) - 2.0 * EPS
-        return bool((both <= moved).any())
+        return self._risky(past, moved, self._kept_gaps(kept, since, past, m, st), gaps.take(past), widths.take(past),
+                           (poses[0], since, poses[1]))
 
     def _ruled_widths(self, objects: Sequence[Polyhedron], st: np.ndarray) -> np.ndarray:
         """The widths (at least 1 mm) of the parts of the pairs whose parts are ``st``
@@ -933,8 +935,20 @@ class RobotScene(MomentsBatch):
         found: np.ndarray = widths.take(idx)
         missing = np.isnan(found)
         if missing.any():
+            todo: dict[int, list[int]] = {}               # not kept, by their sides: each side count at once
             for i in np.unique(idx[missing]).tolist():
-                widths[i] = self._width(objects[i - nl])
+                p = objects[i - nl]
+                thin = self._thin.get(id(p.vertices))
+                if thin is not None and thin[0] is p.vertices:
+                    widths[i] = thin[1]
+                else:
+                    todo.setdefault(p.k, []).append(i)
+            if len(self._thin) > 4096:
+                self._thin.clear()
+            for k, at in todo.items():
+                widths[at] = arrays.thicknesses(np.stack([objects[i - nl].vertices for i in at]), k)
+                for i in at:
+                    self._thin[id(objects[i - nl].vertices)] = (objects[i - nl].vertices, float(widths[i]))
             found = widths.take(idx)
         return found
 
@@ -942,8 +956,7 @@ class RobotScene(MomentsBatch):
 
 _VERTICES = operator.attrgetter("vertices")
 
-# ``swept``'s answer when no moment is needed (empty: nothing can write into them)
-_NEVER = (np.zeros(0), np.zeros((0, 0), dtype=bool))
+_NEVER = (np.zeros(0), np.zeros((0, 0), dtype=bool))    # ``swept``'s when no moment is needed (read-only)
 for _empty in _NEVER:
     _empty.flags.writeable = False
 

@@ -36,8 +36,9 @@ _FINEST = 2 ** 20        # moments are k / 2^20 of their step (one at a moment t
 @dataclass(frozen=True)
 class Glancing:
     """The pairs (scene positions) that could meet in a path's steps (indices as the moments'),
-    each with its moving body's bound over the step (mm) and its boxes' gaps at the step's
-    start and end (mm, at least how far apart the pair is there where not negative)."""
+    each with its moving body's bound over the step (mm) and at least how far apart it is at
+    the step's start and end (mm, where not negative): its boxes' gaps, or with ``measured``
+    its face planes' too (``RobotScene.clear_glancing``)."""
 
     step: np.ndarray
     pair: np.ndarray
@@ -45,6 +46,7 @@ class Glancing:
     start: np.ndarray
     end: np.ndarray
     pairs: int                   # how many pairs the scene has
+    measured: bool = False       # start and end measured by the face planes: not to measure again
 
 
 def at_risk(items: tuple[np.ndarray, np.ndarray], bound: np.ndarray, start: np.ndarray, both: np.ndarray,
@@ -60,6 +62,18 @@ def at_risk(items: tuple[np.ndarray, np.ndarray], bound: np.ndarray, start: np.n
     if not len(step):
         return None
     return Glancing(step, pair, bound, start, both - start + 2.0 * EPS, pairs)
+
+
+def cleared(glancing: Glancing, start: np.ndarray, end: np.ndarray) -> Glancing | None:
+    """``glancing`` but for the pairs that cannot meet in their step, being at least ``start``
+    apart at its start and ``end`` at its end (``start + end`` more than the most any point of
+    the link moves: conservative advancement from either end leaves nothing between), the
+    others with those distances (``measured``); None when none is left."""
+    keep = np.flatnonzero(start + end <= glancing.bound)
+    if not len(keep):
+        return None
+    return Glancing(glancing.step.take(keep), glancing.pair.take(keep), glancing.bound.take(keep), start.take(keep),
+                    end.take(keep), glancing.pairs, True)
 
 
 # moments and what to look at there: each moment's step and fraction of it (in order), and
@@ -102,9 +116,10 @@ def spans(glancing: Glancing, known: Items) -> Spans:
     key = glancing.step * n + glancing.pair
     order = np.argsort(key)
     key = key.take(order)
-    item = np.flatnonzero(np.isin(item_key, key))
-    cand, when = np.searchsorted(key, item_key.take(item)), t.take(at.take(item))
-    seq = np.lexsort((when, cand))
+    where = np.minimum(np.searchsorted(key, item_key), len(key) - 1)     # a candidate's key, if any
+    item = np.flatnonzero(key.take(where) == item_key)
+    cand, when = where.take(item), t.take(at.take(item))
+    seq = np.argsort(cand * 2.0 + when)                 # by candidate, then moment (a moment is 0 to 1)
     cand, when, item = cand.take(seq), when.take(seq), item.take(seq)
     span = np.flatnonzero(cand[1:] == cand[:-1])
     c = cand.take(span)
@@ -119,12 +134,26 @@ def between(found: Spans, clear: np.ndarray, spacing: float = GLANCE) -> Items:
     for). In each span's part a point may reach the part in, moments evenly spaced no more
     than ``spacing`` mm of its pair's travel apart and from the part's ends (``GLANCE``)."""
     lo, hi = found.clear_of(clear)
-    count = np.maximum(np.ceil((hi - lo) * found.bound / (spacing * (1.0 - 1e-6))) - 1.0, 0.0).astype(np.intp)
+    return _spaced(lo, hi, found.bound, found.key.take(found.cand), found.pairs, spacing)
+
+
+def between_poses(glancing: Glancing, spacing: float = GLANCE) -> Items:
+    """``between`` where the step's poses are the only moments known of the pairs (no width-spaced
+    moments) and their distances were measured there (``measured``): one span a pair."""
+    lo, hi = glancing.start / glancing.bound, 1.0 - glancing.end / glancing.bound
+    return _spaced(lo, hi, glancing.bound, glancing.step * glancing.pairs + glancing.pair, glancing.pairs, spacing)
+
+
+def _spaced(lo: np.ndarray, hi: np.ndarray, bound: np.ndarray, key: np.ndarray, pairs: int, spacing: float) -> Items:
+    """The moments of ``between``: in each span's part ``lo`` to ``hi`` (fractions of its step),
+    moments evenly spaced no more than ``spacing`` mm of its pair's travel (``bound``) apart,
+    the span's pair ``key`` (step x ``pairs`` + pair)."""
+    count = np.maximum(np.ceil((hi - lo) * bound / (spacing * (1.0 - 1e-6))) - 1.0, 0.0).astype(np.intp)
     each = np.repeat(np.arange(len(lo)), count)
     nth = np.arange(len(each)) - np.repeat(np.cumsum(count) - count, count) + 1
     frac = lo.take(each) + nth * ((hi - lo) / (count + 1)).take(each)
-    pair_key = found.key.take(found.cand.take(each))
-    return _items(pair_key // found.pairs, np.round(frac * _FINEST).astype(np.int64), pair_key % found.pairs)
+    pair_key = key.take(each)
+    return _items(pair_key // pairs, np.round(frac * _FINEST).astype(np.int64), pair_key % pairs)
 
 
 def doubtful(found: Spans, clear: np.ndarray, spacing: float = GLANCE) -> np.ndarray:
@@ -150,16 +179,11 @@ def _items(step: np.ndarray, tick: np.ndarray, pair: np.ndarray) -> Items:
 
 
 def ends(glancing: Glancing) -> tuple[Items, np.ndarray]:
-    """The items at each step's two poses (0 and 1 of it), a pair of ``glancing`` each, and how
-    far apart their boxes say they are (every span ``between`` looks in lies between two
-    known items of its pair)."""
-    both = np.concatenate([glancing.step, glancing.step])
-    tick = np.repeat(np.array([0, _FINEST], dtype=np.int64), len(glancing.step))
-    items = _items(both, tick, np.concatenate([glancing.pair, glancing.pair]))
-    step_of, t, at, p = items
-    n = glancing.pairs
-    item_key = (step_of.take(at) * 2 + t.take(at).astype(np.intp)) * n + p       # sorted: by moment, then pair
-    apart = np.zeros(len(at))
-    apart[np.searchsorted(item_key, glancing.step * 2 * n + glancing.pair)] = glancing.start
-    apart[np.searchsorted(item_key, (glancing.step * 2 + 1) * n + glancing.pair)] = glancing.end
-    return items, np.maximum(apart, 0.0)
+    """The items at each step's two poses (0 and 1 of it), a pair of ``glancing`` each, each at a
+    moment of its own, and how far apart they are at least (every span ``between`` looks in
+    lies between two known items of its pair)."""
+    count = len(glancing.step)
+    step = np.concatenate([glancing.step, glancing.step])
+    t = np.repeat(np.array([0.0, 1.0]), count)
+    items = (step, t, np.arange(2 * count), np.concatenate([glancing.pair, glancing.pair]))
+    return items, np.maximum(np.concatenate([glancing.start, glancing.end]), 0.0)

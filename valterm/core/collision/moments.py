@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING, Callable
 import numpy as np
 
 from valterm.core.collision.arrays import HAIR
+from valterm.core.collision.glance import GLANCE, Glancing, cleared
 from valterm.core.collision.thesis import COLLIDES, EPS, SEPARATED, Layout, Scene, fine, largest_of_xyz
 
 if TYPE_CHECKING:
@@ -41,9 +42,128 @@ class MomentsBatch:
     _apart_normals: np.ndarray
     _apart_offsets: np.ndarray
     owners: np.ndarray
+    glancing: Glancing | None
+    _parts: tuple[np.ndarray, ...] | None
+    # how far apart link x part pairs were at least at the last few poses: (the parts and the
+    # pairs then, pose name -> pair -> mm)
+    _apart_kept: tuple[object, object, dict[object, dict[int, float]]] | None = None
+    # the last fine test's face-plane figures: (the links' frames, links, parts, mm beyond)
+    _apart_now: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None = None
+    _ends_frames: tuple[object, np.ndarray] | None = None   # the last path's end pose: its name, link frames
+    _glance_left: Glancing | None = None     # the pairs ``poses_clear`` last left (``RobotScene.swept``'s)
+    _apart_kept_tables: tuple[object, object, tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]] | None = None
 
     def _path_picks(self, count: int) -> tuple[np.ndarray, np.ndarray]:
         raise NotImplementedError
+
+    def apart_kept(self) -> dict[object, dict[int, float]]:
+        """How far apart link x part pairs were found at least at the last few poses (by the
+        pose's name, pair -> mm), for the parts and pairs there are now."""
+        kept = self._apart_kept
+        if kept is None or kept[0] is not self._parts or kept[1] is not self._pairs_now:
+            kept = self._apart_kept = (self._parts, self._pairs_now, {})
+        if len(kept[2]) > 4:                      # a path's two ends and the pose by pose steps'
+            del kept[2][next(iter(kept[2]))]
+        return kept[2]
+
+    def poses_clear(self, frames: np.ndarray, p: np.ndarray, bound: np.ndarray, start: np.ndarray,
+                    end: np.ndarray, since: object, now: object) -> bool:
+        """Can none of the link x part pairs ``p`` (positions) meet in the step from the pose named
+        ``since`` to the one named ``now`` (the links at ``frames`` there), its points moving at
+        most ``bound``, its boxes ``start`` and ``end`` apart at the two? Not where it is at least
+        ``d0`` apart at the start and ``d1`` at the end with ``d0 + d1 > bound`` (conservative
+        advancement from either end leaves nothing between; ``glance.cleared``). Where the step
+        before measured the start (``apart_kept``) and that alone clears the step, the end is
+        ``d0 - bound`` apart at least, not measured; else it is measured (``apart_at``) and kept
+        for the next step. Python floats: a pose by pose step has a pair or two."""
+        known = self.apart_kept()
+        at0 = {} if since is None else known.get(since, {})
+        at1: dict[int, float] = {} if now is None else known.setdefault(now, {})
+        pairs, b = p.tolist(), bound.tolist()
+        d0 = [max(g, at0.get(q, 0.0)) for g, q in zip(start.tolist(), pairs)]
+        d1 = [max(g, at1.get(q, 0.0)) for g, q in zip(end.tolist(), pairs)]
+        ask = [i for i, q in enumerate(pairs) if q not in at1 and d0[i] <= b[i]]
+        seen = self._apart_now          # what the fine test of the pose found of the link's face planes
+        if ask and seen is not None and seen[0] is frames:
+            assert self._pairs_now is not None
+            pm, ps = self._pairs_now.moving, self._pairs_now.stationary
+            beyond = dict(zip(zip(seen[1].tolist(), seen[2].tolist()), seen[3].tolist()))
+            for i in ask:
+                d1[i] = max(d1[i], beyond.get((int(pm[pairs[i]]), int(ps[pairs[i]])), 0.0))
+            ask = [i for i in ask if d0[i] + d1[i] <= b[i]]
+        if ask:
+            found = self.apart_at(frames[None], np.zeros(len(ask), dtype=np.intp), p.take(ask)).tolist()
+            for i, d in zip(ask, found):
+                d1[i] = max(d1[i], d)
+        left = []
+        for i, q in enumerate(pairs):
+            at1[q] = d1[i] = max(at1.get(q, 0.0), d1[i], d0[i] - b[i])
+            if d0[i] + d1[i] <= b[i]:
+                left.append(i)
+        if left:              # the pairs left, as ``clear_glancing`` would leave them
+            assert self._pairs_now is not None
+            self._glance_left = Glancing(np.zeros(len(left), dtype=np.intp), p.take(left), bound.take(left),
+                                         np.take(d0, left), np.take(d1, left), len(self._pairs_now.moving), True)
+        return not left
+
+    def _risky(self, sel: np.ndarray, moved: np.ndarray, before: np.ndarray, after: np.ndarray,
+               widths: np.ndarray, poses: tuple[np.ndarray, object, object]) -> bool:
+        """Does a parts' pair (positions ``sel``, moving ``moved``, boxes ``before`` and ``after`` apart
+        at the poses) need moments: its boxes can meet and it moves past its part's width, or past
+        ``GLANCE`` where its poses do not clear it (``poses_clear``: the links at ``poses[0]``, the
+        poses named ``poses[1:]``; ``_glance_left`` the pairs it leaves when none is past its width)?
+        With a part carried, past the width only (no glancing check)."""
+        self._glance_left = None
+        meet = np.flatnonzero(before + after - 2.0 * EPS <= moved)
+        if not len(meet):
+            return False
+        moved = moved.take(meet)
+        wide = bool((moved > widths.take(meet)).any())
+        if wide or self._carried:
+            return wide
+        meet, moved = meet[moved > GLANCE], moved[moved > GLANCE]
+        return bool(len(meet)) and not self.poses_clear(poses[0], sel.take(meet), moved, before.take(meet),
+                                                        after.take(meet), *poses[1:])
+
+    def clear_glancing(self, frames: np.ndarray, start: Callable[[], np.ndarray], since: object, now: object) -> None:
+        """Drop from ``glancing`` the pairs their poses clear (``poses_clear``'s test, ``glance.cleared``);
+        the others keep how far apart they are there. Each end pose's distances measured once
+        (``apart_at``, the face planes), not once per step it ends, and where ``apart_kept``
+        has them not at all.
+
+        ``frames``: (steps, links, 4, 4), each step's end pose; ``start``: the first step's
+        start pose's frames (asked for only when needed); ``since`` and ``now`` name the first
+        step's start pose and the last step's end pose (how far apart the pairs are there is
+        kept for the step that starts at it). Nothing carried."""
+        g = self.glancing
+        if g is None or self._carried:
+            return
+        known, n, last = self.apart_kept(), g.pairs, len(frames)
+        d0, d1 = np.maximum(g.start, 0.0), np.maximum(g.end, 0.0)
+        # (pose, pair) -> how far apart, what is kept of the path's two ends
+        pose = np.concatenate([g.step, g.step + 1])
+        key = pose * n + np.concatenate([g.pair, g.pair])
+        had = np.full(len(key), -1.0)
+        for end, name in ((0, since), (last, now)):
+            kept = None if name is None else known.get(name)
+            rows = np.flatnonzero(pose == end)
+            if kept and len(rows):
+                had[rows] = [kept.get(q, -1.0) for q in (key.take(rows) % n).tolist()]
+        ask, where = np.unique(key[had < 0.0], return_inverse=True)
+        if len(ask):
+            used, moment = np.unique(ask // n, return_inverse=True)
+            ends_kept = self._ends_frames      # the last path's end pose is most often this one's start
+            first = ends_kept[1] if ends_kept is not None and ends_kept[0] == since else start()
+            at = np.concatenate([first[None], frames]) if used[0] == 0 else frames
+            had[had < 0.0] = self.apart_at(at.take(used - (0 if used[0] == 0 else 1), axis=0), moment,
+                                           ask % n, True).take(where)
+        d0, d1 = np.maximum(d0, had[: len(g.step)]), np.maximum(d1, had[len(g.step):])
+        ends = np.flatnonzero(g.step == last - 1)
+        self._ends_frames = None if now is None else (now, frames[last - 1])
+        kept_now: dict[int, float] = {} if now is None else known.setdefault(now, {})
+        for q, d in zip(g.pair.take(ends).tolist(), d1.take(ends).tolist()):
+            kept_now[q] = max(kept_now.get(q, 0.0), d)
+        self.glancing = cleared(g, d0, d1)
 
     def collisions_at(self, frames: np.ndarray, rows: np.ndarray, steps: np.ndarray | None = None,
                       clear: np.ndarray | None = None) -> list[list[Finding]] | None:
@@ -165,43 +285,71 @@ class MomentsBatch:
             clear[:] = apart
         return hit
 
-    def apart_at(self, frames: np.ndarray, at: np.ndarray, p: np.ndarray) -> np.ndarray:
+    def apart_at(self, frames: np.ndarray, at: np.ndarray, p: np.ndarray, planes: bool = False) -> np.ndarray:
         """Per (moment ``at[i]``, pair ``p[i]``), a link and a part (the links at ``frames``):
-        at least how far apart they are (``_apart_of``; 0 where it cannot say)."""
-        gap, beyond = self._apart_of(frames, at, p)
+        at least how far apart they are (``_apart_of``; 0 where it cannot say). ``planes``: by
+        the link's face planes alone (the part beyond one of them; cheaper: not placing the link)."""
+        gap, beyond = self._apart_of(frames, at, p, planes)
         found: np.ndarray = np.maximum(np.maximum(gap, beyond), 0.0)
         return found
 
-    def _apart_of(self, frames: np.ndarray, at: np.ndarray, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def _apart_of(self, frames: np.ndarray, at: np.ndarray, p: np.ndarray, planes: bool = False
+                  ) -> tuple[np.ndarray, np.ndarray]:
         """Per (moment ``at[i]``, pair ``p[i]``), a link and a part: its link placed alone (its
         vertices by its frame at the moment), how far apart their boxes are (``largest_of_xyz``
         of the gaps) and the farthest a face plane of either has the other beyond it (a box's
         gap says little of a long link lying aslant); either is at most how far apart they are."""
-        pairs, s, lay = self._pairs_now, self._scene, self._layout
-        assert pairs is not None and s.planes is not None
+        pairs, s = self._pairs_now, self._scene
+        assert pairs is not None
         link, other = pairs.moving.take(p), pairs.stationary.take(p)
-        width = int(lay.counts[: len(self._link_ks)].max())
-        rows = lay.starts.take(link)[:, None] + np.minimum(np.arange(width), lay.counts.take(link)[:, None] - 1)
+        local, vertices, units, offsets = self._apart_tables()
         frame = frames[at, self.owners.take(link)]
         rot, shift = frame[:, :3, :3], frame[:, :3, 3]
-        placed = self._local[rows] @ rot.transpose(0, 2, 1)             # (items, vertices, 3)
-        placed += shift[:, None, :]
-        gap = largest_of_xyz(np.maximum(s.lo.take(other, axis=0) - _over_middle(placed, np.maximum),
-                                        _over_middle(placed, np.minimum) - s.hi.take(other, axis=0)))
         # the part beyond the link's face planes (placed: normals R n, offsets + t . R n), as ``_apart_items``
         turned = rot @ self._apart_normals.take(link, axis=0)                    # (items, 3, planes)
         off = self._apart_offsets.take(link, axis=0) + (shift[:, None, :] @ turned)[:, 0]
-        width = int(lay.counts.max())
-        rows = lay.starts.take(other)[:, None] + np.minimum(np.arange(width), lay.counts.take(other)[:, None] - 1)
-        d = s.vertices[rows] @ turned
+        d = vertices.take(other, axis=0) @ turned
         d -= off[:, None, :]
         beyond = _over_middle(d, np.minimum).max(axis=1)
-        # the link beyond the part's, each turned to look away from its centre (a padding face never counts)
-        unit, offset, size = (x.take(other, axis=0) for x in s.planes)
-        outward = np.where(np.einsum("ifk,ik->if", unit, s.centres.take(other, axis=0)) > offset, -1.0, 1.0)
-        d = placed @ (unit * outward[..., None]).transpose(0, 2, 1)
-        d -= np.where(size > 0.0, offset * outward, np.inf)[:, None, :]
+        if planes:
+            return beyond, beyond
+        placed = local.take(link, axis=0) @ rot.transpose(0, 2, 1)                     # (items, vertices, 3)
+        placed += shift[:, None, :]
+        gap = largest_of_xyz(np.maximum(s.lo.take(other, axis=0) - _over_middle(placed, np.maximum),
+                                        _over_middle(placed, np.minimum) - s.hi.take(other, axis=0)))
+        # the link beyond the part's face planes
+        d = placed @ units.take(other, axis=0)
+        d -= offsets.take(other, axis=0)[:, None, :]
         return gap, np.maximum(beyond, _over_middle(d, np.minimum).max(axis=1))
+
+    def _apart_tables(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """``_apart_of``'s tables, kept per set of parts: each link's vertices in its own frame and
+        each part's where it stands (padded to the most by repeating the last), and each part's
+        face planes turned to look away from its centre, as (bodies, 3, faces) normals and
+        (bodies, faces) offsets (a padding face never counts: its offset is infinite). Indexed
+        by body; a link's rows in the parts' tables unused."""
+        s, lay = self._scene, self._layout
+        kept = self._apart_kept_tables
+        if kept is not None and kept[0] is self._parts and kept[1] is s.planes:
+            return kept[2]
+        assert s.planes is not None
+
+        def padded(counts: np.ndarray, starts: np.ndarray) -> np.ndarray:
+            rows: np.ndarray = starts[:, None] + np.minimum(np.arange(int(counts.max())), counts[:, None] - 1)
+            return rows
+
+        nl = len(self._link_ks)
+        unit, offset, size = s.planes
+        outward = np.where(np.einsum("ifk,ik->if", unit, s.centres) > offset, -1.0, 1.0)
+        # the parts' rows and faces only as many as the parts have (a box's 8 and 6, not a link's)
+        faces = max(int((np.arange(1, size.shape[1] + 1) * (size[nl:] > 0.0)).max(initial=1)), 1)
+        counts = lay.counts.copy()
+        counts[:nl] = 1                                   # a link is never the part of a pair here
+        tables = (self._local[padded(lay.counts[:nl], lay.starts[:nl])], s.vertices[padded(counts, lay.starts)],
+                  (unit * outward[..., None])[:, :faces].transpose(0, 2, 1).copy(),
+                  np.where(size > 0.0, offset * outward, np.inf)[:, :faces].copy())
+        self._apart_kept_tables = (self._parts, s.planes, tables)
+        return tables
 
     def _fine_at(self, frames: np.ndarray, at: np.ndarray, p: np.ndarray, clear: np.ndarray | None = None
                  ) -> np.ndarray:
@@ -290,13 +438,17 @@ class MomentsBatch:
             d[linked] = placed[rows.take(linked, axis=0), :, at.take(linked)[:, None]]
         d = d @ turned
         d -= off[:, None]
-        found: np.ndarray = d.min(axis=1).max(axis=1)
+        found: np.ndarray = _over_middle(d, np.minimum).max(axis=1)
         return found
 
 
 def _over_middle(d: np.ndarray, pick: np.ufunc) -> np.ndarray:
-    """``pick`` (np.minimum, np.maximum) over the middle axis of (items, n, m): n - 1 calls on
-    (items, m) (numpy reduces a short axis of many rows slowly)."""
+    """``pick`` (np.minimum, np.maximum) over the middle axis of (items, n, m): numpy reduces a
+    short axis of many rows slowly, so up to some thousand items that axis is made the first
+    (a copy), else n - 1 calls on (items, m)."""
+    if len(d) < 1500:
+        few: np.ndarray = pick.reduce(np.ascontiguousarray(d.transpose(1, 0, 2)), axis=0)
+        return few
     out: np.ndarray = d[:, 0].copy()
     for k in range(1, d.shape[1]):
         pick(out, d[:, k], out=out)
