@@ -15,6 +15,15 @@ right end was written whole, a colour sequence for every run on the way. And a r
 colour (no bold, no link) sets only the colours that differ from the run before it, with no
 reset between them (``colour_runs``): Textual writes both colours and a reset for each run,
 about 36 bytes where the picture's dots change colour and 16 are the background's.
+
+A picture's changed spans can skip the compositor altogether (``written_past``): while the
+widget shows whole on the screen that has the terminal, nothing in front of it, its changed
+rows are rendered (Textual's own pipeline, the widget's rows only) and written straight to the
+driver in one synchronized write, the cursor left where Textual leaves it. Textual's frame
+(its idle pass, the compositor's spans and chops, the other widgets' rows) costs about as
+much as the picture itself; a picture moving at 30 frames a second paid it at every frame.
+Anything else (a screen over it, a toast, a layout due, a terminal behind) and the caller
+refreshes as before: what Textual draws later reads the same rows.
 """
 
 from __future__ import annotations
@@ -28,9 +37,13 @@ from rich.color import ColorSystem
 from rich.console import Console
 from rich.control import Control
 from rich.style import Style
+from textual._ansi_sequences import SYNC_END, SYNC_START
 from textual._compositor import ChopsUpdate, Compositor
 from textual.geometry import Region
 from textual.strip import Strip
+from textual.widget import Widget
+
+from valterm.ui.terminal_writer import FrameGate
 
 
 class SpanUpdate(ChopsUpdate):
@@ -74,6 +87,12 @@ def colour_runs(strip: Strip, console: Console) -> str:
     if out:
         out.append("\x1b[0m")
     return "".join(out)
+
+
+def plain_colour_codes(style: Style, system: ColorSystem) -> tuple[str, str] | None:
+    """A style's foreground and background codes as ``colour_runs`` writes them; None when
+    it is more than those two."""
+    return _colour_codes(style, system)
 
 
 @lru_cache(maxsize=1024)
@@ -143,3 +162,80 @@ def _runs(rows: list[int]) -> Iterator[tuple[int, int]]:
         start = previous = y
     if start is not None and previous is not None:
         yield start, previous + 1
+
+
+def written_past(widget: Widget, spans: Sequence[tuple[int, int, int]]) -> bool:
+    """Write the widget's changed ``spans`` (row, first column, end column; the widget's own
+    coordinates) straight to the terminal, past the compositor; False (nothing written) when
+    it may not be, the caller then refreshes the spans the usual way. True also when the
+    frame gate skips the frame: the terminal is behind, the whole screen is drawn when it
+    catches up."""
+    app = widget.app
+    driver = app._driver
+    if driver is None or driver.is_headless or driver.is_inline or app._batch_count or not app._running:
+        return False
+    screen = widget.screen
+    if screen is not app.screen or screen._layout_required or not spans:
+        return False
+    placed = _uncovered(screen._compositor, widget)
+    if placed is None:
+        return False
+    widget._styles_cache.set_dirty(*(Region(a, y, b - a, 1) for y, a, b in spans))
+    gate = getattr(driver, "gate", None)
+    if isinstance(gate, FrameGate) and not gate.admit():
+        return True
+    text = _span_text(widget, placed, spans, app.console)
+    cursor = screen.outer_size.clamp_offset(app.cursor_position)
+    text += Control.move_to(*cursor).segment.text
+    if app._sync_available:
+        text = SYNC_START + text + SYNC_END
+    mark = gate.handed if isinstance(gate, FrameGate) else 0
+    driver.write(text)
+    driver.flush()
+    if isinstance(gate, FrameGate):
+        gate.drawn(mark)
+    return True
+
+
+def _uncovered(compositor: Compositor, widget: Widget) -> Region | None:
+    """The widget's region on the screen when it shows whole (not clipped, no widget in front
+    of any of it, its content the whole region); None otherwise."""
+    shown = compositor.visible_widgets.get(widget)
+    if shown is None:
+        return None
+    region, clip = shown
+    if region.intersection(clip) != region or region.size != widget.size or region.size != widget.content_size:
+        return None
+    for other, (other_region, other_clip) in compositor.visible_widgets.items():
+        if other is widget:
+            return region
+        if other_region.intersection(other_clip).overlaps(region):
+            return None
+    return None
+
+
+def _span_text(widget: Widget, placed: Region, spans: Sequence[tuple[int, int, int]], console: Console) -> str:
+    """The spans' cells as terminal sequences, each from where it changed (as SpanUpdate):
+    the widget's own (its ``span_text``, the picture's, made with no strip) or, without
+    one, its rows through Textual's pipeline."""
+    own = getattr(widget, "span_text", None)
+    text = own(spans, placed.x, placed.y) if callable(own) else None
+    if isinstance(text, str):
+        return text
+    return textual_span_text(widget, placed, spans, console)
+
+
+def textual_span_text(widget: Widget, placed: Region, spans: Sequence[tuple[int, int, int]], console: Console) -> str:
+    """The spans' cells as terminal sequences, the rows rendered by Textual's pipeline."""
+    rows = sorted({y for y, _, _ in spans})
+    lines: dict[int, Strip] = {}
+    for start, end in _runs(rows):
+        lines.update(zip(range(start, end), widget.render_lines(Region(0, start, placed.width, end - start))))
+    out: list[str] = []
+    for y, a, b in spans:
+        strip = lines[y]
+        if a and not _narrow(strip.text[:a]):
+            a = 0  # a wide character before the span: from the row's start (no half of it)
+        out.append(Control.move_to(placed.x + a, placed.y + y).segment.text)
+        out.append(colour_runs(strip.crop(a, b) if a or b < placed.width else strip, console))
+    return "".join(out)
