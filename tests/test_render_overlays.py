@@ -5,6 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 from valterm.core.events import PoseEvent
 from valterm.core.render.legend import DIM_OFFSET, GHOST_COLOUR, HIGHLIGHT_COLOUR, SEEN_COLOUR
@@ -56,6 +57,36 @@ def test_the_part_the_led_sees_is_highlighted(tmp_path: Path) -> None:
     assert sim.led_part() == 1
     assert picture_scene(sim).colours[0] == SEEN_COLOUR
     assert picture_scene(sim, Overlays(led_part=False)).colours[0] == object_colour(1)
+
+
+def test_the_led_is_asked_once_a_pose(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The in-between pictures of a motion (the simulator has not moved) ask the LED sensor
+    nothing; a pose, a moved part or the hand opened asks it again, and the answer follows."""
+    session = Session(tmp_path)
+    session.load_locations("PROCESS")
+    for command in ("LEFTY", "MOVE A"):
+        for _ in session.command(command):
+            pass
+    sim = session.simulator
+    asked: list[int | None] = []
+    led_part = type(sim).led_part
+
+    def counted(simulator: object) -> int | None:
+        asked.append(led_part(simulator))  # type: ignore[arg-type]
+        return asked[-1]
+
+    monkeypatch.setattr(type(sim), "led_part", counted)
+    drawn = tuple(a + 1.0 for a in sim.joints)
+    for _ in range(3):
+        assert picture_scene(sim, Overlays(drawn=drawn)).colours[0] == SEEN_COLOUR
+    assert asked == [1]
+    part = sim.cell.objects[0]
+    part.vertices = part.vertices + np.array([0.0, 0.0, 500.0])  # lifted out of the gap
+    assert picture_scene(sim).colours[0] == object_colour(1) and asked == [1, None]
+    part.vertices = part.vertices - np.array([0.0, 0.0, 500.0])
+    assert picture_scene(sim).colours[0] == SEEN_COLOUR and asked[-1] == 1
+    sim.stand_at([sim.joints[0] + 30.0, *sim.joints[1:]])
+    assert picture_scene(sim).colours[0] == object_colour(1) and asked[-1] is None
 
 
 def test_far_parts_are_dimmer(tmp_path: Path) -> None:
