@@ -154,18 +154,20 @@ async def test_the_picture_written_past_the_compositor_shows_what_textual_would(
         await sim.press("V", "V")
         terminal = await _terminal_app(sim, monkeypatch)
         passed: list[bool] = []
+        readouts: list[bool] = []  # the WHERE lines (padded: their rows made by Textual)
         model = sim.screen.query_one(ModelView)
         counted = written_past
 
         def past(widget: Any, spans: Any) -> bool:
-            passed.append(counted(widget, spans))
-            return passed[-1]
+            (passed if widget is model else readouts).append(counted(widget, spans))
+            return (passed if widget is model else readouts)[-1]
 
         monkeypatch.setattr("valterm.ui.view.model_view.written_past", past)
+        monkeypatch.setattr("valterm.ui.widgets.readouts.written_past", past)
         await sim.type("DRIVE 1,-120,30", enter=True)
         for _ in range(4):
             await sim.advance(0.1)
-        assert sim.moving and any(passed), "no frame went past the compositor"
+        assert sim.moving and any(passed) and any(readouts), "no frame went past the compositor"
         assert terminal.seen() == _repainted(sim.app)
         for cover in ("help", "toast"):
             if cover == "help":

@@ -165,8 +165,9 @@ def _runs(rows: list[int]) -> Iterator[tuple[int, int]]:
 
 
 def written_past(widget: Widget, spans: Sequence[tuple[int, int, int]]) -> bool:
-    """Write the widget's changed ``spans`` (row, first column, end column; the widget's own
-    coordinates) straight to the terminal, past the compositor; False (nothing written) when
+    """Write the widget's changed ``spans`` (row, first column, end column; its content's
+    coordinates, as ``refresh`` takes regions) straight to the terminal, past the compositor;
+    False (nothing written) when
     it may not be, the caller then refreshes the spans the usual way. True also when the
     frame gate skips the frame: the terminal is behind, the whole screen is drawn when it
     catches up."""
@@ -180,7 +181,9 @@ def written_past(widget: Widget, spans: Sequence[tuple[int, int, int]]) -> bool:
     placed = _uncovered(screen._compositor, widget)
     if placed is None:
         return False
-    widget._styles_cache.set_dirty(*(Region(a, y, b - a, 1) for y, a, b in spans))
+    x, y = widget.content_offset  # the spans in the widget's own (outer) coordinates
+    spans = [(row + y, a + x, b + x) for row, a, b in spans]
+    widget._styles_cache.set_dirty(*(Region(a, row, b - a, 1) for row, a, b in spans))
     gate = getattr(driver, "gate", None)
     if isinstance(gate, FrameGate) and not gate.admit():
         return True
@@ -199,12 +202,12 @@ def written_past(widget: Widget, spans: Sequence[tuple[int, int, int]]) -> bool:
 
 def _uncovered(compositor: Compositor, widget: Widget) -> Region | None:
     """The widget's region on the screen when it shows whole (not clipped, no widget in front
-    of any of it, its content the whole region); None otherwise."""
+    of any of it); None otherwise."""
     shown = compositor.visible_widgets.get(widget)
     if shown is None:
         return None
     region, clip = shown
-    if region.intersection(clip) != region or region.size != widget.size or region.size != widget.content_size:
+    if region.intersection(clip) != region or region.size != widget.outer_size:
         return None
     for other, (other_region, other_clip) in compositor.visible_widgets.items():
         if other is widget:
@@ -215,9 +218,9 @@ def _uncovered(compositor: Compositor, widget: Widget) -> Region | None:
 
 
 def _span_text(widget: Widget, placed: Region, spans: Sequence[tuple[int, int, int]], console: Console) -> str:
-    """The spans' cells as terminal sequences, each from where it changed (as SpanUpdate):
-    the widget's own (its ``span_text``, the picture's, made with no strip) or, without
-    one, its rows through Textual's pipeline."""
+    """The spans' cells (the widget's outer coordinates) as terminal sequences, each from
+    where it changed (as SpanUpdate): the widget's own (its ``span_text``, the picture's,
+    made with no strip) or, without one, its rows through Textual's pipeline."""
     own = getattr(widget, "span_text", None)
     text = own(spans, placed.x, placed.y) if callable(own) else None
     if isinstance(text, str):

@@ -347,7 +347,8 @@ class ModelView(Widget):
 
     def span_text(self, spans: Sequence[tuple[int, int, int]], x: int, y: int) -> str | None:
         """The changed ``spans`` (row, first column, end column) as terminal sequences, the
-        widget placed at (x, y) on the screen: cell for cell what Textual's pipeline makes of
+        widget placed at (x, y) on the screen (its region: a widget with padding or a border
+        has its rows made by Textual, this returns None): cell for cell what Textual's pipeline makes of
         the rows (``compositor.colour_runs`` of its strips), made from the frame's arrays
         with no strip; None when Textual's pipeline does more to them than colour (the
         caller renders them through it)."""

@@ -9,6 +9,7 @@ from __future__ import annotations
 from typing import Sequence
 
 from rich.segment import Segment
+from rich.style import Style
 from textual.geometry import Region, Size
 from textual.strip import Strip
 from textual.widget import Widget
@@ -17,6 +18,7 @@ from textual.widgets import Static
 from valterm.core.events import Where
 from valterm.core.text.transcript import number as readout_number
 from valterm.core.text.transcript import where_lines
+from valterm.ui.compositor import written_past
 
 SCS_H = 26.0  # SPEC §1: Y_s = Z_w + H
 COLUMN = 9
@@ -47,6 +49,7 @@ class ReadoutLines(Widget):
         super().__init__(id=id, classes=classes)
         self.lines: list[str] = []
         self._strips: dict[int, Strip] = {}
+        self._style: Style | None = None  # rich_style walks the ancestors: once a style
 
     @property
     def text(self) -> str:
@@ -62,8 +65,9 @@ class ReadoutLines(Widget):
         self.lines = new
         for y in changed:
             self._strips.pop(y, None)
-        if changed:
-            self.refresh(*(Region(0, y, self.size.width, 1) for y in changed))
+        width = self.size.width
+        if changed and not written_past(self, [(y, 0, width) for y in changed]):
+            self.refresh(*(Region(0, y, width, 1) for y in changed))
 
     def get_content_height(self, container: Size, viewport: Size, width: int) -> int:
         return len(self.lines)
@@ -71,13 +75,16 @@ class ReadoutLines(Widget):
     def notify_style_update(self) -> None:
         super().notify_style_update()
         self._strips.clear()  # drawn in the old style
+        self._style = None
 
     def render_line(self, y: int) -> Strip:
         width = self.size.width
         strip = self._strips.get(y)
         if strip is None or strip.cell_length != width:
             text = self.lines[y] if y < len(self.lines) else ""
-            strip = Strip([Segment(text, self.rich_style)]).crop_extend(0, width, self.rich_style)
+            if self._style is None:
+                self._style = self.rich_style
+            strip = Strip([Segment(text, self._style)]).crop_extend(0, width, self._style)
             self._strips[y] = strip
         return strip
 
