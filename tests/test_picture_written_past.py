@@ -101,6 +101,8 @@ async def test_the_pictures_spans_read_as_textuals_pipeline_writes_them(tmp_path
         placed = model.region
         chances = random.Random(40)
         for turn in range(4):
+            if turn == 3:  # another theme: another background, the codes made again
+                sim.app.theme = "textual-light"
             model.rotate_by("z", 7.0 + turn)
             await sim.pilot.pause()
             frame = model.frame

@@ -138,7 +138,7 @@ class ModelView(Widget):
         # the colours' terminal codes (span_text), kept while the line filters, the
         # background and the colour system they were made for stay the same
         self._codes: dict[int, tuple[str, str] | None] = {}
-        self._codes_key: tuple[tuple[LineFilter, ...], TextualColor, ColorSystem | None] | None = None
+        self._codes_key: tuple[tuple[LineFilter, ...], TextualColor, ColorSystem | None, bool] | None = None
 
     # -- inputs --------------------------------------------------------------------
     @property
@@ -366,7 +366,7 @@ class ModelView(Widget):
                 starts = [a, *(c for c in cuts if a < c < b)]
                 fg = bg = ""
                 for start, end, colour in zip(starts, [*starts[1:], b], colours[starts].tolist()):
-                    code = codes.get(colour) or self._plain_code(colour, codes)
+                    code = codes[colour] if colour in codes else self._plain_code(colour, codes)
                     if code is None:
                         return None
                     if code[0] != fg:
@@ -381,16 +381,18 @@ class ModelView(Widget):
     def _plain_codes(self) -> dict[int, tuple[str, str] | None] | None:
         """The colours' terminal codes as Textual's pipeline would write them (the line
         filters applied), while that pipeline does nothing else to the widget's rows (no
-        border, padding, outline, tint, opacity, hatch); None when it does more."""
-        styles = self.styles
-        if (any(styles.gutter) or styles.outline or styles.tint.a or self.opacity != 1.0
-                or styles.text_opacity != 1.0 or styles.has_rule("hatch")
-                or self._border_title is not None or self._border_subtitle is not None):
-            return None
-        key = (tuple(self.get_line_filters()), self.background_colors[1], self.app.console._color_system)
-        if key != self._codes_key:
-            self._codes_key, self._codes = key, {}
-        return self._codes
+        border, padding, outline, tint, opacity, hatch); None when it does more. Looked at
+        again after a change of style (``_restyle``: a theme, the CSS, the ANSI colours),
+        as the palette's styles are."""
+        if self._codes_key is None:
+            styles = self.styles
+            plain = not (any(styles.gutter) or styles.outline or styles.tint.a or self.opacity != 1.0
+                         or styles.text_opacity != 1.0 or styles.has_rule("hatch")
+                         or self._border_title is not None or self._border_subtitle is not None)
+            self._codes_key = (tuple(self.get_line_filters()), self.background_colors[1],
+                               self.app.console._color_system, plain)
+            self._codes = {}
+        return self._codes if self._codes_key[3] else None
 
     def _plain_code(self, colour: int, codes: dict[int, tuple[str, str] | None]) -> tuple[str, str] | None:
         """One colour's codes (kept in ``codes``): its style through the line filters."""
@@ -398,7 +400,7 @@ class ModelView(Widget):
 
         strip = Strip([Segment(" ", self._style(colour))], 1)
         assert self._codes_key is not None  # _plain_codes made it
-        filters, background, system = self._codes_key
+        filters, background, system, _ = self._codes_key
         for line_filter in filters:
             strip = strip.apply_filter(line_filter, background)
         style = next(iter(strip)).style
