@@ -28,6 +28,12 @@ def test_the_ghost_is_a_frame_at_the_motions_target(tmp_path: Path) -> None:
     for _ in events:  # the motion ends where the ghost stood
         pass
     assert np.allclose(ghost[0, 0], sim.model.clamp_frame(sim.joints, sim.base)[:3, 3], atol=1e-6)
+    # the next motion's ghost stands at its own target (made once a goal, not kept from the last)
+    second = next(e for e in session.command("MOVE C") if isinstance(e, PoseEvent))
+    again = picture_scene(sim, Overlays(goal=second.goal))
+    ghost_c = again.lines[again.line_colours == GHOST_COLOUR]
+    assert np.allclose(ghost_c[0, 0], sim.model.clamp_frame(list(second.goal), sim.base)[:3, 3], atol=1e-6)
+    assert not np.allclose(ghost_c[0, 0], ghost[0, 0])
 
 
 def test_collided_parts_and_links_take_the_highlight_and_are_drawn_last(tmp_path: Path) -> None:

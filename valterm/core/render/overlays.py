@@ -191,11 +191,9 @@ def _lines(simulator: Simulator, ov: Overlays) -> tuple[np.ndarray, list[int]]:
     if ov.trace is not None:
         parts.append((ov.trace.segments(), TRACE_COLOUR))
     if ov.goal is not None and len(ov.goal):
-        frame = simulator.model.clamp_frame(list(ov.goal), simulator.base)
-        ghost = frame_lines(frame[:3, 3].tolist(), frame[:3, :3], GHOST_LENGTH)
-        parts.append((ghost, GHOST_COLOUR))
+        parts.append((_ghost(simulator, ov.goal), GHOST_COLOUR))
     if ov.axes:
-        parts.append((frame_lines((0.0, 0.0, 0.0), length=AXIS_LENGTH), 1))
+        parts.append((_WORLD_AXES, 1))
     objects = simulator.cell.objects
     if ov.part_axes is not None and 1 <= ov.part_axes <= len(objects):
         parts.append((frame_lines(list(objects[ov.part_axes - 1].reference), length=150.0), LED_COLOUR))
@@ -206,6 +204,23 @@ def _lines(simulator: Simulator, ov: Overlays) -> tuple[np.ndarray, list[int]]:
     segs = [np.asarray(s, dtype=float).reshape(-1, 2, 3) for s, _ in parts]
     colours = [c for s, c in zip(segs, (c for _, c in parts)) for _ in range(len(s))]
     return np.concatenate(segs), colours
+
+
+_WORLD_AXES = frame_lines((0.0, 0.0, 0.0), length=AXIS_LENGTH)
+_WORLD_AXES.flags.writeable = False  # shared by every picture
+_GHOSTS: list[tuple[object, tuple[object, ...], np.ndarray]] = []
+
+
+def _ghost(simulator: Simulator, goal: Sequence[float]) -> np.ndarray:
+    """The target frame's axes, made once a goal (a motion's pictures all show the same)."""
+    key = (tuple(goal), simulator.base.tobytes())
+    if _GHOSTS and _GHOSTS[0][0] is simulator.model and _GHOSTS[0][1] == key:
+        return _GHOSTS[0][2]
+    frame = simulator.model.clamp_frame(list(goal), simulator.base)
+    ghost = frame_lines(frame[:3, 3].tolist(), frame[:3, :3], GHOST_LENGTH)
+    ghost.flags.writeable = False
+    _GHOSTS[:] = [(simulator.model, key, ghost)]
+    return ghost
 
 
 def cell_points(simulator: Simulator, trace: Trace | None = None) -> np.ndarray:
