@@ -13,6 +13,7 @@ from app_helpers import sync
 from valterm.testing import Simulation
 from valterm.ui.compositor import textual_span_text, written_past
 from valterm.ui.view.model_view import ModelView
+from valterm.ui.widgets.readouts import ReadoutLines
 
 _SEQUENCE = re.compile(r"\x1b\[([\d;?]*)([A-Za-z])|\x1b\][^\x07\x1b]*(?:\x07|\x1b\\)|\x1b[=>78]|(.)", re.S)
 def _standard(codes: list[str], foreground: bool) -> str:
@@ -94,7 +95,8 @@ def _repainted(app: Any) -> dict[tuple[int, int], tuple[str, str, str, str]]:
 async def test_the_pictures_spans_read_as_textuals_pipeline_writes_them(tmp_path: Path) -> None:
     """Spans of a picture that moved (its caption on the last row among them) written from
     the frame's arrays show on a terminal cell for cell as the same spans of the rows Textual's
-    pipeline renders, and take the same bytes (the same runs and colour codes)."""
+    pipeline renders, and take the same bytes (the same runs and colour codes); so do the
+    WHERE lines' spans (a padded widget, a line longer than it)."""
     async with Simulation(tmp_path, size=(160, 50)) as sim:
         await sim.press("V", "V")
         model = sim.screen.query_one(ModelView)
@@ -115,6 +117,15 @@ async def test_the_pictures_spans_read_as_textuals_pipeline_writes_them(tmp_path
             theirs = textual_span_text(model, placed, spans, sim.app.console)
             assert ours is not None and any("\u2801" <= ch <= "\u28ff" for ch in ours)
             assert ours == theirs
+            readout = sim.screen.query_one(ReadoutLines)  # the WHERE lines (padded), one long
+            readout.show_lines([*readout.lines[:-1], "X" * (readout.size.width + 5)])
+            await sim.pilot.pause()
+            left, top = readout.content_offset
+            rows = [(row + top, left + a, left + readout.size.width - b)
+                    for row in range(len(readout.lines)) for a, b in ((0, 0), (3, 9))]
+            readout._styles_cache.clear()
+            shown = readout.span_text(rows, readout.region.x, readout.region.y)
+            assert shown is not None and shown == textual_span_text(readout, readout.region, rows, sim.app.console)
             written, read = Terminal(), Terminal()
             written.feed(ours)
             read.feed(sim.app.screen._compositor.render_update(full=True).render_segments(sim.app.console))

@@ -36,6 +36,7 @@ from rich.cells import cell_len
 from rich.color import ColorSystem
 from rich.console import Console
 from rich.control import Control
+from rich.segment import Segment
 from rich.style import Style
 from textual._ansi_sequences import SYNC_END, SYNC_START
 from textual._compositor import ChopsUpdate, Compositor
@@ -89,10 +90,25 @@ def colour_runs(strip: Strip, console: Console) -> str:
     return "".join(out)
 
 
-def plain_colour_codes(style: Style, system: ColorSystem) -> tuple[str, str] | None:
-    """A style's foreground and background codes as ``colour_runs`` writes them; None when
-    it is more than those two."""
-    return _colour_codes(style, system)
+def content_only_filtered(widget: Widget) -> bool:
+    """Whether Textual's pipeline does nothing to the widget's content cells but apply its
+    line filters (no border, outline, tint, opacity, hatch: padding is its own cells)."""
+    styles = widget.styles
+    return not (styles.border or styles.outline or styles.tint.a or widget.opacity != 1.0
+                or styles.text_opacity != 1.0 or styles.has_rule("hatch"))
+
+
+def plain_codes(widget: Widget, style: Style) -> tuple[str, str] | None:
+    """The foreground and background codes ``colour_runs`` writes for a content cell of
+    ``style`` once Textual's pipeline has applied the widget's line filters (the ANSI colours
+    made true colours, NO_COLOR's monochrome); None when it is more than two colours."""
+    strip = Strip([Segment(" ", style)], 1)
+    background = widget.background_colors[1]
+    for line_filter in widget.get_line_filters():
+        strip = strip.apply_filter(line_filter, background)
+    filtered = next(iter(strip)).style
+    system = widget.app.console._color_system or ColorSystem.TRUECOLOR  # as colour_runs
+    return None if filtered is None else _colour_codes(filtered, system)
 
 
 @lru_cache(maxsize=1024)

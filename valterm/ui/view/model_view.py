@@ -12,7 +12,7 @@ import sys
 import time
 from typing import TYPE_CHECKING, Iterator, Mapping, Sequence
 
-from rich.color import Color, ColorSystem
+from rich.color import Color
 from rich.segment import Segment
 from rich.style import Style
 from textual.events import Resize
@@ -37,8 +37,6 @@ from valterm.ui.compositor import written_past
 
 if TYPE_CHECKING:
     import numpy as np
-    from textual.color import Color as TextualColor
-    from textual.filter import LineFilter
 
     from valterm.core.render.raster import Frame, Scene, ViewTransform
 
@@ -135,10 +133,9 @@ class ModelView(Widget):
         self.last_raster_ms = 0.0
         self.caption = ""  # shown over the last row (see _update_caption)
         self._painting = False  # render_line draws the picture for the frame being painted
-        # the colours' terminal codes (span_text), kept while the line filters, the
-        # background and the colour system they were made for stay the same
+        # the colours' terminal codes (span_text), kept until the style changes (_restyle)
         self._codes: dict[int, tuple[str, str] | None] = {}
-        self._codes_key: tuple[tuple[LineFilter, ...], TextualColor, ColorSystem | None, bool] | None = None
+        self._plain: bool | None = None  # Textual's pipeline only filters the rows (None: not looked at)
 
     # -- inputs --------------------------------------------------------------------
     @property
@@ -274,7 +271,7 @@ class ModelView(Widget):
 
     def _restyle(self) -> None:
         self._styles.clear()
-        self._codes_key = None
+        self._plain = None
         self._base_style = None
         self._strips = [None] * len(self._strips)
         if self.is_mounted:
@@ -384,27 +381,18 @@ class ModelView(Widget):
         border, padding, outline, tint, opacity, hatch); None when it does more. Looked at
         again after a change of style (``_restyle``: a theme, the CSS, the ANSI colours),
         as the palette's styles are."""
-        if self._codes_key is None:
-            styles = self.styles
-            plain = not (any(styles.gutter) or styles.outline or styles.tint.a or self.opacity != 1.0
-                         or styles.text_opacity != 1.0 or styles.has_rule("hatch")
-                         or self._border_title is not None or self._border_subtitle is not None)
-            self._codes_key = (tuple(self.get_line_filters()), self.background_colors[1],
-                               self.app.console._color_system, plain)
+        from valterm.ui.compositor import content_only_filtered
+
+        if self._plain is None:
+            self._plain = not any(self.styles.gutter) and content_only_filtered(self)
             self._codes = {}
-        return self._codes if self._codes_key[3] else None
+        return self._codes if self._plain else None
 
     def _plain_code(self, colour: int, codes: dict[int, tuple[str, str] | None]) -> tuple[str, str] | None:
-        """One colour's codes (kept in ``codes``): its style through the line filters."""
-        from valterm.ui.compositor import plain_colour_codes
+        """One colour's codes (kept in ``codes``)."""
+        from valterm.ui.compositor import plain_codes
 
-        strip = Strip([Segment(" ", self._style(colour))], 1)
-        assert self._codes_key is not None  # _plain_codes made it
-        filters, background, system, _ = self._codes_key
-        for line_filter in filters:
-            strip = strip.apply_filter(line_filter, background)
-        style = next(iter(strip)).style
-        codes[colour] = code = None if style is None else plain_colour_codes(style, system or ColorSystem.TRUECOLOR)
+        codes[colour] = code = plain_codes(self, self._style(colour))
         return code
 
 
