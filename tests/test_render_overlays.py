@@ -107,3 +107,35 @@ def test_far_parts_are_dimmer(tmp_path: Path) -> None:
     # every dimmed part is further from the viewer than every undimmed one
     assert max(d for d, k in zip(depth, dim[:n]) if k) < min(d for d, k in zip(depth, dim[:n]) if not k)
     assert clamp_point(sim).shape == (3,)
+
+
+def test_the_standing_parts_as_background_draw_the_same_picture(tmp_path: Path) -> None:
+    """PROCESS's poses (a part carried, a collision marked, the in-between pictures, faces
+    hidden or not): the scene with the standing parts as its kept background rasterizes to
+    the same characters and colours as the scene holding every part, and the next picture
+    keeps that background while no part moves."""
+    from valterm.core.render.raster import ViewTransform, rasterize
+
+    session = Session(tmp_path, setup="PROCESS")
+    session.load_locations("PROCESS")
+    sim = session.simulator
+    view = ViewTransform()
+    view.fit(picture_scene(sim).bounds())
+    carried, previous = set(), None
+    for number, event in enumerate(e for e in session.interpreter.execute("PROCESS") if isinstance(e, PoseEvent)):
+        drawn = None if previous is None else tuple((a + b) / 2 for a, b in zip(previous, sim.joints))
+        previous = tuple(sim.joints)
+        if number % 3:
+            continue
+        carried.add(sim.carried)
+        collided = frozenset({"3", "CLAMP"}) if number % 2 else frozenset()
+        kept = None
+        for hidden in (False, True):
+            shown = Overlays(goal=event.goal or None, collided=collided, axes=True, depth=view, drawn=drawn)
+            whole = rasterize(picture_scene(sim, shown), view, 88, 49, back_faces=not hidden)
+            standing = picture_scene(sim, Overlays(**{**shown.__dict__, "static_cell": True}))
+            assert standing.background is not None and (kept is None or kept is standing.background)
+            kept = standing.background  # the same object while the parts stand: drawn once
+            split = rasterize(standing, view, 88, 49, back_faces=not hidden)
+            assert np.array_equal(whole.chars, split.chars) and np.array_equal(whole.colours, split.colours)
+    assert len(carried) > 1  # with a part in the clamp and without

@@ -474,6 +474,7 @@ class ValtermApp(Guarded, ViewActions, App[int]):
             depth=self.view_transform,
             part_axes=part_axes,
             drawn=self.player.drawn(sim.joints),  # an in-between pose while a motion plays
+            static_cell=True,  # the standing parts drawn once while they stand (issue 40)
         )
         return picture_scene(sim, overlays)
 

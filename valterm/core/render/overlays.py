@@ -104,6 +104,9 @@ class Overlays:
     # the joints the robot is drawn at instead of the simulator's: an in-between pose of the
     # app's playback (drawn only; the LED's verdict and the collisions are the pose's own)
     drawn: Sequence[float] | None = None
+    # the parts standing in the cell as the scene's background (kept while they stand still:
+    # the app's pictures, 30 a second); the scene's own items then hold the rest only
+    static_cell: bool = False
 
 
 def _dimmed(polys: list[Polyhedron], colours: list[int], keep: list[bool], view: ViewTransform) -> list[int]:
@@ -154,7 +157,30 @@ def picture_scene(simulator: Simulator, overlays: Overlays | None = None) -> Sce
     if ov.depth is not None:
         colours = _dimmed(polys, colours, [k for _, _, k in items], ov.depth)
     lines, line_colours = _lines(simulator, ov)
-    return Scene.build(zip(polys, colours), lines, line_colours)
+    if not ov.static_cell:
+        return Scene.build(zip(polys, colours), lines, line_colours)
+    # the parts standing in the cell lead the items (a colliding one was moved last)
+    standing = sum(1 for n in range(1, len(objects) + 1) if n != carried and str(n) not in ov.collided)
+    background = _standing(list(zip(polys[:standing], colours[:standing])))
+    return Scene.build(zip(polys[standing:], colours[standing:]), lines, line_colours, background=background)
+
+
+_STANDING: list[tuple[list[tuple[np.ndarray, int]], Scene]] = []
+
+
+def _standing(items: list[tuple[Polyhedron, int]]) -> Scene | None:
+    """The parts standing in the cell as the picture's background, the same Scene object
+    while none of them moves or changes colour (the rasterizer draws it once per view and
+    size, then each picture draws only the arm, a carried part and the lines over it)."""
+    if not items:
+        return None
+    if _STANDING:
+        held, scene = _STANDING[0]
+        if len(held) == len(items) and all(v is p.vertices and c == k for (v, c), (p, k) in zip(held, items)):
+            return scene
+    scene = Scene.build(items)
+    _STANDING[:] = [([(p.vertices, c) for p, c in items], scene)]
+    return scene
 
 
 _SEEN: list[tuple[weakref.ref[Simulator], tuple[object, ...], list[np.ndarray], int | None]] = []
