@@ -161,3 +161,15 @@ async def test_keys_do_not_wait_for_a_screen_gone_before_its_run_ended(tmp_path:
         assert app.survived == []  # the closing screen's handlers raised nothing
         await pilot.press("v")  # KEYBOARD's V: the command line opens (the key was not kept)
         await until(pilot, lambda: below.asking, "the key at the screen below")
+
+
+def test_the_players_messages_stay_with_their_screen() -> None:
+    """A screen's picture, lines and end are its own: none bubbles up to the app (Textual
+    gives a subclass ``bubble=True`` again unless it says otherwise), where each picture was
+    dispatched a second time to no handler (issue 40: a running session's CPU)."""
+    from valterm.ui import messages
+
+    players = [messages.TranscriptLines, messages.SceneShown, messages.PictureMoved,
+               messages.RunEvent, messages.RunPaused, messages.RunEnded]
+    assert all(issubclass(kind, messages._Run) for kind in players)
+    assert [kind.__name__ for kind in players if kind.bubble] == []

@@ -5,6 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 from valterm.core.events import PoseEvent
 from valterm.core.render.legend import DIM_OFFSET, GHOST_COLOUR, HIGHLIGHT_COLOUR, SEEN_COLOUR
@@ -27,6 +28,12 @@ def test_the_ghost_is_a_frame_at_the_motions_target(tmp_path: Path) -> None:
     for _ in events:  # the motion ends where the ghost stood
         pass
     assert np.allclose(ghost[0, 0], sim.model.clamp_frame(sim.joints, sim.base)[:3, 3], atol=1e-6)
+    # the next motion's ghost stands at its own target (made once a goal, not kept from the last)
+    second = next(e for e in session.command("MOVE C") if isinstance(e, PoseEvent))
+    again = picture_scene(sim, Overlays(goal=second.goal))
+    ghost_c = again.lines[again.line_colours == GHOST_COLOUR]
+    assert np.allclose(ghost_c[0, 0], sim.model.clamp_frame(list(second.goal), sim.base)[:3, 3], atol=1e-6)
+    assert not np.allclose(ghost_c[0, 0], ghost[0, 0])
 
 
 def test_collided_parts_and_links_take_the_highlight_and_are_drawn_last(tmp_path: Path) -> None:
@@ -58,6 +65,36 @@ def test_the_part_the_led_sees_is_highlighted(tmp_path: Path) -> None:
     assert picture_scene(sim, Overlays(led_part=False)).colours[0] == object_colour(1)
 
 
+def test_the_led_is_asked_once_a_pose(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The in-between pictures of a motion (the simulator has not moved) ask the LED sensor
+    nothing; a pose, a moved part or the hand opened asks it again, and the answer follows."""
+    session = Session(tmp_path)
+    session.load_locations("PROCESS")
+    for command in ("LEFTY", "MOVE A"):
+        for _ in session.command(command):
+            pass
+    sim = session.simulator
+    asked: list[int | None] = []
+    led_part = type(sim).led_part
+
+    def counted(simulator: object) -> int | None:
+        asked.append(led_part(simulator))  # type: ignore[arg-type]
+        return asked[-1]
+
+    monkeypatch.setattr(type(sim), "led_part", counted)
+    drawn = tuple(a + 1.0 for a in sim.joints)
+    for _ in range(3):
+        assert picture_scene(sim, Overlays(drawn=drawn)).colours[0] == SEEN_COLOUR
+    assert asked == [1]
+    part = sim.cell.objects[0]
+    part.vertices = part.vertices + np.array([0.0, 0.0, 500.0])  # lifted out of the gap
+    assert picture_scene(sim).colours[0] == object_colour(1) and asked == [1, None]
+    part.vertices = part.vertices - np.array([0.0, 0.0, 500.0])
+    assert picture_scene(sim).colours[0] == SEEN_COLOUR and asked[-1] == 1
+    sim.stand_at([sim.joints[0] + 30.0, *sim.joints[1:]])
+    assert picture_scene(sim).colours[0] == object_colour(1) and asked[-1] is None
+
+
 def test_far_parts_are_dimmer(tmp_path: Path) -> None:
     sim = Session(tmp_path).simulator
     points = np.concatenate([p.vertices for p in sim.cell.objects])
@@ -70,3 +107,35 @@ def test_far_parts_are_dimmer(tmp_path: Path) -> None:
     # every dimmed part is further from the viewer than every undimmed one
     assert max(d for d, k in zip(depth, dim[:n]) if k) < min(d for d, k in zip(depth, dim[:n]) if not k)
     assert clamp_point(sim).shape == (3,)
+
+
+def test_the_standing_parts_as_background_draw_the_same_picture(tmp_path: Path) -> None:
+    """PROCESS's poses (a part carried, a collision marked, the in-between pictures, faces
+    hidden or not): the scene with the standing parts as its kept background rasterizes to
+    the same characters and colours as the scene holding every part, and the next picture
+    keeps that background while no part moves."""
+    from valterm.core.render.raster import ViewTransform, rasterize
+
+    session = Session(tmp_path, setup="PROCESS")
+    session.load_locations("PROCESS")
+    sim = session.simulator
+    view = ViewTransform()
+    view.fit(picture_scene(sim).bounds())
+    carried, previous = set(), None
+    for number, event in enumerate(e for e in session.interpreter.execute("PROCESS") if isinstance(e, PoseEvent)):
+        drawn = None if previous is None else tuple((a + b) / 2 for a, b in zip(previous, sim.joints))
+        previous = tuple(sim.joints)
+        if number % 3:
+            continue
+        carried.add(sim.carried)
+        collided = frozenset({"3", "CLAMP"}) if number % 2 else frozenset()
+        kept = None
+        for hidden in (False, True):
+            shown = Overlays(goal=event.goal or None, collided=collided, axes=True, depth=view, drawn=drawn)
+            whole = rasterize(picture_scene(sim, shown), view, 88, 49, back_faces=not hidden)
+            standing = picture_scene(sim, Overlays(**{**shown.__dict__, "static_cell": True}))
+            assert standing.background is not None and (kept is None or kept is standing.background)
+            kept = standing.background  # the same object while the parts stand: drawn once
+            split = rasterize(standing, view, 88, 49, back_faces=not hidden)
+            assert np.array_equal(whole.chars, split.chars) and np.array_equal(whole.colours, split.colours)
+    assert len(carried) > 1  # with a part in the clamp and without

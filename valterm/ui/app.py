@@ -151,6 +151,8 @@ class ValtermApp(Guarded, ViewActions, App[int]):
         # kept_path is where it is kept (run(): the user's cache; None: none kept, as in tests)
         self.kept_path: Path | None = None
         self.kept_picture: KeptPicture | None = None
+        # the trace, pose and base the clamp's point was last traced at (scene())
+        self._traced: tuple[object, ...] | None = None
 
     def _handle_exception(self, error: Exception) -> None:
         # A bug: its traceback goes to a log file and the terminal gets one line naming it
@@ -458,7 +460,10 @@ class ValtermApp(Guarded, ViewActions, App[int]):
         sim = self._session.simulator
         for joints in self.player.passed_poses():  # every pose the motion went through
             self.trace.add(clamp_point(sim, joints))
-        self.trace.add(clamp_point(sim))
+        stands = (self.trace, tuple(sim.joints), sim.base.tobytes())
+        if stands != self._traced or not len(self.trace):  # not at each in-between picture
+            self._traced = stands
+            self.trace.add(clamp_point(sim))
         if self.follow_clamp:
             self.frame_clamp()
         overlays = Overlays(
@@ -469,6 +474,7 @@ class ValtermApp(Guarded, ViewActions, App[int]):
             depth=self.view_transform,
             part_axes=part_axes,
             drawn=self.player.drawn(sim.joints),  # an in-between pose while a motion plays
+            static_cell=True,  # the standing parts drawn once while they stand (issue 40)
         )
         return picture_scene(sim, overlays)
 

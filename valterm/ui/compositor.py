@@ -15,6 +15,15 @@ right end was written whole, a colour sequence for every run on the way. And a r
 colour (no bold, no link) sets only the colours that differ from the run before it, with no
 reset between them (``colour_runs``): Textual writes both colours and a reset for each run,
 about 36 bytes where the picture's dots change colour and 16 are the background's.
+
+A picture's changed spans can skip the compositor altogether (``written_past``): while the
+widget shows whole on the screen that has the terminal, nothing in front of it, its changed
+rows are rendered (Textual's own pipeline, the widget's rows only) and written straight to the
+driver in one synchronized write, the cursor left where Textual leaves it. Textual's frame
+(its idle pass, the compositor's spans and chops, the other widgets' rows) costs about as
+much as the picture itself; a picture moving at 30 frames a second paid it at every frame.
+Anything else (a screen over it, a toast, a layout due, a terminal behind) and the caller
+refreshes as before: what Textual draws later reads the same rows.
 """
 
 from __future__ import annotations
@@ -27,10 +36,15 @@ from rich.cells import cell_len
 from rich.color import ColorSystem
 from rich.console import Console
 from rich.control import Control
+from rich.segment import Segment
 from rich.style import Style
+from textual._ansi_sequences import SYNC_END, SYNC_START
 from textual._compositor import ChopsUpdate, Compositor
 from textual.geometry import Region
 from textual.strip import Strip
+from textual.widget import Widget
+
+from valterm.ui.terminal_writer import FrameGate
 
 
 class SpanUpdate(ChopsUpdate):
@@ -74,6 +88,27 @@ def colour_runs(strip: Strip, console: Console) -> str:
     if out:
         out.append("\x1b[0m")
     return "".join(out)
+
+
+def content_only_filtered(widget: Widget) -> bool:
+    """Whether Textual's pipeline does nothing to the widget's content cells but apply its
+    line filters (no border, outline, tint, opacity, hatch: padding is its own cells)."""
+    styles = widget.styles
+    return not (styles.border or styles.outline or styles.tint.a or widget.opacity != 1.0
+                or styles.text_opacity != 1.0 or styles.has_rule("hatch"))
+
+
+def plain_codes(widget: Widget, style: Style) -> tuple[str, str] | None:
+    """The foreground and background codes ``colour_runs`` writes for a content cell of
+    ``style`` once Textual's pipeline has applied the widget's line filters (the ANSI colours
+    made true colours, NO_COLOR's monochrome); None when it is more than two colours."""
+    strip = Strip([Segment(" ", style)], 1)
+    background = widget.background_colors[1]
+    for line_filter in widget.get_line_filters():
+        strip = strip.apply_filter(line_filter, background)
+    filtered = next(iter(strip)).style
+    system = widget.app.console._color_system or ColorSystem.TRUECOLOR  # as colour_runs
+    return None if filtered is None else _colour_codes(filtered, system)
 
 
 @lru_cache(maxsize=1024)
@@ -143,3 +178,83 @@ def _runs(rows: list[int]) -> Iterator[tuple[int, int]]:
         start = previous = y
     if start is not None and previous is not None:
         yield start, previous + 1
+
+
+def written_past(widget: Widget, spans: Sequence[tuple[int, int, int]]) -> bool:
+    """Write the widget's changed ``spans`` (row, first column, end column; its content's
+    coordinates, as ``refresh`` takes regions) straight to the terminal, past the compositor;
+    False (nothing written) when
+    it may not be, the caller then refreshes the spans the usual way. True also when the
+    frame gate skips the frame: the terminal is behind, the whole screen is drawn when it
+    catches up."""
+    app = widget.app
+    driver = app._driver
+    if driver is None or driver.is_headless or driver.is_inline or app._batch_count or not app._running:
+        return False
+    screen = widget.screen
+    if screen is not app.screen or screen._layout_required or not spans:
+        return False
+    placed = _uncovered(screen._compositor, widget)
+    if placed is None:
+        return False
+    x, y = widget.content_offset  # the spans in the widget's own (outer) coordinates
+    spans = [(row + y, a + x, b + x) for row, a, b in spans]
+    widget._styles_cache.set_dirty(*(Region(a, row, b - a, 1) for row, a, b in spans))
+    gate = getattr(driver, "gate", None)
+    if isinstance(gate, FrameGate) and not gate.admit():
+        return True
+    text = _span_text(widget, placed, spans, app.console)
+    cursor = screen.outer_size.clamp_offset(app.cursor_position)
+    text += Control.move_to(*cursor).segment.text
+    if app._sync_available:
+        text = SYNC_START + text + SYNC_END
+    mark = gate.handed if isinstance(gate, FrameGate) else 0
+    driver.write(text)
+    driver.flush()
+    if isinstance(gate, FrameGate):
+        gate.drawn(mark)
+    return True
+
+
+def _uncovered(compositor: Compositor, widget: Widget) -> Region | None:
+    """The widget's region on the screen when it shows whole (not clipped, no widget in front
+    of any of it); None otherwise."""
+    shown = compositor.visible_widgets.get(widget)
+    if shown is None:
+        return None
+    region, clip = shown
+    if region.intersection(clip) != region or region.size != widget.outer_size:
+        return None
+    for other, (other_region, other_clip) in compositor.visible_widgets.items():
+        if other is widget:
+            return region
+        if other_region.intersection(other_clip).overlaps(region):
+            return None
+    return None
+
+
+def _span_text(widget: Widget, placed: Region, spans: Sequence[tuple[int, int, int]], console: Console) -> str:
+    """The spans' cells (the widget's outer coordinates) as terminal sequences, each from
+    where it changed (as SpanUpdate): the widget's own (its ``span_text``, the picture's,
+    made with no strip) or, without one, its rows through Textual's pipeline."""
+    own = getattr(widget, "span_text", None)
+    text = own(spans, placed.x, placed.y) if callable(own) else None
+    if isinstance(text, str):
+        return text
+    return textual_span_text(widget, placed, spans, console)
+
+
+def textual_span_text(widget: Widget, placed: Region, spans: Sequence[tuple[int, int, int]], console: Console) -> str:
+    """The spans' cells as terminal sequences, the rows rendered by Textual's pipeline."""
+    rows = sorted({y for y, _, _ in spans})
+    lines: dict[int, Strip] = {}
+    for start, end in _runs(rows):
+        lines.update(zip(range(start, end), widget.render_lines(Region(0, start, placed.width, end - start))))
+    out: list[str] = []
+    for y, a, b in spans:
+        strip = lines[y]
+        if a and not _narrow(strip.text[:a]):
+            a = 0  # a wide character before the span: from the row's start (no half of it)
+        out.append(Control.move_to(placed.x + a, placed.y + y).segment.text)
+        out.append(colour_runs(strip.crop(a, b) if a or b < placed.width else strip, console))
+    return "".join(out)

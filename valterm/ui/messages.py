@@ -50,12 +50,13 @@ class Collided(Message):
         self.parties = frozenset(parties)
 
 
-# -- the player to a screen (Message.bubble off: the app does not take them back) -------
+# -- the player to a screen (Message.bubble off: the app does not take them back; each class
+# says so, Textual sets a subclass's bubble again) -------------------------------------------
 class _Run(Message, bubble=False):
     pass
 
 
-class TranscriptLines(_Run):
+class TranscriptLines(_Run, bubble=False):
     """Transcript lines (the core's renderer's) to add to what is shown."""
 
     def __init__(self, lines: list[str]) -> None:
@@ -63,15 +64,15 @@ class TranscriptLines(_Run):
         self.lines = lines
 
 
-class SceneShown(_Run):
+class SceneShown(_Run, bubble=False):
     """The robot or the cell changed (a pose shown): redraw the model and the readouts."""
 
 
-class PictureMoved(_Run):
+class PictureMoved(_Run, bubble=False):
     """Only the picture moved (a pose between two of a motion's): redraw the model alone."""
 
 
-class RunEvent(_Run):
+class RunEvent(_Run, bubble=False):
     """A screen's own event (HELP, a monitor command, a finding): the screen takes it, or
     shows ``lines`` (the core's renderer's) as any other."""
 
@@ -81,7 +82,7 @@ class RunEvent(_Run):
         self.lines = lines
 
 
-class RunPaused(_Run):
+class RunPaused(_Run, bubble=False):
     """PAUSE: the stream waits for ``RunResumed``."""
 
     def __init__(self, pause: Pause) -> None:
@@ -89,7 +90,7 @@ class RunPaused(_Run):
         self.pause = pause
 
 
-class RunEnded(_Run):
+class RunEnded(_Run, bubble=False):
     """The stream ended (``aborted`` by CTRL-C or ESC)."""
 
     def __init__(self, aborted: bool) -> None:

@@ -36,6 +36,7 @@ capped record a screen keeps of what it showed.
 
 from __future__ import annotations
 
+import asyncio
 import math
 import time
 from collections import deque
@@ -43,7 +44,6 @@ from collections.abc import Callable, Generator, Iterable, Iterator, Sequence
 
 from textual.message import Message as TextualMessage
 from textual.message_pump import MessagePump
-from textual.timer import Timer
 
 from valterm.core.events import (
     Collision,
@@ -140,7 +140,7 @@ class Player:
         self._picture_changed = False  # only the in-between picture moved (PictureMoved)
         self._last_pause: Pause | None = None  # to post after the lines
         self._ended: bool | None = None  # the stream ended (aborted?): to post
-        self._timer: Timer | None = None
+        self._timer: asyncio.TimerHandle | None = None
         # drawing only: the pose before the one shown and that pose, the picture in between
         self._last_pose: tuple[float, ...] | None = None  # the last pose the robot was seen at
         # the tool path's poses: every pose the stream went through, not only those a frame
@@ -265,10 +265,19 @@ class Player:
             self._schedule(wait)
 
     def _schedule(self, delay: float) -> None:
+        """The next tick in ``delay`` seconds (at least YIELD: the loop breathes), on the
+        event loop itself: a Textual timer is a task, a partial and two signature
+        inspections a tick, about as much as the tick's own work (issue 40)."""
         if self._timer is not None:
-            self._timer.stop()
-        # a Textual timer needs a positive delay; 1 ms is enough to let the loop breathe
-        self._timer = self.host.set_timer(max(YIELD, delay), self._tick, name="playback")
+            self._timer.cancel()
+        self._timer = asyncio.get_running_loop().call_later(max(YIELD, delay), self._timed_tick)
+
+    def _timed_tick(self) -> None:
+        """A tick from the loop: a bug in it goes to the app as a Textual timer's would."""
+        try:
+            self._tick()
+        except Exception as error:
+            self.host.app._handle_exception(error)
 
     def _guarded(self, deadline: float, pace: bool) -> float | None:
         """``_work``, with a refusal or a bug of the source shown as a line that ends the stream."""
@@ -487,7 +496,7 @@ class Player:
         self._paused = False
         self._stop_source = None
         if self._timer is not None:
-            self._timer.stop()
+            self._timer.cancel()
             self._timer = None
         self._scene_changed = True
         self._ended = aborted

@@ -12,6 +12,7 @@ Everything here is extra coloured segments and per-polyhedron colour indices han
 
 from __future__ import annotations
 
+import weakref
 from collections import deque
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
@@ -103,6 +104,9 @@ class Overlays:
     # the joints the robot is drawn at instead of the simulator's: an in-between pose of the
     # app's playback (drawn only; the LED's verdict and the collisions are the pose's own)
     drawn: Sequence[float] | None = None
+    # the parts standing in the cell as the scene's background (kept while they stand still:
+    # the app's pictures, 30 a second); the scene's own items then hold the rest only
+    static_cell: bool = False
 
 
 def _dimmed(polys: list[Polyhedron], colours: list[int], keep: list[bool], view: ViewTransform) -> list[int]:
@@ -127,7 +131,7 @@ def picture_scene(simulator: Simulator, overlays: Overlays | None = None) -> Sce
     ov = overlays or Overlays()
     objects = simulator.cell.objects
     carried = simulator.carried
-    seen = simulator.led_part() if ov.led_part else None
+    seen = led_part_seen(simulator) if ov.led_part else None
     names = simulator.model.names
 
     def object_item(number: int) -> tuple[Polyhedron, int, bool]:
@@ -153,7 +157,50 @@ def picture_scene(simulator: Simulator, overlays: Overlays | None = None) -> Sce
     if ov.depth is not None:
         colours = _dimmed(polys, colours, [k for _, _, k in items], ov.depth)
     lines, line_colours = _lines(simulator, ov)
-    return Scene.build(zip(polys, colours), lines, line_colours)
+    if not ov.static_cell:
+        return Scene.build(zip(polys, colours), lines, line_colours)
+    # the parts standing in the cell lead the items (a colliding one was moved last)
+    standing = sum(1 for n in range(1, len(objects) + 1) if n != carried and str(n) not in ov.collided)
+    background = _standing(list(zip(polys[:standing], colours[:standing])))
+    return Scene.build(zip(polys[standing:], colours[standing:]), lines, line_colours, background=background)
+
+
+_STANDING: list[tuple[list[tuple[np.ndarray, int]], Scene]] = []
+
+
+def _standing(items: list[tuple[Polyhedron, int]]) -> Scene | None:
+    """The parts standing in the cell as the picture's background, the same Scene object
+    while none of them moves or changes colour (the rasterizer draws it once per view and
+    size, then each picture draws only the arm, a carried part and the lines over it)."""
+    if not items:
+        return None
+    if _STANDING:
+        held, scene = _STANDING[0]
+        if len(held) == len(items) and all(v is p.vertices and c == k for (v, c), (p, k) in zip(held, items)):
+            return scene
+    scene = Scene.build(items)
+    _STANDING[:] = [([(p.vertices, c) for p, c in items], scene)]
+    return scene
+
+
+_SEEN: list[tuple[weakref.ref[Simulator], tuple[object, ...], list[np.ndarray], int | None]] = []
+
+
+def led_part_seen(simulator: Simulator) -> int | None:
+    """``simulator.led_part()``, worked out once a pose: the in-between pictures of a motion
+    (drawn at 30 a second, the poses come 10-15) ask it where the simulator has not moved.
+    Kept while the simulator, its pose, gap, carried part, base and every part's vertices
+    (an array a move replaces, never changes in place) are the same."""
+    objects = simulator.cell.objects
+    pose = (tuple(simulator.joints), simulator.gap, simulator.carried, simulator.base.tobytes())
+    if _SEEN:
+        held, held_pose, arrays, seen = _SEEN[0]
+        if held() is simulator and held_pose == pose and len(arrays) == len(objects) \
+                and all(a is p.vertices for a, p in zip(arrays, objects)):
+            return seen
+    seen = simulator.led_part()
+    _SEEN[:] = [(weakref.ref(simulator), pose, [p.vertices for p in objects], seen)]
+    return seen
 
 
 def _carried_at(simulator: Simulator, part: Polyhedron, joints: Sequence[float]) -> Polyhedron:
@@ -170,11 +217,9 @@ def _lines(simulator: Simulator, ov: Overlays) -> tuple[np.ndarray, list[int]]:
     if ov.trace is not None:
         parts.append((ov.trace.segments(), TRACE_COLOUR))
     if ov.goal is not None and len(ov.goal):
-        frame = simulator.model.clamp_frame(list(ov.goal), simulator.base)
-        ghost = frame_lines(frame[:3, 3].tolist(), frame[:3, :3], GHOST_LENGTH)
-        parts.append((ghost, GHOST_COLOUR))
+        parts.append((_ghost(simulator, ov.goal), GHOST_COLOUR))
     if ov.axes:
-        parts.append((frame_lines((0.0, 0.0, 0.0), length=AXIS_LENGTH), 1))
+        parts.append((_WORLD_AXES, 1))
     objects = simulator.cell.objects
     if ov.part_axes is not None and 1 <= ov.part_axes <= len(objects):
         parts.append((frame_lines(list(objects[ov.part_axes - 1].reference), length=150.0), LED_COLOUR))
@@ -185,6 +230,23 @@ def _lines(simulator: Simulator, ov: Overlays) -> tuple[np.ndarray, list[int]]:
     segs = [np.asarray(s, dtype=float).reshape(-1, 2, 3) for s, _ in parts]
     colours = [c for s, c in zip(segs, (c for _, c in parts)) for _ in range(len(s))]
     return np.concatenate(segs), colours
+
+
+_WORLD_AXES = frame_lines((0.0, 0.0, 0.0), length=AXIS_LENGTH)
+_WORLD_AXES.flags.writeable = False  # shared by every picture
+_GHOSTS: list[tuple[object, tuple[object, ...], np.ndarray]] = []
+
+
+def _ghost(simulator: Simulator, goal: Sequence[float]) -> np.ndarray:
+    """The target frame's axes, made once a goal (a motion's pictures all show the same)."""
+    key = (tuple(goal), simulator.base.tobytes())
+    if _GHOSTS and _GHOSTS[0][0] is simulator.model and _GHOSTS[0][1] == key:
+        return _GHOSTS[0][2]
+    frame = simulator.model.clamp_frame(list(goal), simulator.base)
+    ghost = frame_lines(frame[:3, 3].tolist(), frame[:3, :3], GHOST_LENGTH)
+    ghost.flags.writeable = False
+    _GHOSTS[:] = [(simulator.model, key, ghost)]
+    return ghost
 
 
 def cell_points(simulator: Simulator, trace: Trace | None = None) -> np.ndarray:

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import sys
 import time
-from typing import TYPE_CHECKING, Mapping, Sequence
+from typing import TYPE_CHECKING, Iterator, Mapping, Sequence
 
 from rich.color import Color
 from rich.segment import Segment
@@ -33,6 +33,7 @@ from valterm.core.render.legend import (
     SEEN_COLOUR,
     TRACE_COLOUR,
 )
+from valterm.ui.compositor import written_past
 
 if TYPE_CHECKING:
     import numpy as np
@@ -132,6 +133,9 @@ class ModelView(Widget):
         self.last_raster_ms = 0.0
         self.caption = ""  # shown over the last row (see _update_caption)
         self._painting = False  # render_line draws the picture for the frame being painted
+        # the colours' terminal codes (span_text), kept until the style changes (_restyle)
+        self._codes: dict[int, tuple[str, str] | None] = {}
+        self._plain: bool | None = None  # Textual's pipeline only filters the rows (None: not looked at)
 
     # -- inputs --------------------------------------------------------------------
     @property
@@ -242,7 +246,7 @@ class ModelView(Widget):
             return
         for r in self.dirty_rows:
             self._strips[r] = None
-        if self.dirty_spans:
+        if self.dirty_spans and not written_past(self, self.dirty_spans):
             self.refresh(*(Region(a, r, b - a, 1) for r, a, b in self.dirty_spans))
 
     def _blank(self) -> None:
@@ -267,6 +271,7 @@ class ModelView(Widget):
 
     def _restyle(self) -> None:
         self._styles.clear()
+        self._plain = None
         self._base_style = None
         self._strips = [None] * len(self._strips)
         if self.is_mounted:
@@ -309,28 +314,93 @@ class ModelView(Widget):
     def _build_strips(self, frame: Frame) -> None:
         """Every row not built yet (those a redraw changed), as runs of equal colour (few
         segments per row: cheap to send), with one pass of numpy over all of them."""
+        rows = [y for y, strip in enumerate(self._strips) if strip is None]
+        width = frame.width
+        for y, line, row, cuts in self._row_runs(frame, rows):
+            starts = [0, *cuts]
+            firsts = row[starts].tolist()
+            segments = [Segment(line[a:b], self._style(c)) for a, b, c in zip(starts, [*cuts, width], firsts)]
+            self._strips[y] = Strip(segments, width)
+
+    def _row_runs(self, frame: Frame, rows: list[int]) -> Iterator[tuple[int, str, np.ndarray, list[int]]]:
+        """The rows as drawn (the caption over the last): each row's number, text, colour per
+        cell (a blank cell the colour of the next dot) and where its colour changes."""
         import numpy as np  # loaded with the first scene (see the module's docstring)
 
-        rows = [y for y, strip in enumerate(self._strips) if strip is None]
-        width, text = frame.width, frame.text()
+        width, height, text = frame.width, frame.height, frame.text()
         colours = blanks_coloured(frame.colours[rows], frame.chars[rows] == BLANK)
         caption = f" {self.caption} " if self.caption else ""
-        if not 0 < len(caption) < width:
+        if 0 < len(caption) < width and rows and rows[-1] == height - 1:
+            colours[-1, width - len(caption):] = AXES_COLOUR
+        else:
             caption = ""
         changes, cuts = np.nonzero(colours[:, 1:] != colours[:, :-1])
         cuts_of = np.split(cuts + 1, np.cumsum(np.bincount(changes, minlength=len(rows)))[:-1])
         for i, y in enumerate(rows):
             line = text[y * (width + 1): y * (width + 1) + width]
-            row, row_cuts = colours[i], cuts_of[i].tolist()
-            if caption and y == frame.height - 1:
+            if caption and y == height - 1:
                 line = line[: width - len(caption)] + caption
-                row = row.copy()
-                row[width - len(caption):] = AXES_COLOUR
-                row_cuts = (np.flatnonzero(np.diff(row)) + 1).tolist()
-            starts = [0, *row_cuts]
-            firsts = row[starts].tolist()
-            segments = [Segment(line[a:b], self._style(c)) for a, b, c in zip(starts, [*row_cuts, width], firsts)]
-            self._strips[y] = Strip(segments, width)
+            yield y, line, colours[i], cuts_of[i].tolist()
+
+    def span_text(self, spans: Sequence[tuple[int, int, int]], x: int, y: int) -> str | None:
+        """The changed ``spans`` (row, first column, end column) as terminal sequences, the
+        widget placed at (x, y) on the screen (its region: a widget with padding or a border
+        has its rows made by Textual, this returns None): cell for cell what Textual's pipeline makes of
+        the rows (``compositor.colour_runs`` of its strips), made from the frame's arrays
+        with no strip; None when Textual's pipeline does more to them than colour (the
+        caller renders them through it)."""
+        frame, codes = self._frame, self._plain_codes()
+        if frame is None or codes is None or not _narrow(self.caption):
+            return None
+        ends: dict[int, list[tuple[int, int]]] = {}
+        for row, a, b in spans:
+            ends.setdefault(row, []).append((a, b))
+        out: list[str] = []
+        append = out.append
+        for row, line, colours, cuts in self._row_runs(frame, sorted(ends)):
+            for a, b in ends[row]:
+                append(f"\x1b[{y + row + 1};{x + a + 1}H")
+                starts = [a, *(c for c in cuts if a < c < b)]
+                fg = bg = ""
+                for start, end, colour in zip(starts, [*starts[1:], b], colours[starts].tolist()):
+                    code = codes[colour] if colour in codes else self._plain_code(colour, codes)
+                    if code is None:
+                        return None
+                    if code[0] != fg:
+                        append(f"\x1b[{code[0]};{code[1]}m" if code[1] != bg else f"\x1b[{code[0]}m")
+                    elif code[1] != bg:
+                        append(f"\x1b[{code[1]}m")
+                    append(line[start:end])
+                    fg, bg = code
+                append("\x1b[0m")
+        return "".join(out)
+
+    def _plain_codes(self) -> dict[int, tuple[str, str] | None] | None:
+        """The colours' terminal codes as Textual's pipeline would write them (the line
+        filters applied), while that pipeline does nothing else to the widget's rows (no
+        border, padding, outline, tint, opacity, hatch); None when it does more. Looked at
+        again after a change of style (``_restyle``: a theme, the CSS, the ANSI colours),
+        as the palette's styles are."""
+        from valterm.ui.compositor import content_only_filtered
+
+        if self._plain is None:
+            self._plain = not any(self.styles.gutter) and content_only_filtered(self)
+            self._codes = {}
+        return self._codes if self._plain else None
+
+    def _plain_code(self, colour: int, codes: dict[int, tuple[str, str] | None]) -> tuple[str, str] | None:
+        """One colour's codes (kept in ``codes``)."""
+        from valterm.ui.compositor import plain_codes
+
+        codes[colour] = code = plain_codes(self, self._style(colour))
+        return code
+
+
+def _narrow(text: str) -> bool:
+    """Each character one cell (a caption with a wide one is written through Textual)."""
+    from rich.cells import cell_len
+
+    return cell_len(text) == len(text)
 
 
 BLANK = 0x20  # a cell with no dot (the raster's blank)

@@ -8,7 +8,9 @@ from __future__ import annotations
 
 from typing import Sequence
 
+from rich.cells import cell_len
 from rich.segment import Segment
+from rich.style import Style
 from textual.geometry import Region, Size
 from textual.strip import Strip
 from textual.widget import Widget
@@ -17,6 +19,7 @@ from textual.widgets import Static
 from valterm.core.events import Where
 from valterm.core.text.transcript import number as readout_number
 from valterm.core.text.transcript import where_lines
+from valterm.ui.compositor import written_past
 
 SCS_H = 26.0  # SPEC §1: Y_s = Z_w + H
 COLUMN = 9
@@ -47,6 +50,9 @@ class ReadoutLines(Widget):
         super().__init__(id=id, classes=classes)
         self.lines: list[str] = []
         self._strips: dict[int, Strip] = {}
+        self._style: Style | None = None  # rich_style walks the ancestors: once a style
+        # the lines' terminal codes (span_text); False: not looked at since the style changed
+        self._codes: tuple[str, str] | bool | None = False
 
     @property
     def text(self) -> str:
@@ -62,8 +68,9 @@ class ReadoutLines(Widget):
         self.lines = new
         for y in changed:
             self._strips.pop(y, None)
-        if changed:
-            self.refresh(*(Region(0, y, self.size.width, 1) for y in changed))
+        width = self.size.width
+        if changed and not written_past(self, [(y, 0, width) for y in changed]):
+            self.refresh(*(Region(0, y, width, 1) for y in changed))
 
     def get_content_height(self, container: Size, viewport: Size, width: int) -> int:
         return len(self.lines)
@@ -71,13 +78,41 @@ class ReadoutLines(Widget):
     def notify_style_update(self) -> None:
         super().notify_style_update()
         self._strips.clear()  # drawn in the old style
+        self._style, self._codes = None, False
+
+    def span_text(self, spans: Sequence[tuple[int, int, int]], x: int, y: int) -> str | None:
+        """The ``spans`` (row, first column, end column of the widget's outer region, placed
+        at (x, y) on the screen; within its content) as terminal sequences, cell for cell
+        what Textual's pipeline makes of the rows (``compositor.colour_runs`` of its strips),
+        made with no strip; None when that pipeline does more than filter the content."""
+        from valterm.ui.compositor import content_only_filtered, plain_codes
+
+        if self._codes is False:
+            if self._style is None:
+                self._style = self.rich_style
+            self._codes = plain_codes(self, self._style) if content_only_filtered(self) else None
+        codes = self._codes
+        if not isinstance(codes, tuple):
+            return None
+        left, top = self.content_offset
+        width = self.size.width
+        out = []
+        for row, a, b in spans:
+            line = self.lines[row - top] if 0 <= row - top < len(self.lines) else ""
+            if cell_len(line) != len(line):
+                return None  # a wide character: Textual crops it
+            cells = line[:width].ljust(width)[a - left:b - left]
+            out.append(f"\x1b[{y + row + 1};{x + a + 1}H\x1b[{codes[0]};{codes[1]}m{cells}\x1b[0m")
+        return "".join(out)
 
     def render_line(self, y: int) -> Strip:
         width = self.size.width
         strip = self._strips.get(y)
         if strip is None or strip.cell_length != width:
             text = self.lines[y] if y < len(self.lines) else ""
-            strip = Strip([Segment(text, self.rich_style)]).crop_extend(0, width, self.rich_style)
+            if self._style is None:
+                self._style = self.rich_style
+            strip = Strip([Segment(text, self._style)]).crop_extend(0, width, self._style)
             self._strips[y] = strip
         return strip
 
