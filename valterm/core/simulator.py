@@ -151,6 +151,7 @@ class Simulator:
         self.autoconfig = False  # AUTOCONFIG ON: try the other configurations (§8.1)
         self.pendant_increment = PENDANT_INCREMENT  # signed: N flips it
         self._findings: set[Finding] = set()     # the last step's (a finding is said as it starts)
+        self._findings_list: tuple[list[Finding], set[Finding]] | None = None   # the list ``_findings`` was made of
         self._checker: RobotScene | None = None
         self._checker_gap: float | None = None
 
@@ -718,17 +719,22 @@ class Simulator:
 
     def _said(self, findings: list[Finding]) -> Iterator[Event]:
         """Each finding not said at the pose before (nor already at this one), as an event."""
+        before, last = self._findings, self._findings_list
+        # a crowded cell's poses mostly find the very findings (kept objects) the pose before did:
+        # the lists compared by identity first, no finding hashed
+        if last is not None and last[1] is before and last[0] == findings:
+            return
         now = set(findings)
-        before = self._findings
         # only the new ones put in order (most poses say again what the pose before said): the
         # order sorts, so those it keeps come in the order they would among all
-        new = [f for f in findings if f not in before] if before else findings
+        # (the set difference first: a set keeps its members' hashes)
+        new = ([f for f in findings if f not in before] if now - before else []) if before else findings
         said: set[Finding] = set()
         for finding in self._in_order(new) if new else ():
             if finding not in said:
                 said.add(finding)
                 yield finding.event()
-        self._findings = now
+        self._findings, self._findings_list = now, (findings.copy(), now)
 
     def _in_order(self, findings: list[Finding]) -> list[Finding]:
         """The 1985 rules say a step's findings in Fig. C-12's order (the hand first); the

@@ -260,7 +260,7 @@ class CollisionWorld:
 
     def _remember(self, key: tuple[object, ...], pairs: _Pairs, hits: tuple[tuple[int, int], ...]) -> list[Finding]:
         found = self._new_findings(pairs, hits)
-        if len(self._findings) >= 64:
+        if len(self._findings) >= 256:
             self._findings.clear()
         self._findings[key] = (pairs, tuple(found))
         return found
