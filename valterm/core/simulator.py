@@ -676,6 +676,10 @@ class Simulator:
         # the base frame as built (identity, no BASE given): skip a product that changes nothing
         return self.model.link_frames(joints, None if self.base is self._home_base else self.base)
 
+    def _frames_batch(self, joints: np.ndarray) -> np.ndarray:
+        """``_frames_at`` of (n, 6) poses at once (the base frame as built: no product)."""
+        return self.model.link_frames_batch(joints, None if self.base is self._home_base else self.base)
+
     def check_collisions(self, previous: Sequence[float] | None = None,
                          at: Sequence[float] | None = None) -> Iterator[Event]:
         """The thesis's coarse and fine checks at this pose; each finding is said as it starts.
@@ -819,8 +823,8 @@ class Simulator:
         if not len(items):
             return
         used, moment = np.unique(at.take(items), return_inverse=True)
-        frames = kept.take(used, axis=0) if kept is not None else self.model.link_frames_batch(
-            q0[step_of[used]] + (q1[step_of[used]] - q0[step_of[used]]) * t[used][:, None], self.base)
+        frames = kept.take(used, axis=0) if kept is not None else self._frames_batch(
+            q0[step_of[used]] + (q1[step_of[used]] - q0[step_of[used]]) * t[used][:, None])
         clear[items] = np.maximum(clear.take(items), scene.apart_at(frames, moment, p.take(items), True))
 
     def _found_at(self, scene: RobotScene, q0: np.ndarray, q1: np.ndarray, items: Items, rounds: bool,
@@ -839,7 +843,7 @@ class Simulator:
         if not len(step_of):
             return found
         joints = q0[step_of] + (q1[step_of] - q0[step_of]) * t[:, None]
-        frames = self.model.link_frames_batch(joints, self.base)
+        frames = self._frames_batch(joints)
         if keep is not None:
             keep.append(frames)
         held = None
