@@ -150,7 +150,9 @@ def _spaced(lo: np.ndarray, hi: np.ndarray, bound: np.ndarray, key: np.ndarray, 
     moments evenly spaced no more than ``spacing`` mm of its pair's travel (``bound``) apart,
     the span's pair ``key`` (step x ``pairs`` + pair)."""
     if len(lo) <= _FEW:
-        return _spaced_few(lo.tolist(), hi.tolist(), bound.tolist(), key.tolist(), pairs, spacing)
+        few = _spaced_few(lo.tolist(), hi.tolist(), bound.tolist(), key.tolist(), pairs, spacing)
+        if few is not None:
+            return few
     count = np.maximum(np.ceil((hi - lo) * bound / (spacing * (1.0 - 1e-6))) - 1.0, 0.0).astype(np.intp)
     each = np.repeat(np.arange(len(lo)), count)
     nth = np.arange(len(each)) - np.repeat(np.cumsum(count) - count, count) + 1
@@ -160,14 +162,17 @@ def _spaced(lo: np.ndarray, hi: np.ndarray, bound: np.ndarray, key: np.ndarray, 
 
 
 def _spaced_few(lo: list[float], hi: list[float], bound: list[float], key: list[int], pairs: int,
-                spacing: float) -> Items:
-    """``_spaced`` of a few spans (a pose by pose step's pair or two) in Python numbers: the same
-    figures (the same operations on the same doubles, ``round`` to even as ``np.round``), not a
-    dozen numpy calls of a few items each."""
+                spacing: float) -> Items | None:
+    """``_spaced`` of a few spans (a pose by pose step's pair or two, most paths' few dozen) in
+    Python numbers: the same figures (the same operations on the same doubles, ``round`` to
+    even as ``np.round``), not a dozen numpy calls of a few items each; None where they make
+    more than ``_FEW_MOMENTS`` moments (numpy's then)."""
+    counts = [max(math.ceil((b - a) * reach / (spacing * (1.0 - 1e-6))) - 1, 0) for a, b, reach in zip(lo, hi, bound)]
+    if sum(counts) > _FEW_MOMENTS:
+        return None
     codes: list[int] = []
     pair_of: list[int] = []
-    for a, b, reach, k in zip(lo, hi, bound, key):
-        count = max(math.ceil((b - a) * reach / (spacing * (1.0 - 1e-6))) - 1, 0)
+    for a, b, count, k in zip(lo, hi, counts, key):
         part = (b - a) / (count + 1)
         base = (k // pairs) * (2 * _FINEST)
         for nth in range(1, count + 1):
@@ -182,7 +187,8 @@ def _spaced_few(lo: list[float], hi: list[float], bound: list[float], key: list[
             np.array([i // width for i in item], dtype=np.intp), np.array([i % width for i in item], dtype=np.intp))
 
 
-_FEW = 8                 # spans: up to this many, ``_spaced`` in Python numbers
+_FEW = 32                # spans: up to this many, making up to
+_FEW_MOMENTS = 64        # this many moments, ``_spaced`` in Python numbers
 
 
 def doubtful(found: Spans, clear: np.ndarray, spacing: float = GLANCE) -> np.ndarray:
