@@ -151,6 +151,7 @@ class Simulator:
         self.autoconfig = False  # AUTOCONFIG ON: try the other configurations (§8.1)
         self.pendant_increment = PENDANT_INCREMENT  # signed: N flips it
         self._findings: set[Finding] = set()     # the last step's (a finding is said as it starts)
+        self._findings_list: tuple[list[Finding], set[Finding]] | None = None   # the list ``_findings`` was made of
         self._checker: RobotScene | None = None
         self._checker_gap: float | None = None
 
@@ -675,6 +676,10 @@ class Simulator:
         # the base frame as built (identity, no BASE given): skip a product that changes nothing
         return self.model.link_frames(joints, None if self.base is self._home_base else self.base)
 
+    def _frames_batch(self, joints: np.ndarray) -> np.ndarray:
+        """``_frames_at`` of (n, 6) poses at once (the base frame as built: no product)."""
+        return self.model.link_frames_batch(joints, None if self.base is self._home_base else self.base)
+
     def check_collisions(self, previous: Sequence[float] | None = None,
                          at: Sequence[float] | None = None) -> Iterator[Event]:
         """The thesis's coarse and fine checks at this pose; each finding is said as it starts.
@@ -718,17 +723,22 @@ class Simulator:
 
     def _said(self, findings: list[Finding]) -> Iterator[Event]:
         """Each finding not said at the pose before (nor already at this one), as an event."""
+        before, last = self._findings, self._findings_list
+        # a crowded cell's poses mostly find the very findings (kept objects) the pose before did:
+        # the lists compared by identity first, no finding hashed
+        if last is not None and last[1] is before and last[0] == findings:
+            return
         now = set(findings)
-        before = self._findings
         # only the new ones put in order (most poses say again what the pose before said): the
         # order sorts, so those it keeps come in the order they would among all
-        new = [f for f in findings if f not in before] if before else findings
+        # (the set difference first: a set keeps its members' hashes)
+        new = ([f for f in findings if f not in before] if now - before else []) if before else findings
         said: set[Finding] = set()
         for finding in self._in_order(new) if new else ():
             if finding not in said:
                 said.add(finding)
                 yield finding.event()
-        self._findings = now
+        self._findings, self._findings_list = now, (findings.copy(), now)
 
     def _in_order(self, findings: list[Finding]) -> list[Finding]:
         """The 1985 rules say a step's findings in Fig. C-12's order (the hand first); the
@@ -813,8 +823,8 @@ class Simulator:
         if not len(items):
             return
         used, moment = np.unique(at.take(items), return_inverse=True)
-        frames = kept.take(used, axis=0) if kept is not None else self.model.link_frames_batch(
-            q0[step_of[used]] + (q1[step_of[used]] - q0[step_of[used]]) * t[used][:, None], self.base)
+        frames = kept.take(used, axis=0) if kept is not None else self._frames_batch(
+            q0[step_of[used]] + (q1[step_of[used]] - q0[step_of[used]]) * t[used][:, None])
         clear[items] = np.maximum(clear.take(items), scene.apart_at(frames, moment, p.take(items), True))
 
     def _found_at(self, scene: RobotScene, q0: np.ndarray, q1: np.ndarray, items: Items, rounds: bool,
@@ -833,7 +843,7 @@ class Simulator:
         if not len(step_of):
             return found
         joints = q0[step_of] + (q1[step_of] - q0[step_of]) * t[:, None]
-        frames = self.model.link_frames_batch(joints, self.base)
+        frames = self._frames_batch(joints)
         if keep is not None:
             keep.append(frames)
         held = None

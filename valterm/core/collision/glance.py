@@ -20,6 +20,7 @@ in its step. A pair that collides at a step's end pose is said there, and not lo
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -148,12 +149,46 @@ def _spaced(lo: np.ndarray, hi: np.ndarray, bound: np.ndarray, key: np.ndarray, 
     """The moments of ``between``: in each span's part ``lo`` to ``hi`` (fractions of its step),
     moments evenly spaced no more than ``spacing`` mm of its pair's travel (``bound``) apart,
     the span's pair ``key`` (step x ``pairs`` + pair)."""
+    if len(lo) <= _FEW:
+        few = _spaced_few(lo.tolist(), hi.tolist(), bound.tolist(), key.tolist(), pairs, spacing)
+        if few is not None:
+            return few
     count = np.maximum(np.ceil((hi - lo) * bound / (spacing * (1.0 - 1e-6))) - 1.0, 0.0).astype(np.intp)
     each = np.repeat(np.arange(len(lo)), count)
     nth = np.arange(len(each)) - np.repeat(np.cumsum(count) - count, count) + 1
     frac = lo.take(each) + nth * ((hi - lo) / (count + 1)).take(each)
     pair_key = key.take(each)
     return _items(pair_key // pairs, np.round(frac * _FINEST).astype(np.int64), pair_key % pairs)
+
+
+def _spaced_few(lo: list[float], hi: list[float], bound: list[float], key: list[int], pairs: int,
+                spacing: float) -> Items | None:
+    """``_spaced`` of a few spans (a pose by pose step's pair or two, most paths' few dozen) in
+    Python numbers: the same figures (the same operations on the same doubles, ``round`` to
+    even as ``np.round``), not a dozen numpy calls of a few items each; None where they make
+    more than ``_FEW_MOMENTS`` moments (numpy's then)."""
+    counts = [max(math.ceil((b - a) * reach / (spacing * (1.0 - 1e-6))) - 1, 0) for a, b, reach in zip(lo, hi, bound)]
+    if sum(counts) > _FEW_MOMENTS:
+        return None
+    codes: list[int] = []
+    pair_of: list[int] = []
+    for a, b, count, k in zip(lo, hi, counts, key):
+        part = (b - a) / (count + 1)
+        base = (k // pairs) * (2 * _FINEST)
+        for nth in range(1, count + 1):
+            codes.append(base + round((a + nth * part) * _FINEST))
+            pair_of.append(k % pairs)
+    keys = sorted(set(codes))
+    index = {code: i for i, code in enumerate(keys)}
+    width = max(pair_of, default=0) + 1
+    item = sorted({index[code] * width + q for code, q in zip(codes, pair_of)})
+    return (np.array([c // (2 * _FINEST) for c in keys], dtype=np.intp),
+            np.array([(c % (2 * _FINEST)) / _FINEST for c in keys], dtype=float),
+            np.array([i // width for i in item], dtype=np.intp), np.array([i % width for i in item], dtype=np.intp))
+
+
+_FEW = 32                # spans: up to this many, making up to
+_FEW_MOMENTS = 64        # this many moments, ``_spaced`` in Python numbers
 
 
 def doubtful(found: Spans, clear: np.ndarray, spacing: float = GLANCE) -> np.ndarray:

@@ -260,17 +260,18 @@ class CollisionWorld:
 
     def _remember(self, key: tuple[object, ...], pairs: _Pairs, hits: tuple[tuple[int, int], ...]) -> list[Finding]:
         found = self._new_findings(pairs, hits)
-        if len(self._findings) >= 64:
+        if len(self._findings) >= 256:
             self._findings.clear()
         self._findings[key] = (pairs, tuple(found))
         return found
 
     def _new_findings(self, pairs: _Pairs, hits: tuple[tuple[int, int], ...]) -> list[Finding]:
         said = self._said_table(pairs)
-        # each once, in order (two FINGER polyhedra say the same): a dict keeps the first
+        # each once, in order (two FINGER polyhedra say the same): a dict keeps the first; the table's
+        # equal findings are one object, so by identity (an int's hash, not ``Finding.__hash__``)
         if self.near_with_collision:
-            return list(dict.fromkeys(f for p, code in hits for f in said[code][p]))
-        return list(dict.fromkeys([said[code][p][0] for p, code in hits]))
+            return list({id(f): f for p, code in hits for f in said[code][p]}.values())
+        return list({id(f): f for f in [said[code][p][0] for p, code in hits]}.values())
 
     def _said_table(self, pairs: _Pairs) -> dict[int, list[tuple[Finding, ...]]]:
         """What each pair says, by kind code (NEAR, COLLIDES) and position: made once per set
