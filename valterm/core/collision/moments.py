@@ -117,13 +117,18 @@ class MomentsBatch:
         meet = np.flatnonzero(before + after - 2.0 * EPS <= moved)
         if not len(meet):
             return False
-        moved = moved.take(meet)
-        wide = bool((moved > widths.take(meet)).any())
+        return self._met(sel.take(meet), moved.take(meet), before.take(meet), after.take(meet), widths.take(meet),
+                         poses)
+
+    def _met(self, sel: np.ndarray, moved: np.ndarray, before: np.ndarray, after: np.ndarray,
+             widths: np.ndarray, poses: tuple[np.ndarray, object, object]) -> bool:
+        """``_risky`` of the pairs whose boxes can meet."""
+        wide = bool((moved > widths).any())
         if wide or self._carried:
             return wide
-        meet, moved = meet[moved > GLANCE], moved[moved > GLANCE]
-        return bool(len(meet)) and not self.poses_clear(poses[0], sel.take(meet), moved, before.take(meet),
-                                                        after.take(meet), *poses[1:])
+        far = (moved > GLANCE).nonzero()[0]
+        return bool(len(far)) and not self.poses_clear(poses[0], sel.take(far), moved.take(far), before.take(far),
+                                                       after.take(far), *poses[1:])
 
     def clear_glancing(self, frames: np.ndarray, start: Callable[[], np.ndarray], since: object, now: object) -> None:
         """Drop from ``glancing`` the pairs their poses clear (``poses_clear``'s test, ``glance.cleared``);
