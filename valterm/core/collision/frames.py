@@ -813,8 +813,7 @@ class RobotScene(MomentsBatch):
             room = before_all[:ruled] + gaps[:ruled]
             room -= 2.0 * EPS
             meet = (room <= reach).nonzero()[0]     # positions (the ruled pairs come first)
-            return bool(len(meet)) and self._met(meet, reach.take(meet), before_all.take(meet), gaps.take(meet),
-                                                 widths.take(meet), (poses[0], since, poses[1]))
+            return bool(len(meet)) and self._met(meet, reach, before_all, gaps, widths, (poses[0], since, poses[1]))
         return self._risky(past, moved, self._kept_gaps(kept, since, past, m, st), gaps.take(past), widths.take(past),
                            (poses[0], since, poses[1]))
 
