@@ -743,15 +743,6 @@ class RobotScene(MomentsBatch):
         terms: np.ndarray = np.minimum(far, (now + far @ arrays.LATER) * turns[:, None, :])
         return terms
 
-    def _kept_row(self, kept: tuple[object, ...] | None, since: object) -> np.ndarray | None:
-        """Every pair's box gaps at the step's start as the last ``swept`` call kept them, when
-        it named that pose and measured them all (else None: ``_kept_gaps``)."""
-        if since is None or kept is None or kept[0] != since or kept[1] is not self._parts \
-                or kept[2] != self._carried or kept[3] is None:
-            return None
-        row: np.ndarray = kept[3]  # type: ignore[assignment]
-        return row
-
     def _kept_gaps(self, kept: tuple[object, ...] | None, since: object, at: np.ndarray,
                    m: np.ndarray, st: np.ndarray) -> np.ndarray:
         """The box gaps at the step's start of the pairs at positions ``at`` (bodies ``m``, ``st``):
@@ -796,9 +787,8 @@ class RobotScene(MomentsBatch):
         got = self._past_kept.get(id(bound))
         if got is None or got[0] is not bound or got[1] is not widths:
             moved = bound.take(pairs.moving[:ruled])
-            past = np.flatnonzero(moved > np.minimum(widths, GLANCE))
-            reach = np.full(ruled, -np.inf)        # every pair's, -inf where not past its width
-            reach[past] = moved.take(past)
+            mask = moved > np.minimum(widths, GLANCE)
+            past, reach = np.flatnonzero(mask), np.where(mask, moved, -np.inf)   # reach: -inf where not past
             got = (bound, widths, past, moved.take(past), pairs.moving.take(past), pairs.stationary.take(past), reach)
             if keep:
                 if len(self._past_kept) >= 16:
@@ -807,13 +797,8 @@ class RobotScene(MomentsBatch):
         past, moved, m, st, reach = got[2:]
         if not len(past):
             return False
-        before_all = self._kept_row(kept, since)
-        if before_all is not None:   # most steps: whether a pair's boxes can meet over every pair at once
-            self._glance_left = None
-            room = before_all[:ruled] + gaps[:ruled]
-            room -= 2.0 * EPS
-            meet = (room <= reach).nonzero()[0]     # positions (the ruled pairs come first)
-            return bool(len(meet)) and self._met(meet, reach, before_all, gaps, widths, (poses[0], since, poses[1]))
+        if (before := self._kept_row(kept, since)) is not None:       # most steps: every pair at once
+            return self._meet_any(before, gaps, reach, widths, (poses[0], since, poses[1]))
         return self._risky(past, moved, self._kept_gaps(kept, since, past, m, st), gaps.take(past), widths.take(past),
                            (poses[0], since, poses[1]))
 

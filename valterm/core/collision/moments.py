@@ -102,11 +102,31 @@ class MomentsBatch:
                 left.append(i)
         if left:              # the pairs left, as ``clear_glancing`` would leave them
             assert self._pairs_now is not None
-            self._glance_left = Glancing(np.zeros(len(left), dtype=np.intp),
-                                         np.array([pairs[i] for i in left], dtype=np.intp),
-                                         np.array([b[i] for i in left]), np.array([d0[i] for i in left]),
-                                         np.array([d1[i] for i in left]), len(self._pairs_now.moving), True)
+            got = np.array([pairs, b, d0, d1]).take(left, axis=1)
+            self._glance_left = Glancing(np.zeros(len(left), dtype=np.intp), got[0].astype(np.intp), got[1], got[2],
+                                         got[3], len(self._pairs_now.moving), True)
         return not left
+
+    def _kept_row(self, kept: tuple[object, ...] | None, since: object) -> np.ndarray | None:
+        """Every pair's box gaps at the step's start as the last ``swept`` call kept them, when
+        it named that pose and measured them all (else None: ``_kept_gaps``)."""
+        if since is None or kept is None or kept[0] != since or kept[1] is not self._parts \
+                or kept[2] != self._carried or kept[3] is None:
+            return None
+        row: np.ndarray = kept[3]  # type: ignore[assignment]
+        return row
+
+    def _meet_any(self, before: np.ndarray, gaps: np.ndarray, reach: np.ndarray, widths: np.ndarray,
+                  poses: tuple[np.ndarray, object, object]) -> bool:
+        """``_risky`` of the ruled pairs (the first ``len(reach)`` positions), their box gaps ``before``
+        and ``gaps`` at the step's poses, moving ``reach`` (-inf where not past their width): whether
+        a pair's boxes can meet over every pair at once, no take of those past their width."""
+        self._glance_left = None
+        ruled = len(reach)
+        room = before[:ruled] + gaps[:ruled]
+        room -= 2.0 * EPS
+        meet = (room <= reach).nonzero()[0]     # flatnonzero's, without its Python wrappers
+        return bool(len(meet)) and self._met(meet, reach, before, gaps, widths, poses)
 
     def _risky(self, sel: np.ndarray, moved: np.ndarray, before: np.ndarray, after: np.ndarray,
                widths: np.ndarray, poses: tuple[np.ndarray, object, object]) -> bool:
