@@ -787,15 +787,18 @@ class RobotScene(MomentsBatch):
         got = self._past_kept.get(id(bound))
         if got is None or got[0] is not bound or got[1] is not widths:
             moved = bound.take(pairs.moving[:ruled])
-            past = np.flatnonzero(moved > np.minimum(widths, GLANCE))
-            got = (bound, widths, past, moved.take(past), pairs.moving.take(past), pairs.stationary.take(past))
+            mask = moved > np.minimum(widths, GLANCE)
+            past, reach = np.flatnonzero(mask), np.where(mask, moved, -np.inf)   # reach: -inf where not past
+            got = (bound, widths, past, moved.take(past), pairs.moving.take(past), pairs.stationary.take(past), reach)
             if keep:
                 if len(self._past_kept) >= 16:
                     self._past_kept.clear()
                 self._past_kept[id(bound)] = got     # the entry holds the bound: its id stays its own
-        past, moved, m, st = got[2:]
+        past, moved, m, st, reach = got[2:]
         if not len(past):
             return False
+        if (before := self._kept_row(kept, since)) is not None:       # most steps: every pair at once
+            return self._meet_any(before, gaps, reach, widths, (poses[0], since, poses[1]))
         return self._risky(past, moved, self._kept_gaps(kept, since, past, m, st), gaps.take(past), widths.take(past),
                            (poses[0], since, poses[1]))
 

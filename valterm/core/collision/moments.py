@@ -66,11 +66,11 @@ class MomentsBatch:
             del kept[2][next(iter(kept[2]))]
         return kept[2]
 
-    def poses_clear(self, frames: np.ndarray, p: np.ndarray, bound: np.ndarray, start: np.ndarray,
-                    end: np.ndarray, since: object, now: object) -> bool:
-        """Can none of the link x part pairs ``p`` (positions) meet in the step from the pose named
+    def poses_clear(self, frames: np.ndarray, pairs: list[int], b: list[float], start: list[float],
+                    end: list[float], since: object, now: object) -> bool:
+        """Can none of the link x part pairs ``pairs`` (positions) meet in the step from the pose named
         ``since`` to the one named ``now`` (the links at ``frames`` there), its points moving at
-        most ``bound``, its boxes ``start`` and ``end`` apart at the two? Not where it is at least
+        most ``b``, its boxes ``start`` and ``end`` apart at the two? Not where it is at least
         ``d0`` apart at the start and ``d1`` at the end with ``d0 + d1 > bound`` (conservative
         advancement from either end leaves nothing between; ``glance.cleared``). Where the step
         before measured the start (``apart_kept``) and that alone clears the step, the end is
@@ -79,9 +79,8 @@ class MomentsBatch:
         known = self.apart_kept()
         at0 = {} if since is None else known.get(since, {})
         at1: dict[int, float] = {} if now is None else known.setdefault(now, {})
-        pairs, b = p.tolist(), bound.tolist()
-        d0 = [max(g, at0.get(q, 0.0)) for g, q in zip(start.tolist(), pairs)]
-        d1 = [max(g, at1.get(q, 0.0)) for g, q in zip(end.tolist(), pairs)]
+        d0 = [max(g, at0.get(q, 0.0)) for g, q in zip(start, pairs)]
+        d1 = [max(g, at1.get(q, 0.0)) for g, q in zip(end, pairs)]
         ask = [i for i, q in enumerate(pairs) if q not in at1 and d0[i] <= b[i]]
         seen = self._apart_now          # what the fine test of the pose found of the link's face planes
         if ask and seen is not None and seen[0] is frames:
@@ -89,10 +88,11 @@ class MomentsBatch:
             pm, ps = self._pairs_now.moving, self._pairs_now.stationary
             beyond = dict(zip(zip(seen[1].tolist(), seen[2].tolist()), seen[3].tolist()))
             for i in ask:
-                d1[i] = max(d1[i], beyond.get((int(pm[pairs[i]]), int(ps[pairs[i]])), 0.0))
+                d1[i] = max(d1[i], beyond.get((pm.item(pairs[i]), ps.item(pairs[i])), 0.0))
             ask = [i for i in ask if d0[i] + d1[i] <= b[i]]
         if ask:
-            found = self.apart_at(frames[None], np.zeros(len(ask), dtype=np.intp), p.take(ask)).tolist()
+            found = self.apart_at(frames[None], np.zeros(len(ask), dtype=np.intp),
+                                  np.array([pairs[i] for i in ask], dtype=np.intp)).tolist()
             for i, d in zip(ask, found):
                 d1[i] = max(d1[i], d)
         left = []
@@ -102,9 +102,31 @@ class MomentsBatch:
                 left.append(i)
         if left:              # the pairs left, as ``clear_glancing`` would leave them
             assert self._pairs_now is not None
-            self._glance_left = Glancing(np.zeros(len(left), dtype=np.intp), p.take(left), bound.take(left),
-                                         np.take(d0, left), np.take(d1, left), len(self._pairs_now.moving), True)
+            got = np.array([pairs, b, d0, d1]).take(left, axis=1)
+            self._glance_left = Glancing(np.zeros(len(left), dtype=np.intp), got[0].astype(np.intp), got[1], got[2],
+                                         got[3], len(self._pairs_now.moving), True)
         return not left
+
+    def _kept_row(self, kept: tuple[object, ...] | None, since: object) -> np.ndarray | None:
+        """Every pair's box gaps at the step's start as the last ``swept`` call kept them, when
+        it named that pose and measured them all (else None: ``_kept_gaps``)."""
+        if since is None or kept is None or kept[0] != since or kept[1] is not self._parts \
+                or kept[2] != self._carried or kept[3] is None:
+            return None
+        row: np.ndarray = kept[3]  # type: ignore[assignment]
+        return row
+
+    def _meet_any(self, before: np.ndarray, gaps: np.ndarray, reach: np.ndarray, widths: np.ndarray,
+                  poses: tuple[np.ndarray, object, object]) -> bool:
+        """``_risky`` of the ruled pairs (the first ``len(reach)`` positions), their box gaps ``before``
+        and ``gaps`` at the step's poses, moving ``reach`` (-inf where not past their width): whether
+        a pair's boxes can meet over every pair at once, no take of those past their width."""
+        self._glance_left = None
+        ruled = len(reach)
+        room = before[:ruled] + gaps[:ruled]
+        room -= 2.0 * EPS
+        meet = (room <= reach).nonzero()[0]     # flatnonzero's, without its Python wrappers
+        return bool(len(meet)) and self._met(meet, reach, before, gaps, widths, poses)
 
     def _risky(self, sel: np.ndarray, moved: np.ndarray, before: np.ndarray, after: np.ndarray,
                widths: np.ndarray, poses: tuple[np.ndarray, object, object]) -> bool:
@@ -117,13 +139,24 @@ class MomentsBatch:
         meet = np.flatnonzero(before + after - 2.0 * EPS <= moved)
         if not len(meet):
             return False
-        moved = moved.take(meet)
-        wide = bool((moved > widths.take(meet)).any())
+        return self._met(meet, moved, before, after, widths, poses, sel)
+
+    def _met(self, meet: np.ndarray, moved: np.ndarray, before: np.ndarray, after: np.ndarray, widths: np.ndarray,
+             poses: tuple[np.ndarray, object, object], sel: np.ndarray | None = None) -> bool:
+        """``_risky`` of the pairs ``meet`` (indices into the other arrays) whose boxes can meet, their
+        positions ``sel`` (``meet`` itself without). Python floats: a pose by pose step has a pair
+        or two (an item read alone, not a take of a few)."""
+        at = meet.tolist()
+        reach = [moved.item(i) for i in at]
+        wide = any(m > widths.item(i) for m, i in zip(reach, at))
         if wide or self._carried:
             return wide
-        meet, moved = meet[moved > GLANCE], moved[moved > GLANCE]
-        return bool(len(meet)) and not self.poses_clear(poses[0], sel.take(meet), moved, before.take(meet),
-                                                        after.take(meet), *poses[1:])
+        far = [k for k, m in enumerate(reach) if m > GLANCE]
+        if not far:
+            return False
+        where = at if sel is None else [sel.item(i) for i in at]
+        return not self.poses_clear(poses[0], [where[k] for k in far], [reach[k] for k in far],
+                                    [before.item(at[k]) for k in far], [after.item(at[k]) for k in far], *poses[1:])
 
     def clear_glancing(self, frames: np.ndarray, start: Callable[[], np.ndarray], since: object, now: object) -> None:
         """Drop from ``glancing`` the pairs their poses clear (``poses_clear``'s test, ``glance.cleared``);

@@ -320,9 +320,9 @@ def check_pairs(scene: Scene, moving: np.ndarray, stationary: np.ndarray, grow: 
     # on near pairs whose boxes meet (an exact shortcut, not a change to the 1985 answer)
     if gaps is not None:            # every pair's boxes: their gaps are asked for
         gaps[:] = box_gaps(scene.mid.take(moving, axis=0), scene.half.take(moving, axis=0), mid_s, half_s)
-        at = np.flatnonzero(near & (gaps <= EPS))
+        at = (near & (gaps <= EPS)).nonzero()[0]     # flatnonzero's, without its Python wrappers
     else:                           # the near pairs' only: most poses have none
-        at = np.flatnonzero(near)
+        at = near.nonzero()[0]
         if len(at):
             near_moving = moving.take(at)
             at = at[box_gaps(scene.mid.take(near_moving, axis=0), scene.half.take(near_moving, axis=0),
