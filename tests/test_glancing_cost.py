@@ -18,15 +18,20 @@ from valterm.core.events import Collision
 from valterm.core.simulator import Simulator
 
 
-@pytest.mark.parametrize("at", [0.13, 0.5, 0.9])
-def test_pose_by_pose_a_corner_clipped_between_poses_is_found_in_its_step(at: float) -> None:
-    scene, k = glancing_cell(at, 2.7)
+def _collisions_pose_by_pose(scene: CellScene) -> list[int]:
+    """The steps the simulator says a collision in, each step checked from the pose before."""
     sim = Simulator(WorkCell(objects=list(scene.parts)))
     poses = [[float(v) for v in pose] for pose in scene.poses]
     said = []
     for i in range(1, len(poses)):
         said += [i for event in sim.check_collisions(poses[i - 1], at=poses[i]) if isinstance(event, Collision)]
-    assert said[:1] == [k]
+    return said
+
+
+@pytest.mark.parametrize("at", [0.13, 0.5, 0.9])
+def test_pose_by_pose_a_corner_clipped_between_poses_is_found_in_its_step(at: float) -> None:
+    scene, k = glancing_cell(at, 2.7)
+    assert _collisions_pose_by_pose(scene)[:1] == [k]
 
 
 def _wide_corner(at: float, depth: float, side: float = 400.0) -> tuple[CellScene, int]:
@@ -51,12 +56,7 @@ def test_pose_by_pose_a_corner_of_a_wide_part_clipped_between_poses_is_found_in_
     oracle = DenseOracle(scene, 400)
     assert oracle.meets("FINGER", "1", k) and not oracle.meets("FINGER", "1", k - 1)
     assert FclPeer(scene).per_pose() == {}
-    sim = Simulator(WorkCell(objects=list(scene.parts)))
-    poses = [[float(v) for v in pose] for pose in scene.poses]
-    said = []
-    for i in range(1, len(poses)):
-        said += [i for event in sim.check_collisions(poses[i - 1], at=poses[i]) if isinstance(event, Collision)]
-    assert said[:1] == [k]
+    assert _collisions_pose_by_pose(scene)[:1] == [k]
     assert valterm_contacts(scene)[0] == {("FINGER", "1"): k}          # and as a program's path
 
 

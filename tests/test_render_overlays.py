@@ -13,6 +13,7 @@ from valterm.core.render.overlays import Overlays, clamp_point, picture_scene
 from valterm.core.render.raster import link_colour, object_colour
 from valterm.core.render.views import make_view, preset_angles
 from valterm.core.session import Session
+from valterm.core.simulator import Simulator
 
 
 def test_the_ghost_is_a_frame_at_the_motions_target(tmp_path: Path) -> None:
@@ -53,13 +54,18 @@ def test_collided_parts_and_links_take_the_highlight_and_are_drawn_last(tmp_path
     assert np.allclose(tail, np.concatenate([part.vertices, clamp.vertices]))
 
 
-def test_the_part_the_led_sees_is_highlighted(tmp_path: Path) -> None:
+def _at_a(tmp_path: Path) -> Simulator:
+    """PROCESS's simulator with the hand at A (LEFTY), where the LED sensor sees part 1."""
     session = Session(tmp_path)
     session.load_locations("PROCESS")
     for command in ("LEFTY", "MOVE A"):
         for _ in session.command(command):
             pass
-    sim = session.simulator
+    return session.simulator
+
+
+def test_the_part_the_led_sees_is_highlighted(tmp_path: Path) -> None:
+    sim = _at_a(tmp_path)
     assert sim.led_part() == 1
     assert picture_scene(sim).colours[0] == SEEN_COLOUR
     assert picture_scene(sim, Overlays(led_part=False)).colours[0] == object_colour(1)
@@ -68,12 +74,7 @@ def test_the_part_the_led_sees_is_highlighted(tmp_path: Path) -> None:
 def test_the_led_is_asked_once_a_pose(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     """The in-between pictures of a motion (the simulator has not moved) ask the LED sensor
     nothing; a pose, a moved part or the hand opened asks it again, and the answer follows."""
-    session = Session(tmp_path)
-    session.load_locations("PROCESS")
-    for command in ("LEFTY", "MOVE A"):
-        for _ in session.command(command):
-            pass
-    sim = session.simulator
+    sim = _at_a(tmp_path)
     asked: list[int | None] = []
     led_part = type(sim).led_part
 
@@ -121,9 +122,10 @@ def test_the_standing_parts_as_background_draw_the_same_picture(tmp_path: Path) 
     sim = session.simulator
     view = ViewTransform()
     view.fit(picture_scene(sim).bounds())
-    carried, previous = set(), None
+    carried: set[int | None] = set()
+    previous: tuple[float, ...] | None = None
     for number, event in enumerate(e for e in session.interpreter.execute("PROCESS") if isinstance(e, PoseEvent)):
-        drawn = None if previous is None else tuple((a + b) / 2 for a, b in zip(previous, sim.joints))
+        drawn: tuple[float, ...] | None = None if previous is None else tuple((a + b) / 2 for a, b in zip(previous, sim.joints))
         previous = tuple(sim.joints)
         if number % 3:
             continue
