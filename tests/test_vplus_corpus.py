@@ -172,3 +172,18 @@ def test_a_run_stops_at_the_first_statement_only_a_controller_can_run() -> None:
     assert [e.text for e in events if isinstance(e, TypeOut)] == ["before"]
     [error] = [e for e in events if isinstance(e, Error)]
     assert error.step == 2 and "I/O DEVICES" in error.message
+
+
+def test_an_unknown_string_function_is_named_whatever_its_arguments(
+        capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+    """A string function the simulator does not know is said so, not taken for its argument's
+    error (its string argument read as a number said "a string is not a number"); a known one
+    given the wrong count says what it takes."""
+    status, lines = check(tmp_path, capsys, body('$u = $NOSUCH("mixed Case")', "$v = $NOSUCH(1, 2)",
+                                                 '$w = $CHR(65, 66)', 'TYPE $NOSUCH("x")'))
+    assert status == 1
+    assert [line for line in lines if " step " in line] == [
+        "c.v2:2: T step 1: ASSIGNMENT TO $U: $NOSUCH is not a V+ string function the simulator knows",
+        "c.v2:3: T step 2: ASSIGNMENT TO $V: $NOSUCH is not a V+ string function the simulator knows",
+        "c.v2:4: T step 3: ASSIGNMENT TO $W: $CHR takes one value: $CHR(value)",
+        "c.v2:5: T step 4: TYPE: $NOSUCH is not a V+ string function the simulator knows"], lines

@@ -707,17 +707,18 @@ class _Compiler:
             return lambda V: render_output(items, V)
         if name in ("$MID", "$LEFT"):
             return self.substring(name)
-        args = [a.closure() for a in self.arguments()]
-        if name == "$CHR" and len(args) == 1:
-            return lambda V: chr(int(args[0](V)))
-        if name[1:] in _BYTE_FORMATS:
-            if len(args) != 1:
-                raise ExprError(f"{name} takes one value: {name}(value)")
-            return lambda V: _to_bytes(name, args[0](V))
         if name == "$ERROR":  # its codes come from the devices and tasks the simulator does not have
             raise ControllerFunction("$ERROR is a V+ function of the controller's table of error messages, "
                                      "which the simulator does not have")
-        raise ExprError(f"{name} is not a V+ string function the simulator knows")
+        # the name before its arguments: a string argument read as a number named the wrong error
+        if name != "$CHR" and name[1:] not in _BYTE_FORMATS:
+            raise ExprError(f"{name} is not a V+ string function the simulator knows")
+        args = [a.closure() for a in self.arguments()]
+        if len(args) != 1:
+            raise ExprError(f"{name} takes one value: {name}(value)")
+        if name == "$CHR":
+            return lambda V: chr(int(args[0](V)))
+        return lambda V: _to_bytes(name, args[0](V))
 
     def substring(self, name: str) -> StrFn:
         """$LEFT($s, n): the first n characters; $MID($s, first {, n}): n from the first-th (1-based)."""
