@@ -269,3 +269,26 @@ async def test_a_tick_works_its_budget_of_cpu_whatever_the_load(tmp_path: Path, 
         await run_until(pilot, lambda: not player.playing)
         assert audience.ended and audience.lines == [f"LINE {i}" for i in range(300)]
         assert fewest_ticks <= player.ticks <= most_ticks
+
+
+@sync
+async def test_a_tick_preempted_before_its_first_event_still_takes_one(tmp_path: Path) -> None:
+    """A tick takes at least one event whatever the clock says: a machine so loaded that every
+    tick is preempted past TICK_LIMIT before it pulls anything still plays the stream, an
+    event a tick (it used to do nothing, tick after tick: D_DEFINE's move never ended)."""
+    from valterm.ui.playback import TICK_LIMIT, Player
+
+    app = Host(Session(workspace_root=tmp_path / "ws"), motion_rate=math.inf)
+    async with app.run_test(size=(80, 24)) as pilot:
+        clocks = _TickClocks()
+
+        def preempted() -> float:
+            clocks.real += 2 * TICK_LIMIT  # each look at the clock comes after a preemption
+            return clocks.real
+
+        player = Player(app, rate=math.inf, real_time=preempted, cpu_time=lambda: clocks.cpu)
+        audience = _Screen()
+        player.play(_events_costing(clocks, 0.0, 0.0, 20), audience.post)
+        await until(pilot, lambda: not player.playing, "the stream's end", limit=10.0)
+        assert audience.ended and audience.lines == [f"LINE {i}" for i in range(20)]
+        assert player.ticks == 21  # one event a tick, the end the 21st
