@@ -116,6 +116,34 @@ async def test_table_c1_define_answers_typed_while_the_robot_moves_all_count(tmp
 
 
 @sync
+async def test_define_answers_that_reach_the_screen_while_the_robot_moves_are_kept_in_order(
+        tmp_path: Path) -> None:
+    """Two answers handed to VAL-II mode while the robot still moves to B (a key goes on
+    between a motion's end and its stream's when a loaded machine cuts the tick there): B is
+    rejected, C accepted, in that order (one slot kept only the last: A's, for B)."""
+    from valterm.ui.screens.valmode import Mode
+
+    clock = FakeClock()
+    app = ValtermApp(tmp_path, "PROCESS", clock=clock, motion_rate=10.0)
+    async with app.run_test(size=(160, 50)) as pilot:
+        await pilot.pause()
+        await press_slowly(pilot, clock, "v", "d", "d")
+        await pilot.press(*"PROCESS.LOC", "enter")
+        await settle(pilot, app, clock)
+        screen = app.screen
+        await pilot.press("a")  # A accepted: the robot moves to B
+        assert screen.mode == Mode.RUNNING and app.player.drawing
+        screen.action_define_each("R")  # as the key binding calls it
+        screen.action_define_each("A")
+        await settle(pilot, app, clock)
+        await press_slowly(pilot, clock, "e")
+        await settle(pilot, app, clock)
+        shown = "\n".join(screen.transcript)
+        assert "A ACCEPTED\n" in shown and "B REJECTED\n" in shown and "C ACCEPTED\n" in shown
+        assert "LOCATIONS DEFINED: A, C, D" in shown
+
+
+@sync
 async def test_editor_refuses_a_too_deep_line_and_keeps_the_program(tmp_path: Path) -> None:
     """EDITOR, X = 124 '(' 1 124 ')': refused with the limit named; the app and the edits stay."""
     app = ValtermApp(tmp_path, "PROCESS", motion_rate=math.inf)
