@@ -10,7 +10,7 @@ import math
 from pathlib import Path
 
 import pytest
-from app_helpers import FakeClock, screen_text, sync
+from app_helpers import FakeClock, screen_text, sync, until
 
 from valterm.core.events import Message
 from valterm.ui.app import ValtermApp
@@ -26,15 +26,12 @@ async def press_slowly(pilot, clock: FakeClock, *keys: str) -> None:  # type: ig
         await pilot.pause(0.01)
 
 
-async def settle(pilot, app: ValtermApp, clock: FakeClock, rounds: int = 400) -> None:  # type: ignore[no-untyped-def]
-    """Let what moves finish on the stepped clock."""
-    for _ in range(rounds):
-        if not app.moving and not getattr(app, "keys_waiting", 0):
-            await pilot.pause(0.02)
-            return
-        clock.advance(0.5)
-        await pilot.pause(0.01)
-    raise AssertionError("the motion never ended")
+async def settle(pilot, app: ValtermApp, clock: FakeClock) -> None:  # type: ignore[no-untyped-def]
+    """Let what moves finish on the stepped clock (0.5 s a look; bounded in real time: a
+    count of looks ran out on a loaded machine before the app had done its work)."""
+    await until(pilot, lambda: not app.moving and not getattr(app, "keys_waiting", 0), "the motion's end",
+                between=lambda: clock.advance(0.5))
+    await pilot.pause(0.02)
 
 
 @sync
@@ -429,7 +426,7 @@ async def test_keys_1985_tables_c1_to_c3_typed_as_printed_replay(tmp_path: Path)
         steps = [line.strip() for line in (tmp_path / "TEST.DAT").read_text().splitlines() if line.strip()]
         assert steps == ["MOVE A", "MOVE B", "MOVE E", "STOP"], steps
         await press_slowly(pilot, clock, *table_keys(valmode[:-1]))
-        await settle(pilot, app, clock, rounds=2000)
+        await settle(pilot, app, clock)
         screen = app.screen
         assert set("ABCDEF") <= set(app.session.simulator.locations)
         assert "PROGRAM PROCESS COMPLETED: 1 LOOP" in screen.transcript, list(screen.transcript)[-5:]
