@@ -126,7 +126,9 @@ def test_wait_sig_waits_for_the_keyboard_and_the_panel_shows_outputs_live(tmp_pa
             await typed(pilot, "1001")  # toggles input 1001 on
             assert panel.message == "INPUT 1001 ON"
             assert lamps(panel, 2)[1001]
-            await until(pilot, lambda: not app.session.program_running, "the program's end", between=tick)
+            # the screen's last line, not the session's state: the lines reach the screen after it
+            await until(pilot, lambda: "PROGRAM WAITER COMPLETED: 1 LOOP" in screen.transcript, "the program's end",
+                        between=tick)
             assert "INPUT 1001 SEEN" in screen.transcript
             assert "PROGRAM WAITER COMPLETED: 1 LOOP" in screen.transcript
             await pilot.pause(0.2)  # the panel's next look: SIGNAL -1, 2 changed the lamps
