@@ -33,10 +33,12 @@ def screen_text(app: ValtermApp) -> str:
 WAIT_LIMIT = 240.0  # seconds a test waits for the app before it fails (a guard, not a timing)
 
 
-async def until(pilot, condition, what: str, limit: float = WAIT_LIMIT) -> None:  # type: ignore[no-untyped-def]
+async def until(pilot, condition, what: str, limit: float = WAIT_LIMIT, between=None) -> None:  # type: ignore[no-untyped-def]
     """Let the app run until ``condition()``; fail (never hang) after ``limit`` seconds. A
     program played at motion_rate inf still runs a few milliseconds a tick: on a loaded
-    machine it can outlast one Pilot key press."""
+    machine it can outlast one Pilot key press. ``between()`` runs before each wait (a
+    stepped clock moved on): bounded in real time, not by a count of looks, which a loaded
+    machine spends before the app has done its work."""
     import pytest
 
     loop = asyncio.get_running_loop()
@@ -44,7 +46,9 @@ async def until(pilot, condition, what: str, limit: float = WAIT_LIMIT) -> None:
     while not condition():
         if loop.time() > end:
             pytest.fail(f"the app never reached: {what}")
-        await pilot.pause(0.02)
+        if between is not None:
+            between()
+        await pilot.pause(0.02 if between is None else 0.01)
 
 
 def sync(test):  # type: ignore[no-untyped-def]

@@ -6,6 +6,8 @@ import asyncio
 import math
 from pathlib import Path
 
+from app_helpers import until
+
 from valterm.core.session import Session
 from valterm.ui.app import ValtermApp
 from valterm.ui.screens.signals import SignalsScreen, parse_input_command
@@ -94,6 +96,10 @@ def test_a_vplus_program_of_a_workspace_file_runs_with_its_call(tmp_path: Path) 
 def test_wait_sig_waits_for_the_keyboard_and_the_panel_shows_outputs_live(tmp_path: Path) -> None:
     async def body() -> None:
         clock = Clock()
+
+        def tick() -> None:  # a second on the program's clock
+            clock.now += 1.0
+
         app = Host(tmp_path / "ws", rate=20.0, clock=clock)  # paced: WAIT's polls wait on the clock
         async with app.run_test(size=(140, 45)) as pilot:
             (app.session.workspace.root / "IO.V2").write_text(WAITER)
@@ -101,8 +107,9 @@ def test_wait_sig_waits_for_the_keyboard_and_the_panel_shows_outputs_live(tmp_pa
             await app.push_screen(screen)
             await pilot.pause()
             await typed(pilot, "EXECUTE waiter")
-            for _ in range(5):
-                clock.now += 1.0
+            await until(pilot, lambda: "SIGNAL 1 ON" in screen.transcript, "SIGNAL 1 ON", between=tick)
+            for _ in range(5):  # five more seconds: still waiting
+                tick()
                 await pilot.pause(0.05)
             assert screen.mode == "running"  # waiting for input 1001
             assert "F10: I/O PANEL" in screen.keys_text
@@ -119,11 +126,9 @@ def test_wait_sig_waits_for_the_keyboard_and_the_panel_shows_outputs_live(tmp_pa
             await typed(pilot, "1001")  # toggles input 1001 on
             assert panel.message == "INPUT 1001 ON"
             assert lamps(panel, 2)[1001]
-            for _ in range(20):
-                clock.now += 1.0
-                await pilot.pause(0.05)
-                if not app.session.program_running:
-                    break
+            # the screen's last line, not the session's state: the lines reach the screen after it
+            await until(pilot, lambda: "PROGRAM WAITER COMPLETED: 1 LOOP" in screen.transcript, "the program's end",
+                        between=tick)
             assert "INPUT 1001 SEEN" in screen.transcript
             assert "PROGRAM WAITER COMPLETED: 1 LOOP" in screen.transcript
             await pilot.pause(0.2)  # the panel's next look: SIGNAL -1, 2 changed the lamps
@@ -153,6 +158,10 @@ def test_wait_sig_waits_for_the_keyboard_and_the_panel_shows_outputs_live(tmp_pa
 def test_ctrl_c_ends_a_wait_for_the_keyboard(tmp_path: Path) -> None:
     async def body() -> None:
         clock = Clock()
+
+        def tick() -> None:  # a second on the program's clock
+            clock.now += 1.0
+
         app = Host(tmp_path / "ws", rate=20.0, clock=clock)
         async with app.run_test(size=(140, 45)) as pilot:
             (app.session.workspace.root / "IO.V2").write_text(WAITER)
@@ -164,11 +173,7 @@ def test_ctrl_c_ends_a_wait_for_the_keyboard(tmp_path: Path) -> None:
             await pilot.pause(0.05)
             assert screen.mode == "running"
             await pilot.press("ctrl+c")
-            for _ in range(20):
-                clock.now += 1.0
-                await pilot.pause(0.05)
-                if screen.mode != "running":
-                    break
+            await until(pilot, lambda: screen.mode != "running", "the abort", between=tick)
             assert screen.mode == "command"
             assert any("ABORTED" in line for line in screen.transcript), list(screen.transcript)
             assert "INPUT 1001 SEEN" not in screen.transcript

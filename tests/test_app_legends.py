@@ -11,7 +11,7 @@ import math
 from pathlib import Path
 
 import pytest
-from app_helpers import FakeClock, screen_text, sync
+from app_helpers import FakeClock, screen_text, sync, until
 from test_app_one_keyboard import settle
 
 from valterm.ui.app import ValtermApp
@@ -134,11 +134,9 @@ async def test_keys_1985_ready_typed_during_a_command_reaches_the_line(tmp_path:
         assert type(screen).__name__ == "ValModeScreen", type(screen).__name__
         assert ". READY" in screen.transcript, list(screen.transcript)[-5:]
         assert not (tmp_path / "ADY.DAT").exists()
-        for _ in range(400):  # READY plays on the stepped clock (settle may look before it starts)
-            if screen.keys_text.startswith("THEN PRESS: C CONTINUE"):
-                break
-            clock.advance(0.5)
-            await pilot.pause(0.01)
+        # READY plays on the stepped clock (settle may look before it starts)
+        await until(pilot, lambda: screen.keys_text.startswith("THEN PRESS: C CONTINUE"), "the menu after READY",
+                    between=lambda: clock.advance(0.5))
         assert screen.keys_text.startswith("THEN PRESS: C CONTINUE")  # READY ran: the menu again
         await pilot.press("r")  # typed at the menu now: R is RETURN
         await settle(pilot, app, clock)

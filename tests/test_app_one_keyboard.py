@@ -10,7 +10,7 @@ import math
 from pathlib import Path
 
 import pytest
-from app_helpers import FakeClock, screen_text, sync
+from app_helpers import FakeClock, screen_text, sync, until
 
 from valterm.core.events import Message
 from valterm.ui.app import ValtermApp
@@ -26,15 +26,12 @@ async def press_slowly(pilot, clock: FakeClock, *keys: str) -> None:  # type: ig
         await pilot.pause(0.01)
 
 
-async def settle(pilot, app: ValtermApp, clock: FakeClock, rounds: int = 400) -> None:  # type: ignore[no-untyped-def]
-    """Let what moves finish on the stepped clock."""
-    for _ in range(rounds):
-        if not app.moving and not getattr(app, "keys_waiting", 0):
-            await pilot.pause(0.02)
-            return
-        clock.advance(0.5)
-        await pilot.pause(0.01)
-    raise AssertionError("the motion never ended")
+async def settle(pilot, app: ValtermApp, clock: FakeClock) -> None:  # type: ignore[no-untyped-def]
+    """Let what moves finish on the stepped clock (0.5 s a look; bounded in real time: a
+    count of looks ran out on a loaded machine before the app had done its work)."""
+    await until(pilot, lambda: not app.moving and not getattr(app, "keys_waiting", 0), "the motion's end",
+                between=lambda: clock.advance(0.5))
+    await pilot.pause(0.02)
 
 
 @sync
@@ -113,6 +110,34 @@ async def test_table_c1_define_answers_typed_while_the_robot_moves_all_count(tmp
         assert set("ABCDEF") <= set(app.session.simulator.locations)
         assert app.is_running and not app.survived
         assert "LOCATIONS DEFINED: A, B, C, D, E, F" in "\n".join(app.screen.transcript)
+
+
+@sync
+async def test_define_answers_that_reach_the_screen_while_the_robot_moves_are_kept_in_order(
+        tmp_path: Path) -> None:
+    """Two answers handed to VAL-II mode while the robot still moves to B (a key goes on
+    between a motion's end and its stream's when a loaded machine cuts the tick there): B is
+    rejected, C accepted, in that order (one slot kept only the last: A's, for B)."""
+    from valterm.ui.screens.valmode import Mode
+
+    clock = FakeClock()
+    app = ValtermApp(tmp_path, "PROCESS", clock=clock, motion_rate=10.0)
+    async with app.run_test(size=(160, 50)) as pilot:
+        await pilot.pause()
+        await press_slowly(pilot, clock, "v", "d", "d")
+        await pilot.press(*"PROCESS.LOC", "enter")
+        await settle(pilot, app, clock)
+        screen = app.screen
+        await pilot.press("a")  # A accepted: the robot moves to B
+        assert screen.mode == Mode.RUNNING and app.player.drawing
+        screen.action_define_each("R")  # as the key binding calls it
+        screen.action_define_each("A")
+        await settle(pilot, app, clock)
+        await press_slowly(pilot, clock, "e")
+        await settle(pilot, app, clock)
+        shown = "\n".join(screen.transcript)
+        assert "A ACCEPTED\n" in shown and "B REJECTED\n" in shown and "C ACCEPTED\n" in shown
+        assert "LOCATIONS DEFINED: A, C, D" in shown
 
 
 @sync
@@ -401,7 +426,7 @@ async def test_keys_1985_tables_c1_to_c3_typed_as_printed_replay(tmp_path: Path)
         steps = [line.strip() for line in (tmp_path / "TEST.DAT").read_text().splitlines() if line.strip()]
         assert steps == ["MOVE A", "MOVE B", "MOVE E", "STOP"], steps
         await press_slowly(pilot, clock, *table_keys(valmode[:-1]))
-        await settle(pilot, app, clock, rounds=2000)
+        await settle(pilot, app, clock)
         screen = app.screen
         assert set("ABCDEF") <= set(app.session.simulator.locations)
         assert "PROGRAM PROCESS COMPLETED: 1 LOOP" in screen.transcript, list(screen.transcript)[-5:]

@@ -13,8 +13,16 @@ from app_helpers import FakeClock, make_app, sync
 from test_app_playback import Host, _transcript_of_run, run_until, typed, valmode
 from valterm.core.kinematics import joints_between, wrap180
 from valterm.core.session import Session
+from valterm.ui.app import ValtermApp
 from valterm.ui.screens.valmode import Mode
 from valterm.ui.view.model_view import ModelView
+
+
+async def next_tick(pilot, app: ValtermApp) -> None:  # type: ignore[no-untyped-def]
+    """Until the player's next tick has seen the clock the test moved (or the motion ended):
+    a fixed pause held none on a loaded machine, and two steps of the clock made one picture."""
+    ticks = app.player.ticks
+    await run_until(pilot, lambda: app.player.ticks > ticks or not app.moving)
 
 
 def test_joints_between_turns_the_short_way() -> None:
@@ -84,7 +92,7 @@ async def test_an_in_between_pose_across_180_degrees_turns_2_degrees(tmp_path: P
         seen = []
         for _ in range(40):
             clock.t += 0.25 / motion.rate
-            await pilot.pause(0.03)
+            await next_tick(pilot, app)
             drawn = app.player.drawn(simulator.joints)
             if drawn is not None:
                 seen.append(drawn[5])
@@ -171,7 +179,7 @@ async def test_in_between_pictures_redraw_the_model_alone(tmp_path: Path) -> Non
         assert motion is not None
         for _ in range(5 * 8):  # eight looks at the clock a pose
             clock.t += 1.0 / motion.rate / 8
-            await pilot.pause(0.02)
+            await next_tick(pilot, app)
         await run_until(pilot, lambda: not app.moving)
         pictures_alone = counts["picture"] - counts["redraw"]
         assert counts["redraw"] <= 5 + 2, counts  # the poses (and the end)

@@ -10,7 +10,7 @@ import pytest
 from pathlib import Path
 
 import numpy as np
-from app_helpers import FakeClock, make_app, screen_text, sync
+from app_helpers import FakeClock, make_app, screen_text, sync, until
 
 from valterm.core import resources
 from valterm.core.render.raster import Frame
@@ -157,10 +157,8 @@ async def test_keys_typed_while_a_program_runs_wait_in_the_line(tmp_path: Path) 
         await pilot.press(*"REA")  # and a line being typed when it ends stays in the line
         assert echoes(screen)[-1] == ". EXEC SLOW"
         clock.t += 6.0
-        for _ in range(100):
-            if screen.mode == Mode.COMMAND and echoes(screen)[-1] == ". STATUS":
-                break
-            await pilot.pause(0.01)
+        await until(pilot, lambda: screen.mode == Mode.COMMAND and echoes(screen)[-1] == ". STATUS",
+                    "the lines typed ahead run")
         lines = list(screen.transcript)
         assert lines.index("PROGRAM SLOW COMPLETED: 1 LOOP") < lines.index(". WHERE") < lines.index(". STATUS")
         assert screen.query_one("#val-line").value == "REA"
@@ -208,10 +206,7 @@ async def test_escape_at_every_prompt_leads_to_the_menu_then_main(tmp_path: Path
         assert screen.mode == Mode.RUNNING  # moving to A
         await pilot.press("a")  # answered ahead
         clock.t += 100.0
-        for _ in range(100):
-            if "A ACCEPTED" in screen.transcript:
-                break
-            await pilot.pause(0.01)
+        await until(pilot, lambda: "A ACCEPTED" in screen.transcript, "A accepted")
         assert screen.mode == Mode.RUNNING and screen.transcript[-1].startswith("POINT B")  # moving to B
         await escape_to_menu(pilot, screen)
         assert sorted(screen.simulator.locations) == ["A"]

@@ -6,6 +6,8 @@ import asyncio
 import math
 from pathlib import Path
 
+from app_helpers import until
+
 from valterm.core.session import Session
 from valterm.ui.app import ValtermApp
 from valterm.ui.screens.editor import EditorScreen
@@ -92,11 +94,8 @@ def test_editor_then_define_execute_abort_and_rerun(tmp_path: Path) -> None:
             await pilot.press(*"EXEC PICK,5", "enter")
             assert screen.mode == "running"
             await pilot.press("ctrl+c")
-            for _ in range(50):
-                clock.now += 1.0
-                if screen.mode != "running":
-                    break
-                await pilot.pause(0.05)
+            await until(pilot, lambda: screen.mode != "running", "the abort",
+                        between=lambda: setattr(clock, "now", clock.now + 1.0))
             assert screen.mode == "command"
             assert any("ABORTED" in line for line in screen.transcript)
             assert not screen.interpreter.running

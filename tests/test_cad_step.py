@@ -97,7 +97,7 @@ def test_a_file_that_is_not_step_is_refused_before_the_binding_is_asked(tmp_path
 @sync
 async def test_the_start_screens_cad_prompt_reads_a_step_file(tmp_path: Path) -> None:
     pytest.importorskip("cascadio")
-    from app_helpers import make_app, screen_text
+    from app_helpers import make_app, screen_text, until
 
     from valterm.core.workspace import Workspace
 
@@ -109,10 +109,7 @@ async def test_the_start_screens_cad_prompt_reads_a_step_file(tmp_path: Path) ->
         await pilot.pause()
         assert "THE FILE SAYS IN" in screen_text(app)  # the units question offers the file's inches
         await pilot.press("enter", "enter")
-        for _ in range(50):
-            await pilot.pause(0.1)
-            if "PARTS.SET HAS SUCCESSFULLY BEEN WRITTEN" in screen_text(app):
-                break
+        await until(pilot, lambda: "PARTS.SET HAS SUCCESSFULLY BEEN WRITTEN" in screen_text(app), "PARTS.SET written")
         assert "PARTS.SET HAS SUCCESSFULLY BEEN WRITTEN" in screen_text(app)
     cell = read_setup(tmp_path / "PARTS.SET")
     assert cell.units == "IN" and sorted(p.name for p in cell.objects) == ["BLOCK", "PEG"]

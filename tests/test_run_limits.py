@@ -9,6 +9,7 @@ import json
 from pathlib import Path
 
 import pytest
+from app_helpers import until
 
 from valterm.cli import build_parser, main
 from valterm.commands.limits import limits_from
@@ -143,10 +144,7 @@ def test_the_app_stops_a_runaway_at_its_limit_and_the_prompt_answers(tmp_path: P
             await app.push_screen(screen)
             await pilot.pause()
             await pilot.press("n", "v", *"EXEC LOOP", "enter")
-            for _ in range(100):
-                if screen.mode == "command":
-                    break
-                await pilot.pause(0.02)
+            await until(pilot, lambda: screen.mode == "command", "the run limit's stop")
             assert screen.mode == "command"
             assert sum(1 for line in screen.transcript if line.startswith("LOOP ")) == 30
             assert "*** LOOP STEP 1: RUN LIMIT REACHED: 30 STEPS (raise it with --max-steps)" in screen.transcript

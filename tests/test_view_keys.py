@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from app_helpers import FakeClock, make_app, screen_text, sync
+from app_helpers import FakeClock, make_app, screen_text, sync, until
 from valterm.core.events import Motion
 from valterm.core.render import views
 from valterm.core.render.legend import LED_COLOUR, SEEN_COLOUR, TRACE_COLOUR
@@ -132,10 +132,10 @@ async def _motion_seconds(command: str, factor: float, tmp_path: Path) -> tuple[
                 break
             clock.t += step
             ticks = app.player.ticks
-            for _ in range(100):  # the next tick sees the new time
-                await pilot.pause(0.005)
-                if app.player.ticks > ticks or not app.player.playing:
-                    break
+            # the next tick sees the new time (bounded in real time: 100 looks of 5 ms were
+            # not always a tick on a loaded machine, and two steps then made one)
+            await until(pilot, lambda seen=ticks: app.player.ticks > seen or not app.player.playing,
+                        "the next tick")
         assert not app.player.playing
         return clock.t - start, expected
 

@@ -291,8 +291,11 @@ class Player:
     def _work(self, deadline: float, pace: bool) -> float | None:
         """Pull events until the budget is spent, a pose or DELAY must wait, PAUSE or the end.
 
-        Returns the seconds until the next tick is due, or None when none is.
+        Returns the seconds until the next tick is due, or None when none is. A tick takes at
+        least one event before it looks at the clock: one preempted before its first (a loaded
+        machine) would do nothing, and tick after tick might.
         """
+        took = False
         while self.playing and not self._paused:
             if self._motion is not None:
                 wait = self._motion_step(pace)
@@ -304,7 +307,7 @@ class Player:
                 if now < self._resume_at and not self._aborting:
                     return min(self._resume_at - now, 0.1)  # a fresh look at the clock
                 self._resume_at = None
-            if self.real_time() > deadline:
+            if took and self.real_time() > deadline:
                 later = self._more_time()
                 if later is None:
                     return 0.0
@@ -315,6 +318,7 @@ class Player:
                 self._end(aborted=self._aborting)
                 return None
             self._take(event, pace)
+            took = True
         return None
 
     def _more_time(self) -> float | None:

@@ -223,7 +223,10 @@ class ValModeScreen(KeyedScreen[None]):
         self._defining: list[tuple[str, Location]] = []
         self._defined: list[str] = []
         self._after_run: Callable[[], None] | None = None
-        self._answer_ahead = ""  # A / R / E typed while the robot moved to the location
+        # A / R / E typed while the robot moved to the location, in order: each answers the
+        # next location shown (a key reaches the screen between a motion's end and its stream's
+        # when a loaded machine cuts the tick there; one slot lost all but the last)
+        self._answers_ahead: list[str] = []
         self._lines_ahead: list[str] = []  # lines entered while a command played, to run next
         self._legend = ""  # the keys line of the mode (shown again after a wrong key)
         self._to_menu = False  # ESC aborted what played: the VAL-II menu when it has ended
@@ -422,7 +425,7 @@ class ValModeScreen(KeyedScreen[None]):
         if self.mode == Mode.DEFINE_EACH:
             self._define_answer(key)
         else:
-            self._answer_ahead = key
+            self._answers_ahead.append(key)
 
     def action_help(self) -> None:
         """? (at the menu and its questions) and F1 (everywhere): this screen's keys, then HELP."""
@@ -489,7 +492,7 @@ class ValModeScreen(KeyedScreen[None]):
     def _cancel_to_menu(self) -> None:
         if self._defining or self._defined:  # reading a .LOC file: what was accepted stays
             self.log_line(f"LOCATIONS DEFINED: {', '.join(self._defined) or 'NONE'}")
-        self._defining, self._defined, self._answer_ahead = [], [], ""
+        self._defining, self._defined, self._answers_ahead = [], [], []
         self._discard_queued()
         self._show_menu(self.page)
 
@@ -738,9 +741,8 @@ class ValModeScreen(KeyedScreen[None]):
         def moved() -> None:
             self.mode = Mode.DEFINE_EACH
             self._keys(f"{name}: {EACH_KEYS}")
-            ahead, self._answer_ahead = self._answer_ahead, ""
-            if ahead:
-                self._define_answer(ahead)
+            if self._answers_ahead:
+                self._define_answer(self._answers_ahead.pop(0))
 
         def motion() -> Iterator[Event]:
             try:
@@ -767,7 +769,7 @@ class ValModeScreen(KeyedScreen[None]):
     def _define_done(self) -> None:
         names = ", ".join(self._defined) or "NONE"
         self.log_line(f"LOCATIONS DEFINED: {names}")
-        self._defined = []
+        self._defined, self._answers_ahead = [], []
         self._after_command()
 
     def _define_point(self, typed: str) -> None:
