@@ -8,6 +8,7 @@ from __future__ import annotations
 import asyncio
 import math
 from pathlib import Path
+from typing import Any
 
 import pytest
 from app_helpers import FakeClock, screen_text, sync, until
@@ -95,6 +96,14 @@ async def test_kiosk_idle_reset_over_help_on_the_pendant() -> None:
         assert app.is_running and app.return_code is None and app.crash is None and not app.survived
 
 
+async def _define_from_process_loc(pilot: Any, clock: FakeClock) -> None:
+    """VAL-II mode's D_DEFINE of PROCESS.LOC started (V, D, D, the file's name): the robot
+    moves to A, its first location."""
+    await pilot.pause()
+    await press_slowly(pilot, clock, "v", "d", "d")
+    await pilot.press(*"PROCESS.LOC", "enter")
+
+
 @sync
 async def test_table_c1_define_answers_typed_while_the_robot_moves_all_count(tmp_path: Path) -> None:
     """V, D, D, PROCESS.LOC, then Table C-1's A, A,A,A,A, E at 0.3 s/key while the robot moves
@@ -102,9 +111,7 @@ async def test_table_c1_define_answers_typed_while_the_robot_moves_all_count(tmp
     clock = FakeClock()
     app = ValtermApp(tmp_path, "PROCESS", clock=clock, motion_rate=10.0)
     async with app.run_test(size=(160, 50)) as pilot:
-        await pilot.pause()
-        await press_slowly(pilot, clock, "v", "d", "d")
-        await pilot.press(*"PROCESS.LOC", "enter")
+        await _define_from_process_loc(pilot, clock)
         await press_slowly(pilot, clock, "a", "a", "a", "a", "a", "e")
         await settle(pilot, app, clock)
         assert set("ABCDEF") <= set(app.session.simulator.locations)
@@ -123,9 +130,7 @@ async def test_define_answers_that_reach_the_screen_while_the_robot_moves_are_ke
     clock = FakeClock()
     app = ValtermApp(tmp_path, "PROCESS", clock=clock, motion_rate=10.0)
     async with app.run_test(size=(160, 50)) as pilot:
-        await pilot.pause()
-        await press_slowly(pilot, clock, "v", "d", "d")
-        await pilot.press(*"PROCESS.LOC", "enter")
+        await _define_from_process_loc(pilot, clock)
         await settle(pilot, app, clock)
         screen = app.screen
         await pilot.press("a")  # A accepted: the robot moves to B
