@@ -28,7 +28,7 @@ refreshes as before: what Textual draws later reads the same rows.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator, Mapping, Sequence
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from functools import lru_cache
 from itertools import pairwise
 
@@ -58,7 +58,7 @@ class SpanUpdate(ChopsUpdate):
             for end, (x, strip) in zip(self.chop_ends[y], self.chops[y].items()):
                 if strip is None or x > x2 or end <= x1:
                     continue
-                start = x1 - x if x < x1 and _narrow(strip.text[: x1 - x]) else 0
+                start = x1 - x if x < x1 and narrow(strip.text[: x1 - x]) else 0
                 if start or end > x2:
                     strip = strip.crop(start, min(end, x2) - x)
                 append(Control.move_to(x + start, y).segment.text)
@@ -69,16 +69,23 @@ class SpanUpdate(ChopsUpdate):
 
 
 def colour_runs(strip: Strip, console: Console) -> str:
-    """The strip as terminal sequences: each run sets only the colours that differ from the
-    run before it, one reset at the end; Textual's own rendering when a run is more than a
-    foreground and a background (an attribute, a link, a control, no colour)."""
+    """The strip as terminal sequences (``coded_runs``); Textual's own rendering when a run is
+    more than a foreground and a background (an attribute, a link, a control, no colour)."""
     system = console._color_system or ColorSystem.TRUECOLOR  # as Textual's Strip.render
+    text = coded_runs((text, None if control or style is None else _colour_codes(style, system))
+                      for text, style, control in strip)
+    return strip.render(console) if text is None else text
+
+
+def coded_runs(runs: Iterable[tuple[str, tuple[str, str] | None]]) -> str | None:
+    """Runs of text, each with its foreground and background codes, as terminal sequences:
+    each run sets only the codes that differ from the run before it, one reset at the end;
+    None when a run has no codes (more than two colours: the caller writes it another way)."""
     out: list[str] = []
     fg = bg = ""
-    for text, style, control in strip:
-        codes = None if control or style is None else _colour_codes(style, system)
+    for text, codes in runs:
         if codes is None:
-            return strip.render(console)
+            return None
         if codes[0] != fg:
             out.append(f"\x1b[{codes[0]};{codes[1]}m" if codes[1] != bg else f"\x1b[{codes[0]}m")
         elif codes[1] != bg:
@@ -120,7 +127,7 @@ def _colour_codes(style: Style, system: ColorSystem) -> tuple[str, str] | None:
             ";".join(style._bgcolor.downgrade(system).get_ansi_codes(False)))
 
 
-def _narrow(text: str) -> bool:
+def narrow(text: str) -> bool:
     """Each character one cell (no wide one to cut in half, nothing of no width)."""
     return cell_len(text) == len(text)
 
@@ -253,7 +260,7 @@ def textual_span_text(widget: Widget, placed: Region, spans: Sequence[tuple[int,
     out: list[str] = []
     for y, a, b in spans:
         strip = lines[y]
-        if a and not _narrow(strip.text[:a]):
+        if a and not narrow(strip.text[:a]):
             a = 0  # a wide character before the span: from the row's start (no half of it)
         out.append(Control.move_to(placed.x + a, placed.y + y).segment.text)
         out.append(colour_runs(strip.crop(a, b) if a or b < placed.width else strip, console))

@@ -33,7 +33,7 @@ from valterm.core.render.legend import (
     SEEN_COLOUR,
     TRACE_COLOUR,
 )
-from valterm.ui.compositor import written_past
+from valterm.ui.compositor import coded_runs, content_only_filtered, narrow, plain_codes, written_past
 
 if TYPE_CHECKING:
     import numpy as np
@@ -350,29 +350,20 @@ class ModelView(Widget):
         with no strip; None when Textual's pipeline does more to them than colour (the
         caller renders them through it)."""
         frame, codes = self._frame, self._plain_codes()
-        if frame is None or codes is None or not _narrow(self.caption):
+        if frame is None or codes is None or not narrow(self.caption):
             return None
         ends: dict[int, list[tuple[int, int]]] = {}
         for row, a, b in spans:
             ends.setdefault(row, []).append((a, b))
         out: list[str] = []
-        append = out.append
         for row, line, colours, cuts in self._row_runs(frame, sorted(ends)):
             for a, b in ends[row]:
-                append(f"\x1b[{y + row + 1};{x + a + 1}H")
                 starts = [a, *(c for c in cuts if a < c < b)]
-                fg = bg = ""
-                for start, end, colour in zip(starts, [*starts[1:], b], colours[starts].tolist()):
-                    code = codes[colour] if colour in codes else self._plain_code(colour, codes)
-                    if code is None:
-                        return None
-                    if code[0] != fg:
-                        append(f"\x1b[{code[0]};{code[1]}m" if code[1] != bg else f"\x1b[{code[0]}m")
-                    elif code[1] != bg:
-                        append(f"\x1b[{code[1]}m")
-                    append(line[start:end])
-                    fg, bg = code
-                append("\x1b[0m")
+                runs = coded_runs((line[start:end], self._plain_code(colour, codes))
+                                  for start, end, colour in zip(starts, [*starts[1:], b], colours[starts].tolist()))
+                if runs is None:
+                    return None
+                out += (f"\x1b[{y + row + 1};{x + a + 1}H", runs)
         return "".join(out)
 
     def _plain_codes(self) -> dict[int, tuple[str, str] | None] | None:
@@ -381,26 +372,16 @@ class ModelView(Widget):
         border, padding, outline, tint, opacity, hatch); None when it does more. Looked at
         again after a change of style (``_restyle``: a theme, the CSS, the ANSI colours),
         as the palette's styles are."""
-        from valterm.ui.compositor import content_only_filtered
-
         if self._plain is None:
             self._plain = not any(self.styles.gutter) and content_only_filtered(self)
             self._codes = {}
         return self._codes if self._plain else None
 
     def _plain_code(self, colour: int, codes: dict[int, tuple[str, str] | None]) -> tuple[str, str] | None:
-        """One colour's codes (kept in ``codes``)."""
-        from valterm.ui.compositor import plain_codes
-
-        codes[colour] = code = plain_codes(self, self._style(colour))
-        return code
-
-
-def _narrow(text: str) -> bool:
-    """Each character one cell (a caption with a wide one is written through Textual)."""
-    from rich.cells import cell_len
-
-    return cell_len(text) == len(text)
+        """One colour's codes, kept in ``codes`` once worked out."""
+        if colour not in codes:
+            codes[colour] = plain_codes(self, self._style(colour))
+        return codes[colour]
 
 
 BLANK = 0x20  # a cell with no dot (the raster's blank)

@@ -8,7 +8,6 @@ from __future__ import annotations
 
 from typing import Sequence
 
-from rich.cells import cell_len
 from rich.segment import Segment
 from rich.style import Style
 from textual.geometry import Region, Size
@@ -19,7 +18,7 @@ from textual.widgets import Static
 from valterm.core.events import Where
 from valterm.core.text.transcript import number as readout_number
 from valterm.core.text.transcript import where_lines
-from valterm.ui.compositor import written_past
+from valterm.ui.compositor import coded_runs, content_only_filtered, narrow, plain_codes, written_past
 
 SCS_H = 26.0  # SPEC §1: Y_s = Z_w + H
 COLUMN = 9
@@ -85,8 +84,6 @@ class ReadoutLines(Widget):
         at (x, y) on the screen; within its content) as terminal sequences, cell for cell
         what Textual's pipeline makes of the rows (``compositor.colour_runs`` of its strips),
         made with no strip; None when that pipeline does more than filter the content."""
-        from valterm.ui.compositor import content_only_filtered, plain_codes
-
         if self._codes is False:
             if self._style is None:
                 self._style = self.rich_style
@@ -96,13 +93,15 @@ class ReadoutLines(Widget):
             return None
         left, top = self.content_offset
         width = self.size.width
-        out = []
+        out: list[str] = []
         for row, a, b in spans:
             line = self.lines[row - top] if 0 <= row - top < len(self.lines) else ""
-            if cell_len(line) != len(line):
+            if not narrow(line):
                 return None  # a wide character: Textual crops it
             cells = line[:width].ljust(width)[a - left:b - left]
-            out.append(f"\x1b[{y + row + 1};{x + a + 1}H\x1b[{codes[0]};{codes[1]}m{cells}\x1b[0m")
+            runs = coded_runs([(cells, codes)])
+            assert runs is not None  # the codes are the line's own
+            out += (f"\x1b[{y + row + 1};{x + a + 1}H", runs)
         return "".join(out)
 
     def render_line(self, y: int) -> Strip:
