@@ -50,13 +50,15 @@ class Collided(Message):
         self.parties = frozenset(parties)
 
 
-# -- the player to a screen (Message.bubble off: the app does not take them back; each class
-# says so, Textual sets a subclass's bubble again) -------------------------------------------
+# -- the player to a screen (Message.bubble off: the app does not take them back) ----------
 class _Run(Message, bubble=False):
-    pass
+    def __init_subclass__(cls, bubble: bool | None = False, verbose: bool = False, no_dispatch: bool | None = False,
+                          namespace: str | None = None) -> None:
+        # off for every subclass too: Textual's own default would set bubble=True on each
+        super().__init_subclass__(bubble, verbose, no_dispatch, namespace)
 
 
-class TranscriptLines(_Run, bubble=False):
+class TranscriptLines(_Run):
     """Transcript lines (the core's renderer's) to add to what is shown."""
 
     def __init__(self, lines: list[str]) -> None:
@@ -64,15 +66,15 @@ class TranscriptLines(_Run, bubble=False):
         self.lines = lines
 
 
-class SceneShown(_Run, bubble=False):
+class SceneShown(_Run):
     """The robot or the cell changed (a pose shown): redraw the model and the readouts."""
 
 
-class PictureMoved(_Run, bubble=False):
+class PictureMoved(_Run):
     """Only the picture moved (a pose between two of a motion's): redraw the model alone."""
 
 
-class RunEvent(_Run, bubble=False):
+class RunEvent(_Run):
     """A screen's own event (HELP, a monitor command, a finding): the screen takes it, or
     shows ``lines`` (the core's renderer's) as any other."""
 
@@ -82,7 +84,7 @@ class RunEvent(_Run, bubble=False):
         self.lines = lines
 
 
-class RunPaused(_Run, bubble=False):
+class RunPaused(_Run):
     """PAUSE: the stream waits for ``RunResumed``."""
 
     def __init__(self, pause: Pause) -> None:
@@ -90,7 +92,7 @@ class RunPaused(_Run, bubble=False):
         self.pause = pause
 
 
-class RunEnded(_Run, bubble=False):
+class RunEnded(_Run):
     """The stream ended (``aborted`` by CTRL-C or ESC)."""
 
     def __init__(self, aborted: bool) -> None:
