@@ -907,8 +907,7 @@ class _PathChecks:
                 self.poses.append(sim._settled(pose))
         except ValtermError:
             pass                          # the motion stops there when it gets there
-        base = None if sim.base is sim._home_base else sim.base
-        frames = sim.model.link_frames_batch(np.asarray(self.poses), base)
+        frames = sim._frames_batch(np.asarray(self.poses))
         self.found: list[list[Finding]] = []
         self.figures: PathFigures | None = None
         self.collides = False          # a pose checked alone collides (``keep_path``'s: ``figures.collided``)
