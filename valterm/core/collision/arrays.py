@@ -11,18 +11,12 @@ from valterm.core.collision.thesis import EPS, box_gaps
 
 def thickness(vertices: np.ndarray, k: int) -> float:
     """The polyhedron's smallest width across its own faces (mm): how thin a part is."""
-    faces = np.asarray(topology_faces(k))
-    v = vertices
-    p = v[faces]                                                    # (F, 4, 3) side quads + caps
-    normal = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
-    size = np.linalg.norm(normal, axis=1)
-    normal = normal[size > 0] / size[size > 0, None]
-    spans = v @ normal.T
-    return float((spans.max(axis=0) - spans.min(axis=0)).min())
+    return float(thicknesses(vertices[None], k)[0])
 
 
 def thicknesses(vertices: np.ndarray, k: int) -> np.ndarray:
-    """``thickness`` of polyhedra of ``k`` sides at once, their vertices (n, 2k, 3)."""
+    """``thickness`` of polyhedra of ``k`` sides at once, their vertices (n, 2k, 3); a face of
+    no area (degenerate) measures nothing."""
     faces = np.asarray(topology_faces(k))
     p = vertices[:, faces]                                          # (n, F, 3, 3)
     normal = np.cross(p[:, :, 1] - p[:, :, 0], p[:, :, 2] - p[:, :, 0])
