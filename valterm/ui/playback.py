@@ -475,14 +475,8 @@ class Player:
         held = None
         if pace and self.playing and not self._paused and (self._scene_changed or self._picture_changed):
             held = self._picture_held()
-        if held is not None:
-            pass  # drawn at the next frame (the flags stay)
-        elif self._scene_changed:
-            self._scene_changed = self._picture_changed = False
-            post(SceneShown())
-        elif self._picture_changed:
-            self._picture_changed = False
-            post(PictureMoved())
+        if held is None:  # (held: drawn at the next frame, the flags stay)
+            self._post_picture(post)
         if self._last_pause is not None:
             pause, self._last_pause = self._last_pause, None
             post(RunPaused(pause))
@@ -491,6 +485,15 @@ class Player:
             self._post = None
             post(RunEnded(aborted))
         return held
+
+    def _post_picture(self, post: Post) -> None:
+        """The redraw this tick's poses ask for: the screen (a pose), or the picture alone."""
+        if self._scene_changed:
+            self._scene_changed = self._picture_changed = False
+            post(SceneShown())
+        elif self._picture_changed:
+            self._picture_changed = False
+            post(PictureMoved())
 
     def _end(self, aborted: bool) -> None:
         source, self._source = self._source, None
