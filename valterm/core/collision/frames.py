@@ -33,7 +33,7 @@ from valterm.core.collision import arrays
 from valterm.core.collision.glance import GLANCE, Glancing, at_risk
 from valterm.core.collision.thesis import (CLEAR, COLLIDES, EPS, NEAR, SEPARATED, Layout, Scene, check_pairs,
                                            face_planes, figures, layout, margin)
-from valterm.core.collision.moments import MomentsBatch, _over_middle
+from valterm.core.collision.moments import MomentsBatch, over_middle
 from valterm.core.collision.world import CollisionWorld, Finding, _Pairs
 
 if TYPE_CHECKING:
@@ -253,7 +253,7 @@ class RobotScene(MomentsBatch):
         off = self._apart_offsets.take(a, axis=0) + (frame[:, None, :3, 3] @ turned)[:, 0]
         d = self._scene.vertices[self._vertex_rows.take(b, axis=0)] @ turned            # (pairs, V, faces)
         d -= off[:, None]
-        self._apart_now = (self._frames_now, a, b, _over_middle(d, np.minimum).max(axis=1))   # for poses_clear
+        self._apart_now = (self._frames_now, a, b, over_middle(d, np.minimum).max(axis=1))   # for poses_clear
         found: np.ndarray = self._apart_now[3] > SEPARATED
         return found
 

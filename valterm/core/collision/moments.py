@@ -343,17 +343,17 @@ class MomentsBatch:
         off = self._apart_offsets.take(link, axis=0) + (shift[:, None, :] @ turned)[:, 0]
         d = vertices.take(other, axis=0) @ turned
         d -= off[:, None, :]
-        beyond = _over_middle(d, np.minimum).max(axis=1)
+        beyond = over_middle(d, np.minimum).max(axis=1)
         if planes:
             return beyond, beyond
         placed = local.take(link, axis=0) @ rot.transpose(0, 2, 1)                     # (items, vertices, 3)
         placed += shift[:, None, :]
-        gap = largest_of_xyz(np.maximum(s.lo.take(other, axis=0) - _over_middle(placed, np.maximum),
-                                        _over_middle(placed, np.minimum) - s.hi.take(other, axis=0)))
+        gap = largest_of_xyz(np.maximum(s.lo.take(other, axis=0) - over_middle(placed, np.maximum),
+                                        over_middle(placed, np.minimum) - s.hi.take(other, axis=0)))
         # the link beyond the part's face planes
         d = placed @ units.take(other, axis=0)
         d -= offsets.take(other, axis=0)[:, None, :]
-        return gap, np.maximum(beyond, _over_middle(d, np.minimum).max(axis=1))
+        return gap, np.maximum(beyond, over_middle(d, np.minimum).max(axis=1))
 
     def _apart_tables(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """``_apart_of``'s tables, kept per set of parts: each link's vertices in its own frame and
@@ -471,11 +471,11 @@ class MomentsBatch:
             d[linked] = placed[rows.take(linked, axis=0), :, at.take(linked)[:, None]]
         d = d @ turned
         d -= off[:, None]
-        found: np.ndarray = _over_middle(d, np.minimum).max(axis=1)
+        found: np.ndarray = over_middle(d, np.minimum).max(axis=1)
         return found
 
 
-def _over_middle(d: np.ndarray, pick: np.ufunc) -> np.ndarray:
+def over_middle(d: np.ndarray, pick: np.ufunc) -> np.ndarray:
     """``pick`` (np.minimum, np.maximum) over the middle axis of (items, n, m): numpy reduces a
     short axis of many rows slowly, so up to some thousand items that axis is made the first
     (a copy), else n - 1 calls on (items, m)."""
