@@ -45,8 +45,9 @@ from valterm.core.robot import THESIS_ROBOT, RobotModel, load_model, load_robot_
 from valterm.core.rules import CONTROLLER, RULES_1985, check_rules
 
 if TYPE_CHECKING:  # the collision checks load with the first check, not at every start (issue 25)
-    from valterm.core.collision.frames import PathFigures, RobotScene
+    from valterm.core.collision.frames import RobotScene
     from valterm.core.collision.glance import Items, Spans
+    from valterm.core.collision.moments import PathFigures
     from valterm.core.collision.world import Finding
 
 GRASP_MESSAGE = "IT IS POSSIBLE TO GRASP THIS PART"
@@ -950,7 +951,10 @@ class _PathChecks:
             return
         # the way the joints turned: under the 1985 rules 179 -> -179 is a turn of 2 degrees
         turns = (q[1:] - q[:-1] + 180.0) % 360.0 - 180.0
-        moments = self.scene.swept_path(frames, np.radians(turns), sim.cell.objects, self.figures)
+        start = q[:-1]
+        moments = self.scene.swept_path(frames, np.radians(turns), sim.cell.objects, self.figures,
+                                        lambda: sim._frames_at(start[0]),
+                                        lambda step, t: sim._frames_batch(start[step] + t[:, None] * turns[step]))
         if self.scene.glancing is not None and sim.carried is None:
             keys = self.figures.keys
             self.scene.clear_glancing(frames[: len(keys) - 1], lambda: sim._frames_at(q[0]), keys[0], keys[-1])

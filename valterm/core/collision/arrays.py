@@ -45,6 +45,21 @@ AXIS_COLUMNS = np.array([2, 1, 1, 2, 1, 2])
 LATER = np.tril(np.ones((6, 6)), -1)
 
 
+def sweep_bends(terms: np.ndarray, turns: np.ndarray) -> np.ndarray:
+    """(steps, movers): how far a point of each moving body can leave the straight line between
+    where it is at a step's two poses, the joints turning linearly by ``turns`` (steps, joints;
+    radians, absolute), ``terms`` (steps, movers, joints) each joint's turn times the most the
+    point is from its axis over the step (``RobotScene._path_terms``).
+
+    The point's acceleration is the sum over joint pairs i, j of turn i x turn j x a vector no
+    longer than its distance from the later joint's axis (a revolute chain's second derivative),
+    so at most sum over j of term j x (turn j + twice the turns before j); a curve leaves its
+    chord by at most an eighth of its largest acceleration."""
+    weights = turns + 2.0 * (turns @ LATER.T)
+    bends: np.ndarray = np.einsum("smj,sj->sm", terms, weights) * 0.125
+    return bends
+
+
 def groups(lo: np.ndarray, hi: np.ndarray, size: int = 8) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The free parts in groups of neighbours (halved along the widest spread of their boxes'
     middles until at most ``size`` are left): each group's members, padded to ``size`` by

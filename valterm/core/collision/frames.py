@@ -23,8 +23,7 @@ from __future__ import annotations
 import itertools
 import math
 import operator
-from dataclasses import dataclass
-from typing import TYPE_CHECKING, Collection, Literal, Sequence
+from typing import TYPE_CHECKING, Callable, Collection, Literal, Sequence
 
 import numpy as np
 
@@ -33,7 +32,7 @@ from valterm.core.collision import arrays
 from valterm.core.collision.glance import GLANCE, Glancing, at_risk
 from valterm.core.collision.thesis import (CLEAR, COLLIDES, EPS, NEAR, SEPARATED, Layout, Scene, check_pairs,
                                            face_planes, figures, layout, margin)
-from valterm.core.collision.moments import MomentsBatch, over_middle
+from valterm.core.collision.moments import MomentsBatch, PathFigures, over_middle
 from valterm.core.collision.world import CollisionWorld, Finding, _Pairs
 
 if TYPE_CHECKING:
@@ -655,12 +654,17 @@ class RobotScene(MomentsBatch):
                                                    figures.gaps[reached], None, None)
 
     def swept_path(self, frames: np.ndarray, turned: np.ndarray, objects: Sequence[Polyhedron],
-                   figures: PathFigures) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+                   figures: PathFigures, start: Callable[[], np.ndarray] | None = None,
+                   frames_at: Callable[[np.ndarray, np.ndarray], np.ndarray] | None = None
+                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """``swept`` for every step of a path at once: the moments of every step in order, each
         with its step (an index into the path) and its row of pairs to check. ``frames``
         (steps, links, 4, 4) are the poses each step ends at, ``turned`` (steps, 6) the joints'
         turns (radians), ``figures`` what ``keep_pose`` kept of them. The same decision as
-        ``swept``, step by step, in a few dozen numpy calls for the path."""
+        ``swept``, step by step, in a few dozen numpy calls for the path. ``frames_at``: the link
+        frames at moments of the steps (their steps and fractions of them); with it, a link x
+        part pair whose link's hulls over the step keep clear of the part (``hulls_clear``)
+        needs no moment; ``start``: the link frames at the first step's start."""
         never = np.zeros(0, dtype=np.intp), np.zeros(0), np.zeros((0, 0), dtype=bool)
         self.glancing = None
         count = len(figures.keys) - 1
@@ -705,12 +709,22 @@ class RobotScene(MomentsBatch):
                            | np.any(pick[:, n:], axis=1))
         if not len(k):
             return never
-        step, col = np.nonzero(pick[:, :n] & (moved > GLANCE))
+        # the moments as the pairs picked need them (so a pair is found at the moments it was),
+        # then without the pairs that need none
+        needless = self.needless(pick, cols, n, far, turns, figures, (frames, start, frames_at))
+        glance = pick[:, :n] & (moved > GLANCE)
+        if needless is not None:
+            glance &= ~needless[:, :n]
+        step, col = np.nonzero(glance)
         self.glancing = at_risk((step, near.take(col)), moved[step, col], before[step, col], both[step, col],
                                 len(pairs.moving), figures.collided)
         reach = np.concatenate([moved, closing], axis=1)
         need = np.concatenate([moved / widths, relative], axis=1)
         step, moments, rows = arrays.moments(pick[k], cols, before[k], both[k], reach[k], need[k], len(pairs.moving))
+        if needless is not None:
+            rows[:, cols] &= ~needless[k.take(step)]
+            kept = np.flatnonzero(rows.any(axis=1))
+            step, moments, rows = step.take(kept), moments.take(kept), rows.take(kept, axis=0)
         return k.take(step), moments, rows
 
     def _path_bounds(self, terms: np.ndarray, weights: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -956,7 +970,6 @@ class RobotScene(MomentsBatch):
         return found
 
 
-
 _VERTICES = operator.attrgetter("vertices")
 
 _NEVER = (np.zeros(0), np.zeros((0, 0), dtype=bool))    # ``swept``'s when no moment is needed (read-only)
@@ -981,20 +994,3 @@ def _same_free(kept: tuple[Polyhedron, ...], objects: Sequence[Polyhedron], carr
     for c in carried:
         now[c - 1] = kept[c - 1]
     return _same_objects(kept, now)
-
-
-@dataclass
-class PathFigures:
-    """What the swept check keeps of a path's poses (``RobotScene.path_figures``, ``keep_pose``)."""
-
-    pairs: _Pairs
-    parts: object
-    carried: tuple[int, ...]
-    keys: list[object]             # the poses' names, the pose before the path first
-    gaps: np.ndarray               # (poses + 1, pairs) box gaps, the pose before the path first
-    centres: np.ndarray            # (poses, movers, 3) the moving bodies' centres and radii
-    radii: np.ndarray
-    tables: list[np.ndarray]       # their travel tables (``_travel_table``; one when ``rigid``)
-    narrow: list[int]              # the poses whose check left pairs to the broad phase
-    rigid: bool                    # only links move, on the thesis's axes: radii and table kept once
-    collided: list[np.ndarray]     # step x pairs + pair of the pairs that collide at a step's end pose

@@ -6,20 +6,42 @@ For many moments at once a second scene is made for the call: the links' vertice
 moment side by side (one product places them all), then the parts; a pair's bodies are
 renumbered into it (a link's copy at the pair's moment, the part once). The box test and
 the fine test of ``check_pairs`` then run once over every moment's pairs.
+
+Before that a path's steps leave out the (step, pair) items no moment can find anything at
+(``needless``): a pair colliding at both poses of a step, and a link x part pair whose
+link's hulls over the step keep clear of the part (``hulls_clear``).
 """
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Callable
 
 import numpy as np
 
-from valterm.core.collision.arrays import HAIR
+from valterm.core.collision.arrays import HAIR, sweep_bends
 from valterm.core.collision.glance import GLANCE, Glancing, cleared
 from valterm.core.collision.thesis import COLLIDES, EPS, SEPARATED, Layout, Scene, fine, largest_of_xyz
 
 if TYPE_CHECKING:
     from valterm.core.collision.world import CollisionWorld, Finding, _Pairs
+
+
+@dataclass
+class PathFigures:
+    """What the swept check keeps of a path's poses (``RobotScene.path_figures``, ``keep_pose``)."""
+
+    pairs: _Pairs
+    parts: object
+    carried: tuple[int, ...]
+    keys: list[object]             # the poses' names, the pose before the path first
+    gaps: np.ndarray               # (poses + 1, pairs) box gaps, the pose before the path first
+    centres: np.ndarray            # (poses, movers, 3) the moving bodies' centres and radii
+    radii: np.ndarray
+    tables: list[np.ndarray]       # their travel tables (``_travel_table``; one when ``rigid``)
+    narrow: list[int]              # the poses whose check left pairs to the broad phase
+    rigid: bool                    # only links move, on the thesis's axes: radii and table kept once
+    collided: list[np.ndarray]     # step x pairs + pair of the pairs that collide at a step's end pose
 
 
 class MomentsBatch:
@@ -52,6 +74,9 @@ class MomentsBatch:
     _ends_frames: tuple[object, np.ndarray] | None = None   # the last path's end pose: its name, link frames
     _glance_left: Glancing | None = None     # the pairs ``poses_clear`` last left (``RobotScene.swept``'s)
     _apart_kept_tables: tuple[object, object, tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]] | None = None
+    # ``RobotScene.swept_path`` leaves out the (step, pair) items that need no moment (``needless``);
+    # off only to show that it changes nothing said
+    prune_moments = True
 
     def _path_picks(self, count: int) -> tuple[np.ndarray, np.ndarray]:
         raise NotImplementedError
@@ -355,6 +380,132 @@ class MomentsBatch:
         d -= offsets.take(other, axis=0)[:, None, :]
         return gap, np.maximum(beyond, over_middle(d, np.minimum).max(axis=1))
 
+    def needless(self, pick: np.ndarray, cols: np.ndarray, n: int, terms: np.ndarray, turns: np.ndarray,
+                  figures: PathFigures, at: tuple[np.ndarray, Callable[[], np.ndarray] | None,
+                                                  Callable[[np.ndarray, np.ndarray], np.ndarray] | None]
+                  ) -> np.ndarray | None:
+        """(steps, columns) of ``swept_path``'s picked (step, pair) items (the pairs at positions
+        ``cols``, the parts' the first ``n``): those that need no moment, or None when none
+        is known to. A pair that collides at both poses of a step is among both steps'
+        findings whatever is found between (``lasting``); a link x part pair whose link's
+        hulls over the step keep clear of the part (``hulls_clear``) meets it nowhere between.
+        ``at``: the steps' end poses' link frames, the first step's start's (asked for when
+        needed) and the link frames at moments given by their steps and fractions of them."""
+        frames, start, frames_at = at
+        pairs = figures.pairs
+        needless = None
+        if not self.prune_moments:
+            return None
+        if figures.collided:
+            needless = lasting(figures.collided, len(pick), len(pairs.moving)).take(cols, axis=1) & pick
+        if start is None or frames_at is None or self._carried:
+            return needless
+        step, col = np.nonzero(pick[:, :n] if needless is None else pick[:, :n] & ~needless[:, :n])
+        if not len(step):
+            return needless
+        p = cols.take(col)
+        bend = sweep_bends(terms, turns)[step, pairs.moving.take(p)]
+        clear = self.hulls_clear(step, p, bend, np.concatenate([start()[None], frames]), frames_at)
+        if needless is None:
+            needless = np.zeros(pick.shape, dtype=bool)
+        needless[step.compress(clear), col.compress(clear)] = True
+        return needless
+
+    def hulls_clear(self, step: np.ndarray, p: np.ndarray, bend: np.ndarray, poses: np.ndarray,
+                    frames_at: Callable[[np.ndarray, np.ndarray], np.ndarray]) -> np.ndarray:
+        """Per (step ``step[i]``, pair ``p[i]``) a link and a part: can the link be shown clear of
+        the part all through the step, without looking at a moment of it?
+
+        With the joints moving linearly a point of the link leaves the straight line between
+        where it is at two moments by at most ``bend`` (mm, over the step: ``arrays.sweep_bends``;
+        a quarter of it over half the step), so over the span between the two moments the link
+        stays within that of the hull of its two placements there. The hull is clear of the
+        part when a face plane of the part, or of the link at either moment, has the two apart
+        by more than that and ``SEPARATED`` (the fine test then answers clear at every moment
+        between: ``_hull_apart``). A span not cleared is halved, up to ``HULL_HALVINGS`` times;
+        where a pair is not clear by then its step's moments are looked at as before.
+        ``poses``: the link frames at the steps' poses (steps + 1, links, 4, 4), the first
+        step's start first; ``frames_at``: the link frames at moments given by their steps and
+        fractions of them."""
+        pairs = self._pairs_now
+        assert pairs is not None
+        link, other = pairs.moving.take(p), pairs.stationary.take(p)
+        owner = self.owners.take(link)
+        a, b = poses[step, owner], poses[step + 1, owner]
+        short = np.flatnonzero(self._hull_apart(link, other, a, b) <= bend + SEPARATED)
+        if len(short):             # the link's own planes too, for the few the part's leave
+            keep = self._hull_apart(link.take(short), other.take(short), a.take(short, axis=0),
+                                    b.take(short, axis=0), True) <= bend.take(short) + SEPARATED
+            short = short[keep]
+        clear = np.ones(len(p), dtype=bool)
+        if len(short):
+            clear[short] = self._halves_clear(step.take(short), link.take(short), other.take(short),
+                                              bend.take(short), frames_at)
+        return clear
+
+    def _halves_clear(self, step: np.ndarray, link: np.ndarray, other: np.ndarray, bend: np.ndarray,
+                      frames_at: Callable[[np.ndarray, np.ndarray], np.ndarray]) -> np.ndarray:
+        """``hulls_clear`` of the items its whole steps leave: their spans halved, each half's hull
+        tested with a quarter of the bend, the halves not cleared halved again."""
+        clear = np.ones(len(step), dtype=bool)
+        scale = float(1 << HULL_HALVINGS)
+        cand = np.repeat(np.arange(len(step)), 2)
+        lo, hi = np.tile([0.0, 0.5], len(step)), np.tile([0.5, 1.0], len(step))
+        for halving in range(1, HULL_HALVINGS + 1):
+            at_step = step.take(cand) * (2.0 * scale)
+            moments, where = np.unique(np.concatenate([at_step + lo * scale, at_step + hi * scale]),
+                                       return_inverse=True)
+            whole = np.floor(moments / (2.0 * scale))
+            frames = frames_at(whole.astype(np.intp), (moments - whole * 2.0 * scale) / scale)
+            moving, o = link.take(cand), other.take(cand)
+            owner = self.owners.take(moving)
+            a, b = frames[where[: len(cand)], owner], frames[where[len(cand):], owner]
+            apart = self._hull_apart(moving, o, a, b)
+            short = np.flatnonzero(apart <= bend.take(cand) * 0.25 ** halving + SEPARATED)
+            if len(short):
+                keep = self._hull_apart(moving.take(short), o.take(short), a.take(short, axis=0), b.take(short, axis=0),
+                                        True) <= bend.take(cand.take(short)) * 0.25 ** halving + SEPARATED
+                short = short[keep]
+            if not len(short):
+                break
+            if halving == HULL_HALVINGS:
+                clear[cand.take(short)] = False
+                break
+            cand, lo, hi = cand.take(short), lo.take(short), hi.take(short)
+            mid = (lo + hi) * 0.5
+            cand, lo, hi = np.repeat(cand, 2), np.column_stack([lo, mid]).ravel(), np.column_stack([mid, hi]).ravel()
+        return clear
+
+    def _hull_apart(self, link: np.ndarray, other: np.ndarray, a: np.ndarray, b: np.ndarray,
+                    own: bool = False) -> np.ndarray:
+        """Per item, how far apart a face plane has the hull of link ``link[i]`` placed by the frames
+        ``a[i]`` and ``b[i]`` (its own frame's at two moments) and the part ``other[i]`` (mm;
+        negative where none has them apart): the part's planes, with ``own`` the link's at
+        either moment. A hull's farthest point along a normal is one of its vertices, and a
+        convex body reaches its own face plane and no farther."""
+        local, vertices, units, offsets = self._apart_tables()
+        shape = local.take(link, axis=0)                                  # (items, vertices, 3)
+        ra, rb = a[:, :3, :3], b[:, :3, :3]
+        if not own:
+            # the link's vertices along the part's outward normals, at both moments: local @ R^T n + t.n
+            n = units.take(other, axis=0)                                  # (items, 3, faces)
+            ta, tb = a[:, None, :3, 3] @ n, b[:, None, :3, 3] @ n
+            near = np.minimum(over_middle(shape @ (ra.transpose(0, 2, 1) @ n), np.minimum) + ta[:, 0],
+                              over_middle(shape @ (rb.transpose(0, 2, 1) @ n), np.minimum) + tb[:, 0])
+            found: np.ndarray = (near - offsets.take(other, axis=0)).max(axis=1)
+            return found
+        # the link's planes at each moment: the part beyond, the link at the other moment below
+        normals, offs = self._apart_normals.take(link, axis=0), self._apart_offsets.take(link, axis=0)
+        part = vertices.take(other, axis=0)
+        best = np.full(len(link), -np.inf)
+        for (r, t), (r2, t2) in (((ra, a[:, :3, 3]), (rb, b[:, :3, 3])), ((rb, b[:, :3, 3]), (ra, a[:, :3, 3]))):
+            n = r @ normals                                                # (items, 3, planes)
+            top = offs + (t[:, None, :] @ n)[:, 0]
+            other_end = over_middle(shape @ (r2.transpose(0, 2, 1) @ n), np.maximum) + (t2[:, None, :] @ n)[:, 0]
+            gap = over_middle(part @ n, np.minimum) - np.maximum(top, other_end)
+            np.maximum(best, gap.max(axis=1), out=best)
+        return best
+
     def _apart_tables(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """``_apart_of``'s tables, kept per set of parts: each link's vertices in its own frame and
         each part's where it stands (padded to the most by repeating the last), and each part's
@@ -487,6 +638,23 @@ def over_middle(d: np.ndarray, pick: np.ufunc) -> np.ndarray:
         pick(out, d[:, k], out=out)
     return out
 
+
+def lasting(collided: list[np.ndarray], count: int, pairs: int) -> np.ndarray:
+    """(steps, pairs): the pairs that collide at both poses of a step of the path (``collided``:
+    step x ``pairs`` + pair of those colliding at a step's end pose; the first step's start is
+    not known here). Such a pair is said, if at all, at the step before, and is among the step's
+    findings whatever its moments find: nothing between the poses can change what is said."""
+    codes = np.concatenate(collided)
+    flat = np.zeros(count * pairs, dtype=bool)
+    flat[codes[codes < count * pairs]] = True
+    hit = flat.reshape(count, pairs)
+    lasting = np.zeros_like(hit)
+    np.logical_and(hit[1:], hit[:-1], out=lasting[1:])
+    return lasting
+
+
+# how many times ``hulls_clear`` halves a span it cannot clear (the bend a quarter each time)
+HULL_HALVINGS = 3
 
 _FineAt = Callable[[np.ndarray, np.ndarray, np.ndarray, "np.ndarray | None"], np.ndarray]
 
