@@ -954,7 +954,8 @@ class _PathChecks:
         start = q[:-1]
         moments = self.scene.swept_path(frames, np.radians(turns), sim.cell.objects, self.figures,
                                         lambda: sim._frames_at(start[0]),
-                                        lambda step, t: sim._frames_batch(start[step] + t[:, None] * turns[step]))
+                                        lambda step, t: sim._frames_batch(start[step] + t[:, None] * turns[step]),
+                                        sim.rules == RULES_1985)
         if self.scene.glancing is not None and sim.carried is None:
             keys = self.figures.keys
             self.scene.clear_glancing(frames[: len(keys) - 1], lambda: sim._frames_at(q[0]), keys[0], keys[-1])

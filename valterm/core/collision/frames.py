@@ -655,8 +655,8 @@ class RobotScene(MomentsBatch):
 
     def swept_path(self, frames: np.ndarray, turned: np.ndarray, objects: Sequence[Polyhedron],
                    figures: PathFigures, start: Callable[[], np.ndarray] | None = None,
-                   frames_at: Callable[[np.ndarray, np.ndarray], np.ndarray] | None = None
-                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+                   frames_at: Callable[[np.ndarray, np.ndarray], np.ndarray] | None = None,
+                   figure_order: bool = False) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """``swept`` for every step of a path at once: the moments of every step in order, each
         with its step (an index into the path) and its row of pairs to check. ``frames``
         (steps, links, 4, 4) are the poses each step ends at, ``turned`` (steps, 6) the joints'
@@ -664,7 +664,8 @@ class RobotScene(MomentsBatch):
         ``swept``, step by step, in a few dozen numpy calls for the path. ``frames_at``: the link
         frames at moments of the steps (their steps and fractions of them); with it, a link x
         part pair whose link's hulls over the step keep clear of the part (``hulls_clear``)
-        needs no moment; ``start``: the link frames at the first step's start."""
+        needs no moment; ``start``: the link frames at the first step's start. ``figure_order``:
+        a step's findings are said in Fig. C-12's order (the 1985 rules), not as found."""
         never = np.zeros(0, dtype=np.intp), np.zeros(0), np.zeros((0, 0), dtype=bool)
         self.glancing = None
         count = len(figures.keys) - 1
@@ -711,7 +712,7 @@ class RobotScene(MomentsBatch):
             return never
         # the moments as the pairs picked need them (so a pair is found at the moments it was),
         # then without the pairs that need none
-        needless = self.needless(pick, cols, n, far, turns, figures, (frames, start, frames_at))
+        needless = self.needless(pick, cols, n, (far, turns), figures, (frames, start, frames_at), figure_order)
         glance = pick[:, :n] & (moved > GLANCE)
         if needless is not None:
             glance &= ~needless[:, :n]

@@ -380,31 +380,37 @@ class MomentsBatch:
         d -= offsets.take(other, axis=0)[:, None, :]
         return gap, np.maximum(beyond, over_middle(d, np.minimum).max(axis=1))
 
-    def needless(self, pick: np.ndarray, cols: np.ndarray, n: int, terms: np.ndarray, turns: np.ndarray,
-                  figures: PathFigures, at: tuple[np.ndarray, Callable[[], np.ndarray] | None,
-                                                  Callable[[np.ndarray, np.ndarray], np.ndarray] | None]
-                  ) -> np.ndarray | None:
+    def needless(self, pick: np.ndarray, cols: np.ndarray, n: int, bounds: tuple[np.ndarray, np.ndarray],
+                 figures: PathFigures, at: tuple[np.ndarray, Callable[[], np.ndarray] | None,
+                                                 Callable[[np.ndarray, np.ndarray], np.ndarray] | None],
+                 figure_order: bool = False) -> np.ndarray | None:
         """(steps, columns) of ``swept_path``'s picked (step, pair) items (the pairs at positions
         ``cols``, the parts' the first ``n``): those that need no moment, or None when none
-        is known to. A pair that collides at both poses of a step is among both steps'
-        findings whatever is found between (``lasting``); a link x part pair whose link's
-        hulls over the step keep clear of the part (``hulls_clear``) meets it nowhere between.
-        ``at``: the steps' end poses' link frames, the first step's start's (asked for when
-        needed) and the link frames at moments given by their steps and fractions of them."""
-        frames, start, frames_at = at
-        pairs = figures.pairs
-        needless = None
+        is known to. A pair colliding at a step's end pose is among the step's findings
+        whatever is found between, and one colliding at its start too is said, if at all, at
+        the step before (``colliding``); with ``figure_order`` (a step's findings said in Fig.
+        C-12's order, not as found) the end pose alone will do. A link x part pair whose
+        link's hulls over the step keep clear of the part (``hulls_clear``) meets it nowhere
+        between. ``bounds``: the travel terms (steps, movers, joints) and the joints' turns
+        (radians, absolute) of each step; ``at``: the steps' end poses' link frames, the first
+        step's start's (asked for when needed) and the link frames at moments given by their
+        steps and fractions of them."""
         if not self.prune_moments:
             return None
-        if figures.collided:
-            needless = lasting(figures.collided, len(pick), len(pairs.moving)).take(cols, axis=1) & pick
+        frames, start, frames_at = at
+        pairs = figures.pairs
+        needless = touching = None
+        if figures.collided:     # a pair colliding at a pose of the step: lasting, or no hull clears it
+            at_end, at_start = colliding(figures.collided, len(pick), len(pairs.moving))
+            touching = (at_end | at_start).take(cols, axis=1)
+            needless = (at_end if figure_order else at_end & at_start).take(cols, axis=1) & pick
         if start is None or frames_at is None or self._carried:
             return needless
-        step, col = np.nonzero(pick[:, :n] if needless is None else pick[:, :n] & ~needless[:, :n])
+        step, col = np.nonzero(pick[:, :n] if touching is None else pick[:, :n] & ~touching[:, :n])
         if not len(step):
             return needless
         p = cols.take(col)
-        bend = sweep_bends(terms, turns)[step, pairs.moving.take(p)]
+        bend = sweep_bends(*bounds)[step, pairs.moving.take(p)]
         clear = self.hulls_clear(step, p, bend, np.concatenate([start()[None], frames]), frames_at)
         if needless is None:
             needless = np.zeros(pick.shape, dtype=bool)
@@ -639,22 +645,23 @@ def over_middle(d: np.ndarray, pick: np.ufunc) -> np.ndarray:
     return out
 
 
-def lasting(collided: list[np.ndarray], count: int, pairs: int) -> np.ndarray:
-    """(steps, pairs): the pairs that collide at both poses of a step of the path (``collided``:
-    step x ``pairs`` + pair of those colliding at a step's end pose; the first step's start is
-    not known here). Such a pair is said, if at all, at the step before, and is among the step's
-    findings whatever its moments find: nothing between the poses can change what is said."""
+def colliding(collided: list[np.ndarray], count: int, pairs: int) -> tuple[np.ndarray, np.ndarray]:
+    """(steps, pairs) twice: the pairs that collide at each step's end pose and at its start
+    (``collided``: step x ``pairs`` + pair of those colliding at a step's end pose; the first
+    step's start is not known here). A pair colliding at both is said, if at all, at the step
+    before, and is among the step's findings whatever its moments find: nothing between the
+    poses can change what is said."""
     codes = np.concatenate(collided)
     flat = np.zeros(count * pairs, dtype=bool)
     flat[codes[codes < count * pairs]] = True
-    hit = flat.reshape(count, pairs)
-    lasting = np.zeros_like(hit)
-    np.logical_and(hit[1:], hit[:-1], out=lasting[1:])
-    return lasting
+    at_end = flat.reshape(count, pairs)
+    at_start = np.zeros_like(at_end)
+    at_start[1:] = at_end[:-1]
+    return at_end, at_start
 
 
 # how many times ``hulls_clear`` halves a span it cannot clear (the bend a quarter each time)
-HULL_HALVINGS = 3
+HULL_HALVINGS = 2
 
 _FineAt = Callable[[np.ndarray, np.ndarray, np.ndarray, "np.ndarray | None"], np.ndarray]
 
