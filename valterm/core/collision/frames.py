@@ -719,6 +719,10 @@ class RobotScene(MomentsBatch):
         step, col = np.nonzero(glance)
         self.glancing = at_risk((step, near.take(col)), moved[step, col], before[step, col], both[step, col],
                                 len(pairs.moving), figures.collided)
+        if needless is not None:          # the steps with a pair left (a step's moments are its own)
+            k = k.compress((pick.take(k, axis=0) & ~needless.take(k, axis=0)).any(axis=1))
+            if not len(k):
+                return never[0], never[1], np.zeros((0, len(pairs.moving)), dtype=bool)
         reach = np.concatenate([moved, closing], axis=1)
         need = np.concatenate([moved / widths, relative], axis=1)
         step, moments, rows = arrays.moments(pick[k], cols, before[k], both[k], reach[k], need[k], len(pairs.moving))
