@@ -10,6 +10,7 @@ Frames: WCS millimetres, Z up, origin where joint axes 1 and 2 meet.
 from __future__ import annotations
 
 import math
+import struct
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -557,10 +558,12 @@ def link_frames(joints: Sequence[float], geometry: RobotGeometry | None = None) 
     flat = [1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0]
     for (x, y, z), o in ((r1, zero), (r2, shoulder), (r3, elbow), (r4, wrist), (r5, wrist), (r6, wrist)):
         flat += (x[0], y[0], z[0], o[0], x[1], y[1], z[1], o[1], x[2], y[2], z[2], o[2], 0.0, 0.0, 0.0, 1.0)
-    return np.array(flat).reshape(7, 4, 4)
+    # the floats' bytes into a fresh array: the quickest way numpy takes 112 Python floats
+    return np.frombuffer(bytearray(_FRAMES.pack(*flat))).reshape(7, 4, 4)
 
 
 _Col = tuple[float, float, float]
+_FRAMES = struct.Struct("112d")
 
 
 def link_frames_batch(joints: np.ndarray, geometry: RobotGeometry | None = None, radians: bool = False) -> np.ndarray:

@@ -710,8 +710,7 @@ class RobotScene(MomentsBatch):
                            | np.any(pick[:, n:], axis=1))
         if not len(k):
             return never
-        # the moments as the pairs picked need them (so a pair is found at the moments it was),
-        # then without the pairs that need none
+        # the moments the pairs picked need (a pair is found where it was), less the needless pairs
         needless = self.needless(pick, cols, n, (far, turns), figures, (frames, start, frames_at), figure_order)
         glance = pick[:, :n] & (moved > GLANCE)
         if needless is not None:
