@@ -33,6 +33,19 @@ def test_one_pose_link_frames_match_the_batch():
         assert np.abs(link_frames(q) - link_frames_batch(q)[0]).max() < 1e-12
 
 
+def test_the_thesis_arms_frames_are_the_same_numbers_one_by_one_and_together():
+    """Bit for bit: the swept check's moments take a few poses one by one, more together."""
+    from valterm.core.cell.workcell import WorkCell
+    from valterm.core.simulator import Simulator
+
+    sim = Simulator(WorkCell(objects=[]))
+    q = np.concatenate([_poses(300, seed=5), np.random.default_rng(5).uniform(-400.0, 400.0, (300, 6))])
+    assert np.array_equal(np.array([link_frames(row) for row in q]), link_frames_batch(q))
+    for n in (1, 2, 3, 4):
+        for at in range(0, 40, n):
+            assert np.array_equal(sim._frames_batch(q[at: at + n]), link_frames_batch(q[at: at + n]))
+
+
 def test_model_link_frames_batch_is_link_frames_pose_by_pose():
     """Both robots (the thesis's and a DH robot file's), with and without a BASE frame: the
     batch gives the one-pose frames (the swept check of a whole path relies on it)."""
