@@ -41,7 +41,7 @@ def test_the_thesis_arms_frames_are_the_same_numbers_one_by_one_and_together():
     sim = Simulator(WorkCell(objects=[]))
     q = np.concatenate([_poses(300, seed=5), np.random.default_rng(5).uniform(-400.0, 400.0, (300, 6))])
     assert np.array_equal(np.array([link_frames(row) for row in q]), link_frames_batch(q))
-    for n in (1, 2, 3, 4):
+    for n in (1, 2, 3, 6, 7):
         for at in range(0, 40, n):
             assert np.array_equal(sim._frames_batch(q[at: at + n]), link_frames_batch(q[at: at + n]))
 

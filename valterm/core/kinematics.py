@@ -531,38 +531,39 @@ def _fk_chunk(joints: np.ndarray, offset: float, geometry: RobotGeometry, xyz: n
 
 def link_frames(joints: Sequence[float], geometry: RobotGeometry | None = None) -> np.ndarray:
     """The seven link frames of one pose (JT1..JT6 degrees) as (7, 4, 4): ``link_frames_batch``
-    for a single pose, on Python floats (one array built at the end, no numpy temporaries)."""
+    for a single pose, on Python floats, each number by the same operations (a zero included:
+    its sign too), written out (no tuples built on the way) into one array at the end."""
     geometry = geometry or robot_geometry()
-    q1, q2, q3, q4, q5, q6 = (math.radians(float(j)) for j in joints)
-    c1, s1, c2, s2 = math.cos(q1), math.sin(q1), math.cos(q2), math.sin(q2)
-    c23, s23 = math.cos(q2 + q3), math.sin(q2 + q3)
-    c4, s4, c5, s5, c6, s6 = math.cos(q4), math.sin(q4), math.cos(q5), math.sin(q5), math.cos(q6), math.sin(q6)
-
-    def turn(a: _Col, b: _Col, c: float, s: float) -> tuple[_Col, _Col]:
-        """(c a + s b, -s a + c b): two columns turned about the third."""
-        return ((c * a[0] + s * b[0], c * a[1] + s * b[1], c * a[2] + s * b[2]),
-                (c * b[0] - s * a[0], c * b[1] - s * a[1], c * b[2] - s * a[2]))
-
-    r1 = ((c1, s1, 0.0), (-s1, c1, 0.0), (0.0, 0.0, 1.0))            # columns of Rz(JT1)
-    r2 = ((c1 * c2, s1 * c2, -s2), r1[1], (c1 * s2, s1 * s2, c2))     # Rz1 Ry2
-    r3 = ((c1 * c23, s1 * c23, -s23), r1[1], (c1 * s23, s1 * s23, c23))
-    r4 = (*turn(r3[0], r3[1], c4, s4), r3[2])                          # about z by JT4
-    r5x, r5z = turn(r4[2], r4[0], c5, s5)                               # about y by JT5
-    r5 = (r5z, r4[1], r5x)
-    r6 = (*turn(r5[0], r5[1], c6, s6), r5[2])
+    q1, q2, q3, q4, q5, q6 = [math.radians(float(j)) for j in joints]
+    cos, sin = math.cos, math.sin
+    c1, s1, c2, s2, c23, s23 = cos(q1), sin(q1), cos(q2), sin(q2), cos(q2 + q3), sin(q2 + q3)
+    c4, s4, c5, s5, c6, s6 = cos(q4), sin(q4), cos(q5), sin(q5), cos(q6), sin(q6)
+    n1 = -s1
+    # columns x, y, z of each rotation: Rz1 (c1, s1, 0) (-s1, c1, 0) (0, 0, 1); Rz1 Ry2 and Rz1 Ry23
+    x20, x21, x22, z20, z21, z22 = c1 * c2, s1 * c2, -s2, c1 * s2, s1 * s2, c2
+    x30, x31, x32, z30, z31, z32 = c1 * c23, s1 * c23, -s23, c1 * s23, s1 * s23, c23
+    # each later joint turns two columns about the third: (c a + s b, c b - s a)
+    x40, x41, x42 = c4 * x30 + s4 * n1, c4 * x31 + s4 * c1, c4 * x32 + s4 * 0.0          # JT4: x, y about z
+    y40, y41, y42 = c4 * n1 - s4 * x30, c4 * c1 - s4 * x31, c4 * 0.0 - s4 * x32
+    z50, z51, z52 = c5 * z30 + s5 * x40, c5 * z31 + s5 * x41, c5 * z32 + s5 * x42      # JT5: z, x about y
+    x50, x51, x52 = c5 * x40 - s5 * z30, c5 * x41 - s5 * z31, c5 * x42 - s5 * z32
+    x60, x61, x62 = c6 * x50 + s6 * y40, c6 * x51 + s6 * y41, c6 * x52 + s6 * y42      # JT6: x, y about z
+    y60, y61, y62 = c6 * y40 - s6 * x50, c6 * y41 - s6 * x51, c6 * y42 - s6 * x52
     d2, a2, d4 = geometry.d2, geometry.a2, geometry.d4
-    shoulder = (-s1 * d2, c1 * d2, 0.0)
-    elbow = tuple(o + a2 * x for o, x in zip(shoulder, r2[0]))
-    wrist = tuple(o + d4 * x for o, x in zip(elbow, r3[2]))
-    zero = (0.0, 0.0, 0.0)
-    flat = [1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0]
-    for (x, y, z), o in ((r1, zero), (r2, shoulder), (r3, elbow), (r4, wrist), (r5, wrist), (r6, wrist)):
-        flat += (x[0], y[0], z[0], o[0], x[1], y[1], z[1], o[1], x[2], y[2], z[2], o[2], 0.0, 0.0, 0.0, 1.0)
+    h0, h1, h2 = n1 * d2, c1 * d2, 0.0                                                # the shoulder
+    e0, e1, e2 = h0 + a2 * x20, h1 + a2 * x21, h2 + a2 * x22                        # the elbow
+    w0, w1, w2 = e0 + d4 * z30, e1 + d4 * z31, e2 + d4 * z32                        # the wrist centre
     # the floats' bytes into a fresh array: the quickest way numpy takes 112 Python floats
-    return np.frombuffer(bytearray(_FRAMES.pack(*flat))).reshape(7, 4, 4)
+    return np.frombuffer(bytearray(_FRAMES.pack(
+        1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0,
+        c1, n1, 0.0, 0.0, s1, c1, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0,
+        x20, n1, z20, h0, x21, c1, z21, h1, x22, 0.0, z22, h2, 0.0, 0.0, 0.0, 1.0,
+        x30, n1, z30, e0, x31, c1, z31, e1, x32, 0.0, z32, e2, 0.0, 0.0, 0.0, 1.0,
+        x40, y40, z30, w0, x41, y41, z31, w1, x42, y42, z32, w2, 0.0, 0.0, 0.0, 1.0,
+        x50, y40, z50, w0, x51, y41, z51, w1, x52, y42, z52, w2, 0.0, 0.0, 0.0, 1.0,
+        x60, y60, z50, w0, x61, y61, z51, w1, x62, y62, z52, w2, 0.0, 0.0, 0.0, 1.0))).reshape(7, 4, 4)
 
 
-_Col = tuple[float, float, float]
 _FRAMES = struct.Struct("112d")
 
 

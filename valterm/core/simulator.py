@@ -679,9 +679,9 @@ class Simulator:
 
     def _frames_batch(self, joints: np.ndarray) -> np.ndarray:
         """``_frames_at`` of (n, 6) poses at once (the base frame as built: no product). Up to
-        three poses of the thesis's arm one by one: the same numbers, bit for bit (the batch's
+        six poses of the thesis's arm one by one: the same numbers, bit for bit (the batch's
         are those of one pose at a time), without the batch's fixed cost (some 30 numpy calls)."""
-        if 0 < len(joints) <= 3 and self.base is self._home_base and self.arm.key == THESIS_ROBOT:
+        if 0 < len(joints) <= 6 and self.base is self._home_base and self.arm.key == THESIS_ROBOT:
             return np.stack([self.model.link_frames(pose) for pose in joints.tolist()])
         return self.model.link_frames_batch(joints, None if self.base is self._home_base else self.base)
 
