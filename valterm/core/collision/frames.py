@@ -210,9 +210,9 @@ class RobotScene(MomentsBatch):
         # taken straight into the scene's arrays ("wrap": the indices are valid, and numpy
         # buffers a take into ``out`` in its default mode)
         every = self._local_all @ stacked
-        np.take(every, self._own_flat, out=placed, mode="wrap")
+        every.take(self._own_flat, out=placed, mode="wrap")
         # a link's centre, radius and face planes move with its frame: no pass over its vertices
-        np.take(every, self._centre_pick, out=centres, mode="wrap")
+        every.take(self._centre_pick, out=centres, mode="wrap")
         self._planes_due = (frames, stacked)       # the face planes follow when a fine check asks
         self._frames_now = frames
         np.minimum.reduceat(placed, starts, axis=0, out=lo)
