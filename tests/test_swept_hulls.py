@@ -93,8 +93,10 @@ def test_a_pair_the_hulls_clear_is_apart_all_along_the_step(make: Any) -> None:
     assert cleared < asked or make is crowded_cell        # and not those that meet
 
 
-def _said(make: Any, rules: str, prune: bool, monkeypatch: pytest.MonkeyPatch) -> tuple[list[tuple[Any, ...]], int]:
-    """What a program's MOVEs say in the cell, pose by pose, and how many items were left out."""
+def _said(make: Any, rules: str, prune: bool, monkeypatch: pytest.MonkeyPatch, robot: str | None = None,
+          base: tuple[float, float, float, float] | None = None) -> tuple[list[tuple[Any, ...]], int]:
+    """What a program's MOVEs say in the cell, pose by pose, and how many items were left out
+    (``robot``: a robot file's arm; ``base``: BASE dx, dy, dz, rz)."""
     scene = make(30)
     monkeypatch.setattr(RobotScene, "prune_moments", prune)
     left = [0]
@@ -106,12 +108,16 @@ def _said(make: Any, rules: str, prune: bool, monkeypatch: pytest.MonkeyPatch) -
         return found
 
     monkeypatch.setattr(RobotScene, "needless", counted)
-    sim = Simulator(WorkCell(objects=list(scene.parts)))
+    sim = Simulator(WorkCell(objects=list(scene.parts)), robot=robot)
     sim.set_rules(rules)
-    sim.stand_at(scene.goals[0])
+    if base is not None:
+        list(sim.set_base(*base))
+    stops = np.asarray(sim.arm.stops)
+    goals = np.clip(scene.goals, stops[:, 0] + 1.0, stops[:, 1] - 1.0)     # within another arm's stops
+    sim.stand_at(goals[0])
     sim.collision_checks = True
     said, k = [], 0
-    for goal in scene.goals[1:]:
+    for goal in goals[1:]:
         for event in sim.move_joints(goal):
             if isinstance(event, PoseEvent):
                 k += 1
@@ -129,4 +135,15 @@ def test_moments_left_out_change_nothing_said(make: Any, rules: str, monkeypatch
     whole, none_left = _said(make, rules, False, monkeypatch)
     assert left > 100 and none_left == 0
     assert any(kind == "Collision" for _, kind, _, _ in whole) or make is crowded_cell
+    assert pruned == whole
+
+
+@pytest.mark.parametrize(("robot", "base"), [(None, (40.0, -25.0, 15.0, 12.0)), ("PUMA560", None)])
+def test_moments_left_out_change_nothing_said_on_a_moved_base_or_another_arm(
+        robot: str | None, base: tuple[float, float, float, float] | None, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The frames then come with a BASE product, or a DH table's (its bends from the chain's
+    lengths alone): the same findings as with no item left out."""
+    pruned, left = _said(heavy_cell, "controller", True, monkeypatch, robot, base)
+    whole, _ = _said(heavy_cell, "controller", False, monkeypatch, robot, base)
+    assert left > 20 and any(kind == "Collision" for _, kind, _, _ in whole)
     assert pruned == whole
