@@ -682,7 +682,7 @@ class Simulator:
         six poses of the thesis's arm one by one: the same numbers, bit for bit (the batch's
         are those of one pose at a time), without the batch's fixed cost (some 30 numpy calls)."""
         if 0 < len(joints) <= 6 and self.base is self._home_base and self.arm.key == THESIS_ROBOT:
-            return np.stack([self.model.link_frames(pose) for pose in joints.tolist()])
+            return np.stack([self._frames_at(pose) for pose in joints.tolist()])
         return self.model.link_frames_batch(joints, None if self.base is self._home_base else self.base)
 
     def check_collisions(self, previous: Sequence[float] | None = None,

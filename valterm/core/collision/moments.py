@@ -437,12 +437,7 @@ class MomentsBatch:
         assert pairs is not None
         link, other = pairs.moving.take(p), pairs.stationary.take(p)
         owner = self.owners.take(link)
-        a, b = poses[step, owner], poses[step + 1, owner]
-        short = np.flatnonzero(self._hull_apart(link, other, a, b) <= bend + SEPARATED)
-        if len(short):             # the link's own planes too, for the few the part's leave
-            keep = self._hull_apart(link.take(short), other.take(short), a.take(short, axis=0),
-                                    b.take(short, axis=0), True) <= bend.take(short) + SEPARATED
-            short = short[keep]
+        short = self._hulls_short(link, other, poses[step, owner], poses[step + 1, owner], bend + SEPARATED)
         clear = np.ones(len(p), dtype=bool)
         if len(short):
             clear[short] = self._halves_clear(step.take(short), link.take(short), other.take(short),
@@ -463,15 +458,10 @@ class MomentsBatch:
                                        return_inverse=True)
             whole = np.floor(moments / (2.0 * scale))
             frames = frames_at(whole.astype(np.intp), (moments - whole * 2.0 * scale) / scale)
-            moving, o = link.take(cand), other.take(cand)
+            moving = link.take(cand)
             owner = self.owners.take(moving)
-            a, b = frames[where[: len(cand)], owner], frames[where[len(cand):], owner]
-            apart = self._hull_apart(moving, o, a, b)
-            short = np.flatnonzero(apart <= bend.take(cand) * 0.25 ** halving + SEPARATED)
-            if len(short):
-                keep = self._hull_apart(moving.take(short), o.take(short), a.take(short, axis=0), b.take(short, axis=0),
-                                        True) <= bend.take(cand.take(short)) * 0.25 ** halving + SEPARATED
-                short = short[keep]
+            short = self._hulls_short(moving, other.take(cand), frames[where[: len(cand)], owner],
+                                      frames[where[len(cand):], owner], bend.take(cand) * 0.25 ** halving + SEPARATED)
             if not len(short):
                 break
             if halving == HULL_HALVINGS:
@@ -481,6 +471,18 @@ class MomentsBatch:
             mid = (lo + hi) * 0.5
             cand, lo, hi = np.repeat(cand, 2), np.column_stack([lo, mid]).ravel(), np.column_stack([mid, hi]).ravel()
         return clear
+
+    def _hulls_short(self, link: np.ndarray, other: np.ndarray, a: np.ndarray, b: np.ndarray, reach: np.ndarray
+                     ) -> np.ndarray:
+        """The items (indices) whose hulls (``_hull_apart``: the links at frames ``a`` and ``b``)
+        no face plane has more than ``reach`` apart from the part: the part's planes first,
+        then the link's own for the few those leave."""
+        short = np.flatnonzero(self._hull_apart(link, other, a, b) <= reach)
+        if not len(short):
+            return short
+        kept: np.ndarray = short[self._hull_apart(link.take(short), other.take(short), a.take(short, axis=0),
+                                                  b.take(short, axis=0), True) <= reach.take(short)]
+        return kept
 
     def _hull_apart(self, link: np.ndarray, other: np.ndarray, a: np.ndarray, b: np.ndarray,
                     own: bool = False) -> np.ndarray:
