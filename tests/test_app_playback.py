@@ -292,3 +292,30 @@ async def test_a_tick_preempted_before_its_first_event_still_takes_one(tmp_path:
         await until(pilot, lambda: not player.playing, "the stream's end", limit=10.0)
         assert audience.ended and audience.lines == [f"LINE {i}" for i in range(20)]
         assert player.ticks == 21  # one event a tick, the end the 21st
+
+
+@sync
+async def test_esc_aborts_a_never_ending_program_with_keys_typed_before_it(tmp_path: Path) -> None:
+    """The RUNNING key line says CTRL-C OR ESC: ABORT. A key typed while the program moves
+    waits for the motion (ui.keyqueue), and a program of motions back to back never lets it
+    go: ESC typed after it waited behind it, and the program ran on until CTRL-C. ESC now
+    aborts as CTRL-C does, the keys typed during the run dropped with it (F8 here: the model
+    is not toggled after the abort)."""
+    clock = FakeClock()
+    program = "10  DRIVE 1,20,100\n    DRIVE 1,-20,100\n    GOTO 10\n"
+    session = session_with(tmp_path, {"SWING": program})
+    session.limits = NO_LIMITS
+    app = Host(session, motion_rate=10.0, clock=clock)
+    async with app.run_test(size=(120, 40)) as pilot:
+        screen = await valmode(app, pilot)
+        await typed(pilot, "EXEC SWING")
+        await run_until(pilot, lambda: app.player.drawing)
+        assert "ABORT" in screen.keys_text, screen.keys_text
+        model_only = screen.model_only
+        await pilot.press("f8")          # waits: a motion is drawn
+        assert app.keys_waiting == 1
+        await pilot.press("escape")
+        await until(pilot, lambda: not app.player.playing, "the program's end", between=lambda: clock.advance(0.05))
+        assert screen.transcript[-1].startswith("*** SWING STEP") and screen.transcript[-1].endswith("ABORTED")
+        await pilot.pause(0.05)
+        assert app.keys_waiting == 0 and screen.model_only == model_only

@@ -142,7 +142,7 @@ class ValtermApp(Guarded, ViewActions, App[int]):
         self.keymap_in_force: dict[str, str] = {}  # the keymap file's rebindings, by binding id
         # keys typed while a motion is drawn or a screen changes wait here
         self.cancel_keys = CANCEL  # ESC, or the keys the keymap file put the ESC bindings on
-        self.key_queue = KeyQueue(self, self._busy_playing, lambda: self.cancel_keys)
+        self.key_queue = KeyQueue(self, self._busy_playing, lambda: self.cancel_keys, self._escape_aborts)
         self.unsaid: list[tuple[str, str]] = []  # messages no screen could show yet (the next one does)
         self.survived: list[str] = []  # the bugs the app lived through (their lines, tests)
         self.collect_after_first_frame = False  # the collector waits for the first screen (run)
@@ -195,6 +195,11 @@ class ValtermApp(Guarded, ViewActions, App[int]):
         if self.keys_1985:
             return self.player.playing and not self.player.paused
         return self.player.drawing
+
+    def _escape_aborts(self) -> bool:
+        """The screen on top says ESC aborts what runs now (VAL-II mode's RUNNING line)."""
+        aborts = getattr(self.screen, "escape_aborts", None) if self.screen_stack else None
+        return bool(aborts()) if callable(aborts) else False
 
     @property
     def keys_waiting(self) -> int:

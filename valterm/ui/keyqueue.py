@@ -7,7 +7,9 @@ picks its screen). A key typed then is queued and handed on, one at a time, once
 is free again. CTRL-C never waits: it is how a motion or a program is stopped, and it
 drops the keys still waiting (as a terminal drops its type-ahead: a jog key held down must
 not go on moving the arm); nor does ESC wait when no key waits before it (it cancels what
-moves where a screen says so).
+moves where a screen says so), and where the screen says ESC aborts what runs (VAL-II mode's
+RUNNING line: CTRL-C OR ESC: ABORT) it does as CTRL-C, whatever waits: a program of motions
+back to back never lets a waiting key go, and ESC behind one never reached it.
 
 The app calls ``take`` for every key it receives; a key it returns False for is the
 app's to hand on now (``handing_on`` marks the node it went to).
@@ -46,10 +48,12 @@ class KeyQueue:
     """The keys typed while the app was busy, handed on in order when it is free."""
 
     def __init__(self, app: App[Any], drawing: Callable[[], bool],
-                 cancel: Callable[[], frozenset[str]] = lambda: CANCEL) -> None:
+                 cancel: Callable[[], frozenset[str]] = lambda: CANCEL,
+                 aborts: Callable[[], bool] = lambda: False) -> None:
         self.app = app
         self.drawing = drawing  # a motion is being drawn (the app's player)
         self.cancel = cancel  # ESC's keys as bound now
+        self.aborts = aborts  # ESC aborts what runs now (the screen on top says so)
         self.keys: deque[events.Key] = deque(maxlen=KEPT)
         self._pending: MessagePump | None = None  # the node the last key went to, until handled
         self._pending_since = 0.0
@@ -88,7 +92,11 @@ class KeyQueue:
         if event.key in IMMEDIATE:
             self.keys.clear()
             return False
-        if not self.keys and not (self.changing if event.key in self.cancel() else self.busy):
+        escape = event.key in self.cancel()
+        if escape and self.keys and not self.changing and self.aborts():
+            self.keys.clear()        # the keys typed during the run go with it, as on CTRL-C
+            return False
+        if not self.keys and not (self.changing if escape else self.busy):
             return False
         setattr(event, TYPED_AT, time.monotonic())
         self.keys.append(event)

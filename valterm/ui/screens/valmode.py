@@ -477,15 +477,20 @@ class ValModeScreen(KeyedScreen[None]):
             return
         self.dismiss(None)
 
+    def escape_aborts(self) -> bool:
+        """ESC now aborts the program or command that runs (the RUNNING and PAUSED key lines
+        say so): the key queue lets it past the keys typed during the run (``ui.keyqueue``)."""
+        return self.mode in (Mode.RUNNING, Mode.PAUSED) and not (self.model_only and not self._model_for_motion)
+
     def action_escape(self) -> None:
         """ESC: cancel the innermost prompt and show the VAL-II menu; on the menu, MAIN."""
-        if self.model_only and not self._model_for_motion:  # a motion's model: ESC aborts it
+        if self.escape_aborts():
+            self._to_menu = True
+            self.app.post_message(RunAbortRequested())
+        elif self.model_only and not self._model_for_motion:  # the model asked for: ESC leaves it
             self.remove_class("model-only")
         elif self.mode == Mode.MENU:
             self.dismiss(None)
-        elif self.mode in (Mode.RUNNING, Mode.PAUSED):
-            self._to_menu = True
-            self.app.post_message(RunAbortRequested())
         else:
             self._cancel_to_menu()
 
