@@ -40,6 +40,10 @@ async def test_keyboard_menu_listings(tmp_path: Path) -> None:
         await pilot.press("space")
         await pilot.press("L", *"LISTP NOSUCH", "enter")
         assert "NOSUCH" in screen_text(app) and "KEYBOARD MENU" in screen_text(app)
+        # LOAD typed at the menu: its L is LIST, and the message says so (not only "OAD")
+        await pilot.press(*"LOAD PROCESS", "enter")
+        text = " ".join(screen_text(app).split())
+        assert "OAD IS NOT LISTP, LISTF OR LISTL (L IS LIST HERE: V FIRST TO TYPE A VAL-II COMMAND)" in text, text
 
 
 @sync

@@ -53,7 +53,11 @@ def command_view(session: Session, command: str) -> list[str]:
         if len(words) < 2:
             raise Refusal("LISTP needs a program name")
         return program_listing(workspace, words[1])
-    raise Refusal(f"{words[0]} is not LISTP, LISTF or LISTL")
+    raise NotAListing(f"{words[0]} is not LISTP, LISTF or LISTL")
+
+
+class NotAListing(Refusal):
+    """What was typed after L is no listing (``LOAD`` typed at the menu: its L opened LIST)."""
 
 
 class KeyboardScreen(MenuScreen):
@@ -110,7 +114,10 @@ class KeyboardScreen(MenuScreen):
         try:
             lines = command_view(self.stage.active_session, command)
         except Exception as error:
-            self.say(problem_text(error), "error")
+            text = problem_text(error)
+            if isinstance(error, NotAListing):  # say why a command typed here became a listing
+                text += f" ({legends.key_for(self, 'list', 'L')} IS LIST HERE: {self.unknown_key_hint()})"
+            self.say(text, "error")
             return
         width = max(min(self.app.size.width - 4, 74), 20)  # long lines wrap, never cut (issue 17)
         wrapped = [part for line in lines for part in wrap_line(line, width, "      ")]
