@@ -9,6 +9,8 @@ import os
 import subprocess
 import sys
 
+from app_helpers import until
+
 HEAVY = ("trimesh", "fcl", "valterm.core.cad.iges", "valterm.core.cad.iges_entities",
          "valterm.core.val.interpreter", "valterm.core.val.debugger", "valterm.core.val.dialects.vplus")
 
@@ -185,10 +187,7 @@ async def test_the_app_turns_the_collector_on_after_its_first_frame(tmp_path) ->
     gc.disable()
     try:
         async with app.run_test(size=(160, 50)) as pilot:
-            for _ in range(200):
-                if gc.isenabled():
-                    break
-                await pilot.pause(0.02)
+            await until(pilot, gc.isenabled, "the collector on after the first frame")
             assert type(app.screen).__name__ == "MainMenuScreen"
             assert gc.isenabled() and app.session_read is not None
             frozen = gc.get_freeze_count()
@@ -294,10 +293,7 @@ async def test_the_prompts_parts_come_after_the_first_frame_or_with_the_first_qu
     app = ValtermApp(tmp_path, "PROCESS")
     async with app.run_test(size=(160, 50)) as pilot:
         prompt = app.screen.query_one(Prompt)
-        for _ in range(500):  # until the timer has run (no time limit of its own)
-            await pilot.pause(0.01)
-            if prompt.children:
-                break
+        await until(pilot, lambda: bool(prompt.children), "the prompt's parts mounted by their timer")
         assert [type(w) for w in prompt.children] == [Label, Input]
 
 
@@ -420,7 +416,7 @@ asyncio.run(main())
 def test_main_menu_is_drawn_before_the_setup_is_read_and_numpy_loads_then_its_picture() -> None:
     """``--setup``: MAIN MENU's first frame comes before the set-up is read, so without numpy
     and the core (issue 25, the start); the picture and the set-up's status come after it."""
-    out = subprocess.run([sys.executable, "-c", FIRST_FRAME_PROBE], capture_output=True, text=True, check=True)
+    out = subprocess.run([sys.executable, "-c", FIRST_FRAME_PROBE], capture_output=True, text=True, check=True, timeout=240)
     (numpy_loaded, session_read, reading_said), braille, screen = json.loads(out.stdout.strip().splitlines()[-1])
     assert (numpy_loaded, session_read, reading_said) == (False, False, True)
     assert braille
@@ -437,10 +433,7 @@ async def test_keys_typed_before_the_setup_is_read_wait_for_it(tmp_path) -> None
     async with app.run_test(size=(80, 24)) as pilot:
         assert app.reading_setup  # nothing has read it yet: the first frame is still to come
         await pilot.press("k")
-        for _ in range(200):
-            if type(app.screen).__name__ == "KeyboardScreen":
-                break
-            await pilot.pause(0.02)
+        await until(pilot, lambda: type(app.screen).__name__ == "KeyboardScreen", "KEYBOARD on PROCESS")
         assert type(app.screen).__name__ == "KeyboardScreen"
         assert app.session_read is not None and app.session_read.setup_name == "PROCESS"
 
@@ -467,10 +460,7 @@ async def test_a_setup_that_cannot_be_read_after_the_first_frame_shows_the_start
     (workspace.root / "BROKEN.SET").write_text("2\nMM\nnot a number\n")
     app = ValtermApp(tmp_path, "BROKEN")
     async with app.run_test(size=(80, 24)) as pilot:
-        for _ in range(200):
-            if type(app.screen).__name__ == "StartScreen":
-                break
-            await pilot.pause(0.02)
+        await until(pilot, lambda: type(app.screen).__name__ == "StartScreen", "the start screen")
         assert type(app.screen).__name__ == "StartScreen"
         await pilot.pause()
         from valterm.testing import screen_rows

@@ -10,6 +10,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from app_helpers import until
+
 from valterm.cli import main
 from valterm.core.events import Event, TypeOut, Where
 from valterm.core.files.vplus import parse_vplus
@@ -378,10 +380,7 @@ def test_the_app_shows_the_same_values(tmp_path: Path) -> None:
             await app.push_screen(screen)
             await pilot.pause()
             await pilot.press(*"EXECUTE table", "enter")
-            for _ in range(100):
-                await pilot.pause(0.05)
-                if any("COMPLETED" in line for line in screen.transcript):
-                    break
+            await until(pilot, lambda: any("COMPLETED" in line for line in screen.transcript), "the program's end")
             text = list(screen.transcript)
             assert "  127.83  216.07  338.30   30.00   40.00   50.00" in text, "\n".join(text)
             assert "  -62.31 -117.41 -349.76  130.00   40.00  150.00" in text
