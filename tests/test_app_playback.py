@@ -319,3 +319,31 @@ async def test_esc_aborts_a_never_ending_program_with_keys_typed_before_it(tmp_p
         assert screen.transcript[-1].startswith("*** SWING STEP") and screen.transcript[-1].endswith("ABORTED")
         await pilot.pause(0.05)
         assert app.keys_waiting == 0 and screen.model_only == model_only
+
+
+@sync
+async def test_text_typed_while_a_program_moves_shows_in_the_line_at_once(tmp_path: Path) -> None:
+    """KEYS TYPED NOW GO TO THE LINE: while the motions of a never-ending program are drawn
+    the line shows what is typed, RETURN queues it (QUEUED: WHERE), and CTRL-C discards it.
+    A key that is no text (F8) still waits for the motion, and text typed after it waits
+    behind it (the order kept). Before, all of it waited until the program ended."""
+    clock = FakeClock()
+    program = "10  DRIVE 1,20,100\n    DRIVE 1,-20,100\n    GOTO 10\n"
+    session = session_with(tmp_path, {"SWING": program})
+    session.limits = NO_LIMITS
+    app = Host(session, motion_rate=10.0, clock=clock)
+    async with app.run_test(size=(120, 40)) as pilot:
+        screen = await valmode(app, pilot)
+        await typed(pilot, "EXEC SWING")
+        await run_until(pilot, lambda: app.player.drawing)
+        line = screen.query_one("#val-line")
+        await pilot.press(*"WHEREX", "backspace")
+        assert app.player.drawing and app.keys_waiting == 0 and line.value == "WHERE"
+        await pilot.press("enter")
+        await run_until(pilot, lambda: "QUEUED: WHERE" in screen.transcript)
+        assert app.player.drawing and line.value == ""
+        await pilot.press("f8", "M")
+        assert app.keys_waiting == 2 and line.value == ""
+        await pilot.press("ctrl+c")
+        await until(pilot, lambda: not app.player.playing, "the program's end", between=lambda: clock.advance(0.05))
+        await run_until(pilot, lambda: any("QUEUED COMMAND DISCARDED: WHERE" in t for t in screen.transcript))

@@ -142,7 +142,8 @@ class ValtermApp(Guarded, ViewActions, App[int]):
         self.keymap_in_force: dict[str, str] = {}  # the keymap file's rebindings, by binding id
         # keys typed while a motion is drawn or a screen changes wait here
         self.cancel_keys = CANCEL  # ESC, or the keys the keymap file put the ESC bindings on
-        self.key_queue = KeyQueue(self, self._busy_playing, lambda: self.cancel_keys, self._escape_aborts)
+        self.key_queue = KeyQueue(self, self._busy_playing, lambda: self.cancel_keys, self._escape_aborts,
+                                  self._typed_now)
         self.unsaid: list[tuple[str, str]] = []  # messages no screen could show yet (the next one does)
         self.survived: list[str] = []  # the bugs the app lived through (their lines, tests)
         self.collect_after_first_frame = False  # the collector waits for the first screen (run)
@@ -200,6 +201,11 @@ class ValtermApp(Guarded, ViewActions, App[int]):
         """The screen on top says ESC aborts what runs now (VAL-II mode's RUNNING line)."""
         aborts = getattr(self.screen, "escape_aborts", None) if self.screen_stack else None
         return bool(aborts()) if callable(aborts) else False
+
+    def _typed_now(self, event: events.Key) -> bool:
+        """The screen on top takes ``event`` into its open line now, a motion drawn or not."""
+        takes = getattr(self.screen, "takes_typed_now", None) if self.screen_stack else None
+        return bool(takes(event)) if callable(takes) else False
 
     @property
     def keys_waiting(self) -> int:

@@ -9,7 +9,9 @@ drops the keys still waiting (as a terminal drops its type-ahead: a jog key held
 not go on moving the arm); nor does ESC wait when no key waits before it (it cancels what
 moves where a screen says so), and where the screen says ESC aborts what runs (VAL-II mode's
 RUNNING line: CTRL-C OR ESC: ABORT) it does as CTRL-C, whatever waits: a program of motions
-back to back never lets a waiting key go, and ESC behind one never reached it.
+back to back never lets a waiting key go, and ESC behind one never reached it. Nor do the
+keys wait that the screen's open line takes while a program runs (text, BACKSPACE, RETURN:
+``typing``), when no key waits before them.
 
 The app calls ``take`` for every key it receives; a key it returns False for is the
 app's to hand on now (``handing_on`` marks the node it went to).
@@ -49,11 +51,13 @@ class KeyQueue:
 
     def __init__(self, app: App[Any], drawing: Callable[[], bool],
                  cancel: Callable[[], frozenset[str]] = lambda: CANCEL,
-                 aborts: Callable[[], bool] = lambda: False) -> None:
+                 aborts: Callable[[], bool] = lambda: False,
+                 typing: Callable[[events.Key], bool] = lambda event: False) -> None:
         self.app = app
         self.drawing = drawing  # a motion is being drawn (the app's player)
         self.cancel = cancel  # ESC's keys as bound now
         self.aborts = aborts  # ESC aborts what runs now (the screen on top says so)
+        self.typing = typing  # the screen's open line takes this key now, drawn or not
         self.keys: deque[events.Key] = deque(maxlen=KEPT)
         self._pending: MessagePump | None = None  # the node the last key went to, until handled
         self._pending_since = 0.0
@@ -71,12 +75,7 @@ class KeyQueue:
     @property
     def changing(self) -> bool:
         """A screen is being mounted, or the last key handed on is not yet handled."""
-        app = self.app
-        try:
-            screen = app.screen
-        except Exception:  # no screen yet (starting) or any more (closing)
-            return True
-        if not screen.is_mounted:
+        if not self._screen_mounted():
             return True
         pending = self._pending
         if pending is not None:
@@ -84,6 +83,13 @@ class KeyQueue:
                 return True
             self._pending = None
         return False
+
+    def _screen_mounted(self) -> bool:
+        try:
+            screen = self.app.screen
+        except Exception:  # no screen yet (starting) or any more (closing)
+            return False
+        return bool(screen.is_mounted)
 
     def take(self, event: events.Key) -> bool:
         """True when ``event`` waits (the app must not hand it on now)."""
@@ -97,6 +103,12 @@ class KeyQueue:
             self.keys.clear()        # the keys typed during the run go with it, as on CTRL-C
             return False
         if not self.keys and not (self.changing if escape else self.busy):
+            return False
+        # text for the line that is open while a program runs (VAL-II mode: KEYS TYPED NOW GO
+        # TO THE LINE) goes there as typed: a program of motions back to back never lets a
+        # waiting key go, and the line showed nothing of what was typed until the program ended
+        # (the line keeps the order of what it takes; RETURN there queues the line: QUEUED)
+        if not self.keys and self._screen_mounted() and self.typing(event):
             return False
         setattr(event, TYPED_AT, time.monotonic())
         self.keys.append(event)

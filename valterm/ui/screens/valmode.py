@@ -477,6 +477,18 @@ class ValModeScreen(KeyedScreen[None]):
             return
         self.dismiss(None)
 
+    def takes_typed_now(self, event: Key) -> bool:
+        """While a command or a program runs, the open line takes text, BACKSPACE and RETURN
+        as they are typed, a motion drawn or not (``ui.keyqueue``): the RUNNING line says KEYS
+        TYPED NOW GO TO THE LINE, and RETURN queues the line (QUEUED). Not the model alone
+        (80x24), whose line is hidden, nor under --keys 1985 (its type-ahead waits)."""
+        if self.mode != Mode.RUNNING or self.model_only or getattr(self.app, "keys_1985", False):
+            return False
+        line = self.line_taking_keys()
+        if line is None or not line.has_focus:
+            return False
+        return event.is_printable or event.key in ("backspace", "enter")
+
     def escape_aborts(self) -> bool:
         """ESC now aborts the program or command that runs (the RUNNING and PAUSED key lines
         say so): the key queue lets it past the keys typed during the run (``ui.keyqueue``)."""
