@@ -6,7 +6,9 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Iterator
+from collections.abc import AsyncIterator, Iterator
+from contextlib import asynccontextmanager
+from typing import Any
 from pathlib import Path
 
 import pytest
@@ -294,6 +296,20 @@ async def test_a_tick_preempted_before_its_first_event_still_takes_one(tmp_path:
         assert player.ticks == 21  # one event a tick, the end the 21st
 
 
+@asynccontextmanager
+async def swinging(tmp_path: Path, clock: FakeClock) -> AsyncIterator[tuple[Host, Any, ValModeScreen]]:
+    """The app, its pilot and VAL-II mode running a program that swings JT1 to and fro for
+    ever, a motion being drawn: paced by ``clock``, drawn until the test moves it on."""
+    session = session_with(tmp_path, {"SWING": "10  DRIVE 1,20,100\n    DRIVE 1,-20,100\n    GOTO 10\n"})
+    session.limits = NO_LIMITS
+    app = Host(session, motion_rate=10.0, clock=clock)
+    async with app.run_test(size=(120, 40)) as pilot:
+        screen = await valmode(app, pilot)
+        await typed(pilot, "EXEC SWING")
+        await run_until(pilot, lambda: app.player.drawing)
+        yield app, pilot, screen
+
+
 @sync
 async def test_esc_aborts_a_never_ending_program_with_keys_typed_before_it(tmp_path: Path) -> None:
     """The RUNNING key line says CTRL-C OR ESC: ABORT. A key typed while the program moves
@@ -302,14 +318,7 @@ async def test_esc_aborts_a_never_ending_program_with_keys_typed_before_it(tmp_p
     aborts as CTRL-C does, the keys typed during the run dropped with it (F8 here: the model
     is not toggled after the abort)."""
     clock = FakeClock()
-    program = "10  DRIVE 1,20,100\n    DRIVE 1,-20,100\n    GOTO 10\n"
-    session = session_with(tmp_path, {"SWING": program})
-    session.limits = NO_LIMITS
-    app = Host(session, motion_rate=10.0, clock=clock)
-    async with app.run_test(size=(120, 40)) as pilot:
-        screen = await valmode(app, pilot)
-        await typed(pilot, "EXEC SWING")
-        await run_until(pilot, lambda: app.player.drawing)
+    async with swinging(tmp_path, clock) as (app, pilot, screen):
         assert "ABORT" in screen.keys_text, screen.keys_text
         model_only = screen.model_only
         await pilot.press("f8")          # waits: a motion is drawn
@@ -328,14 +337,7 @@ async def test_text_typed_while_a_program_moves_shows_in_the_line_at_once(tmp_pa
     A key that is no text (F8) still waits for the motion, and text typed after it waits
     behind it (the order kept). Before, all of it waited until the program ended."""
     clock = FakeClock()
-    program = "10  DRIVE 1,20,100\n    DRIVE 1,-20,100\n    GOTO 10\n"
-    session = session_with(tmp_path, {"SWING": program})
-    session.limits = NO_LIMITS
-    app = Host(session, motion_rate=10.0, clock=clock)
-    async with app.run_test(size=(120, 40)) as pilot:
-        screen = await valmode(app, pilot)
-        await typed(pilot, "EXEC SWING")
-        await run_until(pilot, lambda: app.player.drawing)
+    async with swinging(tmp_path, clock) as (app, pilot, screen):
         line = screen.query_one("#val-line")
         await pilot.press(*"WHEREX", "backspace")
         assert app.player.drawing and app.keys_waiting == 0 and line.value == "WHERE"
