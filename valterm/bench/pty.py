@@ -65,8 +65,11 @@ def _read_until(fd: int, needle: bytes, timeout: float, picture: bool = False) -
     raise TimeoutError(f"{needle!r} did not appear within {timeout} s")
 
 
-def _drain(fd: int, quiet: float) -> None:
-    while select.select([fd], [], [], quiet)[0]:
+def _drain(fd: int, quiet: float, limit: float = math.inf) -> None:
+    """Read until ``quiet`` s pass with no output, or ``limit`` s in all (a terminal that never
+    goes quiet, an animating program, would otherwise hold it for ever)."""
+    end = time.monotonic() + limit
+    while time.monotonic() < end and select.select([fd], [], [], quiet)[0]:
         try:
             os.read(fd, 65536)
         except OSError:
