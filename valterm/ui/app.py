@@ -142,8 +142,10 @@ class ValtermApp(Guarded, ViewActions, App[int]):
         self.keymap_in_force: dict[str, str] = {}  # the keymap file's rebindings, by binding id
         # keys typed while a motion is drawn or a screen changes wait here
         self.cancel_keys = CANCEL  # ESC, or the keys the keymap file put the ESC bindings on
-        self.key_queue = KeyQueue(self, self._busy_playing, lambda: self.cancel_keys, self._escape_aborts,
-                                  self._typed_now)
+        # ESC aborts what runs, the open line takes a key now: as the screen on top says
+        self.key_queue = KeyQueue(self, self._busy_playing, lambda: self.cancel_keys,
+                                  lambda: self._screen_says("escape_aborts"),
+                                  lambda event: self._screen_says("takes_typed_now", event))
         self.unsaid: list[tuple[str, str]] = []  # messages no screen could show yet (the next one does)
         self.survived: list[str] = []  # the bugs the app lived through (their lines, tests)
         self.collect_after_first_frame = False  # the collector waits for the first screen (run)
@@ -197,15 +199,15 @@ class ValtermApp(Guarded, ViewActions, App[int]):
             return self.player.playing and not self.player.paused
         return self.player.drawing
 
-    def _escape_aborts(self) -> bool:
-        """The screen on top says ESC aborts what runs now (VAL-II mode's RUNNING line)."""
-        aborts = getattr(self.screen, "escape_aborts", None) if self.screen_stack else None
-        return bool(aborts()) if callable(aborts) else False
+    def _on_top(self, name: str) -> Callable[..., Any] | None:
+        """The screen on top's method ``name``; None with no screen yet or no such method."""
+        found = getattr(self.screen, name, None) if self.screen_stack else None
+        return found if callable(found) else None
 
-    def _typed_now(self, event: events.Key) -> bool:
-        """The screen on top takes ``event`` into its open line now, a motion drawn or not."""
-        takes = getattr(self.screen, "takes_typed_now", None) if self.screen_stack else None
-        return bool(takes(event)) if callable(takes) else False
+    def _screen_says(self, question: str, *args: object) -> bool:
+        """The screen on top's answer to ``question`` (a method of its own); False where it has none."""
+        ask = self._on_top(question)
+        return bool(ask(*args)) if ask is not None else False
 
     @property
     def keys_waiting(self) -> int:
@@ -235,7 +237,7 @@ class ValtermApp(Guarded, ViewActions, App[int]):
     def say(self, text: str, level: str = "info") -> None:
         """A message for the user, on the screen on top (kept for the next screen while the
         one on top cannot show it: being mounted, or a help page without message lines)."""
-        say_here = getattr(self.screen, "say_here", None) if self.screen_stack else None
+        say_here = self._on_top("say_here")
         if say_here is not None and self.screen.is_mounted:
             say_here(text, level)
         else:
@@ -354,7 +356,7 @@ class ValtermApp(Guarded, ViewActions, App[int]):
         self.call_later(self._setup_read)
 
     def _setup_read(self) -> None:
-        shown = getattr(self.screen, "setup_read", None) if self.screen_stack else None
+        shown = self._on_top("setup_read")
         if shown is not None and self.screen.is_mounted:
             shown()
         if self.kept_path is not None:  # once this picture is on the screen
