@@ -482,7 +482,7 @@ class ValModeScreen(KeyedScreen[None]):
         as they are typed, a motion drawn or not (``ui.keyqueue``): the RUNNING line says KEYS
         TYPED NOW GO TO THE LINE, and RETURN queues the line (QUEUED). Not the model alone
         (80x24), whose line is hidden, nor under --keys 1985 (its type-ahead waits)."""
-        if self.mode != Mode.RUNNING or self.model_only or getattr(self.app, "keys_1985", False):
+        if self.mode != Mode.RUNNING or self.model_only or self.keys_1985:
             return False
         line = self.line_taking_keys()
         if line is None or not line.has_focus:
