@@ -188,3 +188,20 @@ async def test_questions_and_the_editor_name_their_keys_as_bound(
         assert type(app.screen).__name__ == "EditorScreen"
         assert "K CONTINUE  I INSERT  D DELETE  S SAVE  E EXIT  ? HELP" in screen_text(app)
         assert "PRESS K TO TYPE THE FIRST STEP" in screen_text(app)
+
+
+@sync
+async def test_a_command_typed_at_the_keyboard_menu_names_list_and_val_as_bound(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """keyboard.list on J, keyboard.val on X: a word typed after LIST's key that is no listing
+    says J IS LIST HERE and X FIRST for a VAL-II command, not L and V."""
+    keymap_file(tmp_path, monkeypatch, '"keyboard.list" = "j"\n"keyboard.val" = "x"\n')
+    app = ValtermApp(tmp_path / "ws", "PROCESS", motion_rate=math.inf)
+    async with app.run_test(size=(120, 40)) as pilot:
+        await pilot.pause()
+        await pilot.press("K")
+        await pilot.pause()
+        await pilot.press("j", *"OAD PROCESS", "enter")
+        await pilot.pause()
+        text = " ".join(screen_text(app).split())
+        assert "OAD IS NOT LISTP, LISTF OR LISTL (J IS LIST HERE: X FIRST TO TYPE A VAL-II COMMAND)" in text, text
